@@ -1,0 +1,108 @@
+"""Michell's problem: a pre-twisted straight rod closed into an N-loop ring (Section 3.3).
+
+Eqs (3.16)-(3.26). Isotropic bending (``B1 = B3``, so ``b1 = 1``), ``b2 = B2/B3``, load
+``b2 omega0'`` (the pre-twist ``d omega/ds = omega0'/R``, non-dimensional by ``R``).
+
+Derivation used here (independent of the paper's polar route). With ``phi_r = u3'/R`` and
+``phi_3 = -(u_r' - u_theta)/R`` (eq 3.18), ``beta^2 gamma' = phi_3 phi_r' - phi_r phi_3'`` and
+``beta'^2 + beta^2 gamma'^2 = phi_r'^2 + phi_3'^2``, so (3.21) is the quadratic form
+``P2 = 1/2 int { -b2 w0 (phi_3 phi_r' - phi_r phi_3') + phi_r'^2 + phi_3'^2 - phi_r^2 } dtheta``.
+The modes (3.22) with ``theta -> theta/N`` (``k = j/N``) give ``phi_r = b k cos(k theta)``,
+``phi_3 = c sin(k theta)``, ``c = a (k^2 - 1)``; over ``0..2 pi N`` the form is
+``pi N [x^T K x]`` with ``x = (b k, c)`` and ``K = [[k^2 - 1, b2 w0 k], [b2 w0 k, k^2]]``
+(this reproduces (3.26), ``r = c / (b k)``). ``K`` is positive definite iff ``k > 1`` and
+``(b2 w0)^2 < k^2 - 1``: the critical twist is ``b2 w0 = sqrt(k^2 - 1)`` minimised over
+``k = j/N > 1``, i.e. ``j = N + 1``; for one loop ``j = 2`` and ``b2 w0 = sqrt(3)`` (Michell 1889).
+For N > 1 the modes ``0 < j < N`` have ``k^2 - 1 < 0``: the ring is unstable at every twist.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+from ..errors import require_positive, require_positive_int
+from ..numerics import pencil_interval
+from ..results import Result
+
+
+def michell_mode_pencil(k: float) -> tuple[np.ndarray, np.ndarray]:
+    """Pencil ``(A, C)`` in the load ``t = b2 omega0'`` for mode ``k = j/N`` (``k > 1``).
+
+    ``K(t) = A - t C`` with ``A = diag(k^2 - 1, k^2)``, ``C = [[0, -k], [-k, 0]]``, acting on
+    ``(b k, c)``. ``A`` is positive definite only for ``k > 1``.
+    """
+    return np.diag([k * k - 1.0, k * k]), np.array([[0.0, -k], [-k, 0.0]])
+
+
+def michell_p2_closed_form(t: float, j: int, r: float, loops: int = 1) -> float:
+    """Eq (3.26) per unit ``pi/2 (b j)^2``: ``N [2 t k r + k^2 (1 + r^2) - 1]``, ``k = j/N``."""
+    k = j / loops
+    return loops * (2 * t * k * r + k * k * (1 + r * r) - 1)
+
+
+@dataclasses.dataclass(frozen=True)
+class MichellStability(Result):
+    """Critical pre-twist of an N-loop ring of isotropic bending stiffness (Section 3.3).
+
+    ``b2_omega0_critical`` is ``None``-valued (NaN) when the untwisted ring is already
+    unstable (``unstable_modes`` lists the modes ``j`` unstable at zero twist). ``r_critical``
+    is the in-plane/out-of-plane amplitude ratio ``a (j^2 - 1)/(b j)`` of the critical mode for
+    a positive twist (``b = ∓ sqrt(3) a`` for one loop).
+    """
+
+    loops: int
+    b2: float
+    b2_omega0_critical: float
+    omega0_critical: float
+    mode_j: int
+    r_critical: float
+    stable_at_zero_twist: bool
+    unstable_modes: tuple[int, ...]
+    residual: float
+    method: str
+
+
+def michell_stability(b2: float, loops: int = 1, *, b1: float = 1.0,
+                      j_max: int | None = None) -> MichellStability:
+    """Critical twist ``b2 omega0'`` of Michell's ring with N loops (eqs 3.21-3.26).
+
+    Parameters
+    ----------
+    b2 : float
+        ``B2 / B3`` (> 0).
+    loops : int
+        Number of loops N.
+    b1 : float
+        Must be 1: the analysis (and the paper's) assumes isotropic bending ``B1 = B3``.
+    """
+    b2 = require_positive("b2", b2)
+    N = require_positive_int("loops", loops)
+    if abs(require_positive("b1", b1) - 1.0) > 1e-12:
+        raise ValueError(f"b1 must be 1 for Michell's problem (isotropic bending), got {b1!r}")
+    j_max = 3 * N + 4 if j_max is None else j_max
+    unstable = tuple(j for j in range(1, N))  # k < 1: k^2 - 1 < 0 at zero twist
+    best: tuple[float, int, float] | None = None
+    residual = 0.0
+    for j in range(N + 1, j_max + 1):
+        res = pencil_interval(*michell_mode_pencil(j / N))
+        residual = max(residual, res.residual)
+        if best is None or res.hi < best[0]:
+            best = (res.hi, j, res.residual)
+    assert best is not None
+    t_c, j_c, _ = best
+    k = j_c / N
+    if unstable:
+        t_c_report = math.nan
+    else:
+        t_c_report = t_c
+    return MichellStability(
+        loops=N, b2=b2, b2_omega0_critical=t_c_report,
+        omega0_critical=t_c_report / b2 if not unstable else math.nan,
+        mode_j=unstable[0] if unstable else j_c,
+        r_critical=-t_c / k if not unstable else math.nan,
+        stable_at_zero_twist=not unstable, unstable_modes=unstable, residual=residual,
+        method="quadratic form of (3.21) in (phi_r, phi_3), modes (3.22), generalized eigh",
+    )

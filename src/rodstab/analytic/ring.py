@@ -1,0 +1,152 @@
+"""Stability of untwisted circular rings with N loops (paper Section 3.1, eqs 3.1-3.3).
+
+Non-dimensional: ``b1 = B1/B3``, ``b2 = B2/B3``, load ``M = 1 - R kappa_n`` (Audoly & Seffen's
+parameter), ``R = L / (2 pi N)``. Modes ``omega = A cos(j theta / N)``, ``beta = B sin(j theta/N)``
+(eq 3.2) give, for each ``k = j/N``, a 2x2 symmetric pencil ``A_k - M C_k`` whose determinant is
+``(1 - k^2) (M^2 - (b1 + b2) M + b1 b2 (1 - k^2))``.
+
+Finding (typo in eq 3.3): the roots of that quadratic are
+``M± = (b1 + b2)/2 ± sqrt((b1 - b2)^2/4 + b1 b2 k^2)``; the paper prints ``b2 k^2`` under the root,
+which coincides only when ``b1 = 1`` (circular sections, the only case the paper evaluates).
+:func:`ring_mode_eigenvalues` implements the corrected form; ``printed=True`` gives the printed one.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+from ..errors import require_positive, require_positive_int
+from ..numerics import pencil_interval
+from ..results import Result
+
+
+def ring_mode_pencil(k: float, b1: float, b2: float) -> tuple[np.ndarray, np.ndarray]:
+    """Pencil ``(A, C)`` of P2 (2.12) restricted to the mode (3.2) with ``k = j/N``.
+
+    P2 over the ring is ``(pi N B3 / R) * x^T (A - M C) x`` with ``x = (A, B)`` the amplitudes
+    of ``omega`` and ``beta`` -- the algebraic system printed just before (3.3). For ``k = 0``
+    (uniform axisymmetric twist, ``beta = 0``) the pencil is 1x1: ``A = [b1]``, ``C = [1]``.
+    """
+    if k == 0:
+        return np.array([[b1]]), np.array([[1.0]])
+    A = np.array([[b1 + b2 * k * k, -(b1 + b2) * k], [-(b1 + b2) * k, b1 * k * k + b2]])
+    C = np.array([[1.0, -k], [-k, 1.0]])
+    return A, C
+
+
+def ring_mode_eigenvalues(
+    j: int, loops: int, b1: float, b2: float, *, printed: bool = False
+) -> tuple[float, float]:
+    """Closed-form roots ``(M-, M+)`` of mode ``j`` of an N-loop ring, eq (3.3).
+
+    With ``printed=True`` returns eq (3.3) exactly as printed in the paper (``b2 k^2`` under the
+    root); the default is the corrected form ``b1 b2 k^2`` (see the module docstring). For
+    ``j = 0`` (no ``beta``), the one physical root is ``M = b1`` and is returned as both values'
+    relevant bound by :func:`ring_stability`.
+    """
+    k = j / loops
+    c = b2 * k * k if printed else b1 * b2 * k * k
+    root = math.sqrt(0.25 * (b1 - b2) ** 2 + c)
+    mid = 0.5 * (b1 + b2)
+    return mid - root, mid + root
+
+
+@dataclasses.dataclass(frozen=True)
+class ModeBound(Result):
+    """Bounds on ``M`` set by one mode ``j``: stable for ``lower < M < upper``."""
+
+    j: int
+    lower: float
+    upper: float
+
+
+@dataclasses.dataclass(frozen=True)
+class RingStability(Result):
+    """Stable interval of an N-loop untwisted ring (Section 3.1).
+
+    ``M_interval = (M_C^-, M_C^+)``; ``kappa_L_over_2pi_interval`` is the same interval in
+    ``(L / 2 pi) kappa_n = N (1 - M)`` (so its ends are swapped). ``bounding_modes`` gives the
+    mode numbers ``j`` that set the lower and upper ends of ``M_interval``.
+    """
+
+    loops: int
+    b1: float
+    b2: float
+    M_interval: tuple[float, float]
+    kappa_L_over_2pi_interval: tuple[float, float]
+    bounding_modes: tuple[int, int]
+    modes: tuple[ModeBound, ...]
+    residual: float
+    converged: bool
+    method: str
+
+
+def ring_stability(b1: float, b2: float, loops: int, *, j_max: int | None = None) -> RingStability:
+    """Stable interval of ``M = 1 - R kappa_n`` for an untwisted N-loop ring (Section 3.1).
+
+    Every mode ``j = 0 .. j_max`` except the rigid ``j = N`` is checked through the pencil
+    :func:`ring_mode_pencil` with the one eigen solver (:func:`rodstab.numerics.pencil_interval`).
+    ``j_max`` defaults to ``2 N + 4``: ``M-(k)`` falls and ``M+(k)`` rises monotonically in
+    ``k = j/N``, so the binding modes are ``j = 0``, ``N - 1`` and ``N + 1``; the extra modes
+    are a check of that argument, not needed for the answer.
+
+    Parameters
+    ----------
+    b1, b2 : float
+        Stiffness ratios ``B1/B3`` and ``B2/B3`` (> 0).
+    loops : int
+        Number of loops N >= 1.
+    """
+    b1 = require_positive("b1", b1)
+    b2 = require_positive("b2", b2)
+    N = require_positive_int("loops", loops)
+    j_max = 2 * N + 4 if j_max is None else j_max
+    modes: list[ModeBound] = []
+    residual = 0.0
+    for j in range(j_max + 1):
+        if j == N:  # rigid-body rotations about in-plane axes: P2 = 0 for every M
+            continue
+        A, C = ring_mode_pencil(j / N, b1, b2)
+        res = pencil_interval(A, C)
+        residual = max(residual, res.residual)
+        modes.append(ModeBound(j, res.lo, res.hi))
+    lo_mode = max(modes, key=lambda m: m.lower)
+    hi_mode = min(modes, key=lambda m: m.upper)
+    lo, hi = lo_mode.lower, hi_mode.upper
+    return RingStability(
+        loops=N,
+        b1=b1,
+        b2=b2,
+        M_interval=(lo, hi),
+        kappa_L_over_2pi_interval=(N * (1.0 - hi), N * (1.0 - lo)),
+        bounding_modes=(lo_mode.j, hi_mode.j),
+        modes=tuple(modes),
+        residual=residual,
+        converged=residual < 1e-10,
+        method="Fourier modes (3.2) + generalized symmetric eigenproblem per mode",
+    )
+
+
+@dataclasses.dataclass(frozen=True)
+class RingOverlap(Result):
+    """Overlap of the stable ``(L/2pi) kappa_n`` intervals of two ring loop counts."""
+
+    loops: tuple[int, int]
+    intervals: tuple[tuple[float, float], tuple[float, float]]
+    overlap: tuple[float, float] | None
+
+
+def ring_overlap(b1: float, b2: float, loops_a: int = 1, loops_b: int = 3) -> RingOverlap:
+    """Do the stable natural-curvature ranges of an ``loops_a`` and ``loops_b`` ring overlap?
+
+    Both rings are made of the same rod (same ``L``, ``kappa_n``), so the ranges are compared in
+    ``(L / 2 pi) kappa_n`` (Section 3.1, after eq 3.3).
+    """
+    ra = ring_stability(b1, b2, loops_a)
+    rb = ring_stability(b1, b2, loops_b)
+    ia, ib = ra.kappa_L_over_2pi_interval, rb.kappa_L_over_2pi_interval
+    lo, hi = max(ia[0], ib[0]), min(ia[1], ib[1])
+    return RingOverlap((ra.loops, rb.loops), (ia, ib), (lo, hi) if lo < hi else None)

@@ -1,0 +1,376 @@
+"""The one root finder and the one eigen solver of rodstab.
+
+Every characteristic equation and every linear stability pencil in the package goes through
+this module, so that the accuracy statement is made once:
+
+* :func:`find_roots` -- roots of a real scalar function on an interval: scan on a uniform grid,
+  bracket every sign change and every near-zero local minimum of ``|f|`` (a root of even
+  multiplicity, where ``f`` touches zero without changing sign), refine (Brent), and estimate
+  each root's multiplicity from the local order of vanishing.
+* :func:`matrix_roots` -- values ``x`` where a square matrix ``A(x)`` is singular: scan the
+  *smallest singular value* relative to the largest (never only a determinant's sign, which
+  misses repeated roots), refine the minimum, polish by the determinant's sign change when there
+  is one, and report the multiplicity as the number of (near-)zero singular values.
+* :func:`pencil_interval` -- for a pencil ``K(p) = A - p C`` with ``A`` symmetric positive
+  definite, the open interval of the load parameter ``p`` containing 0 on which ``K(p)`` stays
+  positive definite, with the critical modes, their multiplicities and residuals.
+
+"Never miss a root" is stated precisely: every root ``x*`` of ``f`` that is separated from every
+other root by more than two scan spacings ``h = (hi - lo) / n_scan`` is found; a pair of simple
+roots closer than that is still found when it is separated by more than ``h / SUBSCAN`` (a
+local re-scan at every minimum of the scan measure); closer pairs may be returned as one root
+whose multiplicity counts both.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Callable
+
+import numpy as np
+import scipy.linalg as sla
+from scipy.optimize import brentq
+
+from .results import Result
+
+#: Default number of scan intervals on the search interval.
+SCAN_INTERVALS = 400
+#: A non-crossing local minimum of |f| is a root when |f| <= TOUCH_TOL * max|f| over the scan.
+TOUCH_TOL = 1e-8
+#: Relative tolerance of the smallest singular value below which a matrix counts as singular.
+SINGULAR_TOL = 1e-8
+#: Relative x-tolerance of the refinement (Brent); the absolute part is this times the span.
+XTOL = 1e-14
+#: Subintervals per scan interval of the local re-scan around a minimum of |f| or sigma_min.
+SUBSCAN = 16
+#: Eigenvalues within this relative distance are counted as one repeated eigenvalue.
+MULTIPLICITY_RTOL = 1e-6
+
+
+@dataclasses.dataclass(frozen=True)
+class Root(Result):
+    """One root of a scalar or matrix characteristic equation.
+
+    Attributes
+    ----------
+    x : float
+        The root.
+    multiplicity : int
+        Order of vanishing of ``f`` (scalar) or number of zero singular values (matrix).
+    residual : float
+        ``|f(x)|`` (scalar) or ``sigma_min / sigma_max`` (matrix) at the root.
+    bracket : tuple of float
+        The scan interval the root was refined in.
+    kind : str
+        ``"sign-change"``, ``"touching"`` (even order, no sign change) or ``"grid-point"``.
+    """
+
+    x: float
+    multiplicity: int
+    residual: float
+    bracket: tuple[float, float]
+    kind: str
+
+
+@dataclasses.dataclass(frozen=True)
+class RootSearch(Result):
+    """All roots found on an interval, in increasing order, with the scan's diagnostics."""
+
+    roots: tuple[Root, ...]
+    interval: tuple[float, float]
+    n_scan: int
+    converged: bool
+    method: str
+
+    @property
+    def values(self) -> list[float]:
+        """The roots' locations, increasing."""
+        return [r.x for r in self.roots]
+
+
+_GOLD = 0.5 * (math.sqrt(5.0) - 1.0)
+
+
+def golden_min(g: Callable[[float], float], a: float, b: float, xtol: float) -> tuple[float, float]:
+    """Minimum of a unimodal ``g`` on ``[a, b]`` by golden-section search, to ``xtol``.
+
+    Used instead of parabolic (Brent) minimisation because the measures minimised here,
+    ``|f|`` and ``sigma_min``, are V-shaped at a simple root, where parabolic steps stall far
+    from the kink.
+    """
+    c, d = b - _GOLD * (b - a), a + _GOLD * (b - a)
+    gc, gd = g(c), g(d)
+    while b - a > xtol:
+        if gc <= gd:
+            b, d, gd = d, c, gc
+            c = b - _GOLD * (b - a)
+            gc = g(c)
+        else:
+            a, c, gc = c, d, gd
+            d = a + _GOLD * (b - a)
+            gd = g(d)
+    x = 0.5 * (a + b)
+    return x, g(x)
+
+
+def _order_of_vanishing(g: Callable[[float], float], x0: float, h: float) -> int:
+    """Estimate the order ``m`` in ``|g(x)| ~ c |x - x0|^m`` from two symmetric step sizes."""
+    vals = []
+    for step in (h, 2 * h):
+        vals.append(0.5 * (abs(g(x0 + step)) + abs(g(x0 - step))))
+    if vals[0] <= 0 or vals[1] <= 0:
+        return 1
+    m = math.log(vals[1] / vals[0]) / math.log(2.0)
+    return max(1, int(round(m)))
+
+
+def find_roots(
+    f: Callable[[float], float],
+    lo: float,
+    hi: float,
+    *,
+    n_scan: int = SCAN_INTERVALS,
+    touch_tol: float = TOUCH_TOL,
+    method_name: str = "scan+brent",
+) -> RootSearch:
+    """Find every root of a real scalar function on ``[lo, hi]``.
+
+    Parameters
+    ----------
+    f : callable
+        Real scalar function of one real variable, continuous on ``[lo, hi]``.
+    lo, hi : float
+        Search interval, ``lo < hi``.
+    n_scan : int
+        Number of uniform scan intervals (see the module docstring for what this guarantees).
+    touch_tol : float
+        A local minimum of ``|f|`` without sign change is accepted as a root when its refined
+        value is at most ``touch_tol * max|f|`` over the scan.
+
+    Returns
+    -------
+    RootSearch
+        Roots in increasing order; each with ``|f(x)|`` as its residual. Sign-change roots are
+        refined by Brent's method to ``XTOL * (hi - lo)``.
+    """
+    if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
+        raise ValueError(f"find_roots needs finite lo < hi, got lo={lo!r}, hi={hi!r}")
+    xs = np.linspace(lo, hi, n_scan + 1)
+    fs = np.array([f(float(x)) for x in xs], dtype=float)
+    finite = np.isfinite(fs)
+    scale = float(np.max(np.abs(fs[finite]))) if finite.any() else 1.0
+    scale = scale if scale > 0 else 1.0
+    xtol = XTOL * (hi - lo)
+    h_order = 1e-4 * (hi - lo) / n_scan
+    roots: list[Root] = []
+    converged = bool(finite.all())
+    for i in range(n_scan):
+        a, b, fa, fb = xs[i], xs[i + 1], fs[i], fs[i + 1]
+        if not (np.isfinite(fa) and np.isfinite(fb)):
+            continue
+        if fa == 0.0:
+            roots.append(Root(float(a), 1, 0.0, (float(a), float(a)), "grid-point"))
+        elif fa * fb < 0.0:
+            x = brentq(f, a, b, xtol=xtol, rtol=4 * np.finfo(float).eps)
+            fx = abs(f(x))
+            # A sign change through a pole is not a root: there |f| grows as the bracket shrinks.
+            if fx > 1e-3 * min(abs(fa), abs(fb)) and fx > touch_tol * scale:
+                continue
+            m = _order_of_vanishing(f, x, min(h_order, 0.25 * (b - a)))
+            m = m if m % 2 == 1 else m + 1  # a sign change has odd order
+            roots.append(Root(float(x), m, abs(f(x)), (float(a), float(b)), "sign-change"))
+    if fs[-1] == 0.0:
+        roots.append(Root(float(xs[-1]), 1, 0.0, (float(xs[-1]),) * 2, "grid-point"))
+    # Touching roots: interior local minima of |f| with no sign change on either side.
+    af = np.abs(fs)
+    for i in range(1, n_scan):
+        if not (np.isfinite(fs[i - 1 : i + 2]).all()):
+            continue
+        if fs[i - 1] * fs[i] <= 0 or fs[i] * fs[i + 1] <= 0:
+            continue
+        if not (af[i] <= af[i - 1] and af[i] <= af[i + 1]):
+            continue
+        # A pair of simple roots closer than one scan spacing looks like this too: look for
+        # sign changes on a finer local grid before treating the minimum as a touching root.
+        sub = np.linspace(xs[i - 1], xs[i + 1], 2 * SUBSCAN + 1)
+        fsub = np.array([f(float(t)) for t in sub])
+        pair = False
+        for k in range(2 * SUBSCAN):
+            if fsub[k] * fsub[k + 1] < 0:
+                x = brentq(f, sub[k], sub[k + 1], xtol=xtol, rtol=4 * np.finfo(float).eps)
+                roots.append(Root(float(x), 1, abs(f(x)), (float(sub[k]), float(sub[k + 1])),
+                                  "sign-change"))
+                pair = True
+        if pair:
+            continue
+        x, fx = golden_min(lambda t: abs(f(t)), xs[i - 1], xs[i + 1], xtol)
+        if fx <= touch_tol * scale:
+            m = _order_of_vanishing(f, x, h_order)
+            m = m if m % 2 == 0 else m + 1  # no sign change: even order
+            roots.append(Root(float(x), m, float(fx), (float(xs[i - 1]), float(xs[i + 1])),
+                              "touching"))
+    roots.sort(key=lambda r: r.x)
+    return RootSearch(tuple(roots), (float(lo), float(hi)), n_scan, converged, method_name)
+
+
+def _sv_ratio(A: np.ndarray) -> tuple[float, np.ndarray]:
+    s = np.linalg.svd(A, compute_uv=False)
+    return (float(s[-1] / s[0]) if s[0] > 0 else 0.0), s
+
+
+def matrix_roots(
+    matrix: Callable[[float], np.ndarray],
+    lo: float,
+    hi: float,
+    *,
+    n_scan: int = SCAN_INTERVALS,
+    singular_tol: float = SINGULAR_TOL,
+    method_name: str = "scan sigma_min + brent",
+) -> RootSearch:
+    """Find every ``x`` in ``[lo, hi]`` at which the square matrix ``matrix(x)`` is singular.
+
+    The scan measure is ``g(x) = sigma_min(A) / sigma_max(A)`` (non-negative, zero exactly at a
+    root, whatever the multiplicity). Every sign change of the (row-scaled) determinant on the grid
+    is refined by Brent's method (full precision) and kept when ``g <= singular_tol`` there.
+    At every other local minimum of ``g`` a finer local grid is searched for determinant sign
+    changes (two roots closer than a scan spacing); failing that, ``g`` is minimised by
+    golden-section search and the point is a root of even multiplicity in the determinant when
+    ``g <= singular_tol``. The multiplicity is the number of singular values ``<= sqrt(singular_tol)``
+    times ``sigma_max`` at the root (the dimension of the null space).
+    """
+    if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
+        raise ValueError(f"matrix_roots needs finite lo < hi, got lo={lo!r}, hi={hi!r}")
+    xs = np.linspace(lo, hi, n_scan + 1)
+    gs = np.array([_sv_ratio(matrix(float(x)))[0] for x in xs])
+    xtol = XTOL * (hi - lo)
+
+    def g(x: float) -> float:
+        return _sv_ratio(matrix(float(x)))[0]
+
+    def det(x: float) -> float:
+        A = matrix(float(x))
+        # Scale rows so the determinant neither under- nor overflows; the sign is unchanged.
+        norms = np.linalg.norm(A, axis=1)
+        norms[norms == 0] = 1.0
+        return float(np.linalg.det(A / norms[:, None]))
+
+    roots: list[Root] = []
+    eps4 = 4 * np.finfo(float).eps
+
+    def add_sign_change(xa: float, xb: float) -> None:
+        x = float(brentq(det, xa, xb, xtol=xtol, rtol=eps4))
+        gx = g(x)
+        if gx <= singular_tol:
+            _, s = _sv_ratio(matrix(x))
+            mult = int(np.sum(s <= math.sqrt(singular_tol) * s[0]))
+            roots.append(Root(x, max(mult, 1), gx, (float(xa), float(xb)), "sign-change"))
+
+    ds = np.array([det(float(x)) for x in xs])
+    for i in range(n_scan):
+        if ds[i] * ds[i + 1] < 0:
+            add_sign_change(xs[i], xs[i + 1])
+    candidates = [i for i in range(1, n_scan) if gs[i] <= gs[i - 1] and gs[i] <= gs[i + 1]]
+    for end in (0, n_scan):
+        if gs[end] <= singular_tol:
+            candidates.append(end)
+    for i in candidates:
+        a, b = xs[max(i - 2, 0)], xs[min(i + 2, n_scan)]
+        if any(a <= r.x <= b for r in roots):
+            continue
+        # No sign change of det next to this minimum of g: either a root of even multiplicity,
+        # or two simple roots closer than one scan spacing. A finer local grid tells them apart.
+        sub = np.linspace(a, b, 4 * SUBSCAN + 1)
+        dsub = [det(float(t)) for t in sub]
+        n_before = len(roots)
+        for k in range(4 * SUBSCAN):
+            if dsub[k] * dsub[k + 1] < 0:
+                add_sign_change(sub[k], sub[k + 1])
+        if len(roots) > n_before:
+            continue
+        x, gx = golden_min(g, xs[max(i - 1, 0)], xs[min(i + 1, n_scan)], xtol)
+        if gx > singular_tol:
+            continue
+        _, s = _sv_ratio(matrix(x))
+        mult = int(np.sum(s <= math.sqrt(singular_tol) * s[0]))
+        roots.append(Root(x, max(mult, 1), gx, (float(a), float(b)), "touching"))
+    roots.sort(key=lambda r: r.x)
+    # Merge duplicates found from adjacent candidates.
+    merged: list[Root] = []
+    for r in roots:
+        if merged and abs(r.x - merged[-1].x) <= 1e3 * xtol + 1e-10 * abs(r.x):
+            continue
+        merged.append(r)
+    return RootSearch(tuple(merged), (float(lo), float(hi)), n_scan, True, method_name)
+
+
+@dataclasses.dataclass(frozen=True)
+class PencilInterval(Result):
+    """Stable interval ``(lo, hi)`` of the load ``p`` for the pencil ``A - p C`` (``A`` SPD).
+
+    ``lo`` / ``hi`` are ``-inf`` / ``+inf`` when no eigenvalue bounds that side. ``mode_lo`` and
+    ``mode_hi`` are the critical eigenvectors (columns span the repeated eigenspace);
+    ``residual`` is the largest ``||A v - p C v|| / ||A v||`` over the critical modes.
+    """
+
+    lo: float
+    hi: float
+    multiplicity_lo: int
+    multiplicity_hi: int
+    mode_lo: np.ndarray | None
+    mode_hi: np.ndarray | None
+    residual: float
+    converged: bool
+    n_dof: int
+    method: str
+
+
+def pencil_interval(A: np.ndarray, C: np.ndarray) -> PencilInterval:
+    """Stable interval of the load ``p`` for the symmetric pencil ``K(p) = A - p C``.
+
+    ``A`` (the second variation at zero load) must be symmetric positive definite; ``C`` is
+    symmetric, possibly indefinite or singular. With ``C v = theta A v`` (a definite generalized
+    symmetric problem solved by LAPACK ``sygv`` through ``scipy.linalg.eigh``), ``K(p)`` is
+    positive definite exactly for ``1/theta_min < p < 1/theta_max`` (``theta_min < 0 <
+    theta_max``); a side with no eigenvalue of that sign is unbounded.
+
+    Raises
+    ------
+    ValueError
+        If ``A`` is not positive definite (the unloaded state is then not stable and no
+        interval about ``p = 0`` exists).
+    """
+    A = np.asarray(A, dtype=float)
+    C = np.asarray(C, dtype=float)
+    n = A.shape[0]
+    try:
+        sla.cholesky(A, lower=True)
+    except np.linalg.LinAlgError as exc:
+        raise ValueError("pencil_interval: A (zero-load second variation) is not positive "
+                         "definite") from exc
+    theta, V = sla.eigh(C, A)
+    cnorm = max(float(np.max(np.abs(theta))), 1e-300)
+    tol = MULTIPLICITY_RTOL * cnorm
+
+    def side(sel: np.ndarray, pick: float) -> tuple[float, int, np.ndarray | None]:
+        if not sel.any():
+            return (math.inf if pick > 0 else -math.inf), 0, None
+        th = theta[sel]
+        t = th.max() if pick > 0 else th.min()
+        if abs(t) <= tol:
+            return (math.inf if pick > 0 else -math.inf), 0, None
+        close = np.abs(theta - t) <= MULTIPLICITY_RTOL * abs(t)
+        return 1.0 / float(t), int(close.sum()), V[:, close]
+
+    hi, m_hi, v_hi = side(theta > tol, +1.0)
+    lo, m_lo, v_lo = side(theta < -tol, -1.0)
+    residual = 0.0
+    for p, v in ((hi, v_hi), (lo, v_lo)):
+        if v is None:
+            continue
+        for k in range(v.shape[1]):
+            Av = A @ v[:, k]
+            residual = max(residual, float(np.linalg.norm(Av - p * (C @ v[:, k]))
+                                           / np.linalg.norm(Av)))
+    return PencilInterval(lo, hi, m_lo, m_hi, v_lo, v_hi, residual,
+                          bool(residual < 1e-8), n, "generalized symmetric eigh (LAPACK sygv)")

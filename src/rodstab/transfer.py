@@ -1,0 +1,85 @@
+"""Transfer-matrix (shooting) method for the Euler-Lagrange equations of P2.
+
+An independent second method for the clamped arc of Section 3.2: it does not use the paper's
+general solution (3.5) or its factorised eigen-equations (3.7)/(3.8), only the second variation.
+
+Derivation (checked symbolically in ``tests/test_transfer.py``). With ``x = s/L`` in ``[0, 1]``,
+``u = u3/L``, ``Lbar = L/R`` and the load written as ``m = M Lbar = Lbar - L kappa_n`` (finite in
+the straight limit ``Lbar -> 0``), P2 of eq (2.12) is ``B3/(2L)`` times::
+
+    I[u, w] = int_0^1 { b1 (u'' - Lbar w)^2 + b2 (w' + Lbar u')^2
+                        - m (Lbar u'^2 + Lbar w^2 + 2 u' w') } dx
+
+whose Euler-Lagrange equations are::
+
+    b1 (u'''' - Lbar w'') - b2 Lbar (w'' + Lbar u'') + m (Lbar u'' + w'') = 0
+    b1 Lbar (u'' - Lbar w) + b2 (w'' + Lbar u'') + m (Lbar w - u'') = 0
+
+(eq 3.4 of the paper with ``w''' -> w''`` in the first line and ``w''', u''' -> w'', u''`` in
+the second: the printed third derivatives are typos, as a count of derivatives shows).
+With the state ``y = (u, u', u'', u''', w, w')`` these are ``y' = S y``; the transfer matrix over
+the rod is ``T = expm(S)``. Clamped ends (``u = u' = w = 0``) leave ``(u'', u''', w')(0)`` free
+and require rows ``(u, u', w)`` of ``T`` times them to vanish: the 3x3 matrix
+:func:`clamped_arc_matrix` is singular exactly at the critical loads.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.linalg import expm
+
+#: Indices in the state vector y = (u, u', u'', u''', w, w').
+_ESSENTIAL = [0, 1, 4]
+_FREE = [2, 3, 5]
+
+
+def arc_system_matrix(L_kappa: float, L_over_R: float, b1: float, b2: float) -> np.ndarray:
+    """The 6x6 matrix ``S`` of ``y' = S y`` for the clamped-arc P2 (see module docstring).
+
+    ``L_kappa = L kappa_n`` is the load, ``L_over_R = L/R`` (0 for a straight rod).
+    """
+    Lb = L_over_R
+    m = Lb - L_kappa
+    S = np.zeros((6, 6))
+    S[0, 1] = S[1, 2] = S[2, 3] = 1.0
+    S[4, 5] = 1.0
+    # Second EL equation solved for w'' = c_u2 u'' + c_w w.
+    c_u2 = -(b1 * Lb + b2 * Lb - m) / b2
+    c_w = -(-b1 * Lb * Lb + m * Lb) / b2
+    # First EL equation: b1 u'''' = (b1 Lbar + b2 Lbar - m) w'' + (b2 Lbar^2 - m Lbar) u''.
+    k_w2 = (b1 * Lb + b2 * Lb - m) / b1
+    k_u2 = (b2 * Lb * Lb - m * Lb) / b1
+    S[5, 2] += c_u2
+    S[5, 4] += c_w
+    S[3, 2] += k_u2 + k_w2 * c_u2  # u'''' depends on u'' directly and through w''
+    S[3, 4] += k_w2 * c_w
+    return S
+
+
+def clamped_arc_matrix(L_kappa: float, L_over_R: float, b1: float, b2: float) -> np.ndarray:
+    """3x3 shooting matrix of the arc clamped at both ends; singular at the critical loads."""
+    T = expm(arc_system_matrix(L_kappa, L_over_R, b1, b2))
+    return T[np.ix_(_ESSENTIAL, _FREE)]
+
+
+def clamped_arc_mode(
+    L_kappa: float, L_over_R: float, b1: float, b2: float, n_points: int = 201
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Mode ``(x, u, w)`` at a critical load: null vector of the shooting matrix, propagated.
+
+    ``x`` runs over ``[0, 1]`` (``s = L x``); the mode is scaled so that ``max |u| = 1``.
+    """
+    S = arc_system_matrix(L_kappa, L_over_R, b1, b2)
+    D = clamped_arc_matrix(L_kappa, L_over_R, b1, b2)
+    _, _, vt = np.linalg.svd(D)
+    y0 = np.zeros(6)
+    y0[_FREE] = vt[-1]
+    x = np.linspace(0.0, 1.0, n_points)
+    step = expm(S * (x[1] - x[0]))
+    ys = np.empty((n_points, 6))
+    ys[0] = y0
+    for i in range(1, n_points):
+        ys[i] = step @ ys[i - 1]
+    scale = np.max(np.abs(ys[:, 0]))
+    scale = scale if scale > 0 else 1.0
+    return x, ys[:, 0] / scale, ys[:, 4] / scale
