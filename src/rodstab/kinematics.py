@@ -20,14 +20,14 @@ Findings about the paper's Section 2 (derived in ``tests/test_kinematics.py`` wi
 an independent finite-difference evaluation of (2.7)):
 
 * (2.1), (2.4), (2.5), (2.8), (2.9), (2.10), (4.1) agree. The truncation claims of (2.10) are true:
-  ``kappa1``, ``kappa2`` are odd and ``kappa3`` is even in ``(alpha, beta, gamma)``, so the first two
-  have no quadratic and the third no cubic terms; the cubic terms of ``kappa1``, ``kappa2`` are
+  ``kappa1``, ``kappa2`` are odd and ``kappa3`` is even in ``(alpha, beta, gamma)``, so the first
+  two have no quadratic and the third no cubic terms; the cubic terms of ``kappa1``, ``kappa2`` are
   non-zero, so the errors are exactly ``O(eps^3)``, ``O(eps^3)``, ``O(eps^4)``.
 * (2.12): the integrand of ``P2`` agrees, but the boundary term is ``B3 M alpha beta / R |_0^L``,
   not ``2 B3 M alpha beta / R |_0^L`` as printed (it stands outside the factor 1/2). It vanishes for
-  rings and clamped arcs, the only cases the paper uses. ``SE`` has no cubic term (the energy
-  density is even in the angles), so ``SE0 + P2`` is accurate to ``O(eps^4)``, also for
-  non-symmetric perturbations.
+  rings and clamped arcs (``alpha beta |_0^L = 0``), the cases Section 2.2 names. ``SE`` has no
+  cubic term (the energy density is even in the angles), so ``SE0 + P2`` is accurate to
+  ``O(eps^4)``, also for non-symmetric perturbations.
 * (2.11): the middle member of ``phi_3 = (du_r/ds - u_theta/R) = -beta gamma`` lacks the minus
   sign of its definition in (2.5); ``du_r/ds - u_theta/R = +sin(beta) sin(gamma)``.
 
@@ -393,8 +393,8 @@ def remainder_orders(seed: int = 0, *, R: float = 1.3) -> dict[str, float]:
 
     Method: a random smooth state ``(a, b, g)(s)`` on ``0 <= s <= 2`` (:func:`_random_smooth_state`,
     seeded) is scaled, ``alpha = eps a``, ``beta = eps b``, ``gamma = eps g`` (derivatives
-    likewise), for ``N_EPS`` amplitudes ``eps`` from ``EPS_MAX`` to ``EPS_MIN``. For each ``eps`` the
-    error is ``max_s |kappa_i(2.8) - kappa_i(2.10)|``; the order is the least-squares slope of
+    likewise), for ``N_EPS`` amplitudes ``eps`` from ``EPS_MAX`` to ``EPS_MIN``. For each ``eps``
+    the error is ``max_s |kappa_i(2.8) - kappa_i(2.10)|``; the order is the least-squares slope of
     ``log(error)`` against ``log(eps)``. Expected (sympy, see tests): 3, 3, 4.
 
     Parameters

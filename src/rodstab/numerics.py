@@ -226,6 +226,7 @@ def matrix_roots(
     *,
     n_scan: int = SCAN_INTERVALS,
     singular_tol: float = SINGULAR_TOL,
+    known_nullity: int = 0,
     method_name: str = "scan sigma_min + brent",
 ) -> RootSearch:
     """Find every ``x`` in ``[lo, hi]`` at which the square matrix ``matrix(x)`` is singular.
@@ -241,12 +242,20 @@ def matrix_roots(
     """
     if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
         raise ValueError(f"matrix_roots needs finite lo < hi, got lo={lo!r}, hi={hi!r}")
-    xs = np.linspace(lo, hi, n_scan + 1)
-    gs = np.array([_sv_ratio(matrix(float(x)))[0] for x in xs])
-    xtol = XTOL * (hi - lo)
+    r = known_nullity
+
+    def _measure(A: np.ndarray) -> tuple[float, np.ndarray]:
+        if r == 0:
+            return _sv_ratio(A)
+        s = np.linalg.svd(A, compute_uv=False)
+        return float(s[-1 - r] / (1.0 + s[0])), s
 
     def g(x: float) -> float:
-        return _sv_ratio(matrix(float(x)))[0]
+        return _measure(matrix(float(x)))[0]
+
+    xs = np.linspace(lo, hi, n_scan + 1)
+    gs = np.array([g(float(x)) for x in xs])
+    xtol = XTOL * (hi - lo)
 
     def det(x: float) -> float:
         A = matrix(float(x))
@@ -266,7 +275,7 @@ def matrix_roots(
             mult = int(np.sum(s <= math.sqrt(singular_tol) * s[0]))
             roots.append(Root(x, max(mult, 1), gx, (float(xa), float(xb)), "sign-change"))
 
-    ds = np.array([det(float(x)) for x in xs])
+    ds = np.array([det(float(x)) for x in xs]) if r == 0 else np.ones(n_scan + 1)
     for i in range(n_scan):
         if ds[i] * ds[i + 1] < 0:
             add_sign_change(xs[i], xs[i + 1])
@@ -281,7 +290,7 @@ def matrix_roots(
         # No sign change of det next to this minimum of g: either a root of even multiplicity,
         # or two simple roots closer than one scan spacing. A finer local grid tells them apart.
         sub = np.linspace(a, b, 4 * SUBSCAN + 1)
-        dsub = [det(float(t)) for t in sub]
+        dsub = [det(float(t)) for t in sub] if r == 0 else [1.0] * len(sub)
         n_before = len(roots)
         for k in range(4 * SUBSCAN):
             if dsub[k] * dsub[k + 1] < 0:
@@ -291,8 +300,8 @@ def matrix_roots(
         x, gx = golden_min(g, xs[max(i - 1, 0)], xs[min(i + 1, n_scan)], xtol)
         if gx > singular_tol:
             continue
-        _, s = _sv_ratio(matrix(x))
-        mult = int(np.sum(s <= math.sqrt(singular_tol) * s[0]))
+        _, s = _measure(matrix(x))
+        mult = int(np.sum(s <= math.sqrt(singular_tol) * (s[0] + (1.0 if r else 0.0)))) - r
         roots.append(Root(x, max(mult, 1), gx, (float(a), float(b)), "touching"))
     roots.sort(key=lambda r: r.x)
     # Merge duplicates found from adjacent candidates.

@@ -26,7 +26,9 @@ and require rows ``(u, u', w)`` of ``T`` times them to vanish: the 3x3 matrix
 from __future__ import annotations
 
 import numpy as np
-from scipy.linalg import expm
+from scipy.linalg import expm, null_space
+
+from .numerics import matrix_roots
 
 #: Indices in the state vector y = (u, u', u'', u''', w, w').
 _ESSENTIAL = [0, 1, 4]
@@ -83,3 +85,89 @@ def clamped_arc_mode(
     scale = np.max(np.abs(ys[:, 0]))
     scale = scale if scale > 0 else 1.0
     return x, ys[:, 0] / scale, ys[:, 4] / scale
+
+
+def ring_system_matrix(M: float, b1: float, b2: float) -> np.ndarray:
+    """4x4 matrix of ``y' = S y``, ``y = (omega, omega', beta, beta')``, for the ring (3.1).
+
+    Euler-Lagrange equations of P2 (2.12) in ``theta = s/R`` (checked symbolically in the
+    tests; they agree with the paper's (3.1))::
+
+        b2 omega'' + (M - b1) omega + (b1 + b2 - M) beta' = 0
+        b1 beta''  + (M - b2) beta  - (b1 + b2 - M) omega' = 0
+    """
+    c = b1 + b2 - M
+    S = np.zeros((4, 4))
+    S[0, 1] = 1.0
+    S[2, 3] = 1.0
+    S[1, 0] = -(M - b1) / b2
+    S[1, 3] = -c / b2
+    S[3, 2] = -(M - b2) / b1
+    S[3, 1] = c / b1
+    return S
+
+
+#: Periodic solutions that exist for every M: the two rigid rotations about in-plane axes.
+RING_RIGID_NULLITY = 2
+
+
+def ring_periodicity_measure(M: float, loops: int, b1: float, b2: float) -> np.ndarray:
+    """Singular values of ``T - I``, ``T = expm(2 pi N S)`` (monodromy over the N-loop ring).
+
+    A periodic solution of (3.1) is a null vector of ``T - I``. The two rigid rotations are
+    always there, so an eigenvalue ``M`` shows as a third (and, by the cos/sin pairing of the
+    modes, fourth) zero singular value. Singular values are returned in decreasing order.
+    """
+    T = expm(2.0 * np.pi * loops * ring_system_matrix(M, b1, b2))
+    return np.linalg.svd(T - np.eye(4), compute_uv=False)
+
+
+def ring_periodic_null_vectors(M: float, loops: int, b1: float, b2: float,
+                               n_null: int = 4) -> np.ndarray:
+    """Right singular vectors of ``T - I`` for its ``n_null`` smallest singular values."""
+    T = expm(2.0 * np.pi * loops * ring_system_matrix(M, b1, b2))
+    _, _, vt = np.linalg.svd(T - np.eye(4))
+    return vt[-n_null:]
+
+
+def _mean_beta_row(M: float, loops: int, b1: float, b2: float) -> np.ndarray:
+    """Row ``c`` with ``c . y0 = int_0^{2 pi N} beta dtheta`` for ``y = expm(S theta) y0``."""
+    S = ring_system_matrix(M, b1, b2)
+    big = np.zeros((8, 8))
+    big[:4, :4] = S
+    big[:4, 4:] = np.eye(4)
+    integral = expm(2.0 * np.pi * loops * big)[:4, 4:]  # int_0^P expm(S theta) dtheta
+    return integral[2]
+
+
+def ring_interval_transfer(b1: float, b2: float, loops: int, *, span: float = 3.0,
+                           n_scan: int = 600) -> tuple[float, float, list[float]]:
+    """Stable interval of ``M`` for the N-loop ring by the monodromy method (second method).
+
+    Scans ``M`` in ``[-span, span] * max(1, b1, b2)`` for periodic solutions of (3.1) beyond
+    the two rigid rotations (:func:`rodstab.numerics.matrix_roots` with ``known_nullity=2``),
+    drops those that violate closure ``int beta dtheta = 0`` (at ``M = b2``, ``beta = const``
+    -- the paper's "spurious" root), and returns ``(M_lo, M_hi, admissible_roots)`` with the
+    admissible roots nearest to ``M = 0`` on either side.
+    """
+    w = span * max(1.0, b1, b2)
+    found = matrix_roots(
+        lambda M: expm(2.0 * np.pi * loops * ring_system_matrix(M, b1, b2)) - np.eye(4),
+        -w, w, n_scan=n_scan, known_nullity=RING_RIGID_NULLITY,
+        method_name="monodromy sigma_3 scan + golden section")
+    admissible = []
+    for root in found.roots:
+        T = expm(2.0 * np.pi * loops * ring_system_matrix(root.x, b1, b2)) - np.eye(4)
+        s = np.linalg.svd(T, compute_uv=False)
+        null = null_space(T, rcond=max(1e-7, 1e3 * s[-1 - RING_RIGID_NULLITY] / (1 + s[0])))
+        null = null if null.shape[1] > RING_RIGID_NULLITY else ring_periodic_null_vectors(
+            root.x, loops, b1, b2, RING_RIGID_NULLITY + max(root.multiplicity, 1)).T
+        c = _mean_beta_row(root.x, loops, b1, b2)
+        cn = c @ null
+        # Closure removes one null direction unless every periodic solution already closes.
+        lost = 1 if np.linalg.norm(cn) > 1e-8 * (np.linalg.norm(c) + 1.0) else 0
+        if null.shape[1] - lost > RING_RIGID_NULLITY:
+            admissible.append(root.x)
+    neg = [m for m in admissible if m < 0]
+    pos = [m for m in admissible if m > 0]
+    return (max(neg) if neg else -np.inf), (min(pos) if pos else np.inf), admissible
