@@ -228,7 +228,7 @@ def max_arc_length(b1: float, b2: float, *, L_over_R_cap: float = 40.0) -> MaxAr
             # The bracket vanishes identically (b1 = b2 = 1: lam = q = 0); this family's
             # general solution (3.5) degenerates and says nothing.
             continue
-        found = find_roots(lambda L: fn(1.0, L, b1, b2), 1e-6, L_over_R_cap, n_scan=2000)
+        found = find_roots(lambda L: fn(1.0, L, b1, b2), 1e-6, L_over_R_cap, n_scan=800)
         if found.roots:
             r = found.roots[0]
             if best is None or r.x < best[0]:

@@ -106,3 +106,42 @@ def michell_stability(b2: float, loops: int = 1, *, b1: float = 1.0,
         stable_at_zero_twist=not unstable, unstable_modes=unstable, residual=residual,
         method="quadratic form of (3.21) in (phi_r, phi_3), modes (3.22), generalized eigh",
     )
+
+
+def michell_p2_paper_route(t: float, j: int, r: float, *, n_quad: int = 512) -> float:
+    """P2 of (3.21) per unit ``pi/2 (b j)^2`` by quadrature, following the paper's polar route.
+
+    The trial fields (3.22) give ``beta cos(gamma) = b j cos(j theta)`` and
+    ``beta sin(gamma) = -a (j^2 - 1) sin(j theta)`` (3.23); ``beta``, ``gamma`` and their
+    derivatives are formed from these exactly as in (3.24) (with ``(beta gamma')^2`` computed
+    from ``beta^2 gamma'`` and ``beta^2``, not from the printed ``j^4``) and (3.21) is integrated
+    by the trapezoid rule (spectrally accurate for the periodic integrand). A second method for
+    :func:`michell_stability`: it shares no algebra with the quadratic form used there.
+    """
+    th = np.linspace(0.0, 2 * np.pi, n_quad, endpoint=False)
+    bj = 1.0
+    c = r * bj  # a (j^2 - 1)
+    x, dx = bj * np.cos(j * th), -bj * j * np.sin(j * th)  # beta cos(gamma) and derivative
+    y, dy = -c * np.sin(j * th), -c * j * np.cos(j * th)  # beta sin(gamma) and derivative
+    beta2 = x * x + y * y
+    beta2_gp = x * dy - y * dx  # beta^2 gamma'
+    dbeta2 = (x * dx + y * dy) ** 2 / beta2  # beta'^2
+    bgp2 = beta2_gp**2 / beta2  # (beta gamma')^2
+    integrand = -t * beta2_gp + dbeta2 + bgp2 - x * x
+    integral = float(np.mean(integrand) * 2 * np.pi)
+    return 0.5 * integral / (0.5 * np.pi * bj * bj)
+
+
+def michell_critical_paper_route(j: int = 2) -> float:
+    """Smallest twist ``t = b2 omega0'`` at which ``min_r P2(t, j, r) = 0`` (quadrature route).
+
+    ``min_r`` by golden-section search on ``r`` in ``[-5, 0]`` (the minimiser has ``r t < 0``)
+    and the root in ``t`` by the package root finder on ``[0.1, 5]``.
+    """
+    from ..numerics import find_roots, golden_min
+
+    def min_p2(t: float) -> float:
+        return golden_min(lambda r: michell_p2_paper_route(t, j, r), -5.0, -1e-6, 1e-10)[1]
+
+    found = find_roots(min_p2, 0.1, 5.0, n_scan=60)
+    return found.roots[0].x if found.roots else math.nan

@@ -1,0 +1,1 @@
+"""Reproduction report: claims of the paper, figures, and their rendering (md, html, json)."""

@@ -1,0 +1,90 @@
+"""Figures of the reproduction report, drawn from the data dicts of :mod:`.claims`.
+
+No mathematics here: every number plotted comes from the data passed in.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def _save(fig, out: Path, stem: str) -> list[Path]:
+    paths = []
+    for ext in ("png", "svg"):
+        p = out / f"{stem}.{ext}"
+        fig.savefig(p, dpi=130, bbox_inches="tight")
+        paths.append(p)
+    plt.close(fig)
+    return paths
+
+
+def fig3(data: dict, out: Path) -> list[Path]:
+    """Fig. 3: stable range of L kappa_n vs L/R for clamped arcs (upper and lower branch)."""
+    fig, ax = plt.subplots(figsize=(6.4, 4.6))
+    for cv in data["curves"]:
+        style = "--" if cv["label"] == "circle" else "-"
+        (line,) = ax.plot(data["L_over_R"], cv["upper"], style, label=cv["label"])
+        ax.plot(data["L_over_R"], cv["lower"], style, color=line.get_color(), alpha=0.35)
+    ax.plot(data["L_over_R"], data["L_over_R"], ":", color="k", lw=0.8,
+            label="stress-free (kappa_n = 1/R)")
+    ax.set_xlabel("L / R")
+    ax.set_ylabel("L kappa_n")
+    ax.set_title("Clamped arc: stable between lower (faint) and upper curves (nu = 1/3)")
+    ax.legend(fontsize=7)
+    ax.grid(alpha=0.3)
+    return _save(fig, out, "fig3_arc_stability")
+
+
+def fig4(data: dict, out: Path) -> list[Path]:
+    """Fig. 4: sqrt(B1 B2)/B3 vs h/t, exact torsion and the paper's (3.12)."""
+    fig, ax = plt.subplots(figsize=(6.0, 4.4))
+    ax.loglog(data["h_over_t"], data["rectangle_exact"], label="rectangle, exact Saint-Venant")
+    ax.loglog(data["h_over_t"], data["rectangle_paper"], "--", label="rectangle, paper (3.12)")
+    ax.loglog(data["h_over_t"], data["ellipse"], label="ellipse (3.11) = exact")
+    ax.axhline(data["circle"], color="k", lw=0.8, ls=":", label="circle 1/sqrt(1+nu)")
+    ax.set_xlabel("h / t")
+    ax.set_ylabel("sqrt(B1 B2) / B3")
+    ax.set_title("Fig. 4 (nu = 1/3)")
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3, which="both")
+    return _save(fig, out, "fig4_stiffness_combination")
+
+
+def fig5(data: dict, out: Path) -> list[Path]:
+    """Fig. 5: longest stable clamped arc of a straight rod vs h/t."""
+    fig, ax = plt.subplots(figsize=(6.0, 4.4))
+    ax.plot(data["h_over_t"], data["exact"], label="exact torsion")
+    ax.plot(data["h_over_t"], data["paper"], "--", label="paper (3.12) torsion")
+    ax.axhline(2 * math.pi, color="k", lw=0.8, ls=":", label="2 pi (h/t = 1)")
+    ax.set_xlabel("h / t")
+    ax.set_ylabel("max stable L / R")
+    ax.set_title("Fig. 5: straight rod bent into a clamped arc (nu = 1/3)")
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3)
+    return _save(fig, out, "fig5_max_arc_length")
+
+
+def fig_rings(data: dict, out: Path) -> list[Path]:
+    """New figure: stable (L/2pi) kappa_n intervals of N-loop rings vs rectangle h/t."""
+    fig, ax = plt.subplots(figsize=(6.4, 4.6))
+    for N in data["loops"]:
+        ivs = data["intervals"][str(N)]
+        lo = [iv[0] for iv in ivs]
+        hi = [iv[1] for iv in ivs]
+        ax.fill_between(data["h_over_t"], lo, hi, alpha=0.35, label=f"N = {N}")
+    thr = data.get("overlap_threshold_exact")
+    if thr is not None and math.isfinite(thr):
+        ax.axvline(thr, color="k", lw=0.8, ls=":", label=f"1/3-loop overlap from h/t = {thr:.3g}")
+    ax.set_xscale("log")
+    ax.set_xlabel("h / t (rectangle, exact torsion, nu = 1/3)")
+    ax.set_ylabel("(L / 2 pi) kappa_n")
+    ax.set_title("Stable natural curvature of untwisted N-loop rings")
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3, which="both")
+    return _save(fig, out, "fig_rings_intervals")
