@@ -114,6 +114,28 @@ def golden_min(g: Callable[[float], float], a: float, b: float, xtol: float) -> 
     return x, g(x)
 
 
+def _bracketed_root(f: Callable[[float], float], a: float, b: float, xtol: float) -> float:
+    """Root in a sign-change bracket: Brent, falling back to bisection where Brent stalls.
+
+    Brent can fail to converge on a root of high odd order (``(x - 1)^3``), where ``f`` is
+    flat; bisection on the same bracket always converges (to ``xtol``).
+    """
+    try:
+        return float(brentq(f, a, b, xtol=xtol, rtol=4 * np.finfo(float).eps, maxiter=500))
+    except RuntimeError:
+        fa = f(a)
+        while b - a > xtol:
+            m = 0.5 * (a + b)
+            fm = f(m)
+            if fm == 0.0:
+                return m
+            if (fm < 0) == (fa < 0):
+                a, fa = m, fm
+            else:
+                b = m
+        return 0.5 * (a + b)
+
+
 def _order_of_vanishing(g: Callable[[float], float], x0: float, h: float) -> int:
     """Estimate the order ``m`` in ``|g(x)| ~ c |x - x0|^m`` from two symmetric step sizes."""
     vals = []
@@ -172,7 +194,7 @@ def find_roots(
         if fa == 0.0:
             roots.append(Root(float(a), 1, 0.0, (float(a), float(a)), "grid-point"))
         elif fa * fb < 0.0:
-            x = brentq(f, a, b, xtol=xtol, rtol=4 * np.finfo(float).eps)
+            x = _bracketed_root(f, a, b, xtol)
             fx = abs(f(x))
             # A sign change through a pole is not a root: there |f| grows as the bracket shrinks.
             if fx > 1e-3 * min(abs(fa), abs(fb)) and fx > touch_tol * scale:
@@ -198,7 +220,7 @@ def find_roots(
         pair = False
         for k in range(2 * SUBSCAN):
             if fsub[k] * fsub[k + 1] < 0:
-                x = brentq(f, sub[k], sub[k + 1], xtol=xtol, rtol=4 * np.finfo(float).eps)
+                x = _bracketed_root(f, sub[k], sub[k + 1], xtol)
                 roots.append(Root(float(x), 1, abs(f(x)), (float(sub[k]), float(sub[k + 1])),
                                   "sign-change"))
                 pair = True
@@ -244,18 +266,31 @@ def matrix_roots(
         raise ValueError(f"matrix_roots needs finite lo < hi, got lo={lo!r}, hi={hi!r}")
     r = known_nullity
 
+    xs = np.linspace(lo, hi, n_scan + 1)
+    svals = [np.linalg.svd(matrix(float(x)), compute_uv=False) for x in xs]
+    # Reference size: the median largest singular value over the scan. Dividing by
+    # max(sigma_max, s_ref) instead of sigma_max alone keeps the measure relative where A is
+    # large, yet still sees a root at which every singular value vanishes together (A = (x-1) I).
+    s_ref = float(np.median([sv[0] for sv in svals])) or 1.0
+
     def _measure(A: np.ndarray) -> tuple[float, np.ndarray]:
-        if r == 0:
-            return _sv_ratio(A)
         s = np.linalg.svd(A, compute_uv=False)
+        if r == 0:
+            return float(s[-1] / max(s[0], s_ref)), s
         return float(s[-1 - r] / (1.0 + s[0])), s
 
     def g(x: float) -> float:
         return _measure(matrix(float(x)))[0]
 
-    xs = np.linspace(lo, hi, n_scan + 1)
     gs = np.array([g(float(x)) for x in xs])
+    smax_grid = np.array([sv[0] for sv in svals])
     xtol = XTOL * (hi - lo)
+
+    def is_pole(x: float, a: float, b: float) -> bool:
+        """sigma_max blowing up between two scan points is a pole of A, not a root."""
+        local = max(float(np.max(smax_grid[(xs >= a - 1e-15) & (xs <= b + 1e-15)], initial=0.0)),
+                    s_ref)
+        return float(np.linalg.svd(matrix(x), compute_uv=False)[0]) > 1e6 * local
 
     def det(x: float) -> float:
         A = matrix(float(x))
@@ -270,7 +305,7 @@ def matrix_roots(
     def add_sign_change(xa: float, xb: float) -> None:
         x = float(brentq(det, xa, xb, xtol=xtol, rtol=eps4))
         gx = g(x)
-        if gx <= singular_tol:
+        if gx <= singular_tol and not is_pole(x, xa, xb):
             _, s = _sv_ratio(matrix(x))
             mult = int(np.sum(s <= math.sqrt(singular_tol) * s[0]))
             roots.append(Root(x, max(mult, 1), gx, (float(xa), float(xb)), "sign-change"))
@@ -279,6 +314,13 @@ def matrix_roots(
     for i in range(n_scan):
         if ds[i] * ds[i + 1] < 0:
             add_sign_change(xs[i], xs[i + 1])
+        elif r == 0 and ds[i] == 0.0 and 0 < i and ds[i - 1] * ds[i + 1] < 0:
+            # A simple root exactly on a grid point: the determinant changes sign across it.
+            x = float(xs[i])
+            _, s = _measure(matrix(x))
+            mult = int(np.sum(s <= math.sqrt(singular_tol) * s[0]))
+            roots.append(Root(x, max(mult, 1), g(x), (float(xs[i - 1]), float(xs[i + 1])),
+                              "sign-change"))
     candidates = [i for i in range(1, n_scan) if gs[i] <= gs[i - 1] and gs[i] <= gs[i + 1]]
     for end in (0, n_scan):
         if gs[end] <= singular_tol:
@@ -298,7 +340,7 @@ def matrix_roots(
         if len(roots) > n_before:
             continue
         x, gx = golden_min(g, xs[max(i - 1, 0)], xs[min(i + 1, n_scan)], xtol)
-        if gx > singular_tol:
+        if gx > singular_tol or is_pole(x, a, b):
             continue
         _, s = _measure(matrix(x))
         mult = int(np.sum(s <= math.sqrt(singular_tol) * (s[0] + (1.0 if r else 0.0)))) - r

@@ -30,6 +30,8 @@ from ..errors import require_finite, require_positive
 from ..numerics import Root, find_roots
 from ..results import Result
 
+#: Largest argument of sinh/cosh evaluated (beyond it the value overflows a double).
+_EXP_CAP = 700.0
 #: Distance (relative) kept from the removable singularities M = 0 and M = b2.
 _SINGULAR_GUARD = 1e-9
 
@@ -49,6 +51,8 @@ def _sinc_lam(lam2: float, z: float) -> float:
         return math.sin(lam * z) / lam
     if lam2 < 0:
         mu = math.sqrt(-lam2)
+        if mu * abs(z) > _EXP_CAP:  # overflow: the scan treats non-finite values as no data
+            return math.copysign(math.inf, z)
         return math.sinh(mu * z) / mu
     return z
 
@@ -57,6 +61,8 @@ def _cos_lam(lam2: float, z: float) -> float:
     """``cos(lam z)``, entire in ``lam2`` (``cosh(mu z)`` for ``lam2 = -mu^2``)."""
     if lam2 >= 0:
         return math.cos(math.sqrt(lam2) * z)
+    if math.sqrt(-lam2) * abs(z) > _EXP_CAP:
+        return math.inf
     return math.cosh(math.sqrt(-lam2) * z)
 
 
@@ -221,14 +227,16 @@ def max_arc_length(b1: float, b2: float, *, L_over_R_cap: float = 40.0) -> MaxAr
     b1 = require_positive("b1", b1)
     b2 = require_positive("b2", b2)
     best: tuple[float, str, float] | None = None
-    # At fixed M = 1 the removed factors of (3.7)/(3.8) are constants: scan the brackets.
-    for name, fn in (("symmetric", _symmetric_bracket), ("antisymmetric", _antisymmetric_bracket)):
-        probe = [abs(fn(1.0, L, b1, b2)) for L in np.linspace(0.5, L_over_R_cap, 64)]
-        if max(probe) < 1e-12:
-            # The bracket vanishes identically (b1 = b2 = 1: lam = q = 0); this family's
-            # general solution (3.5) degenerates and says nothing.
-            continue
-        found = find_roots(lambda L: fn(1.0, L, b1, b2), 1e-6, L_over_R_cap, n_scan=800)
+    # The reduced forms are used (not the raw brackets): near b2 = 1 the raw (3.8) carries the
+    # factor (b2 - M) -> 0 for every L/R and would be numerically zero. M is nudged off the
+    # removable points M = b2 (and b1 = b2 = 1, where both factors vanish together).
+    for name, fn in (("symmetric", symmetric_function), ("antisymmetric", antisymmetric_function)):
+        # Only (3.8) is divided by (b2 - M): only it needs M nudged off b2.
+        M = _guarded(1.0, b1, b2) if name == "antisymmetric" else 1.0
+        # L/R -> 0 is a trivial zero of both brackets (no arc); a straight rod with
+        # kappa_n = 0 is stable, so the scan starts at L/R = 1e-3.
+        found = find_roots(lambda L, M=M, fn=fn: fn(M, L, b1, b2), 1e-3, L_over_R_cap,
+                           n_scan=800)
         if found.roots:
             r = found.roots[0]
             if best is None or r.x < best[0]:
