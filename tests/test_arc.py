@@ -173,21 +173,16 @@ def test_eq_3_10_straight_mode_matches_transfer_mode(name):
 
 
 @pytest.mark.parametrize("name, side", [
-    pytest.param("circle", "lower", marks=pytest.mark.xfail(strict=True, reason=(
-        "src bug: spurious antisymmetric root at M = 0 (L kappa_n = L/R) for small L/R"))),
+    pytest.param("circle", "lower"),
     ("circle", "upper"),
     ("rect_0.75", "lower"),
     ("rect_0.75", "upper"),
-    pytest.param("square", "lower", marks=pytest.mark.xfail(strict=True, reason=(
-        "src bug: spurious antisymmetric root at M = 0 (L kappa_n = L/R) for small L/R"))),
+    pytest.param("square", "lower"),
     ("square", "upper"),
-    pytest.param("rect_3", "lower", marks=pytest.mark.xfail(strict=True, reason=(
-        "src bug: spurious antisymmetric root at M = 0 (L kappa_n = L/R) for small L/R"))),
+    pytest.param("rect_3", "lower"),
     ("rect_3", "upper"),
-    pytest.param("rect_10", "lower", marks=pytest.mark.xfail(strict=True, reason=(
-        "src bug: spurious antisymmetric root at M = 0 (L kappa_n = L/R) for small L/R"))),
-    pytest.param("rect_10", "upper", marks=pytest.mark.xfail(strict=True, reason=(
-        "src bug: spurious antisymmetric root at M = 0 (L kappa_n = L/R) for small L/R"))),
+    pytest.param("rect_10", "lower"),
+    pytest.param("rect_10", "upper"),
 ])
 def test_eq_3_9_small_L_over_R_tends_to_the_straight_limit(name, side):
     """Continuity of Fig. 3 at L/R -> 0: at L/R = 1e-3 the ends of the stable interval are within

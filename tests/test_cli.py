@@ -156,9 +156,6 @@ def test_cli_main_valid_invocation_exit_0_and_silent_stderr():
 
 # --------------------------------------------------------------------------- invalid input
 
-_ONE_LINE_XFAIL = pytest.mark.xfail(strict=True, reason=(
-    "src bug: with --shape other than circle plus --b1/--b2, cli prints 'note: --b1/--b2 "
-    "override --shape ...' to stderr before the error line: two stderr lines"))
 L_NAME = ("L-over-R", "L_over_R")
 
 #: (arguments, tokens that must appear in the stderr line; a tuple token = any of its items)
@@ -200,10 +197,9 @@ BAD_INPUTS = [
     (["michell", "--b1", "2", "--b2", "1"], ["b1", "2.0"]),
     (["frobnicate"], ["frobnicate"]),
     (["section", "--bogus"], ["--bogus"]),
-    pytest.param(["section", "--shape", "rectangle", "--b1", "-1", "--b2", "1"], ["b1", "-1"],
-                 marks=_ONE_LINE_XFAIL),
+    pytest.param(["section", "--shape", "rectangle", "--b1", "-1", "--b2", "1"], ["b1", "-1"]),
     pytest.param(["ring", "--shape", "ellipse", "--b1", "1", "--b2", "1", "--aspect", "3"],
-                 ["aspect", "3"], marks=_ONE_LINE_XFAIL),
+                 ["aspect", "3"]),
 ]
 
 

@@ -103,7 +103,7 @@ def test_find_roots_never_misses_a_pair_separated_by_more_than_h_over_subscan(k,
     c = (k + frac) * h
     d = c + sep_over_h * h
     # Roots exactly on a scan point or on a point of the local re-scan (spacing h/SUBSCAN from
-    # the grid) are a separate case: see the xfail tests below.
+    # the grid) are a separate case: see the grid-point tests below.
     for r in (c, d):
         assume(abs(r * SUBSCAN / h - round(r * SUBSCAN / h)) > 1e-6)
     res = find_roots(lambda x: (x - c) * (x - d), 0.0, 10.0, n_scan=100)
@@ -119,8 +119,6 @@ def test_find_roots_simple_roots_on_grid_points():
     assert {r.kind for r in res.roots} == {"grid-point"}
 
 
-@pytest.mark.xfail(strict=True, reason="src bug: find_roots gives every grid-point root "
-                   "multiplicity 1 (kind 'grid-point'), whatever its order of vanishing")
 @pytest.mark.parametrize("f, lo, hi, root, m", [
     (lambda x: (x - 1.0) ** 2, 0.0, 2.0, 1.0, 2),   # 1.0 = linspace(0, 2, 401)[200]
     (lambda x: (x - 2.0) ** 3, 0.0, 4.0, 2.0, 3),   # 2.0 = linspace(0, 4, 401)[200]
@@ -130,9 +128,6 @@ def test_find_roots_multiple_root_on_a_grid_point_has_its_multiplicity(f, lo, hi
     _assert_roots(find_roots(f, lo, hi), [(root, m)])
 
 
-@pytest.mark.xfail(strict=True, reason="src bug: find_roots misses (or merges into one "
-                   "'touching' root) a simple root within one scan spacing of a root that sits "
-                   "exactly on a scan or re-scan grid point")
 @pytest.mark.parametrize("a, b", [(9.5, 9.51), (9.49, 9.5), (1.0, 1.05), (0.25, 0.275)],
                          ids=["grid_then_close", "close_then_grid", "grid_half_h", "subgrid"])
 def test_find_roots_close_pair_with_one_root_on_a_grid_point(a, b):
@@ -202,9 +197,6 @@ def test_matrix_roots_catalogue_known_roots_and_nullities(A, lo, hi, n_scan, exp
         assert r.residual <= 1e-8
 
 
-@pytest.mark.xfail(strict=True, reason="src bug: for A(x) = (x-1) I matrix_roots counts the "
-                   "null space relative to sigma_max(A(x*)) (itself ~0), so multiplicity 1 is "
-                   "reported instead of 2 (at c1e0203 the root was missed entirely)")
 @pytest.mark.parametrize("lo, hi", [(0.0, 3.0), (0.0, 2.0)], ids=["off_grid", "on_grid"])
 def test_matrix_roots_diag_x_minus_1_twice(lo, hi):
     """diag(x - 1, x - 1) is singular at x = 1 with a two-dimensional null space (closed form)."""

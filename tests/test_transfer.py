@@ -238,9 +238,6 @@ def test_clamped_arc_mode_satisfies_clamped_end_conditions(Lb):
     assert abs(du0) < 1e-3 and abs(du1) < 1e-3
 
 
-@pytest.mark.xfail(strict=True, reason="src bug: matrix_roots reports 'touching' roots of "
-                   "clamped_arc_matrix where it is merely ill-conditioned (sigma_min/sigma_max "
-                   "~ 3.6e-9 < SINGULAR_TOL) but its determinant is ~5e4")
 def test_shooting_matrix_has_no_root_where_high_precision_determinant_is_large():
     """Rectangle h/t = 10, L/R = 4, L kappa_n in [-180, -175]: neither (3.7) nor (3.8) has a root
     there, and the shooting determinant evaluated with 40-digit mpmath keeps one sign and varies

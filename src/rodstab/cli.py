@@ -42,12 +42,12 @@ def _section_options(f: Callable[..., Any]) -> Callable[..., Any]:
     @functools.wraps(f)
     def wrapper(shape: str, aspect: float | None, nu: float, torsion: str,
                 b1: float | None, b2: float | None, **kwargs: Any) -> Any:
-        if b1 is not None and b2 is not None and shape != "circle":
-            # --shape was given explicitly together with b1/b2: the ratios win, say so.
-            click.echo(f"note: --b1/--b2 override --shape {shape}", err=True)
-            shape = "circle"
         section = make_section(shape, aspect=aspect, nu=nu, torsion=torsion, b1=b1, b2=b2)
-        return f(section=section, **kwargs)
+        out = f(section=section, **kwargs)
+        if b1 is not None and b2 is not None and shape != "circle":
+            # Said after success, so an error still prints exactly one stderr line.
+            click.echo(f"note: --b1/--b2 override --shape {shape}", err=True)
+        return out
 
     return wrapper
 

@@ -40,6 +40,9 @@ SCAN_INTERVALS = 400
 TOUCH_TOL = 1e-8
 #: Relative tolerance of the smallest singular value below which a matrix counts as singular.
 SINGULAR_TOL = 1e-8
+#: A singular point found without a determinant sign change (even multiplicity) must reach this
+#: smaller sigma ratio.
+TOUCH_SINGULAR_TOL = 1e-11
 #: Relative x-tolerance of the refinement (Brent); the absolute part is this times the span.
 XTOL = 1e-14
 #: Subintervals per scan interval of the local re-scan around a minimum of |f| or sigma_min.
@@ -187,53 +190,70 @@ def find_roots(
     h_order = 1e-4 * (hi - lo) / n_scan
     roots: list[Root] = []
     converged = bool(finite.all())
+    sg = np.sign(fs)  # signs, not products: f values may be huge (no overflow)
+
+    def sign_change_root(a: float, b: float, fa: float, fb: float) -> None:
+        x = _bracketed_root(f, a, b, xtol)
+        fx = abs(f(x))
+        # A sign change through a pole is not a root: there |f| grows as the bracket shrinks.
+        if fx > 1e-3 * min(abs(fa), abs(fb)) and fx > touch_tol * scale:
+            return
+        m = _order_of_vanishing(f, x, min(h_order, 0.25 * (b - a)))
+        m = m if m % 2 == 1 else m + 1  # a sign change has odd order
+        roots.append(Root(float(x), m, fx, (float(a), float(b)), "sign-change"))
+
+    def exact_zero(x: float, a: float, b: float) -> None:
+        m = _order_of_vanishing(f, x, min(h_order, 0.25 * (b - a)))
+        roots.append(Root(float(x), m, 0.0, (float(a), float(b)), "grid-point"))
+
+    regions: list[int] = []  # grid indices around which a finer local scan is needed
     for i in range(n_scan):
-        a, b, fa, fb = xs[i], xs[i + 1], fs[i], fs[i + 1]
-        if not (np.isfinite(fa) and np.isfinite(fb)):
+        if not (finite[i] and finite[i + 1]):
             continue
-        if fa == 0.0:
-            roots.append(Root(float(a), 1, 0.0, (float(a), float(a)), "grid-point"))
-        elif fa * fb < 0.0:
-            x = _bracketed_root(f, a, b, xtol)
-            fx = abs(f(x))
-            # A sign change through a pole is not a root: there |f| grows as the bracket shrinks.
-            if fx > 1e-3 * min(abs(fa), abs(fb)) and fx > touch_tol * scale:
-                continue
-            m = _order_of_vanishing(f, x, min(h_order, 0.25 * (b - a)))
-            m = m if m % 2 == 1 else m + 1  # a sign change has odd order
-            roots.append(Root(float(x), m, abs(f(x)), (float(a), float(b)), "sign-change"))
-    if fs[-1] == 0.0:
-        roots.append(Root(float(xs[-1]), 1, 0.0, (float(xs[-1]),) * 2, "grid-point"))
-    # Touching roots: interior local minima of |f| with no sign change on either side.
-    af = np.abs(fs)
-    for i in range(1, n_scan):
-        if not (np.isfinite(fs[i - 1 : i + 2]).all()):
+        if sg[i] * sg[i + 1] < 0:
+            sign_change_root(xs[i], xs[i + 1], fs[i], fs[i + 1])
+    for i in range(n_scan + 1):
+        if not finite[i]:
             continue
-        if fs[i - 1] * fs[i] <= 0 or fs[i] * fs[i + 1] <= 0:
-            continue
-        if not (af[i] <= af[i - 1] and af[i] <= af[i + 1]):
-            continue
-        # A pair of simple roots closer than one scan spacing looks like this too: look for
-        # sign changes on a finer local grid before treating the minimum as a touching root.
-        sub = np.linspace(xs[i - 1], xs[i + 1], 2 * SUBSCAN + 1)
+        if fs[i] == 0.0:
+            regions.append(i)  # a root on the grid: a close neighbour may hide beside it
+        elif 0 < i < n_scan and finite[i - 1] and finite[i + 1] \
+                and sg[i - 1] == sg[i] == sg[i + 1] \
+                and abs(fs[i]) <= abs(fs[i - 1]) and abs(fs[i]) <= abs(fs[i + 1]):
+            regions.append(i)  # |f| dips without a sign change: touching root, or a close pair
+    for i in regions:
+        a, b = xs[max(i - 1, 0)], xs[min(i + 1, n_scan)]
+        # Odd count of sub-intervals: the grid point x_i is not a sub-grid point, so a root on
+        # the grid is bracketed like any other.
+        sub = np.linspace(a, b, 2 * SUBSCAN + 2)
         fsub = np.array([f(float(t)) for t in sub])
-        pair = False
-        for k in range(2 * SUBSCAN):
-            if fsub[k] * fsub[k + 1] < 0:
-                x = _bracketed_root(f, sub[k], sub[k + 1], xtol)
-                roots.append(Root(float(x), 1, abs(f(x)), (float(sub[k]), float(sub[k + 1])),
-                                  "sign-change"))
-                pair = True
-        if pair:
+        ssub = np.sign(fsub)
+        if fs[i] == 0.0:
+            exact_zero(xs[i], a, b)
+        before = len(roots)
+        for k in range(len(sub) - 1):
+            if ssub[k] == 0.0:
+                exact_zero(sub[k], sub[max(k - 1, 0)], sub[min(k + 1, len(sub) - 1)])
+            elif ssub[k] * ssub[k + 1] < 0:
+                sign_change_root(sub[k], sub[k + 1], fsub[k], fsub[k + 1])
+        if len(roots) > before or fs[i] == 0.0:
             continue
-        x, fx = golden_min(lambda t: abs(f(t)), xs[i - 1], xs[i + 1], xtol)
+        x, fx = golden_min(lambda t: abs(f(t)), a, b, xtol)
         if fx <= touch_tol * scale:
             m = _order_of_vanishing(f, x, h_order)
             m = m if m % 2 == 0 else m + 1  # no sign change: even order
-            roots.append(Root(float(x), m, float(fx), (float(xs[i - 1]), float(xs[i + 1])),
-                              "touching"))
+            roots.append(Root(float(x), m, float(fx), (float(a), float(b)), "touching"))
     roots.sort(key=lambda r: r.x)
-    return RootSearch(tuple(roots), (float(lo), float(hi)), n_scan, converged, method_name)
+    merged: list[Root] = []
+    for r in roots:  # a root found both by the coarse and by a local scan
+        if merged and abs(r.x - merged[-1].x) <= 1e3 * xtol:
+            # Keep an exact zero's location and label; the larger multiplicity estimate wins.
+            keep, other = (merged[-1], r) if merged[-1].kind == "grid-point" else (r, merged[-1])
+            merged[-1] = dataclasses.replace(
+                keep, multiplicity=max(keep.multiplicity, other.multiplicity))
+            continue
+        merged.append(r)
+    return RootSearch(tuple(merged), (float(lo), float(hi)), n_scan, converged, method_name)
 
 
 def _sv_ratio(A: np.ndarray) -> tuple[float, np.ndarray]:
@@ -307,18 +327,18 @@ def matrix_roots(
         gx = g(x)
         if gx <= singular_tol and not is_pole(x, xa, xb):
             _, s = _sv_ratio(matrix(x))
-            mult = int(np.sum(s <= math.sqrt(singular_tol) * s[0]))
+            mult = int(np.sum(s <= math.sqrt(singular_tol) * max(s[0], s_ref)))
             roots.append(Root(x, max(mult, 1), gx, (float(xa), float(xb)), "sign-change"))
 
     ds = np.array([det(float(x)) for x in xs]) if r == 0 else np.ones(n_scan + 1)
     for i in range(n_scan):
-        if ds[i] * ds[i + 1] < 0:
+        if np.sign(ds[i]) * np.sign(ds[i + 1]) < 0:
             add_sign_change(xs[i], xs[i + 1])
-        elif r == 0 and ds[i] == 0.0 and 0 < i and ds[i - 1] * ds[i + 1] < 0:
+        elif r == 0 and ds[i] == 0.0 and 0 < i and np.sign(ds[i - 1]) * np.sign(ds[i + 1]) < 0:
             # A simple root exactly on a grid point: the determinant changes sign across it.
             x = float(xs[i])
             _, s = _measure(matrix(x))
-            mult = int(np.sum(s <= math.sqrt(singular_tol) * s[0]))
+            mult = int(np.sum(s <= math.sqrt(singular_tol) * max(s[0], s_ref)))
             roots.append(Root(x, max(mult, 1), g(x), (float(xs[i - 1]), float(xs[i + 1])),
                               "sign-change"))
     candidates = [i for i in range(1, n_scan) if gs[i] <= gs[i - 1] and gs[i] <= gs[i + 1]]
@@ -335,15 +355,18 @@ def matrix_roots(
         dsub = [det(float(t)) for t in sub] if r == 0 else [1.0] * len(sub)
         n_before = len(roots)
         for k in range(4 * SUBSCAN):
-            if dsub[k] * dsub[k + 1] < 0:
+            if np.sign(dsub[k]) * np.sign(dsub[k + 1]) < 0:
                 add_sign_change(sub[k], sub[k + 1])
         if len(roots) > n_before:
             continue
         x, gx = golden_min(g, xs[max(i - 1, 0)], xs[min(i + 1, n_scan)], xtol)
-        if gx > singular_tol or is_pole(x, a, b):
+        # No sign change to polish on: demand the stricter TOUCH_SINGULAR_TOL, since a merely
+        # ill-conditioned matrix (sigma ratio ~1e-9, e.g. a long hyperbolic shooting interval)
+        # must not pass for singular; golden search on a genuine zero reaches ~1e-13 or below.
+        if gx > min(singular_tol, TOUCH_SINGULAR_TOL) or is_pole(x, a, b):
             continue
         _, s = _measure(matrix(x))
-        mult = int(np.sum(s <= math.sqrt(singular_tol) * (s[0] + (1.0 if r else 0.0)))) - r
+        mult = int(np.sum(s <= math.sqrt(singular_tol) * (max(s[0], s_ref) + (1.0 if r else 0.0)))) - r
         roots.append(Root(x, max(mult, 1), gx, (float(a), float(b)), "touching"))
     roots.sort(key=lambda r: r.x)
     # Merge duplicates found from adjacent candidates.

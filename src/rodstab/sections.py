@@ -454,6 +454,8 @@ def make_section(
         inconsistent combination of options, or any invalid value.
     """
     torsion = _check_torsion(torsion)
+    # nu is checked even when b1/b2 make it unused: an invalid value is never silently ignored.
+    require_poisson(nu)
     if (b1 is None) != (b2 is None):
         given, missing = ("b1", "b2") if b2 is None else ("b2", "b1")
         value = b1 if b2 is None else b2

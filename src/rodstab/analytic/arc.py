@@ -134,10 +134,15 @@ class ArcStability(Result):
 
 def _first_root(fun, p0: float, direction: float, span: float, max_doublings: int = 6):
     """First root of ``fun(p)`` beyond ``p0`` in ``direction``; the window doubles if empty."""
+    # The scan starts a little away from p0 (M = 0): the reduced functions have a removable
+    # singularity there whose value is swamped by round-off and could fake a sign change. The
+    # stress-free state is stable with a finite margin (P2 is positive definite at M = 0), so no
+    # critical load lies that close to it.
     for _ in range(max_doublings + 1):
-        lo, hi = (p0, p0 + span) if direction > 0 else (p0 - span, p0)
+        delta = 1e-6 * span
+        lo, hi = (p0 + delta, p0 + span) if direction > 0 else (p0 - span, p0 - delta)
         found = find_roots(fun, lo, hi, n_scan=400)
-        roots = [r for r in found.roots if (r.x - p0) * direction > 1e-12 * (1 + abs(p0))]
+        roots = [r for r in found.roots if (r.x - p0) * direction > 10 * delta]
         if roots:
             return min(roots, key=lambda r: abs(r.x - p0))
         span *= 2.0
@@ -189,7 +194,11 @@ def clamped_arc_stability(b1: float, b2: float, L_over_R: float) -> ArcStability
         cands = [(r.x, n, r.residual) for n, r in d.items() if r is not None]
         if not cands:
             return (math.inf * direction, "none", 0.0)
-        return min(cands, key=lambda c: abs(c[0] - p0))
+        best = min(cands, key=lambda c: abs(c[0] - p0))
+        # Both families at the same load (L/R = 2 pi: the ends meet) is a double eigenvalue.
+        if len(cands) == 2 and abs(cands[0][0] - cands[1][0]) <= 1e-9 * (1 + abs(best[0])):
+            return best[0], "symmetric+antisymmetric", best[2]
+        return best
 
     up, up_mode, up_res = pick(upper, +1.0)
     dn, dn_mode, dn_res = pick(lower, -1.0)

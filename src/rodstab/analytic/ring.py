@@ -26,9 +26,10 @@ from ..results import Result
 def ring_mode_pencil(k: float, b1: float, b2: float) -> tuple[np.ndarray, np.ndarray]:
     """Pencil ``(A, C)`` of P2 (2.12) restricted to the mode (3.2) with ``k = j/N``.
 
-    P2 over the ring is ``(pi N B3 / R) * x^T (A - M C) x`` with ``x = (A, B)`` the amplitudes
-    of ``omega`` and ``beta`` -- the algebraic system printed just before (3.3). For ``k = 0``
-    (uniform axisymmetric twist, ``beta = 0``) the pencil is 1x1: ``A = [b1]``, ``C = [1]``.
+    P2 over the ring is ``(pi N B3 / (2 R)) * x^T (A - M C) x`` with ``x = (A, B)`` the
+    amplitudes of ``omega`` and ``beta`` -- the algebraic system printed just before (3.3). For
+    ``k = 0`` (uniform axisymmetric twist, ``beta = 0``) the pencil is 1x1, ``A = [b1]``,
+    ``C = [1]``, and the prefactor is twice that. Prefactors do not change the eigenvalues.
     """
     if k == 0:
         return np.array([[b1]]), np.array([[1.0]])
