@@ -399,7 +399,8 @@ class PencilInterval(Result):
     method: str
 
 
-def pencil_interval(A: np.ndarray, C: np.ndarray) -> PencilInterval:
+def pencil_interval(A: np.ndarray, C: np.ndarray, *,
+                    multiplicity_rtol: float = MULTIPLICITY_RTOL) -> PencilInterval:
     """Stable interval of the load ``p`` for the symmetric pencil ``K(p) = A - p C``.
 
     ``A`` (the second variation at zero load) must be symmetric positive definite; ``C`` is
@@ -407,6 +408,9 @@ def pencil_interval(A: np.ndarray, C: np.ndarray) -> PencilInterval:
     symmetric problem solved by LAPACK ``sygv`` through ``scipy.linalg.eigh``), ``K(p)`` is
     positive definite exactly for ``1/theta_min < p < 1/theta_max`` (``theta_min < 0 <
     theta_max``); a side with no eigenvalue of that sign is unbounded.
+
+    Eigenvalues within ``multiplicity_rtol`` (relative) of the critical one count towards its
+    multiplicity (a discretisation splits a symmetric pair by about its own error).
 
     Raises
     ------
@@ -433,7 +437,7 @@ def pencil_interval(A: np.ndarray, C: np.ndarray) -> PencilInterval:
         t = th.max() if pick > 0 else th.min()
         if abs(t) <= tol:
             return (math.inf if pick > 0 else -math.inf), 0, None
-        close = np.abs(theta - t) <= MULTIPLICITY_RTOL * abs(t)
+        close = np.abs(theta - t) <= multiplicity_rtol * abs(t)
         return 1.0 / float(t), int(close.sum()), V[:, close]
 
     hi, m_hi, v_hi = side(theta > tol, +1.0)

@@ -1,0 +1,181 @@
+"""Planar assemblies of naturally curved Kirchhoff rods held in circular or straight states.
+
+A :class:`Segment` is a rod of length ``L`` held in the plane with constant signed curvature
+``curvature`` (``1/R``, positive turning left; 0 for straight), starting at ``start`` with
+tangent angle ``angle``. Its natural curvature (about the same e3 axis, same sign convention)
+at load factor 1 is ``natural_curvature``; at load factor ``mu`` it is ``mu * natural_curvature``.
+Welds join segment ends (any angle in the plane): they share out-of-plane displacement and the
+full rotation of the cross-section. Supports act on joints.
+
+Units: any consistent set (lengths, stiffnesses as force x length^2). Nothing is rescaled.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import numpy as np
+
+from ..errors import RodstabInputError, require_finite, require_positive
+
+#: Ends meet when their held-state positions differ by less than this times the total length.
+POSITION_TOL = 1e-8
+#: Held-state moment balance at a joint is checked to this relative tolerance.
+MOMENT_TOL = 1e-8
+#: Support types: clamped (w = 0, all rotations 0), pinned with a fork (w = 0, rotation about
+#: the tangent 0), pinned (w = 0), free.
+SUPPORTS = ("clamped", "fork", "pinned", "free")
+ENDS = ("start", "end")
+
+
+@dataclasses.dataclass(frozen=True)
+class Segment:
+    """One rod segment in its held (reference) state; see the module docstring."""
+
+    name: str
+    length: float
+    curvature: float
+    natural_curvature: float
+    B1: float
+    B2: float
+    B3: float
+    start: tuple[float, float] = (0.0, 0.0)
+    angle: float = 0.0
+
+    def __post_init__(self) -> None:
+        for key in ("length", "B1", "B2", "B3"):
+            require_positive(f"segment {self.name!r} {key}", getattr(self, key))
+        for key in ("curvature", "natural_curvature", "angle"):
+            require_finite(f"segment {self.name!r} {key}", getattr(self, key))
+        for v in self.start:
+            require_finite(f"segment {self.name!r} start", v)
+
+    def tangent(self, s: float | np.ndarray) -> np.ndarray:
+        """Unit tangent ``(..., 2)`` at arc length ``s`` in the held state (lab frame)."""
+        phi = self.angle + self.curvature * np.asarray(s, dtype=float)
+        return np.stack([np.cos(phi), np.sin(phi)], axis=-1)
+
+    def position(self, s: float | np.ndarray) -> np.ndarray:
+        """Centreline position ``(..., 2)`` at arc length ``s`` in the held state."""
+        s = np.asarray(s, dtype=float)
+        k, a = self.curvature, self.angle
+        x0, y0 = self.start
+        if abs(k) * self.length < 1e-12:
+            return np.stack([x0 + s * math.cos(a), y0 + s * math.sin(a)], axis=-1)
+        return np.stack([x0 + (np.sin(a + k * s) - math.sin(a)) / k,
+                         y0 - (np.cos(a + k * s) - math.cos(a)) / k], axis=-1)
+
+    def end_point(self, end: str) -> np.ndarray:
+        """Held-state position of ``"start"`` or ``"end"``."""
+        return self.position(0.0 if end == "start" else self.length)
+
+
+@dataclasses.dataclass(frozen=True)
+class Assembly:
+    """Segments, welds (groups of segment ends) and supports (on segment ends).
+
+    ``welds``: each a sequence of ``(segment_name, end)`` joined into one joint. ``supports``:
+    ``(segment_name, end, type)``; a support on any end of a joint holds the whole joint.
+    ``reference_load``: a load factor at which the held state is known to be stable (default:
+    the stress-free value if one exists, else 0); the stable interval is sought around it.
+    """
+
+    segments: tuple[Segment, ...]
+    welds: tuple[tuple[tuple[str, str], ...], ...] = ()
+    supports: tuple[tuple[str, str, str], ...] = ()
+    reference_load: float | None = None
+
+    def __post_init__(self) -> None:
+        validate(self)
+
+    def segment(self, name: str) -> Segment:
+        """The segment called ``name``."""
+        for s in self.segments:
+            if s.name == name:
+                return s
+        raise RodstabInputError(f"unknown segment {name!r}")
+
+    def joints(self) -> list[tuple[tuple[str, str], ...]]:
+        """Every segment end grouped into joints (welded ends together, others alone)."""
+        seen: dict[tuple[str, str], int] = {}
+        groups: list[list[tuple[str, str]]] = []
+        for w in self.welds:
+            idx = None
+            for e in w:
+                if e in seen:
+                    idx = seen[e]
+            if idx is None:
+                groups.append([])
+                idx = len(groups) - 1
+            for e in w:
+                if e in seen and seen[e] != idx:  # merge two groups
+                    old = seen[e]
+                    for e2 in groups[old]:
+                        seen[e2] = idx
+                        groups[idx].append(e2)
+                    groups[old] = []
+                if e not in seen:
+                    seen[e] = idx
+                    groups[idx].append(e)
+        for s in self.segments:
+            for end in ENDS:
+                if (s.name, end) not in seen:
+                    seen[(s.name, end)] = len(groups)
+                    groups.append([(s.name, end)])
+        return [tuple(g) for g in groups if g]
+
+    @property
+    def total_length(self) -> float:
+        """Sum of the segment lengths."""
+        return sum(s.length for s in self.segments)
+
+
+def validate(a: Assembly) -> None:
+    """Check names, ends, supports, that welded ends meet, and moment balance at joints."""
+    names = [s.name for s in a.segments]
+    if not names:
+        raise RodstabInputError("an assembly needs at least one segment")
+    dup = {n for n in names if names.count(n) > 1}
+    if dup:
+        raise RodstabInputError(f"duplicate segment name(s) {sorted(dup)}")
+    for w in a.welds:
+        if len(w) < 2:
+            raise RodstabInputError(f"a weld joins at least two ends, got {list(w)!r}")
+        for name, end in w:
+            a.segment(name)
+            if end not in ENDS:
+                raise RodstabInputError(f"weld end must be 'start' or 'end', got {end!r}")
+    for name, end, kind in a.supports:
+        a.segment(name)
+        if end not in ENDS:
+            raise RodstabInputError(f"support end must be 'start' or 'end', got {end!r}")
+        if kind not in SUPPORTS:
+            raise RodstabInputError(f"support type must be one of {SUPPORTS}, got {kind!r}")
+    tol = POSITION_TOL * a.total_length
+    for joint in a.joints():
+        pts = [a.segment(n).end_point(e) for n, e in joint]
+        for (n, e), p in zip(joint, pts):
+            gap = float(np.linalg.norm(p - pts[0]))
+            if gap > tol:
+                raise RodstabInputError(
+                    f"welded ends do not meet: {joint[0][0]}.{joint[0][1]} at {pts[0].round(9)}"
+                    f" and {n}.{e} at {p.round(9)} are {gap:.3g} apart (tolerance {tol:.3g})")
+        supported = any((n, e) == (sn, se) for n, e in joint for sn, se, _ in a.supports)
+        if supported:
+            continue
+        # An unsupported joint must be in moment equilibrium for every load factor: the held
+        # moment B3 (k - mu kappa_n) enters with + at a start end and - at an end end.
+        for attr in ("curvature", "natural_curvature"):
+            total = 0.0
+            scale = 0.0
+            for n, e in joint:
+                s = a.segment(n)
+                v = s.B3 * getattr(s, attr)
+                total += v if e == "start" else -v
+                scale += abs(v)
+            if abs(total) > MOMENT_TOL * max(scale, 1e-300) and scale > 0:
+                what = "held curvature" if attr == "curvature" else "natural curvature"
+                raise RodstabInputError(
+                    f"joint {[f'{n}.{e}' for n, e in joint]} is not in moment equilibrium "
+                    f"(unbalanced B3 x {what}: {total:.6g}); support it or balance the moments")
+

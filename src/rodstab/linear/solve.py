@@ -1,0 +1,131 @@
+"""Stable interval of the load factor of an assembly, its critical modes (general engine).
+
+``K(mu) = K0 + mu K1`` is restricted to the support constraints, shifted to the reference load
+``mu_ref`` (where the held state is stable), and the rigid-body modes (null vectors of both
+``K0 + mu_ref K1`` and ``K1``) are projected out; the one eigen solver
+(:func:`rodstab.numerics.pencil_interval`) then gives the interval.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+from ..errors import RodstabInputError
+from ..numerics import pencil_interval
+from ..results import Result
+from .assembly import discretise, rigid_modes_left
+from .model import Assembly
+
+#: Critical eigenvalues closer than this (relative) are one repeated eigenvalue: symmetric
+#: pairs are split by the discretisation (and the rigid-motion gauge) far below its error.
+FE_MULTIPLICITY_RTOL = 1e-5
+#: Eigenvalues of the reference second variation below this (relative to the largest) are
+#: zero modes; they must also be null for K1 (rigid-body motions), otherwise the reference is
+#: only neutrally stable and an error is raised.
+ZERO_MODE_TOL = 1e-9
+
+
+@dataclasses.dataclass(frozen=True)
+class SegmentMode(Result):
+    """A mode on one segment: arc length ``s``, out-of-plane ``w`` and twist ``omega``."""
+
+    name: str
+    s: np.ndarray
+    w: np.ndarray
+    omega: np.ndarray
+
+
+@dataclasses.dataclass(frozen=True)
+class LinearStability(Result):
+    """Load-factor interval ``(lo, hi)`` of an assembly (natural curvatures scaled by ``mu``).
+
+    ``load_factor_critical`` is ``hi`` (the first instability on raising the natural
+    curvature from the reference), with its multiplicity and mode; ``mode_lo`` belongs to
+    ``lo``. ``stable_at_design`` tells whether ``mu = 1`` lies inside the interval.
+    """
+
+    load_factor_interval: tuple[float, float]
+    load_factor_critical: float
+    multiplicity: int
+    multiplicity_lo: int
+    stable_at_design: bool
+    reference_load: float
+    mode: tuple[SegmentMode, ...]
+    mode_lo: tuple[SegmentMode, ...]
+    n_rigid_modes: int
+    residual: float
+    converged: bool
+    n_dof: int
+    method: str
+
+
+def default_reference_load(a: Assembly) -> float:
+    """The stress-free load factor if all segments share one, else 0 (natural curvature 0)."""
+    if a.reference_load is not None:
+        return a.reference_load
+    ratios = set()
+    for s in a.segments:
+        if s.natural_curvature == 0.0:
+            if s.curvature != 0.0:
+                return 0.0
+            continue
+        ratios.add(round(s.curvature / s.natural_curvature, 12))
+    return ratios.pop() if len(ratios) == 1 else 0.0
+
+
+def _modes(disc, vec: np.ndarray | None) -> tuple[SegmentMode, ...]:
+    if vec is None:
+        return ()
+    out = []
+    for sd in disc.segments:
+        loc = sd.T @ vec
+        n_el = sd.n_elements
+        nodes = loc[: 3 * (n_el + 1)].reshape(-1, 3)
+        s = np.linspace(0.0, 1.0, n_el + 1)
+        out.append(SegmentMode(sd.name, s, nodes[:, 0], nodes[:, 2]))
+    scale = max(float(np.max(np.abs(m.w))) for m in out) or 1.0
+    return tuple(SegmentMode(m.name, m.s, m.w / scale, m.omega / scale) for m in out)
+
+
+def linear_stability(a: Assembly, elements_per_segment: int = 16) -> LinearStability:
+    """Stable interval of the load factor ``mu`` for the assembly ``a``.
+
+    Mode coordinates ``s`` are normalised by each segment's length; ``w`` is scaled so that its
+    largest magnitude over the assembly is 1.
+    """
+    disc = discretise(a, elements_per_segment)
+    mu_ref = default_reference_load(a)
+    Z = disc.Z.toarray()
+    A = Z.T @ (disc.K0 + mu_ref * disc.K1).toarray() @ Z
+    C = -(Z.T @ disc.K1.toarray() @ Z)
+    A = 0.5 * (A + A.T)
+    C = 0.5 * (C + C.T)
+    evals, evecs = np.linalg.eigh(A)
+    zero = np.abs(evals) <= ZERO_MODE_TOL * np.max(np.abs(evals))
+    if np.any(evals < -ZERO_MODE_TOL * np.max(np.abs(evals))):
+        raise RodstabInputError(
+            f"the held state is not stable at the reference load factor {mu_ref:g}; set "
+            "reference_load to a load factor at which it is")
+    R0 = evecs[:, zero]
+    if R0.size and np.linalg.norm(C @ R0) > 1e-7 * np.linalg.norm(C) * math.sqrt(R0.shape[1]):
+        raise RodstabInputError(
+            f"the held state is only neutrally stable at the reference load factor {mu_ref:g} "
+            "(a zero mode that is not a rigid-body motion)")
+    Q = evecs[:, ~zero]
+    res = pencil_interval(Q.T @ A @ Q, Q.T @ C @ Q, multiplicity_rtol=FE_MULTIPLICITY_RTOL)
+    lo, hi = mu_ref + res.lo, mu_ref + res.hi
+
+    def full(v):
+        return None if v is None else Z @ (Q @ v[:, 0])
+
+    return LinearStability(
+        load_factor_interval=(lo, hi), load_factor_critical=hi,
+        multiplicity=res.multiplicity_hi, multiplicity_lo=res.multiplicity_lo,
+        stable_at_design=bool(lo < 1.0 < hi), reference_load=mu_ref,
+        mode=_modes(disc, full(res.mode_hi)), mode_lo=_modes(disc, full(res.mode_lo)),
+        n_rigid_modes=int(rigid_modes_left(a, disc.joints).shape[1] + zero.sum()), residual=res.residual, converged=res.converged,
+        n_dof=int(Q.shape[1]),
+        method="FE of P2 (Hermite w, quadratic omega), dense generalized eigh")
