@@ -314,6 +314,8 @@ def matrix_roots(
 
     def det(x: float) -> float:
         A = matrix(float(x))
+        if A.shape[0] != A.shape[1]:
+            return 1.0  # rectangular: rank loss is seen by sigma_min only (no sign to polish)
         # Scale rows so the determinant neither under- nor overflows; the sign is unchanged.
         norms = np.linalg.norm(A, axis=1)
         norms[norms == 0] = 1.0
@@ -430,7 +432,7 @@ def pencil_interval(A: np.ndarray, C: np.ndarray, *,
     cnorm = max(float(np.max(np.abs(theta))), 1e-300)
     tol = MULTIPLICITY_RTOL * cnorm
 
-    def side(sel: np.ndarray, pick: float) -> tuple[float, int, np.ndarray | None]:
+    def side(sel: np.ndarray, pick: float) -> tuple[float, int, tuple | None]:
         if not sel.any():
             return (math.inf if pick > 0 else -math.inf), 0, None
         th = theta[sel]
@@ -438,17 +440,81 @@ def pencil_interval(A: np.ndarray, C: np.ndarray, *,
         if abs(t) <= tol:
             return (math.inf if pick > 0 else -math.inf), 0, None
         close = np.abs(theta - t) <= multiplicity_rtol * abs(t)
-        return 1.0 / float(t), int(close.sum()), V[:, close]
+        return 1.0 / float(t), int(close.sum()), (V[:, close], theta[close])
 
-    hi, m_hi, v_hi = side(theta > tol, +1.0)
-    lo, m_lo, v_lo = side(theta < -tol, -1.0)
+    hi, m_hi, vt_hi = side(theta > tol, +1.0)
+    lo, m_lo, vt_lo = side(theta < -tol, -1.0)
     residual = 0.0
-    for p, v in ((hi, v_hi), (lo, v_lo)):
-        if v is None:
+    for vt in (vt_hi, vt_lo):
+        if vt is None:
             continue
-        for k in range(v.shape[1]):
+        v, th = vt
+        for k in range(v.shape[1]):  # each vector with its own eigenvalue
             Av = A @ v[:, k]
-            residual = max(residual, float(np.linalg.norm(Av - p * (C @ v[:, k]))
+            residual = max(residual, float(np.linalg.norm(Av - (C @ v[:, k]) / th[k])
                                            / np.linalg.norm(Av)))
+    v_hi = None if vt_hi is None else vt_hi[0]
+    v_lo = None if vt_lo is None else vt_lo[0]
     return PencilInterval(lo, hi, m_lo, m_hi, v_lo, v_hi, residual,
                           bool(residual < 1e-8), n, "generalized symmetric eigh (LAPACK sygv)")
+
+
+def pencil_interval_sparse(A, C, *, multiplicity_rtol: float = MULTIPLICITY_RTOL,
+                           n_eig: int = 6, tol: float = 1e-12) -> PencilInterval:
+    """Sparse version of :func:`pencil_interval` for large FE pencils.
+
+    ``C v = theta A v`` with ``A`` sparse SPD: the few largest and smallest ``theta`` by
+    Lanczos (ARPACK ``eigsh`` in generalized mode, ``A`` factorised once by a sparse LU), to
+    relative tolerance ``tol``. The spectrum of ``theta`` accumulates at 0, so the extreme
+    values converge fast. ``n_eig`` doubles while all found values are one cluster (so a
+    multiplicity is never under-counted). Positive definiteness of ``A`` is checked by the signs
+    of the pivots of a symmetric, diagonally pivoted sparse factorisation (Sylvester's law).
+    """
+    import scipy.sparse as sp
+    import scipy.sparse.linalg as spla
+
+    A = sp.csc_matrix(A)
+    C = sp.csc_matrix(C)
+    n = A.shape[0]
+    if n < 400:
+        return pencil_interval(A.toarray(), C.toarray(), multiplicity_rtol=multiplicity_rtol)
+    # Symmetric permutation and diagonal pivots only: U's diagonal is then the D of
+    # P A P^T = L D L^T, whose signs are A's inertia (Sylvester) -- a definiteness test.
+    lu = spla.splu(A, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+                   options={"SymmetricMode": True})
+    Ainv = spla.LinearOperator((n, n), matvec=lu.solve, dtype=float)
+    if np.any(lu.U.diagonal() <= 0):
+        raise ValueError("pencil_interval_sparse: A is not positive definite")
+
+    def extreme(which: str) -> tuple[np.ndarray, np.ndarray]:
+        k = min(n_eig, n - 2)
+        while True:
+            vals, vecs = spla.eigsh(C, k=k, M=A, Minv=Ainv, which=which, tol=tol)
+            order = np.argsort(vals)[::-1] if which == "LA" else np.argsort(vals)
+            vals, vecs = vals[order], vecs[:, order]
+            t = vals[0]
+            if (np.abs(vals - t) <= multiplicity_rtol * abs(t)).all() and k < n - 2:
+                k = min(2 * k, n - 2)
+                continue
+            return vals, vecs
+
+    out = {}
+    residual = 0.0
+    for which, sign in (("LA", 1.0), ("SA", -1.0)):
+        vals, vecs = extreme(which)
+        t = vals[0]
+        if t * sign <= 1e-14 * max(abs(vals).max(), 1e-300):
+            out[which] = (math.inf * sign, 0, None)
+            continue
+        close = np.abs(vals - t) <= multiplicity_rtol * abs(t)
+        p = 1.0 / t
+        V = vecs[:, close]
+        for k in range(V.shape[1]):  # each vector with its own eigenvalue
+            Av = A @ V[:, k]
+            residual = max(residual, float(np.linalg.norm(Av - (C @ V[:, k]) / vals[close][k])
+                                           / np.linalg.norm(Av)))
+        out[which] = (p, int(close.sum()), V)
+    hi, m_hi, v_hi = out["LA"]
+    lo, m_lo, v_lo = out["SA"]
+    return PencilInterval(lo, hi, m_lo, m_hi, v_lo, v_hi, residual, bool(residual < 1e-8), n,
+                          "Lanczos (ARPACK eigsh, generalized, sparse LU of A)")

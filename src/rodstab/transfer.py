@@ -171,3 +171,93 @@ def ring_interval_transfer(b1: float, b2: float, loops: int, *, span: float = 3.
     neg = [m for m in admissible if m < 0]
     pos = [m for m in admissible if m > 0]
     return (max(neg) if neg else -np.inf), (min(pos) if pos else np.inf), admissible
+
+
+# --------------------------------------------------------------------------------------------
+# Assemblies of straight segments (Sections 4 and 5): general solution per segment, joined by
+# the geometric AND the natural joint conditions into one square system.
+
+
+def straight_segment_system(m: float, B1: float, B2: float) -> np.ndarray:
+    """6x6 ``S`` of ``y' = S y``, ``y = (w, w', w'', w''', omega, omega')``, straight held state.
+
+    P2 density ``1/2 {B1 w''^2 + B2 omega'^2 - 2 m w' omega'}`` with held moment
+    ``m = B3 (k - kappa_n) = -B3 kappa_n``; Euler-Lagrange (= (4.5), (5.4) with
+    ``m = B3 Delta kappa_0``): ``B1 w'''' + m omega'' = 0``, ``B2 omega'' = m w''``.
+    """
+    S = np.zeros((6, 6))
+    S[0, 1] = S[1, 2] = S[2, 3] = S[4, 5] = 1.0
+    S[5, 2] = m / B2
+    S[3, 2] = -m * m / (B1 * B2)
+    return S
+
+
+def _end_quantities(y: np.ndarray, m: float, B1: float, B2: float) -> dict[str, np.ndarray]:
+    """Rows (as linear maps of ``y``) of the end quantities of a straight segment.
+
+    ``V = -(B1 w''' + m omega')`` (shear), ``Mb = B1 w''`` (bending moment about ``n``),
+    ``Tq = B2 omega' - m w'`` (torque): the coefficients of ``dw``, ``dw'``, ``d omega`` in the
+    boundary terms of the first variation of P2.
+    """
+    w, dw, d2w, d3w, om, dom = (y[i] for i in range(6))
+    return {"w": w, "dw": dw, "om": om, "V": -(B1 * d3w + m * dom), "Mb": B1 * d2w,
+            "Tq": B2 * dom - m * dw}
+
+
+#: Rigid motions of a free planar assembly (translation, two rotations): always in the null
+#: space of the assembled system.
+ASSEMBLY_RIGID_NULLITY = 3
+
+
+def straight_assembly_matrix(assembly, mu: float) -> np.ndarray:
+    """Square system ``A(mu) c = 0`` of an assembly of straight segments (second method).
+
+    Unknowns: the six initial values ``y_i(0)`` of every segment; ``y_i(L) = expm(S_i L) y_i(0)``
+    exactly (no discretisation). At each joint (ends ``e`` with held tangent ``t_e``, normal
+    ``n_e = t_e x e3``, sign ``+1`` at an end ``s = L``, ``-1`` at a start): geometric continuity
+    of ``w`` and of the rotation vector ``theta_e = w'_e n_e + omega_e t_e``; then either the
+    support conditions (clamped: ``w = 0``, ``theta = 0``) or the natural conditions
+    ``sum_e sign_e V_e = 0`` and ``sum_e sign_e (Mb_e n_e + Tq_e t_e) = 0``. A free assembly has
+    ``ASSEMBLY_RIGID_NULLITY`` null vectors for every ``mu``.
+    """
+    segs = assembly.segments
+    for s in segs:
+        if s.curvature != 0.0:
+            raise ValueError(f"straight_assembly_matrix needs straight segments; "
+                             f"{s.name!r} has curvature {s.curvature!r}")
+    n = len(segs)
+    index = {s.name: i for i, s in enumerate(segs)}
+    rows: list[np.ndarray] = []
+
+    def end_rows(name: str, end: str) -> tuple[dict[str, np.ndarray], np.ndarray, np.ndarray,
+                                                 float]:
+        s = segs[index[name]]
+        m = -mu * s.B3 * s.natural_curvature
+        S = straight_segment_system(m, s.B1, s.B2)
+        Y = np.zeros((6, 6 * n))
+        Y[:, 6 * index[name]: 6 * index[name] + 6] = (
+            np.eye(6) if end == "start" else expm(S * s.length))
+        t = s.tangent(0.0 if end == "start" else s.length)
+        nrm = np.array([t[1], -t[0]])
+        return _end_quantities(Y, m, s.B1, s.B2), t, nrm, (1.0 if end == "end" else -1.0)
+
+    for joint in assembly.joints():
+        ends = [end_rows(name, end) for name, end in joint]
+        q0, t0, n0, _ = ends[0]
+        theta0 = [q0["dw"] * n0[c] + q0["om"] * t0[c] for c in range(2)]
+        for q, t, nrm, _ in ends[1:]:
+            rows.append(q["w"] - q0["w"])
+            for c in range(2):
+                rows.append(q["dw"] * nrm[c] + q["om"] * t[c] - theta0[c])
+        kinds = [k for name, end, k in assembly.supports if (name, end) in joint]
+        if "clamped" in kinds:
+            rows += [q0["w"], theta0[0], theta0[1]]
+        elif kinds and set(kinds) != {"free"}:
+            raise ValueError(f"straight_assembly_matrix supports only clamped or free joints, "
+                             f"got {kinds}")
+        else:
+            rows.append(sum(sg * q["V"] for q, _, _, sg in ends))
+            for c in range(2):
+                rows.append(sum(sg * (q["Mb"] * nrm[c] + q["Tq"] * t[c])
+                                for q, t, nrm, sg in ends))
+    return np.array(rows)

@@ -17,7 +17,7 @@ import scipy.sparse as sp
 from scipy.linalg import null_space
 
 from .elements import density_matrices, element_matrices
-from .model import Assembly
+from ..model import Assembly
 
 
 @dataclasses.dataclass(frozen=True)

@@ -16,7 +16,7 @@ import dataclasses
 import math
 import numpy as np
 
-from ..errors import RodstabInputError, require_finite, require_positive
+from .errors import RodstabInputError, require_finite, require_positive
 
 #: Ends meet when their held-state positions differ by less than this times the total length.
 POSITION_TOL = 1e-8

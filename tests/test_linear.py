@@ -1,0 +1,187 @@
+"""The general FE engine (rodstab.linear) against closed forms and the independent methods."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from rodstab.analytic.arc import clamped_arc_stability
+from rodstab.analytic.folded_ring import folded_ring_paper_method
+from rodstab.analytic.ring import ring_stability
+from rodstab.errors import RodstabInputError
+from rodstab.linear.assembly import discretise
+from rodstab.linear.solve import linear_stability
+from rodstab.model import Assembly, Segment
+from rodstab.numerics import matrix_roots
+from rodstab.sections import circle, rectangle
+from rodstab.transfer import ASSEMBLY_RIGID_NULLITY, straight_assembly_matrix
+
+EXPECTED_ORDER = 4.0  # Hermite w (h^4) and quadratic omega (h^4) eigenvalue errors
+CIRCLE = circle()
+RECT2 = rectangle(aspect=2.0)
+
+
+def clamped(L, k, kn, s, *, start=(0.0, 0.0), angle=0.0):
+    seg = Segment("a", L, k, kn, s.b1, s.b2, 1.0, start, angle)
+    return Assembly((seg,), supports=(("a", "start", "clamped"), ("a", "end", "clamped")))
+
+
+def ring(N, s):
+    seg = Segment("a", 2 * math.pi * N, 1.0, 1.0, s.b1, s.b2, 1.0)
+    return Assembly((seg,), welds=((("a", "start"), ("a", "end")),))
+
+
+def birod(s, clamp=True):
+    segs = (Segment("u", 1.0, 0.0, 1.0, s.b1, s.b2, 1.0),
+            Segment("l", 1.0, 0.0, -1.0, s.b1, s.b2, 1.0))
+    welds = ((("u", "start"), ("l", "start")), (("u", "end"), ("l", "end")))
+    return Assembly(segs, welds=welds, supports=(("u", "start", "clamped"),) if clamp else ())
+
+
+def six_ring(s):
+    segs = tuple(Segment(str(i), 1.0, 0.0, -1.0 if i % 2 else 1.0, s.b1, s.b2, 1.0)
+                 for i in range(1, 7))
+    welds = tuple(((str(i), "end" if i % 2 else "start"), (str(i % 6 + 1), "end" if i % 2
+                                                            else "start")) for i in range(1, 7))
+    return Assembly(segs, welds=welds)
+
+
+def _order(ns, errs):
+    return -np.polyfit(np.log(ns), np.log(errs), 1)[0]
+
+
+def test_eq_3_9_straight_clamped_rod_converges_at_fourth_order():
+    """Closed form (3.9): L kappa_n = 2 pi sqrt(b1 b2); FE error ~ h^4 over four meshes."""
+    exact = 2 * math.pi * CIRCLE.sqrt_b1b2
+    ns = [2, 4, 8, 16]
+    errs = [abs(linear_stability(clamped(1.0, 0.0, 1.0, CIRCLE), n).load_factor_critical
+                - exact) / exact for n in ns]
+    assert _order(ns, errs) >= EXPECTED_ORDER - 0.2
+    assert linear_stability(clamped(1.0, 0.0, 1.0, CIRCLE), 48).load_factor_critical == \
+        pytest.approx(exact, rel=1e-6)
+
+
+def test_ring_N1_lower_limit_converges_at_fourth_order():
+    """Eq (3.3) (circle, N = 1): M_C^- = 7/8 - sqrt(1/64 + 3); mu = 1 - M for R = 1."""
+    exact = 1 - (7 / 8 - math.sqrt(1 / 64 + 3))
+    ns = [8, 16, 32, 64]
+    errs = [abs(linear_stability(ring(1, CIRCLE), n).load_factor_interval[1] - exact) / exact
+            for n in ns]
+    assert _order(ns, errs) >= EXPECTED_ORDER - 0.2
+
+
+@pytest.mark.parametrize("N", [1, 3, 5])
+@pytest.mark.parametrize("sec", [CIRCLE, RECT2], ids=["circle", "rect2"])
+def test_engine_reproduces_ring_intervals(N, sec):
+    """Section 3.1 (analytic module, itself checked by the monodromy method) to 1e-6."""
+    r = linear_stability(ring(N, sec), 150 * N)
+    M_lo, M_hi = ring_stability(sec.b1, sec.b2, N).M_interval
+    lo, hi = r.load_factor_interval
+    assert 1 - hi == pytest.approx(M_lo, rel=1e-6)
+    assert 1 - lo == pytest.approx(M_hi, rel=1e-6)
+    assert r.n_rigid_modes == 3
+
+
+@pytest.mark.parametrize("L_over_R", [0.5, 2.0, 4.0])
+@pytest.mark.parametrize("sec", [CIRCLE, RECT2], ids=["circle", "rect2"])
+def test_engine_reproduces_clamped_arcs(L_over_R, sec):
+    """Section 3.2 (3.7)/(3.8) (checked by shooting) to 1e-6: mu = kappa_n R, L kappa_n = L/R mu."""
+    r = linear_stability(clamped(L_over_R, 1.0, 1.0, sec), 96)
+    lo, hi = clamped_arc_stability(sec.b1, sec.b2, L_over_R).L_kappa_interval
+    assert L_over_R * r.load_factor_interval[1] == pytest.approx(hi, rel=1e-6)
+    assert L_over_R * r.load_factor_interval[0] == pytest.approx(lo, rel=1e-6)
+
+
+@pytest.mark.parametrize("sec", [CIRCLE, RECT2, rectangle(aspect=0.75)],
+                         ids=["circle", "rect2", "rect075"])
+def test_section_4_birod_critical_load_is_pi_by_engine_and_full_system(sec):
+    """Bi-rod clamped at one end: the full system of general solutions + all joint conditions
+    (geometric and natural, none at the clamp) gives lam_c = pi (sin(lam) = 0, the mode
+    with both rods deflecting together and opposite twists), not the paper's 2 pi; the engine
+    agrees. The paper's 2 pi is the next eigenvalue (double)."""
+    g = sec.sqrt_b1b2
+    a = birod(sec)
+    full = matrix_roots(lambda mu: straight_assembly_matrix(a, mu), 0.05 * g, 7 * g,
+                        n_scan=300)
+    assert full.roots[0].x / g == pytest.approx(math.pi, rel=1e-9)
+    assert full.roots[1].x / g == pytest.approx(2 * math.pi, rel=1e-9)
+    r = linear_stability(a, 40)
+    assert r.load_factor_critical / g == pytest.approx(math.pi, rel=1e-6)
+    assert r.multiplicity == 1
+    free = linear_stability(birod(sec, clamp=False), 40)
+    assert free.load_factor_critical == pytest.approx(r.load_factor_critical, rel=1e-9)
+
+
+@pytest.mark.parametrize("sec", [CIRCLE, RECT2, rectangle(aspect=4.0)],
+                         ids=["circle", "rect2", "rect4"])
+def test_section_5_folded_six_ring_is_pi_over_3_double_by_three_methods(sec):
+    """Folded 6-sided ring: engine, full system and the paper's own monodromy (5.8)-(5.12)
+    all give lam_c = pi/3 with multiplicity 2, for every B2/B1 (paper: 2 pi)."""
+    g = sec.sqrt_b1b2
+    a = six_ring(sec)
+    r = linear_stability(a, 24)
+    assert r.load_factor_critical / g == pytest.approx(math.pi / 3, rel=1e-6)
+    assert r.multiplicity == 2
+    full = matrix_roots(lambda mu: straight_assembly_matrix(a, mu), 0.05 * g, 4 * g,
+                        n_scan=300, known_nullity=ASSEMBLY_RIGID_NULLITY)
+    assert full.roots[0].x / g == pytest.approx(math.pi / 3, rel=1e-9)
+    assert full.roots[0].multiplicity == 2
+
+
+def test_section_5_paper_method_own_equations_give_pi_over_3():
+    """(5.12): det A^(1) already vanishes at pi/3, 2pi/3, pi, 4pi/3, 5pi/3 before 2 pi."""
+    r = folded_ring_paper_method(0.05, 7.0, 700)
+    assert np.allclose(np.array(r.det_A1_roots[:6]) / math.pi,
+                       [1 / 3, 2 / 3, 1, 4 / 3, 5 / 3, 2], rtol=1e-9)
+    assert r.load_factor_critical == pytest.approx(math.pi / 3, rel=1e-9)
+    assert r.multiplicity == 2
+    assert r.first_columns_residual < 1e-9  # (5.11): first three columns of A - I vanish
+
+
+@pytest.mark.parametrize("shift, turn", [((3.0, -2.0), 0.0), ((0.0, 0.0), 1.1),
+                                         ((5.0, 1.0), -2.5)])
+def test_rigid_motion_of_the_held_geometry_leaves_result_unchanged(shift, turn):
+    """Translating/rotating the whole assembly in its plane changes nothing."""
+    base = linear_stability(clamped(2.0, 1.0, 1.0, RECT2), 16).load_factor_interval
+    moved = linear_stability(clamped(2.0, 1.0, 1.0, RECT2, start=shift, angle=turn),
+                             16).load_factor_interval
+    assert np.allclose(moved, base, rtol=1e-10)
+
+
+def test_reversing_a_segment_leaves_result_unchanged():
+    """The same arc described from its other end: start and tangent reversed, signed
+    curvatures (held and natural) change sign."""
+    fwd = clamped(2.0, 1.0, 1.0, RECT2)
+    seg = fwd.segments[0]
+    end = seg.end_point("end")
+    t = seg.tangent(seg.length)
+    rev = clamped(2.0, -1.0, -1.0, RECT2, start=tuple(end), angle=math.atan2(-t[1], -t[0]))
+    assert np.allclose(linear_stability(rev, 16).load_factor_interval,
+                       linear_stability(fwd, 16).load_factor_interval, rtol=1e-10)
+
+
+def test_global_matrices_are_symmetric():
+    d = discretise(six_ring(RECT2), 6)
+    for K in (d.K0, d.K1):
+        assert abs(K - K.T).max() <= 1e-12 * abs(K).max()
+
+
+@pytest.mark.parametrize("build, needle", [
+    (lambda: Assembly((Segment("a", 1, 0, 0, 1, 1, 1), Segment("b", 1, 0, 0, 1, 1, 1,
+                                                             (0.5, 0.0))),
+                      welds=((("a", "end"), ("b", "start")),)), "do not meet"),
+    (lambda: Assembly((Segment("a", 1, 0, 1.0, 1, 1, 1),)), "moment equilibrium"),
+    (lambda: Assembly((Segment("a", 1, 0, 0, 1, 1, 1),), supports=(("a", "start", "glued"),)),
+     "glued"),
+    (lambda: Segment("a", -1.0, 0, 0, 1, 1, 1), "length"),
+    (lambda: Segment("a", 1.0, 0, 0, 1, 0.0, 1), "B2"),
+    (lambda: Assembly((Segment("a", 1, 0, 0, 1, 1, 1),), welds=((("a", "middle"),
+                                                                ("a", "end")),)), "middle"),
+    (lambda: Assembly((Segment("a", 1, 0, 0, 1, 1, 1),), supports=(("zz", "start", "clamped"),)),
+     "zz"),
+])
+def test_bad_assemblies_raise_naming_the_problem(build, needle):
+    with pytest.raises(RodstabInputError, match=needle):
+        build()
