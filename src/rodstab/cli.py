@@ -19,7 +19,7 @@ from . import __version__
 from .analytic.arc import clamped_arc_stability, max_arc_length
 from .analytic.michell import michell_stability
 from .analytic.ring import ring_stability
-from .errors import RodstabInputError
+from .errors import RodstabInputError, require_positive, require_positive_int
 from .results import jsonable
 from .sections import SHAPES, TORSION_OPTIONS, Section, make_section
 
@@ -155,6 +155,120 @@ def michell(section: Section, loops: int, as_json: bool) -> None:
         verdict = (f"unstable at every twist: modes j = {list(r.unstable_modes)} are unstable "
                    "already without twist")
     _emit(payload, as_json, [_section_line(section), f"loops        {r.loops}", verdict])
+
+
+@cli.command()
+@click.argument("design_file", type=click.Path(dir_okay=False))
+@click.option("--elements", type=int, default=None,
+              help="Elements per segment (default: the design's [analysis] elements).")
+@click.option("--plot", "plot_path", type=click.Path(dir_okay=False), default=None,
+              help="Write a 3D picture of the held state and the critical mode (PNG).")
+@_json_option
+def analyze(design_file: str, elements: int | None, plot_path: str | None,
+            as_json: bool) -> None:
+    """Linear stability of the assembly in a TOML design file (FE of P2, eq 2.12)."""
+    from .design import load_design
+    from .linear.solve import linear_stability, mode_family
+
+    d = load_design(design_file)
+    n = d.elements if elements is None else require_positive_int("--elements", elements)
+    r = linear_stability(d.assembly, n)
+    lam = d.paper_load_factor(r.load_factor_critical)
+    payload = {
+        "design": d.source,
+        "load_factor_critical": r.load_factor_critical,
+        "multiplicity": r.multiplicity,
+        "load_factor_interval": list(r.load_factor_interval),
+        "stable_at_design": r.stable_at_design,
+        "mode_family": mode_family(r.mode),
+        "residual": r.residual,
+        "converged": r.converged,
+        "n_dof": r.n_dof,
+        "elements_per_segment": n,
+        "reference_load": r.reference_load,
+        "n_rigid_modes_gauged": r.n_rigid_modes,
+        "load_factor_definition": "natural curvatures of all segments = load factor x the "
+                                  "design's natural_curvature",
+        "paper_load_factor_definition": f"lam = B3 |kappa_n| L / sqrt(B1 B2) of segment "
+                                        f"{d.load_factor_segment!r}",
+        "paper_load_factor_critical": lam,
+    }
+    if plot_path:
+        from .plots import plot_mode
+
+        payload["plot"] = str(plot_mode(d.assembly, r, plot_path))
+    lo, hi = r.load_factor_interval
+    _emit(payload, as_json, [
+        f"design       {d.source}  ({len(d.assembly.segments)} segments, {r.n_dof} dof)",
+        f"stable for   {_fmt(lo)} < load factor < {_fmt(hi)}   (design load factor 1: "
+        f"{'stable' if r.stable_at_design else 'NOT stable'})",
+        f"critical     {_fmt(hi)} (multiplicity {r.multiplicity}); lam = {_fmt(lam)} "
+        f"({payload['paper_load_factor_definition']})",
+        f"mode         {payload['mode_family']}",
+    ])
+
+
+@cli.command()
+@_section_options
+@_json_option
+def birod(section: Section, as_json: bool) -> None:
+    """Bi-rod of Section 4 (clamped at one end): lam_c by the engine and the full system."""
+    from .analytic.birod import birod_critical
+    from .linear.solve import linear_stability, mode_family
+    from .structures import birod as build
+
+    r = linear_stability(build(section), 48)
+    lam = r.load_factor_critical / section.sqrt_b1b2
+    an = birod_critical(section)
+    payload = {"lambda_c": lam, "psi_c": 0.5 * lam * section.sqrt_b1b2,
+               "mode_family": mode_family(r.mode), "multiplicity": r.multiplicity,
+               "lambda_c_full_system": an.lambda_c, "paper_lambda_c": 2 * 3.141592653589793,
+               "paper_psi_c": 3.141592653589793 * section.sqrt_b1b2,
+               "residual": r.residual, "n_dof": r.n_dof, "section": section.to_dict()}
+    _emit(payload, as_json, [
+        _section_line(section),
+        f"lam_c = B3 kappa0 L/sqrt(B1 B2) = {_fmt(lam)} (engine), {_fmt(an.lambda_c)} (full "
+        f"system of general solutions); paper: 2 pi",
+        f"psi_c = {_fmt(payload['psi_c'])} rad (paper: {_fmt(payload['paper_psi_c'])})",
+        f"mode         {payload['mode_family']}",
+    ])
+
+
+@cli.command("folded-ring")
+@click.option("--segments", type=int, default=6, show_default=True,
+              help="Number of segments 2n (folded n-loop state).")
+@click.option("--arc-angle", type=float, default=120.0, show_default=True,
+              help="Arc angle of each segment in its natural state (degrees).")
+@_section_options
+@_json_option
+def folded_ring(section: Section, segments: int, arc_angle: float, as_json: bool) -> None:
+    """Ring of 2n arcs held in the straight folded n-loop state (Section 5)."""
+    import math
+
+    from .analytic.birod import folded_ring_critical
+    from .linear.solve import linear_stability, mode_family
+    from .structures import folded_ring as build
+
+    theta = math.radians(require_positive("--arc-angle", arc_angle))
+    r = linear_stability(build(section, segments=segments), 24)
+    lam = r.load_factor_critical / section.sqrt_b1b2
+    an = folded_ring_critical(section, segments)
+    payload = {"lambda_c": lam, "multiplicity": r.multiplicity,
+               "kappa_R0_c": lam * section.sqrt_b1b2 / theta,
+               "lambda_c_full_system": an.lambda_c, "multiplicity_full_system": an.multiplicity,
+               "paper_lambda_c": 2 * math.pi,
+               "paper_kappa_R0_c": 2 * math.pi * section.sqrt_b1b2 / theta,
+               "segments": segments, "arc_angle_deg": arc_angle,
+               "mode_family": mode_family(r.mode), "residual": r.residual, "n_dof": r.n_dof,
+               "section": section.to_dict()}
+    _emit(payload, as_json, [
+        _section_line(section),
+        f"segments     {segments} (folded {segments // 2}-loop state), arcs of {_fmt(arc_angle)} deg",
+        f"lam_c = {_fmt(lam)} (x{r.multiplicity}, engine), {_fmt(an.lambda_c)} "
+        f"(x{an.multiplicity}, full system); paper: 2 pi",
+        f"kappa_n R0 critical = {_fmt(payload['kappa_R0_c'])} "
+        f"(paper: {_fmt(payload['paper_kappa_R0_c'])})",
+    ])
 
 
 @cli.command()

@@ -45,6 +45,9 @@ SINGULAR_TOL = 1e-8
 TOUCH_SINGULAR_TOL = 1e-11
 #: Relative x-tolerance of the refinement (Brent); the absolute part is this times the span.
 XTOL = 1e-14
+#: Converged when every critical eigenvector's relative residual is below this; for a
+#: symmetric pencil the eigenvalue error is of the order of the residual squared.
+SPARSE_RESIDUAL_TOL = 1e-6
 #: Subintervals per scan interval of the local re-scan around a minimum of |f| or sigma_min.
 SUBSCAN = 16
 #: Eigenvalues within this relative distance are counted as one repeated eigenvalue.
@@ -516,5 +519,6 @@ def pencil_interval_sparse(A, C, *, multiplicity_rtol: float = MULTIPLICITY_RTOL
         out[which] = (p, int(close.sum()), V)
     hi, m_hi, v_hi = out["LA"]
     lo, m_lo, v_lo = out["SA"]
-    return PencilInterval(lo, hi, m_lo, m_hi, v_lo, v_hi, residual, bool(residual < 1e-8), n,
+    return PencilInterval(lo, hi, m_lo, m_hi, v_lo, v_hi, residual,
+                          bool(residual < SPARSE_RESIDUAL_TOL), n,
                           "Lanczos (ARPACK eigsh, generalized, sparse LU of A)")

@@ -86,6 +86,25 @@ def _modes(disc, vec: np.ndarray | None) -> tuple[SegmentMode, ...]:
     return tuple(SegmentMode(m.name, m.s, m.w / scale, m.omega / scale) for m in out)
 
 
+def mode_family(mode: tuple[SegmentMode, ...]) -> str:
+    """Short signature of a mode: per segment the signs of its mean ``w`` and mean ``omega``.
+
+    Signs are relative (the first segment's mean ``w`` taken positive, or its mean ``omega``
+    when ``w`` averages to zero); ``0`` marks a component that averages to (near) zero.
+    """
+    if not mode:
+        return "none"
+    means = [(float(np.mean(m.w)), float(np.mean(m.omega))) for m in mode]
+    big = max(max(abs(a), abs(b)) for a, b in means) or 1.0
+    ref = means[0][0] if abs(means[0][0]) > 1e-6 * big else means[0][1]
+    flip = -1.0 if ref < 0 else 1.0
+
+    def sgn(v: float) -> str:
+        return "0" if abs(v) <= 1e-6 * big else ("+" if v * flip > 0 else "-")
+
+    return ", ".join(f"{m.name}: w{sgn(a)} omega{sgn(b)}" for m, (a, b) in zip(mode, means))
+
+
 def linear_stability(a: Assembly, elements_per_segment: int = 16) -> LinearStability:
     """Stable interval of the load factor ``mu`` for the assembly ``a``.
 

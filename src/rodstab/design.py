@@ -1,0 +1,170 @@
+"""Design files (TOML) -> :class:`rodstab.model.Assembly`, with strict validation.
+
+Format (every key optional unless marked; unknown keys are errors)::
+
+    [section]                 # default section of every segment (as the CLI options)
+    shape = "rectangle"       # circle | ellipse | rectangle | tube   (or b1 = .., b2 = ..)
+    aspect = 2.0
+    nu = 0.3333
+    torsion = "exact"
+    B3 = 1.0                  # in-plane bending stiffness (sets the units of B1, B2)
+
+    [[segment]]               # required, one table per segment, in order
+    name = "a"                # required, unique
+    length = 1.0              # required, > 0
+    curvature = 0.0           # held state 1/R (signed, + turning left); 0 = straight
+    natural_curvature = 1.0   # at load factor 1 (signed, same convention)
+    start = [0.0, 0.0]        # default: end of the previous segment (origin for the first)
+    angle_deg = 0.0           # start tangent; default: previous end tangent
+    cusp = false              # with default angle: reverse the previous end tangent
+    section = { shape = "circle" }   # per-segment override (same keys as [section])
+
+    [[weld]]
+    ends = ["a.end", "b.start"]
+
+    [[support]]
+    end = "a.start"
+    type = "clamped"          # clamped | fork | pinned | free
+
+    [analysis]
+    elements = 32             # per segment
+    reference_load = 0.0      # a load factor at which the held state is stable
+    load_factor_segment = "a" # report lam = B3 kappa_n L / sqrt(B1 B2) of this segment
+
+Plain data only: parsed with :mod:`tomllib`; nothing is evaluated.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import tomllib
+from pathlib import Path
+from typing import Any
+
+from .errors import RodstabInputError, require_positive, require_positive_int
+from .model import Assembly, Segment
+from .sections import make_section
+
+_TOP = {"section", "segment", "weld", "support", "analysis"}
+_SECTION = {"shape", "aspect", "nu", "torsion", "b1", "b2", "B3"}
+_SEGMENT = {"name", "length", "curvature", "natural_curvature", "start", "angle_deg", "cusp",
+            "section"}
+_WELD = {"ends"}
+_SUPPORT = {"end", "type"}
+_ANALYSIS = {"elements", "reference_load", "load_factor_segment"}
+
+
+@dataclasses.dataclass(frozen=True)
+class Design:
+    """A parsed design: the assembly and the analysis settings."""
+
+    assembly: Assembly
+    elements: int
+    load_factor_segment: str
+    source: str
+    raw: dict
+
+    def paper_load_factor(self, mu: float) -> float:
+        """``lam = B3 kappa_n L / sqrt(B1 B2)`` of ``load_factor_segment`` at load ``mu``."""
+        s = self.assembly.segment(self.load_factor_segment)
+        return mu * s.B3 * abs(s.natural_curvature) * s.length / math.sqrt(s.B1 * s.B2)
+
+
+def _check_keys(table: dict, allowed: set[str], where: str) -> None:
+    if not isinstance(table, dict):
+        raise RodstabInputError(f"{where} must be a table, got {table!r}")
+    unknown = sorted(set(table) - allowed)
+    if unknown:
+        raise RodstabInputError(f"unknown key(s) {unknown} in {where}; allowed: {sorted(allowed)}")
+
+
+def _stiffness(spec: dict, where: str) -> tuple[float, float, float]:
+    _check_keys(spec, _SECTION, where)
+    B3 = require_positive(f"{where}.B3", spec.get("B3", 1.0))
+    sec = make_section(spec.get("shape", "circle") if "b1" not in spec else None,
+                       aspect=spec.get("aspect"), nu=spec.get("nu", 1 / 3),
+                       torsion=spec.get("torsion", "exact"), b1=spec.get("b1"),
+                       b2=spec.get("b2"))
+    return sec.b1 * B3, sec.b2 * B3, B3
+
+
+def _end(ref: Any, where: str) -> tuple[str, str]:
+    if not isinstance(ref, str) or ref.count(".") != 1:
+        raise RodstabInputError(f"{where}: an end is written 'segment.start' or 'segment.end', "
+                                f"got {ref!r}")
+    name, end = ref.split(".")
+    return name, end
+
+
+def parse_design(data: dict, source: str = "<dict>") -> Design:
+    """Build a :class:`Design` from parsed TOML data (see the module docstring)."""
+    _check_keys(data, _TOP, "the design file")
+    default = data.get("section", {})
+    segs_raw = data.get("segment")
+    if not segs_raw:
+        raise RodstabInputError("the design file needs at least one [[segment]]")
+    segments: list[Segment] = []
+    for i, raw in enumerate(segs_raw):
+        where = f"segment[{i}]"
+        _check_keys(raw, _SEGMENT, where)
+        if "name" not in raw or "length" not in raw:
+            raise RodstabInputError(f"{where} needs 'name' and 'length'")
+        spec = dict(default)
+        if "section" in raw:
+            _check_keys(raw["section"], _SECTION, f"{where}.section")
+            spec = dict(raw["section"]) if ("shape" in raw["section"] or "b1" in raw["section"]) \
+                else spec | raw["section"]
+        B1, B2, B3 = _stiffness(spec, f"{where}.section")
+        prev = segments[-1] if segments else None
+        if "start" in raw:
+            start = raw["start"]
+            if not (isinstance(start, list) and len(start) == 2):
+                raise RodstabInputError(f"{where}.start must be [x, y], got {start!r}")
+            start = (float(start[0]), float(start[1]))
+        else:
+            start = tuple(float(v) for v in prev.end_point("end")) if prev else (0.0, 0.0)
+        if "angle_deg" in raw:
+            if raw.get("cusp"):
+                raise RodstabInputError(f"{where}: give either angle_deg or cusp, not both")
+            angle = math.radians(float(raw["angle_deg"]))
+        elif prev is not None:
+            t = prev.tangent(prev.length)
+            angle = math.atan2(t[1], t[0]) + (math.pi if raw.get("cusp") else 0.0)
+        else:
+            angle = 0.0
+        segments.append(Segment(str(raw["name"]), raw["length"], float(raw.get("curvature", 0.0)),
+                                float(raw.get("natural_curvature", 0.0)), B1, B2, B3, start,
+                                angle))
+    welds = []
+    for i, w in enumerate(data.get("weld", [])):
+        _check_keys(w, _WELD, f"weld[{i}]")
+        welds.append(tuple(_end(e, f"weld[{i}]") for e in w.get("ends", [])))
+    supports = []
+    for i, s in enumerate(data.get("support", [])):
+        _check_keys(s, _SUPPORT, f"support[{i}]")
+        name, end = _end(s.get("end"), f"support[{i}]")
+        supports.append((name, end, s.get("type", "clamped")))
+    analysis = data.get("analysis", {})
+    _check_keys(analysis, _ANALYSIS, "[analysis]")
+    elements = require_positive_int("analysis.elements", analysis.get("elements", 32))
+    ref = analysis.get("reference_load")
+    assembly = Assembly(tuple(segments), tuple(welds), tuple(supports),
+                        None if ref is None else float(ref))
+    lf = analysis.get("load_factor_segment", segments[0].name)
+    assembly.segment(lf)
+    return Design(assembly, elements, lf, source, data)
+
+
+def load_design(path: str | Path) -> Design:
+    """Read and validate a TOML design file."""
+    p = Path(path)
+    try:
+        text = p.read_text()
+    except OSError as exc:
+        raise RodstabInputError(f"cannot read design file {str(p)!r}: {exc.strerror}") from exc
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise RodstabInputError(f"design file {str(p)!r} is not valid TOML: {exc}") from exc
+    return parse_design(data, str(p))

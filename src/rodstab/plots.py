@@ -1,0 +1,60 @@
+"""Pictures of assemblies and their critical modes (data in, figure out; no mathematics)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from .linear.solve import LinearStability  # noqa: E402
+from .model import Assembly  # noqa: E402
+
+
+def plot_mode(assembly: Assembly, result: LinearStability, path: str | Path, *,
+              amplitude: float = 0.15, title: str | None = None) -> Path:
+    """Draw the held state (grey, in the plane z = 0) and the critical mode in 3D.
+
+    The mode's out-of-plane displacement ``w`` is drawn as ``z`` (scaled so that its largest
+    value is ``amplitude`` times the assembly's size), coloured by the twist ``omega``.
+    Segments that coincide in the held state are drawn side by side (shifted in the plane).
+    """
+    pts = np.vstack([s.position(np.linspace(0, s.length, 50)) for s in assembly.segments])
+    size = float(np.ptp(pts, axis=0).max()) or 1.0
+    fig = plt.figure(figsize=(7, 5))
+    ax = fig.add_subplot(projection="3d")
+    om_max = max((float(np.max(np.abs(m.omega))) for m in result.mode), default=1.0) or 1.0
+    cmap = plt.get_cmap("coolwarm")
+    for seg in assembly.segments:
+        xy = seg.position(np.linspace(0, seg.length, 60))
+        ax.plot(xy[:, 0], xy[:, 1], 0 * xy[:, 0], color="0.7", lw=1)
+    drawn: list[np.ndarray] = []
+    for m in result.mode:
+        seg = assembly.segment(m.name)
+        xy = seg.position(m.s * seg.length)
+        # Stacked segments (bi-rod, folded rings) coincide in the plane: shift each one that
+        # lies on an earlier one sideways so that every segment's mode is visible.
+        k = sum(1 for d in drawn if np.min(np.linalg.norm(d - xy[len(xy) // 2], axis=1))
+                < 1e-9 * size)
+        drawn.append(xy.copy())
+        if k:
+            t = seg.tangent(m.s * seg.length)
+            xy = xy + 0.04 * size * k * np.stack([-t[:, 1], t[:, 0]], axis=1)
+        z = amplitude * size * m.w
+        colors = cmap(0.5 + 0.5 * m.omega / om_max)
+        for i in range(len(z) - 1):
+            ax.plot(xy[i:i + 2, 0], xy[i:i + 2, 1], z[i:i + 2], color=colors[i], lw=2.5)
+    lam = result.load_factor_critical
+    ax.set_title(title or f"critical mode, load factor {lam:.6g} (x{result.multiplicity})")
+    ax.set_xlabel("x")
+    ax.set_ylabel("y")
+    ax.set_zlabel("w (mode)")
+    sm = plt.cm.ScalarMappable(cmap=cmap, norm=plt.Normalize(-om_max, om_max))
+    fig.colorbar(sm, ax=ax, shrink=0.6, label="twist omega (mode)")
+    out = Path(path)
+    fig.savefig(out, dpi=120, bbox_inches="tight")
+    plt.close(fig)
+    return out

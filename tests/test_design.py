@@ -1,0 +1,115 @@
+"""Design files: examples run, strict validation, CLI contract of analyze/birod/folded-ring."""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from rodstab.analytic.ring import ring_stability
+from rodstab.design import load_design, parse_design
+from rodstab.errors import RodstabInputError
+from rodstab.linear.solve import linear_stability
+
+EXAMPLES = sorted(Path(__file__).resolve().parent.parent.joinpath("examples").glob("*.toml"))
+ROOT = Path(__file__).resolve().parent.parent
+
+
+def _cli(*args):
+    env = {"PYTHONPATH": str(ROOT / "src"), "PATH": "/usr/bin:/bin"}
+    return subprocess.run([sys.executable, "-m", "rodstab.cli", *args], capture_output=True,
+                          text=True, cwd=ROOT, env=env)
+
+
+@pytest.mark.parametrize("path", EXAMPLES, ids=[p.stem for p in EXAMPLES])
+def test_every_example_runs_from_the_cli(path):
+    r = _cli("analyze", str(path), "--json")
+    assert r.returncode == 0, r.stderr
+    p = json.loads(r.stdout)
+    for key in ("load_factor_critical", "multiplicity", "load_factor_interval",
+                "stable_at_design", "mode_family", "residual", "n_dof"):
+        assert key in p
+    assert p["converged"]
+
+
+def test_example_straight_rod_is_eq_3_9():
+    """Closed form (3.9): 2 pi sqrt(b1 b2) for kappa_n L at load factor 1, L = 1."""
+    d = load_design(ROOT / "examples" / "straight_clamped_rod.toml")
+    r = linear_stability(d.assembly, 48)
+    assert r.load_factor_critical == pytest.approx(2 * math.pi * math.sqrt(0.75), rel=1e-6)
+
+
+def test_example_three_loop_ring_is_section_3_1():
+    d = load_design(ROOT / "examples" / "ring_3_loops.toml")
+    lo, hi = linear_stability(d.assembly, d.elements).load_factor_interval
+    M_lo, M_hi = ring_stability(1.0, 0.75, 3).M_interval
+    assert (1 - hi, 1 - lo) == pytest.approx((M_lo, M_hi), rel=1e-5)
+
+
+def _base():
+    return {"segment": [{"name": "a", "length": 1.0, "natural_curvature": 1.0}],
+            "support": [{"end": "a.start", "type": "clamped"}, {"end": "a.end",
+                                                                 "type": "clamped"}]}
+
+
+@pytest.mark.parametrize("mutate, needle", [
+    (lambda d: d.update(bogus=1), "bogus"),
+    (lambda d: d["segment"][0].update(lenght=2), "lenght"),
+    (lambda d: d["segment"][0].update(length=-1.0), "length"),
+    (lambda d: d.update(section={"shape": "circle", "nu": 0.7}), "0.7"),
+    (lambda d: d.update(section={"b1": -1.0, "b2": 1.0}), "b1"),
+    (lambda d: d.update(section={"shape": "hexagon"}), "hexagon"),
+    (lambda d: d.update(weld=[{"ends": ["a.end", "b.start"]}]), "'b'"),
+    (lambda d: d["segment"].append({"name": "b", "length": 1.0, "start": [5.0, 0.0]})
+     or d.update(weld=[{"ends": ["a.end", "b.start"]}]), "do not meet"),
+    (lambda d: d.update(support=[]), "moment equilibrium"),
+    (lambda d: d["support"][0].update(type="welded"), "welded"),
+    (lambda d: d["support"][0].update(end="a-start"), "a-start"),
+    (lambda d: d.update(analysis={"elements": 0}), "elements"),
+    (lambda d: d.update(analysis={"load_factor_segment": "zz"}), "zz"),
+    (lambda d: d.update(segment=[]), "segment"),
+    (lambda d: d["segment"].append({"name": "a", "length": 1.0}), "duplicate"),
+])
+def test_bad_design_raises_naming_key_or_value(mutate, needle):
+    d = _base()
+    mutate(d)
+    with pytest.raises(RodstabInputError, match=needle):
+        parse_design(d)
+
+
+def test_cli_analyze_bad_file_one_line_exit_2(tmp_path):
+    bad = tmp_path / "bad.toml"
+    bad.write_text('[[segment]]\nname = "a"\nlength = 1.0\ncolour = "red"\n')
+    r = _cli("analyze", str(bad))
+    assert r.returncode == 2
+    assert len(r.stderr.strip().splitlines()) == 1 and "colour" in r.stderr
+
+
+def test_cli_birod_json_contract():
+    p = json.loads(_cli("birod", "--json").stdout)
+    assert p["lambda_c"] == pytest.approx(math.pi, rel=1e-6)
+    assert p["lambda_c_full_system"] == pytest.approx(math.pi, rel=1e-9)
+    assert p["psi_c"] == pytest.approx(math.pi / 2 * math.sqrt(0.75), rel=1e-6)
+    assert "mode_family" in p
+
+
+def test_cli_folded_ring_json_contract_240_variant():
+    """lam_c = pi/3 for six segments; kappa_n R0 = lam sqrt(b1 b2) / theta, theta = 4 pi/3."""
+    p = json.loads(_cli("folded-ring", "--segments", "6", "--arc-angle", "240", "--json").stdout)
+    assert p["lambda_c"] == pytest.approx(math.pi / 3, rel=1e-6)
+    assert p["multiplicity"] == 2
+    assert p["kappa_R0_c"] == pytest.approx(math.pi / 3 * math.sqrt(0.75) / (4 * math.pi / 3),
+                                            rel=1e-6)
+
+
+@pytest.mark.parametrize("n", [4, 8])
+def test_folded_2n_rings_critical_is_2pi_over_2n(n):
+    """Beyond the paper: 2n straight segments folded into n loops: lam_c = 2 pi / (2n)
+    (engine and full system), i.e. kappa_n times the total length 2nL is 2 pi sqrt(B1B2)/B3."""
+    p = json.loads(_cli("folded-ring", "--segments", str(n), "--json").stdout)
+    assert p["lambda_c"] == pytest.approx(2 * math.pi / n, rel=1e-6)
+    assert p["lambda_c_full_system"] == pytest.approx(2 * math.pi / n, rel=1e-9)
