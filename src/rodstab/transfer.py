@@ -261,3 +261,44 @@ def straight_assembly_matrix(assembly, mu: float) -> np.ndarray:
                 rows.append(sum(sg * (q["Mb"] * nrm[c] + q["Tq"] * t[c])
                                 for q, t, nrm, sg in ends))
     return np.array(rows)
+
+
+def straight_assembly_modes(assembly, mu: float, n_points: int = 101,
+                            known_nullity: int = ASSEMBLY_RIGID_NULLITY) -> list[dict]:
+    """Null vectors of :func:`straight_assembly_matrix` at ``mu``, rigid motions removed.
+
+    Returns one entry per deformation mode: ``{segment name: (x, w, omega)}`` with ``x = s/L``
+    in ``[0, 1]``, propagated exactly by ``expm``; every mode is gauged so that ``w``, ``w'``
+    and ``omega`` vanish at the start of the first segment (as the paper does for Fig. 9) and
+    scaled to ``max |w| = 1``.
+    """
+    from scipy.linalg import null_space
+
+    A = straight_assembly_matrix(assembly, mu)
+    s = np.linalg.svd(A, compute_uv=False)
+    null = null_space(A, rcond=max(1e-9, 1e3 * s[-1] / s[0]))
+    if known_nullity:
+        # Rigid motions: the null space at a load with no eigenvalue nearby (here mu = 0).
+        rigid = null_space(straight_assembly_matrix(assembly, 0.0), rcond=1e-9)
+        null = null - rigid @ np.linalg.lstsq(rigid, null, rcond=None)[0]
+        u, sv, _ = np.linalg.svd(null, full_matrices=False)
+        null = u[:, sv > 1e-6 * sv.max()] if sv.size else null
+    modes = []
+    segs = assembly.segments
+    for k in range(null.shape[1]):
+        c = null[:, k].copy()
+        if known_nullity:
+            # Gauge: subtract the rigid motion matching w, w', omega at segment 1's start.
+            rig = null_space(straight_assembly_matrix(assembly, 0.0), rcond=1e-9)
+            G = rig[[0, 1, 4], :]
+            c = c - rig @ np.linalg.lstsq(G, c[[0, 1, 4]], rcond=None)[0]
+        mode = {}
+        for i, seg in enumerate(segs):
+            m = -mu * seg.B3 * seg.natural_curvature
+            S = straight_segment_system(m, seg.B1, seg.B2)
+            xs = np.linspace(0.0, 1.0, n_points)
+            ys = np.array([expm(S * seg.length * x) @ c[6 * i: 6 * i + 6] for x in xs])
+            mode[seg.name] = (xs, ys[:, 0], ys[:, 4])
+        scale = max(np.max(np.abs(v[1])) for v in mode.values()) or 1.0
+        modes.append({k2: (x, w / scale, om / scale) for k2, (x, w, om) in mode.items()})
+    return modes

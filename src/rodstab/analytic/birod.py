@@ -17,6 +17,8 @@ from __future__ import annotations
 import dataclasses
 import math
 
+import numpy as np
+
 from ..numerics import matrix_roots
 from ..results import Result
 from ..sections import Section
@@ -57,3 +59,26 @@ def folded_ring_critical(section: Section, segments: int = 6) -> FullSystemCriti
     """Folded ring of ``segments`` straight segments: ``lam_c`` by the full system."""
     return _critical(folded_ring(section, segments=segments), section, ASSEMBLY_RIGID_NULLITY,
                      7.0)
+
+
+def birod_test_field_energy(section: Section, lam: float, n_quad: int = 2001) -> float:
+    """P2 (4.4) of an explicit admissible field of the clamped bi-rod, per ``B1 / L``.
+
+    Field (``x = s/L``, both rods deflect together, opposite twists): ``u1 = u2 = U``,
+    ``alpha1 = -alpha2 = D`` with ``U = sin(pi x) - pi x`` and
+    ``D = -(k/b2)(U - U(1) x)``, ``k = pi sqrt(b1 b2)`` (the eigenfield at ``lam = pi``;
+    ``u``, ``u'``, ``alpha`` vanish at the clamp ``x = 0`` and are continuous at ``x = 1``).
+    With ``B3 kappa0 L = lam sqrt(B1 B2)`` (4.4) is ``int {b1 U''^2 + b2 D'^2 +
+    2 lam sqrt(b1 b2) D' U'} dx`` (in units of ``B3/L``); it is linear in ``lam`` and negative
+    for every ``lam > pi``, so the straight bi-rod is unstable below the paper's ``2 pi``.
+    Integrated by the trapezoid rule on ``n_quad`` points (smooth integrand).
+    """
+    b1, b2 = section.b1, section.b2
+    x = np.linspace(0.0, 1.0, n_quad)
+    Ud = np.pi * np.cos(np.pi * x) - np.pi  # U'
+    Udd = -np.pi**2 * np.sin(np.pi * x)  # U''
+    U1 = -np.pi  # U(1)
+    k = np.pi * math.sqrt(b1 * b2)
+    Dd = -(k / b2) * (Ud - U1)  # D'
+    f = b1 * Udd**2 + b2 * Dd**2 + 2 * lam * math.sqrt(b1 * b2) * Dd * Ud
+    return float(np.sum(0.5 * (f[1:] + f[:-1]) * np.diff(x)))

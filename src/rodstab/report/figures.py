@@ -92,3 +92,20 @@ def fig_rings(data: dict, out: Path) -> list[Path]:
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3, which="both")
     return _save(fig, out, "fig_rings_intervals")
+
+
+def fig9(data: dict, out: Path) -> list[Path]:
+    """Fig. 9: modal u3/L and twist around the folded six-sided ring (two modes)."""
+    fig, axes = plt.subplots(len(data), 1, figsize=(7, 2.6 * len(data)), sharex=True)
+    for ax, (label, d) in zip(axes, data.items()):
+        ax.plot(d["s_over_L"], d["u3_over_L"], label="u3 / L (max 1)")
+        om = d["omega"]
+        scale = max(abs(v) for v in om) or 1.0
+        ax.plot(d["s_over_L"], [v / scale for v in om], "--", label="omega (scaled to 1)")
+        for j in range(7):
+            ax.plot([j], [0], "ko", ms=4)
+        ax.set_title(f"folded six-sided ring, circle nu = 1/3: {label}")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7)
+    axes[-1].set_xlabel("s / L around the ring (joints: dots)")
+    return _save(fig, out, "fig9_folded_ring_modes")

@@ -16,7 +16,7 @@ from ..results import jsonable
 from . import claims as C
 from . import figures
 
-_STEPS = 12
+_STEPS = 16
 
 
 def _markdown(rows: list[C.Claim], figs: dict[str, Path], elapsed: float) -> str:
@@ -25,7 +25,7 @@ def _markdown(rows: list[C.Claim], figs: dict[str, Path], elapsed: float) -> str
         "# rodstab reproduction report",
         "",
         "Paper: Leanza, Zhao & Hutchinson, *On the elastic stability of folded rings in circular "
-        "and straight states*, Sections 2-3.",
+        "and straight states*, Sections 2-5.",
         f"rodstab {__version__}; {len(rows)} claims: {n_rep} reproduced, "
         f"{len(rows) - n_rep} differ (each explained). Computed in {elapsed:.1f} s.",
         "",
@@ -72,7 +72,7 @@ vertical-align:top}}.ok{{color:#17692a;font-weight:bold}}.diff{{color:#a15c00;fo
 img{{max-width:100%}}</style></head><body>
 <h1>rodstab reproduction report</h1>
 <p>Paper: Leanza, Zhao &amp; Hutchinson, <i>On the elastic stability of folded rings in circular
-and straight states</i>, Sections 2-3. rodstab {__version__}; {len(rows)} claims: {n_rep}
+and straight states</i>, Sections 2-5. rodstab {__version__}; {len(rows)} claims: {n_rep}
 reproduced, {len(rows) - n_rep} differ (each explained). Computed in {elapsed:.1f} s.</p>
 <table><tr>{''.join(f'<th>{h}</th>' for h in head)}</tr>{''.join(body)}</table>
 <h2>Figures</h2>{''.join(imgs)}</body></html>
@@ -96,9 +96,12 @@ def run_reproduction(out_dir: str | Path, *, progress: bool = True) -> dict[str,
     rows += list(C.arc_claims(tick))
     rows += list(C.michell_claims())
     tick()
+    rows += list(C.engine_claims())
+    rows += list(C.section45_claims(tick))
     data = {"fig3": C.fig3_data(), "fig4": C.fig4_data(), "fig5": C.fig5_data()}
     tick()
     data["rings"] = C.rings_data()
+    data["fig9"] = C.fig9_data()
     tick()
     figs: dict[str, Path] = {}
     figs["Fig. 3 - clamped arcs: stable range of L kappa_n"] = figures.fig3(data["fig3"], out)[0]
@@ -106,6 +109,7 @@ def run_reproduction(out_dir: str | Path, *, progress: bool = True) -> dict[str,
     figs["Fig. 5 - longest stable clamped arc of a straight rod"] = figures.fig5(data["fig5"],
                                                                                  out)[0]
     figs["New - stable ranges of N-loop rings vs h/t"] = figures.fig_rings(data["rings"], out)[0]
+    figs["Fig. 9 - modes of the folded six-sided ring"] = figures.fig9(data["fig9"], out)[0]
     tick()
     bar.close()
     elapsed = time.perf_counter() - t0
