@@ -113,3 +113,25 @@ def test_folded_2n_rings_critical_is_2pi_over_2n(n):
     p = json.loads(_cli("folded-ring", "--segments", str(n), "--json").stdout)
     assert p["lambda_c"] == pytest.approx(2 * math.pi / n, rel=1e-6)
     assert p["lambda_c_full_system"] == pytest.approx(2 * math.pi / n, rel=1e-9)
+
+
+def test_cli_sweep_writes_csv_and_matches_single_runs(tmp_path):
+    """Each sweep row equals an independent `analyze` of the design with that value."""
+    r = _cli("sweep", "examples/clamped_arc.toml", "--vary", "segment.arc.length=1:2:2",
+             "--out", str(tmp_path), "--no-progress", "--json")
+    assert r.returncode == 0, r.stderr
+    p = json.loads(r.stdout)
+    assert (tmp_path / "sweep.csv").exists() and (tmp_path / "sweep.png").exists()
+    d = load_design(ROOT / "examples" / "clamped_arc.toml")
+    single = linear_stability(d.assembly, d.elements).load_factor_critical  # length 2
+    assert p["rows"][1]["load_factor_critical"] == pytest.approx(single, rel=1e-10)
+
+
+@pytest.mark.parametrize("vary, needle", [("segment.zz.length=1:2:3", "zz"),
+                                          ("section.colour=1:2:3", "colour"),
+                                          ("section.aspect=1:2", "KEY=START:STOP:N"),
+                                          ("section.aspect=1:2:0", "0")])
+def test_cli_sweep_bad_vary_one_line(vary, needle):
+    r = _cli("sweep", "examples/clamped_arc.toml", "--vary", vary)
+    assert r.returncode == 2
+    assert len(r.stderr.strip().splitlines()) == 1 and needle in r.stderr

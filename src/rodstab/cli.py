@@ -208,6 +208,66 @@ def analyze(design_file: str, elements: int | None, plot_path: str | None,
     ])
 
 
+def _parse_vary(spec: str) -> tuple[str, float, float, int]:
+    try:
+        key, rng = spec.split("=", 1)
+        start, stop, n = rng.split(":")
+        return key.strip(), float(start), float(stop), int(n)
+    except ValueError as exc:
+        raise RodstabInputError(f"--vary must be KEY=START:STOP:N, got {spec!r}") from exc
+
+
+@cli.command()
+@click.argument("design_file", type=click.Path(dir_okay=False))
+@click.option("--vary", required=True, help="KEY=START:STOP:N, e.g. section.aspect=1:4:13.")
+@click.option("--out", "out_dir", type=click.Path(file_okay=False), default="sweep",
+              show_default=True, help="Directory for sweep.csv and sweep.png.")
+@click.option("--elements", type=int, default=None, help="Elements per segment.")
+@click.option("--no-progress", is_flag=True, help="Do not draw the progress bar.")
+@_json_option
+def sweep(design_file: str, vary: str, out_dir: str, elements: int | None, no_progress: bool,
+          as_json: bool) -> None:
+    """Critical load factor of a design while one parameter varies (CSV + plot)."""
+    import csv
+    from pathlib import Path
+
+    import numpy as np
+    from tqdm import tqdm
+
+    from .design import load_design, parse_design, set_design_value
+    from .linear.solve import linear_stability
+    from .report.figures import sweep_plot
+
+    key, start, stop, n = _parse_vary(vary)
+    require_positive_int("--vary N", n)
+    base = load_design(design_file)
+    parse_design(set_design_value(base.raw, key, start), base.source)  # bad key: fail early
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    rows = []
+    for v in tqdm(np.linspace(start, stop, n), desc="rodstab sweep", disable=no_progress,
+                  leave=False):
+        d = parse_design(set_design_value(base.raw, key, float(v)), base.source)
+        ne = d.elements if elements is None else require_positive_int("--elements", elements)
+        r = linear_stability(d.assembly, ne)
+        rows.append({key: float(v), "load_factor_critical": r.load_factor_critical,
+                     "load_factor_lower": r.load_factor_interval[0],
+                     "multiplicity": r.multiplicity,
+                     "paper_load_factor_critical": d.paper_load_factor(r.load_factor_critical),
+                     "residual": r.residual})
+    csv_path = out / "sweep.csv"
+    with csv_path.open("w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+    png = sweep_plot(rows, key, out)
+    payload = {"key": key, "values": [r[key] for r in rows], "rows": rows, "csv": str(csv_path),
+               "plot": str(png)}
+    _emit(payload, as_json, [f"{key:>24} {'critical':>12} {'lower':>12} mult"] + [
+        f"{r[key]:>24.6g} {r['load_factor_critical']:>12.6g} {r['load_factor_lower']:>12.6g} "
+        f"{r['multiplicity']:>4}" for r in rows] + [f"wrote {csv_path} and {png}"])
+
+
 @cli.command()
 @_section_options
 @_json_option

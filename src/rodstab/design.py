@@ -168,3 +168,38 @@ def load_design(path: str | Path) -> Design:
     except tomllib.TOMLDecodeError as exc:
         raise RodstabInputError(f"design file {str(p)!r} is not valid TOML: {exc}") from exc
     return parse_design(data, str(p))
+
+
+def set_design_value(data: dict, key: str, value: float) -> dict:
+    """A copy of ``data`` with the value at the dotted ``key`` replaced.
+
+    Keys: ``section.<k>``, ``analysis.<k>``, ``segment.<name>.<k>`` (a segment by name) or
+    ``segment.<name>.section.<k>``. The key must name an existing value or a known key of that
+    table; anything else raises naming the key.
+    """
+    import copy
+
+    out = copy.deepcopy(data)
+    parts = key.split(".")
+    if parts[0] in ("section", "analysis") and len(parts) == 2:
+        allowed = _SECTION if parts[0] == "section" else _ANALYSIS
+        if parts[1] not in allowed:
+            raise RodstabInputError(f"--vary key {key!r}: {parts[1]!r} is not a key of "
+                                    f"[{parts[0]}] (allowed: {sorted(allowed)})")
+        out.setdefault(parts[0], {})[parts[1]] = value
+        return out
+    if parts[0] == "segment" and len(parts) in (3, 4):
+        segs = [sg for sg in out.get("segment", []) if str(sg.get("name")) == parts[1]]
+        if not segs:
+            raise RodstabInputError(f"--vary key {key!r}: no segment named {parts[1]!r}")
+        if len(parts) == 3:
+            if parts[2] not in _SEGMENT - {"name", "start", "cusp", "section"}:
+                raise RodstabInputError(f"--vary key {key!r}: {parts[2]!r} cannot be varied")
+            segs[0][parts[2]] = value
+        else:
+            if parts[2] != "section" or parts[3] not in _SECTION:
+                raise RodstabInputError(f"--vary key {key!r} is not segment.<name>.section.<k>")
+            segs[0].setdefault("section", dict(out.get("section", {})))[parts[3]] = value
+        return out
+    raise RodstabInputError(f"--vary key {key!r} must be section.<k>, analysis.<k>, "
+                            "segment.<name>.<k> or segment.<name>.section.<k>")

@@ -109,3 +109,20 @@ def fig9(data: dict, out: Path) -> list[Path]:
         ax.legend(fontsize=7)
     axes[-1].set_xlabel("s / L around the ring (joints: dots)")
     return _save(fig, out, "fig9_folded_ring_modes")
+
+
+def sweep_plot(rows: list[dict], key: str, out: Path) -> Path:
+    """Critical load factor (and the lower end of the interval) against the varied key."""
+    x = [r[key] for r in rows]
+    fig, ax = plt.subplots(figsize=(6, 4))
+    ax.plot(x, [r["load_factor_critical"] for r in rows], "o-", label="upper end (critical)")
+    ax.plot(x, [r["load_factor_lower"] for r in rows], "s--", label="lower end")
+    ax.set_xlabel(key)
+    ax.set_ylabel("load factor")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    ax.set_title("stable between the two curves")
+    p = Path(out) / "sweep.png"
+    fig.savefig(p, dpi=120, bbox_inches="tight")
+    plt.close(fig)
+    return p
