@@ -185,3 +185,54 @@ def test_global_matrices_are_symmetric():
 def test_bad_assemblies_raise_naming_the_problem(build, needle):
     with pytest.raises(RodstabInputError, match=needle):
         build()
+
+
+def test_free_straight_assembly_has_exactly_three_rigid_modes_ungauged():
+    """Stress-free folded ring (mu = 0, straight segments, which the elements represent
+    exactly): the ungauged K0 has exactly 3 zero eigenvalues (translation, two rotations)."""
+    d = discretise(six_ring(RECT2), 4)
+    ev = np.linalg.eigvalsh(d.K0.toarray())
+    zero = np.abs(ev) <= 1e-10 * np.abs(ev).max()
+    assert zero.sum() == 3
+    assert ev[~zero].min() > 0
+
+
+def test_mixed_sections_welded_rod_matches_full_system():
+    """Two welded segments of different sections, clamped at both outer ends, held straight
+    with natural curvature: engine vs exact general solutions with all joint conditions."""
+    s1, s2 = CIRCLE, rectangle(aspect=2.0)
+    # Held moments B3 kappa_n must balance at the weld: kappa_n = 1/1.5 in b (B3 = 1.5).
+    segs = (Segment("a", 0.6, 0.0, 1.0, s1.b1, s1.b2, 1.0),
+            Segment("b", 0.4, 0.0, 1 / 1.5, s2.b1 * 1.5, s2.b2 * 1.5, 1.5, (0.6, 0.0)))
+    a = Assembly(segs, welds=((("a", "end"), ("b", "start")),),
+                 supports=(("a", "start", "clamped"), ("b", "end", "clamped")))
+    full = matrix_roots(lambda mu: straight_assembly_matrix(a, mu), 0.2, 20.0, n_scan=400)
+    r = linear_stability(a, 48)
+    assert r.load_factor_critical == pytest.approx(full.roots[0].x, rel=1e-6)
+
+
+def test_weld_out_of_moment_equilibrium_is_rejected():
+    """A weld joining ends with different held moments B3 kappa_n is not an equilibrium."""
+    segs = (Segment("a", 0.6, 0.0, 1.0, 1.0, 0.75, 1.0),
+            Segment("b", 0.4, 0.0, 1.0, 2.0, 1.0, 1.5, (0.6, 0.0)))
+    with pytest.raises(RodstabInputError, match="moment equilibrium"):
+        Assembly(segs, welds=((("a", "end"), ("b", "start")),),
+                 supports=(("a", "start", "clamped"), ("b", "end", "clamped")))
+
+
+@pytest.mark.parametrize("sec", [CIRCLE, RECT2], ids=["circle", "rect2"])
+def test_eq_3_13_longest_arc_by_the_engine(sec):
+    """Straight rod (kappa_n = 0) bent into a clamped arc: the engine's stable interval of the
+    natural curvature loses mu = 0 at the L/R of (3.13)/(3.14) (analytic module, which the
+    shooting method confirms)."""
+    from rodstab.analytic.arc import max_arc_length
+    from rodstab.numerics import find_roots
+
+    target = max_arc_length(sec.b1, sec.b2).L_over_R_max
+
+    def lower_end(L_over_R: float) -> float:  # natural curvature mu / R, R = 1
+        r = linear_stability(clamped(L_over_R, 1.0, 1.0, sec), 128)
+        return r.load_factor_interval[0]
+
+    found = find_roots(lower_end, target - 0.3, target + 0.3, n_scan=6)
+    assert found.roots[0].x == pytest.approx(target, rel=1e-6)
