@@ -323,7 +323,8 @@ def folded_ring(section: Section, segments: int, arc_angle: float, as_json: bool
                "section": section.to_dict()}
     _emit(payload, as_json, [
         _section_line(section),
-        f"segments     {segments} (folded {segments // 2}-loop state), arcs of {_fmt(arc_angle)} deg",
+        f"segments     {segments} (folded {segments // 2}-loop state), "
+        f"arcs of {_fmt(arc_angle)} deg",
         f"lam_c = {_fmt(lam)} (x{r.multiplicity}, engine), {_fmt(an.lambda_c)} "
         f"(x{an.multiplicity}, full system); paper: 2 pi",
         f"kappa_n R0 critical = {_fmt(payload['kappa_R0_c'])} "

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+
 import numpy as np
 
 from .errors import RodstabInputError, require_finite, require_positive

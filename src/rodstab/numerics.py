@@ -282,7 +282,8 @@ def matrix_roots(
     At every other local minimum of ``g`` a finer local grid is searched for determinant sign
     changes (two roots closer than a scan spacing); failing that, ``g`` is minimised by
     golden-section search and the point is a root of even multiplicity in the determinant when
-    ``g <= singular_tol``. The multiplicity is the number of singular values ``<= sqrt(singular_tol)``
+    ``g <= singular_tol``. The multiplicity is the number of singular values
+    ``<= sqrt(singular_tol)``
     times ``sigma_max`` at the root (the dimension of the null space).
     """
     if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
@@ -371,7 +372,8 @@ def matrix_roots(
         if gx > min(singular_tol, TOUCH_SINGULAR_TOL) or is_pole(x, a, b):
             continue
         _, s = _measure(matrix(x))
-        mult = int(np.sum(s <= math.sqrt(singular_tol) * (max(s[0], s_ref) + (1.0 if r else 0.0)))) - r
+        ref = max(s[0], s_ref) + (1.0 if r else 0.0)
+        mult = int(np.sum(s <= math.sqrt(singular_tol) * ref)) - r
         roots.append(Root(x, max(mult, 1), gx, (float(a), float(b)), "touching"))
     roots.sort(key=lambda r: r.x)
     # Merge duplicates found from adjacent candidates.

@@ -16,8 +16,8 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.linalg import null_space
 
-from .elements import density_matrices, element_matrices
 from ..model import Assembly
+from .elements import density_matrices, element_matrices
 
 
 @dataclasses.dataclass(frozen=True)

@@ -9,16 +9,15 @@ checked by a Cholesky factorisation), and the one eigen solver
 from __future__ import annotations
 
 import dataclasses
-import math
 
 import numpy as np
 import scipy.sparse as sp
 
 from ..errors import RodstabInputError
+from ..model import Assembly
 from ..numerics import pencil_interval_sparse
 from ..results import Result
 from .assembly import discretise, rigid_modes_left
-from ..model import Assembly
 
 #: Critical eigenvalues closer than this (relative) are one repeated eigenvalue: symmetric
 #: pairs are split by the discretisation (and the rigid-motion gauge) far below its error.
@@ -147,6 +146,7 @@ def linear_stability(a: Assembly, elements_per_segment: int = 16) -> LinearStabi
         multiplicity=res.multiplicity_hi, multiplicity_lo=res.multiplicity_lo,
         stable_at_design=bool(lo < 1.0 < hi), reference_load=mu_ref,
         mode=_modes(disc, full(res.mode_hi)), mode_lo=_modes(disc, full(res.mode_lo)),
-        n_rigid_modes=int(rigid_modes_left(a, disc.joints).shape[1]), residual=res.residual, converged=res.converged,
+        n_rigid_modes=int(rigid_modes_left(a, disc.joints).shape[1]), residual=res.residual,
+        converged=res.converged,
         n_dof=int(A.shape[0]),
         method="FE of P2 (Hermite w, quadratic omega); " + res.method)

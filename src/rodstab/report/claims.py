@@ -294,7 +294,9 @@ def arc_claims(progress: Callable[[], None]) -> Iterator[Claim]:
     t2 = matrix_roots(lambda L: transfer.clamped_arc_matrix(0.0, L, r2.b1, r2.b2), 0.5, 15.0,
                       n_scan=300).values
     yield Claim("3.14", "3.2", "(3.13)/(3.14), Fig. 5", "Longest arc rises steeply for h/t > 1",
-                "Fig. 5 (curve)", f"h/t = 1.05: {_f(arc.max_arc_length(*_b(rectangle(aspect=1.05))).L_over_R_max, 4)}; "
+                "Fig. 5 (curve)",
+                f"h/t = 1.05: "
+                f"{_f(arc.max_arc_length(*_b(rectangle(aspect=1.05))).L_over_R_max, 4)}; "
                 f"h/t = 2: {_f(m2.L_over_R_max)}", f"h/t = 2: {_f(t2[0]) if t2 else 'none'}",
                 shoot, REPRODUCED if t2 and abs(t2[0] - m2.L_over_R_max) < 1e-7 * t2[0]
                 else DIFFERS)
@@ -338,7 +340,7 @@ def michell_claims() -> Iterator[Claim]:
     yield Claim("3.26b", "3.3", "end of 3.3", "3-loop ring unstable at every twist (j = 1, 2)",
                 "unstable for any omega0'",
                 f"unstable modes j = {list(m3.unstable_modes)} at zero twist",
-                f"(3.26) with j/N: k^2 - 1 < 0 for j < 3", "closed form", REPRODUCED
+                "(3.26) with j/N: k^2 - 1 < 0 for j < 3", "closed form", REPRODUCED
                 if not m3.stable_at_zero_twist and m3.unstable_modes == (1, 2) else DIFFERS)
 
 
@@ -470,7 +472,6 @@ def section45_claims(progress: Callable[[], None]) -> Iterator[Claim]:
         full, REPRODUCED if abs(lam_a.next_roots[0] - 2 * math.pi) < 1e-6 else DIFFERS,
         "With both ends clamped to the ground both families are clamped-clamped columns: "
         "lam_c = 2 pi, double.")
-    lam_35 = [2 * psi / g for psi in (math.pi / 4, math.pi)]
     steel = 1 / math.sqrt(1.3)
     yield Claim(
         "Fig7", "4", "Fig. 7", "Experiments: psi = pi/4 stable, psi = pi unstable (steel)",

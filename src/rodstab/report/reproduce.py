@@ -38,7 +38,8 @@ def _markdown(rows: list[C.Claim], figs: dict[str, Path], elapsed: float) -> str
     ]
     for r in rows:
         cells = [r.id, r.section, r.equation, r.statement, r.paper, r.rodstab,
-                 f"{r.second} ({r.second_method})" if r.second_method not in ("-", "") else r.second,
+                 (f"{r.second} ({r.second_method})" if r.second_method not in ("-", "")
+                  else r.second),
                  f"**{r.status}**", r.note]
         lines.append("| " + " | ".join(c.replace("|", "\\|") for c in cells) + " |")
     lines += ["", "## Figures", ""]
