@@ -1,0 +1,334 @@
+"""Discrete geometrically exact rod (Cosserat edges, Kirchhoff limit by stiff stretch/shear).
+
+Why this model: every unknown is a position or a rotation, so welds at any angle, clamps and
+closed multi-loop rings are exact (shared joint frames, no parallel transport or reference
+twist), and the energy is a short algebraic function of rotation matrices whose exact Hessian
+comes from second-order jets (:mod:`.jets`).
+
+Unknowns: node positions ``x`` (lab), one frame ``R_e`` per edge (columns ``d1 = n``,
+``d2 = tangent``, ``d3 = e3`` in the held state, as in the paper's (e1, e2, e3)), and one frame
+``R_J`` per joint (segment end or weld), every segment end's frame being ``R_J Q`` with ``Q``
+fixed by the held geometry (welds keep full rotational continuity at any angle).
+
+Energy (consistent with (2.9), Kirchhoff limit as the penalty grows):
+
+* bending/twist between consecutive frames ``R_a``, ``R_b``:
+  ``1/2 (k - k0)^T diag(B1, B2, B3) (k - k0) ds`` with the Cayley curvature
+  ``k = (2/ds) vee(P - P^T) / (1 + tr P)``, ``P = R_a^T R_b`` (= ``(2/ds) tan(theta/2) axis``),
+  ``k0 = k_held + (0, 0, mu kappa_n - 1/R)`` (``k_held``: the same measure in the held state,
+  so each joint carries the continuum moment there); between an end edge and its joint frame
+  ``ds`` is half an edge;
+* stretch and shear of edge ``e``: ``1/2 eps^T diag(K, K, K) eps l_e``,
+  ``eps = R_e^T (x_(i+1) - x_i) / l_e - (0, 1, 0)``, ``K = PENALTY * max(B) / l_e^2``.
+
+Increments: ``x <- x + dx``, ``R <- R exp(hat(phi))``; gradients and Hessians are exact at
+``phi = 0`` (the current state).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import scipy.sparse as sp
+
+from ..model import Assembly
+from .jets import Jet, JetMat, rodrigues, rotation_jet, vector_jet
+
+#: Stretch/shear stiffness K = PENALTY * max(B1, B2, B3) / l_e^2. The discrete model tends to
+#: the inextensible, unshearable Kirchhoff rod as l_e -> 0 with an error ~ l_e^2 / PENALTY.
+PENALTY = 1e3
+_T0 = np.array([0.0, 1.0, 0.0])
+
+
+def _frame(t: np.ndarray) -> np.ndarray:
+    """Held-state frames (..., 3, 3): columns ``n = t x e3``, ``t``, ``e3``."""
+    t3 = np.zeros(t.shape[:-1] + (3,))
+    t3[..., :2] = t
+    e3 = np.zeros_like(t3)
+    e3[..., 2] = 1.0
+    n = np.cross(t3, e3)
+    return np.stack([n, t3, e3], axis=-1)
+
+
+@dataclasses.dataclass
+class DiscreteRod:
+    """A discretised assembly and its current state (mutable: Newton updates it)."""
+
+    assembly: Assembly
+    x: np.ndarray  # (n_nodes, 3)
+    R_edge: np.ndarray  # (n_edges, 3, 3)
+    R_joint: np.ndarray  # (n_joints, 3, 3)
+    edge_nodes: np.ndarray  # (n_edges, 2)
+    rest_length: np.ndarray  # (n_edges,)
+    edge_B: np.ndarray  # (n_edges, 3) B1, B2, B3 of the edge's segment
+    edge_kn: np.ndarray  # (n_edges,) natural curvature at load factor 1
+    edge_k: np.ndarray  # (n_edges,) held curvature of the edge's segment
+    bend_pairs: np.ndarray  # (n_bend, 2) consecutive edges inside segments
+    end_links: list  # (edge, joint, Q (3x3), 'start' | 'end')
+    fixed_nodes: list
+    fixed_joints: list
+    load_factor: float = 1.0
+    k_held_pairs: np.ndarray | None = None  # (n_bend, 3) Cayley curvature of the held state
+    k_held_links: np.ndarray | None = None  # (n_links, 3)
+    k0_links: tuple[np.ndarray, np.ndarray] | None = None  # natural curvature a + mu b
+
+    # ---- degrees of freedom: positions, edge rotations, joint rotations
+    @property
+    def n_dof(self) -> int:
+        """Total number of unknowns (before constraints)."""
+        return 3 * (len(self.x) + len(self.R_edge) + len(self.R_joint))
+
+    def node_dofs(self, i):
+        """Global indices of node ``i``'s position."""
+        return 3 * np.asarray(i)[..., None] + np.arange(3)
+
+    def edge_dofs(self, e):
+        """Global indices of edge ``e``'s rotation increment."""
+        return 3 * (len(self.x) + np.asarray(e))[..., None] + np.arange(3)
+
+    def joint_dofs(self, j):
+        """Global indices of joint ``j``'s rotation increment."""
+        return 3 * (len(self.x) + len(self.R_edge) + np.asarray(j))[..., None] + np.arange(3)
+
+    def free_dofs(self) -> np.ndarray:
+        """Indices not held by clamps or the rigid-motion gauge."""
+        fixed = set()
+        for i in self.fixed_nodes:
+            fixed.update(self.node_dofs(i).tolist())
+        for j in self.fixed_joints:
+            fixed.update(self.joint_dofs(j).tolist())
+        return np.array([d for d in range(self.n_dof) if d not in fixed])
+
+    # ---- energy
+    def energy_terms(self, *, links: bool = True) -> tuple[float, np.ndarray, sp.csr_matrix]:
+        """Energy, exact gradient (n_dof,) and exact sparse Hessian at the current state."""
+        rows, cols, vals = [], [], []
+        grad = np.zeros(self.n_dof)
+        total = 0.0
+
+        def scatter(jet: Jet, dofs: np.ndarray) -> None:
+            nonlocal total
+            total += float(jet.v.sum())
+            np.add.at(grad, dofs, jet.g)
+            r = np.repeat(dofs[:, :, None], dofs.shape[1], axis=2)
+            c = np.repeat(dofs[:, None, :], dofs.shape[1], axis=1)
+            rows.append(r.ravel())
+            cols.append(c.ravel())
+            vals.append(jet.H.ravel())
+
+        mu = self.load_factor
+        # Stretch and shear of every edge: variables (x_i, x_j, phi_e).
+        e = np.arange(len(self.R_edge))
+        i, j = self.edge_nodes[:, 0], self.edge_nodes[:, 1]
+        xi = vector_jet(self.x[i], 9, 0)
+        xj = vector_jet(self.x[j], 9, 3)
+        R = rotation_jet(self.R_edge, 9, 6)
+        le = self.rest_length
+        d = [(xj[k] - xi[k]) * (1.0 / le) for k in range(3)]
+        eps = R.T.apply(d)
+        K = PENALTY * self.edge_B.max(axis=1) / le**2
+        en = sum(((eps[k] - _T0[k]) * (eps[k] - _T0[k]) for k in range(3)),
+                 start=Jet(np.zeros(len(e)), np.zeros((len(e), 9)), np.zeros((len(e), 9, 9))))
+        scatter(en * (0.5 * K * le), np.concatenate([self.node_dofs(i), self.node_dofs(j),
+                                                      self.edge_dofs(e)], axis=1))
+        # Bending between consecutive edges of a segment: variables (phi_a, phi_b).
+        if len(self.bend_pairs):
+            a, b = self.bend_pairs[:, 0], self.bend_pairs[:, 1]
+            Ra = rotation_jet(self.R_edge[a], 6, 0)
+            Rb = rotation_jet(self.R_edge[b], 6, 3)
+            ds = 0.5 * (le[a] + le[b])
+            scatter(self._bend(Ra.T @ Rb, ds, self.edge_B[a],
+                               self._k0(self.k_held_pairs, a, mu)),
+                    np.concatenate([self.edge_dofs(a), self.edge_dofs(b)], axis=1))
+        # Half-joints between an end edge and its joint frame.
+        if self.end_links and links:
+            ee = np.array([lk[0] for lk in self.end_links])
+            jj = np.array([lk[1] for lk in self.end_links])
+            Q = np.array([lk[2] for lk in self.end_links])
+            start = np.array([lk[3] == "start" for lk in self.end_links])
+            Re = rotation_jet(self.R_edge[ee], 6, 0)
+            RJ = rotation_jet(self.R_joint[jj], 6, 3)
+            RJQ = JetMat(np.einsum("eij,ejk->eik", RJ.v, Q),
+                         np.einsum("eijn,ejk->eikn", RJ.g, Q),
+                         np.einsum("eijnm,ejk->eiknm", RJ.H, Q))
+            P_end = Re.T @ RJQ  # edge then joint (segment end)
+            P_start = RJQ.T @ Re  # joint then edge (segment start)
+            P = JetMat(np.where(start[:, None, None], P_start.v, P_end.v),
+                       np.where(start[:, None, None, None], P_start.g, P_end.g),
+                       np.where(start[:, None, None, None, None], P_start.H, P_end.H))
+            ds = 0.5 * le[ee]
+            k0 = (self._k0(self.k_held_links, ee, mu) if self.k0_links is None
+                  else self.k0_links[0] + mu * self.k0_links[1])
+            scatter(self._bend(P, ds, self.edge_B[ee], k0),
+                    np.concatenate([self.edge_dofs(ee), self.joint_dofs(jj)], axis=1))
+        H = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                          shape=(self.n_dof, self.n_dof))
+        return total, grad, H
+
+    def _k0(self, k_held: np.ndarray | None, e: np.ndarray, mu: float) -> np.ndarray:
+        """Discrete natural curvature: the held state's discrete curvature shifted by the
+        continuum prestress ``(0, 0, mu kappa_n - k)``, so that every joint of the held state
+        carries exactly the continuum moment ``B3 (k - mu kappa_n)`` -- the held state is then
+        an exact equilibrium of the discrete model, as it is of the continuum."""
+        k0 = np.zeros((len(e), 3)) if k_held is None else k_held.copy()
+        k0[:, 2] += mu * self.edge_kn[e] - self.edge_k[e]
+        return k0
+
+    @staticmethod
+    def _bend(P: JetMat, ds: np.ndarray, B: np.ndarray, k0: np.ndarray) -> Jet:
+        """``1/2 (k - k0)^T B (k - k0) ds`` with the Cayley curvature of ``P``."""
+        den = (P.entry(0, 0) + P.entry(1, 1) + P.entry(2, 2) + 1.0).reciprocal()
+        vee = [P.entry(2, 1) - P.entry(1, 2), P.entry(0, 2) - P.entry(2, 0),
+               P.entry(1, 0) - P.entry(0, 1)]
+        out = None
+        for c in range(3):
+            kc = vee[c] * den * (2.0 / ds) - k0[:, c]
+            term = kc * kc * (0.5 * B[:, c] * ds)
+            out = term if out is None else out + term
+        return out
+
+    def energy(self) -> float:
+        """Energy only (for line searches)."""
+        return self.energy_terms()[0]
+
+    # ---- updates
+    def copy(self) -> DiscreteRod:
+        """An independent copy of the state."""
+        return dataclasses.replace(self, x=self.x.copy(), R_edge=self.R_edge.copy(),
+                                   R_joint=self.R_joint.copy())
+
+    def apply(self, dq: np.ndarray) -> None:
+        """``x += dx``, ``R <- R exp(hat(phi))`` for the full increment vector ``dq``."""
+        nx, ne = len(self.x), len(self.R_edge)
+        self.x += dq[: 3 * nx].reshape(-1, 3)
+        self.R_edge = self.R_edge @ rodrigues(dq[3 * nx: 3 * (nx + ne)].reshape(-1, 3))
+        self.R_joint = self.R_joint @ rodrigues(dq[3 * (nx + ne):].reshape(-1, 3))
+
+
+def discretise(a: Assembly, elements_per_segment: int = 32, load_factor: float = 1.0,
+               *, supports_ok: tuple[str, ...] = ("clamped", "free")) -> DiscreteRod:
+    """The discrete rod of an assembly in its held state (an equilibrium when P2 says so)."""
+    joints = a.joints()
+    joint_of = {end: k for k, joint in enumerate(joints) for end in joint}
+    xs, edge_nodes, lengths, Bs, kns, R_edge, pairs, links = [], [], [], [], [], [], [], []
+    joint_node = {}
+    n_nodes = 0
+
+    def node_at(p: np.ndarray) -> int:
+        nonlocal n_nodes
+        xs.append(np.array([p[0], p[1], 0.0]))
+        n_nodes += 1
+        return n_nodes - 1
+
+    R_joint = np.zeros((len(joints), 3, 3))
+    for k, joint in enumerate(joints):
+        name, end = joint[0]
+        seg = a.segment(name)
+        s = 0.0 if end == "start" else seg.length
+        joint_node[k] = node_at(seg.position(s))
+        R_joint[k] = _frame(seg.tangent(s))
+    ks = []
+    for seg in a.segments:
+        n = elements_per_segment
+        s = np.linspace(0.0, seg.length, n + 1)
+        pts = seg.position(s)
+        ids = [joint_node[joint_of[(seg.name, "start")]]]
+        ids += [node_at(p) for p in pts[1:-1]]
+        ids += [joint_node[joint_of[(seg.name, "end")]]]
+        first = len(R_edge)
+        for e in range(n):
+            chord = pts[e + 1] - pts[e]
+            L = float(np.linalg.norm(chord))
+            edge_nodes.append((ids[e], ids[e + 1]))
+            lengths.append(L)
+            Bs.append((seg.B1, seg.B2, seg.B3))
+            kns.append(seg.natural_curvature)
+            ks.append(seg.curvature)
+            R_edge.append(_frame(chord / L))
+            if e:
+                pairs.append((first + e - 1, first + e))
+        for end, e in (("start", first), ("end", first + n - 1)):
+            k = joint_of[(seg.name, end)]
+            F = _frame(seg.tangent(0.0 if end == "start" else seg.length))
+            links.append((e, k, R_joint[k].T @ F, end))
+    fixed_nodes, fixed_joints = [], []
+    for name, end, kind in a.supports:
+        if kind not in supports_ok:
+            raise ValueError(f"the nonlinear model supports {supports_ok} supports, got {kind!r}")
+        if kind == "clamped":
+            k = joint_of[(name, end)]
+            fixed_nodes.append(joint_node[k])
+            fixed_joints.append(k)
+    if not fixed_nodes:
+        # Free assembly: gauge the six rigid motions by holding joint 0 (position and frame).
+        fixed_nodes.append(joint_node[0])
+        fixed_joints.append(0)
+    rod = DiscreteRod(a, np.array(xs), np.array(R_edge), R_joint, np.array(edge_nodes),
+                      np.array(lengths), np.array(Bs), np.array(kns), np.array(ks),
+                      np.array(pairs, int).reshape(-1, 2), links, fixed_nodes, fixed_joints,
+                      load_factor)
+    if elements_per_segment < 2:
+        raise ValueError(f"elements_per_segment must be >= 2, got {elements_per_segment!r}")
+    rod.k_held_pairs, rod.k_held_links = _held_curvatures(rod)
+    rod.k0_links = _balanced_link_curvatures(rod)
+    return rod
+
+
+def _balanced_link_curvatures(rod: DiscreteRod) -> tuple[np.ndarray, np.ndarray]:
+    """Natural curvatures ``a + mu b`` of the half-joints that make the held state an exact
+    equilibrium of every end edge.
+
+    A half-joint spans half an edge, so the same curvature mismatch gives a slightly different
+    generalised moment than a full joint (the Cayley measure's ``sec^2`` factor): its natural
+    curvature is chosen so that it balances the moment of the neighbouring full joint exactly.
+    The correction vanishes as the edge length goes to zero (it is ``O(k^2 l_e^2)``).
+    """
+    ee = np.array([lk[0] for lk in rod.end_links])
+    jj = np.array([lk[1] for lk in rod.end_links])
+    Q = np.array([lk[2] for lk in rod.end_links])
+    start = np.array([lk[3] == "start" for lk in rod.end_links])
+    Re = rotation_jet(rod.R_edge[ee], 6, 0)
+    RJ = rotation_jet(rod.R_joint[jj], 6, 3)
+    RJQ = JetMat(np.einsum("eij,ejk->eik", RJ.v, Q), np.einsum("eijn,ejk->eikn", RJ.g, Q),
+                 np.einsum("eijnm,ejk->eiknm", RJ.H, Q))
+    P_end, P_start = Re.T @ RJQ, RJQ.T @ Re
+    P = JetMat(np.where(start[:, None, None], P_start.v, P_end.v),
+               np.where(start[:, None, None, None], P_start.g, P_end.g),
+               np.where(start[:, None, None, None, None], P_start.H, P_end.H))
+    den = (P.entry(0, 0) + P.entry(1, 1) + P.entry(2, 2) + 1.0).reciprocal()
+    ds = 0.5 * rod.rest_length[ee]
+    vee = [P.entry(2, 1) - P.entry(1, 2), P.entry(0, 2) - P.entry(2, 0),
+           P.entry(1, 0) - P.entry(0, 1)]
+    kap = [vee[c] * den * (2.0 / ds) for c in range(3)]
+    kval = np.stack([k.v for k in kap], axis=1)  # (n_links, 3)
+    J = np.stack([k.g[:, 0:3] for k in kap], axis=1)  # d kappa / d phi_edge: (n_links, 3, 3)
+    JtB = np.einsum("lci,lc->lic", J, rod.edge_B[ee] * ds[:, None])  # J^T B ds
+    out = []
+    saved = rod.load_factor
+    for mu in (0.0, 1.0):
+        rod.load_factor = mu
+        f = rod.energy_terms(links=False)[1][rod.edge_dofs(ee)]  # (n_links, 3)
+        # f + J^T B ds (k - k0) = 0  ->  k0 = k + (J^T B ds)^-1 f (J invertible near P = I).
+        out.append(kval + np.linalg.solve(JtB, f[..., None])[..., 0])
+    rod.load_factor = saved
+    return out[0], out[1] - out[0]
+
+
+def _cayley(P: np.ndarray, ds: np.ndarray) -> np.ndarray:
+    vee = np.stack([P[:, 2, 1] - P[:, 1, 2], P[:, 0, 2] - P[:, 2, 0], P[:, 1, 0] - P[:, 0, 1]],
+                   axis=1)
+    return vee * (2.0 / ds / (1.0 + np.trace(P, axis1=1, axis2=2)))[:, None]
+
+
+def _held_curvatures(rod: DiscreteRod) -> tuple[np.ndarray, np.ndarray]:
+    """Cayley curvatures of the held state for the joints and the half-joints."""
+    a, b = rod.bend_pairs[:, 0], rod.bend_pairs[:, 1]
+    kp = _cayley(np.swapaxes(rod.R_edge[a], 1, 2) @ rod.R_edge[b],
+                 0.5 * (rod.rest_length[a] + rod.rest_length[b])) if len(a) else np.zeros((0, 3))
+    kl = []
+    for e, j, Q, end in rod.end_links:
+        RJQ = rod.R_joint[j] @ Q
+        P = rod.R_edge[e].T @ RJQ if end == "end" else RJQ.T @ rod.R_edge[e]
+        kl.append(_cayley(P[None], np.array([0.5 * rod.rest_length[e]]))[0])
+    return kp, np.array(kl).reshape(-1, 3)

@@ -1,0 +1,151 @@
+"""Second-order jets: values with exact gradients and Hessians, vectorised over elements.
+
+A :class:`Jet` holds, for ``E`` elements and ``n`` local variables, ``v`` (E,), ``g`` (E, n) and
+``H`` (E, n, n): a scalar function and its first and second derivatives at one point. Sums,
+products and quotients follow the chain rule exactly, so element energies built from them have
+exact (not finite-difference) gradients and Hessians. Matrices of jets are :class:`JetMat`
+(``v`` (E, 3, 3), ``g`` (E, 3, 3, n), ``H`` (E, 3, 3, n, n)).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+
+@dataclasses.dataclass
+class Jet:
+    """Scalar jet (value, gradient, Hessian), vectorised over elements."""
+
+    v: np.ndarray
+    g: np.ndarray
+    H: np.ndarray
+
+    def __add__(self, o: Jet | float) -> Jet:
+        if isinstance(o, Jet):
+            return Jet(self.v + o.v, self.g + o.g, self.H + o.H)
+        return Jet(self.v + o, self.g, self.H)
+
+    __radd__ = __add__
+
+    def __neg__(self) -> Jet:
+        return Jet(-self.v, -self.g, -self.H)
+
+    def __sub__(self, o: Jet | float) -> Jet:
+        return self + (-o)
+
+    def __rsub__(self, o: float) -> Jet:
+        return (-self) + o
+
+    def __mul__(self, o: Jet | float | np.ndarray) -> Jet:
+        if isinstance(o, Jet):
+            outer = np.einsum("ei,ej->eij", self.g, o.g)
+            return Jet(self.v * o.v, self.v[:, None] * o.g + o.v[:, None] * self.g,
+                       self.v[:, None, None] * o.H + o.v[:, None, None] * self.H
+                       + outer + np.swapaxes(outer, 1, 2))
+        o = np.asarray(o, dtype=float)
+        if o.ndim == 1:
+            return Jet(self.v * o, self.g * o[:, None], self.H * o[:, None, None])
+        return Jet(self.v * o, self.g * o, self.H * o)
+
+    __rmul__ = __mul__
+
+    def reciprocal(self) -> Jet:
+        """``1 / self``: derivatives ``-1/v^2`` and ``2/v^3``."""
+        inv = 1.0 / self.v
+        return Jet(inv, -self.g * inv[:, None] ** 2,
+                   2.0 * np.einsum("ei,ej->eij", self.g, self.g) * inv[:, None, None] ** 3
+                   - self.H * inv[:, None, None] ** 2)
+
+    def __truediv__(self, o: Jet | float) -> Jet:
+        if isinstance(o, Jet):
+            return self * o.reciprocal()
+        return self * (1.0 / o)
+
+
+@dataclasses.dataclass
+class JetMat:
+    """3x3 matrix of jets."""
+
+    v: np.ndarray
+    g: np.ndarray
+    H: np.ndarray
+
+    def entry(self, i: int, j: int) -> Jet:
+        """Element ``(i, j)`` as a :class:`Jet`."""
+        return Jet(self.v[:, i, j], self.g[:, i, j], self.H[:, i, j])
+
+    @property
+    def T(self) -> JetMat:
+        """Transpose."""
+        return JetMat(np.swapaxes(self.v, 1, 2), np.swapaxes(self.g, 1, 2),
+                      np.swapaxes(self.H, 1, 2))
+
+    def __matmul__(self, o: JetMat) -> JetMat:
+        v = np.einsum("eij,ejk->eik", self.v, o.v)
+        g = (np.einsum("eij,ejkn->eikn", self.v, o.g)
+             + np.einsum("eijn,ejk->eikn", self.g, o.v))
+        cross = np.einsum("eijn,ejkm->eiknm", self.g, o.g)
+        H = (np.einsum("eij,ejknm->eiknm", self.v, o.H)
+             + np.einsum("eijnm,ejk->eiknm", self.H, o.v)
+             + cross + np.swapaxes(cross, 3, 4))
+        return JetMat(v, g, H)
+
+    def apply(self, x: list[Jet]) -> list[Jet]:
+        """Matrix times a 3-vector of jets."""
+        return [sum((self.entry(i, j) * x[j] for j in range(3)), start=_zero_like(x[0]))
+                for i in range(3)]
+
+
+def _zero_like(j: Jet) -> Jet:
+    return Jet(np.zeros_like(j.v), np.zeros_like(j.g), np.zeros_like(j.H))
+
+
+_HAT = np.zeros((3, 3, 3))  # _HAT[k] = hat(e_k), hat(a) b = a x b
+_HAT[0, 2, 1], _HAT[0, 1, 2] = 1.0, -1.0
+_HAT[1, 0, 2], _HAT[1, 2, 0] = 1.0, -1.0
+_HAT[2, 1, 0], _HAT[2, 0, 1] = 1.0, -1.0
+
+
+def hat(a: np.ndarray) -> np.ndarray:
+    """Skew matrices ``(..., 3, 3)`` with ``hat(a) b = a x b``."""
+    return np.einsum("...k,kij->...ij", a, _HAT)
+
+
+def rotation_jet(R: np.ndarray, n: int, offset: int) -> JetMat:
+    """``R exp(hat(phi))`` at ``phi = 0`` as a jet in local variables ``offset..offset+2``.
+
+    ``exp(hat(phi)) = I + hat(phi) + hat(phi)^2 / 2 + O(phi^3)``: first and second derivatives
+    at ``phi = 0`` are exact. ``R`` has shape (E, 3, 3).
+    """
+    E = R.shape[0]
+    g = np.zeros((E, 3, 3, n))
+    H = np.zeros((E, 3, 3, n, n))
+    for k in range(3):
+        g[..., offset + k] = R @ _HAT[k]
+        for m in range(3):
+            H[..., offset + k, offset + m] = R @ (0.5 * (_HAT[k] @ _HAT[m] + _HAT[m] @ _HAT[k]))
+    return JetMat(R.copy(), g, H)
+
+
+def vector_jet(x: np.ndarray, n: int, offset: int) -> list[Jet]:
+    """Positions ``x`` (E, 3) as jets in local variables ``offset..offset+2``."""
+    E = x.shape[0]
+    out = []
+    for k in range(3):
+        g = np.zeros((E, n))
+        g[:, offset + k] = 1.0
+        out.append(Jet(x[:, k].copy(), g, np.zeros((E, n, n))))
+    return out
+
+
+def rodrigues(phi: np.ndarray) -> np.ndarray:
+    """Exact ``exp(hat(phi))`` for rotation vectors ``phi`` (..., 3)."""
+    th = np.linalg.norm(phi, axis=-1)[..., None, None]
+    K = hat(phi)
+    small = th < 1e-8
+    ths = np.where(small, 1.0, th)
+    a = np.where(small, 1.0 - th**2 / 6, np.sin(ths) / ths)
+    b = np.where(small, 0.5 - th**2 / 24, (1 - np.cos(ths)) / ths**2)
+    return np.eye(3) + a * K + b * (K @ K)
