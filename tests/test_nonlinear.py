@@ -133,3 +133,33 @@ def test_equilibrium_result_stable_flag():
     e_hi, _ = equilibrium(straight(), load_factor=7.0, elements_per_segment=16)
     assert e_lo.converged and e_lo.stable
     assert e_hi.converged and not e_hi.stable  # the held state is an (unstable) equilibrium
+
+
+def test_sliding_clamp_same_linear_result_and_frees_the_axial_dof():
+    """The paper's modified support (after 3.8): same P2 (linear engine unchanged), but the
+    nonlinear rod's end may slide along the tangent (one more free unknown than a clamp)."""
+    s = Segment("a", 1.0, 0.0, 1.0, C.b1, C.b2, 1.0)
+    slide = Assembly((s,), supports=(("a", "start", "clamped"), ("a", "end", "sliding-clamp")))
+    assert linear_stability(slide, 32).load_factor_critical == pytest.approx(
+        linear_stability(straight(), 32).load_factor_critical, rel=1e-12)
+    n_slide = len(discretise(slide, 8).free_dofs())
+    n_clamp = len(discretise(straight(), 8).free_dofs())
+    assert n_slide == n_clamp + 1
+
+
+def test_cli_equilibrium_json_contract():
+    import json
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parent.parent
+    r = subprocess.run([sys.executable, "-m", "rodstab.cli", "equilibrium",
+                        "examples/birod.toml", "--json"], capture_output=True, text=True,
+                       cwd=root, env={"PYTHONPATH": str(root / "src"), "PATH": "/usr/bin:/bin"})
+    assert r.returncode == 0, r.stderr
+    p = json.loads(r.stdout)
+    for key in ("converged", "energy", "stable", "lowest_eigenvalues", "residual",
+                "iterations"):
+        assert key in p
+    assert p["converged"] and p["stable"]  # load factor 1 = lam 1.15 < pi

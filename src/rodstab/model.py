@@ -23,9 +23,11 @@ from .errors import RodstabInputError, require_finite, require_positive
 POSITION_TOL = 1e-8
 #: Held-state moment balance at a joint is checked to this relative tolerance.
 MOMENT_TOL = 1e-8
-#: Support types: clamped (w = 0, all rotations 0), pinned with a fork (w = 0, rotation about
-#: the tangent 0), pinned (w = 0), free.
-SUPPORTS = ("clamped", "fork", "pinned", "free")
+#: Support types: clamped (w = 0, all rotations 0), sliding-clamp (a clamp that lets the end
+#: slide along its tangent, the paper's modified support after (3.8); the same as a clamp for the
+#: linear P2, different for the nonlinear, inextensible rod), pinned with a fork (w = 0, rotation
+#: about the tangent 0), pinned (w = 0), free.
+SUPPORTS = ("clamped", "sliding-clamp", "fork", "pinned", "free")
 ENDS = ("start", "end")
 
 

@@ -58,3 +58,29 @@ def plot_mode(assembly: Assembly, result: LinearStability, path: str | Path, *,
     fig.savefig(out, dpi=120, bbox_inches="tight")
     plt.close(fig)
     return out
+
+
+def plot_equilibrium(x: np.ndarray, edge_nodes: np.ndarray, path: str | Path, *,
+                     title: str = "equilibrium") -> Path:
+    """3D centreline of an equilibrium: node positions ``x`` (n, 3), edges ``(i, j)`` pairs,
+    coloured by the out-of-plane coordinate z."""
+    fig = plt.figure(figsize=(7, 5))
+    ax = fig.add_subplot(projection="3d")
+    z = x[:, 2]
+    zmax = float(np.max(np.abs(z))) or 1.0
+    cmap = plt.get_cmap("viridis")
+    for i, j in edge_nodes:
+        ax.plot(x[[i, j], 0], x[[i, j], 1], x[[i, j], 2],
+                color=cmap(0.5 + 0.5 * 0.5 * (z[i] + z[j]) / zmax), lw=2.5)
+    span = float(np.ptp(x, axis=0).max()) or 1.0
+    mid = x.mean(axis=0)
+    for setter, c in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), mid):
+        setter(c - span / 2, c + span / 2)
+    ax.set_title(title)
+    ax.set_xlabel("x")
+    ax.set_ylabel("y")
+    ax.set_zlabel("z")
+    out = Path(path)
+    fig.savefig(out, dpi=120, bbox_inches="tight")
+    plt.close(fig)
+    return out

@@ -250,7 +250,7 @@ def straight_assembly_matrix(assembly, mu: float) -> np.ndarray:
             for c in range(2):
                 rows.append(q["dw"] * nrm[c] + q["om"] * t[c] - theta0[c])
         kinds = [k for name, end, k in assembly.supports if (name, end) in joint]
-        if "clamped" in kinds:
+        if "clamped" in kinds or "sliding-clamp" in kinds:
             rows += [q0["w"], theta0[0], theta0[1]]
         elif kinds and set(kinds) != {"free"}:
             raise ValueError(f"straight_assembly_matrix supports only clamped or free joints, "

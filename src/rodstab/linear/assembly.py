@@ -131,9 +131,9 @@ def _support_rows(a: Assembly, joint) -> np.ndarray:
             continue
         seg = a.segment(name)
         t = seg.tangent(0.0 if end == "start" else seg.length)
-        if kind in ("clamped", "fork", "pinned"):
+        if kind in ("clamped", "sliding-clamp", "fork", "pinned"):
             rows.append([1.0, 0.0, 0.0])
-        if kind == "clamped":
+        if kind in ("clamped", "sliding-clamp"):
             rows += [[0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
         if kind == "fork":
             rows.append([0.0, t[0], t[1]])

@@ -72,6 +72,7 @@ class DiscreteRod:
     k_held_pairs: np.ndarray | None = None  # (n_bend, 3) Cayley curvature of the held state
     k_held_links: np.ndarray | None = None  # (n_links, 3)
     k0_links: tuple[np.ndarray, np.ndarray] | None = None  # natural curvature a + mu b
+    fixed_components: list = dataclasses.field(default_factory=list)  # (node, [components])
 
     # ---- degrees of freedom: positions, edge rotations, joint rotations
     @property
@@ -98,6 +99,8 @@ class DiscreteRod:
             fixed.update(self.node_dofs(i).tolist())
         for j in self.fixed_joints:
             fixed.update(self.joint_dofs(j).tolist())
+        for i, comps in self.fixed_components:
+            fixed.update(int(self.node_dofs(i)[c]) for c in comps)
         return np.array([d for d in range(self.n_dof) if d not in fixed])
 
     # ---- energy
@@ -207,7 +210,8 @@ class DiscreteRod:
 
 
 def discretise(a: Assembly, elements_per_segment: int = 32, load_factor: float = 1.0,
-               *, supports_ok: tuple[str, ...] = ("clamped", "free")) -> DiscreteRod:
+               *, supports_ok: tuple[str, ...] = ("clamped", "sliding-clamp", "free")
+               ) -> DiscreteRod:
     """The discrete rod of an assembly in its held state (an equilibrium when P2 says so)."""
     joints = a.joints()
     joint_of = {end: k for k, joint in enumerate(joints) for end in joint}
@@ -252,22 +256,31 @@ def discretise(a: Assembly, elements_per_segment: int = 32, load_factor: float =
             k = joint_of[(seg.name, end)]
             F = _frame(seg.tangent(0.0 if end == "start" else seg.length))
             links.append((e, k, R_joint[k].T @ F, end))
-    fixed_nodes, fixed_joints = [], []
+    fixed_nodes, fixed_joints, fixed_components = [], [], []
     for name, end, kind in a.supports:
         if kind not in supports_ok:
             raise ValueError(f"the nonlinear model supports {supports_ok} supports, got {kind!r}")
+        k = joint_of[(name, end)]
         if kind == "clamped":
-            k = joint_of[(name, end)]
             fixed_nodes.append(joint_node[k])
             fixed_joints.append(k)
-    if not fixed_nodes:
+        elif kind == "sliding-clamp":
+            seg = a.segment(name)
+            t = seg.tangent(0.0 if end == "start" else seg.length)
+            axis = int(np.argmax(np.abs(t)))
+            if abs(abs(t[axis]) - 1.0) > 1e-12:
+                raise ValueError(f"a sliding-clamp needs an end tangent along x or y; "
+                                 f"{name}.{end} has tangent {t.round(6).tolist()}")
+            fixed_joints.append(k)
+            fixed_components.append((joint_node[k], [c for c in range(3) if c != axis]))
+    if not fixed_nodes and not fixed_joints:
         # Free assembly: gauge the six rigid motions by holding joint 0 (position and frame).
         fixed_nodes.append(joint_node[0])
         fixed_joints.append(0)
     rod = DiscreteRod(a, np.array(xs), np.array(R_edge), R_joint, np.array(edge_nodes),
                       np.array(lengths), np.array(Bs), np.array(kns), np.array(ks),
                       np.array(pairs, int).reshape(-1, 2), links, fixed_nodes, fixed_joints,
-                      load_factor)
+                      load_factor, fixed_components=fixed_components)
     if elements_per_segment < 2:
         raise ValueError(f"elements_per_segment must be >= 2, got {elements_per_segment!r}")
     rod.k_held_pairs, rod.k_held_links = _held_curvatures(rod)

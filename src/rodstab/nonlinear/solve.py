@@ -19,10 +19,10 @@ from ..errors import RodstabInputError
 from ..model import Assembly
 from ..numerics import find_roots
 from ..results import Result
-from .discrete import DiscreteRod, discretise
+from .discrete import PENALTY, DiscreteRod, discretise
 
 #: Newton stops when the free gradient's max-norm falls below this times the largest
-#: generalised force scale (max |B| / l_e) of the model.
+#: generalised force scale (PENALTY max |B| / l_e, the stretch/shear terms) of the model.
 NEWTON_RTOL = 1e-10
 NEWTON_MAX_ITER = 60
 #: Eigenvalues (of the Jacobi-scaled Hessian) below this are reported as zero (neutral).
@@ -72,7 +72,8 @@ def newton(rod: DiscreteRod, *, max_iter: int = NEWTON_MAX_ITER) -> tuple[bool, 
     energy decreases (Armijo). Converged when ``max |g_free| <= NEWTON_RTOL * scale``.
     """
     free = rod.free_dofs()
-    scale = float(np.max(rod.edge_B) / np.min(rod.rest_length))
+    # Force scale of the stiffest terms (stretch/shear penalty): the residual is relative to it.
+    scale = float(PENALTY * np.max(rod.edge_B) / np.min(rod.rest_length))
     for it in range(max_iter + 1):
         E, g, H = rod.energy_terms()
         gf = g[free]
@@ -100,8 +101,15 @@ def newton(rod: DiscreteRod, *, max_iter: int = NEWTON_MAX_ITER) -> tuple[bool, 
             trial = rod.copy()
             dq[free] = t * step
             trial.apply(dq)
-            if trial.energy() <= E + 1e-4 * t * (gf @ step):
+            Et = trial.energy()
+            if Et <= E + 1e-4 * t * (gf @ step):
                 break
+            # Near a solution the energy change drowns in round-off: accept a step that does
+            # not raise the energy beyond round-off and lowers the gradient.
+            if abs(Et - E) <= 1e-12 * max(abs(E), 1.0):
+                gt = trial.energy_terms()[1][free]
+                if np.max(np.abs(gt)) < res:
+                    break
             t *= 0.5
         rod.x, rod.R_edge, rod.R_joint = trial.x, trial.R_edge, trial.R_joint
     return False, max_iter, res
