@@ -163,3 +163,40 @@ def test_cli_equilibrium_json_contract():
                 "iterations"):
         assert key in p
     assert p["converged"] and p["stable"]  # load factor 1 = lam 1.15 < pi
+
+
+def _sliding_straight():
+    s = Segment("a", 1.0, 0.0, 1.0, C.b1, C.b2, 1.0)
+    return Assembly((s,), supports=(("a", "start", "clamped"), ("a", "end", "sliding-clamp")))
+
+
+def test_post_buckling_of_straightened_rod_is_stable_symmetric():
+    """Branch traced from the bifurcation: symmetric in the amplitude (c1 ~ 0), load rising
+    (c2 > 0) and the branch stable (lowest eigenvalue at fixed load >= 0)."""
+    from rodstab.nonlinear.continuation import post_buckling_branch
+
+    b = post_buckling_branch(_sliding_straight(), 1.0, 8.0, elements_per_segment=12,
+                             amplitudes=np.linspace(0.0, 0.06, 5)[1:])
+    assert b.converged
+    mus = np.array(b.load_factor)
+    assert abs(b.c1) < 1e-6 * b.load_factor_critical
+    assert b.c2 > 0 and np.all(mus >= b.load_factor_critical - 1e-9)
+    amp = np.array(b.amplitude)
+    assert np.allclose(mus[amp > 0], mus[amp < 0][::-1], rtol=1e-8)  # symmetric branch
+    assert min(b.lowest_eigenvalue) > -1e-9
+    assert "supercritical" in b.verdict
+
+
+def test_imperfect_straightened_rod_has_no_limit_load():
+    """Stable symmetric bifurcation -> imperfection-insensitive: no limit point up to 1.5 mu_c;
+    the imperfect path deflects more for a larger imperfection."""
+    from rodstab.nonlinear.continuation import imperfection_sensitivity
+
+    r = imperfection_sensitivity(_sliding_straight(), 1.0, 8.0, epsilons=(2e-3, 8e-3),
+                                 elements_per_segment=12)
+    assert all(math.isnan(v) for v in r.limit_load)
+    z_small = dict(r.paths[0])
+    z_big = dict(r.paths[1])
+    mu = r.load_factor_critical
+    near = min(z_small, key=lambda m: abs(m - mu))
+    assert z_big[near] > z_small[near] > 0

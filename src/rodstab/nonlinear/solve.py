@@ -44,24 +44,30 @@ class Equilibrium(Result):
     method: str
 
 
-def _scaled_free_hessian(rod: DiscreteRod, H: sp.csr_matrix, free: np.ndarray):
+def lowest_modes(rod: DiscreteRod, k: int = 4) -> tuple[np.ndarray, np.ndarray]:
+    """Lowest ``k`` eigenpairs of the Jacobi-scaled free Hessian; vectors mapped back to the
+    free unknowns (``D v``), one column each."""
+    _, _, H = rod.energy_terms()
+    free = rod.free_dofs()
     Hf = H[free][:, free].tocsc()
     Hf = 0.5 * (Hf + Hf.T)
     dg = np.abs(Hf.diagonal())
     dg[dg == 0] = 1.0
-    D = sp.diags(1.0 / np.sqrt(dg))
-    return (D @ Hf @ D).tocsc()
+    d = 1.0 / np.sqrt(dg)
+    A = (sp.diags(d) @ Hf @ sp.diags(d)).tocsc()
+    n = A.shape[0]
+    if n <= 600:
+        vals, vecs = sla.eigh(A.toarray(), subset_by_index=[0, min(k, n) - 1])
+    else:
+        vals, vecs = spla.eigsh(A, k=k, sigma=-1e-3, which="LM", tol=1e-12)
+        order = np.argsort(vals)
+        vals, vecs = vals[order], vecs[:, order]
+    return vals, d[:, None] * vecs
 
 
 def lowest_eigenvalues(rod: DiscreteRod, k: int = 4) -> np.ndarray:
     """The ``k`` lowest eigenvalues of the Jacobi-scaled free Hessian at the current state."""
-    _, _, H = rod.energy_terms()
-    A = _scaled_free_hessian(rod, H, rod.free_dofs())
-    n = A.shape[0]
-    if n <= 600:
-        return sla.eigh(A.toarray(), eigvals_only=True, subset_by_index=[0, min(k, n) - 1])
-    vals = spla.eigsh(A, k=k, sigma=-1e-3, which="LM", return_eigenvectors=False, tol=1e-12)
-    return np.sort(vals)
+    return lowest_modes(rod, k)[0]
 
 
 def newton(rod: DiscreteRod, *, max_iter: int = NEWTON_MAX_ITER) -> tuple[bool, int, float]:

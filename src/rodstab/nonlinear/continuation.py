@@ -1,0 +1,265 @@
+"""Beyond the onset: post-buckled branches from a bifurcation, and imperfection sensitivity.
+
+Branch from the bifurcation (amplitude control): at the critical load ``mu_c`` of the held
+state, the critical mode's largest out-of-plane nodal displacement ``z_k`` is prescribed,
+``z_k = a``, and the load ``mu`` is solved for with the equilibrium equations by a bordered
+Newton method::
+
+    [ H(q, mu)   dg/dmu ] [dq ]     [ g(q, mu)  ]
+    [ e_k^T      0      ] [dmu] = - [ z_k - a   ]
+
+(``g`` is affine in ``mu``, so ``dg/dmu = g(q, mu + 1) - g(q, mu)`` exactly). Amplitude control
+passes through the bifurcation and through limit points of ``mu`` alike. The initial
+post-buckling is read from ``mu(a) = mu_c + c1 a + c2 a^2``: ``c1 != 0`` asymmetric,
+``c2 > 0`` stable symmetric (supercritical), ``c2 < 0`` unstable symmetric (subcritical).
+
+Imperfection sensitivity: the natural shape carries an imperfection shaped like the critical
+mode (the joints' natural curvatures are changed by the curvature change of ``eps`` times the
+mode), the load is raised from the held state by natural continuation, and the limit load
+``mu_max(eps)`` is where the Hessian's lowest eigenvalue reaches zero.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from ..model import Assembly
+from ..numerics import find_roots
+from ..results import Result
+from .discrete import PENALTY, DiscreteRod, discretise
+from .solve import critical_load_factor, lowest_modes, newton
+
+
+@dataclasses.dataclass(frozen=True)
+class Branch(Result):
+    """A traced post-buckled branch: amplitude, load, energy, lowest eigenvalue at fixed load."""
+
+    load_factor_critical: float
+    amplitude: tuple[float, ...]
+    load_factor: tuple[float, ...]
+    energy: tuple[float, ...]
+    lowest_eigenvalue: tuple[float, ...]
+    c1: float
+    c2: float
+    verdict: str
+    converged: bool
+    method: str
+
+
+def _mode_node(rod: DiscreteRod, vec: np.ndarray) -> tuple[int, float]:
+    """The free z-unknown where the mode's out-of-plane displacement is largest."""
+    free = rod.free_dofs()
+    z_free = [i for i, dof in enumerate(free) if dof < 3 * len(rod.x) and dof % 3 == 2]
+    k = max(z_free, key=lambda i: abs(vec[i]))
+    return k, float(vec[k])
+
+
+def _dg_dmu(rod: DiscreteRod) -> np.ndarray:
+    mu = rod.load_factor
+    g0 = rod.energy_terms()[1]
+    rod.load_factor = mu + 1.0
+    g1 = rod.energy_terms()[1]
+    rod.load_factor = mu
+    return g1 - g0
+
+
+def _bordered_newton(rod: DiscreteRod, k: int, a: float, *, max_iter: int = 40) -> bool:
+    """Solve g = 0 with the free unknown ``k`` held at ``a`` and ``mu`` free (in place)."""
+    free = rod.free_dofs()
+    scale = float(PENALTY * np.max(rod.edge_B) / np.min(rod.rest_length))
+    n = len(free)
+    for _ in range(max_iter):
+        _, g, H = rod.energy_terms()
+        gf = g[free]
+        dof = free[k]
+        val = rod.x.reshape(-1)[dof]
+        if np.max(np.abs(gf)) <= 1e-9 * scale and abs(val - a) <= 1e-12 * max(1.0, abs(a)):
+            return True
+        Hf = H[free][:, free].tocsc()
+        gm = _dg_dmu(rod)[free]
+        ek = sp.csr_matrix(([1.0], ([0], [k])), shape=(1, n))
+        M = sp.bmat([[Hf, sp.csr_matrix(gm[:, None])], [ek, None]], format="csc")
+        rhs = -np.concatenate([gf, [val - a]])
+        with np.errstate(all="ignore"):
+            import warnings
+
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                sol = spla.spsolve(M, rhs)
+        if not np.all(np.isfinite(sol)):
+            # Singular bordered matrix: a second critical mode (a double eigenvalue, as in
+            # the symmetric folded ring). The minimum-norm step keeps that mode's amplitude.
+            sol = np.linalg.lstsq(M.toarray(), rhs, rcond=1e-12)[0]
+        dq = np.zeros(rod.n_dof)
+        dq[free] = sol[:n]
+        rod.apply(dq)
+        rod.load_factor += float(sol[n])
+    return False
+
+
+def _advance(rod: DiscreteRod, k: int, target: float, direction: np.ndarray,
+             depth: int = 0) -> bool:
+    """Move the branch to amplitude ``target`` (predictor along ``direction``, bordered Newton
+    corrector); on failure restore the state and take two half steps (at most 5 halvings)."""
+    free = rod.free_dofs()
+    saved = (rod.x.copy(), rod.R_edge.copy(), rod.R_joint.copy(), rod.load_factor)
+    cur = rod.x.reshape(-1)[free[k]]
+    dq = np.zeros(rod.n_dof)
+    dq[free] = direction * (target - cur)
+    rod.apply(dq)
+    if _bordered_newton(rod, k, target):
+        return True
+    rod.x, rod.R_edge, rod.R_joint, rod.load_factor = saved
+    if depth >= 5:
+        return False
+    mid = 0.5 * (cur + target)
+    return (_advance(rod, k, mid, direction, depth + 1)
+            and _advance(rod, k, target, direction, depth + 1))
+
+
+def post_buckling_branch(a: Assembly, lo: float, hi: float, *, elements_per_segment: int = 24,
+                         amplitudes: np.ndarray | None = None) -> Branch:
+    """Trace the post-buckled branch from the first bifurcation of the held state in (lo, hi].
+
+    ``amplitudes`` are the prescribed largest out-of-plane displacements (in the length unit;
+    default: 12 values up to 2 % of the assembly's total length, both signs are not needed for
+    the verdict but ``-a`` is traced too to detect asymmetry).
+    """
+    crit = critical_load_factor(a, lo, hi, elements_per_segment=elements_per_segment)
+    mu_c = crit.load_factor_critical
+    rod0 = discretise(a, elements_per_segment, mu_c)
+    _, vecs = lowest_modes(rod0, 1)
+    k, amp = _mode_node(rod0, vecs[:, 0])
+    if amplitudes is None:
+        amplitudes = np.linspace(0.0, 0.02 * a.total_length, 13)[1:]
+    rows = []
+    ok_all = True
+    for sign in (1.0, -1.0):
+        rod = rod0.copy()
+        free = rod.free_dofs()
+        base = rod.x.reshape(-1)[free[k]]
+        for s_amp in amplitudes:
+            target = base + sign * s_amp
+            ok = _advance(rod, k, target, vecs[:, 0] / amp)
+            ok_all &= ok
+            if not ok:
+                break
+            mu_fixed = rod.load_factor
+            ev = float(lowest_modes(rod, 1)[0][0])
+            rows.append((sign * s_amp, mu_fixed, rod.energy(), ev))
+    rows.sort()
+    A = np.array([r[0] for r in rows])
+    M = np.array([r[1] for r in rows])
+    small = np.abs(A) <= 0.5 * np.max(np.abs(A))
+    c = np.polyfit(A[small], M[small] - mu_c, 2) if small.sum() >= 3 else [math.nan] * 3
+    c2, c1 = float(c[0]), float(c[1])
+    tol = 1e-3 * abs(c2) * np.max(np.abs(A))
+    if abs(c1) > tol:
+        verdict = "asymmetric (unstable on one side)"
+    elif c2 > 0:
+        verdict = "stable symmetric (supercritical): the load rises after buckling"
+    else:
+        verdict = "unstable symmetric (subcritical): the load falls after buckling"
+    return Branch(mu_c, tuple(A), tuple(M), tuple(r[2] for r in rows), tuple(r[3] for r in rows),
+                  c1, c2, verdict, bool(ok_all),
+                  "amplitude-controlled bordered Newton from the critical mode")
+
+
+@dataclasses.dataclass(frozen=True)
+class ImperfectionSensitivity(Result):
+    """Limit loads of imperfect structures (imperfection ``eps`` times the critical mode)."""
+
+    load_factor_critical: float
+    epsilon: tuple[float, ...]
+    limit_load: tuple[float, ...]
+    paths: tuple[tuple[tuple[float, float], ...], ...]  # per eps: (mu, max |z|) along the path
+    exponent: float
+    verdict: str
+    method: str
+
+
+def _imperfect(rod: DiscreteRod, vec: np.ndarray, eps: float) -> DiscreteRod:
+    """The same rod whose natural shape contains ``eps`` times the mode ``vec`` (free part).
+
+    Natural curvatures of every joint change by the curvature change that the displacement
+    ``eps * vec`` causes; the held geometry (and hence the supports) stay as they are.
+    """
+    from .discrete import _held_curvatures
+
+    free = rod.free_dofs()
+    moved = rod.copy()
+    dq = np.zeros(rod.n_dof)
+    dq[free] = eps * vec
+    moved.apply(dq)
+    kp0, kl0 = _held_curvatures(rod)
+    kp1, kl1 = _held_curvatures(moved)
+    imp = rod.copy()
+    imp.k_held_pairs = rod.k_held_pairs + (kp1 - kp0)
+    a, b = rod.k0_links
+    imp.k0_links = (a + (kl1 - kl0), b)
+    return imp
+
+
+def imperfection_sensitivity(a: Assembly, lo: float, hi: float, *,
+                             epsilons: tuple[float, ...] = (1e-3, 2e-3, 4e-3, 8e-3),
+                             elements_per_segment: int = 16,
+                             mu_max_factor: float = 1.5) -> ImperfectionSensitivity:
+    """Limit load ``mu_max(eps)`` of the imperfect structure for each amplitude ``eps``.
+
+    The load is raised from ``0.5 mu_c`` in steps (Newton from the previous equilibrium) and
+    the first sign change of the lowest Hessian eigenvalue is refined by the root finder. No
+    limit point below ``mu_max_factor mu_c`` means imperfection-insensitive at that amplitude
+    (reported as NaN). The exponent is the slope of ``log(1 - mu_max/mu_c)`` vs ``log eps``
+    (2/3 for an unstable symmetric bifurcation, 1/2 for an asymmetric one).
+    """
+    crit = critical_load_factor(a, lo, hi, elements_per_segment=elements_per_segment)
+    mu_c = crit.load_factor_critical
+    rod0 = discretise(a, elements_per_segment, mu_c)
+    _, vecs = lowest_modes(rod0, 1)
+    v = vecs[:, 0] / np.max(np.abs(vecs[:, 0]))
+    limits, paths = [], []
+    for eps in epsilons:
+        imp = _imperfect(rod0, v, eps * a.total_length)
+        state = {"rod": imp.copy()}
+
+        def lam(mu: float, state=state) -> float:
+            r = state["rod"]
+            r.load_factor = mu
+            ok, _, _ = newton(r)
+            if not ok:
+                return math.nan
+            return float(lowest_modes(r, 1)[0][0])
+
+        grid = np.linspace(0.5 * mu_c, mu_max_factor * mu_c, 21)
+        vals = []
+        path = []
+        found = math.nan
+        for i, mu in enumerate(grid):
+            vals.append(lam(mu))
+            path.append((float(mu), float(np.max(np.abs(state["rod"].x[:, 2])))))
+            if i and vals[-1] < 0 <= vals[-2]:
+                saved = state["rod"].copy()
+                res = find_roots(lambda m: lam(m), grid[i - 1], mu, n_scan=4)
+                state["rod"] = saved
+                found = res.roots[0].x if res.roots else float(mu)
+                break
+        limits.append(found)
+        paths.append(tuple(path))
+    lim = np.array(limits)
+    ok = np.isfinite(lim) & (lim < mu_c)
+    if ok.sum() >= 2:
+        p = np.polyfit(np.log(np.array(epsilons)[ok]), np.log(1 - lim[ok] / mu_c), 1)
+        exponent = float(p[0])
+        verdict = f"imperfection-sensitive: 1 - mu_max/mu_c ~ eps^{exponent:.2f}"
+    else:
+        exponent = math.nan
+        verdict = (f"no limit point below {mu_max_factor:g} mu_c for these amplitudes: "
+                   "imperfection-insensitive (stable post-buckling)")
+    return ImperfectionSensitivity(mu_c, tuple(epsilons), tuple(limits), tuple(paths),
+                                   exponent, verdict,
+                                   "natural continuation in the load, Hessian eigenvalue scan")
