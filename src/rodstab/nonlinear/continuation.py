@@ -208,7 +208,8 @@ def _imperfect(rod: DiscreteRod, vec: np.ndarray, eps: float) -> DiscreteRod:
 def imperfection_sensitivity(a: Assembly, lo: float, hi: float, *,
                              epsilons: tuple[float, ...] = (1e-3, 2e-3, 4e-3, 8e-3),
                              elements_per_segment: int = 16,
-                             mu_max_factor: float = 1.5) -> ImperfectionSensitivity:
+                             mu_max_factor: float = 1.5,
+                             n_steps: int = 21) -> ImperfectionSensitivity:
     """Limit load ``mu_max(eps)`` of the imperfect structure for each amplitude ``eps``.
 
     The load is raised from ``0.5 mu_c`` in steps (Newton from the previous equilibrium) and
@@ -235,7 +236,7 @@ def imperfection_sensitivity(a: Assembly, lo: float, hi: float, *,
                 return math.nan
             return float(lowest_modes(r, 1)[0][0])
 
-        grid = np.linspace(0.5 * mu_c, mu_max_factor * mu_c, 21)
+        grid = np.linspace(0.5 * mu_c, mu_max_factor * mu_c, n_steps)
         vals = []
         path = []
         found = math.nan

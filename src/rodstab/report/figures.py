@@ -126,3 +126,27 @@ def sweep_plot(rows: list[dict], key: str, out: Path) -> Path:
     fig.savefig(p, dpi=120, bbox_inches="tight")
     plt.close(fig)
     return p
+
+
+def fig_beyond(data: dict, out: Path) -> list[Path]:
+    """Post-buckled branches (load vs amplitude) and imperfect paths of the straightened rod."""
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4))
+    for name, br in data["branches"].items():
+        axes[0].plot(br["amplitude"], br["mu_over_mu_c"], "o-", ms=3, label=name)
+    axes[0].set_xlabel("amplitude of the critical mode (largest out-of-plane displacement)")
+    axes[0].set_ylabel("mu / mu_c")
+    axes[0].set_title("post-buckled branches")
+    axes[0].grid(alpha=0.3)
+    axes[0].legend(fontsize=7)
+    imp = data["imperfection"]
+    for eps, path in zip(imp["epsilon"], imp["paths"]):
+        mu = [p[0] / imp["mu_c"] for p in path]
+        z = [p[1] for p in path]
+        axes[1].plot(z, mu, label=f"eps = {eps:g} L")
+    axes[1].axhline(1.0, color="k", lw=0.8, ls=":")
+    axes[1].set_xlabel("largest out-of-plane displacement / L")
+    axes[1].set_ylabel("mu / mu_c")
+    axes[1].set_title("straightened rod with mode-shaped imperfections")
+    axes[1].grid(alpha=0.3)
+    axes[1].legend(fontsize=7)
+    return _save(fig, out, "fig_beyond_post_buckling")

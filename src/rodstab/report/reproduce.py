@@ -16,7 +16,7 @@ from ..results import jsonable
 from . import claims as C
 from . import figures
 
-_STEPS = 16
+_STEPS = 20
 
 
 def _markdown(rows: list[C.Claim], figs: dict[str, Path], elapsed: float) -> str:
@@ -99,10 +99,13 @@ def run_reproduction(out_dir: str | Path, *, progress: bool = True) -> dict[str,
     tick()
     rows += list(C.engine_claims())
     rows += list(C.section45_claims(tick))
+    beyond_rows, beyond_data = C.beyond_claims(tick)
+    rows += beyond_rows
     data = {"fig3": C.fig3_data(), "fig4": C.fig4_data(), "fig5": C.fig5_data()}
     tick()
     data["rings"] = C.rings_data()
     data["fig9"] = C.fig9_data()
+    data["beyond"] = beyond_data
     tick()
     figs: dict[str, Path] = {}
     figs["Fig. 3 - clamped arcs: stable range of L kappa_n"] = figures.fig3(data["fig3"], out)[0]
@@ -111,6 +114,8 @@ def run_reproduction(out_dir: str | Path, *, progress: bool = True) -> dict[str,
                                                                                  out)[0]
     figs["New - stable ranges of N-loop rings vs h/t"] = figures.fig_rings(data["rings"], out)[0]
     figs["Fig. 9 - modes of the folded six-sided ring"] = figures.fig9(data["fig9"], out)[0]
+    figs["Beyond - post-buckling and imperfections"] = figures.fig_beyond(data["beyond"],
+                                                                          out)[0]
     tick()
     bar.close()
     elapsed = time.perf_counter() - t0
