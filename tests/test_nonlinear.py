@@ -200,3 +200,29 @@ def test_imperfect_straightened_rod_has_no_limit_load():
     mu = r.load_factor_critical
     near = min(z_small, key=lambda m: abs(m - mu))
     assert z_big[near] > z_small[near] > 0
+
+
+def test_cli_continue_detects_the_birod_branch_point_and_resumes(tmp_path):
+    """The branch point on the straight bi-rod path is the engine's critical load (within the
+    discretisation error, 0.5 %); a rerun in the same directory resumes every step."""
+    import json
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parent.parent
+    env = {"PYTHONPATH": str(root / "src"), "PATH": "/usr/bin:/bin"}
+    cmd = [sys.executable, "-m", "rodstab.cli", "continue", "examples/birod.toml", "--vary",
+           "load_factor=1:4:6", "--out", str(tmp_path), "--no-progress", "--json"]
+    r = subprocess.run(cmd, capture_output=True, text=True, cwd=root, env=env)
+    assert r.returncode == 0, r.stderr
+    p = json.loads(r.stdout)
+    lin = linear_stability(birod(C), 64).load_factor_critical
+    (sp,) = p["special_points"]
+    assert abs(sp["load_factor"] - lin) / lin < 5e-3
+    for name in ("primary.csv", "branches.csv", "special_points.json", "diagram.png"):
+        assert (tmp_path / name).exists()
+    again = json.loads(subprocess.run(cmd, capture_output=True, text=True, cwd=root,
+                                      env=env).stdout)
+    assert again["resumed_steps"] == 7
+    assert again["special_points"][0]["load_factor"] == pytest.approx(sp["load_factor"])

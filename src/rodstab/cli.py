@@ -265,6 +265,63 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
         raise SystemExit(1)
 
 
+@cli.command("continue")
+@click.argument("design_file", type=click.Path(dir_okay=False))
+@click.option("--vary", required=True,
+              help="load_factor=START:STOP[:N] (natural curvatures scale with it).")
+@click.option("--out", "out_dir", type=click.Path(file_okay=False), default=None,
+              help="Directory for primary.csv, branches.csv, special_points.json, diagram.png; "
+                   "a rerun with the same directory resumes.")
+@click.option("--elements", type=int, default=16, show_default=True,
+              help="Elements per segment.")
+@click.option("--no-progress", is_flag=True, help="Do not draw the progress bar.")
+@_json_option
+def continue_cmd(design_file: str, vary: str, out_dir: str | None, elements: int,
+                 no_progress: bool, as_json: bool) -> None:
+    """Continuation in the load factor: stability along the path, branch points, branches."""
+    from tqdm import tqdm
+
+    from .design import load_design
+    from .nonlinear.continuation import continue_in_load
+
+    key, _, rng = vary.partition("=")
+    if key.strip() != "load_factor":
+        raise RodstabInputError(f"--vary key {key.strip()!r} is not supported yet; only "
+                                "load_factor=START:STOP[:N]")
+    parts = rng.split(":")
+    try:
+        start, stop = float(parts[0]), float(parts[1])
+        n = int(parts[2]) if len(parts) > 2 else 40
+    except (ValueError, IndexError) as exc:
+        raise RodstabInputError(f"--vary must be load_factor=START:STOP[:N], got {vary!r}") \
+            from exc
+    require_positive_int("--vary N", n)
+    d = load_design(design_file)
+    bar = tqdm(total=n + 1, desc="rodstab continue", disable=no_progress, leave=False)
+    r = continue_in_load(d.assembly, start, stop, n,
+                         elements_per_segment=require_positive_int("--elements", elements),
+                         out_dir=out_dir, progress=lambda: bar.update(1))
+    bar.close()
+    payload = {"load_factor": list(r.load_factor), "lowest_eigenvalue":
+               list(r.lowest_eigenvalue), "stable": [e > 0 for e in r.lowest_eigenvalue],
+               "special_points": list(r.special_points), "resumed_steps": r.resumed_steps,
+               "all_converged": all(r.converged)}
+    if out_dir:
+        from pathlib import Path
+
+        from .report.figures import continuation_plot
+
+        payload["diagram"] = str(continuation_plot(r, Path(out_dir)))
+    lines = [f"design       {d.source}: {len(r.load_factor)} load steps "
+             f"({r.resumed_steps} resumed)"]
+    lines += [f"special      {p['kind']} at load factor {_fmt(p['load_factor'])}"
+              + (f"; {p['post_buckling']}" if "post_buckling" in p else "")
+              for p in r.special_points] or ["special      none: the path stays "
+                                             + ("stable" if r.lowest_eigenvalue[-1] > 0
+                                                else "unstable")]
+    _emit(payload, as_json, lines)
+
+
 def _parse_vary(spec: str) -> tuple[str, float, float, int]:
     try:
         key, rng = spec.split("=", 1)

@@ -264,3 +264,93 @@ def imperfection_sensitivity(a: Assembly, lo: float, hi: float, *,
     return ImperfectionSensitivity(mu_c, tuple(epsilons), tuple(limits), tuple(paths),
                                    exponent, verdict,
                                    "natural continuation in the load, Hessian eigenvalue scan")
+
+
+@dataclasses.dataclass(frozen=True)
+class Continuation(Result):
+    """Primary path in the load factor, detected special points and traced secondary branches."""
+
+    load_factor: tuple[float, ...]
+    energy: tuple[float, ...]
+    lowest_eigenvalue: tuple[float, ...]
+    converged: tuple[bool, ...]
+    special_points: tuple[dict, ...]
+    branches: tuple[Branch, ...]
+    resumed_steps: int
+
+
+def continue_in_load(a: Assembly, mu_start: float, mu_stop: float, n_steps: int, *,
+                     elements_per_segment: int = 16, out_dir=None, progress=None,
+                     branch_amplitude: float = 0.04) -> Continuation:
+    """Follow the equilibrium from ``mu_start`` to ``mu_stop`` in ``n_steps`` load steps.
+
+    Each step: Newton from the previous equilibrium, lowest Hessian eigenvalues. A sign change
+    of the lowest eigenvalue is a special point: it is refined on the held state (bifurcation
+    from the primary path) and the secondary branch is traced from it by amplitude control
+    (:func:`post_buckling_branch`). With ``out_dir``, every completed step is appended to
+    ``primary.csv`` and the state saved to ``state.npz`` first, so an interrupted run continues
+    from the last completed step (losing at most the step in progress).
+    """
+    import csv
+    import json
+    from pathlib import Path
+
+    grid = np.linspace(mu_start, mu_stop, n_steps + 1)
+    rod = discretise(a, elements_per_segment, float(grid[0]))
+    rows: list[tuple[float, float, float, bool]] = []
+    resumed = 0
+    out = Path(out_dir) if out_dir is not None else None
+    if out is not None:
+        out.mkdir(parents=True, exist_ok=True)
+        meta = {"mu_start": mu_start, "mu_stop": mu_stop, "n_steps": n_steps,
+                "elements_per_segment": elements_per_segment}
+        mpath = out / "run.json"
+        if mpath.exists() and json.loads(mpath.read_text()) == meta \
+                and (out / "primary.csv").exists() and (out / "state.npz").exists():
+            with (out / "primary.csv").open() as fh:
+                for r in csv.DictReader(fh):
+                    rows.append((float(r["load_factor"]), float(r["energy"]),
+                                 float(r["lowest_eigenvalue"]), r["converged"] == "True"))
+            st = np.load(out / "state.npz")
+            rod.x, rod.R_edge, rod.R_joint = st["x"], st["R_edge"], st["R_joint"]
+            resumed = len(rows)
+        else:
+            mpath.write_text(json.dumps(meta))
+            with (out / "primary.csv").open("w") as fh:
+                fh.write("load_factor,energy,lowest_eigenvalue,converged\n")
+    for mu in grid[len(rows):]:
+        rod.load_factor = float(mu)
+        ok, _, _ = newton(rod)
+        ev = float(lowest_modes(rod, 1)[0][0])
+        rows.append((float(mu), rod.energy(), ev, bool(ok)))
+        if out is not None:
+            np.savez(out / "state.tmp.npz", x=rod.x, R_edge=rod.R_edge, R_joint=rod.R_joint)
+            (out / "state.tmp.npz").replace(out / "state.npz")
+            with (out / "primary.csv").open("a") as fh:
+                fh.write(f"{float(mu)!r},{float(rows[-1][1])!r},{float(ev)!r},{ok}\n")
+        if progress is not None:
+            progress()
+    specials, branches = [], []
+    for (m0, _, e0, _), (m1, _, e1, _) in zip(rows, rows[1:]):
+        if e0 > 0 >= e1 or e0 <= 0 < e1:
+            crit = critical_load_factor(a, m0, m1, elements_per_segment=elements_per_segment,
+                                        n_scan=4)
+            kind = "branch point (stability lost)" if e0 > 0 else "branch point (regained)"
+            point = {"load_factor": crit.load_factor_critical, "kind": kind}
+            if e0 > 0 and math.isfinite(crit.load_factor_critical):
+                b = post_buckling_branch(
+                    a, m0, m1, elements_per_segment=elements_per_segment,
+                    amplitudes=np.linspace(0.0, branch_amplitude * a.total_length, 5)[1:])
+                branches.append(b)
+                point["post_buckling"] = b.verdict
+            specials.append(point)
+    if out is not None:
+        (out / "special_points.json").write_text(json.dumps(specials, indent=1))
+        with (out / "branches.csv").open("w") as fh:
+            fh.write("branch,amplitude,load_factor,energy,lowest_eigenvalue\n")
+            for i, b in enumerate(branches):
+                for row in zip(b.amplitude, b.load_factor, b.energy, b.lowest_eigenvalue):
+                    fh.write(f"{i}," + ",".join(repr(float(v)) for v in row) + "\n")
+    return Continuation(tuple(r[0] for r in rows), tuple(r[1] for r in rows),
+                        tuple(r[2] for r in rows), tuple(r[3] for r in rows), tuple(specials),
+                        tuple(branches), resumed)

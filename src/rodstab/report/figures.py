@@ -150,3 +150,31 @@ def fig_beyond(data: dict, out: Path) -> list[Path]:
     axes[1].grid(alpha=0.3)
     axes[1].legend(fontsize=7)
     return _save(fig, out, "fig_beyond_post_buckling")
+
+
+def continuation_plot(result, out: Path) -> Path:
+    """Bifurcation diagram: lowest eigenvalue along the path, and the secondary branches."""
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4))
+    mu = list(result.load_factor)
+    ev = list(result.lowest_eigenvalue)
+    axes[0].plot(mu, ev, "o-", ms=3)
+    axes[0].axhline(0.0, color="k", lw=0.8)
+    for p in result.special_points:
+        axes[0].axvline(p["load_factor"], color="r", ls="--", lw=0.8)
+    axes[0].set_xlabel("load factor")
+    axes[0].set_ylabel("lowest scaled Hessian eigenvalue")
+    axes[0].set_title("primary path (stable where > 0)")
+    axes[0].grid(alpha=0.3)
+    for b in result.branches:
+        axes[1].plot(b.amplitude, b.load_factor, "o-", ms=3,
+                     label=f"from {b.load_factor_critical:.5g}")
+    axes[1].set_xlabel("amplitude of the critical mode")
+    axes[1].set_ylabel("load factor")
+    axes[1].set_title("secondary branches")
+    axes[1].grid(alpha=0.3)
+    if result.branches:
+        axes[1].legend(fontsize=7)
+    p = Path(out) / "diagram.png"
+    fig.savefig(p, dpi=120, bbox_inches="tight")
+    plt.close(fig)
+    return p
