@@ -251,8 +251,8 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
         from .plots import plot_equilibrium
 
         payload["render"] = str(plot_equilibrium(
-            rod.x, rod.edge_nodes, render_path,
-            title=f"{d.source}, load factor {load_factor:g}"))
+            rod.x, rod.edge_nodes, render_path, edge_values=rod.edge_moments(),
+            value_label="|internal moment|", title=f"{d.source}, load factor {load_factor:g}"))
     _emit(payload, as_json, [
         f"design       {d.source}, load factor {_fmt(load_factor)}, {n} elements/segment",
         f"Newton       {'converged' if ok else 'NOT converged'} in {its} iterations, "

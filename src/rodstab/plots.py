@@ -61,17 +61,23 @@ def plot_mode(assembly: Assembly, result: LinearStability, path: str | Path, *,
 
 
 def plot_equilibrium(x: np.ndarray, edge_nodes: np.ndarray, path: str | Path, *,
+                     edge_values: np.ndarray | None = None, value_label: str = "moment",
                      title: str = "equilibrium") -> Path:
     """3D centreline of an equilibrium: node positions ``x`` (n, 3), edges ``(i, j)`` pairs,
-    coloured by the out-of-plane coordinate z."""
+    coloured by ``edge_values`` (e.g. the internal moment per edge) or else by z."""
     fig = plt.figure(figsize=(7, 5))
     ax = fig.add_subplot(projection="3d")
     z = x[:, 2]
-    zmax = float(np.max(np.abs(z))) or 1.0
+    vals = (np.asarray(edge_values) if edge_values is not None
+            else np.array([0.5 * (z[i] + z[j]) for i, j in edge_nodes]))
+    lo, hi = float(np.min(vals)), float(np.max(vals))
+    hi = hi if hi > lo else lo + 1.0
     cmap = plt.get_cmap("viridis")
-    for i, j in edge_nodes:
-        ax.plot(x[[i, j], 0], x[[i, j], 1], x[[i, j], 2],
-                color=cmap(0.5 + 0.5 * 0.5 * (z[i] + z[j]) / zmax), lw=2.5)
+    for (i, j), v in zip(edge_nodes, vals):
+        ax.plot(x[[i, j], 0], x[[i, j], 1], x[[i, j], 2], color=cmap((v - lo) / (hi - lo)),
+                lw=3)
+    sm = plt.cm.ScalarMappable(cmap=cmap, norm=plt.Normalize(lo, hi))
+    fig.colorbar(sm, ax=ax, shrink=0.6, label=value_label if edge_values is not None else "z")
     span = float(np.ptp(x, axis=0).max()) or 1.0
     mid = x.mean(axis=0)
     for setter, c in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), mid):
@@ -82,5 +88,33 @@ def plot_equilibrium(x: np.ndarray, edge_nodes: np.ndarray, path: str | Path, *,
     ax.set_zlabel("z")
     out = Path(path)
     fig.savefig(out, dpi=120, bbox_inches="tight")
+    plt.close(fig)
+    return out
+
+
+def animate_shapes(frames: list[np.ndarray], edge_nodes: np.ndarray, path: str | Path, *,
+                   labels: list[str] | None = None, fps: int = 6) -> Path:
+    """GIF of a sequence of centrelines (each (n, 3)), e.g. along a continuation path."""
+    from matplotlib.animation import FuncAnimation, PillowWriter
+
+    allx = np.vstack(frames)
+    span = float(np.ptp(allx, axis=0).max()) or 1.0
+    mid = allx.mean(axis=0)
+    fig = plt.figure(figsize=(6, 4.5))
+    ax = fig.add_subplot(projection="3d")
+
+    def draw(k: int):
+        ax.cla()
+        x = frames[k]
+        for i, j in edge_nodes:
+            ax.plot(x[[i, j], 0], x[[i, j], 1], x[[i, j], 2], color="C0", lw=2.5)
+        for setter, c in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), mid):
+            setter(c - span / 2, c + span / 2)
+        ax.set_title(labels[k] if labels else f"frame {k}")
+        return []
+
+    anim = FuncAnimation(fig, draw, frames=len(frames), blit=False)
+    out = Path(path)
+    anim.save(out, writer=PillowWriter(fps=fps))
     plt.close(fig)
     return out

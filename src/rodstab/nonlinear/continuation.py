@@ -49,6 +49,7 @@ class Branch(Result):
     verdict: str
     converged: bool
     method: str
+    shapes: tuple = ()  # node positions (n, 3) along the positive-amplitude side
 
 
 def _mode_node(rod: DiscreteRod, vec: np.ndarray) -> tuple[int, float]:
@@ -138,6 +139,7 @@ def post_buckling_branch(a: Assembly, lo: float, hi: float, *, elements_per_segm
     if amplitudes is None:
         amplitudes = np.linspace(0.0, 0.02 * a.total_length, 13)[1:]
     rows = []
+    shapes = [rod0.x.copy()]
     ok_all = True
     for sign in (1.0, -1.0):
         rod = rod0.copy()
@@ -150,6 +152,8 @@ def post_buckling_branch(a: Assembly, lo: float, hi: float, *, elements_per_segm
             if not ok:
                 break
             mu_fixed = rod.load_factor
+            if sign > 0:
+                shapes.append(rod.x.copy())
             ev = float(lowest_modes(rod, 1)[0][0])
             rows.append((sign * s_amp, mu_fixed, rod.energy(), ev))
     rows.sort()
@@ -167,7 +171,7 @@ def post_buckling_branch(a: Assembly, lo: float, hi: float, *, elements_per_segm
         verdict = "unstable symmetric (subcritical): the load falls after buckling"
     return Branch(mu_c, tuple(A), tuple(M), tuple(r[2] for r in rows), tuple(r[3] for r in rows),
                   c1, c2, verdict, bool(ok_all),
-                  "amplitude-controlled bordered Newton from the critical mode")
+                  "amplitude-controlled bordered Newton from the critical mode", tuple(shapes))
 
 
 @dataclasses.dataclass(frozen=True)
@@ -346,6 +350,15 @@ def continue_in_load(a: Assembly, mu_start: float, mu_stop: float, n_steps: int,
             specials.append(point)
     if out is not None:
         (out / "special_points.json").write_text(json.dumps(specials, indent=1))
+        if branches and branches[0].shapes:
+            from ..plots import animate_shapes
+
+            b = branches[0]
+            animate_shapes(list(b.shapes), rod.edge_nodes, out / "branch.gif",
+                           labels=[f"load factor {m:.6g}" for m in
+                                   [b.load_factor_critical] + [mu for amp, mu in
+                                                               zip(b.amplitude, b.load_factor)
+                                                               if amp > 0]])
         with (out / "branches.csv").open("w") as fh:
             fh.write("branch,amplitude,load_factor,energy,lowest_eigenvalue\n")
             for i, b in enumerate(branches):

@@ -191,6 +191,22 @@ class DiscreteRod:
             out = term if out is None else out + term
         return out
 
+    def edge_moments(self) -> np.ndarray:
+        """Magnitude of the internal moment ``|B (k - k0)|`` per edge (n_edges,): the average of
+        the joints on either side of the edge (lab units of B x curvature)."""
+        mom = np.zeros(len(self.R_edge))
+        cnt = np.zeros(len(self.R_edge))
+        if len(self.bend_pairs):
+            a, b = self.bend_pairs[:, 0], self.bend_pairs[:, 1]
+            P = np.swapaxes(self.R_edge[a], 1, 2) @ self.R_edge[b]
+            k = _cayley(P, 0.5 * (self.rest_length[a] + self.rest_length[b]))
+            m = np.linalg.norm(self.edge_B[a] * (k - self._k0(self.k_held_pairs, a,
+                                                                 self.load_factor)), axis=1)
+            for idx in (a, b):
+                np.add.at(mom, idx, m)
+                np.add.at(cnt, idx, 1.0)
+        return mom / np.maximum(cnt, 1.0)
+
     def energy(self) -> float:
         """Energy only (for line searches)."""
         return self.energy_terms()[0]
