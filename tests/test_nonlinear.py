@@ -226,3 +226,20 @@ def test_cli_continue_detects_the_birod_branch_point_and_resumes(tmp_path):
                                       env=env).stdout)
     assert again["resumed_steps"] == 7
     assert again["special_points"][0]["load_factor"] == pytest.approx(sp["load_factor"])
+
+
+def test_arclength_path_from_the_straightened_rod_bifurcation_matches_amplitude_control():
+    """Keller pseudo-arclength from the bifurcation and amplitude-controlled Newton trace the
+    same post-buckled branch: same load at the same mode amplitude (two methods)."""
+    from rodstab.nonlinear.continuation import arclength_from_bifurcation, post_buckling_branch
+
+    a = _sliding_straight()
+    p = arclength_from_bifurcation(a, 1.0, 8.0, elements_per_segment=12, ds=0.02, n_steps=8)
+    assert p.converged and len(p.load_factor) >= 5
+    mu_c = p.load_factor[0]
+    assert all(m >= mu_c - 1e-9 for m in p.load_factor)  # supercritical
+    zmax = [float(np.max(np.abs(x[:, 2]))) for x in p.shapes]
+    b = post_buckling_branch(a, 1.0, 8.0, elements_per_segment=12,
+                             amplitudes=np.array([zmax[-1]]))
+    (mu_b,) = [m for amp, m in zip(b.amplitude, b.load_factor) if amp > 0]
+    assert p.load_factor[-1] == pytest.approx(mu_b, rel=1e-5)

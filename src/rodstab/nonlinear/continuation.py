@@ -367,3 +367,114 @@ def continue_in_load(a: Assembly, mu_start: float, mu_stop: float, n_steps: int,
     return Continuation(tuple(r[0] for r in rows), tuple(r[1] for r in rows),
                         tuple(r[2] for r in rows), tuple(r[3] for r in rows), tuple(specials),
                         tuple(branches), resumed)
+
+
+@dataclasses.dataclass(frozen=True)
+class ArclengthPath(Result):
+    """Points of a pseudo-arclength path: load, energy, lowest eigenvalue, a shape measure."""
+
+    load_factor: tuple[float, ...]
+    energy: tuple[float, ...]
+    lowest_eigenvalue: tuple[float, ...]
+    radius: tuple[float, ...]  # largest distance of a node from the centroid
+    shapes: tuple
+    converged: bool
+    method: str
+
+
+def _arclength_correct(rod: DiscreteRod, tq: np.ndarray, tmu: float, ds: float,
+                       *, max_iter: int = 25) -> bool:
+    """Corrector: g = 0 and t . (accumulated increment) = ds (in place)."""
+    free = rod.free_dofs()
+    n = len(free)
+    scale = float(PENALTY * np.max(rod.edge_B) / np.min(rod.rest_length))
+    acc_q = tq * ds  # the predictor already moved by ds along t
+    acc_mu = tmu * ds
+    for _ in range(max_iter):
+        _, g, H = rod.energy_terms()
+        gf = g[free]
+        c = float(tq @ acc_q + tmu * acc_mu - ds)
+        if np.max(np.abs(gf)) <= 1e-9 * scale and abs(c) <= 1e-10 * max(abs(ds), 1e-12):
+            return True
+        gm = _dg_dmu(rod)[free]
+        M = sp.bmat([[H[free][:, free].tocsc(), sp.csr_matrix(gm[:, None])],
+                     [sp.csr_matrix(tq[None, :]), sp.csr_matrix([[tmu]])]], format="csc")
+        rhs = -np.concatenate([gf, [c]])
+        sol = spla.spsolve(M, rhs)
+        if not np.all(np.isfinite(sol)):
+            return False
+        dq = np.zeros(rod.n_dof)
+        dq[free] = sol[:n]
+        rod.apply(dq)
+        rod.load_factor += float(sol[n])
+        acc_q = acc_q + sol[:n]
+        acc_mu += float(sol[n])
+    return False
+
+
+def _tangent(rod: DiscreteRod, tq_prev: np.ndarray, tmu_prev: float) -> tuple[np.ndarray, float]:
+    """Unit tangent of the path: ``[H g_mu; t_prev^T] t = [0; 1]``, normalised, oriented."""
+    free = rod.free_dofs()
+    n = len(free)
+    _, _, H = rod.energy_terms()
+    gm = _dg_dmu(rod)[free]
+    M = sp.bmat([[H[free][:, free].tocsc(), sp.csr_matrix(gm[:, None])],
+                 [sp.csr_matrix(tq_prev[None, :]), sp.csr_matrix([[tmu_prev]])]], format="csc")
+    rhs = np.zeros(n + 1)
+    rhs[-1] = 1.0
+    t = spla.spsolve(M, rhs)
+    t /= np.linalg.norm(t)
+    if t[:n] @ tq_prev + t[n] * tmu_prev < 0:
+        t = -t
+    return t[:n], float(t[n])
+
+
+def arclength_from_bifurcation(a: Assembly, lo: float, hi: float, *, elements_per_segment: int
+                               = 24, ds: float = 0.05, n_steps: int = 60,
+                               mu_window: tuple[float, float] | None = None) -> ArclengthPath:
+    """Pseudo-arclength continuation (Keller) along the branch leaving the first bifurcation.
+
+    Starts at the critical load of the held state with the tangent along the critical mode
+    (a symmetric pitchfork has ``d mu = 0`` there), then predictor along the tangent and a
+    bordered Newton corrector on the arclength constraint; the step halves on failure and grows
+    after easy steps. Folds in the load are passed without special treatment (the bordered
+    matrix stays regular there). Stops after ``n_steps`` or when the load leaves ``mu_window``.
+    """
+    crit = critical_load_factor(a, lo, hi, elements_per_segment=elements_per_segment)
+    rod = discretise(a, elements_per_segment, crit.load_factor_critical)
+    _, vecs = lowest_modes(rod, 1)
+    free = rod.free_dofs()
+    tq = vecs[:, 0] / np.linalg.norm(vecs[:, 0])
+    tmu = 0.0
+    out = []
+    ok_all = True
+
+    def record() -> None:
+        c = rod.x.mean(axis=0)
+        out.append((rod.load_factor, rod.energy(), float(lowest_modes(rod, 1)[0][0]),
+                    float(np.max(np.linalg.norm(rod.x - c, axis=1))), rod.x.copy()))
+
+    record()
+    h = ds
+    for _ in range(n_steps):
+        saved = (rod.x.copy(), rod.R_edge.copy(), rod.R_joint.copy(), rod.load_factor)
+        dq = np.zeros(rod.n_dof)
+        dq[free] = h * tq
+        rod.apply(dq)
+        rod.load_factor += h * tmu
+        if not _arclength_correct(rod, tq, tmu, h):
+            rod.x, rod.R_edge, rod.R_joint, rod.load_factor = saved
+            h *= 0.5
+            if h < ds * 1e-3:
+                ok_all = False
+                break
+            continue
+        tq, tmu = _tangent(rod, tq, tmu)
+        record()
+        h = min(1.5 * h, 4 * ds)
+        if mu_window and not (mu_window[0] <= rod.load_factor <= mu_window[1]):
+            break
+    return ArclengthPath(tuple(o[0] for o in out), tuple(o[1] for o in out),
+                         tuple(o[2] for o in out), tuple(o[3] for o in out),
+                         tuple(o[4] for o in out), ok_all,
+                         "pseudo-arclength (Keller), bordered Newton corrector")
