@@ -146,20 +146,7 @@ class DiscreteRod:
                     np.concatenate([self.edge_dofs(a), self.edge_dofs(b)], axis=1))
         # Half-joints between an end edge and its joint frame.
         if self.end_links and links:
-            ee = np.array([lk[0] for lk in self.end_links])
-            jj = np.array([lk[1] for lk in self.end_links])
-            Q = np.array([lk[2] for lk in self.end_links])
-            start = np.array([lk[3] == "start" for lk in self.end_links])
-            Re = rotation_jet(self.R_edge[ee], 6, 0)
-            RJ = rotation_jet(self.R_joint[jj], 6, 3)
-            RJQ = JetMat(np.einsum("eij,ejk->eik", RJ.v, Q),
-                         np.einsum("eijn,ejk->eikn", RJ.g, Q),
-                         np.einsum("eijnm,ejk->eiknm", RJ.H, Q))
-            P_end = Re.T @ RJQ  # edge then joint (segment end)
-            P_start = RJQ.T @ Re  # joint then edge (segment start)
-            P = JetMat(np.where(start[:, None, None], P_start.v, P_end.v),
-                       np.where(start[:, None, None, None], P_start.g, P_end.g),
-                       np.where(start[:, None, None, None, None], P_start.H, P_end.H))
+            ee, jj, P = self.link_rotations()
             ds = 0.5 * le[ee]
             k0 = (self._k0(self.k_held_links, ee, mu) if self.k0_links is None
                   else self.k0_links[0] + mu * self.k0_links[1])
@@ -190,6 +177,23 @@ class DiscreteRod:
             term = kc * kc * (0.5 * B[:, c] * ds)
             out = term if out is None else out + term
         return out
+
+    def link_rotations(self) -> tuple[np.ndarray, np.ndarray, JetMat]:
+        """Edges, joints and relative-rotation jets ``P`` of the half-joints (vars: phi_edge
+        0..2, phi_joint 3..5): ``R_e^T R_J Q`` at a segment end, ``(R_J Q)^T R_e`` at a start."""
+        ee = np.array([lk[0] for lk in self.end_links])
+        jj = np.array([lk[1] for lk in self.end_links])
+        Q = np.array([lk[2] for lk in self.end_links])
+        start = np.array([lk[3] == "start" for lk in self.end_links])
+        Re = rotation_jet(self.R_edge[ee], 6, 0)
+        RJ = rotation_jet(self.R_joint[jj], 6, 3)
+        RJQ = JetMat(np.einsum("eij,ejk->eik", RJ.v, Q), np.einsum("eijn,ejk->eikn", RJ.g, Q),
+                     np.einsum("eijnm,ejk->eiknm", RJ.H, Q))
+        P_end, P_start = Re.T @ RJQ, RJQ.T @ Re
+        P = JetMat(np.where(start[:, None, None], P_start.v, P_end.v),
+                   np.where(start[:, None, None, None], P_start.g, P_end.g),
+                   np.where(start[:, None, None, None, None], P_start.H, P_end.H))
+        return ee, jj, P
 
     def edge_moments(self) -> np.ndarray:
         """Magnitude of the internal moment ``|B (k - k0)|`` per edge (n_edges,): the average of
@@ -313,18 +317,7 @@ def _balanced_link_curvatures(rod: DiscreteRod) -> tuple[np.ndarray, np.ndarray]
     curvature is chosen so that it balances the moment of the neighbouring full joint exactly.
     The correction vanishes as the edge length goes to zero (it is ``O(k^2 l_e^2)``).
     """
-    ee = np.array([lk[0] for lk in rod.end_links])
-    jj = np.array([lk[1] for lk in rod.end_links])
-    Q = np.array([lk[2] for lk in rod.end_links])
-    start = np.array([lk[3] == "start" for lk in rod.end_links])
-    Re = rotation_jet(rod.R_edge[ee], 6, 0)
-    RJ = rotation_jet(rod.R_joint[jj], 6, 3)
-    RJQ = JetMat(np.einsum("eij,ejk->eik", RJ.v, Q), np.einsum("eijn,ejk->eikn", RJ.g, Q),
-                 np.einsum("eijnm,ejk->eiknm", RJ.H, Q))
-    P_end, P_start = Re.T @ RJQ, RJQ.T @ Re
-    P = JetMat(np.where(start[:, None, None], P_start.v, P_end.v),
-               np.where(start[:, None, None, None], P_start.g, P_end.g),
-               np.where(start[:, None, None, None, None], P_start.H, P_end.H))
+    ee, _, P = rod.link_rotations()
     den = (P.entry(0, 0) + P.entry(1, 1) + P.entry(2, 2) + 1.0).reciprocal()
     ds = 0.5 * rod.rest_length[ee]
     vee = [P.entry(2, 1) - P.entry(1, 2), P.entry(0, 2) - P.entry(2, 0),
