@@ -243,3 +243,42 @@ def test_arclength_path_from_the_straightened_rod_bifurcation_matches_amplitude_
                              amplitudes=np.array([zmax[-1]]))
     (mu_b,) = [m for amp, m in zip(b.amplitude, b.load_factor) if amp > 0]
     assert p.load_factor[-1] == pytest.approx(mu_b, rel=1e-5)
+
+
+def _scaled(rod):
+    _, _, H = rod.energy_terms()
+    f = rod.free_dofs()
+    Hf = H[f][:, f].toarray()
+    d = 1.0 / np.sqrt(np.abs(np.diag(Hf)))
+    return d[:, None] * (0.5 * (Hf + Hf.T)) * d[None, :]
+
+
+def test_sliding_mode_of_a_non_circular_uniform_ring_is_a_zero_mode():
+    """Uniform closed ring: on a non-circular equilibrium (on the branch leaving the 1-loop
+    bifurcation) material sliding costs no energy -- its Rayleigh quotient is far below the
+    lowest remaining eigenvalue; on the circular state it is the gauged rigid rotation."""
+    from rodstab.nonlinear.continuation import _advance, _mode_node
+    from rodstab.nonlinear.solve import lowest_modes, sliding_mode
+
+    a = ring(1)
+    circ = discretise(a, 24, 1.5)
+    # Circular state: sliding is the gauged rigid rotation; nothing is left out.
+    assert np.allclose(lowest_modes(circ, 3)[0],
+                       np.sort(np.linalg.eigvalsh(_scaled(circ)))[:3], rtol=1e-8)
+    mu_c = critical_load_factor(a, 1.05, 3.0, elements_per_segment=24).load_factor_critical
+    rod = discretise(a, 24, mu_c)
+    _, vecs = lowest_modes(rod, 1)
+    k, amp = _mode_node(rod, vecs[:, 0])
+    assert _advance(rod, k, 0.3, vecs[:, 0] / amp)  # a clearly non-circular equilibrium
+    u = sliding_mode(rod)
+    assert u is not None
+    A = _scaled(rod)
+    vals, vecs = np.linalg.eigh(A)
+    f = rod.free_dofs()
+    d = 1.0 / np.sqrt(np.abs(np.diag(rod.energy_terms()[2][f][:, f].toarray())))
+    pos = f < 3 * len(rod.x)
+    V = (d[:, None] * vecs[:, :2])[pos]
+    cos = np.abs(V.T @ u[pos]) / np.linalg.norm(V, axis=0) / np.linalg.norm(u[pos])
+    assert cos[0] > 0.99  # the lowest mode is the sliding field ...
+    assert abs(vals[0]) < 0.2 * vals[1]  # ... with an eigenvalue well below the next one
+    assert lowest_modes(rod, 1)[0][0] == pytest.approx(vals[1], rel=1e-8)  # and is left out

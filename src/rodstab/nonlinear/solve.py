@@ -25,6 +25,11 @@ from .discrete import PENALTY, DiscreteRod, discretise
 #: generalised force scale (PENALTY max |B| / l_e, the stretch/shear terms) of the model.
 NEWTON_RTOL = 1e-10
 NEWTON_MAX_ITER = 60
+#: The sliding field of a uniform ring is considered when, after removing the rigid motion that
+#: restores the gauge, more than this fraction of it remains (not just a rigid rotation) ...
+SLIDING_RATIO = 1e-3
+#: ... and the eigenvector it overlaps by more than this (cosine, scaled metric) is left out.
+SLIDING_OVERLAP = 0.9
 #: Eigenvalues (of the Jacobi-scaled Hessian) below this are reported as zero (neutral).
 ZERO_EIG = 1e-10
 
@@ -44,9 +49,68 @@ class Equilibrium(Result):
     method: str
 
 
+def _vee_log(P: np.ndarray) -> np.ndarray:
+    """Rotation vectors of rotation matrices ``P`` (..., 3, 3) (exact log map)."""
+    c = np.clip(0.5 * (np.trace(P, axis1=-2, axis2=-1) - 1.0), -1.0, 1.0)
+    th = np.arccos(c)
+    v = np.stack([P[..., 2, 1] - P[..., 1, 2], P[..., 0, 2] - P[..., 2, 0],
+                  P[..., 1, 0] - P[..., 0, 1]], axis=-1)
+    f = np.where(th < 1e-8, 0.5, th / (2 * np.sin(np.where(th < 1e-8, 1.0, th))))
+    return v * f[..., None]
+
+
+def sliding_mode(rod: DiscreteRod) -> np.ndarray | None:
+    """The material-sliding zero mode of a uniform closed ring (free unknowns), or None.
+
+    A ring made of one uniform segment welded to itself has the same energy when its material
+    slides along its own centreline: on a non-circular state that is a zero mode the
+    rigid-motion gauge does not remove (it moves which material point sits at the gauge).
+    Built from central differences along the ring (nodes: tangent transport; frames: half the
+    relative rotations to the neighbours), minus the rigid motion that restores the gauge.
+    """
+    a = rod.assembly
+    if len(a.segments) != 1 or a.supports or len(rod.end_links) != 2 \
+            or rod.end_links[0][1] != rod.end_links[1][1]:
+        return None
+    ne = len(rod.R_edge)
+    nodes = [int(rod.edge_nodes[e, 0]) for e in range(ne)]  # node at the start of each edge
+    x = rod.x[nodes]
+    dx = 0.5 * (np.roll(x, -1, axis=0) - np.roll(x, 1, axis=0))
+    R = rod.R_edge
+    Rn, Rp = np.roll(R, -1, axis=0), np.roll(R, 1, axis=0)
+    dphi = 0.5 * (_vee_log(np.swapaxes(R, 1, 2) @ Rn) - _vee_log(np.swapaxes(R, 1, 2) @ Rp))
+    J = rod.end_links[0][1]
+    RJ = rod.R_joint[J]
+    # The joint frame sits half an edge from either neighbouring edge frame.
+    dphi_J = _vee_log(RJ.T @ R[0]) - _vee_log(RJ.T @ R[-1])
+
+    def sin_scaled(v: np.ndarray) -> np.ndarray:
+        # The central difference of positions on a circle is the rigid rotation at rate
+        # sin(angle step); scaling the rotations the same way makes the circular case exactly
+        # rigid (then removed by the gauge correction below).
+        th = np.linalg.norm(v, axis=-1, keepdims=True)
+        return v * np.where(th < 1e-12, 1.0, np.sin(th) / np.where(th < 1e-12, 1.0, th))
+
+    dphi, dphi_J = sin_scaled(dphi), sin_scaled(dphi_J)
+    v = np.zeros(rod.n_dof)
+    xJ = rod.x[nodes[0]]
+    t, w = dx[0], RJ @ dphi_J  # rigid motion matching the gauge joint: subtract it
+    for i, nd in enumerate(nodes):
+        v[rod.node_dofs(nd)] = dx[i] - t - np.cross(w, rod.x[nd] - xJ)
+    for e in range(ne):
+        v[rod.edge_dofs(e)] = dphi[e] - R[e].T @ w
+    v[rod.joint_dofs(J)] = dphi_J - RJ.T @ w
+    raw = np.sqrt(np.sum(dx**2) + np.sum(dphi**2))
+    vf = v[rod.free_dofs()]
+    # On a circular state sliding IS the gauged rigid rotation: what is left is the O(l_e^2)
+    # error of the central differences, not a mode. Only a clearly non-rigid field counts.
+    return vf if np.linalg.norm(vf) > SLIDING_RATIO * raw else None
+
+
 def lowest_modes(rod: DiscreteRod, k: int = 4) -> tuple[np.ndarray, np.ndarray]:
     """Lowest ``k`` eigenpairs of the Jacobi-scaled free Hessian; vectors mapped back to the
-    free unknowns (``D v``), one column each."""
+    free unknowns (``D v``), one column each. For a uniform closed ring the eigenpair that is
+    the material-sliding zero mode (:func:`sliding_mode`) is left out."""
     _, _, H = rod.energy_terms()
     free = rod.free_dofs()
     Hf = H[free][:, free].tocsc()
@@ -56,12 +120,25 @@ def lowest_modes(rod: DiscreteRod, k: int = 4) -> tuple[np.ndarray, np.ndarray]:
     d = 1.0 / np.sqrt(dg)
     A = (sp.diags(d) @ Hf @ sp.diags(d)).tocsc()
     n = A.shape[0]
+    slide = sliding_mode(rod)
+    kk = min(k + (1 if slide is not None else 0), n if n <= 600 else n - 1)
     if n <= 600:
-        vals, vecs = sla.eigh(A.toarray(), subset_by_index=[0, min(k, n) - 1])
+        vals, vecs = sla.eigh(A.toarray(), subset_by_index=[0, kk - 1])
     else:
-        vals, vecs = spla.eigsh(A, k=k, sigma=-1e-3, which="LM", tol=1e-12)
+        vals, vecs = spla.eigsh(A, k=kk, sigma=-1e-3, which="LM", tol=1e-12)
         order = np.argsort(vals)
         vals, vecs = vals[order], vecs[:, order]
+    if slide is not None:
+        # Leave out the eigenpair that IS the sliding mode (cosine > SLIDING_OVERLAP of the
+        # node displacements: the frame part of the finite-difference field is less accurate).
+        pos = free < 3 * len(rod.x)
+        V = (d[:, None] * vecs)[pos]
+        u = slide[pos] / np.linalg.norm(slide[pos])
+        overlap = np.abs(V.T @ u) / np.maximum(np.linalg.norm(V, axis=0), 1e-300)
+        j = int(np.argmax(overlap))
+        keep = np.ones(len(vals), bool)
+        keep[j if overlap[j] > SLIDING_OVERLAP else len(vals) - 1] = False
+        vals, vecs = vals[keep][:k], vecs[:, keep][:, :k]
     return vals, d[:, None] * vecs
 
 

@@ -130,7 +130,16 @@ def sweep_plot(rows: list[dict], key: str, out: Path) -> Path:
 
 def fig_beyond(data: dict, out: Path) -> list[Path]:
     """Post-buckled branches (load vs amplitude) and imperfect paths of the straightened rod."""
-    fig, axes = plt.subplots(1, 2, figsize=(10, 4))
+    fig, axes = plt.subplots(1, 3, figsize=(15, 4))
+    if "ring_path" in data:
+        rp = data["ring_path"]
+        axes[2].plot(rp["mu"], rp["radius"], "o-", ms=2)
+        axes[2].axhline(1 / 3, color="k", ls=":", lw=0.8, label="3-loop radius R/3")
+        axes[2].set_xlabel("(L / 2 pi) kappa_n")
+        axes[2].set_ylabel("largest distance from the centroid / R")
+        axes[2].set_title("1-loop ring beyond its bifurcation")
+        axes[2].grid(alpha=0.3)
+        axes[2].legend(fontsize=7)
     for name, br in data["branches"].items():
         axes[0].plot(br["amplitude"], br["mu_over_mu_c"], "o-", ms=3, label=name)
     axes[0].set_xlabel("amplitude of the critical mode (largest out-of-plane displacement)")
