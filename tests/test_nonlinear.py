@@ -282,3 +282,33 @@ def test_sliding_mode_of_a_non_circular_uniform_ring_is_a_zero_mode():
     assert cos[0] > 0.99  # the lowest mode is the sliding field ...
     assert abs(vals[0]) < 0.2 * vals[1]  # ... with an eigenvalue well below the next one
     assert lowest_modes(rod, 1)[0][0] == pytest.approx(vals[1], rel=1e-8)  # and is left out
+
+
+def test_greenhill_twisted_clamped_rod_closed_form():
+    """Natural twist held untwisted = an imposed torque T = B2 mu tau on a straight rod clamped
+    at both ends (one sliding): Greenhill's critical torque T L / B = 2 x 4.493409 (first
+    positive root of tan x = x), isotropic bending B1 = B3 = B. Second-order convergence."""
+    from scipy.optimize import brentq
+
+    x1 = brentq(lambda x: math.tan(x) - x, 4.4, 4.6)
+    exact = 2 * x1
+    b2 = 0.75
+    s = Segment("a", 1.0, 0.0, 0.0, 1.0, b2, 1.0, natural_twist=1.0)
+    a = Assembly((s,), supports=(("a", "start", "clamped"), ("a", "end", "sliding-clamp")))
+    errs = []
+    for n in (16, 32, 64):
+        T = b2 * critical_load_factor(a, 1.0, 20.0, elements_per_segment=n).load_factor_critical
+        errs.append(abs(T - exact) / exact)
+    assert errs[-1] < 2e-3
+    assert -np.polyfit(np.log([16, 32, 64]), np.log(errs), 1)[0] >= EXPECTED_ORDER - 0.2
+
+
+def test_natural_twist_is_refused_by_the_linear_engine_and_checked_at_joints():
+    from rodstab.errors import RodstabInputError
+
+    s = Segment("a", 1.0, 0.0, 0.0, 1.0, 0.75, 1.0, natural_twist=1.0)
+    a = Assembly((s,), supports=(("a", "start", "clamped"), ("a", "end", "clamped")))
+    with pytest.raises(RodstabInputError, match="natural twist"):
+        linear_stability(a, 8)
+    with pytest.raises(RodstabInputError, match="torque"):
+        Assembly((s,), supports=(("a", "start", "clamped"),))  # free end carries a torque

@@ -14,6 +14,7 @@ Format (every key optional unless marked; unknown keys are errors)::
     length = 1.0              # required, > 0
     curvature = 0.0           # held state 1/R (signed, + turning left); 0 = straight
     natural_curvature = 1.0   # at load factor 1 (signed, same convention)
+    natural_twist = 0.0       # at load factor 1 (nonlinear model only)
     start = [0.0, 0.0]        # default: end of the previous segment (origin for the first)
     angle_deg = 0.0           # start tangent; default: previous end tangent
     cusp = false              # with default angle: reverse the previous end tangent
@@ -48,8 +49,8 @@ from .sections import make_section
 
 _TOP = {"section", "segment", "weld", "support", "analysis"}
 _SECTION = {"shape", "aspect", "nu", "torsion", "b1", "b2", "B3"}
-_SEGMENT = {"name", "length", "curvature", "natural_curvature", "start", "angle_deg", "cusp",
-            "section"}
+_SEGMENT = {"name", "length", "curvature", "natural_curvature", "natural_twist", "start",
+            "angle_deg", "cusp", "section"}
 _WELD = {"ends"}
 _SUPPORT = {"end", "type"}
 _ANALYSIS = {"elements", "reference_load", "load_factor_segment"}
@@ -135,7 +136,7 @@ def parse_design(data: dict, source: str = "<dict>") -> Design:
             angle = 0.0
         segments.append(Segment(str(raw["name"]), raw["length"], float(raw.get("curvature", 0.0)),
                                 float(raw.get("natural_curvature", 0.0)), B1, B2, B3, start,
-                                angle))
+                                angle, float(raw.get("natural_twist", 0.0))))
     welds = []
     for i, w in enumerate(data.get("weld", [])):
         _check_keys(w, _WELD, f"weld[{i}]")

@@ -4,6 +4,10 @@ A :class:`Segment` is a rod of length ``L`` held in the plane with constant sign
 ``curvature`` (``1/R``, positive turning left; 0 for straight), starting at ``start`` with
 tangent angle ``angle``. Its natural curvature (about the same e3 axis, same sign convention)
 at load factor 1 is ``natural_curvature``; at load factor ``mu`` it is ``mu * natural_curvature``.
+A segment may also carry a natural twist (rate of rotation of the cross-section about the
+tangent in the natural state, scaled by ``mu`` likewise); the held state itself is untwisted, so
+a natural twist is an imposed twist of the opposite sign (Michell's ring, Section 3.3). Only
+the nonlinear model accepts it: the linear P2 (2.12) assumes no initial twist.
 Welds join segment ends (any angle in the plane): they share out-of-plane displacement and the
 full rotation of the cross-section. Supports act on joints.
 
@@ -44,11 +48,12 @@ class Segment:
     B3: float
     start: tuple[float, float] = (0.0, 0.0)
     angle: float = 0.0
+    natural_twist: float = 0.0
 
     def __post_init__(self) -> None:
         for key in ("length", "B1", "B2", "B3"):
             require_positive(f"segment {self.name!r} {key}", getattr(self, key))
-        for key in ("curvature", "natural_curvature", "angle"):
+        for key in ("curvature", "natural_curvature", "angle", "natural_twist"):
             require_finite(f"segment {self.name!r} {key}", getattr(self, key))
         for v in self.start:
             require_finite(f"segment {self.name!r} start", v)
@@ -166,6 +171,18 @@ def validate(a: Assembly) -> None:
         supported = any((n, e) == (sn, se) for n, e in joint for sn, se, _ in a.supports)
         if supported:
             continue
+        torque = np.zeros(2)
+        tscale = 0.0
+        for n, e in joint:
+            s = a.segment(n)
+            t = s.tangent(0.0 if e == "start" else s.length)
+            v = s.B2 * s.natural_twist * t
+            torque += v if e == "start" else -v
+            tscale += float(np.linalg.norm(v))
+        if tscale > 0 and np.linalg.norm(torque) > MOMENT_TOL * tscale:
+            raise RodstabInputError(
+                f"joint {[f'{n}.{e}' for n, e in joint]} is not in moment equilibrium "
+                f"(unbalanced torque B2 x natural twist: {np.round(torque, 9).tolist()})")
         # An unsupported joint must be in moment equilibrium for every load factor: the held
         # moment B3 (k - mu kappa_n) enters with + at a start end and - at an end end.
         for attr in ("curvature", "natural_curvature"):

@@ -111,6 +111,11 @@ def linear_stability(a: Assembly, elements_per_segment: int = 16) -> LinearStabi
     Mode coordinates ``s`` are normalised by each segment's length; ``w`` is scaled so that its
     largest magnitude over the assembly is 1.
     """
+    twisted = [s.name for s in a.segments if s.natural_twist != 0.0]
+    if twisted:
+        raise RodstabInputError(
+            f"segments {twisted} have a natural twist: the linear engine's P2 (2.12) assumes "
+            "no initial twist; use the nonlinear model (rodstab equilibrium / continue)")
     disc = discretise(a, elements_per_segment)
     mu_ref = default_reference_load(a)
     Z = disc.Z

@@ -73,6 +73,7 @@ class DiscreteRod:
     k_held_links: np.ndarray | None = None  # (n_links, 3)
     k0_links: tuple[np.ndarray, np.ndarray] | None = None  # natural curvature a + mu b
     fixed_components: list = dataclasses.field(default_factory=list)  # (node, [components])
+    edge_tw: np.ndarray | None = None  # (n_edges,) natural twist at load factor 1
 
     # ---- degrees of freedom: positions, edge rotations, joint rotations
     @property
@@ -163,6 +164,8 @@ class DiscreteRod:
         an exact equilibrium of the discrete model, as it is of the continuum."""
         k0 = np.zeros((len(e), 3)) if k_held is None else k_held.copy()
         k0[:, 2] += mu * self.edge_kn[e] - self.edge_k[e]
+        if self.edge_tw is not None:
+            k0[:, 1] += mu * self.edge_tw[e]  # natural twist about the tangent d2
         return k0
 
     @staticmethod
@@ -252,7 +255,7 @@ def discretise(a: Assembly, elements_per_segment: int = 32, load_factor: float =
         s = 0.0 if end == "start" else seg.length
         joint_node[k] = node_at(seg.position(s))
         R_joint[k] = _frame(seg.tangent(s))
-    ks = []
+    ks, tws = [], []
     for seg in a.segments:
         n = elements_per_segment
         s = np.linspace(0.0, seg.length, n + 1)
@@ -269,6 +272,7 @@ def discretise(a: Assembly, elements_per_segment: int = 32, load_factor: float =
             Bs.append((seg.B1, seg.B2, seg.B3))
             kns.append(seg.natural_curvature)
             ks.append(seg.curvature)
+            tws.append(seg.natural_twist)
             R_edge.append(_frame(chord / L))
             if e:
                 pairs.append((first + e - 1, first + e))
@@ -301,6 +305,7 @@ def discretise(a: Assembly, elements_per_segment: int = 32, load_factor: float =
                       np.array(lengths), np.array(Bs), np.array(kns), np.array(ks),
                       np.array(pairs, int).reshape(-1, 2), links, fixed_nodes, fixed_joints,
                       load_factor, fixed_components=fixed_components)
+    rod.edge_tw = np.array(tws) if any(tws) else None
     if elements_per_segment < 2:
         raise ValueError(f"elements_per_segment must be >= 2, got {elements_per_segment!r}")
     rod.k_held_pairs, rod.k_held_links = _held_curvatures(rod)

@@ -225,9 +225,10 @@ def critical_load_factor(a: Assembly, lo: float, hi: float, *, elements_per_segm
                          n_scan: int = 12) -> NonlinearCritical:
     """First load factor in ``(lo, hi]`` at which the held state loses stability.
 
-    The held state stays an equilibrium at every load (checked: the free gradient is ~0); the
-    lowest eigenvalue of the scaled Hessian is scanned and its sign change refined by the one
-    root finder.
+    The held state must stay an equilibrium at every load (checked: the free gradient is ~0);
+    the lowest eigenvalue of the scaled Hessian is scanned and its sign change refined by the
+    one root finder. (A twisted ring is not such a state in the discrete model -- it needs a
+    shear force -- and is left for the continuation tools.)
     """
     rod = discretise(a, elements_per_segment, lo)
     free = rod.free_dofs()
