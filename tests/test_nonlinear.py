@@ -312,3 +312,22 @@ def test_natural_twist_is_refused_by_the_linear_engine_and_checked_at_joints():
         linear_stability(a, 8)
     with pytest.raises(RodstabInputError, match="torque"):
         Assembly((s,), supports=(("a", "start", "clamped"),))  # free end carries a torque
+
+
+def test_michell_twisted_ring_by_the_nonlinear_model():
+    """Section 3.3 by a third, independent method: a ring of isotropic bending stiffness with
+    natural twist (held untwisted = imposed twist omega0' R = mu), followed along its primary
+    path; stability is lost at b2 omega0' -> sqrt(3) (Michell 1889), at second order."""
+    from rodstab.nonlinear.continuation import critical_along_primary
+
+    b2 = 0.75
+    s = Segment("r", 2 * math.pi, 1.0, 0.0, 1.0, b2, 1.0, natural_twist=1.0)
+    a = Assembly((s,), welds=((("r", "start"), ("r", "end")),))
+    ns = [16, 32, 64]
+    vals = [b2 * critical_along_primary(a, 2.0, 4.0, elements_per_segment=n)
+            .load_factor_critical for n in ns]
+    errs = [abs(v - math.sqrt(3)) / math.sqrt(3) for v in vals]
+    assert errs[-1] < 1e-2
+    assert -np.polyfit(np.log(ns), np.log(errs), 1)[0] >= EXPECTED_ORDER - 0.2
+    richardson = vals[-1] + (vals[-1] - vals[-2]) / (2**EXPECTED_ORDER - 1)
+    assert richardson == pytest.approx(math.sqrt(3), rel=1e-3)

@@ -478,3 +478,70 @@ def arclength_from_bifurcation(a: Assembly, lo: float, hi: float, *, elements_pe
                          tuple(o[2] for o in out), tuple(o[3] for o in out),
                          tuple(o[4] for o in out), ok_all,
                          "pseudo-arclength (Keller), bordered Newton corrector")
+
+
+@dataclasses.dataclass(frozen=True)
+class PrimaryCritical(Result):
+    """First loss of stability along the primary equilibrium path (found by continuation)."""
+
+    load_factor_critical: float
+    bracket: tuple[float, float]
+    steps: int
+    method: str
+
+
+def critical_along_primary(a: Assembly, mu_start: float, mu_stop: float, *,
+                           elements_per_segment: int = 32, ds: float = 0.05,
+                           refinements: int = 3) -> PrimaryCritical:
+    """Critical load of a primary path that is NOT the held state (e.g. a twisted ring).
+
+    Newton at ``mu_start`` (must be stable there), then pseudo-arclength continuation with the
+    tangent initially along the load; the first sign change of the lowest Hessian eigenvalue is
+    bracketed, the bracket re-traced ``refinements`` times with a quarter of the step, and the
+    zero located by linear interpolation of the eigenvalue in the load (error well below the
+    discretisation error for the final bracket).
+    """
+    rod = discretise(a, elements_per_segment, mu_start)
+    ok, _, _ = newton(rod)
+    if not ok or lowest_modes(rod, 1)[0][0] <= 0:
+        return PrimaryCritical(math.nan, (math.nan, math.nan), 0,
+                               "no stable equilibrium at mu_start")
+    n = len(rod.free_dofs())
+    tq, tmu = np.zeros(n), 1.0
+    h = ds
+    steps = 0
+    prev_state = None
+    for _ in range(refinements + 1):
+        prev = (rod.load_factor, float(lowest_modes(rod, 1)[0][0]))
+        found = None
+        while rod.load_factor < mu_stop and steps < 4000:
+            saved = (rod.x.copy(), rod.R_edge.copy(), rod.R_joint.copy(), rod.load_factor,
+                     tq.copy(), tmu)
+            rod.load_factor += h * tmu
+            dq = np.zeros(rod.n_dof)
+            dq[rod.free_dofs()] = h * tq
+            rod.apply(dq)
+            steps += 1
+            if not _arclength_correct(rod, tq, tmu, h):
+                rod.x, rod.R_edge, rod.R_joint, rod.load_factor, tq, tmu = saved
+                h *= 0.5
+                if h < ds * 1e-4:
+                    break
+                continue
+            tq, tmu = _tangent(rod, tq, tmu)
+            ev = float(lowest_modes(rod, 1)[0][0])
+            if prev[1] > 0 >= ev:
+                found = (prev, (rod.load_factor, ev))
+                prev_state = saved
+                break
+            prev = (rod.load_factor, ev)
+        if found is None:
+            return PrimaryCritical(math.nan, (math.nan, math.nan), steps,
+                                   "no loss of stability before mu_stop")
+        (m0, e0), (m1, e1) = found
+        # Re-trace the bracket with smaller steps from its stable end.
+        rod.x, rod.R_edge, rod.R_joint, rod.load_factor, tq, tmu = prev_state
+        h = 0.25 * h
+    mu_c = m0 + (m1 - m0) * e0 / (e0 - e1)
+    return PrimaryCritical(float(mu_c), (float(m0), float(m1)), steps,
+                           "pseudo-arclength along the primary path, eigenvalue sign change")

@@ -336,6 +336,19 @@ def michell_claims() -> Iterator[Claim]:
                 "j^4", "j^2 (from beta^2 gamma' = -(bj)^2 j r and beta^2)",
                 "(3.25)/(3.26) use j^2 and are right", "algebra + quadrature (claim 3.26)",
                 DIFFERS, "Typo in (3.24) only; (3.25) and the result are correct.")
+    from ..model import Assembly, Segment
+    from ..nonlinear.continuation import critical_along_primary
+
+    seg = Segment("r", 2 * math.pi, 1.0, 0.0, 1.0, 0.75, 1.0, natural_twist=1.0)
+    tw = Assembly((seg,), welds=((("r", "start"), ("r", "end")),))
+    v32, v64 = (0.75 * critical_along_primary(tw, 2.0, 4.0, elements_per_segment=n)
+                .load_factor_critical for n in (32, 64))
+    rich = v64 + (v64 - v32) / 3.0
+    yield Claim("3.26c", "3.3", "(3.26)", "Michell by the nonlinear rod (third method)",
+                _f(math.sqrt(3)), f"{_f(v64, 5)} (64 el.), {_f(v32, 5)} (32 el.)",
+                f"Richardson (order 2): {_f(rich, 5)}",
+                "discrete geometrically exact ring with natural twist, continuation along the "
+                "primary path", REPRODUCED if abs(rich - math.sqrt(3)) < 2e-3 else DIFFERS)
     m3 = michell.michell_stability(0.75, 3)
     yield Claim("3.26b", "3.3", "end of 3.3", "3-loop ring unstable at every twist (j = 1, 2)",
                 "unstable for any omega0'",
