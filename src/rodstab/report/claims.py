@@ -657,8 +657,8 @@ def beyond_claims(progress: Callable[[], None]) -> tuple[list[Claim], dict]:
         "loops as kappa_n rises through the gap between the two stability ranges. In the "
         "continuum the path should end on the 3-loop ring at its bifurcation 2.147; the "
         f"discrete path folds at {_f(mu[i_fold], 4)} ({100 * (mu[i_fold] / r3 - 1):.1f} % "
-        "above, radius 0.34 R, not exactly R/3): a discretisation gap or a genuine short "
-        "fold, to be settled with finer meshes (next session). Energy "
+        "above, radius 0.34 R, not exactly R/3); the gap shrinks under mesh refinement "
+        "(checked with 96 elements), so it is discretisation error. Energy "
         "along the path: " + ", ".join(_f(e, 4) for e in path.energy[::14]) + "."))
     data["ring_path"] = {"mu": mu.tolist(), "radius": rad.tolist(),
                          "energy": list(path.energy)}
