@@ -166,16 +166,13 @@ def clamped_arc_stability(b1: float, b2: float, L_over_R: float) -> ArcStability
     g = math.sqrt(b1 * b2)
     span = 4.0 * math.pi * max(g, 1.0) + Lb
     if Lb == 0.0:
+        # Clamped-clamped column u"" + lam^2 u'' = 0, lam = p / sqrt(b1 b2): symmetric
+        # sin(lam/2) = 0; antisymmetric tan(lam/2) = lam/2 in its pole-free product form.
         funs = {
             "symmetric": lambda p: math.sin(0.5 * p / g),
-            "antisymmetric": lambda p: math.tan(0.25 * p / g) - 0.25 * p / g
-            if abs(math.cos(0.25 * p / g)) > 1e-3 else
-            math.sin(0.25 * p / g) - 0.25 * p / g * math.cos(0.25 * p / g),
+            "antisymmetric": lambda p: (math.sin(0.5 * p / g)
+                                        - 0.5 * p / g * math.cos(0.5 * p / g)),
         }
-        # tan(lam/2) = lam/2 is used in its sine/cosine form away from poles only for
-        # readability; the product form below is what is solved.
-        funs["antisymmetric"] = lambda p: (math.sin(0.5 * p / g)
-                                           - 0.5 * p / g * math.cos(0.5 * p / g))
         p0 = 0.0
     else:
         funs = {
