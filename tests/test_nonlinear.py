@@ -188,18 +188,19 @@ def test_post_buckling_of_straightened_rod_is_stable_symmetric():
 
 
 def test_imperfect_straightened_rod_has_no_limit_load():
-    """Stable symmetric bifurcation -> imperfection-insensitive: no limit point up to 1.5 mu_c;
-    the imperfect path deflects more for a larger imperfection."""
-    from rodstab.nonlinear.continuation import imperfection_sensitivity
+    """Stable symmetric bifurcation -> imperfection-insensitive: no limit point up to 8/5.56
+    mu_c; the imperfect path deflects more for a larger imperfection."""
+    from rodstab.nonlinear.paths import imperfection_sensitivity
 
-    r = imperfection_sensitivity(_sliding_straight(), 1.0, 8.0, epsilons=(2e-3, 8e-3),
-                                 elements_per_segment=12)
-    assert all(math.isnan(v) for v in r.limit_load)
-    z_small = dict(r.paths[0])
-    z_big = dict(r.paths[1])
-    mu = r.load_factor_critical
-    near = min(z_small, key=lambda m: abs(m - mu))
-    assert z_big[near] > z_small[near] > 0
+    r = imperfection_sensitivity(_sliding_straight(), "load_factor", 1.0, 8.0,
+                                 epsilons=(2e-3, 8e-3), elements_per_segment=12, n_steps=14)
+    assert all(math.isnan(v) for v in r.limit_value)
+    mu = r.value_critical
+
+    def disp_at_mu_c(path):
+        return float(np.interp(mu, [p for p, _ in path], [d for _, d in path]))
+
+    assert disp_at_mu_c(r.paths[1]) > disp_at_mu_c(r.paths[0]) > 0
 
 
 def test_cli_continue_detects_the_birod_branch_point_and_resumes(tmp_path):
@@ -219,19 +220,21 @@ def test_cli_continue_detects_the_birod_branch_point_and_resumes(tmp_path):
     p = json.loads(r.stdout)
     lin = linear_stability(birod(C), 64).load_factor_critical
     (sp,) = p["special_points"]
-    assert abs(sp["load_factor"] - lin) / lin < 5e-3
+    assert abs(sp["value"] - lin) / lin < 5e-3
+    assert "supercritical" in sp["post_buckling"]
     for name in ("primary.csv", "branches.csv", "special_points.json", "diagram.png"):
         assert (tmp_path / name).exists()
     again = json.loads(subprocess.run(cmd, capture_output=True, text=True, cwd=root,
                                       env=env).stdout)
     assert again["resumed_steps"] == 7
-    assert again["special_points"][0]["load_factor"] == pytest.approx(sp["load_factor"])
+    assert again["special_points"][0]["value"] == pytest.approx(sp["value"])
 
 
 def test_arclength_path_from_the_straightened_rod_bifurcation_matches_amplitude_control():
     """Keller pseudo-arclength from the bifurcation and amplitude-controlled Newton trace the
     same post-buckled branch: same load at the same mode amplitude (two methods)."""
-    from rodstab.nonlinear.continuation import arclength_from_bifurcation, post_buckling_branch
+    from rodstab.nonlinear.continuation import post_buckling_branch
+    from rodstab.nonlinear.paths import arclength_from_bifurcation
 
     a = _sliding_straight()
     p = arclength_from_bifurcation(a, 1.0, 8.0, elements_per_segment=12, ds=0.02, n_steps=8)
@@ -318,7 +321,7 @@ def test_michell_twisted_ring_by_the_nonlinear_model():
     """Section 3.3 by a third, independent method: a ring of isotropic bending stiffness with
     natural twist (held untwisted = imposed twist omega0' R = mu), followed along its primary
     path; stability is lost at b2 omega0' -> sqrt(3) (Michell 1889), at second order."""
-    from rodstab.nonlinear.continuation import critical_along_primary
+    from rodstab.nonlinear.paths import critical_along_primary
 
     b2 = 0.75
     s = Segment("r", 2 * math.pi, 1.0, 0.0, 1.0, b2, 1.0, natural_twist=1.0)

@@ -41,7 +41,8 @@ def test_every_differing_claim_is_explained(report):
 def test_paper_section3_numbers_are_reported_reproduced(report):
     """The printed numbers of Section 3.1/3.2/3.3 (paper text) must come out 'reproduced'."""
     out, _ = report
-    status = {c["id"]: c["status"] for c in json.loads((out / "results.json").read_text())["claims"]}
+    claims = json.loads((out / "results.json").read_text())["claims"]
+    status = {c["id"]: c["status"] for c in claims}
     for cid in ("3.1a", "3.1b", "3.1c", "3.1d", "3.1e", "3.1f", "3.1g", "3.7", "3.9", "3.10",
                 "3.13", "3.15", "3.26", "3.26b"):
         assert status[cid] == C.REPRODUCED, cid

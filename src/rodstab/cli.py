@@ -268,58 +268,79 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
 @cli.command("continue")
 @click.argument("design_file", type=click.Path(dir_okay=False))
 @click.option("--vary", required=True,
-              help="load_factor=START:STOP[:N] (natural curvatures scale with it).")
+              help="KEY=START:STOP[:N]; KEY: load_factor (natural curvatures and twists scale "
+                   "with it), segment.<name>.natural_curvature, segment.<name>.natural_twist or "
+                   "support.<i>.rotation.<normal|tangent|binormal> (radians).")
 @click.option("--out", "out_dir", type=click.Path(file_okay=False), default=None,
-              help="Directory for primary.csv, branches.csv, special_points.json, diagram.png; "
-                   "a rerun with the same directory resumes.")
+              help="Directory for primary.csv, branches.csv, special_points.json, diagram.png, "
+                   "branch.gif; a rerun with the same directory and arguments resumes.")
 @click.option("--elements", type=int, default=16, show_default=True,
               help="Elements per segment.")
+@click.option("--branch-steps", type=int, default=8, show_default=True,
+              help="Steps traced each way along a secondary branch (0: none).")
 @click.option("--no-progress", is_flag=True, help="Do not draw the progress bar.")
 @_json_option
 def continue_cmd(design_file: str, vary: str, out_dir: str | None, elements: int,
-                 no_progress: bool, as_json: bool) -> None:
-    """Continuation in the load factor: stability along the path, branch points, branches."""
+                 branch_steps: int, no_progress: bool, as_json: bool) -> None:
+    """Pseudo-arclength continuation in one parameter: stability along the path, folds,
+    branch points and the branches leaving them (sub- or supercritical)."""
     from tqdm import tqdm
 
     from .design import load_design
-    from .nonlinear.continuation import continue_in_load
+    from .nonlinear.paths import continuation
 
     key, _, rng = vary.partition("=")
-    if key.strip() != "load_factor":
-        raise RodstabInputError(f"--vary key {key.strip()!r} is not supported yet; only "
-                                "load_factor=START:STOP[:N]")
     parts = rng.split(":")
     try:
         start, stop = float(parts[0]), float(parts[1])
         n = int(parts[2]) if len(parts) > 2 else 40
+        if len(parts) > 3:
+            raise ValueError
     except (ValueError, IndexError) as exc:
-        raise RodstabInputError(f"--vary must be load_factor=START:STOP[:N], got {vary!r}") \
-            from exc
+        raise RodstabInputError(f"--vary must be KEY=START:STOP[:N], got {vary!r}") from exc
     require_positive_int("--vary N", n)
+    if branch_steps < 0:
+        raise RodstabInputError(f"--branch-steps must be >= 0, got {branch_steps!r}")
     d = load_design(design_file)
     bar = tqdm(total=n + 1, desc="rodstab continue", disable=no_progress, leave=False)
-    r = continue_in_load(d.assembly, start, stop, n,
-                         elements_per_segment=require_positive_int("--elements", elements),
-                         out_dir=out_dir, progress=lambda: bar.update(1))
+    r = continuation(d.assembly, key.strip(), start, stop, n,
+                     elements_per_segment=require_positive_int("--elements", elements),
+                     out_dir=out_dir, progress=lambda: bar.update(1),
+                     branch_steps=branch_steps)
     bar.close()
-    payload = {"load_factor": list(r.load_factor), "lowest_eigenvalue":
-               list(r.lowest_eigenvalue), "stable": [e > 0 for e in r.lowest_eigenvalue],
-               "special_points": list(r.special_points), "resumed_steps": r.resumed_steps,
-               "all_converged": all(r.converged)}
+    specials = [{k: v for k, v in p.items() if k != "branch"} for p in r.special_points]
+    payload = {"key": r.key, "value": list(r.value), "energy": list(r.energy),
+               "lowest_eigenvalue": list(r.lowest_eigenvalue),
+               "stable": [e > 0 for e in r.lowest_eigenvalue], "special_points": specials,
+               "resumed_steps": r.resumed_steps, "converged": r.converged}
     if out_dir:
         from pathlib import Path
 
         from .report.figures import continuation_plot
 
         payload["diagram"] = str(continuation_plot(r, Path(out_dir)))
-    lines = [f"design       {d.source}: {len(r.load_factor)} load steps "
-             f"({r.resumed_steps} resumed)"]
-    lines += [f"special      {p['kind']} at load factor {_fmt(p['load_factor'])}"
+        if r.branch_shapes:
+            from .nonlinear.discrete import discretise
+            from .plots import animate_shapes
+
+            edges = discretise(d.assembly, elements).edge_nodes
+            gif = Path(out_dir) / "branch.gif"
+            animate_shapes(list(r.branch_shapes), edges, gif,
+                           labels=[f"{r.key} = {v:.6g}" for v in
+                                   [r.branches[0].value_critical]
+                                   + [v for a, v in zip(r.branches[0].amplitude,
+                                                        r.branches[0].value) if a > 0]])
+            payload["animation"] = str(gif)
+    lines = [f"design       {d.source}: {len(r.value)} steps in {r.key} "
+             f"({r.resumed_steps} resumed), path {'complete' if r.converged else 'STOPPED'}"]
+    lines += [f"special      {p['kind']} at {r.key} = {_fmt(p['value'])}"
               + (f"; {p['post_buckling']}" if "post_buckling" in p else "")
-              for p in r.special_points] or ["special      none: the path stays "
-                                             + ("stable" if r.lowest_eigenvalue[-1] > 0
-                                                else "unstable")]
+              for p in specials] or ["special      none: the path stays "
+                                     + ("stable" if r.lowest_eigenvalue[-1] > 0
+                                        else "unstable")]
     _emit(payload, as_json, lines)
+    if not r.converged:
+        raise SystemExit(1)
 
 
 def _parse_vary(spec: str) -> tuple[str, float, float, int]:

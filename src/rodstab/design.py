@@ -25,7 +25,9 @@ Format (every key optional unless marked; unknown keys are errors)::
 
     [[support]]
     end = "a.start"
-    type = "clamped"          # clamped | fork | pinned | free
+    type = "clamped"          # clamped | sliding-clamp | fork | pinned | free
+    rotation = [0.0, 0.0, 0.0] # imposed end rotation (rad) about the end's normal, tangent,
+                              # binormal (clamps only; nonlinear model only)
 
     [analysis]
     elements = 32             # per segment
@@ -52,7 +54,9 @@ _SECTION = {"shape", "aspect", "nu", "torsion", "b1", "b2", "B3"}
 _SEGMENT = {"name", "length", "curvature", "natural_curvature", "natural_twist", "start",
             "angle_deg", "cusp", "section"}
 _WELD = {"ends"}
-_SUPPORT = {"end", "type"}
+_SUPPORT = {"end", "type", "rotation"}
+#: Names of the rotation-vector components of a support (``support.<i>.rotation.<name>``).
+ROTATION_AXES = ("normal", "tangent", "binormal")
 _ANALYSIS = {"elements", "reference_load", "load_factor_segment"}
 
 
@@ -141,17 +145,24 @@ def parse_design(data: dict, source: str = "<dict>") -> Design:
     for i, w in enumerate(data.get("weld", [])):
         _check_keys(w, _WELD, f"weld[{i}]")
         welds.append(tuple(_end(e, f"weld[{i}]") for e in w.get("ends", [])))
-    supports = []
+    supports, rotations = [], []
     for i, s in enumerate(data.get("support", [])):
         _check_keys(s, _SUPPORT, f"support[{i}]")
         name, end = _end(s.get("end"), f"support[{i}]")
         supports.append((name, end, s.get("type", "clamped")))
+        if "rotation" in s:
+            rot = s["rotation"]
+            if not (isinstance(rot, list) and len(rot) == 3
+                    and all(isinstance(v, (int, float)) for v in rot)):
+                raise RodstabInputError(f"support[{i}].rotation must be three numbers "
+                                        f"[normal, tangent, binormal] in radians, got {rot!r}")
+            rotations.append((name, end, tuple(float(v) for v in rot)))
     analysis = data.get("analysis", {})
     _check_keys(analysis, _ANALYSIS, "[analysis]")
     elements = require_positive_int("analysis.elements", analysis.get("elements", 32))
     ref = analysis.get("reference_load")
     assembly = Assembly(tuple(segments), tuple(welds), tuple(supports),
-                        None if ref is None else float(ref))
+                        None if ref is None else float(ref), tuple(rotations))
     lf = analysis.get("load_factor_segment", segments[0].name)
     assembly.segment(lf)
     return Design(assembly, elements, lf, source, data)
@@ -174,9 +185,10 @@ def load_design(path: str | Path) -> Design:
 def set_design_value(data: dict, key: str, value: float) -> dict:
     """A copy of ``data`` with the value at the dotted ``key`` replaced.
 
-    Keys: ``section.<k>``, ``analysis.<k>``, ``segment.<name>.<k>`` (a segment by name) or
-    ``segment.<name>.section.<k>``. The key must name an existing value or a known key of that
-    table; anything else raises naming the key.
+    Keys: ``section.<k>``, ``analysis.<k>``, ``segment.<name>.<k>`` (a segment by name),
+    ``segment.<name>.section.<k>`` or ``support.<i>.rotation.<axis>`` (``i``: the support's
+    position in the file from 0; axis: normal, tangent or binormal). The key must name an
+    existing value or a known key of that table; anything else raises naming the key.
     """
     import copy
 
@@ -202,5 +214,18 @@ def set_design_value(data: dict, key: str, value: float) -> dict:
                 raise RodstabInputError(f"--vary key {key!r} is not segment.<name>.section.<k>")
             segs[0].setdefault("section", dict(out.get("section", {})))[parts[3]] = value
         return out
+    if parts[0] == "support" and len(parts) == 4 and parts[2] == "rotation":
+        sups = out.get("support", [])
+        if not parts[1].isdigit() or int(parts[1]) >= len(sups):
+            raise RodstabInputError(f"--vary key {key!r}: support index {parts[1]!r} is not one "
+                                    f"of 0..{len(sups) - 1} (the [[support]] tables in order)")
+        if parts[3] not in ROTATION_AXES:
+            raise RodstabInputError(f"--vary key {key!r}: rotation axis {parts[3]!r} is not one "
+                                    f"of {ROTATION_AXES}")
+        rot = list(sups[int(parts[1])].get("rotation", [0.0, 0.0, 0.0]))
+        rot[ROTATION_AXES.index(parts[3])] = value
+        sups[int(parts[1])]["rotation"] = rot
+        return out
     raise RodstabInputError(f"--vary key {key!r} must be section.<k>, analysis.<k>, "
-                            "segment.<name>.<k> or segment.<name>.section.<k>")
+                            "segment.<name>.<k>, segment.<name>.section.<k> or "
+                            "support.<i>.rotation.<normal|tangent|binormal>")

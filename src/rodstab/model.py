@@ -86,12 +86,17 @@ class Assembly:
     ``(segment_name, end, type)``; a support on any end of a joint holds the whole joint.
     ``reference_load``: a load factor at which the held state is known to be stable (default:
     the stress-free value if one exists, else 0); the stable interval is sought around it.
+    ``end_rotations``: ``(segment_name, end, (r_n, r_t, r_b))``, a rotation imposed on a clamped
+    (or sliding-clamped) end, as a rotation vector (radians) in that end's held frame: normal
+    ``n = t x e3``, tangent ``t``, binormal ``e3`` (``r_t`` twists the end about the rod). The
+    held state is then no longer an equilibrium: only the nonlinear model accepts it.
     """
 
     segments: tuple[Segment, ...]
     welds: tuple[tuple[tuple[str, str], ...], ...] = ()
     supports: tuple[tuple[str, str, str], ...] = ()
     reference_load: float | None = None
+    end_rotations: tuple[tuple[str, str, tuple[float, float, float]], ...] = ()
 
     def __post_init__(self) -> None:
         validate(self)
@@ -159,6 +164,16 @@ def validate(a: Assembly) -> None:
             raise RodstabInputError(f"support end must be 'start' or 'end', got {end!r}")
         if kind not in SUPPORTS:
             raise RodstabInputError(f"support type must be one of {SUPPORTS}, got {kind!r}")
+    clamps = {(n, e) for n, e, k in a.supports if k in ("clamped", "sliding-clamp")}
+    for name, end, rot in a.end_rotations:
+        if (name, end) not in clamps:
+            raise RodstabInputError(f"an end rotation needs a clamped or sliding-clamp support at "
+                                    f"{name}.{end}; supports are {list(a.supports)!r}")
+        if len(rot) != 3:
+            raise RodstabInputError(f"end rotation at {name}.{end} must be [r_n, r_t, r_b], "
+                                    f"got {rot!r}")
+        for v in rot:
+            require_finite(f"end rotation at {name}.{end}", v)
     tol = POSITION_TOL * a.total_length
     for joint in a.joints():
         pts = [a.segment(n).end_point(e) for n, e in joint]

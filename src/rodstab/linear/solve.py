@@ -116,6 +116,11 @@ def linear_stability(a: Assembly, elements_per_segment: int = 16) -> LinearStabi
         raise RodstabInputError(
             f"segments {twisted} have a natural twist: the linear engine's P2 (2.12) assumes "
             "no initial twist; use the nonlinear model (rodstab equilibrium / continue)")
+    if any(any(r) for _, _, r in a.end_rotations):
+        raise RodstabInputError(
+            f"end rotations {[f'{n}.{e}' for n, e, r in a.end_rotations if any(r)]} move the "
+            "held state off equilibrium: the linear engine linearises about the held state; use "
+            "the nonlinear model (rodstab equilibrium / continue)")
     disc = discretise(a, elements_per_segment)
     mu_ref = default_reference_load(a)
     Z = disc.Z

@@ -9,6 +9,7 @@ import math
 from pathlib import Path
 
 import matplotlib
+import numpy as np
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -129,60 +130,89 @@ def sweep_plot(rows: list[dict], key: str, out: Path) -> Path:
 
 
 def fig_beyond(data: dict, out: Path) -> list[Path]:
-    """Post-buckled branches (load vs amplitude) and imperfect paths of the straightened rod."""
-    fig, axes = plt.subplots(1, 3, figsize=(15, 4))
-    if "ring_path" in data:
-        rp = data["ring_path"]
-        axes[2].plot(rp["mu"], rp["radius"], "o-", ms=2)
-        axes[2].axhline(1 / 3, color="k", ls=":", lw=0.8, label="3-loop radius R/3")
-        axes[2].set_xlabel("(L / 2 pi) kappa_n")
-        axes[2].set_ylabel("largest distance from the centroid / R")
-        axes[2].set_title("1-loop ring beyond its bifurcation")
-        axes[2].grid(alpha=0.3)
-        axes[2].legend(fontsize=7)
+    """Post-buckled branches, imperfect paths of the straightened rod, Koiter's law of the
+    twisted rod, and the energy along the 1-loop -> 3-loop ring path."""
+    fig, axes = plt.subplots(2, 2, figsize=(12, 9))
+    ax = axes[0, 0]
     for name, br in data["branches"].items():
-        axes[0].plot(br["amplitude"], br["mu_over_mu_c"], "o-", ms=3, label=name)
-    axes[0].set_xlabel("amplitude of the critical mode (largest out-of-plane displacement)")
-    axes[0].set_ylabel("mu / mu_c")
-    axes[0].set_title("post-buckled branches")
-    axes[0].grid(alpha=0.3)
-    axes[0].legend(fontsize=7)
+        ax.plot(br["amplitude"], br["mu_over_mu_c"], "o-", ms=3, label=name)
+    ax.set_xlabel("amplitude of the critical mode (largest out-of-plane displacement)")
+    ax.set_ylabel("mu / mu_c")
+    ax.set_title("post-buckled branches (all supercritical)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7)
+    ax = axes[0, 1]
     imp = data["imperfection"]
     for eps, path in zip(imp["epsilon"], imp["paths"]):
-        mu = [p[0] / imp["mu_c"] for p in path]
-        z = [p[1] for p in path]
-        axes[1].plot(z, mu, label=f"eps = {eps:g} L")
-    axes[1].axhline(1.0, color="k", lw=0.8, ls=":")
-    axes[1].set_xlabel("largest out-of-plane displacement / L")
-    axes[1].set_ylabel("mu / mu_c")
-    axes[1].set_title("straightened rod with mode-shaped imperfections")
-    axes[1].grid(alpha=0.3)
-    axes[1].legend(fontsize=7)
+        ax.plot([p[1] for p in path], [p[0] / imp["mu_c"] for p in path],
+                label=f"eps = {eps:g} L")
+    ax.axhline(1.0, color="k", lw=0.8, ls=":")
+    ax.set_xlabel("largest node displacement / L")
+    ax.set_ylabel("mu / mu_c")
+    ax.set_title("straightened rod with mode-shaped imperfections (no limit point)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7)
+    ax = axes[1, 0]
+    tw = data["twisted"]
+    eps = np.array(tw["epsilon"])
+    knock = 1.0 - np.array(tw["limit"]) / tw["phi_c"]
+    ax.loglog(eps, knock, "o", label="rodstab (folds of imperfect paths)")
+    ax.loglog(eps, knock[0] * (eps / eps[0]) ** (2 / 3), "k--", lw=0.8,
+              label="Koiter: slope 2/3")
+    ax.set_xlabel("imperfection amplitude eps (x L)")
+    ax.set_ylabel("1 - phi_max / phi_c")
+    ax.set_title(f"twisted rod (end rotation): exponent {tw['exponent']:.4f}")
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=7)
+    ax = axes[1, 1]
+    rp = data["ring_path"]
+    k = np.linspace(1.5, 2.5, 200)
+    ax.plot(k, math.pi * (k - 1) ** 2, "C1", label="1-loop circle pi (k - 1)^2")
+    ax.plot(k, math.pi * (3 - k) ** 2, "C2", label="3-loop circle pi (3 - k)^2")
+    ax.plot(rp["mu"], rp["energy"], "C0o-", ms=2, label="buckled ring (48 elements)")
+    ax.set_xlabel("(L / 2 pi) kappa_n")
+    ax.set_ylabel("energy (B3 = 1, L = 2 pi)")
+    ax.set_title("1-loop -> 3-loop: one stable state at each kappa_n, no barrier")
+    ax.set_ylim(0, 5)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
     return _save(fig, out, "fig_beyond_post_buckling")
 
 
 def continuation_plot(result, out: Path) -> Path:
-    """Bifurcation diagram: lowest eigenvalue along the path, and the secondary branches."""
+    """Bifurcation diagram: the primary path (solid where stable, dashed where not) and the
+    secondary branches (amplitude vs parameter), and the lowest eigenvalue along the path."""
     fig, axes = plt.subplots(1, 2, figsize=(10, 4))
-    mu = list(result.load_factor)
-    ev = list(result.lowest_eigenvalue)
-    axes[0].plot(mu, ev, "o-", ms=3)
-    axes[0].axhline(0.0, color="k", lw=0.8)
+    val = np.array(result.value)
+    ev = np.array(result.lowest_eigenvalue)
+    amp = np.array(result.amplitude)
+    stable = ev > 0
+    for mask, style, label in ((stable, "-", "stable"), (~stable, "--", "unstable")):
+        axes[0].plot(np.where(mask, val, np.nan), np.where(mask, amp, np.nan), style,
+                     color="C0", label=f"primary ({label})")
+    for i, b in enumerate(result.branches):
+        # Branch stability from the verdict: on a rotationally symmetric structure the lowest
+        # eigenvalue along a branch is the symmetry's zero mode, whose sign is noise.
+        style = "--" if b.verdict.startswith(("unstable", "asymmetric")) else "-"
+        order = np.argsort(b.amplitude)
+        axes[0].plot(np.array(b.value)[order], np.array(b.amplitude)[order], style,
+                     color=f"C{i + 1}", label=f"branch from {b.value_critical:.5g}: "
+                     + b.verdict.split(":")[0])
     for p in result.special_points:
-        axes[0].axvline(p["load_factor"], color="r", ls="--", lw=0.8)
-    axes[0].set_xlabel("load factor")
-    axes[0].set_ylabel("lowest scaled Hessian eigenvalue")
-    axes[0].set_title("primary path (stable where > 0)")
+        axes[0].axvline(p["value"], color="r", ls=":", lw=0.8)
+        axes[1].axvline(p["value"], color="r", ls=":", lw=0.8)
+    axes[0].set_xlabel(result.key)
+    axes[0].set_ylabel("amplitude (primary: largest node displacement;\nbranch: along the mode)")
+    axes[0].set_title("bifurcation diagram (dashed: unstable)")
+    axes[0].legend(fontsize=7)
     axes[0].grid(alpha=0.3)
-    for b in result.branches:
-        axes[1].plot(b.amplitude, b.load_factor, "o-", ms=3,
-                     label=f"from {b.load_factor_critical:.5g}")
-    axes[1].set_xlabel("amplitude of the critical mode")
-    axes[1].set_ylabel("load factor")
-    axes[1].set_title("secondary branches")
+    axes[1].plot(val, ev, "o-", ms=3)
+    axes[1].axhline(0.0, color="k", lw=0.8)
+    axes[1].set_xlabel(result.key)
+    axes[1].set_ylabel("lowest scaled Hessian eigenvalue")
+    axes[1].set_title("primary path (stable where > 0)")
     axes[1].grid(alpha=0.3)
-    if result.branches:
-        axes[1].legend(fontsize=7)
     p = Path(out) / "diagram.png"
     fig.savefig(p, dpi=120, bbox_inches="tight")
     plt.close(fig)

@@ -1,0 +1,220 @@
+"""Continuation in any parameter (rodstab.nonlinear.paths / .parameters).
+
+References: Greenhill's twisted rod (closed form tan x = x), Koiter's 2/3 law for an unstable
+symmetric bifurcation, the held-state critical loads of the discrete model (an independent
+root-finder path), finite differences of the exact gradient, the closed-form energies of
+circular rings.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+import scipy.optimize as so
+
+from rodstab.design import parse_design, set_design_value
+from rodstab.errors import RodstabInputError
+from rodstab.linear.solve import linear_stability
+from rodstab.model import Assembly, Segment
+from rodstab.nonlinear.discrete import discretise
+from rodstab.nonlinear.parameters import parameter
+from rodstab.nonlinear.paths import continuation, imperfection_sensitivity
+from rodstab.nonlinear.solve import critical_load_factor
+from rodstab.sections import circle
+
+ROOT = Path(__file__).resolve().parent.parent
+B2_ISO = 1.0 / 1.3  # circle, nu = 0.3: B2 / B1
+#: Greenhill: clamped twisted rod, zero axial force: M L / B = 2 x (first root of tan x = x).
+GREENHILL = 2 * so.brentq(lambda x: math.tan(x) - x, 4.0, 4.6)
+
+
+def _twisted(n_end: str = "sliding-clamp", B2: float = B2_ISO) -> Assembly:
+    return Assembly((Segment("rod", 1.0, 0.0, 0.0, 1.0, B2, 1.0),),
+                    supports=(("rod", "start", "clamped"), ("rod", "end", n_end)))
+
+
+KEYS = ("load_factor", "segment.rod.natural_curvature", "segment.rod.natural_twist",
+        "support.1.rotation.normal", "support.1.rotation.tangent",
+        "support.1.rotation.binormal")
+
+
+@pytest.mark.parametrize("key", KEYS)
+def test_parameter_derivative_of_the_gradient_is_exact(key):
+    """dg/dp against a central difference of the exact gradient on a random state (affine
+    parameters: exact difference, so a wide step; rotations: a small one)."""
+    a = Assembly((Segment("rod", 1.0, 0.0, 1.0, 1.2, 0.8, 1.0, natural_twist=0.5),),
+                 supports=(("rod", "start", "clamped"), ("rod", "end", "clamped")),
+                 end_rotations=(("rod", "end", (0.1, 0.3, -0.2)),))
+    rng = np.random.default_rng(1)
+    rod = discretise(a, 8)
+    P = parameter(a, key, 8)
+    dq = np.zeros(rod.n_dof)
+    dq[rod.free_dofs()] = 0.05 * rng.standard_normal(len(rod.free_dofs()))
+    rod.apply(dq)
+    p0, d = P.get(rod), P.dgrad(rod)
+    h = 1e-5 if key.startswith("support") else 1e-2
+    r1, r2 = rod.copy(), rod.copy()
+    P.set(r1, p0 + h)
+    P.set(r2, p0 - h)
+    fd = (r1.energy_terms()[1] - r2.energy_terms()[1]) / (2 * h)
+    f = rod.free_dofs()
+    assert np.linalg.norm(d[f] - fd[f]) <= 1e-7 * np.linalg.norm(fd[f])
+
+
+def test_end_rotation_critical_twist_converges_to_greenhill_at_order_two():
+    """Critical end rotation of the twisted rod: phi_c B2 / (B1 L) -> 2 x 4.4934 (Greenhill),
+    error falling at order 2 (three meshes), Richardson value within 0.1 %."""
+    vals = []
+    for n in (16, 32, 64):
+        c = continuation(_twisted(), "support.1.rotation.tangent", 0.0, 14.0, 14,
+                         elements_per_segment=n, branch_steps=0, stop_at_first=True)
+        (sp,) = c.special_points
+        assert sp["kind"] == "branch point (stability lost)"
+        vals.append(sp["value"] * B2_ISO)
+    err = np.abs(np.array(vals) - GREENHILL)
+    order = np.log2(err[:-1] / err[1:])
+    assert np.all((order > 1.8) & (order < 2.2)), order
+    rich = vals[2] + (vals[2] - vals[1]) / 3
+    assert abs(rich - GREENHILL) / GREENHILL < 1e-3
+
+
+def test_twisted_rod_buckles_subcritically_with_koiter_two_thirds_law():
+    """Rotation control, zero axial force: the branch from the Greenhill point lies at smaller
+    rotations (unstable symmetric); imperfections shaped like the mode lower the limit
+    rotation as eps^(2/3) (Koiter), the fitted exponent within 0.02."""
+    c = continuation(_twisted(), "support.1.rotation.tangent", 0.0, 13.0, 13,
+                     elements_per_segment=12, branch_steps=6)
+    (b,) = c.branches
+    assert "subcritical" in b.verdict
+    assert max(b.value) < b.value_critical
+    r = imperfection_sensitivity(_twisted(), "support.1.rotation.tangent", 0.0, 13.0,
+                                 epsilons=(5e-4, 1e-3, 2e-3), elements_per_segment=12,
+                                 n_steps=13)
+    assert abs(r.exponent - 2 / 3) < 0.02, r.exponent
+    assert all(v < r.value_critical for v in r.limit_value)
+    assert abs(r.value_critical - b.value_critical) < 1e-6 * b.value_critical
+
+
+def test_twisted_rod_with_both_ends_fixed_has_the_same_linear_threshold():
+    """Fixed end distance does not enter the linear problem: same critical rotation as the
+    sliding end (within the bracket interpolation)."""
+    vals = []
+    for end in ("clamped", "sliding-clamp"):
+        c = continuation(_twisted(end), "support.1.rotation.tangent", 0.0, 14.0, 14,
+                         elements_per_segment=8, branch_steps=0, stop_at_first=True)
+        vals.append(c.special_points[0]["value"])
+    assert vals[0] == pytest.approx(vals[1], rel=1e-6)
+
+
+def test_segment_natural_curvature_key_matches_the_held_state_critical_load():
+    """Varying a segment's natural curvature (incremental natural-shape update) at load factor
+    1 locates the same critical value as the held-state root finder in the load factor."""
+    C = circle()
+    a = Assembly((Segment("ring", 6 * math.pi, 1.0, 1.0, C.b1, C.b2, 1.0),),
+                 welds=((("ring", "end"), ("ring", "start")),))
+    held = critical_load_factor(a, 0.6, 1.0, elements_per_segment=36).load_factor_critical
+    c = continuation(a, "segment.ring.natural_curvature", 1.0, 0.6, 8, elements_per_segment=36,
+                     branch_steps=4)
+    sp = c.special_points[0]
+    assert sp["value"] == pytest.approx(held, rel=1e-6)
+    # 3-loop ring losing stability as kappa_n falls: the branch lies below (supercritical).
+    assert "supercritical" in sp["post_buckling"]
+
+
+def test_one_loop_ring_path_reaches_the_three_loop_ring():
+    """Arclength from the 1-loop bifurcation: the natural curvature rises monotonically, the
+    path is stable all the way (no barrier) and the ring closes on three loops (radius -> R/3,
+    neutral there). The end point converges at order 2 to the 3-loop ring's analytic
+    bifurcation (L/2pi) kappa_n = 2.1472 (Richardson of 36 and 48 elements within 0.1 %); the
+    start energy is the circular ring's pi (kappa - 1)^2 (B3 = 1, L = 2 pi) within 1 %."""
+    from rodstab.analytic.ring import ring_stability
+    from rodstab.nonlinear.paths import arclength_from_bifurcation
+
+    C = circle()
+    a = Assembly((Segment("ring", 2 * math.pi, 1.0, 1.0, C.b1, C.b2, 1.0),),
+                 welds=((("ring", "end"), ("ring", "start")),))
+    ends = []
+    for n, steps in ((36, 45), (48, 52)):
+        p = arclength_from_bifurcation(a, 1.05, 3.0, elements_per_segment=n, ds=0.25,
+                                       n_steps=steps)
+        rad, mu, ev = np.array(p.radius), np.array(p.load_factor), np.array(p.lowest_eigenvalue)
+        i = int(np.argmin(rad))
+        assert 0 < i < len(rad) - 1  # the minimum is inside the traced path
+        assert abs(rad[i] - 1 / 3) < 0.01
+        assert np.all(np.diff(mu[: i + 1]) > -1e-9)
+        assert np.all(ev[1:i] > 0)
+        assert abs(ev[i]) < 1e-2 * ev[1:i].max()  # neutral at the 3-loop bifurcation
+        assert p.energy[0] == pytest.approx(math.pi * (mu[0] - 1) ** 2, rel=1e-2)
+        ends.append(mu[i])
+    exact = ring_stability(C.b1, C.b2, 3).kappa_L_over_2pi_interval[0]
+    rich = ends[1] + (ends[1] - ends[0]) * 36**2 / (48**2 - 36**2)
+    assert abs(rich - exact) / exact < 1e-3, (ends, rich, exact)
+
+
+def test_end_rotation_design_validation_and_linear_refusal():
+    base = {"segment": [{"name": "r", "length": 1.0}],
+            "support": [{"end": "r.start"}, {"end": "r.end", "rotation": [0.0, 0.5, 0.0]}]}
+    assert parse_design(base).assembly.end_rotations == (("r", "end", (0.0, 0.5, 0.0)),)
+    with pytest.raises(RodstabInputError, match="linear engine"):
+        linear_stability(parse_design(base).assembly)
+    bad = set_design_value(base, "support.1.rotation.normal", 0.2)
+    assert bad["support"][1]["rotation"] == [0.2, 0.5, 0.0]
+    with pytest.raises(RodstabInputError, match="support index '5'"):
+        set_design_value(base, "support.5.rotation.normal", 0.2)
+    with pytest.raises(RodstabInputError, match="rotation axis 'twist'"):
+        set_design_value(base, "support.1.rotation.twist", 0.2)
+    with pytest.raises(RodstabInputError, match=r"rotation must be three numbers"):
+        parse_design({**base, "support": [{"end": "r.start", "rotation": [1, 2]}]})
+    with pytest.raises(RodstabInputError, match="needs a clamped or sliding-clamp"):
+        parse_design({**base, "support": [{"end": "r.start", "type": "pinned",
+                                           "rotation": [0, 1, 0]}]})
+    a = parse_design(base).assembly
+    with pytest.raises(RodstabInputError, match="cannot be continued"):
+        parameter(a, "segment.r.length", 8)
+    with pytest.raises(RodstabInputError, match="cannot be continued"):
+        parameter(a, "section.aspect", 8)
+    with pytest.raises(RodstabInputError, match="only a clamped or sliding-clamp"):
+        parameter(parse_design({**base, "support": [{"end": "r.start", "type": "pinned"}]})
+                  .assembly, "support.0.rotation.tangent", 8)
+
+
+def _cli(*args, cwd=ROOT):
+    env = {"PYTHONPATH": str(ROOT / "src"), "PATH": "/usr/bin:/bin"}
+    return subprocess.run([sys.executable, "-m", "rodstab.cli", *args], capture_output=True,
+                          text=True, cwd=cwd, env=env)
+
+
+def test_cli_continue_in_an_end_rotation_resumes_and_reports_subcritical(tmp_path):
+    args = ["continue", "examples/twisted_rod.toml", "--vary",
+            "support.1.rotation.tangent=0:13:13", "--elements", "16", "--branch-steps", "4",
+            "--out", str(tmp_path), "--no-progress", "--json"]
+    r = _cli(*args)
+    assert r.returncode == 0, r.stderr
+    p = json.loads(r.stdout)
+    (sp,) = p["special_points"]
+    assert abs(sp["value"] * B2_ISO - GREENHILL) / GREENHILL < 0.025  # 16 elements: 1.9 %
+    assert "subcritical" in sp["post_buckling"]
+    for name in ("primary.csv", "branches.csv", "special_points.json", "diagram.png",
+                 "branch.gif"):
+        assert (tmp_path / name).exists()
+    again = json.loads(_cli(*args).stdout)
+    assert again["resumed_steps"] == len(p["value"])
+    assert again["special_points"][0]["value"] == pytest.approx(sp["value"])
+
+
+@pytest.mark.parametrize("vary, message", [
+    ("segment.rod.length=1:2", "cannot be continued"),
+    ("support.0.rotation.spin=0:1", "rotation axis 'spin'"),
+    ("load_factor=1", "KEY=START:STOP"),
+    ("load_factor=1:1", "two different finite values"),
+])
+def test_cli_continue_rejects_bad_vary_with_a_one_line_error(vary, message):
+    r = _cli("continue", "examples/twisted_rod.toml", "--vary", vary, "--no-progress")
+    assert r.returncode == 2
+    assert message in r.stderr and "Traceback" not in r.stderr
