@@ -218,3 +218,36 @@ def test_cli_continue_rejects_bad_vary_with_a_one_line_error(vary, message):
     r = _cli("continue", "examples/twisted_rod.toml", "--vary", vary, "--no-progress")
     assert r.returncode == 2
     assert message in r.stderr and "Traceback" not in r.stderr
+
+
+def test_folded_six_ring_bifurcation_is_subcritical_and_its_saddle_reaches_the_one_loop_ring():
+    """Six-sided ring, h/t = 4: the branch leaving the folded state's (double) bifurcation runs
+    to smaller kappa_n, unstable all along, and ends on the one-loop state at that state's
+    lower stability limit (linear engine, within 5 % at 8 elements/segment), with the
+    one-loop state's shape (radius of the unfolded ring within 1 %). Start energy: the folded
+    state's closed form 6 x 1/2 kappa_n^2 L (B3 = 1, L = 1)."""
+    from rodstab.nonlinear.paths import arclength_from_bifurcation
+    from rodstab.sections import rectangle
+    from rodstab.structures import folded_ring, unfolded_ring
+
+    r4 = rectangle(aspect=4.0)
+    theta = 2 * math.pi / 3
+    a = folded_ring(r4)
+    lin = linear_stability(a, 16).load_factor_critical
+    c = continuation(a, "load_factor", 1.0, 6.0, 10, elements_per_segment=8, branch_steps=6)
+    (sp,) = c.special_points
+    assert abs(sp["value"] - lin) / lin < 5e-3
+    assert "subcritical" in sp["post_buckling"]
+    p = arclength_from_bifurcation(a, 1.0, 8.0, elements_per_segment=8, ds=0.1, n_steps=100,
+                                   mu_window=(0.0, 6.0))
+    ev = np.array(p.lowest_eigenvalue)
+    end = 5 + int(np.argmin(np.abs(ev[5:])))
+    mu = np.array(p.load_factor[: end + 1])
+    assert np.all(ev[1:end] < 0) and np.all(np.diff(mu) < 1e-9)
+    one = unfolded_ring(r4, radius=1 / theta)
+    lo = linear_stability(one, 24).load_factor_interval[0] * theta  # kappa_n for L = 1
+    assert abs(mu[-1] - lo) / lo < 0.05
+    x = discretise(one, 8).x
+    r_one = float(np.max(np.linalg.norm(x - x.mean(axis=0), axis=1)))
+    assert p.radius[end] == pytest.approx(r_one, rel=1e-2)
+    assert p.energy[0] == pytest.approx(3 * mu[0] ** 2, rel=1e-3)

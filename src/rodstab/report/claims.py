@@ -610,14 +610,19 @@ def beyond_claims(progress: Callable[[], None]) -> tuple[list[Claim], dict]:
         neutral = max(abs(v) for v in b.lowest_eigenvalue) < 1e-10
         rows.append(Claim(
             f"PB-{name.split()[0]}", "beyond", "-", f"{name}: initial post-buckling",
-            "open question (paper, Section 6)", b.verdict,
+            "open question (paper, Section 6)",
+            (f"double critical eigenvalue; along one mode {b.verdict.split(':')[0]}, along the "
+             "other subcritical (T-six): unstable bifurcation" if neutral else b.verdict),
             f"mu/mu_c = {_f(M[-1], 6)} at amplitude {_f(A[-1], 3)} (length unit); c2 = "
             f"{_f(b.c2, 3)}" + ("; a second direction stays neutral along the branch "
                                 "(double eigenvalue)" if neutral else ""),
             "amplitude-controlled branch from the critical mode", REPRODUCED,
-            "Weakly rising load: no sudden loss of stability at the bifurcation itself. The "
-            "snap-back of the experiments (Fig. 7b, Fig. 10c) happens far from the straight "
-            "state, beyond this initial branch."))
+            ("Along this branch the load rises weakly, but the critical eigenvalue is double "
+             "and a second branch is subcritical (T-six): the folded ring's bifurcation is "
+             "unstable and it snaps open, as in the experiments (Fig. 10c)." if neutral else
+             "Weakly rising load: no sudden loss of stability at the bifurcation itself. The "
+             "spring-back of the experiments (Fig. 7b) happens far from the straight state, "
+             "beyond this initial branch.")))
         data["branches"][name] = {"amplitude": b.amplitude, "mu_over_mu_c": M.tolist()}
     imp = imperfection_sensitivity(straight, "load_factor", 1.0, 6.2,
                                    epsilons=(1e-3, 4e-3, 1.6e-2), elements_per_segment=12,
@@ -637,7 +642,70 @@ def beyond_claims(progress: Callable[[], None]) -> tuple[list[Claim], dict]:
     rows += twisted_rows
     ring_row, data["ring_path"] = _ring_transition_claim(c, progress)
     rows.append(ring_row)
+    six_row, data["six_path"] = _six_ring_transition_claim(progress)
+    rows.append(six_row)
     return rows, data
+
+
+def _six_ring_transition_claim(progress: Callable[[], None]) -> tuple[Claim, dict]:
+    """The six-sided ring (h/t = 4, 120 deg arcs) between its folded and one-loop states.
+
+    One discrete model (the folded design, segment length L = 1, B3 = 1): the branch leaving
+    the folded state's bifurcation is followed by arclength until it meets the one-loop state
+    (where its lowest eigenvalue returns to zero). Closed-form energies of the two uniform
+    states: folded (straight) 6 x 1/2 kappa_n^2 L, one-loop (arcs of curvature theta/L)
+    6 x 1/2 (theta/L - kappa_n)^2 L, theta = 2 pi/3."""
+    from ..nonlinear.paths import arclength_from_bifurcation
+
+    r4 = rectangle(aspect=4.0)
+    theta = 2 * math.pi / 3
+    folded = structures.folded_ring(r4)
+    lin_fold = linear_stability(folded, 16).load_factor_critical
+    lin_one = linear_stability(structures.unfolded_ring(r4, radius=1 / theta), 24)
+    one_lo, one_hi = lin_one.load_factor_interval  # kappa_n R0 with R0 = 1/theta: mu / theta
+    path = arclength_from_bifurcation(folded, 1.0, 8.0, elements_per_segment=12, ds=0.1,
+                                      n_steps=112, mu_window=(0.0, 6.0))
+    progress()
+    mu = np.array(path.load_factor)
+    ev = np.array(path.lowest_eigenvalue)
+    en = np.array(path.energy)
+    end = 5 + int(np.argmin(np.abs(ev[5:])))  # the path meets the one-loop state
+    mu, ev, en = mu[: end + 1], ev[: end + 1], en[: end + 1]
+    rad = np.array(path.radius[: end + 1])
+    k = mu / theta  # kappa_n R0
+
+    def barrier_at(kr: float) -> tuple[float, float]:
+        m = kr * theta
+        e = float(np.interp(m, mu[::-1], en[::-1]))
+        return e - 3 * m * m, e - 3 * (theta - m) ** 2
+
+    b1 = barrier_at(1.0)
+    b05 = barrier_at(0.5)
+    ok = ((ev[1:-1] < 0).all() and abs(mu[-1] - one_lo * theta) < 0.05 * one_lo * theta
+          and abs(mu[0] - lin_fold) / lin_fold < 5e-3)
+    claim = Claim(
+        "T-six", "beyond", "5", "Six-sided ring (h/t = 4): folded <-> one-loop transition",
+        "the folded ring snaps (experiments, Fig. 10c); transition not analysed",
+        f"bistable for {_f(one_lo, 3)} < kappa_n R0 < {_f(lin_fold / theta, 4)}: the saddle "
+        f"branch leaves the folded state's bifurcation ({_f(k[0], 4)}) going down "
+        f"(subcritical) and meets the one-loop state at {_f(k[-1], 4)} (12 el.; radius "
+        f"{_f(rad[-1], 3)} L)",
+        f"linear engine: folded stable below {_f(lin_fold / theta, 4)}, one-loop in "
+        f"({_f(one_lo, 4)}, {_f(one_hi, 4)}); energy barriers (B3/L) at kappa_n R0 = 1: "
+        f"folding {_f(b1[1], 3)}, unfolding {_f(b1[0], 3)}; at 0.5: {_f(b05[1], 3)}, "
+        f"{_f(b05[0], 3)}",
+        "pseudo-arclength from the folded bifurcation (discrete rod, 12 el./segment)",
+        REPRODUCED if ok else DIFFERS,
+        "New: the saddle branch that connects the two stable states is unstable all along "
+        "(one negative eigenvalue) and spans the whole bistable range, so it bounds the energy "
+        "barrier. Past kappa_n R0 = 2.25 the folded ring has no nearby stable state and snaps "
+        "open into the one-loop ring (stable there up to 2.357) -- the snap of the experiments; "
+        "below 0.0717 the one-loop ring folds itself. The two states have equal energy at "
+        "kappa_n R0 = 1/2. At the folded state's double eigenvalue another, supercritical "
+        "branch exists (PB-folded), but the subcritical one makes the bifurcation unstable.")
+    data = {"kappa_R0": k.tolist(), "energy": en.tolist(), "radius": rad.tolist(),
+            "theta": theta, "bistable": [float(one_lo), float(lin_fold / theta)]}
+    return claim, data
 
 
 def _twisted_rod_claims(progress: Callable[[], None]) -> tuple[list[Claim], dict]:

@@ -132,13 +132,13 @@ def sweep_plot(rows: list[dict], key: str, out: Path) -> Path:
 def fig_beyond(data: dict, out: Path) -> list[Path]:
     """Post-buckled branches, imperfect paths of the straightened rod, Koiter's law of the
     twisted rod, and the energy along the 1-loop -> 3-loop ring path."""
-    fig, axes = plt.subplots(2, 2, figsize=(12, 9))
+    fig, axes = plt.subplots(3, 2, figsize=(12, 13))
     ax = axes[0, 0]
     for name, br in data["branches"].items():
         ax.plot(br["amplitude"], br["mu_over_mu_c"], "o-", ms=3, label=name)
     ax.set_xlabel("amplitude of the critical mode (largest out-of-plane displacement)")
     ax.set_ylabel("mu / mu_c")
-    ax.set_title("post-buckled branches (all supercritical)")
+    ax.set_title("post-buckled branches (amplitude control along one mode)")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7)
     ax = axes[0, 1]
@@ -174,6 +174,31 @@ def fig_beyond(data: dict, out: Path) -> list[Path]:
     ax.set_ylabel("energy (B3 = 1, L = 2 pi)")
     ax.set_title("1-loop -> 3-loop: one stable state at each kappa_n, no barrier")
     ax.set_ylim(0, 5)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7)
+    six = data["six_path"]
+    th = six["theta"]
+    kr = np.array(six["kappa_R0"])
+    en = np.array(six["energy"])
+    k = np.linspace(0.0, 2.5, 300)
+    lo, hi = six["bistable"]
+    ax = axes[2, 0]
+    ax.plot(k, 3 * (k * th) ** 2, "C1", label="folded (straight segments)")
+    ax.plot(k, 3 * (th - k * th) ** 2, "C2", label="one-loop (arcs)")
+    ax.plot(kr, en, "C3o-", ms=2, label="saddle branch (12 el./segment)")
+    ax.axvspan(lo, hi, color="0.9", label="both stable")
+    ax.set_xlabel("kappa_n R0")
+    ax.set_ylabel("energy (B3 / L)")
+    ax.set_title("six-sided ring (h/t = 4): states and the saddle between them")
+    ax.set_ylim(0, 40)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7)
+    ax = axes[2, 1]
+    ax.plot(kr, en - 3 * (kr * th) ** 2, "C1", label="unfolding (from folded)")
+    ax.plot(kr, en - 3 * (th - kr * th) ** 2, "C2", label="folding (from one-loop)")
+    ax.set_xlabel("kappa_n R0")
+    ax.set_ylabel("energy barrier (B3 / L)")
+    ax.set_title("barriers: each vanishes where its state loses stability")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7)
     fig.tight_layout()
