@@ -225,26 +225,15 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
     import numpy as np
 
     from .design import load_design
-    from .nonlinear.discrete import discretise
-    from .nonlinear.solve import Equilibrium, lowest_eigenvalues, newton
+    from .nonlinear.solve import equilibrium
 
     d = load_design(design_file)
     n = max(d.elements, 16) if elements is None else require_positive_int("--elements",
                                                                           elements)
-    rod = discretise(d.assembly, n, require_finite("--load-factor", load_factor))
-    if perturb:
-        dq = np.zeros(rod.n_dof)
-        free = rod.free_dofs()
-        dq[free] = require_finite("--perturb", perturb) * \
-            np.random.default_rng(0).standard_normal(len(free))
-        rod.apply(dq)
-    ok, its, res = newton(rod)
-    ev = lowest_eigenvalues(rod, 4)
-    from .nonlinear.solve import ZERO_EIG
-
-    r = Equilibrium(ok, rod.energy(), res, its, bool(ok and ev[0] > ZERO_EIG),
-                    tuple(float(v) for v in ev), len(rod.free_dofs()), load_factor,
-                    "discrete Cosserat rod, Newton + line search, exact Hessian")
+    r, rod = equilibrium(d.assembly, load_factor=require_finite("--load-factor", load_factor),
+                         elements_per_segment=n, perturb=require_finite("--perturb", perturb))
+    ok, its, res = r.converged, r.iterations, r.residual
+    ev = r.lowest_eigenvalues
     payload = r.to_dict() | {"design": d.source, "elements_per_segment": n,
                              "max_out_of_plane": float(np.max(np.abs(rod.x[:, 2])))}
     if render_path:

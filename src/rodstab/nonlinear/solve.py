@@ -30,8 +30,18 @@ NEWTON_MAX_ITER = 60
 SLIDING_RATIO = 1e-3
 #: ... and the eigenvector it overlaps by more than this (cosine, scaled metric) is left out.
 SLIDING_OVERLAP = 0.9
-#: Eigenvalues (of the Jacobi-scaled Hessian) below this are reported as zero (neutral).
-ZERO_EIG = 1e-10
+#: Eigenvalues of the Jacobi-scaled Hessian below ZERO_EIG x (l_e / L)^2 / PENALTY are reported
+#: as zero (neutral): the stiff stretch/shear penalty dominates the diagonal, so the bending
+#: eigenvalues scale like (l_e / L)^2 / PENALTY (see :func:`zero_eigenvalue_tol`).
+ZERO_EIG = 1e-4
+
+
+def zero_eigenvalue_tol(rod: DiscreteRod) -> float:
+    """Scaled eigenvalues with magnitude below this count as zero (neutral) for ``rod``."""
+    from .discrete import PENALTY
+
+    ratio = float(np.min(rod.rest_length)) / rod.assembly.total_length
+    return ZERO_EIG * ratio**2 / PENALTY
 
 
 @dataclasses.dataclass(frozen=True)
@@ -107,6 +117,35 @@ def sliding_mode(rod: DiscreteRod) -> np.ndarray | None:
     return vf if np.linalg.norm(vf) > SLIDING_RATIO * raw else None
 
 
+#: Up to this many free unknowns the lowest eigenpairs come from a dense solver (exact, a
+#: second at 4000); beyond, from shift-invert Lanczos.
+DENSE_EIG_MAX = 4000
+
+
+def _lowest_sparse(A: sp.spmatrix, k: int) -> tuple[np.ndarray, np.ndarray]:
+    """Lowest ``k`` eigenpairs of the scaled Hessian by shift-invert Lanczos.
+
+    The stiff stretch/shear penalty leaves the bending eigenvalues of the Jacobi-scaled matrix
+    tiny (~1e-8) and clustered, so the shift must sit at their scale: it starts just below an
+    estimate of the smallest eigenvalue (one shift-invert solve at 0) and the solve is repeated
+    lower until the ``k`` returned values all lie above the shift (then none below is missed:
+    shift-invert returns the eigenvalues nearest the shift)."""
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        lam0 = spla.eigsh(A, k=1, sigma=0.0, which="LM", tol=1e-10)[0][0]
+    sigma = min(lam0, 0.0) - max(abs(lam0), 1e-12) * 2.0
+    for _ in range(8):
+        vals, vecs = spla.eigsh(A, k=k, sigma=sigma, which="LM", tol=1e-10, maxiter=20000)
+        order = np.argsort(vals)
+        vals, vecs = vals[order], vecs[:, order]
+        if vals[0] > sigma:
+            return vals, vecs
+        sigma = vals[0] - abs(vals[0])
+    raise RuntimeError("shift-invert Lanczos did not bracket the lowest eigenvalues")
+
+
 def lowest_modes(rod: DiscreteRod, k: int = 4) -> tuple[np.ndarray, np.ndarray]:
     """Lowest ``k`` eigenpairs of the Jacobi-scaled free Hessian; vectors mapped back to the
     free unknowns (``D v``), one column each. For a uniform closed ring the eigenpair that is
@@ -121,13 +160,11 @@ def lowest_modes(rod: DiscreteRod, k: int = 4) -> tuple[np.ndarray, np.ndarray]:
     A = (sp.diags(d) @ Hf @ sp.diags(d)).tocsc()
     n = A.shape[0]
     slide = sliding_mode(rod)
-    kk = min(k + (1 if slide is not None else 0), n if n <= 600 else n - 1)
-    if n <= 600:
+    kk = min(k + (1 if slide is not None else 0), n if n <= DENSE_EIG_MAX else n - 1)
+    if n <= DENSE_EIG_MAX:
         vals, vecs = sla.eigh(A.toarray(), subset_by_index=[0, kk - 1])
     else:
-        vals, vecs = spla.eigsh(A, k=kk, sigma=-1e-3, which="LM", tol=1e-12)
-        order = np.argsort(vals)
-        vals, vecs = vals[order], vecs[:, order]
+        vals, vecs = _lowest_sparse(A, kk)
     if slide is not None:
         # Leave out the eigenpair that IS the sliding mode (cosine > SLIDING_OVERLAP of the
         # node displacements: the frame part of the finite-difference field is less accurate).
@@ -199,13 +236,19 @@ def newton(rod: DiscreteRod, *, max_iter: int = NEWTON_MAX_ITER) -> tuple[bool, 
 
 
 def equilibrium(a: Assembly, *, load_factor: float = 1.0, elements_per_segment: int = 32,
-                n_eig: int = 4) -> tuple[Equilibrium, DiscreteRod]:
-    """Equilibrium from the held state at ``load_factor``, and its Hessian stability."""
+                n_eig: int = 4, perturb: float = 0.0) -> tuple[Equilibrium, DiscreteRod]:
+    """Equilibrium from the held state at ``load_factor`` (plus, with ``perturb``, a seeded
+    random perturbation of that size of every free unknown), and its Hessian stability."""
     rod = discretise(a, elements_per_segment, load_factor)
+    if perturb:
+        dq = np.zeros(rod.n_dof)
+        free = rod.free_dofs()
+        dq[free] = perturb * np.random.default_rng(0).standard_normal(len(free))
+        rod.apply(dq)
     ok, its, res = newton(rod)
     E = rod.energy()
     ev = lowest_eigenvalues(rod, n_eig)
-    return Equilibrium(ok, E, res, its, bool(ok and ev[0] > ZERO_EIG),
+    return Equilibrium(ok, E, res, its, bool(ok and ev[0] > zero_eigenvalue_tol(rod)),
                        tuple(float(v) for v in ev), len(rod.free_dofs()), load_factor,
                        "discrete Cosserat rod (stiff stretch/shear), Newton + line search, "
                        "exact Hessian by second-order jets"), rod
