@@ -246,6 +246,25 @@ class DiscreteRod:
         self.param_values = dict(other.param_values)
         self.edge_kn, self.edge_tw, self.k0_links = other.edge_kn, other.edge_tw, other.k0_links
 
+    def shear(self) -> np.ndarray:
+        """Angle (rad) between each edge's frame tangent ``d2`` and its chord."""
+        chord = self.x[self.edge_nodes[:, 1]] - self.x[self.edge_nodes[:, 0]]
+        t = chord / np.linalg.norm(chord, axis=1)[:, None]
+        d2 = self.R_edge[:, :, 1]
+        return np.arctan2(np.linalg.norm(np.cross(d2, t), axis=1), np.einsum("ei,ei->e", d2, t))
+
+    def align_frames(self) -> None:
+        """Turn every edge frame by the smallest rotation that puts ``d2`` on the chord (the
+        shear of the stiff penalty goes to zero; the twist about the chord is kept)."""
+        chord = self.x[self.edge_nodes[:, 1]] - self.x[self.edge_nodes[:, 0]]
+        t = chord / np.linalg.norm(chord, axis=1)[:, None]
+        d2 = self.R_edge[:, :, 1]
+        axis = np.cross(d2, t)
+        sn = np.linalg.norm(axis, axis=1)
+        ang = np.arctan2(sn, np.einsum("ei,ei->e", d2, t))
+        phi = axis * (ang / np.where(sn < 1e-300, 1.0, sn))[:, None]
+        self.R_edge = rodrigues(phi) @ self.R_edge  # lab-frame rotation
+
     def rotate_joint(self, j: int, r: np.ndarray) -> None:
         """Hold clamped joint ``j`` at its held frame turned by the rotation vector ``r``
         (components in the held joint frame)."""

@@ -117,6 +117,9 @@ def sliding_mode(rod: DiscreteRod) -> np.ndarray | None:
     return vf if np.linalg.norm(vf) > SLIDING_RATIO * raw else None
 
 
+#: Newton first turns the edge frames onto their chords when some frame is sheared by more
+#: than this (rad); an equilibrium's shear is O(1/PENALTY).
+ALIGN_SHEAR = 1e-2
 #: Up to this many free unknowns the lowest eigenpairs come from a dense solver (exact, a
 #: second at 4000); beyond, from shift-invert Lanczos.
 DENSE_EIG_MAX = 4000
@@ -194,6 +197,10 @@ def newton(rod: DiscreteRod, *, max_iter: int = NEWTON_MAX_ITER) -> tuple[bool, 
     free = rod.free_dofs()
     # Force scale of the stiffest terms (stretch/shear penalty): the residual is relative to it.
     scale = float(PENALTY * np.max(rod.edge_B) / np.min(rod.rest_length))
+    if np.max(rod.shear()) > ALIGN_SHEAR:
+        # A start far from the Kirchhoff constraint (a user's shape, a rough perturbation):
+        # remove the shear first, or the stiff penalty dominates and Newton crawls.
+        rod.align_frames()
     for it in range(max_iter + 1):
         E, g, H = rod.energy_terms()
         gf = g[free]
