@@ -192,15 +192,53 @@ def newton(rod: DiscreteRod, *, max_iter: int = NEWTON_MAX_ITER) -> tuple[bool, 
 
     Steps are taken along ``-H^-1 g`` when ``H`` (free part) is positive definite, else along a
     shifted ``(H + s D) ^-1`` direction, so every step descends; the step halves until the
-    energy decreases (Armijo). Converged when ``max |g_free| <= NEWTON_RTOL * scale``.
+    energy decreases (Armijo). Converged when ``max |g_free| <= NEWTON_RTOL * scale``. A start
+    far from the Kirchhoff constraint (a frame sheared by more than ``ALIGN_SHEAR``: a user's
+    shape, a rough perturbation) first has its frames turned onto their chords
+    (:meth:`DiscreteRod.align_frames`): the stiff penalty otherwise dominates the quadratic
+    model and the iteration crawls. Newton finds an equilibrium, stable or not: see
+    :func:`relax` for a stable one.
     """
+    if np.max(rod.shear()) > ALIGN_SHEAR:
+        rod.align_frames()
+    return _newton(rod, max_iter)
+
+
+def relax(rod: DiscreteRod, *, escapes: int = 4) -> tuple[bool, int, float]:
+    """Newton, then, while the equilibrium found is unstable, a step down along its unstable
+    mode (both signs tried, the lower energy kept) and Newton again: a stable equilibrium
+    below the start's energy when one is reachable. Returns (ok, iterations, residual)."""
+    ok, its, res = newton(rod)
+    scale = 0.01 * rod.assembly.total_length
+    for _ in range(escapes):
+        if not ok:
+            break
+        vals, vecs = lowest_modes(rod, 1)
+        if vals[0] > -zero_eigenvalue_tol(rod):
+            break
+        best = None
+        for sign in (1.0, -1.0):
+            trial = rod.copy()
+            dq = np.zeros(rod.n_dof)
+            v = vecs[:, 0] / np.max(np.abs(vecs[:, 0]))
+            dq[rod.free_dofs()] = sign * scale * v
+            trial.apply(dq)
+            t_ok, t_its, t_res = newton(trial)
+            its += t_its
+            if t_ok and (best is None or trial.energy() < best[0].energy()):
+                best = (trial, t_res)
+        if best is None:
+            break
+        rod.assign(best[0])
+        res = best[1]
+    return ok, its, res
+
+
+def _newton(rod: DiscreteRod, max_iter: int) -> tuple[bool, int, float]:
+    """The Newton iteration of :func:`newton` (no restart)."""
     free = rod.free_dofs()
     # Force scale of the stiffest terms (stretch/shear penalty): the residual is relative to it.
     scale = float(PENALTY * np.max(rod.edge_B) / np.min(rod.rest_length))
-    if np.max(rod.shear()) > ALIGN_SHEAR:
-        # A start far from the Kirchhoff constraint (a user's shape, a rough perturbation):
-        # remove the shear first, or the stiff penalty dominates and Newton crawls.
-        rod.align_frames()
     for it in range(max_iter + 1):
         E, g, H = rod.energy_terms()
         gf = g[free]
@@ -244,15 +282,18 @@ def newton(rod: DiscreteRod, *, max_iter: int = NEWTON_MAX_ITER) -> tuple[bool, 
 
 def equilibrium(a: Assembly, *, load_factor: float = 1.0, elements_per_segment: int = 32,
                 n_eig: int = 4, perturb: float = 0.0) -> tuple[Equilibrium, DiscreteRod]:
-    """Equilibrium from the held state at ``load_factor`` (plus, with ``perturb``, a seeded
-    random perturbation of that size of every free unknown), and its Hessian stability."""
+    """Equilibrium from the held state at ``load_factor`` and its Hessian stability. With
+    ``perturb``: from the held state plus a seeded random perturbation of that size of every
+    free unknown, relaxed to a stable equilibrium when one is reachable (:func:`relax`)."""
     rod = discretise(a, elements_per_segment, load_factor)
     if perturb:
         dq = np.zeros(rod.n_dof)
         free = rod.free_dofs()
         dq[free] = perturb * np.random.default_rng(0).standard_normal(len(free))
         rod.apply(dq)
-    ok, its, res = newton(rod)
+        ok, its, res = relax(rod)
+    else:
+        ok, its, res = newton(rod)
     E = rod.energy()
     ev = lowest_eigenvalues(rod, n_eig)
     return Equilibrium(ok, E, res, its, bool(ok and ev[0] > zero_eigenvalue_tol(rod)),
