@@ -215,12 +215,15 @@ def analyze(design_file: str, elements: int | None, plot_path: str | None,
 @click.option("--elements", type=int, default=None,
               help="Elements per segment (default: the design's, at least 16).")
 @click.option("--perturb", type=float, default=0.0, show_default=True,
-              help="Start from the held state plus a seeded random perturbation of this size.")
+              help="Start from the held state plus a seeded random mix of its softest modes, "
+                   "largest displacement PERTURB x total length, and relax to a stable state.")
 @click.option("--render", "render_path", type=click.Path(dir_okay=False), default=None,
               help="Write a 3D picture of the equilibrium (PNG).")
+@click.option("--html", "html_path", type=click.Path(dir_okay=False), default=None,
+              help="Write an interactive 3D view (HTML; needs plotly: rodstab[viz]).")
 @_json_option
 def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, perturb: float,
-                    render_path: str | None, as_json: bool) -> None:
+                    render_path: str | None, html_path: str | None, as_json: bool) -> None:
     """Nonlinear equilibrium (Newton) of a design and its Hessian stability."""
     import numpy as np
 
@@ -241,6 +244,12 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
 
         payload["render"] = str(plot_equilibrium(
             rod.x, rod.edge_nodes, render_path, edge_values=rod.edge_moments(),
+            value_label="|internal moment|", title=f"{d.source}, load factor {load_factor:g}"))
+    if html_path:
+        from .plots import html_view
+
+        payload["html"] = str(html_view(
+            [rod.x], rod.edge_nodes, html_path, edge_values=[rod.edge_moments()],
             value_label="|internal moment|", title=f"{d.source}, load factor {load_factor:g}"))
     _emit(payload, as_json, [
         f"design       {d.source}, load factor {_fmt(load_factor)}, {n} elements/segment",
@@ -320,6 +329,18 @@ def continue_cmd(design_file: str, vary: str, out_dir: str | None, elements: int
                                    + [v for a, v in zip(r.branches[0].amplitude,
                                                         r.branches[0].value) if a > 0]])
             payload["animation"] = str(gif)
+            try:
+                from .plots import html_view
+
+                payload["interactive"] = str(html_view(
+                    list(r.branch_shapes), edges, Path(out_dir) / "branch.html",
+                    labels=[f"{v:.6g}" for v in [r.branches[0].value_critical]
+                            + [v for a, v in zip(r.branches[0].amplitude,
+                                                 r.branches[0].value) if a > 0]],
+                    title=f"{d.source}: branch from {r.key} = "
+                          f"{r.branches[0].value_critical:.6g}"))
+            except RodstabInputError:
+                pass  # plotly not installed: the GIF is the picture (see --help)
     lines = [f"design       {d.source}: {len(r.value)} steps in {r.key} "
              f"({r.resumed_steps} resumed), path {'complete' if r.converged else 'STOPPED'}"]
     lines += [f"special      {p['kind']} at {r.key} = {_fmt(p['value'])}"

@@ -118,3 +118,58 @@ def animate_shapes(frames: list[np.ndarray], edge_nodes: np.ndarray, path: str |
     anim.save(out, writer=PillowWriter(fps=fps))
     plt.close(fig)
     return out
+
+
+def html_view(shapes: list[np.ndarray], edge_nodes: np.ndarray, path: str | Path, *,
+              labels: list[str] | None = None, edge_values: list[np.ndarray] | None = None,
+              value_label: str = "", title: str = "") -> Path:
+    """Interactive 3D view (self-contained HTML, plotly): rotate, zoom, and, for several
+    shapes (a continuation path), a slider and a play button. Edges are coloured by
+    ``edge_values`` (one array per shape) when given.
+
+    Needs the optional plotly package (``pip install "rodstab[viz]"``); raises naming it.
+    """
+    try:
+        import plotly.graph_objects as go
+    except ImportError as exc:  # pragma: no cover - depends on the environment
+        from .errors import RodstabInputError
+
+        raise RodstabInputError("an interactive HTML view needs plotly: "
+                                'pip install "rodstab[viz]"') from exc
+    labels = labels or [f"shape {i}" for i in range(len(shapes))]
+    all_pts = np.vstack(shapes)
+    lo, hi = all_pts.min(axis=0), all_pts.max(axis=0)
+    half = 0.5 * float(np.max(hi - lo)) or 1.0
+    mid = 0.5 * (lo + hi)
+    vmax = max((float(np.max(v)) for v in edge_values), default=1.0) if edge_values else 1.0
+
+    def trace(i: int):
+        x = shapes[i]
+        # One polyline with a break (None) after every edge, so that welds and stacked
+        # segments are drawn exactly as they are connected.
+        seg = np.full((len(edge_nodes), 3, 3), np.nan)
+        seg[:, 0] = x[edge_nodes[:, 0]]
+        seg[:, 1] = x[edge_nodes[:, 1]]
+        pts = seg.reshape(-1, 3)
+        line = dict(width=6)
+        if edge_values is not None:
+            line |= dict(color=np.repeat(edge_values[i], 3), colorscale="Viridis", cmin=0.0,
+                         cmax=vmax, colorbar=dict(title=value_label))
+        return go.Scatter3d(x=pts[:, 0], y=pts[:, 1], z=pts[:, 2], mode="lines", line=line,
+                            hoverinfo="skip", connectgaps=False)
+
+    fig = go.Figure(data=[trace(0)],
+                    frames=[go.Frame(data=[trace(i)], name=str(i)) for i in range(len(shapes))])
+    scene = dict(aspectmode="cube", **{f"{ax}axis": dict(range=[mid[k] - half, mid[k] + half])
+                                       for k, ax in enumerate("xyz")})
+    layout = dict(title=title, scene=scene, margin=dict(l=0, r=0, t=40, b=0))
+    if len(shapes) > 1:
+        layout["sliders"] = [dict(steps=[dict(method="animate", label=labels[i],
+                                              args=[[str(i)], dict(mode="immediate")])
+                                         for i in range(len(shapes))])]
+        layout["updatemenus"] = [dict(type="buttons", buttons=[dict(
+            label="play", method="animate", args=[None, dict(frame=dict(duration=200))])])]
+    fig.update_layout(**layout)
+    p = Path(path)
+    fig.write_html(p, include_plotlyjs=True, full_html=True)
+    return p

@@ -149,6 +149,15 @@ def _lowest_sparse(A: sp.spmatrix, k: int) -> tuple[np.ndarray, np.ndarray]:
     raise RuntimeError("shift-invert Lanczos did not bracket the lowest eigenvalues")
 
 
+def _scaled_lowest(A: sp.spmatrix, k: int) -> tuple[np.ndarray, np.ndarray]:
+    """Lowest ``k`` eigenpairs of a (Jacobi-scaled) symmetric matrix: dense up to
+    ``DENSE_EIG_MAX`` unknowns, shift-invert Lanczos beyond."""
+    n = A.shape[0]
+    if n <= DENSE_EIG_MAX:
+        return sla.eigh(A.toarray(), subset_by_index=[0, min(k, n) - 1])
+    return _lowest_sparse(A, min(k, n - 1))
+
+
 def lowest_modes(rod: DiscreteRod, k: int = 4) -> tuple[np.ndarray, np.ndarray]:
     """Lowest ``k`` eigenpairs of the Jacobi-scaled free Hessian; vectors mapped back to the
     free unknowns (``D v``), one column each. For a uniform closed ring the eigenpair that is
@@ -164,10 +173,7 @@ def lowest_modes(rod: DiscreteRod, k: int = 4) -> tuple[np.ndarray, np.ndarray]:
     n = A.shape[0]
     slide = sliding_mode(rod)
     kk = min(k + (1 if slide is not None else 0), n if n <= DENSE_EIG_MAX else n - 1)
-    if n <= DENSE_EIG_MAX:
-        vals, vecs = sla.eigh(A.toarray(), subset_by_index=[0, kk - 1])
-    else:
-        vals, vecs = _lowest_sparse(A, kk)
+    vals, vecs = _scaled_lowest(A, kk)
     if slide is not None:
         # Leave out the eigenpair that IS the sliding mode (cosine > SLIDING_OVERLAP of the
         # node displacements: the frame part of the finite-difference field is less accurate).
@@ -234,6 +240,55 @@ def relax(rod: DiscreteRod, *, escapes: int = 4) -> tuple[bool, int, float]:
     return ok, its, res
 
 
+def _newton_step(Hf: sp.spmatrix, gf: np.ndarray, dg: np.ndarray, tau: float
+                 ) -> np.ndarray | None:
+    """``-(H + tau D)^-1 g`` (``D`` = |diag H|), or None if the solve fails."""
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        try:
+            step = -spla.spsolve((Hf + tau * sp.diags(dg)).tocsc(), gf)
+        except RuntimeError:
+            return None
+    return step if np.all(np.isfinite(step)) else None
+
+
+def _spd_shift(Hf: sp.spmatrix, dg: np.ndarray) -> float:
+    """A shift ``tau`` with ``H + tau D`` positive definite: twice the magnitude of the
+    lowest eigenvalue of the Jacobi-scaled ``H`` when it is negative (else 0). Scaled
+    bending eigenvalues are tiny (~1e-8, the penalty dominates the diagonal), so a fixed
+    shift would swamp them and Newton would crawl like steepest descent."""
+    d = 1.0 / np.sqrt(dg)
+    A = (sp.diags(d) @ Hf @ sp.diags(d)).tocsc()
+    lam = float(_scaled_lowest(A, 1)[0][0])
+    return 2.0 * -lam if lam < 0 else 0.0
+
+
+def _line_search(rod: DiscreteRod, free: np.ndarray, E: float, gf: np.ndarray,
+                 step: np.ndarray | None, res: float) -> tuple[float, DiscreteRod]:
+    """Backtracking (Armijo) along ``step``; returns the step length and the trial state."""
+    if step is None:
+        return 0.0, rod.copy()
+    dq = np.zeros(rod.n_dof)
+    t = 1.0
+    while t > 1e-12:
+        trial = rod.copy()
+        dq[free] = t * step
+        trial.apply(dq)
+        Et = trial.energy()
+        if Et <= E + 1e-4 * t * (gf @ step):
+            return t, trial
+        # Near a solution the energy change drowns in round-off: accept a step that does
+        # not raise the energy beyond round-off and lowers the gradient.
+        if abs(Et - E) <= 1e-12 * max(abs(E), 1.0):
+            gt = trial.energy_terms()[1][free]
+            if np.max(np.abs(gt)) < res:
+                return t, trial
+        t *= 0.5
+    return t, trial
+
+
 def _newton(rod: DiscreteRod, max_iter: int) -> tuple[bool, int, float]:
     """The Newton iteration of :func:`newton` (no restart)."""
     free = rod.free_dofs()
@@ -249,33 +304,19 @@ def _newton(rod: DiscreteRod, max_iter: int) -> tuple[bool, int, float]:
             break
         Hf = H[free][:, free].tocsc()
         Hf = 0.5 * (Hf + Hf.T)
-        shift = 0.0
         dg = np.abs(Hf.diagonal()) + 1e-300
-        for _ in range(30):
-            try:
-                M = (Hf + shift * sp.diags(dg)).tocsc()
-                step = -spla.spsolve(M, gf)
-                if gf @ step < 0:
-                    break
-            except RuntimeError:
-                pass
-            shift = 1e-6 if shift == 0 else 10 * shift
-        dq = np.zeros(rod.n_dof)
-        t = 1.0
-        while t > 1e-12:
-            trial = rod.copy()
-            dq[free] = t * step
-            trial.apply(dq)
-            Et = trial.energy()
-            if Et <= E + 1e-4 * t * (gf @ step):
-                break
-            # Near a solution the energy change drowns in round-off: accept a step that does
-            # not raise the energy beyond round-off and lowers the gradient.
-            if abs(Et - E) <= 1e-12 * max(abs(E), 1.0):
-                gt = trial.energy_terms()[1][free]
-                if np.max(np.abs(gt)) < res:
-                    break
-            t *= 0.5
+        step = _newton_step(Hf, gf, dg, 0.0)
+        shifted = False
+        if step is None or gf @ step >= 0:
+            step, shifted = _newton_step(Hf, gf, dg, _spd_shift(Hf, dg)), True
+        t, trial = _line_search(rod, free, E, gf, step, res)
+        if t < 0.25 and not shifted:
+            # A poor step on an indefinite Hessian (far from equilibrium): shift the Hessian
+            # just past its lowest eigenvalue (modified Newton) and search again.
+            tau = _spd_shift(Hf, dg)
+            if tau > 0:
+                step = _newton_step(Hf, gf, dg, tau)
+                t, trial = _line_search(rod, free, E, gf, step, res)
         rod.x, rod.R_edge, rod.R_joint = trial.x, trial.R_edge, trial.R_joint
     return False, max_iter, res
 
@@ -283,13 +324,20 @@ def _newton(rod: DiscreteRod, max_iter: int) -> tuple[bool, int, float]:
 def equilibrium(a: Assembly, *, load_factor: float = 1.0, elements_per_segment: int = 32,
                 n_eig: int = 4, perturb: float = 0.0) -> tuple[Equilibrium, DiscreteRod]:
     """Equilibrium from the held state at ``load_factor`` and its Hessian stability. With
-    ``perturb``: from the held state plus a seeded random perturbation of that size of every
-    free unknown, relaxed to a stable equilibrium when one is reachable (:func:`relax`)."""
+    ``perturb``: from the held state plus a seeded random mix of its four softest modes with a
+    largest node displacement of ``perturb`` x the total length, relaxed to a stable
+    equilibrium when one is reachable (:func:`relax`)."""
     rod = discretise(a, elements_per_segment, load_factor)
     if perturb:
+        # A smooth, mesh-independent perturbation: a seeded random mix of the held state's
+        # four softest modes, scaled to a largest node displacement of perturb x total length.
+        _, vecs = lowest_modes(rod, 4)
+        v = vecs @ np.random.default_rng(0).standard_normal(vecs.shape[1])
         dq = np.zeros(rod.n_dof)
         free = rod.free_dofs()
-        dq[free] = perturb * np.random.default_rng(0).standard_normal(len(free))
+        dq[free] = v
+        disp = np.linalg.norm(dq[: 3 * len(rod.x)].reshape(-1, 3), axis=1).max()
+        dq *= perturb * a.total_length / max(disp, 1e-300)
         rod.apply(dq)
         ok, its, res = relax(rod)
     else:
