@@ -228,7 +228,7 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
     import numpy as np
 
     from .design import load_design
-    from .nonlinear.solve import equilibrium
+    from .nonlinear.solve import STRAIN_WARN, equilibrium
 
     d = load_design(design_file)
     n = max(d.elements, 16) if elements is None else require_positive_int("--elements",
@@ -258,7 +258,9 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
         f"energy       {_fmt(r.energy)}",
         f"stability    {'stable' if r.stable else 'NOT stable'}; lowest scaled Hessian "
         f"eigenvalues {', '.join(f'{v:.3g}' for v in ev)}",
-    ])
+    ] + ([f"WARNING      largest stretch/shear strain {r.max_strain:.3g}: the supports impose "
+          "a motion an inextensible rod cannot make (the result is the stiff penalty's)"]
+         if r.max_strain > STRAIN_WARN else []))
     if not ok:
         raise SystemExit(1)
 

@@ -153,7 +153,8 @@ def parse_design(data: dict, source: str = "<dict>") -> Design:
         if "rotation" in s:
             rot = s["rotation"]
             if not (isinstance(rot, list) and len(rot) == 3
-                    and all(isinstance(v, (int, float)) for v in rot)):
+                    and all(isinstance(v, (int, float)) and not isinstance(v, bool)
+                            for v in rot)):
                 raise RodstabInputError(f"support[{i}].rotation must be three numbers "
                                         f"[normal, tangent, binormal] in radians, got {rot!r}")
             rotations.append((name, end, tuple(float(v) for v in rot)))
@@ -222,6 +223,9 @@ def set_design_value(data: dict, key: str, value: float) -> dict:
         if parts[3] not in ROTATION_AXES:
             raise RodstabInputError(f"--vary key {key!r}: rotation axis {parts[3]!r} is not one "
                                     f"of {ROTATION_AXES}")
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise RodstabInputError(f"--vary key {key!r}: a rotation must be a number of "
+                                    f"radians, got {value!r}")
         rot = list(sups[int(parts[1])].get("rotation", [0.0, 0.0, 0.0]))
         rot[ROTATION_AXES.index(parts[3])] = value
         sups[int(parts[1])]["rotation"] = rot

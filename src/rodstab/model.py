@@ -164,6 +164,14 @@ def validate(a: Assembly) -> None:
             raise RodstabInputError(f"support end must be 'start' or 'end', got {end!r}")
         if kind not in SUPPORTS:
             raise RodstabInputError(f"support type must be one of {SUPPORTS}, got {kind!r}")
+    ends = [(n, e) for n, e, _ in a.supports]
+    twice = sorted({f"{n}.{e}" for n, e in ends if ends.count((n, e)) > 1})
+    if twice:
+        raise RodstabInputError(f"end(s) {twice} carry more than one support")
+    rot_ends = [(n, e) for n, e, _ in a.end_rotations]
+    twice = sorted({f"{n}.{e}" for n, e in rot_ends if rot_ends.count((n, e)) > 1})
+    if twice:
+        raise RodstabInputError(f"end(s) {twice} carry more than one imposed rotation")
     clamps = {(n, e) for n, e, k in a.supports if k in ("clamped", "sliding-clamp")}
     for name, end, rot in a.end_rotations:
         if (name, end) not in clamps:
@@ -173,6 +181,9 @@ def validate(a: Assembly) -> None:
             raise RodstabInputError(f"end rotation at {name}.{end} must be [r_n, r_t, r_b], "
                                     f"got {rot!r}")
         for v in rot:
+            if isinstance(v, bool):
+                raise RodstabInputError(f"end rotation at {name}.{end} must be numbers, got "
+                                        f"{rot!r}")
             require_finite(f"end rotation at {name}.{end}", v)
     tol = POSITION_TOL * a.total_length
     for joint in a.joints():

@@ -38,6 +38,7 @@ import dataclasses
 import numpy as np
 import scipy.sparse as sp
 
+from ..errors import RodstabInputError
 from ..model import Assembly
 from .jets import Jet, JetMat, rodrigues, rotation_jet, vector_jet
 
@@ -283,6 +284,10 @@ def discretise(a: Assembly, elements_per_segment: int = 32, load_factor: float =
                *, supports_ok: tuple[str, ...] = ("clamped", "sliding-clamp", "free")
                ) -> DiscreteRod:
     """The discrete rod of an assembly in its held state (an equilibrium when P2 says so)."""
+    if isinstance(elements_per_segment, bool) or not isinstance(elements_per_segment, int) \
+            or elements_per_segment < 2:
+        raise RodstabInputError(f"elements_per_segment must be an integer >= 2, got "
+                                f"{elements_per_segment!r}")
     joints = a.joints()
     joint_of = {end: k for k, joint in enumerate(joints) for end in joint}
     xs, edge_nodes, lengths, Bs, kns, R_edge, pairs, links = [], [], [], [], [], [], [], []
@@ -353,8 +358,6 @@ def discretise(a: Assembly, elements_per_segment: int = 32, load_factor: float =
                       np.array(pairs, int).reshape(-1, 2), links, fixed_nodes, fixed_joints,
                       load_factor, fixed_components=fixed_components)
     rod.edge_tw = np.array(tws) if any(tws) else None
-    if elements_per_segment < 2:
-        raise ValueError(f"elements_per_segment must be >= 2, got {elements_per_segment!r}")
     rod.k_held_pairs, rod.k_held_links = _held_curvatures(rod)
     rod.k0_links = _balanced_link_curvatures(rod)
     rod.R_joint_held = rod.R_joint.copy()

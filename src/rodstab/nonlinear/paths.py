@@ -31,7 +31,6 @@ path's is the largest node displacement from the held state.
 
 from __future__ import annotations
 
-import csv
 import dataclasses
 import json
 import math
@@ -46,7 +45,7 @@ from ..results import Result
 from .continuation import LOAD, _solve_bordered
 from .discrete import PENALTY, DiscreteRod, discretise
 from .parameters import Parameter, parameter
-from .solve import critical_load_factor, lowest_modes, newton, sliding_mode
+from .solve import critical_load_factor, lowest_modes, newton, settle, sliding_mode
 
 
 def _bordered(H: sp.spmatrix, gp: np.ndarray, tq: np.ndarray, tp: float,
@@ -210,7 +209,16 @@ def arclength_from_bifurcation(a: Assembly, lo: float, hi: float, *, elements_pe
     pitchfork has ``d mu = 0`` there); steps up to ``4 ds``. Stops after ``n_steps`` or when the
     load leaves ``mu_window``.
     """
+    lo, hi = _check_number("lo", lo), _check_number("hi", hi)
+    if not lo < hi:
+        raise RodstabInputError(f"arclength_from_bifurcation needs lo < hi, got {lo!r}, {hi!r}")
+    if _check_number("ds", ds) <= 0:
+        raise RodstabInputError(f"ds must be > 0, got {ds!r}")
+    n_steps = _check_count("n_steps", n_steps, 1)
     crit = critical_load_factor(a, lo, hi, elements_per_segment=elements_per_segment)
+    if not math.isfinite(crit.load_factor_critical):
+        raise RodstabInputError(f"the held state does not lose stability for load factors in "
+                                f"({lo!r}, {hi!r}]: no bifurcation to start from")
     rod = discretise(a, elements_per_segment, crit.load_factor_critical)
     _, vecs = lowest_modes(rod, 1)
     path = _Path(rod, LOAD, vecs[:, 0], 0.0, ds, 4 * ds)
@@ -324,6 +332,36 @@ def _branch_dict(b: SecondaryBranch) -> dict:
             "lowest_eigenvalue": list(b.lowest_eigenvalue)}
 
 
+def _design_hash(a: Assembly) -> str:
+    import hashlib
+
+    return hashlib.sha256(repr(a).encode()).hexdigest()[:16]
+
+
+#: Output files of a continuation run (removed when a run starts afresh in the directory).
+OUTPUTS = ("run.json", "state.npz", "primary.csv", "special_points.json", "branches.csv",
+           "diagram.png", "branch.gif", "branch.html")
+
+
+def _write_atomic(path: Path, text: str) -> None:
+    tmp = path.with_suffix(path.suffix + ".tmp")
+    tmp.write_text(text)
+    tmp.replace(path)
+
+
+def _check_number(name: str, v) -> float:
+    if isinstance(v, bool) or not isinstance(v, (int, float, np.floating, np.integer)) \
+            or not math.isfinite(v):
+        raise RodstabInputError(f"{name} must be a finite number, got {v!r}")
+    return float(v)
+
+
+def _check_count(name: str, v, minimum: int) -> int:
+    if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < minimum:
+        raise RodstabInputError(f"{name} must be an integer >= {minimum}, got {v!r}")
+    return int(v)
+
+
 def continuation(a: Assembly, key: str, start: float, stop: float, n_steps: int, *,
                  elements_per_segment: int = 16, out_dir: str | Path | None = None,
                  progress=None, branch_steps: int = 8, branch_ds: float | None = None,
@@ -334,73 +372,67 @@ def continuation(a: Assembly, key: str, start: float, stop: float, n_steps: int,
 
     ``key``: ``load_factor``, ``segment.<name>.natural_curvature`` / ``.natural_twist`` or
     ``support.<i>.rotation.<normal|tangent|binormal>`` (:func:`.parameters.parameter`). The
-    path starts from Newton at ``start`` (from the held state), steps ``|stop - start| /
-    n_steps`` in arclength (at most ``max_steps_factor * n_steps`` steps), and reports folds
-    and branch points (module docstring); from each loss of stability at a branch point the
-    secondary branch is traced ``branch_steps`` steps each way with step ``branch_ds``
-    (default 1 % of the total length). ``rod``: start from this discretised state instead of
-    the held state of ``a`` (e.g. an imperfect one); ``stop_at_first``: stop at the first
-    special point; ``critical_out``: a list that receives ``(p, state)`` at each loss of
-    stability.
+    path starts at ``start``, reached from the design's value by Newton in small steps (the
+    path, not the end value, decides: an end rotation of 2 pi is not none), steps about
+    ``|stop - start| / n_steps`` in the parameter, ends exactly at ``stop`` and reports folds
+    and branch points inside the range (module docstring). It is reported not converged if a
+    step fails or ``stop`` is not reached in ``max_steps_factor * n_steps`` steps. From each
+    loss of stability at a branch point the secondary branch is traced ``branch_steps`` steps
+    each way with step ``branch_ds`` (default 1 % of the total length). ``rod``: start from this
+    discretised state instead of the held state of ``a`` (e.g. an imperfect one);
+    ``stop_at_first``: stop at the first special point; ``critical_out``: a list that receives
+    ``(p, state)`` at each loss of stability.
 
-    With ``out_dir``: ``primary.csv`` (one row per accepted step), ``special_points.json`` and
-    the state ``state.npz`` are written after every step, so a rerun with the same arguments
-    continues from the last completed step (losing at most the step in progress).
+    With ``out_dir``: after every step one file, ``state.npz``, is replaced atomically (state,
+    path, rows, special points, and the run's arguments and design); ``primary.csv`` and
+    ``special_points.json`` are exported from it. A rerun with the same design and arguments
+    continues from the last completed step (losing at most the step in progress); anything
+    else starts afresh and removes the previous run's files.
     """
-    if not (math.isfinite(start) and math.isfinite(stop)) or start == stop:
-        raise RodstabInputError(f"continuation needs two different finite values, got "
-                                f"{start!r}:{stop!r}")
-    n = elements_per_segment
+    start, stop = _check_number("start", start), _check_number("stop", stop)
+    if start == stop or not math.isfinite(stop - start):
+        raise RodstabInputError(f"continuation needs two different values a finite distance "
+                                f"apart, got {start!r}:{stop!r}")
+    n_steps = _check_count("n_steps", n_steps, 1)
+    n = _check_count("elements_per_segment", elements_per_segment, 2)
+    branch_steps = _check_count("branch_steps", branch_steps, 0)
+    max_steps_factor = _check_count("max_steps_factor", max_steps_factor, 1)
     param = parameter(a, key, n)
+    fresh = rod is None
     rod = discretise(a, n) if rod is None else rod
     held_x = rod.x.copy()
     direction = 1.0 if stop > start else -1.0
     h = abs(stop - start) / n_steps
-    branch_ds = 0.01 * a.total_length if branch_ds is None else branch_ds
+    branch_ds = 0.01 * a.total_length if branch_ds is None else \
+        _check_number("branch_ds", branch_ds)
     rows: list[tuple[float, float, float, float, bool]] = []
     specials: list[dict] = []
     tq, tp = np.zeros(len(rod.free_dofs())), direction
     out = Path(out_dir) if out_dir is not None else None
     resumed = 0
+    meta = {"key": key, "start": start, "stop": stop, "n_steps": n_steps,
+            "elements_per_segment": n, "branch_steps": branch_steps, "branch_ds": branch_ds,
+            "max_steps_factor": max_steps_factor, "design": _design_hash(a),
+            "start_state": "held" if fresh else _state_hash(rod)}
     if out is not None:
         out.mkdir(parents=True, exist_ok=True)
-        meta = {"key": key, "start": start, "stop": stop, "n_steps": n_steps,
-                "elements_per_segment": n}
-        mpath = out / "run.json"
-        if mpath.exists() and json.loads(mpath.read_text()) == meta \
-                and (out / "primary.csv").exists() and (out / "state.npz").exists():
-            with (out / "primary.csv").open() as fh:
-                for r in csv.DictReader(fh):
-                    rows.append((float(r["value"]), float(r["energy"]),
-                                 float(r["lowest_eigenvalue"]), float(r["amplitude"]),
-                                 r["converged"] == "True"))
-            st = np.load(out / "state.npz")
+        st = _load_state(out / "state.npz")
+        if st is not None and st["meta"] == meta:
+            rows = [tuple(r[:4]) + (bool(r[4]),) for r in st["rows"]]
+            specials = st["specials"]
             rod.x, rod.R_edge, rod.R_joint = st["x"], st["R_edge"], st["R_joint"]
-            param.set(rod, float(st["value"]))
-            tq, tp, h = st["tq"], float(st["tp"]), float(st["h"])
-            if (out / "special_points.json").exists():
-                specials = json.loads((out / "special_points.json").read_text())
+            param.set(rod, st["value"])
+            tq, tp, h = st["tq"], st["tp"], st["h"]
             resumed = len(rows)
         else:
-            mpath.write_text(json.dumps(meta))
-            with (out / "primary.csv").open("w") as fh:
-                fh.write("value,energy,lowest_eigenvalue,amplitude,converged\n")
-            (out / "special_points.json").write_text("[]")
+            for name in OUTPUTS:
+                (out / name).unlink(missing_ok=True)
+            _write_atomic(out / "run.json", json.dumps(meta, indent=1))
     if not rows:
-        # Reach ``start`` from the design's value in steps of at most h (an end rotation of
-        # 2 pi is a different state from none: the path, not the end value, decides).
-        p0 = param.get(rod)
-        for p in np.linspace(p0, start, int(math.ceil(abs(start - p0) / h)) + 1)[1:]:
-            param.set(rod, float(p))
-            if not newton(rod)[0]:
-                break
-        param.set(rod, start)
-        ok, _, _ = newton(rod)
-        if not ok:
-            raise RodstabInputError(f"no equilibrium found at {key} = {start!r} (Newton from "
-                                    f"the design's value {p0!r} in steps); start closer to it")
-    if not rows:
-        tq, tp = _tangent(rod, param, tq, tp)  # the true tangent (the held start is regular)
+        if fresh:
+            settle(rod)
+        _reach(rod, param, key, start, h)
+        tq, tp = _tangent(rod, param, tq, tp)  # the true tangent (the start is regular)
         # Arclength counts the unknowns too: size the step so that the parameter advances by
         # about |stop - start| / n_steps while the path is the primary one.
         h = h / max(abs(tp), 1e-3)
@@ -412,40 +444,47 @@ def continuation(a: Assembly, key: str, start: float, stop: float, n_steps: int,
                      _moved(rod.x, held_x), ok))
         if out is not None:
             np.savez(out / "state.tmp.npz", x=rod.x, R_edge=rod.R_edge, R_joint=rod.R_joint,
-                     value=param.get(rod), tq=path.tq, tp=path.tp, h=path.h)
+                     value=param.get(rod), tq=path.tq, tp=path.tp, h=path.h,
+                     rows=np.array(rows, dtype=float).reshape(-1, 5),
+                     text=json.dumps({"meta": meta, "specials": specials}))
             (out / "state.tmp.npz").replace(out / "state.npz")
-            with (out / "primary.csv").open("a") as fh:
-                fh.write(",".join(repr(float(v)) for v in rows[-1][:4]) + f",{ok}\n")
-            (out / "special_points.json").write_text(json.dumps(specials, indent=1))
+            _export(out, rows, specials)
         if progress is not None:
             progress()
 
     if not rows:
         record(True)
-    ok_all = True
-    while (rows[-1][0] - stop) * direction < 0 and len(rows) < max_steps_factor * n_steps + 1:
+    ok_all, why = True, ""
+    budget = max_steps_factor * n_steps + 1
+    while (rows[-1][0] - stop) * direction < 0:
+        if len(rows) >= budget:
+            ok_all, why = False, f"{stop!r} not reached in {budget - 1} steps"
+            break
         prev_state, prev_tp = rod.copy(), path.tp
         prev_tq = path.tq.copy()
         if not path.step():
-            ok_all = False
+            ok_all, why = False, f"step failed at {key} = {param.get(rod)!r}"
             break
+        if (param.get(rod) - stop) * direction > 0:
+            # Past the end: land exactly on ``stop`` by Newton from the previous point.
+            trial = prev_state.copy()
+            param.set(trial, stop)
+            if newton(trial)[0]:
+                rod.assign(trial)
         prev_h = path.last_h
         e0, e1 = rows[-1][2], _lowest(rod)
         if (e0 > 0) != (e1 > 0) or (prev_tp > 0) != (path.tp > 0):
-            specials.append(_special_point(rod, param, prev_state, prev_tq, prev_tp, prev_h,
-                                           e0, e1, path.tp, branch_ds, branch_steps,
-                                           branch_shapes, critical_out))
-            if stop_at_first:
-                record(True, e1)
-                break
+            point = _special_point(rod, param, prev_state, prev_tq, prev_tp, prev_h, e0, e1,
+                                   path.tp, branch_ds, branch_steps, branch_shapes,
+                                   critical_out)
+            if (point["value"] - stop) * direction <= 0:
+                specials.append(point)
+                if stop_at_first:
+                    record(True, e1)
+                    break
         record(True, e1)
     if out is not None:
-        with (out / "branches.csv").open("w") as fh:
-            fh.write("branch,value,amplitude,energy,lowest_eigenvalue\n")
-            for i, sp_ in enumerate(s for s in specials if "branch" in s):
-                b = sp_["branch"]
-                for row in zip(b["value"], b["amplitude"], b["energy"], b["lowest_eigenvalue"]):
-                    fh.write(f"{i}," + ",".join(repr(float(v)) for v in row) + "\n")
+        _export(out, rows, specials)
     branches = tuple(SecondaryBranch(s["value"], tuple(s["branch"]["value"]),
                                      tuple(s["branch"]["amplitude"]),
                                      tuple(s["branch"]["energy"]),
@@ -455,8 +494,69 @@ def continuation(a: Assembly, key: str, start: float, stop: float, n_steps: int,
     return Continuation(key, tuple(r[0] for r in rows), tuple(r[1] for r in rows),
                         tuple(r[2] for r in rows), tuple(r[3] for r in rows), ok_all,
                         tuple(specials), branches, resumed,
-                        "pseudo-arclength (Keller) with Hessian eigenvalue monitoring",
-                        tuple(branch_shapes))
+                        "pseudo-arclength (Keller) with Hessian eigenvalue monitoring"
+                        + (f"; STOPPED: {why}" if why else ""), tuple(branch_shapes))
+
+
+def _state_hash(rod: DiscreteRod) -> str:
+    import hashlib
+
+    hsh = hashlib.sha256()
+    for arr in (rod.x, rod.R_edge, rod.R_joint, rod.k_held_pairs, rod.k0_links[0]):
+        hsh.update(np.ascontiguousarray(arr).tobytes())
+    return hsh.hexdigest()[:16]
+
+
+def _load_state(path: Path) -> dict | None:
+    """The saved run in ``path``, or None if there is none or it cannot be read."""
+    if not path.exists():
+        return None
+    try:
+        st = np.load(path)
+        text = json.loads(str(st["text"]))
+        return {"x": st["x"], "R_edge": st["R_edge"], "R_joint": st["R_joint"],
+                "value": float(st["value"]), "tq": st["tq"], "tp": float(st["tp"]),
+                "h": float(st["h"]), "rows": st["rows"].tolist(), "meta": text["meta"],
+                "specials": text["specials"]}
+    except (OSError, ValueError, KeyError, json.JSONDecodeError):
+        return None
+
+
+def _export(out: Path, rows: list, specials: list) -> None:
+    """primary.csv, special_points.json and branches.csv from the run in memory."""
+    lines = ["value,energy,lowest_eigenvalue,amplitude,converged"]
+    lines += [",".join(repr(float(v)) for v in r[:4]) + f",{bool(r[4])}" for r in rows]
+    _write_atomic(out / "primary.csv", "\n".join(lines) + "\n")
+    _write_atomic(out / "special_points.json", json.dumps(specials, indent=1))
+    lines = ["branch,value,amplitude,energy,lowest_eigenvalue"]
+    for i, sp_ in enumerate(s for s in specials if "branch" in s):
+        b = sp_["branch"]
+        for row in zip(b["value"], b["amplitude"], b["energy"], b["lowest_eigenvalue"]):
+            lines.append(f"{i}," + ",".join(repr(float(v)) for v in row))
+    _write_atomic(out / "branches.csv", "\n".join(lines) + "\n")
+
+
+#: Largest parameter change of one Newton step while reaching the start of a path.
+REACH_STEPS_MAX = 200
+
+
+def _reach(rod: DiscreteRod, param: Parameter, key: str, start: float, h: float) -> None:
+    """Bring ``rod`` from its parameter value to ``start`` by Newton in steps of at most ``h``
+    (at most REACH_STEPS_MAX steps); raise naming the value where Newton fails."""
+    p0 = param.get(rod)
+    n = int(math.ceil(abs(start - p0) / h)) if start != p0 else 0
+    if n > REACH_STEPS_MAX:
+        raise RodstabInputError(
+            f"{key} = {start!r} is {n} steps of {h:.3g} from the design's value {p0!r} "
+            f"(at most {REACH_STEPS_MAX}): start nearer to it or take fewer, longer steps")
+    for p in np.linspace(p0, start, n + 1)[1:]:
+        param.set(rod, float(p))
+        if not newton(rod)[0]:
+            raise RodstabInputError(f"no equilibrium found at {key} = {float(p)!r} on the way "
+                                    f"from the design's value {p0!r} to {start!r}")
+    param.set(rod, start)
+    if not newton(rod)[0]:
+        raise RodstabInputError(f"no equilibrium found at {key} = {start!r}")
 
 
 def _refine(param: Parameter, prev: DiscreteRod, tq: np.ndarray, tp: float, h: float,
@@ -617,6 +717,10 @@ def imperfection_sensitivity(a: Assembly, key: str, start: float, stop: float, *
     for an asymmetric one).
     """
     n = elements_per_segment
+    if not epsilons or any(isinstance(e, bool) or not isinstance(e, (int, float)) or
+                           not math.isfinite(e) or e <= 0 for e in epsilons):
+        raise RodstabInputError(f"epsilons must be one or more positive numbers, got "
+                                f"{epsilons!r}")
     crit: list = []
     continuation(a, key, start, stop, n_steps, elements_per_segment=n, branch_steps=0,
                  stop_at_first=True, critical_out=crit)
@@ -631,16 +735,25 @@ def imperfection_sensitivity(a: Assembly, key: str, start: float, stop: float, *
         imp = _imperfect(state, discretise(a, n), v, eps * a.total_length)
         c = continuation(a, key, start, stop, n_steps, elements_per_segment=n, branch_steps=0,
                          stop_at_first=True, rod=imp)
+        # An imperfection breaks the bifurcation: the first loss of stability is a fold. A
+        # long step may jump past it onto a nearby branch, but the bracket is re-traced with
+        # small steps from the stable side, which stops at the fold's zero eigenvalue; a
+        # result that does not grow with eps is reported as inconclusive below.
         lost = [s for s in c.special_points if s["kind"] != "branch point (stability regained)"]
         limits.append(float(lost[0]["value"]) if lost else math.nan)
         paths.append(tuple(zip(c.value, c.amplitude)))
     lim = np.array(limits)
     side = math.copysign(1.0, start - p_c)  # the stable side of p_c
     ok = np.isfinite(lim) & ((lim - p_c) * side > 0)
-    if ok.sum() >= 2:
-        slope = np.polyfit(np.log(np.array(epsilons)[ok]), np.log(np.abs(lim[ok] - p_c)), 1)
-        exponent = float(slope[0])
+    slope = (np.polyfit(np.log(np.array(epsilons)[ok]), np.log(np.abs(lim[ok] - p_c)), 1)[0]
+             if ok.sum() >= 2 else math.nan)
+    if ok.sum() >= 2 and slope > 0:
+        exponent = float(slope)
         verdict = f"imperfection-sensitive: |p_c - p_max| ~ eps^{exponent:.3f}"
+    elif ok.any():
+        exponent = math.nan
+        verdict = ("inconclusive: limit points found but they do not grow with the "
+                   "imperfection (refine n_steps or the mesh)")
     else:
         exponent = math.nan
         verdict = (f"no limit point between {start:g} and {stop:g} for these amplitudes: "

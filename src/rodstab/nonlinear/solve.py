@@ -57,6 +57,19 @@ class Equilibrium(Result):
     n_dof: int
     load_factor: float
     method: str
+    max_strain: float = 0.0  # largest stretch/shear strain of an edge (Kirchhoff: ~0)
+
+
+#: An equilibrium whose largest stretch/shear strain exceeds this is not a Kirchhoff rod's:
+#: the supports impose a motion an inextensible rod cannot make (reported, never hidden).
+STRAIN_WARN = 1e-3
+
+
+def max_strain(rod: DiscreteRod) -> float:
+    """Largest |R_e^T (x_j - x_i) / l_e - e2| over the edges (stretch and shear strain)."""
+    d = (rod.x[rod.edge_nodes[:, 1]] - rod.x[rod.edge_nodes[:, 0]]) / rod.rest_length[:, None]
+    eps = np.einsum("eji,ej->ei", rod.R_edge, d) - np.array([0.0, 1.0, 0.0])
+    return float(np.max(np.linalg.norm(eps, axis=1)))
 
 
 def _vee_log(P: np.ndarray) -> np.ndarray:
@@ -210,6 +223,28 @@ def newton(rod: DiscreteRod, *, max_iter: int = NEWTON_MAX_ITER) -> tuple[bool, 
     return _newton(rod, max_iter)
 
 
+#: Imposed end rotations are applied in steps of at most this angle (rad), Newton after each.
+ROTATION_STEP = math.pi / 4
+
+
+def settle(rod: DiscreteRod) -> None:
+    """Apply the design's imposed end rotations gradually (in place): a rotation vector is
+    only defined modulo 2 pi, so a turn of 4 rad applied at once is a turn of 4 - 2 pi; the
+    path from the held state decides which twist the rod carries. Raises naming the angle
+    where Newton fails."""
+    targets = {j: np.asarray(r, float).copy() for j, r in rod.joint_rotation.items()}
+    largest = max((float(np.linalg.norm(r)) for r in targets.values()), default=0.0)
+    n = int(math.ceil(largest / ROTATION_STEP))
+    if n <= 1:
+        return
+    for k in range(1, n + 1):
+        for j, r in targets.items():
+            rod.rotate_joint(j, r * (k / n))
+        if not newton(rod)[0]:
+            raise RodstabInputError(f"no equilibrium found while turning the clamped ends to "
+                                    f"{k}/{n} of the design's rotations")
+
+
 def relax(rod: DiscreteRod, *, escapes: int = 4) -> tuple[bool, int, float]:
     """Newton, then, while the equilibrium found is unstable, a step down along its unstable
     mode (both signs tried, the lower energy kept) and Newton again: a stable equilibrium
@@ -328,6 +363,7 @@ def equilibrium(a: Assembly, *, load_factor: float = 1.0, elements_per_segment: 
     largest node displacement of ``perturb`` x the total length, relaxed to a stable
     equilibrium when one is reachable (:func:`relax`)."""
     rod = discretise(a, elements_per_segment, load_factor)
+    settle(rod)
     if perturb:
         # A smooth, mesh-independent perturbation: a seeded random mix of the held state's
         # four softest modes, scaled to a largest node displacement of perturb x total length.
@@ -347,7 +383,7 @@ def equilibrium(a: Assembly, *, load_factor: float = 1.0, elements_per_segment: 
     return Equilibrium(ok, E, res, its, bool(ok and ev[0] > zero_eigenvalue_tol(rod)),
                        tuple(float(v) for v in ev), len(rod.free_dofs()), load_factor,
                        "discrete Cosserat rod (stiff stretch/shear), Newton + line search, "
-                       "exact Hessian by second-order jets"), rod
+                       "exact Hessian by second-order jets", max_strain(rod)), rod
 
 
 @dataclasses.dataclass(frozen=True)
