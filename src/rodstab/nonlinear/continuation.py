@@ -53,6 +53,24 @@ class Branch(Result):
     shapes: tuple = ()  # node positions (n, 3) along the positive-amplitude side
 
 
+def post_buckling_verdict(amps: np.ndarray, values: np.ndarray, p_c: float,
+                          stable_side: float) -> tuple[str, float, float]:
+    """Initial post-buckling from ``p - p_c = c1 a + c2 a^2`` fitted over a branch's first
+    points (both signs of the amplitude ``a``); ``stable_side``: the sign of ``p - p_c`` where
+    the primary path is stable. Returns (verdict, c1, c2)."""
+    if len(amps) < 3:
+        return "undetermined (branch too short)", math.nan, math.nan
+    c2, c1, _ = (float(v) for v in np.polyfit(amps, np.asarray(values) - p_c, 2))
+    amax = float(np.max(np.abs(amps)))
+    if abs(c1) * amax > 0.2 * abs(c2) * amax**2 and abs(c1) > 0:
+        return "asymmetric (transcritical): unstable on one side", c1, c2
+    if c2 * stable_side > 0:
+        return ("unstable symmetric (subcritical): the branch lies where the primary is "
+                "stable", c1, c2)
+    return ("stable symmetric (supercritical): the branch lies where the primary is unstable",
+            c1, c2)
+
+
 def _mode_node(rod: DiscreteRod, vec: np.ndarray) -> tuple[int, float]:
     """The free z-unknown where the mode's out-of-plane displacement is largest."""
     free = rod.free_dofs()
@@ -161,15 +179,10 @@ def post_buckling_branch(a: Assembly, lo: float, hi: float, *, elements_per_segm
     A = np.array([r[0] for r in rows])
     M = np.array([r[1] for r in rows])
     small = np.abs(A) <= 0.5 * np.max(np.abs(A))
-    c = np.polyfit(A[small], M[small] - mu_c, 2) if small.sum() >= 3 else [math.nan] * 3
-    c2, c1 = float(c[0]), float(c[1])
-    tol = 1e-3 * abs(c2) * np.max(np.abs(A))
-    if abs(c1) > tol:
-        verdict = "asymmetric (unstable on one side)"
-    elif c2 > 0:
-        verdict = "stable symmetric (supercritical): the load rises after buckling"
-    else:
-        verdict = "unstable symmetric (subcritical): the load falls after buckling"
+    # The side of mu_c where the held state is stable (below it unless the bracket says so).
+    stable_side = -1.0 if lowest_modes(discretise(a, elements_per_segment, lo), 1)[0][0] > 0 \
+        else 1.0
+    verdict, c1, c2 = post_buckling_verdict(A[small], M[small], mu_c, stable_side)
     return Branch(mu_c, tuple(A), tuple(M), tuple(r[2] for r in rows), tuple(r[3] for r in rows),
                   c1, c2, verdict, bool(ok_all),
                   "amplitude-controlled bordered Newton from the critical mode", tuple(shapes))

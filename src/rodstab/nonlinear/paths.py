@@ -42,7 +42,7 @@ import scipy.sparse as sp
 from ..errors import RodstabInputError
 from ..model import Assembly
 from ..results import Result
-from .continuation import LOAD, _solve_bordered
+from .continuation import LOAD, _solve_bordered, post_buckling_verdict
 from .discrete import PENALTY, DiscreteRod, discretise
 from .parameters import Parameter, parameter
 from .solve import critical_load_factor, lowest_modes, newton, settle, sliding_mode
@@ -275,19 +275,6 @@ class Continuation(Result):
     branch_shapes: tuple = ()  # node positions along the first branch (this run only)
 
 
-def _verdict(values: np.ndarray, amps: np.ndarray, p_c: float, stable_side: float) -> str:
-    """Post-buckling from ``p - p_c = c1 a + c2 a^2`` over the branch's first points."""
-    if len(amps) < 3:
-        return "undetermined (branch too short)"
-    c2, c1, _ = np.polyfit(amps, values - p_c, 2)
-    amax = float(np.max(np.abs(amps)))
-    if abs(c1) * amax > 0.2 * abs(c2) * amax**2 and abs(c1) > 0:
-        return "asymmetric (transcritical): unstable on one side"
-    if c2 * stable_side > 0:
-        return "unstable symmetric (subcritical): the branch lies where the primary is stable"
-    return "stable symmetric (supercritical): the branch lies where the primary is unstable"
-
-
 def _trace_branch(rod: DiscreteRod, param: Parameter, stable_side: float, ds: float,
                   n_steps: int) -> tuple[SecondaryBranch, list]:
     p_c = param.get(rod)
@@ -321,7 +308,7 @@ def _trace_branch(rod: DiscreteRod, param: Parameter, stable_side: float, ds: fl
     A = np.array([q[0] for q in pts])
     V = np.array([q[1] for q in pts])
     small = np.abs(A) <= 0.6 * np.max(np.abs(A)) if len(A) else np.zeros(0, bool)
-    verdict = _verdict(V[small], A[small], p_c, stable_side)
+    verdict = post_buckling_verdict(A[small], V[small], p_c, stable_side)[0]
     return SecondaryBranch(p_c, tuple(V), tuple(A), tuple(q[2] for q in pts),
                            tuple(q[3] for q in pts), verdict, ok_all), shapes
 
