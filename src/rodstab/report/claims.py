@@ -619,7 +619,8 @@ def beyond_claims(progress: Callable[[], None]) -> tuple[list[Claim], dict]:
             "amplitude-controlled branch from the critical mode", REPRODUCED,
             ("Along this branch the load rises weakly, but the critical eigenvalue is double "
              "and a second branch is subcritical (T-six): the folded ring's bifurcation is "
-             "unstable and it snaps open, as in the experiments (Fig. 10c)." if neutral else
+             "unstable and at its limit it snaps open. (The snap of Fig. 10c is at "
+             "kappa_n R0 = 1, forced across a finite barrier: see T-six.)" if neutral else
              "Weakly rising load: no sudden loss of stability at the bifurcation itself. The "
              "spring-back of the experiments (Fig. 7b) happens far from the straight state, "
              "beyond this initial branch.")))
@@ -685,7 +686,8 @@ def _six_ring_transition_claim(progress: Callable[[], None]) -> tuple[Claim, dic
           and abs(mu[0] - lin_fold) / lin_fold < 5e-3)
     claim = Claim(
         "T-six", "beyond", "5", "Six-sided ring (h/t = 4): folded <-> one-loop transition",
-        "the folded ring snaps (experiments, Fig. 10c); transition not analysed",
+        "experiment at kappa_n R0 = 1: both states stable; bending the folded ring's ends makes "
+        "it snap 'with vigor' to the unfolded state (Fig. 10c); transition not analysed",
         f"bistable for {_f(one_lo, 3)} < kappa_n R0 < {_f(lin_fold / theta, 4)}: the saddle "
         f"branch leaves the folded state's bifurcation ({_f(k[0], 4)}) going down "
         f"(subcritical) and meets the one-loop state at {_f(k[-1], 4)} (12 el.; radius "
@@ -698,11 +700,15 @@ def _six_ring_transition_claim(progress: Callable[[], None]) -> tuple[Claim, dic
         REPRODUCED if ok else DIFFERS,
         "New: the saddle branch that connects the two stable states is unstable all along "
         "(one negative eigenvalue) and spans the whole bistable range, so it bounds the energy "
-        "barrier. Past kappa_n R0 = 2.25 the folded ring has no nearby stable state and snaps "
-        "open into the one-loop ring (stable there up to 2.357) -- the snap of the experiments; "
-        "below 0.0717 the one-loop ring folds itself. The two states have equal energy at "
-        "kappa_n R0 = 1/2. At the folded state's double eigenvalue another, supercritical "
-        "branch exists (PB-folded), but the subcritical one makes the bifurcation unstable.")
+        "barrier. At the experiment's kappa_n R0 = 1 the folded ring stores "
+        f"{_f(3 * theta**2, 3)} B3/L but is held by a barrier of only {_f(b1[0], 3)}: a "
+        "moderate forced bending releases it, and the snap is energetic -- consistent with "
+        "Fig. 10c; folding the stress-free ring needs the larger barrier "
+        f"{_f(b1[1], 3)}. Past kappa_n R0 = 2.25 the folded ring snaps open by itself (the "
+        "one-loop ring is stable there up to 2.357); below 0.0717 the one-loop ring folds "
+        "itself. The two states have equal energy at kappa_n R0 = 1/2. At the folded state's "
+        "double eigenvalue another, supercritical branch exists (PB-folded), but the "
+        "subcritical one makes the bifurcation unstable.")
     data = {"kappa_R0": k.tolist(), "energy": en.tolist(), "radius": rad.tolist(),
             "theta": theta, "bistable": [float(one_lo), float(lin_fold / theta)]}
     return claim, data
