@@ -69,3 +69,15 @@ def test_ring_overlap_threshold_brackets_overlap():
     lo, hi = rectangle(aspect=0.995 * ht), rectangle(aspect=1.005 * ht)
     assert ring_overlap(lo.b1, lo.b2).overlap is None
     assert ring_overlap(hi.b1, hi.b2).overlap is not None
+
+
+def test_beyond_the_paper_checks_hold(report):
+    """Every "beyond the paper" row is a check against a closed form, a limit or an
+    independent method (nonlinear vs linear engine, Greenhill, Koiter's 2/3, analytic ring
+    limits, the linear engine's one-loop limit): all must hold."""
+    out, _ = report
+    claims = json.loads((out / "results.json").read_text())["claims"]
+    beyond = {c["id"]: c["status"] for c in claims if c["section"] == "beyond"}
+    for cid in ("NL-straightened", "NL-bi-rod", "NL-folded", "GR-rot", "PB-twist",
+                "IMP-twist", "IMP-folded", "T-ring", "T-six"):
+        assert beyond[cid] == C.REPRODUCED, cid

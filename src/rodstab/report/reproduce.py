@@ -16,7 +16,7 @@ from ..results import jsonable
 from . import claims as C
 from . import figures
 
-_STEPS = 20
+_STEPS = 26
 
 
 def _markdown(rows: list[C.Claim], figs: dict[str, Path], elapsed: float) -> str:
