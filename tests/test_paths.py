@@ -307,3 +307,20 @@ def test_design_rotation_beyond_pi_keeps_its_twist():
     assert r.converged and r.stable
     # Cayley twist measure: + (phi/n)^2 / 6 relative at n elements (0.26 % here).
     assert r.energy == pytest.approx(B2_ISO * 4.0**2 / 2, rel=5e-3)
+
+
+def test_interactive_html_views_are_written(tmp_path):
+    """equilibrium --html writes a self-contained plotly page; continue --out adds
+    branch.html with one frame per traced shape."""
+    pytest.importorskip("plotly")
+    r = _cli("equilibrium", "examples/twisted_rod.toml", "--elements", "8", "--html",
+             str(tmp_path / "eq.html"), "--json")
+    assert r.returncode == 0, r.stderr
+    text = (tmp_path / "eq.html").read_text()
+    assert "plotly" in text.lower() and "scatter3d" in text
+    r = _cli("continue", "examples/twisted_rod.toml", "--vary",
+             "support.1.rotation.tangent=0:13:13", "--elements", "8", "--branch-steps", "3",
+             "--out", str(tmp_path / "c"), "--no-progress", "--json")
+    assert r.returncode == 0, r.stderr
+    page = (tmp_path / "c" / "branch.html").read_text()
+    assert page.count('"name":"') >= 4  # the branch point and three steps: animation frames
