@@ -245,11 +245,16 @@ def settle(rod: DiscreteRod) -> None:
                                     f"{k}/{n} of the design's rotations")
 
 
+#: Newton iterations allowed to :func:`relax` (a far start crosses a flat, strongly nonlinear
+#: landscape: each Newton step is valid only locally).
+RELAX_MAX_ITER = 600
+
+
 def relax(rod: DiscreteRod, *, escapes: int = 4) -> tuple[bool, int, float]:
     """Newton, then, while the equilibrium found is unstable, a step down along its unstable
     mode (both signs tried, the lower energy kept) and Newton again: a stable equilibrium
     below the start's energy when one is reachable. Returns (ok, iterations, residual)."""
-    ok, its, res = newton(rod)
+    ok, its, res = newton(rod, max_iter=RELAX_MAX_ITER)
     scale = 0.01 * rod.assembly.total_length
     for _ in range(escapes):
         if not ok:
@@ -264,7 +269,7 @@ def relax(rod: DiscreteRod, *, escapes: int = 4) -> tuple[bool, int, float]:
             v = vecs[:, 0] / np.max(np.abs(vecs[:, 0]))
             dq[rod.free_dofs()] = sign * scale * v
             trial.apply(dq)
-            t_ok, t_its, t_res = newton(trial)
+            t_ok, t_its, t_res = newton(trial, max_iter=RELAX_MAX_ITER)
             its += t_its
             if t_ok and (best is None or trial.energy() < best[0].energy()):
                 best = (trial, t_res)
@@ -300,60 +305,59 @@ def _spd_shift(Hf: sp.spmatrix, dg: np.ndarray) -> float:
     return 2.0 * -lam if lam < 0 else 0.0
 
 
-def _line_search(rod: DiscreteRod, free: np.ndarray, E: float, gf: np.ndarray,
-                 step: np.ndarray | None, res: float) -> tuple[float, DiscreteRod]:
-    """Backtracking (Armijo) along ``step``; returns the step length and the trial state."""
-    if step is None:
-        return 0.0, rod.copy()
-    dq = np.zeros(rod.n_dof)
-    t = 1.0
-    while t > 1e-12:
-        trial = rod.copy()
-        dq[free] = t * step
-        trial.apply(dq)
-        Et = trial.energy()
-        if Et <= E + 1e-4 * t * (gf @ step):
-            return t, trial
-        # Near a solution the energy change drowns in round-off: accept a step that does
-        # not raise the energy beyond round-off and lowers the gradient.
-        if abs(Et - E) <= 1e-12 * max(abs(E), 1.0):
-            gt = trial.energy_terms()[1][free]
-            if np.max(np.abs(gt)) < res:
-                return t, trial
-        t *= 0.5
-    return t, trial
-
-
 def _newton(rod: DiscreteRod, max_iter: int) -> tuple[bool, int, float]:
-    """The Newton iteration of :func:`newton` (no restart)."""
+    """The iteration of :func:`newton`: Newton with a Levenberg-Marquardt safeguard.
+
+    Each step solves ``(H + lam D) s = -g`` (``D`` = |diag H|, so ``lam`` is on the scale of
+    the Jacobi-scaled eigenvalues). ``lam = 0`` (pure Newton) while steps succeed; on an
+    indefinite Hessian it starts past the lowest scaled eigenvalue. The step is accepted when
+    the energy falls by at least a quarter of the quadratic model's prediction, else ``lam``
+    grows; after very good steps it shrinks back towards 0, so the final convergence is
+    quadratic. Near a solution, where energy differences drown in round-off, a step that
+    lowers the gradient is accepted instead."""
     free = rod.free_dofs()
     # Force scale of the stiffest terms (stretch/shear penalty): the residual is relative to it.
     scale = float(PENALTY * np.max(rod.edge_B) / np.min(rod.rest_length))
-    for it in range(max_iter + 1):
-        E, g, H = rod.energy_terms()
+    lam_floor = zero_eigenvalue_tol(rod)  # well below the scaled bending eigenvalues
+    lam = 0.0
+    it = 0
+    E, g, H = rod.energy_terms()
+    while True:
         gf = g[free]
         res = float(np.max(np.abs(gf))) if gf.size else 0.0
         if res <= NEWTON_RTOL * scale:
             return True, it, res
         if it == max_iter:
-            break
+            return False, max_iter, res
+        it += 1
         Hf = H[free][:, free].tocsc()
         Hf = 0.5 * (Hf + Hf.T)
         dg = np.abs(Hf.diagonal()) + 1e-300
-        step = _newton_step(Hf, gf, dg, 0.0)
-        shifted = False
-        if step is None or gf @ step >= 0:
-            step, shifted = _newton_step(Hf, gf, dg, _spd_shift(Hf, dg)), True
-        t, trial = _line_search(rod, free, E, gf, step, res)
-        if t < 0.25 and not shifted:
-            # A poor step on an indefinite Hessian (far from equilibrium): shift the Hessian
-            # just past its lowest eigenvalue (modified Newton) and search again.
-            tau = _spd_shift(Hf, dg)
-            if tau > 0:
-                step = _newton_step(Hf, gf, dg, tau)
-                t, trial = _line_search(rod, free, E, gf, step, res)
-        rod.x, rod.R_edge, rod.R_joint = trial.x, trial.R_edge, trial.R_joint
-    return False, max_iter, res
+        for _ in range(40):
+            step = _newton_step(Hf, gf, dg, lam)
+            if step is None or gf @ step >= 0:
+                lam = max(_spd_shift(Hf, dg), 4 * lam, lam_floor)
+                continue
+            pred = -(gf @ step + 0.5 * step @ (Hf @ step))
+            trial = rod.copy()
+            dq = np.zeros(rod.n_dof)
+            dq[free] = step
+            trial.apply(dq)
+            Et, gt, Ht = trial.energy_terms()
+            actual = E - Et
+            if abs(actual) <= 1e-12 * max(abs(E), 1.0):
+                ok = np.max(np.abs(gt[free])) < res  # round-off regime: judge by the gradient
+            else:
+                ok = actual >= 0.25 * pred > 0
+            if ok:
+                if actual > 0.75 * pred:
+                    lam = 0.0 if lam <= lam_floor else lam / 4
+                rod.x, rod.R_edge, rod.R_joint = trial.x, trial.R_edge, trial.R_joint
+                E, g, H = Et, gt, Ht
+                break
+            lam = max(4 * lam, lam_floor)
+        else:
+            return False, it, res
 
 
 def equilibrium(a: Assembly, *, load_factor: float = 1.0, elements_per_segment: int = 32,
