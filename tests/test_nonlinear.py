@@ -181,9 +181,10 @@ def test_post_buckling_of_straightened_rod_is_stable_symmetric():
     b = post_buckling_branch(_sliding_straight(), 1.0, 8.0, elements_per_segment=12,
                              amplitudes=np.linspace(0.0, 0.06, 5)[1:])
     assert b.converged
-    mus = np.array(b.load_factor)
-    assert abs(b.c1) < 1e-6 * b.load_factor_critical
-    assert b.c2 > 0 and np.all(mus >= b.load_factor_critical - 1e-9)
+    mus = np.array(b.value)
+    a_lin, b_quad = b.coefficients
+    assert abs(a_lin) < 1e-6
+    assert b_quad > 0 and np.all(mus >= b.value_critical - 1e-9)
     amp = np.array(b.amplitude)
     assert np.allclose(mus[amp > 0], mus[amp < 0][::-1], rtol=1e-8)  # symmetric branch
     assert min(b.lowest_eigenvalue) > -1e-9
@@ -193,7 +194,7 @@ def test_post_buckling_of_straightened_rod_is_stable_symmetric():
 def test_imperfect_straightened_rod_has_no_limit_load():
     """Stable symmetric bifurcation -> imperfection-insensitive: no limit point up to 8/5.56
     mu_c; the imperfect path deflects more for a larger imperfection."""
-    from rodstab.nonlinear.paths import imperfection_sensitivity
+    from rodstab.nonlinear.continuation import imperfection_sensitivity
 
     r = imperfection_sensitivity(_sliding_straight(), "load_factor", 1.0, 8.0,
                                  epsilons=(2e-3, 8e-3), elements_per_segment=12, n_steps=14)
@@ -236,19 +237,27 @@ def test_cli_continue_detects_the_birod_branch_point_and_resumes(tmp_path):
 def test_arclength_path_from_the_straightened_rod_bifurcation_matches_amplitude_control():
     """Keller pseudo-arclength from the bifurcation and amplitude-controlled Newton trace the
     same post-buckled branch: same load at the same mode amplitude (two methods)."""
-    from rodstab.nonlinear.continuation import post_buckling_branch
-    from rodstab.nonlinear.paths import arclength_from_bifurcation
+    from rodstab.nonlinear.continuation import arclength_from_bifurcation, post_buckling_branch
 
     a = _sliding_straight()
     p = arclength_from_bifurcation(a, 1.0, 8.0, elements_per_segment=12, ds=0.02, n_steps=8)
-    assert p.converged and len(p.load_factor) >= 5
-    mu_c = p.load_factor[0]
-    assert all(m >= mu_c - 1e-9 for m in p.load_factor)  # supercritical
-    zmax = [float(np.max(np.abs(x[:, 2]))) for x in p.shapes]
-    b = post_buckling_branch(a, 1.0, 8.0, elements_per_segment=12,
-                             amplitudes=np.array([zmax[-1]]))
-    (mu_b,) = [m for amp, m in zip(b.amplitude, b.load_factor) if amp > 0]
-    assert p.load_factor[-1] == pytest.approx(mu_b, rel=1e-5)
+    assert p.converged and len(p.value) >= 5
+    mu_c = p.value_critical
+    assert all(m >= mu_c - 1e-9 for m in p.value)  # supercritical
+    # xi of the third point from its shape (clamped: no rigid part; L = 1), independently of
+    # the path's own amplitude column (further out xi turns back: the bulge shrinks while the
+    # load rises, where amplitude control would be singular).
+    zmax = float(np.max(np.abs(p.shapes[2][:, 2])))
+    assert min(abs(abs(x) - zmax) for x in p.amplitude) < 1e-12
+    b = post_buckling_branch(a, 1.0, 8.0, elements_per_segment=12, amplitudes=np.array([zmax]))
+    (xb, mu_b), = [(x, m) for x, m in zip(b.amplitude, b.value) if x > 0]
+    assert xb == pytest.approx(zmax, rel=1e-6)
+    assert p.shape_values[2] == pytest.approx(mu_b, rel=1e-5)
+    # the two methods' post-buckling coefficient b of mu/mu_c = 1 + a xi + b xi^2 agree
+    pa = arclength_from_bifurcation(a, 1.0, 8.0, elements_per_segment=12, ds=0.002,
+                                    n_steps=8, both_sides=True)
+    ba = post_buckling_branch(a, 1.0, 8.0, elements_per_segment=12)
+    assert pa.coefficients[1] == pytest.approx(ba.coefficients[1], rel=2e-2)
 
 
 def _scaled(rod):
@@ -263,7 +272,8 @@ def test_sliding_mode_of_a_non_circular_uniform_ring_is_a_zero_mode():
     """Uniform closed ring: on a non-circular equilibrium (on the branch leaving the 1-loop
     bifurcation) material sliding costs no energy -- its Rayleigh quotient is far below the
     lowest remaining eigenvalue; on the circular state it is the gauged rigid rotation."""
-    from rodstab.nonlinear.continuation import _advance, _mode_node
+    from rodstab.nonlinear.continuation.corrector import Stepper
+    from rodstab.nonlinear.parameters import LoadFactor
     from rodstab.nonlinear.solve import lowest_modes, sliding_mode
 
     a = ring(1)
@@ -274,8 +284,12 @@ def test_sliding_mode_of_a_non_circular_uniform_ring_is_a_zero_mode():
     mu_c = critical_load_factor(a, 1.05, 3.0, elements_per_segment=24).load_factor_critical
     rod = discretise(a, 24, mu_c)
     _, vecs = lowest_modes(rod, 1)
-    k, amp = _mode_node(rod, vecs[:, 0])
-    assert _advance(rod, k, 0.3, vecs[:, 0] / amp)  # a clearly non-circular equilibrium
+    # A clearly non-circular equilibrium: arclength steps along the mode until a node has
+    # moved by about 0.3 (the ring has L = 2 pi).
+    st = Stepper(rod, LoadFactor(), vecs[:, 0], 0.0, 0.1 / np.max(np.abs(vecs[:, 0])))
+    x0 = rod.x.copy()
+    while np.max(np.linalg.norm(rod.x - x0, axis=1)) < 0.3:
+        assert st.step()
     u = sliding_mode(rod)
     assert u is not None
     A = _scaled(rod)
@@ -324,7 +338,7 @@ def test_michell_twisted_ring_by_the_nonlinear_model():
     """Section 3.3 by a third, independent method: a ring of isotropic bending stiffness with
     natural twist (held untwisted = imposed twist omega0' R = mu), followed along its primary
     path; stability is lost at b2 omega0' -> sqrt(3) (Michell 1889), at second order."""
-    from rodstab.nonlinear.paths import critical_along_primary
+    from rodstab.nonlinear.continuation import critical_along_primary
 
     b2 = 0.75
     s = Segment("r", 2 * math.pi, 1.0, 0.0, 1.0, b2, 1.0, natural_twist=1.0)

@@ -26,13 +26,13 @@ import pytest
 from rodstab.design import parse_design, set_design_value
 from rodstab.errors import RodstabInputError
 from rodstab.model import Assembly, Segment
-from rodstab.nonlinear import paths as P
-from rodstab.nonlinear.parameters import parameter
-from rodstab.nonlinear.paths import (
+from rodstab.nonlinear.continuation import (
     arclength_from_bifurcation,
     continuation,
     imperfection_sensitivity,
 )
+from rodstab.nonlinear.continuation import run as P
+from rodstab.nonlinear.parameters import parameter
 from rodstab.nonlinear.solve import critical_load_factor, equilibrium
 from rodstab.sections import circle
 
@@ -290,18 +290,18 @@ def test_resume_kill_between_csv_append_and_special_points_write(twisted, full_r
                                                                  monkeypatch):
     """A kill after the state (the single source of a resume) is saved but before the CSV/JSON
     exports are written must not lose the special point: the resumed run reports it."""
-    import rodstab.nonlinear.paths as P
+    import rodstab.nonlinear.continuation.storage as P
 
-    orig = P._export
+    orig = P.export
 
     def export(out, rows, specials):
         if specials:
             raise Killed()
         return orig(out, rows, specials)
-    monkeypatch.setattr(P, "_export", export)
+    monkeypatch.setattr(P, "export", export)
     with pytest.raises(Killed):
         continuation(twisted, KEY, A, B, N, out_dir=tmp_path, **KW)
-    monkeypatch.setattr(P, "_export", orig)
+    monkeypatch.setattr(P, "export", orig)
     r = continuation(twisted, KEY, A, B, N, out_dir=tmp_path, **KW)
     assert _sp(r) == _sp(full_run)
     assert json.loads((tmp_path / "special_points.json").read_text())

@@ -287,7 +287,7 @@ def continue_cmd(design_file: str, vary: str, out_dir: str | None, elements: int
     from tqdm import tqdm
 
     from .design import load_design
-    from .nonlinear.paths import continuation
+    from .nonlinear.continuation import continuation
 
     key, _, rng = vary.partition("=")
     parts = rng.split(":")
@@ -306,7 +306,7 @@ def continue_cmd(design_file: str, vary: str, out_dir: str | None, elements: int
     r = continuation(d.assembly, key.strip(), start, stop, n,
                      elements_per_segment=require_positive_int("--elements", elements),
                      out_dir=out_dir, progress=lambda: bar.update(1),
-                     branch_steps=branch_steps)
+                     branch_steps=branch_steps, reference_segment=d.load_factor_segment)
     bar.close()
     specials = [{k: v for k, v in p.items() if k != "branch"} for p in r.special_points]
     payload = {"key": r.key, "value": list(r.value), "energy": list(r.energy),
@@ -319,28 +319,23 @@ def continue_cmd(design_file: str, vary: str, out_dir: str | None, elements: int
         from .report.figures import continuation_plot
 
         payload["diagram"] = str(continuation_plot(r, Path(out_dir)))
-        if r.branch_shapes:
+        if r.branches and r.branches[0].shapes:
             from .nonlinear.discrete import discretise
             from .plots import animate_shapes
 
+            first = r.branches[0]
             edges = discretise(d.assembly, elements).edge_nodes
             gif = Path(out_dir) / "branch.gif"
-            animate_shapes(list(r.branch_shapes), edges, gif,
-                           labels=[f"{r.key} = {v:.6g}" for v in
-                                   [r.branches[0].value_critical]
-                                   + [v for a, v in zip(r.branches[0].amplitude,
-                                                        r.branches[0].value) if a > 0]])
+            animate_shapes(list(first.shapes), edges, gif,
+                           labels=[f"{r.key} = {v:.6g}" for v in first.shape_values])
             payload["animation"] = str(gif)
             try:
                 from .plots import html_view
 
                 payload["interactive"] = str(html_view(
-                    list(r.branch_shapes), edges, Path(out_dir) / "branch.html",
-                    labels=[f"{v:.6g}" for v in [r.branches[0].value_critical]
-                            + [v for a, v in zip(r.branches[0].amplitude,
-                                                 r.branches[0].value) if a > 0]],
-                    title=f"{d.source}: branch from {r.key} = "
-                          f"{r.branches[0].value_critical:.6g}"))
+                    list(first.shapes), edges, Path(out_dir) / "branch.html",
+                    labels=[f"{v:.6g}" for v in first.shape_values],
+                    title=f"{d.source}: branch from {r.key} = {first.value_critical:.6g}"))
             except RodstabInputError:
                 pass  # plotly not installed: the GIF is the picture (see --help)
     lines = [f"design       {d.source}: {len(r.value)} steps in {r.key} "

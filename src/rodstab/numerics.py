@@ -27,6 +27,7 @@ from __future__ import annotations
 import dataclasses
 import math
 from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 import scipy.linalg as sla
@@ -464,6 +465,28 @@ def pencil_interval(A: np.ndarray, C: np.ndarray, *,
                           bool(residual < 1e-8), n, "generalized symmetric eigh (LAPACK sygv)")
 
 
+def count_below(A: Any, sigma: float) -> int | None:
+    """Number of eigenvalues of the sparse symmetric ``A`` below ``sigma`` (Sylvester's inertia).
+
+    ``A - sigma I = P L D L^T P^T`` by SuperLU in symmetric mode (diagonal pivots, the same
+    symmetric ordering for rows and columns), so the negative entries of ``U``'s diagonal count
+    the eigenvalues below ``sigma``. None when that factorisation is not available (singular,
+    or the pivoting left the diagonal)."""
+    import scipy.sparse as sp
+    import scipy.sparse.linalg as spla
+
+    n = A.shape[0]
+    try:
+        lu = spla.splu((A - sigma * sp.identity(n)).tocsc(), permc_spec="MMD_AT_PLUS_A",
+                       diag_pivot_thresh=0.0, options={"SymmetricMode": True})
+    except RuntimeError:
+        return None
+    if not np.array_equal(lu.perm_r, lu.perm_c):
+        return None
+    d = lu.U.diagonal()
+    return int(np.sum(d < 0)) if np.all(np.isfinite(d)) else None
+
+
 def pencil_interval_sparse(A, C, *, multiplicity_rtol: float = MULTIPLICITY_RTOL,
                            n_eig: int = 6, tol: float = 1e-12) -> PencilInterval:
     """Sparse version of :func:`pencil_interval` for large FE pencils.
@@ -494,7 +517,9 @@ def pencil_interval_sparse(A, C, *, multiplicity_rtol: float = MULTIPLICITY_RTOL
     def extreme(which: str) -> tuple[np.ndarray, np.ndarray]:
         k = min(n_eig, n - 2)
         while True:
-            vals, vecs = spla.eigsh(C, k=k, M=A, Minv=Ainv, which=which, tol=tol)
+            # fixed start vector: ARPACK's default is random (results would vary run to run)
+            vals, vecs = spla.eigsh(C, k=k, M=A, Minv=Ainv, which=which, tol=tol,
+                                    v0=np.linspace(1.0, 2.0, n))
             order = np.argsort(vals)[::-1] if which == "LA" else np.argsort(vals)
             vals, vecs = vals[order], vecs[:, order]
             t = vals[0]

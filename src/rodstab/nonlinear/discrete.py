@@ -358,7 +358,7 @@ def discretise(a: Assembly, elements_per_segment: int = 32, load_factor: float =
                       np.array(pairs, int).reshape(-1, 2), links, fixed_nodes, fixed_joints,
                       load_factor, fixed_components=fixed_components)
     rod.edge_tw = np.array(tws) if any(tws) else None
-    rod.k_held_pairs, rod.k_held_links = _held_curvatures(rod)
+    rod.k_held_pairs, rod.k_held_links = held_curvatures(rod)
     rod.k0_links = _balanced_link_curvatures(rod)
     rod.R_joint_held = rod.R_joint.copy()
     seg_index = {s.name: i for i, s in enumerate(a.segments)}
@@ -405,7 +405,7 @@ def _cayley(P: np.ndarray, ds: np.ndarray) -> np.ndarray:
     return vee * (2.0 / ds / (1.0 + np.trace(P, axis1=1, axis2=2)))[:, None]
 
 
-def _held_curvatures(rod: DiscreteRod) -> tuple[np.ndarray, np.ndarray]:
+def held_curvatures(rod: DiscreteRod) -> tuple[np.ndarray, np.ndarray]:
     """Cayley curvatures of the held state for the joints and the half-joints."""
     a, b = rod.bend_pairs[:, 0], rod.bend_pairs[:, 1]
     kp = _cayley(np.swapaxes(rod.R_edge[a], 1, 2) @ rod.R_edge[b],

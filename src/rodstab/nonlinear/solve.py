@@ -17,7 +17,7 @@ import scipy.sparse.linalg as spla
 
 from ..errors import RodstabInputError
 from ..model import Assembly
-from ..numerics import find_roots
+from ..numerics import count_below, find_roots
 from ..results import Result
 from .discrete import PENALTY, DiscreteRod, discretise
 
@@ -72,7 +72,7 @@ def max_strain(rod: DiscreteRod) -> float:
     return float(np.max(np.linalg.norm(eps, axis=1)))
 
 
-def _vee_log(P: np.ndarray) -> np.ndarray:
+def vee_log(P: np.ndarray) -> np.ndarray:
     """Rotation vectors of rotation matrices ``P`` (..., 3, 3) (exact log map)."""
     c = np.clip(0.5 * (np.trace(P, axis1=-2, axis2=-1) - 1.0), -1.0, 1.0)
     th = np.arccos(c)
@@ -101,11 +101,11 @@ def sliding_mode(rod: DiscreteRod) -> np.ndarray | None:
     dx = 0.5 * (np.roll(x, -1, axis=0) - np.roll(x, 1, axis=0))
     R = rod.R_edge
     Rn, Rp = np.roll(R, -1, axis=0), np.roll(R, 1, axis=0)
-    dphi = 0.5 * (_vee_log(np.swapaxes(R, 1, 2) @ Rn) - _vee_log(np.swapaxes(R, 1, 2) @ Rp))
+    dphi = 0.5 * (vee_log(np.swapaxes(R, 1, 2) @ Rn) - vee_log(np.swapaxes(R, 1, 2) @ Rp))
     J = rod.end_links[0][1]
     RJ = rod.R_joint[J]
     # The joint frame sits half an edge from either neighbouring edge frame.
-    dphi_J = _vee_log(RJ.T @ R[0]) - _vee_log(RJ.T @ R[-1])
+    dphi_J = vee_log(RJ.T @ R[0]) - vee_log(RJ.T @ R[-1])
 
     def sin_scaled(v: np.ndarray) -> np.ndarray:
         # The central difference of positions on a circle is the rigid rotation at rate
@@ -133,33 +133,46 @@ def sliding_mode(rod: DiscreteRod) -> np.ndarray | None:
 #: Newton first turns the edge frames onto their chords when some frame is sheared by more
 #: than this (rad); an equilibrium's shear is O(1/PENALTY).
 ALIGN_SHEAR = 1e-2
-#: Up to this many free unknowns the lowest eigenpairs come from a dense solver (exact, a
-#: second at 4000); beyond, from shift-invert Lanczos.
-DENSE_EIG_MAX = 4000
+#: Up to this many free unknowns the lowest eigenpairs come from a dense solver; beyond, from
+#: shift-invert Lanczos (tested against the dense solver, tests/test_paths.py). The dense
+#: solve is O(n^3) and, with a multithreaded BLAS on a loaded machine, slow already at a few
+#: hundred unknowns (0.85 s at 300 measured on 2 busy cores, 0.006 s sparse).
+DENSE_EIG_MAX = 200
 
 
 def _lowest_sparse(A: sp.spmatrix, k: int) -> tuple[np.ndarray, np.ndarray]:
     """Lowest ``k`` eigenpairs of the scaled Hessian by shift-invert Lanczos.
 
     The stiff stretch/shear penalty leaves the bending eigenvalues of the Jacobi-scaled matrix
-    tiny (~1e-8) and clustered, so the shift must sit at their scale: it starts just below an
-    estimate of the smallest eigenvalue (one shift-invert solve at 0) and the solve is repeated
-    lower until the ``k`` returned values all lie above the shift (then none below is missed:
-    shift-invert returns the eigenvalues nearest the shift)."""
+    tiny (~1e-8) and clustered, so the shift must sit at their scale. Shift-invert returns the
+    eigenvalues NEAREST the shift, so the shift is first moved below the lowest eigenvalue,
+    certified by the inertia (:func:`count_below` = 0): then the nearest are the lowest and
+    none is missed (a negative eigenvalue farther from 0 than a small positive one would be
+    missed by a shift placed from the eigenvalue nearest 0 alone)."""
     import warnings
 
+    # A fixed start vector: ARPACK's default is random, which makes the last digits -- and so
+    # the sign of quantities near zero along a path -- differ from run to run.
+    v0 = np.linspace(1.0, 2.0, A.shape[0])
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        lam0 = spla.eigsh(A, k=1, sigma=0.0, which="LM", tol=1e-10)[0][0]
-    sigma = min(lam0, 0.0) - max(abs(lam0), 1e-12) * 2.0
-    for _ in range(8):
-        vals, vecs = spla.eigsh(A, k=k, sigma=sigma, which="LM", tol=1e-10, maxiter=20000)
-        order = np.argsort(vals)
-        vals, vecs = vals[order], vecs[:, order]
-        if vals[0] > sigma:
-            return vals, vecs
-        sigma = vals[0] - abs(vals[0])
-    raise RuntimeError("shift-invert Lanczos did not bracket the lowest eigenvalues")
+        lam0 = spla.eigsh(A, k=1, sigma=0.0, which="LM", tol=1e-10, v0=v0)[0][0]
+    step = max(abs(lam0), 1e-12)
+    sigma = min(lam0, 0.0) - 2.0 * step
+    for _ in range(80):
+        below = count_below(A, sigma)
+        if below == 0:
+            break
+        step *= 2.0
+        sigma = min(lam0, 0.0) - 2.0 * step
+    else:
+        raise RuntimeError("could not place a shift below the lowest eigenvalue")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        vals, vecs = spla.eigsh(A, k=k, sigma=sigma, which="LM", tol=1e-10, maxiter=20000,
+                                v0=v0)
+    order = np.argsort(vals)
+    return vals[order], vecs[:, order]
 
 
 def _scaled_lowest(A: sp.spmatrix, k: int) -> tuple[np.ndarray, np.ndarray]:

@@ -337,7 +337,7 @@ def michell_claims() -> Iterator[Claim]:
                 "(3.25)/(3.26) use j^2 and are right", "algebra + quadrature (claim 3.26)",
                 DIFFERS, "Typo in (3.24) only; (3.25) and the result are correct.")
     from ..model import Assembly, Segment
-    from ..nonlinear.paths import critical_along_primary
+    from ..nonlinear.continuation import critical_along_primary
 
     seg = Segment("r", 2 * math.pi, 1.0, 0.0, 1.0, 0.75, 1.0, natural_twist=1.0)
     tw = Assembly((seg,), welds=((("r", "start"), ("r", "end")),))
@@ -580,8 +580,7 @@ def fig9_data() -> dict:
 def beyond_claims(progress: Callable[[], None]) -> tuple[list[Claim], dict]:
     """Beyond the paper: nonlinear critical loads, post-buckling verdicts, imperfections."""
     from ..model import Assembly, Segment
-    from ..nonlinear.continuation import post_buckling_branch
-    from ..nonlinear.paths import imperfection_sensitivity
+    from ..nonlinear.continuation import imperfection_sensitivity, post_buckling_branch
     from ..nonlinear.solve import critical_load_factor
 
     c = circle()
@@ -603,10 +602,10 @@ def beyond_claims(progress: Callable[[], None]) -> tuple[list[Claim], dict]:
             REPRODUCED if abs(crit - lin) / lin < 5e-3 else DIFFERS,
             f"difference {100 * (crit - lin) / lin:.2f} % (second-order convergence, tests)"))
         b = post_buckling_branch(a, lo, hi, elements_per_segment=min(n, 12),
-                                 amplitudes=np.linspace(0.0, 0.04 * a.total_length, 5)[1:])
+                                 amplitudes=np.linspace(0.0, 0.04, 5)[1:])
         progress()
         A = np.array(b.amplitude)
-        M = np.array(b.load_factor) / b.load_factor_critical
+        M = np.array(b.value) / b.value_critical
         neutral = max(abs(v) for v in b.lowest_eigenvalue) < 1e-10
         rows.append(Claim(
             f"PB-{name.split()[0]}", "beyond", "-", f"{name}: initial post-buckling",
@@ -614,7 +613,7 @@ def beyond_claims(progress: Callable[[], None]) -> tuple[list[Claim], dict]:
             (f"double critical eigenvalue; along one mode {b.verdict.split(':')[0]}, along the "
              "other subcritical (T-six): unstable bifurcation" if neutral else b.verdict),
             f"mu/mu_c = {_f(M[-1], 6)} at amplitude {_f(A[-1], 3)} (length unit); c2 = "
-            f"{_f(b.c2, 3)}" + ("; a second direction stays neutral along the branch "
+            f"{_f(b.coefficients[1], 3)}" + ("; a second direction stays neutral along the branch "
                                 "(double eigenvalue)" if neutral else ""),
             "amplitude-controlled branch from the critical mode", REPRODUCED,
             ("Along this branch the load rises weakly, but the critical eigenvalue is double "
@@ -677,7 +676,7 @@ def _six_ring_transition_claim(progress: Callable[[], None]) -> tuple[Claim, dic
     (where its lowest eigenvalue returns to zero). Closed-form energies of the two uniform
     states: folded (straight) 6 x 1/2 kappa_n^2 L, one-loop (arcs of curvature theta/L)
     6 x 1/2 (theta/L - kappa_n)^2 L, theta = 2 pi/3."""
-    from ..nonlinear.paths import arclength_from_bifurcation
+    from ..nonlinear.continuation import arclength_from_bifurcation
 
     r4 = rectangle(aspect=4.0)
     theta = 2 * math.pi / 3
@@ -688,7 +687,7 @@ def _six_ring_transition_claim(progress: Callable[[], None]) -> tuple[Claim, dic
     path = arclength_from_bifurcation(folded, 1.0, 8.0, elements_per_segment=12, ds=0.1,
                                       n_steps=112, mu_window=(0.0, 6.0))
     progress()
-    mu = np.array(path.load_factor)
+    mu = np.array(path.value)
     ev = np.array(path.lowest_eigenvalue)
     en = np.array(path.energy)
     end = 5 + int(np.argmin(np.abs(ev[5:])))  # the path meets the one-loop state
@@ -741,7 +740,7 @@ def _twisted_rod_claims(progress: Callable[[], None]) -> tuple[list[Claim], dict
     import scipy.optimize as so
 
     from ..model import Assembly, Segment
-    from ..nonlinear.paths import continuation, imperfection_sensitivity
+    from ..nonlinear.continuation import continuation, imperfection_sensitivity
 
     b2 = 1.0 / 1.3  # circle, nu = 0.3
     rod = Assembly((Segment("rod", 1.0, 0.0, 0.0, 1.0, b2, 1.0),),
@@ -799,7 +798,7 @@ def _twisted_rod_claims(progress: Callable[[], None]) -> tuple[list[Claim], dict
 def _ring_transition_claim(c, progress: Callable[[], None]) -> tuple[Claim, dict]:
     """The 1-loop ring beyond its bifurcation, followed to the 3-loop ring."""
     from ..model import Assembly, Segment
-    from ..nonlinear.paths import arclength_from_bifurcation
+    from ..nonlinear.continuation import arclength_from_bifurcation
 
     seg = Segment("ring", 2 * math.pi, 1.0, 1.0, c.b1, c.b2, 1.0)
     ring1 = Assembly((seg,), welds=((("ring", "start"), ("ring", "end")),))
@@ -809,9 +808,9 @@ def _ring_transition_claim(c, progress: Callable[[], None]) -> tuple[Claim, dict
                                           n_steps=steps)
         rad = np.array(path.radius)
         i = int(np.argmin(rad))
-        ends.append(path.load_factor[i])
+        ends.append(path.value[i])
     progress()
-    mu = np.array(path.load_factor[: i + 1])
+    mu = np.array(path.value[: i + 1])
     ev = np.array(path.lowest_eigenvalue[: i + 1])
     en = np.array(path.energy[: i + 1])
     r1 = ring.ring_stability(c.b1, c.b2, 1).kappa_L_over_2pi_interval[1]

@@ -1,0 +1,203 @@
+"""One bordered Newton corrector and the predictor-corrector stepper built on it.
+
+Every traced curve of :mod:`rodstab.nonlinear.continuation` -- the primary path in any
+parameter ``p``, a branch from a bifurcation under arclength control, a branch under amplitude
+control -- solves the equilibrium equations ``g(q, p) = 0`` together with **one linear
+constraint row** on the increment ``(dq, dp)`` accumulated since the start of the step::
+
+    [ H      dg/dp  z ] [dq   ]     [ g + sigma z                      ]
+    [ r_q^T  r_p    0 ] [dp   ] = - [ r_q . acc_q + r_p . acc_p - c    ]
+    [ z^T    0      0 ] [sigma]     [ z . acc_q                        ]
+
+* arclength (Keller): ``r = (t_q, t_p)``, ``c = h`` (the step length along the unit tangent);
+* amplitude: ``r = (e_k, 0)``, ``c`` = the prescribed change of the free unknown ``k``;
+* phase (optional third row and column, ``z``): picks one member of a continuous family of
+  equilibria (a uniform ring's material sliding, an isotropic rod's rotation about its axis)
+  where the bordered matrix alone is singular; a true equilibrium has ``sigma = 0``, checked.
+
+Converged when the free gradient is below ``FORCE_RTOL`` of the stiff (stretch/shear) force
+scale, the constraint holds, and the last Newton update is below ``STEP_TOL`` (length unit, and
+relative to ``max(1, |p|)`` for ``p``). The update test matters: the force test alone stops
+while ``p`` is still wrong by ~1e-6, which is the size of ``p - p_c`` on a branch at
+amplitude 1e-3 and flips a fitted post-buckling coefficient (issue 9).
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from ..discrete import PENALTY, DiscreteRod
+from ..parameters import Parameter
+from ..solve import sliding_mode, vee_log
+
+#: Free-gradient tolerance, relative to PENALTY max|B| / min l_e (the stiffest forces).
+FORCE_RTOL = 1e-9
+#: Largest last Newton update of a converged point (length unit; relative for p).
+STEP_TOL = 1e-11
+#: Constraint residual tolerance relative to the constraint's target.
+CONSTRAINT_RTOL = 1e-10
+#: |sigma| max|z| below this times the force scale: the phase-pinned point is an equilibrium.
+PHASE_RTOL = 1e-8
+#: Corrector iterations before a step is declared failed (and halved).
+MAX_ITER = 25
+
+
+def force_scale(rod: DiscreteRod) -> float:
+    """PENALTY max|B| / min l_e: the scale of the stiff stretch/shear forces of ``rod``."""
+    return float(PENALTY * np.max(rod.edge_B) / np.min(rod.rest_length))
+
+
+def solve_bordered(M: sp.spmatrix, rhs: np.ndarray) -> np.ndarray | None:
+    """Solve a bordered system; at a double eigenvalue (singular ``M``: a second critical
+    mode) take the minimum-norm solution, which keeps that mode's amplitude. None if that fails
+    too (or the system is too large for the dense fallback)."""
+    with np.errstate(all="ignore"), warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        sol = spla.spsolve(M.tocsc(), rhs)
+    if np.all(np.isfinite(sol)):
+        return sol
+    if M.shape[0] > 4000:
+        return None
+    sol = np.linalg.lstsq(M.toarray(), rhs, rcond=1e-12)[0]
+    return sol if np.all(np.isfinite(sol)) else None
+
+
+def bordered_matrix(H: sp.spmatrix, gp: np.ndarray, row_q: np.ndarray, row_p: float,
+                    z: np.ndarray | None) -> sp.spmatrix:
+    """``[[H, g_p, z], [r_q^T, r_p, 0], [z^T, 0, 0]]`` (the last row/column only with ``z``)."""
+    col = sp.csr_matrix(gp[:, None])
+    row = sp.csr_matrix(row_q[None, :])
+    if z is None:
+        return sp.bmat([[H, col], [row, sp.csr_matrix([[row_p]])]], format="csc")
+    zc = sp.csr_matrix(z[:, None])
+    return sp.bmat([[H, col, zc], [row, sp.csr_matrix([[row_p]]), None],
+                    [zc.T, None, sp.csr_matrix((1, 1))]], format="csc")
+
+
+def correct(rod: DiscreteRod, param: Parameter, row_q: np.ndarray, row_p: float,
+            target: float, *, acc_q: np.ndarray, acc_p: float, phase: np.ndarray | None = None,
+            max_iter: int = MAX_ITER) -> float | None:
+    """Newton on ``g(q, p) = 0`` and ``r_q . acc_q + r_p . acc_p = target`` (in place).
+
+    ``acc_q``, ``acc_p``: the increment already accumulated since the start of the step (the
+    predictor's). Returns the phase multiplier ``sigma`` (0 without ``phase``) of the converged
+    point (module docstring), or None; on failure the state is left where the iteration
+    stopped (the caller restores it). :func:`pinned_equilibrium` says whether ``sigma`` is 0.
+    """
+    free = rod.free_dofs()
+    n = len(free)
+    scale = force_scale(rod)
+    ctol = CONSTRAINT_RTOL * max(abs(target), 1e-12)
+    sigma, last = 0.0, math.inf
+    acc_q = np.array(acc_q, float)
+    for _ in range(max_iter + 1):
+        _, g, H = rod.energy_terms()
+        gf = g[free] if phase is None else g[free] + sigma * phase
+        c = float(row_q @ acc_q + row_p * acc_p - target)
+        c2 = 0.0 if phase is None else float(phase @ acc_q)
+        if (np.max(np.abs(gf)) <= FORCE_RTOL * scale and abs(c) <= ctol and abs(c2) <= ctol
+                and last <= STEP_TOL):
+            return sigma
+        gp = param.dgrad(rod)[free]
+        rhs = -np.concatenate([gf, [c]] + ([] if phase is None else [[c2]]))
+        sol = solve_bordered(bordered_matrix(H[free][:, free], gp, row_q, row_p, phase), rhs)
+        if sol is None:
+            return None
+        dq = np.zeros(rod.n_dof)
+        dq[free] = sol[:n]
+        rod.apply(dq)
+        p = param.get(rod) + float(sol[n])
+        param.set(rod, p)
+        acc_q += sol[:n]
+        acc_p += float(sol[n])
+        if phase is not None:
+            sigma += float(sol[n + 1])
+        last = max(float(np.max(np.abs(sol[:n]))), abs(float(sol[n])) / max(1.0, abs(p)))
+    return None
+
+
+def pinned_equilibrium(rod: DiscreteRod, sigma: float | None, phase: np.ndarray | None) -> bool:
+    """True when :func:`correct` converged to a true equilibrium (``sigma`` ~ 0)."""
+    if sigma is None:
+        return False
+    return phase is None or abs(sigma) * float(np.max(np.abs(phase))) <= PHASE_RTOL * \
+        force_scale(rod)
+
+
+def tangent(rod: DiscreteRod, param: Parameter, tq_prev: np.ndarray, tp_prev: float,
+            phase: np.ndarray | None = None) -> tuple[np.ndarray, float]:
+    """Unit tangent of the path: ``[H dg/dp; t_prev^T] t = [0; 1]``, normalised, oriented
+    along the previous tangent (kept if the solve fails)."""
+    free = rod.free_dofs()
+    n = len(free)
+    _, _, H = rod.energy_terms()
+    gp = param.dgrad(rod)[free]
+    rhs = np.zeros(n + (1 if phase is None else 2))
+    rhs[n] = 1.0
+    t = solve_bordered(bordered_matrix(H[free][:, free], gp, tq_prev, tp_prev, phase), rhs)
+    if t is None:
+        return tq_prev, tp_prev
+    t = t[: n + 1] / np.linalg.norm(t[: n + 1])
+    if t[:n] @ tq_prev + t[n] * tp_prev < 0:
+        t = -t
+    return t[:n], float(t[n])
+
+
+def distance(rod: DiscreteRod, other: DiscreteRod, dp: float) -> float:
+    """Distance in (positions, rotation increments, p) between two states of one rod."""
+    dx = (rod.x - other.x).ravel()
+    de = vee_log(np.swapaxes(other.R_edge, 1, 2) @ rod.R_edge).ravel()
+    dj = vee_log(np.swapaxes(other.R_joint, 1, 2) @ rod.R_joint).ravel()
+    return math.sqrt(float(dx @ dx + de @ de + dj @ dj) + dp * dp)
+
+
+class Stepper:
+    """Pseudo-arclength predictor-corrector on ``rod`` (updated in place).
+
+    Predictor ``(q, p) + h t``, :func:`correct` with the arclength row, next tangent from
+    :func:`tangent`. The step halves when the corrector fails or the corrected point lies
+    farther than ``2 h`` from the step's start (it jumped to another branch), and grows by 1.5
+    after a success up to ``h_max``. On a non-circular state of a uniform closed ring the
+    material-sliding family is pinned by its own mode; otherwise by ``phase`` if given."""
+
+    def __init__(self, rod: DiscreteRod, param: Parameter, tq: np.ndarray, tp: float,
+                 h: float, h_max: float | None = None, phase: np.ndarray | None = None) -> None:
+        nrm = math.sqrt(float(tq @ tq) + tp * tp)
+        self.rod, self.param, self.phase = rod, param, phase
+        self.tq, self.tp = tq / nrm, tp / nrm
+        self.h = h
+        self.h_min = 1e-4 * h
+        self.h_max = h if h_max is None else h_max
+        self.last_h = h
+
+    def _phase(self) -> np.ndarray | None:
+        z = sliding_mode(self.rod)
+        return self.phase if z is None else z / np.linalg.norm(z)
+
+    def step(self) -> bool:
+        """One accepted step (halving on failure); False once the step is below ``h_min``."""
+        rod, free = self.rod, self.rod.free_dofs()
+        phase = self._phase()
+        while self.h >= self.h_min:
+            saved = rod.copy()
+            p0 = self.param.get(rod)
+            dq = np.zeros(rod.n_dof)
+            dq[free] = self.h * self.tq
+            rod.apply(dq)
+            self.param.set(rod, p0 + self.h * self.tp)
+            sigma = correct(rod, self.param, self.tq, self.tp, self.h, acc_q=self.h * self.tq,
+                            acc_p=self.h * self.tp, phase=phase)
+            if pinned_equilibrium(rod, sigma, phase) \
+                    and distance(rod, saved, self.param.get(rod) - p0) <= 2 * self.h:
+                self.tq, self.tp = tangent(rod, self.param, self.tq, self.tp, phase)
+                self.last_h = self.h
+                self.h = min(1.5 * self.h, self.h_max)
+                return True
+            rod.assign(saved)
+            self.h *= 0.5
+        return False

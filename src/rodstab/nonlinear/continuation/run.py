@@ -1,0 +1,205 @@
+"""Continuation of the equilibrium in one parameter: the primary path, its special points
+(:mod:`.special`) and the branches leaving its losses of stability (:mod:`.branches`)."""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Callable
+from pathlib import Path as FsPath
+
+import numpy as np
+
+from ...errors import RodstabInputError
+from ...model import Assembly
+from ..discrete import DiscreteRod, discretise
+from ..parameters import Parameter, parameter
+from ..solve import newton, settle
+from . import storage
+from .branches import check_count, check_number, trace_branch
+from .corrector import Stepper, tangent
+from .path import Path, SpecialKind, reference_length
+from .special import crossed, locate, lowest
+
+#: Most Newton steps taken while reaching the start of a path from the design's value.
+REACH_STEPS_MAX = 200
+
+
+def _reach(rod: DiscreteRod, param: Parameter, key: str, start: float, h: float) -> None:
+    """Bring ``rod`` from its parameter value to ``start`` by Newton in steps of at most ``h``
+    (at most REACH_STEPS_MAX steps); raise naming the value where Newton fails."""
+    p0 = param.get(rod)
+    n = int(math.ceil(abs(start - p0) / h)) if start != p0 else 0
+    if n > REACH_STEPS_MAX:
+        raise RodstabInputError(
+            f"{key} = {start!r} is {n} steps of {h:.3g} from the design's value {p0!r} "
+            f"(at most {REACH_STEPS_MAX}): start nearer to it or take fewer, longer steps")
+    for p in np.linspace(p0, start, n + 1)[1:]:
+        param.set(rod, float(p))
+        if not newton(rod)[0]:
+            raise RodstabInputError(f"no equilibrium found at {key} = {float(p)!r} on the way "
+                                    f"from the design's value {p0!r} to {start!r}")
+    param.set(rod, start)
+    if not newton(rod)[0]:
+        raise RodstabInputError(f"no equilibrium found at {key} = {start!r}")
+
+
+def _moved(x: np.ndarray, ref: np.ndarray) -> float:
+    return float(np.max(np.linalg.norm(x - ref, axis=1)))
+
+
+def _branch_dict(b: Path) -> dict:
+    return {"verdict": b.verdict, "converged": b.converged, "value": list(b.value),
+            "amplitude": list(b.amplitude), "energy": list(b.energy),
+            "lowest_eigenvalue": list(b.lowest_eigenvalue),
+            "coefficients": {"a": b.coefficients[0], "b": b.coefficients[1],
+                             "definition": "p/p_c = 1 + a xi + b xi^2; " + b.amplitude_definition}}
+
+
+def continuation(a: Assembly, key: str, start: float, stop: float, n_steps: int, *,
+                 elements_per_segment: int = 16, out_dir: str | FsPath | None = None,
+                 progress: Callable[[], None] | None = None, branch_steps: int = 8,
+                 branch_ds: float | None = None, max_steps_factor: int = 8,
+                 rod: DiscreteRod | None = None, stop_at_first: bool = False,
+                 reference_segment: str | None = None) -> Path:
+    """Follow the equilibrium of ``a`` as the parameter ``key`` goes from ``start`` to ``stop``.
+
+    ``key``: ``load_factor``, ``segment.<name>.natural_curvature`` / ``.natural_twist`` or
+    ``support.<i>.rotation.<normal|tangent|binormal>`` (:func:`..parameters.parameter`). The
+    path starts at ``start``, reached from the design's value by Newton in small steps (the
+    path, not the end value, decides: an end rotation of 2 pi is not none), steps about
+    ``|stop - start| / n_steps`` in the parameter, ends exactly at ``stop`` and reports folds
+    and branch points inside the range. It is reported not converged if a step fails or
+    ``stop`` is not reached in ``max_steps_factor * n_steps`` steps. From each loss of
+    stability at a branch point the branch (its most dangerous direction at a multiple
+    eigenvalue) is traced ``branch_steps`` steps each way with step ``branch_ds`` (default 1 %
+    of the total length); its verdict and the coefficients ``(a, b)`` of
+    ``p/p_c = 1 + a xi + b xi^2`` (``xi`` relative to ``reference_segment``'s length, default
+    the first segment's) go into the special point. ``rod``: start from this discretised state
+    instead of the held state (e.g. an imperfect one); ``stop_at_first``: stop at the first
+    special point. The returned :class:`.Path` carries in ``states`` the states
+    ``(value, rod)`` at the losses of stability and folds found by this run.
+
+    With ``out_dir``: the run is stored after every step (:mod:`.storage`); a rerun with the
+    same design and arguments continues from the last completed step.
+    """
+    start, stop = check_number("start", start), check_number("stop", stop)
+    if start == stop or not math.isfinite(stop - start):
+        raise RodstabInputError(f"continuation needs two different values a finite distance "
+                                f"apart, got {start!r}:{stop!r}")
+    n_steps = check_count("n_steps", n_steps, 1)
+    n = check_count("elements_per_segment", elements_per_segment, 2)
+    branch_steps = check_count("branch_steps", branch_steps, 0)
+    max_steps_factor = check_count("max_steps_factor", max_steps_factor, 1)
+    length = reference_length(a, reference_segment)
+    param = parameter(a, key, n)
+    fresh = rod is None
+    rod = discretise(a, n) if rod is None else rod
+    held_x = rod.x.copy()
+    direction = 1.0 if stop > start else -1.0
+    h = abs(stop - start) / n_steps
+    branch_ds = 0.01 * a.total_length if branch_ds is None else \
+        check_number("branch_ds", branch_ds)
+    rows: list[tuple[float, float, float, float, bool]] = []
+    specials: list[dict] = []
+    states: list[tuple[float, DiscreteRod]] = []
+    branches: list[Path] = []
+    tq, tp = np.zeros(len(rod.free_dofs())), direction
+    out = FsPath(out_dir) if out_dir is not None else None
+    resumed = 0
+    meta = {"key": key, "start": start, "stop": stop, "n_steps": n_steps,
+            "elements_per_segment": n, "branch_steps": branch_steps, "branch_ds": branch_ds,
+            "max_steps_factor": max_steps_factor, "design": storage.design_hash(a),
+            "start_state": "held" if fresh else storage.state_hash(rod),
+            "reference_length": length}
+    if out is not None:
+        out.mkdir(parents=True, exist_ok=True)
+        st = storage.load_state(out / "state.npz")
+        if st is not None and st["meta"] == meta:
+            rows = [tuple(r[:4]) + (bool(r[4]),) for r in st["rows"]]
+            specials = st["specials"]
+            rod.x, rod.R_edge, rod.R_joint = st["x"], st["R_edge"], st["R_joint"]
+            param.set(rod, st["value"])
+            tq, tp, h = st["tq"], st["tp"], st["h"]
+            resumed = len(rows)
+        else:
+            for name in storage.OUTPUTS:
+                (out / name).unlink(missing_ok=True)
+            storage.write_atomic(out / "run.json", json.dumps(meta, indent=1))
+    if not rows:
+        if fresh:
+            settle(rod)
+        _reach(rod, param, key, start, h)
+        tq, tp = tangent(rod, param, tq, tp)  # the true tangent (the start is regular)
+        # Arclength counts the unknowns too: size the step so that the parameter advances by
+        # about |stop - start| / n_steps while the path is the primary one.
+        h = h / max(abs(tp), 1e-3)
+    path = Stepper(rod, param, tq, tp, h)
+
+    def record(ok: bool, low: float | None = None) -> None:
+        rows.append((param.get(rod), rod.energy(), lowest(rod) if low is None else low,
+                     _moved(rod.x, held_x), ok))
+        if out is not None:
+            storage.save_state(out, rod, param.get(rod), path.tq, path.tp, path.h, rows, meta,
+                               specials)
+            storage.export(out, rows, specials)
+        if progress is not None:
+            progress()
+
+    if not rows:
+        record(True)
+    ok_all, why = True, ""
+    budget = max_steps_factor * n_steps + 1
+    while (rows[-1][0] - stop) * direction < 0:
+        if len(rows) >= budget:
+            ok_all, why = False, f"{stop!r} not reached in {budget - 1} steps"
+            break
+        prev, prev_tp, prev_tq = rod.copy(), path.tp, path.tq.copy()
+        if not path.step():
+            ok_all, why = False, f"step failed at {key} = {param.get(rod)!r}"
+            break
+        if (param.get(rod) - stop) * direction > 0:
+            # Past the end: land exactly on ``stop`` by Newton from the previous point.
+            trial = prev.copy()
+            param.set(trial, stop)
+            if newton(trial)[0]:
+                rod.assign(trial)
+        e0, e1 = rows[-1][2], lowest(rod)
+        if crossed(e0, e1, prev_tp, path.tp):
+            point, at = locate(rod, param, prev, prev_tq, prev_tp, path.last_h, e0, e1,
+                               path.tp)
+            if (point["value"] - stop) * direction <= 0:
+                if at is not None and point["kind"] != SpecialKind.REGAINED.value:
+                    states.append((point["value"], at))
+                if point["kind"] == SpecialKind.LOST.value and at is not None \
+                        and branch_steps > 0:
+                    side = math.copysign(1.0, param.get(prev) - point["value"])
+                    b = trace_branch(at, param, side, branch_ds, branch_steps, length=length)
+                    point["post_buckling"] = b.verdict
+                    point["branch"] = _branch_dict(b)
+                    branches.append(b)
+                specials.append(point)
+                if stop_at_first:
+                    record(True, e1)
+                    break
+        record(True, e1)
+    if out is not None:
+        storage.export(out, rows, specials)
+    if resumed:  # branches found before the resume: rebuilt from their stored points
+        branches = [_from_dict(key, s) for s in specials if "branch" in s]
+    return Path(key, tuple(r[0] for r in rows), tuple(r[1] for r in rows),
+                tuple(r[2] for r in rows), tuple(r[3] for r in rows),
+                "largest node displacement from the start state (length unit)", ok_all,
+                "pseudo-arclength (Keller) with Hessian eigenvalue monitoring"
+                + (f"; STOPPED: {why}" if why else ""), special_points=tuple(specials),
+                branches=tuple(branches), resumed_steps=resumed,
+                states=tuple(states))
+
+
+def _from_dict(key: str, s: dict) -> Path:
+    b = s["branch"]
+    co = b.get("coefficients", {})
+    return Path(key, tuple(b["value"]), tuple(b["energy"]), tuple(b["lowest_eigenvalue"]),
+                tuple(b["amplitude"]), co.get("definition", ""), b["converged"],
+                "stored branch", s["value"], (co.get("a", math.nan), co.get("b", math.nan)),
+                b["verdict"])
