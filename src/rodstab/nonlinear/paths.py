@@ -39,7 +39,7 @@ from pathlib import Path
 import numpy as np
 import scipy.sparse as sp
 
-from ..errors import RodstabInputError
+from ..errors import NotConverged, RodstabInputError
 from ..model import Assembly
 from ..results import Result
 from .continuation import LOAD, _solve_bordered, post_buckling_verdict
@@ -539,11 +539,11 @@ def _reach(rod: DiscreteRod, param: Parameter, key: str, start: float, h: float)
     for p in np.linspace(p0, start, n + 1)[1:]:
         param.set(rod, float(p))
         if not newton(rod)[0]:
-            raise RodstabInputError(f"no equilibrium found at {key} = {float(p)!r} on the way "
-                                    f"from the design's value {p0!r} to {start!r}")
+            raise NotConverged(f"no equilibrium found at {key} = {float(p)!r} on the way "
+                               f"from the design's value {p0!r} to {start!r}")
     param.set(rod, start)
     if not newton(rod)[0]:
-        raise RodstabInputError(f"no equilibrium found at {key} = {start!r}")
+        raise NotConverged(f"no equilibrium found at {key} = {start!r}")
 
 
 def _refine(param: Parameter, prev: DiscreteRod, tq: np.ndarray, tp: float, h: float,
