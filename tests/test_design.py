@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 
 from rodstab.analytic.ring import ring_stability
-from rodstab.design import load_design, parse_design
+from rodstab.design import load_design, parse_design, parse_vary
 from rodstab.errors import RodstabInputError
 from rodstab.linear.solve import linear_stability
 
@@ -135,3 +135,38 @@ def test_cli_sweep_bad_vary_one_line(vary, needle):
     r = _cli("sweep", "examples/clamped_arc.toml", "--vary", vary)
     assert r.returncode == 2
     assert len(r.stderr.strip().splitlines()) == 1 and needle in r.stderr
+
+
+# ----------------------------------------------------------------------- --vary grammar
+
+
+@pytest.mark.parametrize("spec, expected", [
+    ("section.aspect=1:4:13", ("section.aspect", 1.0, 4.0, 13)),
+    ("load_factor=1:2", ("load_factor", 1.0, 2.0, 7)),
+    (" segment.a.length = 0.5 : -2e-1 : 3 ", ("segment.a.length", 0.5, -0.2, 3)),
+])
+def test_parse_vary_accepts_key_start_stop_and_optional_n(spec, expected):
+    v = parse_vary(spec, default_n=7)
+    assert (v.key, v.start, v.stop, v.n) == expected
+
+
+@pytest.mark.parametrize("spec, needles", [
+    ("section.aspect", ["KEY=START:STOP[:N]", "'section.aspect'"]),
+    ("section.aspect=1", ["KEY=START:STOP[:N]", "'section.aspect=1'"]),
+    ("section.aspect=1:2:3:4", ["KEY=START:STOP[:N]", "1:2:3:4"]),
+    ("=1:2", ["KEY", "''"]),
+    ("  =1:2", ["KEY", "''"]),
+    ("section.aspect=abc:2", ["START", "'abc'", "not a number"]),
+    ("section.aspect=1:", ["STOP", "''", "not a number"]),
+    ("section.aspect=nan:2", ["START", "'nan'", "finite"]),
+    ("section.aspect=1:-inf", ["STOP", "'-inf'", "finite"]),
+    ("section.aspect=1:2:0", ["N", "'0'", "positive integer"]),
+    ("section.aspect=1:2:-3", ["N", "'-3'", "positive integer"]),
+    ("section.aspect=1:2:2.5", ["N", "'2.5'", "positive integer"]),
+    ("section.aspect=1:2:x", ["N", "'x'", "positive integer"]),
+])
+def test_parse_vary_errors_name_the_wrong_part(spec, needles):
+    with pytest.raises(RodstabInputError) as info:
+        parse_vary(spec, default_n=9)
+    for needle in needles:
+        assert needle in str(info.value), (needle, str(info.value))

@@ -236,3 +236,60 @@ def set_design_value(data: dict, key: str, value: float) -> dict:
     raise RodstabInputError(f"--vary key {key!r} must be section.<k>, analysis.<k>, "
                             "segment.<name>.<k>, segment.<name>.section.<k> or "
                             "support.<i>.rotation.<normal|tangent|binormal>")
+
+
+@dataclasses.dataclass(frozen=True)
+class VarySpec:
+    """A parsed ``--vary KEY=START:STOP[:N]``: ``n`` values of ``key`` from ``start`` to
+    ``stop`` (a sweep), or ``n`` steps from ``start`` to ``stop`` (a continuation)."""
+
+    key: str
+    start: float
+    stop: float
+    n: int
+
+
+#: The grammar of ``--vary``, as its error messages quote it.
+VARY_GRAMMAR = "KEY=START:STOP[:N]"
+
+
+def _vary_number(spec: str, part: str, text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise RodstabInputError(f"--vary {part} {text.strip()!r} is not a number "
+                                f"(in {spec!r}; expected {VARY_GRAMMAR})") from None
+    if not math.isfinite(value):
+        raise RodstabInputError(f"--vary {part} {text.strip()!r} is not a finite number "
+                                f"(in {spec!r})")
+    return value
+
+
+def parse_vary(spec: str, *, default_n: int) -> VarySpec:
+    """Parse ``KEY=START:STOP[:N]`` (the ``--vary`` option of ``sweep`` and ``continue``).
+
+    ``KEY`` is non-empty (whether it names a design value is checked where it is used:
+    :func:`set_design_value`, :func:`rodstab.nonlinear.parameters.parameter`); ``START`` and
+    ``STOP`` are finite numbers; ``N``, a positive integer, defaults to ``default_n``.
+    Raises :class:`RodstabInputError` naming the part that is wrong and its text.
+    """
+    n_default = require_positive_int("default_n", default_n)
+    if not isinstance(spec, str) or "=" not in spec:
+        raise RodstabInputError(f"--vary must be {VARY_GRAMMAR}, got {spec!r}")
+    key, _, rng = spec.partition("=")
+    key = key.strip()
+    if not key:
+        raise RodstabInputError(f"--vary KEY '' is empty: expected {VARY_GRAMMAR}, "
+                                f"got {spec!r}")
+    parts = rng.split(":")
+    if len(parts) not in (2, 3):
+        raise RodstabInputError(f"--vary must be {VARY_GRAMMAR}, got {spec!r} "
+                                f"({len(parts)} part(s) after '=')")
+    start = _vary_number(spec, "START", parts[0])
+    stop = _vary_number(spec, "STOP", parts[1])
+    if len(parts) == 2:
+        return VarySpec(key, start, stop, n_default)
+    text = parts[2].strip()
+    if not (text.isascii() and text.isdigit()) or int(text) < 1:
+        raise RodstabInputError(f"--vary N {text!r} must be a positive integer (in {spec!r})")
+    return VarySpec(key, start, stop, int(text))
