@@ -129,7 +129,7 @@ def test_cli_sweep_writes_csv_and_matches_single_runs(tmp_path):
 
 @pytest.mark.parametrize("vary, needle", [("segment.zz.length=1:2:3", "zz"),
                                           ("section.colour=1:2:3", "colour"),
-                                          ("section.aspect=1:2", "KEY=START:STOP:N"),
+                                          ("section.aspect=1", "KEY=START:STOP[:N]"),
                                           ("section.aspect=1:2:0", "0")])
 def test_cli_sweep_bad_vary_one_line(vary, needle):
     r = _cli("sweep", "examples/clamped_arc.toml", "--vary", vary)
