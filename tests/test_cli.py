@@ -1,51 +1,34 @@
 """Tests of the ``rodstab`` command line (``rodstab.cli``).
 
-Output is checked through ``click.testing.CliRunner`` on ``rodstab.cli.cli``: every analysis
-subcommand's ``--json`` prints exactly one JSON object with the documented keys, and the values
-are the paper's closed forms (so the CLI is also an end-to-end check). Exit status and stderr
-are checked on the real entry point, ``python -m rodstab.cli`` (``rodstab.cli.main``), run as a
-subprocess: every invalid invocation exits with status 2 and prints exactly one line on stderr,
-without a traceback, naming the offending option or value.
+Every run goes through the real entry point, ``rodstab.cli.main``, with the ``run_cli``
+fixture (``tests/conftest.py``): every analysis subcommand's ``--json`` prints exactly one JSON
+object with the documented keys, and the values are the paper's closed forms (so the CLI is
+also an end-to-end check). Exit status: every invalid invocation exits with status 2 and prints
+exactly one line on stderr, without a traceback, naming the offending option or value; a solver
+that does not converge gives status 3; any other exception is a bug and propagates.
 """
 
 from __future__ import annotations
 
 import json
 import math
-import os
-import subprocess
-import sys
-from concurrent.futures import ThreadPoolExecutor
-from pathlib import Path
 
 import pytest
-from click.testing import CliRunner
-
-from rodstab.cli import cli
-
-SRC = Path(__file__).resolve().parents[1] / "src"
-
-
-def _env() -> dict[str, str]:
-    env = os.environ.copy()
-    env["PYTHONPATH"] = str(SRC) + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH")
-                                    else "")
-    return env
-
-
-def _run(args: list[str]) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-m", "rodstab.cli", *args], capture_output=True,
-                          text=True, env=_env(), timeout=120)
 
 
 def _reject_nan(token: str) -> None:
     raise AssertionError(f"JSON contains {token}, which is not valid JSON")
 
 
-def _json(args: list[str]) -> dict:
-    """Invoke the CLI in-process; assert exit 0 and exactly one JSON object on one stdout line."""
-    result = CliRunner().invoke(cli, args)
-    assert result.exit_code == 0, (result.output, result.exception)
+@pytest.fixture
+def cli_json(run_cli):
+    """``cli_json(args)``: run the CLI and return its one JSON object (:func:`_json`)."""
+    return lambda args: _json(run_cli(args))
+
+
+def _json(result) -> dict:
+    """Assert exit 0 and exactly one JSON object on one stdout line; return it."""
+    assert result.exit_code == 0, (result.stdout, result.stderr)
     lines = result.stdout.splitlines()
     assert len(lines) == 1, result.stdout
     payload = json.loads(lines[0], parse_constant=_reject_nan)
@@ -56,26 +39,25 @@ def _json(args: list[str]) -> dict:
 # ------------------------------------------------------------------------------ --json output
 
 
-def test_cli_section_json_keys_and_circle_values():
+def test_cli_section_json_keys_and_circle_values(cli_json):
     """section --json: b1, b2, sqrt_b1b2; circle nu = 1/3: b1 = 1, b2 = 3/4 (Sec. 3.1)."""
-    p = _json(["section", "--json"])
+    p = cli_json(["section", "--json"])
     assert {"b1", "b2", "sqrt_b1b2"} <= p.keys()
     assert p["b1"] == 1.0 and p["b2"] == pytest.approx(0.75, rel=1e-15)
     assert p["sqrt_b1b2"] == pytest.approx(math.sqrt(0.75), rel=1e-15)
 
 
-def test_cli_section_json_rectangle_and_ratios():
+def test_cli_section_json_rectangle_and_ratios(cli_json):
     """Rectangle h/t = 2: b1 = (h/t)^2 = 4; --b1/--b2 given directly are echoed."""
-    assert _json(["section", "--shape", "rectangle", "--aspect", "2", "--json"])["b1"] == 4.0
-    p = _json(["section", "--b1", "2.5", "--b2", "0.4", "--json"])
+    assert cli_json(["section", "--shape", "rectangle", "--aspect", "2", "--json"])["b1"] == 4.0
+    p = cli_json(["section", "--b1", "2.5", "--b2", "0.4", "--json"])
     assert (p["b1"], p["b2"], p["sqrt_b1b2"]) == (2.5, 0.4, pytest.approx(1.0, rel=1e-15))
 
 
-def test_cli_ratios_override_shape_note_goes_to_stderr_not_stdout():
+def test_cli_ratios_override_shape_note_goes_to_stderr_not_stdout(run_cli):
     """--b1/--b2 with an explicit --shape: the documented note is on stderr; stdout stays one
     JSON object with the given ratios (shape 'ratios')."""
-    result = CliRunner().invoke(cli, ["section", "--shape", "rectangle", "--b1", "1", "--b2",
-                                      "1", "--json"])
+    result = run_cli(["section", "--shape", "rectangle", "--b1", "1", "--b2", "1", "--json"])
     assert result.exit_code == 0
     assert "override" in result.stderr
     p = json.loads(result.stdout)
@@ -86,10 +68,10 @@ def test_cli_ratios_override_shape_note_goes_to_stderr_not_stdout():
     (1, 7 / 8 - math.sqrt(1 / 64 + 3), 1.0, [2, 0]),
     (3, 7 / 8 - math.sqrt(1 / 64 + 4 / 3), 7 / 8 - math.sqrt(1 / 64 + 1 / 3), [4, 2]),
 ])
-def test_cli_ring_json(loops, lo, hi, modes):
+def test_cli_ring_json(cli_json, loops, lo, hi, modes):
     """ring --loops N --json: loops, M_interval, kappa_L_over_2pi_interval, bounding_modes;
     values from (3.3) for b1 = 1, b2 = 3/4 (M^- = 7/8 - sqrt(1/64 + 3 k^2/4))."""
-    p = _json(["ring", "--loops", str(loops), "--json"])
+    p = cli_json(["ring", "--loops", str(loops), "--json"])
     assert {"loops", "M_interval", "kappa_L_over_2pi_interval", "bounding_modes"} <= p.keys()
     assert p["loops"] == loops
     assert p["M_interval"] == pytest.approx([lo, hi], rel=1e-12)
@@ -100,57 +82,58 @@ def test_cli_ring_json(loops, lo, hi, modes):
 
 @pytest.mark.parametrize("extra, g", [([], math.sqrt(0.75)),
                                       (["--b1", "4", "--b2", "0.25"], 1.0)])
-def test_cli_arc_json_straight_limit(extra, g):
+def test_cli_arc_json_straight_limit(cli_json, extra, g):
     """arc --L-over-R 0 --json: L_over_R, L_kappa_interval = +-2 pi sqrt(b1 b2) (3.9),
     critical_mode 'symmetric'."""
-    p = _json(["arc", "--L-over-R", "0", *extra, "--json"])
+    p = cli_json(["arc", "--L-over-R", "0", *extra, "--json"])
     assert {"L_over_R", "L_kappa_interval", "critical_mode"} <= p.keys()
     assert p["L_over_R"] == 0.0
     assert p["L_kappa_interval"] == pytest.approx([-2 * math.pi * g, 2 * math.pi * g], rel=1e-12)
     assert p["critical_mode"] == "symmetric"
 
 
-def test_cli_arc_json_curved():
+def test_cli_arc_json_curved(cli_json):
     """arc --L-over-R 3 --json: the interval contains the stress-free state L kappa_n = L/R."""
-    p = _json(["arc", "--L-over-R", "3", "--json"])
+    p = cli_json(["arc", "--L-over-R", "3", "--json"])
     lo, hi = p["L_kappa_interval"]
     assert p["L_over_R"] == 3.0 and lo < 3.0 < hi and p["critical_mode"] == "symmetric"
 
 
-def test_cli_arc_max_length_json():
+def test_cli_arc_max_length_json(cli_json):
     """arc-max-length --json: L_over_R_max = 2 pi for b1 = 1 (paper, after (3.14))."""
-    p = _json(["arc-max-length", "--json"])
+    p = cli_json(["arc-max-length", "--json"])
     assert {"L_over_R_max", "critical_mode"} <= p.keys()
     assert p["L_over_R_max"] == pytest.approx(2 * math.pi, rel=1e-12)
     assert p["critical_mode"] == "symmetric"
 
 
-def test_cli_michell_json():
+def test_cli_michell_json(cli_json):
     """michell --loops 1 --json: b2_omega0_critical = sqrt 3, mode_j = 2 (Sec. 3.3); --loops 3:
     unstable at every twist, the critical twist is null (JSON has no NaN) and mode_j = 1."""
-    p = _json(["michell", "--loops", "1", "--json"])
+    p = cli_json(["michell", "--loops", "1", "--json"])
     assert {"b2_omega0_critical", "mode_j"} <= p.keys()
     assert p["b2_omega0_critical"] == pytest.approx(math.sqrt(3), rel=1e-14)
     assert p["mode_j"] == 2
-    p = _json(["michell", "--loops", "3", "--json"])
+    p = cli_json(["michell", "--loops", "3", "--json"])
     assert p["b2_omega0_critical"] is None and p["mode_j"] == 1
 
 
 @pytest.mark.parametrize("args", [["section"], ["ring", "--loops", "3"], ["arc", "--L-over-R", "1"],
                                   ["arc-max-length"], ["michell"]])
-def test_cli_table_output_is_not_json(args):
+def test_cli_table_output_is_not_json(run_cli, args):
     """Without --json each subcommand prints a readable table (several lines, not JSON)."""
-    result = CliRunner().invoke(cli, args)
-    assert result.exit_code == 0, result.output
+    result = run_cli(args)
+    assert result.exit_code == 0, result.stderr
     assert result.stdout.startswith("section ")
     with pytest.raises(json.JSONDecodeError):
         json.loads(result.stdout)
 
 
-def test_cli_main_valid_invocation_exit_0_and_silent_stderr():
-    """The real entry point: valid input exits 0 with one JSON line and nothing on stderr."""
-    proc = _run(["ring", "--loops", "3", "--json"])
-    assert proc.returncode == 0 and proc.stderr == ""
+def test_cli_main_valid_invocation_exit_0_and_silent_stderr(run_cli):
+    """The real entry point (a fresh interpreter): valid input exits 0 with one JSON line and
+    nothing on stderr."""
+    proc = run_cli(["ring", "--loops", "3", "--json"], fresh_process=True)
+    assert proc.exit_code == 0 and proc.stderr == ""
     assert json.loads(proc.stdout)["bounding_modes"] == [4, 2]
 
 
@@ -207,23 +190,14 @@ def _args_of(case):
     return case.values[0] if hasattr(case, "values") else case[0]
 
 
-@pytest.fixture(scope="module")
-def bad_results():
-    """Run every invalid invocation once, two at a time (each is a fresh interpreter)."""
-    arg_lists = [_args_of(c) for c in BAD_INPUTS]
-    with ThreadPoolExecutor(max_workers=2) as pool:
-        procs = list(pool.map(_run, arg_lists))
-    return {tuple(a): p for a, p in zip(arg_lists, procs, strict=True)}
-
-
 @pytest.mark.parametrize("args, tokens", BAD_INPUTS,
                          ids=[" ".join(_args_of(c)) for c in BAD_INPUTS])
-def test_cli_bad_input_exit_2_one_stderr_line_naming_it(bad_results, args, tokens):
+def test_cli_bad_input_exit_2_one_stderr_line_naming_it(run_cli, args, tokens):
     """Module contract: invalid input exits with status 2 and one line on stderr naming the
     offending option and value; never a traceback; nothing on stdout."""
     assert len(BAD_INPUTS) >= 20
-    proc = bad_results[tuple(args)]
-    assert proc.returncode == 2, proc.stderr
+    proc = run_cli(args)
+    assert proc.exit_code == 2, proc.stderr
     assert "Traceback" not in proc.stderr
     lines = proc.stderr.splitlines()
     assert len(lines) == 1, proc.stderr
@@ -233,8 +207,158 @@ def test_cli_bad_input_exit_2_one_stderr_line_naming_it(bad_results, args, token
     assert proc.stdout == ""
 
 
-def test_cli_large_L_over_R_gives_no_traceback():
+def test_cli_large_L_over_R_gives_no_traceback(run_cli):
     """A large but finite L/R is either solved (exit 0) or rejected (exit 2, one line)."""
-    proc = _run(["arc", "--L-over-R", "10000", "--json"])
+    proc = run_cli(["arc", "--L-over-R", "10000", "--json"])
     assert "Traceback" not in proc.stderr
-    assert proc.returncode in (0, 2)
+    assert proc.exit_code in (0, 2)
+
+
+# ----------------------------------------------------------------------- usage and help
+
+
+def test_cli_without_arguments_prints_the_multi_line_help(run_cli):
+    """``rodstab`` alone shows click's usage and the command list on several lines (exit
+    status as click's default: 0 or 2), not one squeezed 'error:' line."""
+    r = run_cli([])
+    assert r.exit_code in (0, 2)
+    text = r.stdout + r.stderr
+    assert "error:" not in text
+    assert text.lstrip().startswith("Usage: rodstab")
+    assert "Commands:" in text and "Exit status" in text
+    for command in ("analyze", "continue", "equilibrium", "sweep", "reproduce"):
+        assert f"\n  {command} " in text
+    assert len(text.splitlines()) > 15
+
+
+# ----------------------------------------------------------------- --vary (sweep, continue)
+
+STRAIGHT_TOML = """
+[[segment]]
+name = "rod"
+length = 1.0
+natural_curvature = 1.0
+[[support]]
+end = "rod.start"
+type = "clamped"
+[[support]]
+end = "rod.end"
+type = "sliding-clamp"
+"""
+
+#: (text after KEY=, tokens the one stderr line names)
+BAD_VARY_RANGES = [
+    ("", ["KEY=START:STOP[:N]"]),
+    ("1", ["KEY=START:STOP[:N]", "=1'"]),
+    ("1:2:3:4", ["KEY=START:STOP[:N]", "1:2:3:4"]),
+    ("abc:2", ["START", "'abc'", "not a number"]),
+    ("1:abc", ["STOP", "'abc'", "not a number"]),
+    (":2", ["START", "''"]),
+    ("nan:2", ["START", "'nan'", "finite"]),
+    ("1:inf", ["STOP", "'inf'", "finite"]),
+    ("1:2:0", ["N", "'0'", "positive integer"]),
+    ("1:2:-3", ["N", "'-3'", "positive integer"]),
+    ("1:2:2.5", ["N", "'2.5'", "positive integer"]),
+    ("1:2:x", ["N", "'x'", "positive integer"]),
+]
+
+
+def _vary_args(command: str, vary: str, tmp_path) -> list[str]:
+    if command == "sweep":
+        return ["sweep", "examples/clamped_arc.toml", "--vary", f"section.aspect{vary}",
+                "--out", str(tmp_path), "--no-progress"]
+    design = tmp_path / "straight.toml"
+    design.write_text(STRAIGHT_TOML)
+    return ["continue", str(design), "--vary", f"load_factor{vary}", "--elements", "4",
+            "--branch-steps", "0", "--no-progress"]
+
+
+@pytest.mark.parametrize("command", ["sweep", "continue"])
+@pytest.mark.parametrize("rng, tokens", BAD_VARY_RANGES, ids=[r for r, _ in BAD_VARY_RANGES])
+def test_cli_bad_vary_part_exit_2_one_line_naming_it(run_cli, tmp_path, command, rng, tokens):
+    """Both commands share one --vary grammar: each wrong part is named on one stderr line."""
+    r = run_cli(_vary_args(command, f"={rng}" if rng else "", tmp_path))
+    assert r.exit_code == 2, (r.exit_code, r.stderr)
+    lines = r.stderr.splitlines()
+    assert len(lines) == 1, r.stderr
+    for token in tokens:
+        assert token in lines[0], (token, lines[0])
+    assert r.stdout == ""
+
+
+@pytest.mark.parametrize("command", ["sweep", "continue"])
+def test_cli_empty_vary_key_exit_2(run_cli, tmp_path, command):
+    args = _vary_args(command, "=1:2", tmp_path)
+    args[3] = "=1:2"
+    r = run_cli(args)
+    assert r.exit_code == 2 and len(r.stderr.splitlines()) == 1
+    assert "KEY ''" in r.stderr
+
+
+def test_cli_sweep_n_is_optional_default_9(run_cli, tmp_path):
+    r = run_cli(["sweep", "examples/clamped_arc.toml", "--vary", "section.aspect=1:2",
+                 "--elements", "4", "--out", str(tmp_path), "--no-progress", "--json"])
+    assert r.exit_code == 0, r.stderr
+    assert json.loads(r.stdout)["values"] == pytest.approx([1 + k / 8 for k in range(9)])
+
+
+# ------------------------------------------------------------------ exit 3: not converged
+
+
+def test_cli_equilibrium_not_converged_prints_json_then_exit_3(run_cli):
+    """Folded six-sided ring, 8 elements/segment, started half a length off the held state:
+    Newton (relax, 600 iterations) does not converge (residual ~1). The JSON is printed with
+    converged false, then one stderr line and exit status 3."""
+    r = run_cli(["equilibrium", "examples/folded_six_ring.toml", "--perturb", "0.5",
+                 "--elements", "8", "--json"])
+    assert r.exit_code == 3, (r.exit_code, r.stderr)
+    p = json.loads(r.stdout)
+    assert p["converged"] is False and p["iterations"] == 600
+    lines = r.stderr.splitlines()
+    assert len(lines) == 1 and lines[0].startswith("rodstab: not converged:"), r.stderr
+    assert "Newton" in lines[0]
+
+
+def test_cli_continue_not_converged_prints_table_then_exit_3(run_cli, tmp_path):
+    """A straight rod turned in plane 0 -> 12 rad at its sliding clamp: the step budget
+    (8 x 6 steps) ends near 3.1 rad, so the path is not complete: table, then exit 3."""
+    design = tmp_path / "straight0.toml"
+    design.write_text(STRAIGHT_TOML.replace("natural_curvature = 1.0", "natural_curvature = 0.0"))
+    r = run_cli(["continue", str(design), "--vary", "support.1.rotation.binormal=0:12:6",
+                 "--elements", "6", "--branch-steps", "0", "--no-progress"])
+    assert r.exit_code == 3, (r.exit_code, r.stderr)
+    assert "path STOPPED" in r.stdout
+    lines = r.stderr.splitlines()
+    assert len(lines) == 1 and lines[0].startswith("rodstab: not converged:"), r.stderr
+    assert "support.1.rotation.binormal" in lines[0]
+
+
+def test_cli_not_converged_raised_by_a_solver_is_exit_3(run_cli, tmp_path, monkeypatch):
+    """NotConverged raised inside a command (e.g. the start of a path cannot be reached)."""
+    import rodstab.nonlinear.continuation as paths
+    from rodstab.errors import NotConverged
+
+    def fail(*args, **kwargs):
+        raise NotConverged("no equilibrium found at load_factor = 1.0")
+
+    monkeypatch.setattr(paths, "continuation", fail)
+    r = run_cli(_vary_args("continue", "=1:2:2", tmp_path))
+    assert r.exit_code == 3
+    assert r.stderr == "rodstab: not converged: no equilibrium found at load_factor = 1.0\n"
+
+
+# ------------------------------------------------------------- anything else is a bug
+
+
+def test_cli_internal_value_error_is_not_reported_as_bad_input(run_cli, monkeypatch):
+    """A plain ValueError inside a solver (say from NumPy) is a bug: main() does not turn it
+    into an exit-2 'bad input' line; the exception propagates (traceback, exit status 1)."""
+    import rodstab.linear.solve as solve
+
+    def broken(*args, **kwargs):
+        raise ValueError("array must not contain infs or NaNs")
+
+    monkeypatch.setattr(solve, "linear_stability", broken)
+    with pytest.raises(ValueError, match="infs or NaNs") as info:
+        run_cli(["analyze", "examples/birod.toml", "--json"])
+    assert type(info.value) is ValueError

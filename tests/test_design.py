@@ -4,14 +4,12 @@ from __future__ import annotations
 
 import json
 import math
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
 
 from rodstab.analytic.ring import ring_stability
-from rodstab.design import load_design, parse_design
+from rodstab.design import load_design, parse_design, parse_vary
 from rodstab.errors import RodstabInputError
 from rodstab.linear.solve import linear_stability
 
@@ -19,16 +17,10 @@ EXAMPLES = sorted(Path(__file__).resolve().parent.parent.joinpath("examples").gl
 ROOT = Path(__file__).resolve().parent.parent
 
 
-def _cli(*args):
-    env = {"PYTHONPATH": str(ROOT / "src"), "PATH": "/usr/bin:/bin"}
-    return subprocess.run([sys.executable, "-m", "rodstab.cli", *args], capture_output=True,
-                          text=True, cwd=ROOT, env=env)
-
-
 @pytest.mark.parametrize("path", EXAMPLES, ids=[p.stem for p in EXAMPLES])
-def test_every_example_runs_from_the_cli(path):
-    r = _cli("analyze", str(path), "--json")
-    assert r.returncode == 0, r.stderr
+def test_every_example_runs_from_the_cli(run_cli, path):
+    r = run_cli(["analyze", str(path), "--json"])
+    assert r.exit_code == 0, r.stderr
     p = json.loads(r.stdout)
     for key in ("load_factor_critical", "multiplicity", "load_factor_interval",
                 "stable_at_design", "mode_family", "residual", "n_dof"):
@@ -81,25 +73,26 @@ def test_bad_design_raises_naming_key_or_value(mutate, needle):
         parse_design(d)
 
 
-def test_cli_analyze_bad_file_one_line_exit_2(tmp_path):
+def test_cli_analyze_bad_file_one_line_exit_2(run_cli, tmp_path):
     bad = tmp_path / "bad.toml"
     bad.write_text('[[segment]]\nname = "a"\nlength = 1.0\ncolour = "red"\n')
-    r = _cli("analyze", str(bad))
-    assert r.returncode == 2
+    r = run_cli(["analyze", str(bad)])
+    assert r.exit_code == 2
     assert len(r.stderr.strip().splitlines()) == 1 and "colour" in r.stderr
 
 
-def test_cli_birod_json_contract():
-    p = json.loads(_cli("birod", "--json").stdout)
+def test_cli_birod_json_contract(run_cli):
+    p = json.loads(run_cli(["birod", "--json"]).stdout)
     assert p["lambda_c"] == pytest.approx(math.pi, rel=1e-6)
     assert p["lambda_c_full_system"] == pytest.approx(math.pi, rel=1e-9)
     assert p["psi_c"] == pytest.approx(math.pi / 2 * math.sqrt(0.75), rel=1e-6)
     assert "mode_family" in p
 
 
-def test_cli_folded_ring_json_contract_240_variant():
+def test_cli_folded_ring_json_contract_240_variant(run_cli):
     """lam_c = pi/3 for six segments; kappa_n R0 = lam sqrt(b1 b2) / theta, theta = 4 pi/3."""
-    p = json.loads(_cli("folded-ring", "--segments", "6", "--arc-angle", "240", "--json").stdout)
+    p = json.loads(run_cli(["folded-ring", "--segments", "6", "--arc-angle", "240",
+                            "--json"]).stdout)
     assert p["lambda_c"] == pytest.approx(math.pi / 3, rel=1e-6)
     assert p["multiplicity"] == 2
     assert p["kappa_R0_c"] == pytest.approx(math.pi / 3 * math.sqrt(0.75) / (4 * math.pi / 3),
@@ -107,19 +100,19 @@ def test_cli_folded_ring_json_contract_240_variant():
 
 
 @pytest.mark.parametrize("n", [4, 8])
-def test_folded_2n_rings_critical_is_2pi_over_2n(n):
+def test_folded_2n_rings_critical_is_2pi_over_2n(run_cli, n):
     """Beyond the paper: 2n straight segments folded into n loops: lam_c = 2 pi / (2n)
     (engine and full system), i.e. kappa_n times the total length 2nL is 2 pi sqrt(B1B2)/B3."""
-    p = json.loads(_cli("folded-ring", "--segments", str(n), "--json").stdout)
+    p = json.loads(run_cli(["folded-ring", "--segments", str(n), "--json"]).stdout)
     assert p["lambda_c"] == pytest.approx(2 * math.pi / n, rel=1e-6)
     assert p["lambda_c_full_system"] == pytest.approx(2 * math.pi / n, rel=1e-9)
 
 
-def test_cli_sweep_writes_csv_and_matches_single_runs(tmp_path):
+def test_cli_sweep_writes_csv_and_matches_single_runs(run_cli, tmp_path):
     """Each sweep row equals an independent `analyze` of the design with that value."""
-    r = _cli("sweep", "examples/clamped_arc.toml", "--vary", "segment.arc.length=1:2:2",
-             "--out", str(tmp_path), "--no-progress", "--json")
-    assert r.returncode == 0, r.stderr
+    r = run_cli(["sweep", "examples/clamped_arc.toml", "--vary", "segment.arc.length=1:2:2",
+                 "--out", str(tmp_path), "--no-progress", "--json"])
+    assert r.exit_code == 0, r.stderr
     p = json.loads(r.stdout)
     assert (tmp_path / "sweep.csv").exists() and (tmp_path / "sweep.png").exists()
     d = load_design(ROOT / "examples" / "clamped_arc.toml")
@@ -129,9 +122,44 @@ def test_cli_sweep_writes_csv_and_matches_single_runs(tmp_path):
 
 @pytest.mark.parametrize("vary, needle", [("segment.zz.length=1:2:3", "zz"),
                                           ("section.colour=1:2:3", "colour"),
-                                          ("section.aspect=1:2", "KEY=START:STOP:N"),
+                                          ("section.aspect=1", "KEY=START:STOP[:N]"),
                                           ("section.aspect=1:2:0", "0")])
-def test_cli_sweep_bad_vary_one_line(vary, needle):
-    r = _cli("sweep", "examples/clamped_arc.toml", "--vary", vary)
-    assert r.returncode == 2
+def test_cli_sweep_bad_vary_one_line(run_cli, vary, needle):
+    r = run_cli(["sweep", "examples/clamped_arc.toml", "--vary", vary])
+    assert r.exit_code == 2
     assert len(r.stderr.strip().splitlines()) == 1 and needle in r.stderr
+
+
+# ----------------------------------------------------------------------- --vary grammar
+
+
+@pytest.mark.parametrize("spec, expected", [
+    ("section.aspect=1:4:13", ("section.aspect", 1.0, 4.0, 13)),
+    ("load_factor=1:2", ("load_factor", 1.0, 2.0, 7)),
+    (" segment.a.length = 0.5 : -2e-1 : 3 ", ("segment.a.length", 0.5, -0.2, 3)),
+])
+def test_parse_vary_accepts_key_start_stop_and_optional_n(spec, expected):
+    v = parse_vary(spec, default_n=7)
+    assert (v.key, v.start, v.stop, v.n) == expected
+
+
+@pytest.mark.parametrize("spec, needles", [
+    ("section.aspect", ["KEY=START:STOP[:N]", "'section.aspect'"]),
+    ("section.aspect=1", ["KEY=START:STOP[:N]", "'section.aspect=1'"]),
+    ("section.aspect=1:2:3:4", ["KEY=START:STOP[:N]", "1:2:3:4"]),
+    ("=1:2", ["KEY", "''"]),
+    ("  =1:2", ["KEY", "''"]),
+    ("section.aspect=abc:2", ["START", "'abc'", "not a number"]),
+    ("section.aspect=1:", ["STOP", "''", "not a number"]),
+    ("section.aspect=nan:2", ["START", "'nan'", "finite"]),
+    ("section.aspect=1:-inf", ["STOP", "'-inf'", "finite"]),
+    ("section.aspect=1:2:0", ["N", "'0'", "positive integer"]),
+    ("section.aspect=1:2:-3", ["N", "'-3'", "positive integer"]),
+    ("section.aspect=1:2:2.5", ["N", "'2.5'", "positive integer"]),
+    ("section.aspect=1:2:x", ["N", "'x'", "positive integer"]),
+])
+def test_parse_vary_errors_name_the_wrong_part(spec, needles):
+    with pytest.raises(RodstabInputError) as info:
+        parse_vary(spec, default_n=9)
+    for needle in needles:
+        assert needle in str(info.value), (needle, str(info.value))

@@ -150,17 +150,11 @@ def test_sliding_clamp_same_linear_result_and_frees_the_axial_dof():
     assert n_slide == n_clamp + 1
 
 
-def test_cli_equilibrium_json_contract():
+def test_cli_equilibrium_json_contract(run_cli):
     import json
-    import subprocess
-    import sys
-    from pathlib import Path
 
-    root = Path(__file__).resolve().parent.parent
-    r = subprocess.run([sys.executable, "-m", "rodstab.cli", "equilibrium",
-                        "examples/birod.toml", "--json"], capture_output=True, text=True,
-                       cwd=root, env={"PYTHONPATH": str(root / "src"), "PATH": "/usr/bin:/bin"})
-    assert r.returncode == 0, r.stderr
+    r = run_cli(["equilibrium", "examples/birod.toml", "--json"])
+    assert r.exit_code == 0, r.stderr
     p = json.loads(r.stdout)
     for key in ("converged", "energy", "stable", "lowest_eigenvalues", "residual",
                 "iterations"):
@@ -207,20 +201,15 @@ def test_imperfect_straightened_rod_has_no_limit_load():
     assert disp_at_mu_c(r.paths[1]) > disp_at_mu_c(r.paths[0]) > 0
 
 
-def test_cli_continue_detects_the_birod_branch_point_and_resumes(tmp_path):
+def test_cli_continue_detects_the_birod_branch_point_and_resumes(run_cli, tmp_path):
     """The branch point on the straight bi-rod path is the engine's critical load (within the
     discretisation error, 0.5 %); a rerun in the same directory resumes every step."""
     import json
-    import subprocess
-    import sys
-    from pathlib import Path
 
-    root = Path(__file__).resolve().parent.parent
-    env = {"PYTHONPATH": str(root / "src"), "PATH": "/usr/bin:/bin"}
-    cmd = [sys.executable, "-m", "rodstab.cli", "continue", "examples/birod.toml", "--vary",
-           "load_factor=1:4:6", "--out", str(tmp_path), "--no-progress", "--json"]
-    r = subprocess.run(cmd, capture_output=True, text=True, cwd=root, env=env)
-    assert r.returncode == 0, r.stderr
+    cmd = ["continue", "examples/birod.toml", "--vary", "load_factor=1:4:6", "--out",
+           str(tmp_path), "--no-progress", "--json"]
+    r = run_cli(cmd)
+    assert r.exit_code == 0, r.stderr
     p = json.loads(r.stdout)
     lin = linear_stability(birod(C), 64).load_factor_critical
     (sp,) = p["special_points"]
@@ -228,8 +217,7 @@ def test_cli_continue_detects_the_birod_branch_point_and_resumes(tmp_path):
     assert "supercritical" in sp["post_buckling"]
     for name in ("primary.csv", "branches.csv", "special_points.json", "diagram.png"):
         assert (tmp_path / name).exists()
-    again = json.loads(subprocess.run(cmd, capture_output=True, text=True, cwd=root,
-                                      env=env).stdout)
+    again = json.loads(run_cli(cmd).stdout)
     assert again["resumed_steps"] == 7
     assert again["special_points"][0]["value"] == pytest.approx(sp["value"])
 

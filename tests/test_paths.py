@@ -1,4 +1,4 @@
-"""Continuation in any parameter (rodstab.nonlinear.paths / .parameters).
+"""Continuation in any parameter (rodstab.nonlinear.continuation / .parameters).
 
 References: Greenhill's twisted rod (closed form tan x = x), Koiter's 2/3 law for an unstable
 symmetric bifurcation, the held-state critical loads of the discrete model (an independent
@@ -10,8 +10,6 @@ from __future__ import annotations
 
 import json
 import math
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -187,18 +185,12 @@ def test_end_rotation_design_validation_and_linear_refusal():
                   .assembly, "support.0.rotation.tangent", 8)
 
 
-def _cli(*args, cwd=ROOT):
-    env = {"PYTHONPATH": str(ROOT / "src"), "PATH": "/usr/bin:/bin"}
-    return subprocess.run([sys.executable, "-m", "rodstab.cli", *args], capture_output=True,
-                          text=True, cwd=cwd, env=env)
-
-
-def test_cli_continue_in_an_end_rotation_resumes_and_reports_subcritical(tmp_path):
+def test_cli_continue_in_an_end_rotation_resumes_and_reports_subcritical(run_cli, tmp_path):
     args = ["continue", "examples/twisted_rod.toml", "--vary",
             "support.1.rotation.tangent=0:13:13", "--elements", "16", "--branch-steps", "4",
             "--out", str(tmp_path), "--no-progress", "--json"]
-    r = _cli(*args)
-    assert r.returncode == 0, r.stderr
+    r = run_cli(args)
+    assert r.exit_code == 0, r.stderr
     p = json.loads(r.stdout)
     (sp,) = p["special_points"]
     assert abs(sp["value"] * B2_ISO - GREENHILL) / GREENHILL < 0.025  # 16 elements: 1.9 %
@@ -206,7 +198,7 @@ def test_cli_continue_in_an_end_rotation_resumes_and_reports_subcritical(tmp_pat
     for name in ("primary.csv", "branches.csv", "special_points.json", "diagram.png",
                  "branch.gif"):
         assert (tmp_path / name).exists()
-    again = json.loads(_cli(*args).stdout)
+    again = json.loads(run_cli(args).stdout)
     assert again["resumed_steps"] == len(p["value"])
     assert again["special_points"][0]["value"] == pytest.approx(sp["value"])
 
@@ -217,9 +209,9 @@ def test_cli_continue_in_an_end_rotation_resumes_and_reports_subcritical(tmp_pat
     ("load_factor=1", "KEY=START:STOP"),
     ("load_factor=1:1", "two different values"),
 ])
-def test_cli_continue_rejects_bad_vary_with_a_one_line_error(vary, message):
-    r = _cli("continue", "examples/twisted_rod.toml", "--vary", vary, "--no-progress")
-    assert r.returncode == 2
+def test_cli_continue_rejects_bad_vary_with_a_one_line_error(run_cli, vary, message):
+    r = run_cli(["continue", "examples/twisted_rod.toml", "--vary", vary, "--no-progress"])
+    assert r.exit_code == 2
     assert message in r.stderr and "Traceback" not in r.stderr
 
 
@@ -322,18 +314,18 @@ def test_design_rotation_beyond_pi_keeps_its_twist():
     assert r.energy == pytest.approx(B2_ISO * 4.0**2 / 2, rel=5e-3)
 
 
-def test_interactive_html_views_are_written(tmp_path):
+def test_interactive_html_views_are_written(run_cli, tmp_path):
     """equilibrium --html writes a self-contained plotly page; continue --out adds
     branch.html with one frame per traced shape."""
     pytest.importorskip("plotly")
-    r = _cli("equilibrium", "examples/twisted_rod.toml", "--elements", "8", "--html",
-             str(tmp_path / "eq.html"), "--json")
-    assert r.returncode == 0, r.stderr
+    r = run_cli(["equilibrium", "examples/twisted_rod.toml", "--elements", "8", "--html",
+                 str(tmp_path / "eq.html"), "--json"])
+    assert r.exit_code == 0, r.stderr
     text = (tmp_path / "eq.html").read_text()
     assert "plotly" in text.lower() and "scatter3d" in text
-    r = _cli("continue", "examples/twisted_rod.toml", "--vary",
-             "support.1.rotation.tangent=0:13:13", "--elements", "8", "--branch-steps", "3",
-             "--out", str(tmp_path / "c"), "--no-progress", "--json")
-    assert r.returncode == 0, r.stderr
+    r = run_cli(["continue", "examples/twisted_rod.toml", "--vary",
+                 "support.1.rotation.tangent=0:13:13", "--elements", "8", "--branch-steps", "3",
+                 "--out", str(tmp_path / "c"), "--no-progress", "--json"])
+    assert r.exit_code == 0, r.stderr
     page = (tmp_path / "c" / "branch.html").read_text()
     assert page.count('"name":"') >= 4  # the branch point and three steps: animation frames

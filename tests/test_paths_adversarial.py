@@ -17,14 +17,13 @@ from __future__ import annotations
 import json
 import math
 import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 from rodstab.design import parse_design, set_design_value
-from rodstab.errors import RodstabInputError
+from rodstab.errors import NotConverged, RodstabInputError
 from rodstab.model import Assembly, Segment
 from rodstab.nonlinear.continuation import (
     arclength_from_bifurcation,
@@ -45,12 +44,6 @@ def straight(kappa_n: float = 1.0, end: str = "sliding-clamp", rot=()) -> Assemb
     return Assembly((Segment("rod", 1.0, 0.0, kappa_n, C.b1, C.b2, 1.0),),
                     supports=(("rod", "start", "clamped"), ("rod", "end", end)),
                     end_rotations=rot)
-
-
-def cli(*args, cwd=None, timeout=120):
-    env = {"PYTHONPATH": str(ROOT / "src"), "PATH": "/usr/bin:/bin"}
-    return subprocess.run([sys.executable, "-m", "rodstab.cli", *args], capture_output=True,
-                          text=True, cwd=cwd or ROOT, env=env, timeout=timeout)
 
 
 STRAIGHT_TOML = """
@@ -79,7 +72,7 @@ def straight_toml(tmp_path):
 
 
 def one_line_error(r, needle: str) -> None:
-    assert r.returncode == 2, (r.returncode, r.stderr)
+    assert r.exit_code == 2, (r.exit_code, r.stderr)
     lines = [ln for ln in r.stderr.splitlines() if ln.strip()]
     assert "Traceback" not in r.stderr, r.stderr
     assert len(lines) == 1, r.stderr
@@ -107,24 +100,25 @@ def one_line_error(r, needle: str) -> None:
     # overflow: |stop - start| = inf; must still be ONE line
     ("load_factor=1e308:-1e308", "1e+308"),
 ])
-def test_cli_continue_bad_vary_one_line_exit_2(straight_toml, vary, needle):
-    r = cli("continue", str(straight_toml), "--vary", vary, "--no-progress", "--elements", "6",
-            "--branch-steps", "0")
+def test_cli_continue_bad_vary_one_line_exit_2(run_cli, straight_toml, vary, needle):
+    r = run_cli(["continue", str(straight_toml), "--vary", vary, "--no-progress", "--elements",
+                 "6", "--branch-steps", "0"])
     one_line_error(r, needle)
 
 
 @pytest.mark.parametrize("opt, needle", [
     (("--elements", "-3"), "-3"), (("--elements", "0"), "0"), (("--elements", "1"), "1"),
     (("--branch-steps", "-1"), "-1")])
-def test_cli_continue_bad_options(straight_toml, opt, needle):
-    r = cli("continue", str(straight_toml), "--vary", "load_factor=1:2:2", "--no-progress", *opt)
+def test_cli_continue_bad_options(run_cli, straight_toml, opt, needle):
+    r = run_cli(["continue", str(straight_toml), "--vary", "load_factor=1:2:2", "--no-progress",
+                 *opt])
     one_line_error(r, needle)
 
 
-def test_cli_continue_rotation_on_pinned_support(tmp_path):
+def test_cli_continue_rotation_on_pinned_support(run_cli, tmp_path):
     p = tmp_path / "pinned.toml"
     p.write_text(STRAIGHT_TOML.format(end="pinned"))
-    r = cli("continue", str(p), "--vary", "support.1.rotation.tangent=0:1", "--no-progress")
+    r = run_cli(["continue", str(p), "--vary", "support.1.rotation.tangent=0:1", "--no-progress"])
     one_line_error(r, "pinned")
 
 
@@ -259,17 +253,17 @@ def test_resume_after_interruption_matches_uninterrupted(twisted, full_run, tmp_
     assert np.allclose(r.value, full_run.value)
 
 
-def test_resume_after_sigkill_cli(tmp_path):
+def test_resume_after_sigkill_cli(run_cli, tmp_path):
     args = ["continue", str(TWISTED_TOML), "--vary", f"{KEY}=0:13:26", "--elements", "12",
             "--branch-steps", "2", "--no-progress", "--json"]
-    full = json.loads(cli(*args).stdout)
+    full = json.loads(run_cli(args).stdout)
     d = tmp_path / "k"
     try:
-        cli(*args, "--out", str(d), timeout=1.3)
+        run_cli([*args, "--out", str(d)], fresh_process=True, timeout=1.3)
     except subprocess.TimeoutExpired:
         pass
-    r = cli(*args, "--out", str(d))
-    assert r.returncode == 0, r.stderr
+    r = run_cli([*args, "--out", str(d)])
+    assert r.exit_code == 0, r.stderr
     p = json.loads(r.stdout)
     assert [s["value"] for s in p["special_points"]] == pytest.approx(
         [s["value"] for s in full["special_points"]])
@@ -306,45 +300,45 @@ def test_resume_kill_between_csv_append_and_special_points_write(twisted, full_r
     assert _sp(r) == _sp(full_run)
     assert json.loads((tmp_path / "special_points.json").read_text())
 
-def test_resume_with_truncated_last_csv_line_is_not_a_traceback(tmp_path):
+def test_resume_with_truncated_last_csv_line_is_not_a_traceback(run_cli, tmp_path):
     args = ["continue", str(TWISTED_TOML), "--vary", f"{KEY}=0:5:5", "--elements", "8",
             "--branch-steps", "0", "--no-progress", "--out", str(tmp_path)]
-    assert cli(*args).returncode == 0
+    assert run_cli(args).exit_code == 0
     t = (tmp_path / "primary.csv").read_text()
     (tmp_path / "primary.csv").write_text(t[:-25])  # a kill in the middle of the append
-    r = cli(*args)
+    r = run_cli(args)
     assert "Traceback" not in r.stderr, r.stderr
-    assert r.returncode in (0, 2)
+    assert r.exit_code in (0, 2)
 
 
-def test_rerun_with_another_design_into_same_dir_does_not_mix(tmp_path):
+def test_rerun_with_another_design_into_same_dir_does_not_mix(run_cli, tmp_path):
     other = tmp_path / "tw_nu0.toml"
     other.write_text(TWISTED_TOML.read_text().replace("nu = 0.3", "nu = 0.0"))
     d = tmp_path / "out"
     common = ["--vary", f"{KEY}=0:13:26", "--elements", "12", "--branch-steps", "0",
               "--no-progress", "--json"]
-    cli("continue", str(TWISTED_TOML), *common, "--out", str(d))
-    fresh = json.loads(cli("continue", str(other), *common).stdout)
-    mixed = json.loads(cli("continue", str(other), *common, "--out", str(d)).stdout)
+    run_cli(["continue", str(TWISTED_TOML), *common, "--out", str(d)])
+    fresh = json.loads(run_cli(["continue", str(other), *common]).stdout)
+    mixed = json.loads(run_cli(["continue", str(other), *common, "--out", str(d)]).stdout)
     assert mixed["resumed_steps"] == 0
     assert mixed["special_points"][0]["value"] == pytest.approx(
         fresh["special_points"][0]["value"])
 
 
-def test_rerun_with_other_branch_steps_into_same_dir_does_not_mix(tmp_path):
+def test_rerun_with_other_branch_steps_into_same_dir_does_not_mix(run_cli, tmp_path):
     common = ["continue", str(TWISTED_TOML), "--vary", f"{KEY}=0:13:26", "--elements", "12",
               "--no-progress", "--json", "--out", str(tmp_path)]
-    cli(*common, "--branch-steps", "2")
-    p = json.loads(cli(*common, "--branch-steps", "0").stdout)
+    run_cli([*common, "--branch-steps", "2"])
+    p = json.loads(run_cli([*common, "--branch-steps", "0"]).stdout)
     assert all("post_buckling" not in s for s in p["special_points"]), p["special_points"]
 
 
-def test_rerun_into_same_dir_leaves_no_stale_animation(tmp_path):
+def test_rerun_into_same_dir_leaves_no_stale_animation(run_cli, tmp_path):
     base = ["continue", str(TWISTED_TOML), "--elements", "12", "--branch-steps", "2",
             "--no-progress", "--json", "--out", str(tmp_path)]
-    cli(*base, "--vary", f"{KEY}=0:13:26")
+    run_cli([*base, "--vary", f"{KEY}=0:13:26"])
     assert (tmp_path / "branch.gif").exists()
-    p = json.loads(cli(*base, "--vary", f"{KEY}=0:5:10").stdout)
+    p = json.loads(run_cli([*base, "--vary", f"{KEY}=0:5:10"]).stdout)
     assert "animation" not in p
     assert not (tmp_path / "branch.gif").exists(), "branch.gif of the previous run is left"
 
@@ -438,7 +432,7 @@ def test_ramp_to_start_failure_is_not_silently_replaced_by_a_jump(monkeypatch):
     try:
         continuation(straight(0.0), "support.1.rotation.binormal", 30.0, 31.0, 1,
                      elements_per_segment=6, branch_steps=0)
-    except RodstabInputError:
+    except (RodstabInputError, NotConverged):
         return  # refusing is fine
     assert all(calls), f"a ramp Newton failed ({calls}) yet a result at START was returned"
 

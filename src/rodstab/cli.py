@@ -1,8 +1,18 @@
 """The ``rodstab`` command. Holds no mathematics: it parses, calls a solver, prints.
 
 Every analysis subcommand prints a readable table, or with ``--json`` exactly one JSON object on
-stdout (non-dimensional quantities as in the paper; NaN/inf become ``null``). Invalid input
-exits with status 2 and one line on stderr naming the offending option and value.
+stdout (non-dimensional quantities as in the paper; NaN/inf become ``null``).
+
+Exit status (:func:`main`):
+
+* 0 -- done;
+* 2 -- invalid input (:class:`~rodstab.errors.RodstabInputError` or a usage error): one line
+  on stderr naming the offending option and value, nothing on stdout;
+* 3 -- a solver did not converge (:class:`~rodstab.errors.NotConverged`): one line on stderr
+  saying what did not converge; ``equilibrium`` and ``continue`` print their table or JSON
+  first (with ``converged: false``).
+
+Any other exception is a bug in rodstab and propagates with its traceback.
 """
 
 from __future__ import annotations
@@ -11,7 +21,7 @@ import functools
 import json
 import sys
 from collections.abc import Callable
-from typing import Any
+from typing import Any, NoReturn
 
 import click
 
@@ -19,9 +29,23 @@ from . import __version__
 from .analytic.arc import clamped_arc_stability, max_arc_length
 from .analytic.michell import michell_stability
 from .analytic.ring import ring_stability
-from .errors import RodstabInputError, require_finite, require_positive, require_positive_int
+from .errors import (
+    NotConverged,
+    RodstabInputError,
+    require_finite,
+    require_positive,
+    require_positive_int,
+)
 from .results import jsonable
 from .sections import SHAPES, TORSION_OPTIONS, Section, make_section
+
+#: Exit statuses of the ``rodstab`` command (module docstring, ``rodstab --help``, README).
+EXIT_OK = 0
+EXIT_BAD_INPUT = 2
+EXIT_NOT_CONVERGED = 3
+#: Default N of ``--vary KEY=START:STOP[:N]``: values of a sweep, steps of a continuation.
+SWEEP_DEFAULT_N = 9
+CONTINUE_DEFAULT_N = 40
 
 
 def _section_options(f: Callable[..., Any]) -> Callable[..., Any]:
@@ -77,7 +101,13 @@ def _section_line(s: Section) -> str:
 @click.group(context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(__version__, prog_name="rodstab")
 def cli() -> None:
-    """Elastic stability of Kirchhoff rods and rings in circular or straight states."""
+    """Elastic stability of Kirchhoff rods and rings in circular or straight states.
+
+    \b
+    Exit status: 0 done; 2 invalid input (one line on stderr);
+    3 not converged (one line on stderr; equilibrium and continue print
+    their table or JSON first).
+    """
 
 
 @cli.command()
@@ -224,7 +254,11 @@ def analyze(design_file: str, elements: int | None, plot_path: str | None,
 @_json_option
 def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, perturb: float,
                     render_path: str | None, html_path: str | None, as_json: bool) -> None:
-    """Nonlinear equilibrium (Newton) of a design and its Hessian stability."""
+    """Nonlinear equilibrium (Newton) of a design and its Hessian stability.
+
+    If Newton does not converge, the table (or JSON, converged: false) is still printed and
+    the exit status is 3.
+    """
     import numpy as np
 
     from .design import load_design
@@ -262,14 +296,16 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
           "a motion an inextensible rod cannot make (the result is the stiff penalty's)"]
          if r.max_strain > STRAIN_WARN else []))
     if not ok:
-        raise SystemExit(1)
+        raise NotConverged(f"Newton did not converge in {its} iterations at load factor "
+                           f"{load_factor:g} (residual {res:.3g})")
 
 
 @cli.command("continue")
 @click.argument("design_file", type=click.Path(dir_okay=False))
 @click.option("--vary", required=True,
-              help="KEY=START:STOP[:N]; KEY: load_factor (natural curvatures and twists scale "
-                   "with it), segment.<name>.natural_curvature, segment.<name>.natural_twist or "
+              help=f"KEY=START:STOP[:N], N steps (default {CONTINUE_DEFAULT_N}); KEY: "
+                   "load_factor (natural curvatures and twists scale with it), "
+                   "segment.<name>.natural_curvature, segment.<name>.natural_twist or "
                    "support.<i>.rotation.<normal|tangent|binormal> (radians).")
 @click.option("--out", "out_dir", type=click.Path(file_okay=False), default=None,
               help="Directory for primary.csv, branches.csv, special_points.json, diagram.png, "
@@ -283,31 +319,26 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
 def continue_cmd(design_file: str, vary: str, out_dir: str | None, elements: int,
                  branch_steps: int, no_progress: bool, as_json: bool) -> None:
     """Pseudo-arclength continuation in one parameter: stability along the path, folds,
-    branch points and the branches leaving them (sub- or supercritical)."""
+    branch points and the branches leaving them (sub- or supercritical).
+
+    If the path stops before STOP, the table (or JSON, converged: false) is still printed and
+    the exit status is 3.
+    """
     from tqdm import tqdm
 
-    from .design import load_design
+    from .design import load_design, parse_vary
     from .nonlinear.continuation import continuation
 
-    key, _, rng = vary.partition("=")
-    parts = rng.split(":")
-    try:
-        start, stop = float(parts[0]), float(parts[1])
-        n = int(parts[2]) if len(parts) > 2 else 40
-        if len(parts) > 3:
-            raise ValueError
-    except (ValueError, IndexError) as exc:
-        raise RodstabInputError(f"--vary must be KEY=START:STOP[:N], got {vary!r}") from exc
-    require_positive_int("--vary N", n)
+    spec = parse_vary(vary, default_n=CONTINUE_DEFAULT_N)
+    key, start, stop, n = spec.key, spec.start, spec.stop, spec.n
     if branch_steps < 0:
         raise RodstabInputError(f"--branch-steps must be >= 0, got {branch_steps!r}")
     d = load_design(design_file)
-    bar = tqdm(total=n + 1, desc="rodstab continue", disable=no_progress, leave=False)
-    r = continuation(d.assembly, key.strip(), start, stop, n,
-                     elements_per_segment=require_positive_int("--elements", elements),
-                     out_dir=out_dir, progress=lambda: bar.update(1),
-                     branch_steps=branch_steps, reference_segment=d.load_factor_segment)
-    bar.close()
+    with tqdm(total=n + 1, desc="rodstab continue", disable=no_progress, leave=False) as bar:
+        r = continuation(d.assembly, key, start, stop, n,
+                         elements_per_segment=require_positive_int("--elements", elements),
+                         out_dir=out_dir, progress=lambda: bar.update(1),
+                         branch_steps=branch_steps, reference_segment=d.load_factor_segment)
     specials = [{k: v for k, v in p.items() if k != "branch"} for p in r.special_points]
     payload = {"key": r.key, "value": list(r.value), "energy": list(r.energy),
                "lowest_eigenvalue": list(r.lowest_eigenvalue),
@@ -347,21 +378,17 @@ def continue_cmd(design_file: str, vary: str, out_dir: str | None, elements: int
                                         else "unstable")]
     _emit(payload, as_json, lines)
     if not r.converged:
-        raise SystemExit(1)
-
-
-def _parse_vary(spec: str) -> tuple[str, float, float, int]:
-    try:
-        key, rng = spec.split("=", 1)
-        start, stop, n = rng.split(":")
-        return key.strip(), float(start), float(stop), int(n)
-    except ValueError as exc:
-        raise RodstabInputError(f"--vary must be KEY=START:STOP:N, got {spec!r}") from exc
+        raise NotConverged(f"the continuation in {r.key} stopped at {r.value[-1]:.6g} before "
+                           f"reaching {stop:.6g} (a step failed or the step budget ran out)")
 
 
 @cli.command()
 @click.argument("design_file", type=click.Path(dir_okay=False))
-@click.option("--vary", required=True, help="KEY=START:STOP:N, e.g. section.aspect=1:4:13.")
+@click.option("--vary", required=True,
+              help=f"KEY=START:STOP[:N], N values from START to STOP (default "
+                   f"{SWEEP_DEFAULT_N}), e.g. section.aspect=1:4:13. KEY: section.<k>, "
+                   "analysis.<k>, segment.<name>.<k>, segment.<name>.section.<k> or "
+                   "support.<i>.rotation.<normal|tangent|binormal>.")
 @click.option("--out", "out_dir", type=click.Path(file_okay=False), default="sweep",
               show_default=True, help="Directory for sweep.csv and sweep.png.")
 @click.option("--elements", type=int, default=None, help="Elements per segment.")
@@ -376,27 +403,22 @@ def sweep(design_file: str, vary: str, out_dir: str, elements: int | None, no_pr
     import numpy as np
     from tqdm import tqdm
 
-    from .design import load_design, parse_design, set_design_value
-    from .linear.solve import linear_stability
+    from .design import load_design, parse_design, parse_vary, set_design_value
     from .report.figures import sweep_plot
+    from .sweep import sweep as run_sweep
 
-    key, start, stop, n = _parse_vary(vary)
-    require_positive_int("--vary N", n)
+    spec = parse_vary(vary, default_n=SWEEP_DEFAULT_N)
+    key = spec.key
+    if elements is not None:
+        require_positive_int("--elements", elements)
     base = load_design(design_file)
-    parse_design(set_design_value(base.raw, key, start), base.source)  # bad key: fail early
+    parse_design(set_design_value(base.raw, key, spec.start), base.source)  # before the bar
+    with tqdm(total=spec.n, desc="rodstab sweep", disable=no_progress, leave=False) as bar:
+        result = run_sweep(base, key, np.linspace(spec.start, spec.stop, spec.n),
+                           elements=elements, progress=lambda: bar.update(1))
+    rows = result.table()
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    rows = []
-    for v in tqdm(np.linspace(start, stop, n), desc="rodstab sweep", disable=no_progress,
-                  leave=False):
-        d = parse_design(set_design_value(base.raw, key, float(v)), base.source)
-        ne = d.elements if elements is None else require_positive_int("--elements", elements)
-        r = linear_stability(d.assembly, ne)
-        rows.append({key: float(v), "load_factor_critical": r.load_factor_critical,
-                     "load_factor_lower": r.load_factor_interval[0],
-                     "multiplicity": r.multiplicity,
-                     "paper_load_factor_critical": d.paper_load_factor(r.load_factor_critical),
-                     "residual": r.residual})
     csv_path = out / "sweep.csv"
     with csv_path.open("w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=list(rows[0]))
@@ -491,20 +513,41 @@ def reproduce(out_dir: str, no_progress: bool, as_json: bool) -> None:
     ])
 
 
+#: Click >= 8.2 raises this usage error for ``rodstab`` without arguments; its message is the
+#: full help, shown as click shows it (not squeezed onto one line).
+_NoArgsIsHelpError: type[Exception] | None = getattr(click.exceptions, "NoArgsIsHelpError",
+                                                     None)
+
+
+def _fail(prefix: str, message: str, status: int) -> NoReturn:
+    """Print ``rodstab: <prefix>: <message>`` as one stderr line and exit with ``status``."""
+    click.echo(f"rodstab: {prefix}: {' '.join(message.split())}", err=True)
+    sys.exit(status)
+
+
 def main(argv: list[str] | None = None) -> None:
-    """Entry point: run the CLI; any input error becomes one stderr line and exit status 2."""
+    """Entry point of the ``rodstab`` command: run it and exit with the documented status.
+
+    ``RodstabInputError`` and click's usage errors: one stderr line, status 2 (EXIT_BAD_INPUT).
+    ``NotConverged``: one stderr line, status 3 (EXIT_NOT_CONVERGED). Anything else is a bug
+    and propagates with its traceback.
+    """
     try:
-        cli.main(args=argv, prog_name="rodstab", standalone_mode=False)
+        status = cli.main(args=argv, prog_name="rodstab", standalone_mode=False)
     except click.exceptions.Abort:
         click.echo("rodstab: aborted", err=True)
         sys.exit(130)
     except click.exceptions.ClickException as exc:
-        message = " ".join(exc.format_message().split())
-        click.echo(f"rodstab: error: {message}", err=True)
-        sys.exit(2)
-    except (RodstabInputError, ValueError) as exc:
-        click.echo(f"rodstab: error: {' '.join(str(exc).split())}", err=True)
-        sys.exit(2)
+        if _NoArgsIsHelpError is not None and isinstance(exc, _NoArgsIsHelpError):
+            exc.show()  # usage and the list of commands, as click prints them
+            sys.exit(exc.exit_code)
+        _fail("error", exc.format_message(), EXIT_BAD_INPUT)
+    except RodstabInputError as exc:
+        _fail("error", str(exc), EXIT_BAD_INPUT)
+    except NotConverged as exc:
+        _fail("not converged", str(exc), EXIT_NOT_CONVERGED)
+    if isinstance(status, int) and status != EXIT_OK:  # click's Exit(status), e.g. from help
+        sys.exit(status)
 
 
 if __name__ == "__main__":  # pragma: no cover

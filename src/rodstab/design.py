@@ -45,7 +45,7 @@ import tomllib
 from pathlib import Path
 from typing import Any
 
-from .errors import RodstabInputError, require_positive, require_positive_int
+from .errors import RodstabInputError, require_finite, require_positive, require_positive_int
 from .model import Assembly, Segment
 from .sections import make_section
 
@@ -126,21 +126,23 @@ def parse_design(data: dict, source: str = "<dict>") -> Design:
             start = raw["start"]
             if not (isinstance(start, list) and len(start) == 2):
                 raise RodstabInputError(f"{where}.start must be [x, y], got {start!r}")
-            start = (float(start[0]), float(start[1]))
+            start = (require_finite(f"{where}.start", start[0]),
+                     require_finite(f"{where}.start", start[1]))
         else:
             start = tuple(float(v) for v in prev.end_point("end")) if prev else (0.0, 0.0)
         if "angle_deg" in raw:
             if raw.get("cusp"):
                 raise RodstabInputError(f"{where}: give either angle_deg or cusp, not both")
-            angle = math.radians(float(raw["angle_deg"]))
+            angle = math.radians(require_finite(f"{where}.angle_deg", raw["angle_deg"]))
         elif prev is not None:
             t = prev.tangent(prev.length)
             angle = math.atan2(t[1], t[0]) + (math.pi if raw.get("cusp") else 0.0)
         else:
             angle = 0.0
-        segments.append(Segment(str(raw["name"]), raw["length"], float(raw.get("curvature", 0.0)),
-                                float(raw.get("natural_curvature", 0.0)), B1, B2, B3, start,
-                                angle, float(raw.get("natural_twist", 0.0))))
+        k, kn, tw = (require_finite(f"{where}.{key}", raw.get(key, 0.0))
+                     for key in ("curvature", "natural_curvature", "natural_twist"))
+        segments.append(Segment(str(raw["name"]), raw["length"], k, kn, B1, B2, B3, start, angle,
+                                tw))
     welds = []
     for i, w in enumerate(data.get("weld", [])):
         _check_keys(w, _WELD, f"weld[{i}]")
@@ -163,7 +165,8 @@ def parse_design(data: dict, source: str = "<dict>") -> Design:
     elements = require_positive_int("analysis.elements", analysis.get("elements", 32))
     ref = analysis.get("reference_load")
     assembly = Assembly(tuple(segments), tuple(welds), tuple(supports),
-                        None if ref is None else float(ref), tuple(rotations))
+                        None if ref is None else require_finite("analysis.reference_load", ref),
+                        tuple(rotations))
     lf = analysis.get("load_factor_segment", segments[0].name)
     assembly.segment(lf)
     return Design(assembly, elements, lf, source, data)
@@ -233,3 +236,60 @@ def set_design_value(data: dict, key: str, value: float) -> dict:
     raise RodstabInputError(f"--vary key {key!r} must be section.<k>, analysis.<k>, "
                             "segment.<name>.<k>, segment.<name>.section.<k> or "
                             "support.<i>.rotation.<normal|tangent|binormal>")
+
+
+@dataclasses.dataclass(frozen=True)
+class VarySpec:
+    """A parsed ``--vary KEY=START:STOP[:N]``: ``n`` values of ``key`` from ``start`` to
+    ``stop`` (a sweep), or ``n`` steps from ``start`` to ``stop`` (a continuation)."""
+
+    key: str
+    start: float
+    stop: float
+    n: int
+
+
+#: The grammar of ``--vary``, as its error messages quote it.
+VARY_GRAMMAR = "KEY=START:STOP[:N]"
+
+
+def _vary_number(spec: str, part: str, text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise RodstabInputError(f"--vary {part} {text.strip()!r} is not a number "
+                                f"(in {spec!r}; expected {VARY_GRAMMAR})") from None
+    if not math.isfinite(value):
+        raise RodstabInputError(f"--vary {part} {text.strip()!r} is not a finite number "
+                                f"(in {spec!r})")
+    return value
+
+
+def parse_vary(spec: str, *, default_n: int) -> VarySpec:
+    """Parse ``KEY=START:STOP[:N]`` (the ``--vary`` option of ``sweep`` and ``continue``).
+
+    ``KEY`` is non-empty (whether it names a design value is checked where it is used:
+    :func:`set_design_value`, :func:`rodstab.nonlinear.parameters.parameter`); ``START`` and
+    ``STOP`` are finite numbers; ``N``, a positive integer, defaults to ``default_n``.
+    Raises :class:`RodstabInputError` naming the part that is wrong and its text.
+    """
+    n_default = require_positive_int("default_n", default_n)
+    if not isinstance(spec, str) or "=" not in spec:
+        raise RodstabInputError(f"--vary must be {VARY_GRAMMAR}, got {spec!r}")
+    key, _, rng = spec.partition("=")
+    key = key.strip()
+    if not key:
+        raise RodstabInputError(f"--vary KEY '' is empty: expected {VARY_GRAMMAR}, "
+                                f"got {spec!r}")
+    parts = rng.split(":")
+    if len(parts) not in (2, 3):
+        raise RodstabInputError(f"--vary must be {VARY_GRAMMAR}, got {spec!r} "
+                                f"({len(parts)} part(s) after '=')")
+    start = _vary_number(spec, "START", parts[0])
+    stop = _vary_number(spec, "STOP", parts[1])
+    if len(parts) == 2:
+        return VarySpec(key, start, stop, n_default)
+    text = parts[2].strip()
+    if not (text.isascii() and text.isdigit()) or int(text) < 1:
+        raise RodstabInputError(f"--vary N {text!r} must be a positive integer (in {spec!r})")
+    return VarySpec(key, start, stop, int(text))

@@ -1,6 +1,11 @@
-"""Exceptions raised for invalid user input.
+"""Exceptions for the two failures a user can act on: invalid input, and no convergence.
 
-Every error names the offending parameter and its value, so a CLI can print it as one line.
+* :class:`RodstabInputError` (a :class:`ValueError`): the input is invalid; the message names
+  the offending parameter and its value. The CLI prints it as one line and exits with status 2.
+* :class:`NotConverged` (a :class:`RuntimeError`): a solver did not converge where the caller
+  needs its answer; the message names what did not converge. The CLI exits with status 3.
+
+Any other exception is a bug in rodstab and is not caught by the CLI (it shows a traceback).
 """
 
 from __future__ import annotations
@@ -11,6 +16,15 @@ from numbers import Integral, Real
 
 class RodstabInputError(ValueError):
     """Invalid user input; the message names the parameter and its value."""
+
+
+class NotConverged(RuntimeError):
+    """A solver did not converge where its answer is needed; the message names what did not
+    converge (which solve, at which parameter value).
+
+    Solvers that return a result with a ``converged`` flag do not raise this: they report.
+    It is raised where no meaningful result exists without convergence (e.g. the start of a
+    path that cannot be reached)."""
 
 
 def require_positive(name: str, value: float) -> float:

@@ -55,6 +55,8 @@ class Segment:
             require_positive(f"segment {self.name!r} {key}", getattr(self, key))
         for key in ("curvature", "natural_curvature", "angle", "natural_twist"):
             require_finite(f"segment {self.name!r} {key}", getattr(self, key))
+        # The held state turns by curvature x length: it must be a number, not an overflow.
+        require_finite(f"segment {self.name!r} curvature x length", self.curvature * self.length)
         for v in self.start:
             require_finite(f"segment {self.name!r} start", v)
 

@@ -33,6 +33,7 @@ import numpy as np
 import scipy.linalg as sla
 from scipy.optimize import brentq
 
+from .errors import RodstabInputError
 from .results import Result
 
 #: Default number of scan intervals on the search interval.
@@ -184,7 +185,7 @@ def find_roots(
         refined by Brent's method to ``XTOL * (hi - lo)``.
     """
     if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
-        raise ValueError(f"find_roots needs finite lo < hi, got lo={lo!r}, hi={hi!r}")
+        raise RodstabInputError(f"find_roots needs finite lo < hi, got lo={lo!r}, hi={hi!r}")
     xs = np.linspace(lo, hi, n_scan + 1)
     fs = np.array([f(float(x)) for x in xs], dtype=float)
     finite = np.isfinite(fs)
@@ -288,7 +289,7 @@ def matrix_roots(
     times ``sigma_max`` at the root (the dimension of the null space).
     """
     if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
-        raise ValueError(f"matrix_roots needs finite lo < hi, got lo={lo!r}, hi={hi!r}")
+        raise RodstabInputError(f"matrix_roots needs finite lo < hi, got lo={lo!r}, hi={hi!r}")
     r = known_nullity
 
     xs = np.linspace(lo, hi, n_scan + 1)
@@ -422,9 +423,9 @@ def pencil_interval(A: np.ndarray, C: np.ndarray, *,
 
     Raises
     ------
-    ValueError
-        If ``A`` is not positive definite (the unloaded state is then not stable and no
-        interval about ``p = 0`` exists).
+    RodstabInputError
+        (a ValueError) If ``A`` is not positive definite (the unloaded state is then not
+        stable and no interval about ``p = 0`` exists).
     """
     A = np.asarray(A, dtype=float)
     C = np.asarray(C, dtype=float)
@@ -432,8 +433,8 @@ def pencil_interval(A: np.ndarray, C: np.ndarray, *,
     try:
         sla.cholesky(A, lower=True)
     except np.linalg.LinAlgError as exc:
-        raise ValueError("pencil_interval: A (zero-load second variation) is not positive "
-                         "definite") from exc
+        raise RodstabInputError("pencil_interval: A (zero-load second variation) is not "
+                                "positive definite") from exc
     theta, V = sla.eigh(C, A)
     cnorm = max(float(np.max(np.abs(theta))), 1e-300)
     tol = MULTIPLICITY_RTOL * cnorm
@@ -512,7 +513,7 @@ def pencil_interval_sparse(A, C, *, multiplicity_rtol: float = MULTIPLICITY_RTOL
                    options={"SymmetricMode": True})
     Ainv = spla.LinearOperator((n, n), matvec=lu.solve, dtype=float)
     if np.any(lu.U.diagonal() <= 0):
-        raise ValueError("pencil_interval_sparse: A is not positive definite")
+        raise RodstabInputError("pencil_interval_sparse: A is not positive definite")
 
     def extreme(which: str) -> tuple[np.ndarray, np.ndarray]:
         k = min(n_eig, n - 2)

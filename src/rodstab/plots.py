@@ -1,17 +1,22 @@
-"""Pictures of assemblies and their critical modes (data in, figure out; no mathematics)."""
+"""Pictures of assemblies and their critical modes (data in, figure out; no mathematics).
+
+Figures are built with matplotlib's object API (:class:`matplotlib.figure.Figure`), not pyplot:
+importing or using this module never selects a backend or touches pyplot's global state, and
+writing a file needs no display.
+"""
 
 from __future__ import annotations
 
 from pathlib import Path
 
 import matplotlib
+import numpy as np
+from matplotlib.cm import ScalarMappable
+from matplotlib.colors import Normalize
+from matplotlib.figure import Figure
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-from .linear.solve import LinearStability  # noqa: E402
-from .model import Assembly  # noqa: E402
+from .linear.solve import LinearStability
+from .model import Assembly
 
 
 def plot_mode(assembly: Assembly, result: LinearStability, path: str | Path, *,
@@ -24,10 +29,10 @@ def plot_mode(assembly: Assembly, result: LinearStability, path: str | Path, *,
     """
     pts = np.vstack([s.position(np.linspace(0, s.length, 50)) for s in assembly.segments])
     size = float(np.ptp(pts, axis=0).max()) or 1.0
-    fig = plt.figure(figsize=(7, 5))
+    fig = Figure(figsize=(7, 5))
     ax = fig.add_subplot(projection="3d")
     om_max = max((float(np.max(np.abs(m.omega))) for m in result.mode), default=1.0) or 1.0
-    cmap = plt.get_cmap("coolwarm")
+    cmap = matplotlib.colormaps["coolwarm"]
     for seg in assembly.segments:
         xy = seg.position(np.linspace(0, seg.length, 60))
         ax.plot(xy[:, 0], xy[:, 1], 0 * xy[:, 0], color="0.7", lw=1)
@@ -52,11 +57,10 @@ def plot_mode(assembly: Assembly, result: LinearStability, path: str | Path, *,
     ax.set_xlabel("x")
     ax.set_ylabel("y")
     ax.set_zlabel("w (mode)")
-    sm = plt.cm.ScalarMappable(cmap=cmap, norm=plt.Normalize(-om_max, om_max))
+    sm = ScalarMappable(cmap=cmap, norm=Normalize(-om_max, om_max))
     fig.colorbar(sm, ax=ax, shrink=0.6, label="twist omega (mode)")
     out = Path(path)
     fig.savefig(out, dpi=120, bbox_inches="tight")
-    plt.close(fig)
     return out
 
 
@@ -65,18 +69,18 @@ def plot_equilibrium(x: np.ndarray, edge_nodes: np.ndarray, path: str | Path, *,
                      title: str = "equilibrium") -> Path:
     """3D centreline of an equilibrium: node positions ``x`` (n, 3), edges ``(i, j)`` pairs,
     coloured by ``edge_values`` (e.g. the internal moment per edge) or else by z."""
-    fig = plt.figure(figsize=(7, 5))
+    fig = Figure(figsize=(7, 5))
     ax = fig.add_subplot(projection="3d")
     z = x[:, 2]
     vals = (np.asarray(edge_values) if edge_values is not None
             else np.array([0.5 * (z[i] + z[j]) for i, j in edge_nodes]))
     lo, hi = float(np.min(vals)), float(np.max(vals))
     hi = hi if hi > lo else lo + 1.0
-    cmap = plt.get_cmap("viridis")
+    cmap = matplotlib.colormaps["viridis"]
     for (i, j), v in zip(edge_nodes, vals):
         ax.plot(x[[i, j], 0], x[[i, j], 1], x[[i, j], 2], color=cmap((v - lo) / (hi - lo)),
                 lw=3)
-    sm = plt.cm.ScalarMappable(cmap=cmap, norm=plt.Normalize(lo, hi))
+    sm = ScalarMappable(cmap=cmap, norm=Normalize(lo, hi))
     fig.colorbar(sm, ax=ax, shrink=0.6, label=value_label if edge_values is not None else "z")
     span = float(np.ptp(x, axis=0).max()) or 1.0
     mid = x.mean(axis=0)
@@ -88,7 +92,6 @@ def plot_equilibrium(x: np.ndarray, edge_nodes: np.ndarray, path: str | Path, *,
     ax.set_zlabel("z")
     out = Path(path)
     fig.savefig(out, dpi=120, bbox_inches="tight")
-    plt.close(fig)
     return out
 
 
@@ -100,7 +103,7 @@ def animate_shapes(frames: list[np.ndarray], edge_nodes: np.ndarray, path: str |
     allx = np.vstack(frames)
     span = float(np.ptp(allx, axis=0).max()) or 1.0
     mid = allx.mean(axis=0)
-    fig = plt.figure(figsize=(6, 4.5))
+    fig = Figure(figsize=(6, 4.5))
     ax = fig.add_subplot(projection="3d")
 
     def draw(k: int):
@@ -116,7 +119,6 @@ def animate_shapes(frames: list[np.ndarray], edge_nodes: np.ndarray, path: str |
     anim = FuncAnimation(fig, draw, frames=len(frames), blit=False)
     out = Path(path)
     anim.save(out, writer=PillowWriter(fps=fps))
-    plt.close(fig)
     return out
 
 

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 
-from .errors import require_positive, require_positive_int
+from .errors import RodstabInputError, require_positive, require_positive_int
 from .model import Assembly, Segment
 from .sections import Section
 
@@ -35,7 +35,7 @@ def birod(section: Section, *, length: float = 1.0, clamp: str | None = "start")
     segs = (_seg("upper", section, L, 0.0, 1.0), _seg("lower", section, L, 0.0, -1.0))
     welds = ((("upper", "start"), ("lower", "start")), (("upper", "end"), ("lower", "end")))
     if clamp not in ("start", "both", None):
-        raise ValueError(f"clamp must be 'start', 'both' or None, got {clamp!r}")
+        raise RodstabInputError(f"clamp must be 'start', 'both' or None, got {clamp!r}")
     sup = () if clamp is None else (("upper", "start", "clamped"),)
     if clamp == "both":
         sup += (("upper", "end", "clamped"),)
@@ -51,7 +51,7 @@ def folded_ring(section: Section, *, segments: int = 6, length: float = 1.0) -> 
     """
     n_seg = require_positive_int("segments", segments)
     if n_seg < 2 or n_seg % 2:
-        raise ValueError(f"segments must be an even number >= 2, got {segments!r}")
+        raise RodstabInputError(f"segments must be an even number >= 2, got {segments!r}")
     L = require_positive("length", length)
     segs = tuple(_seg(str(i), section, L, 0.0, -1.0 if i % 2 else 1.0)
                  for i in range(1, n_seg + 1))

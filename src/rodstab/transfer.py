@@ -28,6 +28,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.linalg import expm, null_space
 
+from .errors import RodstabInputError
 from .numerics import matrix_roots
 
 #: Indices in the state vector y = (u, u', u'', u''', w, w').
@@ -223,8 +224,8 @@ def straight_assembly_matrix(assembly, mu: float) -> np.ndarray:
     segs = assembly.segments
     for s in segs:
         if s.curvature != 0.0:
-            raise ValueError(f"straight_assembly_matrix needs straight segments; "
-                             f"{s.name!r} has curvature {s.curvature!r}")
+            raise RodstabInputError(f"straight_assembly_matrix needs straight segments; "
+                                    f"{s.name!r} has curvature {s.curvature!r}")
     n = len(segs)
     index = {s.name: i for i, s in enumerate(segs)}
     rows: list[np.ndarray] = []
@@ -253,8 +254,8 @@ def straight_assembly_matrix(assembly, mu: float) -> np.ndarray:
         if "clamped" in kinds or "sliding-clamp" in kinds:
             rows += [q0["w"], theta0[0], theta0[1]]
         elif kinds and set(kinds) != {"free"}:
-            raise ValueError(f"straight_assembly_matrix supports only clamped or free joints, "
-                             f"got {kinds}")
+            raise RodstabInputError(f"straight_assembly_matrix supports only clamped or free "
+                                    f"joints, got {kinds}")
         else:
             rows.append(sum(sg * q["V"] for q, _, _, sg in ends))
             for c in range(2):

@@ -26,7 +26,7 @@ import math
 
 import numpy as np
 
-from ..errors import require_finite, require_positive
+from ..errors import RodstabInputError, require_finite, require_positive
 from ..numerics import Root, find_roots
 from ..results import Result
 
@@ -162,7 +162,7 @@ def clamped_arc_stability(b1: float, b2: float, L_over_R: float) -> ArcStability
     b2 = require_positive("b2", b2)
     Lb = require_finite("L_over_R", L_over_R)
     if Lb < 0:
-        raise ValueError(f"L_over_R must be >= 0, got {L_over_R!r}")
+        raise RodstabInputError(f"L_over_R must be >= 0, got {L_over_R!r}")
     g = math.sqrt(b1 * b2)
     span = 4.0 * math.pi * max(g, 1.0) + Lb
     if Lb == 0.0:

@@ -23,7 +23,7 @@ import math
 
 import numpy as np
 
-from ..errors import require_positive, require_positive_int
+from ..errors import RodstabInputError, require_positive, require_positive_int
 from ..numerics import pencil_interval
 from ..results import Result
 
@@ -81,7 +81,8 @@ def michell_stability(b2: float, loops: int = 1, *, b1: float = 1.0,
     b2 = require_positive("b2", b2)
     N = require_positive_int("loops", loops)
     if abs(require_positive("b1", b1) - 1.0) > 1e-12:
-        raise ValueError(f"b1 must be 1 for Michell's problem (isotropic bending), got {b1!r}")
+        raise RodstabInputError(f"b1 must be 1 for Michell's problem (isotropic bending), "
+                                f"got {b1!r}")
     j_max = 3 * N + 4 if j_max is None else j_max
     unstable = tuple(j for j in range(1, N))  # k < 1: k^2 - 1 < 0 at zero twist
     best: tuple[float, int, float] | None = None

@@ -140,7 +140,7 @@ def linear_stability(a: Assembly, elements_per_segment: int = 16) -> LinearStabi
     C = (Dg @ C @ Dg).tocsc()
     try:
         res = pencil_interval_sparse(A, C, multiplicity_rtol=FE_MULTIPLICITY_RTOL)
-    except ValueError as exc:
+    except RodstabInputError as exc:
         # Rigid motions are gauged out, so a singular or indefinite A is physical.
         raise RodstabInputError(
             f"the held state is not stable (or only neutrally stable: a mechanism) at the "

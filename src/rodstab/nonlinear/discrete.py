@@ -335,7 +335,8 @@ def discretise(a: Assembly, elements_per_segment: int = 32, load_factor: float =
     fixed_nodes, fixed_joints, fixed_components = [], [], []
     for name, end, kind in a.supports:
         if kind not in supports_ok:
-            raise ValueError(f"the nonlinear model supports {supports_ok} supports, got {kind!r}")
+            raise RodstabInputError(f"the nonlinear model supports {supports_ok} supports, "
+                                    f"got {kind!r}")
         k = joint_of[(name, end)]
         if kind == "clamped":
             fixed_nodes.append(joint_node[k])
@@ -345,8 +346,8 @@ def discretise(a: Assembly, elements_per_segment: int = 32, load_factor: float =
             t = seg.tangent(0.0 if end == "start" else seg.length)
             axis = int(np.argmax(np.abs(t)))
             if abs(abs(t[axis]) - 1.0) > 1e-12:
-                raise ValueError(f"a sliding-clamp needs an end tangent along x or y; "
-                                 f"{name}.{end} has tangent {t.round(6).tolist()}")
+                raise RodstabInputError(f"a sliding-clamp needs an end tangent along x or y; "
+                                        f"{name}.{end} has tangent {t.round(6).tolist()}")
             fixed_joints.append(k)
             fixed_components.append((joint_node[k], [c for c in range(3) if c != axis]))
     if not fixed_nodes and not fixed_joints:

@@ -15,7 +15,7 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from ..errors import RodstabInputError
+from ..errors import NotConverged, RodstabInputError
 from ..model import Assembly
 from ..numerics import count_below, find_roots
 from ..results import Result
@@ -254,8 +254,8 @@ def settle(rod: DiscreteRod) -> None:
         for j, r in targets.items():
             rod.rotate_joint(j, r * (k / n))
         if not newton(rod)[0]:
-            raise RodstabInputError(f"no equilibrium found while turning the clamped ends to "
-                                    f"{k}/{n} of the design's rotations")
+            raise NotConverged(f"no equilibrium found while turning the clamped ends to "
+                               f"{k}/{n} of the design's rotations")
 
 
 #: Newton iterations allowed to :func:`relax` (a far start crosses a flat, strongly nonlinear

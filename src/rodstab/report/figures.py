@@ -1,6 +1,8 @@
 """Figures of the reproduction report, drawn from the data dicts of :mod:`.claims`.
 
-No mathematics here: every number plotted comes from the data passed in.
+No mathematics here: every number plotted comes from the data passed in. Figures are built with
+matplotlib's object API (:class:`matplotlib.figure.Figure`), not pyplot: no backend is selected
+and no global figure state is touched.
 """
 
 from __future__ import annotations
@@ -8,11 +10,8 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-import matplotlib
 import numpy as np
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.figure import Figure
 
 
 def _save(fig, out: Path, stem: str) -> list[Path]:
@@ -21,13 +20,13 @@ def _save(fig, out: Path, stem: str) -> list[Path]:
         p = out / f"{stem}.{ext}"
         fig.savefig(p, dpi=130, bbox_inches="tight")
         paths.append(p)
-    plt.close(fig)
     return paths
 
 
 def fig3(data: dict, out: Path) -> list[Path]:
     """Fig. 3: stable range of L kappa_n vs L/R for clamped arcs (upper and lower branch)."""
-    fig, ax = plt.subplots(figsize=(6.4, 4.6))
+    fig = Figure(figsize=(6.4, 4.6))
+    ax = fig.subplots()
     for cv in data["curves"]:
         style = "--" if cv["label"] == "circle" else "-"
         (line,) = ax.plot(data["L_over_R"], cv["upper"], style, label=cv["label"])
@@ -44,7 +43,8 @@ def fig3(data: dict, out: Path) -> list[Path]:
 
 def fig4(data: dict, out: Path) -> list[Path]:
     """Fig. 4: sqrt(B1 B2)/B3 vs h/t, exact torsion and the paper's (3.12)."""
-    fig, ax = plt.subplots(figsize=(6.0, 4.4))
+    fig = Figure(figsize=(6.0, 4.4))
+    ax = fig.subplots()
     ax.loglog(data["h_over_t"], data["rectangle_exact"], label="rectangle, exact Saint-Venant")
     ax.loglog(data["h_over_t"], data["rectangle_paper"], "--", label="rectangle, paper (3.12)")
     ax.loglog(data["h_over_t"], data["ellipse"], label="ellipse (3.11) = exact")
@@ -59,7 +59,8 @@ def fig4(data: dict, out: Path) -> list[Path]:
 
 def fig5(data: dict, out: Path) -> list[Path]:
     """Fig. 5: longest stable clamped arc of a straight rod vs h/t."""
-    fig, ax = plt.subplots(figsize=(6.0, 4.4))
+    fig = Figure(figsize=(6.0, 4.4))
+    ax = fig.subplots()
     ax.plot(data["h_over_t"], data["exact"], label="exact torsion")
     ax.plot(data["h_over_t"], data["paper"], "--", label="paper (3.12) torsion")
     ax.axhline(2 * math.pi, color="k", lw=0.8, ls=":", label="2 pi (h/t = 1)")
@@ -73,7 +74,8 @@ def fig5(data: dict, out: Path) -> list[Path]:
 
 def fig_rings(data: dict, out: Path) -> list[Path]:
     """New figure: stable (L/2pi) kappa_n intervals of N-loop rings vs rectangle h/t."""
-    fig, ax = plt.subplots(figsize=(6.4, 4.6))
+    fig = Figure(figsize=(6.4, 4.6))
+    ax = fig.subplots()
     for N in data["loops"]:
         ivs = data["intervals"][str(N)]
         lo = [iv[0] for iv in ivs]
@@ -97,7 +99,8 @@ def fig_rings(data: dict, out: Path) -> list[Path]:
 
 def fig9(data: dict, out: Path) -> list[Path]:
     """Fig. 9: modal u3/L and twist around the folded six-sided ring (two modes)."""
-    fig, axes = plt.subplots(len(data), 1, figsize=(7, 2.6 * len(data)), sharex=True)
+    fig = Figure(figsize=(7, 2.6 * len(data)))
+    axes = fig.subplots(len(data), 1, sharex=True)
     for ax, (label, d) in zip(axes, data.items()):
         ax.plot(d["s_over_L"], d["u3_over_L"], label="u3 / L (max 1)")
         om = d["omega"]
@@ -115,7 +118,8 @@ def fig9(data: dict, out: Path) -> list[Path]:
 def sweep_plot(rows: list[dict], key: str, out: Path) -> Path:
     """Critical load factor (and the lower end of the interval) against the varied key."""
     x = [r[key] for r in rows]
-    fig, ax = plt.subplots(figsize=(6, 4))
+    fig = Figure(figsize=(6, 4))
+    ax = fig.subplots()
     ax.plot(x, [r["load_factor_critical"] for r in rows], "o-", label="upper end (critical)")
     ax.plot(x, [r["load_factor_lower"] for r in rows], "s--", label="lower end")
     ax.set_xlabel(key)
@@ -125,14 +129,14 @@ def sweep_plot(rows: list[dict], key: str, out: Path) -> Path:
     ax.set_title("stable between the two curves")
     p = Path(out) / "sweep.png"
     fig.savefig(p, dpi=120, bbox_inches="tight")
-    plt.close(fig)
     return p
 
 
 def fig_beyond(data: dict, out: Path) -> list[Path]:
     """Post-buckled branches, imperfect paths of the straightened rod, Koiter's law of the
     twisted rod, and the energy along the 1-loop -> 3-loop ring path."""
-    fig, axes = plt.subplots(3, 2, figsize=(12, 13))
+    fig = Figure(figsize=(12, 13))
+    axes = fig.subplots(3, 2)
     ax = axes[0, 0]
     for name, br in data["branches"].items():
         ax.plot(br["amplitude"], br["mu_over_mu_c"], "o-", ms=3, label=name)
@@ -214,7 +218,8 @@ def fig_beyond(data: dict, out: Path) -> list[Path]:
 def continuation_plot(result, out: Path) -> Path:
     """Bifurcation diagram: the primary path (solid where stable, dashed where not) and the
     secondary branches (amplitude vs parameter), and the lowest eigenvalue along the path."""
-    fig, axes = plt.subplots(1, 2, figsize=(10, 4))
+    fig = Figure(figsize=(10, 4))
+    axes = fig.subplots(1, 2)
     val = np.array(result.value)
     ev = np.array(result.lowest_eigenvalue)
     amp = np.array(result.amplitude)
@@ -246,5 +251,4 @@ def continuation_plot(result, out: Path) -> Path:
     axes[1].grid(alpha=0.3)
     p = Path(out) / "diagram.png"
     fig.savefig(p, dpi=120, bbox_inches="tight")
-    plt.close(fig)
     return p

@@ -10,7 +10,7 @@ from pathlib import Path as FsPath
 
 import numpy as np
 
-from ...errors import RodstabInputError
+from ...errors import NotConverged, RodstabInputError
 from ...model import Assembly
 from ..discrete import DiscreteRod, discretise
 from ..parameters import Parameter, parameter
@@ -37,11 +37,11 @@ def _reach(rod: DiscreteRod, param: Parameter, key: str, start: float, h: float)
     for p in np.linspace(p0, start, n + 1)[1:]:
         param.set(rod, float(p))
         if not newton(rod)[0]:
-            raise RodstabInputError(f"no equilibrium found at {key} = {float(p)!r} on the way "
-                                    f"from the design's value {p0!r} to {start!r}")
+            raise NotConverged(f"no equilibrium found at {key} = {float(p)!r} on the way "
+                               f"from the design's value {p0!r} to {start!r}")
     param.set(rod, start)
     if not newton(rod)[0]:
-        raise RodstabInputError(f"no equilibrium found at {key} = {start!r}")
+        raise NotConverged(f"no equilibrium found at {key} = {start!r}")
 
 
 def _moved(x: np.ndarray, ref: np.ndarray) -> float:

@@ -1,0 +1,83 @@
+"""Shared test fixtures: the one way the tests run the ``rodstab`` command.
+
+``run_cli(args)`` calls the real entry point, :func:`rodstab.cli.main` (so exit statuses and
+the one-line error messages are those a user sees), and returns a :class:`CliResult`.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import dataclasses
+import os
+import subprocess
+import sys
+from collections.abc import Callable, Sequence
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+from rodstab.cli import main
+
+ROOT = Path(__file__).resolve().parent.parent
+
+
+@dataclasses.dataclass(frozen=True)
+class CliResult:
+    """What a run of ``rodstab`` printed, and its exit status."""
+
+    exit_code: int
+    stdout: str
+    stderr: str
+
+
+def _exit_code(code: object) -> int:
+    """The process exit status ``sys.exit(code)`` gives (None: 0; a message: 1)."""
+    if code is None:
+        return 0
+    return code if isinstance(code, int) else 1
+
+
+def _runner() -> CliRunner:
+    try:
+        return CliRunner(mix_stderr=False)  # type: ignore[call-arg]  # click < 8.2
+    except TypeError:
+        return CliRunner()  # click >= 8.2: stderr is always captured on its own
+
+
+def run_cli(args: Sequence[str], *, cwd: str | Path = ROOT, fresh_process: bool = False,
+            timeout: float | None = None) -> CliResult:
+    """Run ``rodstab ARGS`` in directory ``cwd`` (default: the repository root).
+
+    In-process by default: :func:`rodstab.cli.main` with stdout and stderr captured apart
+    (click's ``CliRunner`` isolation); the exit status is the ``SystemExit`` code (0 if
+    ``main`` returns). Any other exception propagates, as it would end the real program with
+    a traceback. ``fresh_process=True`` runs ``python -m rodstab.cli`` in a new interpreter
+    instead (for what a real process prints, or one stopped by ``timeout``:
+    ``subprocess.TimeoutExpired`` propagates).
+    """
+    args = [str(a) for a in args]
+    if fresh_process:
+        env = os.environ.copy()
+        env["PYTHONPATH"] = os.pathsep.join(
+            [str(ROOT / "src")] + ([env["PYTHONPATH"]] if env.get("PYTHONPATH") else []))
+        proc = subprocess.run([sys.executable, "-m", "rodstab.cli", *args], capture_output=True,
+                              text=True, cwd=cwd, env=env, timeout=timeout)
+        return CliResult(proc.returncode, proc.stdout, proc.stderr)
+    if timeout is not None:
+        raise ValueError("run_cli: timeout needs fresh_process=True")
+    with contextlib.chdir(cwd), _runner().isolation() as streams:
+        try:
+            main(args)
+            code = 0
+        except SystemExit as exc:
+            code = _exit_code(exc.code)
+        stdout = streams[0].getvalue().decode()
+        stderr = streams[1].getvalue().decode()
+    return CliResult(code, stdout, stderr)
+
+
+@pytest.fixture(name="run_cli", scope="session")
+def run_cli_fixture() -> Callable[..., CliResult]:
+    """:func:`run_cli`: run ``rodstab`` and return its exit status, stdout and stderr."""
+    return run_cli
