@@ -15,6 +15,7 @@ the registry and prints the computed status.
 | :mod:`.engine` | Section 3 | linear FE engine vs the analytic results |
 | :mod:`.sec4` | Section 4, (4.4)-(4.8) | bi-rod |
 | :mod:`.sec5` | Section 5, (5.4)-(5.14) | folded six-sided ring |
+| :mod:`.beyond_critical`, ... | beyond the paper | nonlinear rod: post-buckling, transitions |
 """
 
 from __future__ import annotations
@@ -23,6 +24,10 @@ import dataclasses
 from collections.abc import Callable, Iterator, Mapping
 
 from . import (
+    beyond_critical,
+    beyond_imperfections,
+    beyond_transitions,
+    beyond_twisted,
     engine,
     sec2,
     sec3_1,
@@ -57,6 +62,10 @@ REGISTRY: tuple[Check, ...] = (
     Check(engine.engine_checks, engine.EXPECTED),
     Check(sec4.birod_checks, sec4.EXPECTED),
     Check(sec5.folded_ring_checks, sec5.EXPECTED),
+    Check(beyond_critical.critical_checks, beyond_critical.EXPECTED),
+    Check(beyond_imperfections.imperfection_checks, beyond_imperfections.EXPECTED),
+    Check(beyond_twisted.twisted_rod_checks, beyond_twisted.EXPECTED),
+    Check(beyond_transitions.transition_checks, beyond_transitions.EXPECTED),
 )
 
 
