@@ -1,4 +1,4 @@
-"""Figures of the reproduction report, drawn from the data dicts of :mod:`.claims`.
+"""Figures of the reproduction report, drawn from the data dicts of :mod:`rodstab.checks`.
 
 No mathematics here: every number plotted comes from the data passed in.
 """
