@@ -81,3 +81,12 @@ def run_cli(args: Sequence[str], *, cwd: str | Path = ROOT, fresh_process: bool 
 def run_cli_fixture() -> Callable[..., CliResult]:
     """:func:`run_cli`: run ``rodstab`` and return its exit status, stdout and stderr."""
     return run_cli
+
+
+@pytest.fixture(scope="session")
+def reproduction(tmp_path_factory):
+    """``rodstab reproduce`` run once per session: (output directory, summary dict)."""
+    from rodstab.report.reproduce import run_reproduction
+
+    out = tmp_path_factory.mktemp("results")
+    return out, run_reproduction(out, progress=False)

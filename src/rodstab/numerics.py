@@ -163,6 +163,7 @@ def find_roots(
     n_scan: int = SCAN_INTERVALS,
     touch_tol: float = TOUCH_TOL,
     method_name: str = "scan+brent",
+    rel_xtol: float = XTOL,
 ) -> RootSearch:
     """Find every root of a real scalar function on ``[lo, hi]``.
 
@@ -177,6 +178,9 @@ def find_roots(
     touch_tol : float
         A local minimum of ``|f|`` without sign change is accepted as a root when its refined
         value is at most ``touch_tol * max|f|`` over the scan.
+    rel_xtol : float
+        Roots are refined to ``rel_xtol * (hi - lo)`` (default ``XTOL``); a coarser value saves
+        evaluations of an expensive ``f`` whose root is wanted only to a few digits.
 
     Returns
     -------
@@ -191,7 +195,7 @@ def find_roots(
     finite = np.isfinite(fs)
     scale = float(np.max(np.abs(fs[finite]))) if finite.any() else 1.0
     scale = scale if scale > 0 else 1.0
-    xtol = XTOL * (hi - lo)
+    xtol = rel_xtol * (hi - lo)
     h_order = 1e-4 * (hi - lo) / n_scan
     roots: list[Root] = []
     converged = bool(finite.all())

@@ -1,4 +1,4 @@
-"""Figures of the reproduction report, drawn from the data dicts of :mod:`.claims`.
+"""Figures of the reproduction report, drawn from the data dicts of :mod:`rodstab.checks`.
 
 No mathematics here: every number plotted comes from the data passed in. Figures are built with
 matplotlib's object API (:class:`matplotlib.figure.Figure`), not pyplot: no backend is selected
@@ -140,9 +140,9 @@ def fig_beyond(data: dict, out: Path) -> list[Path]:
     ax = axes[0, 0]
     for name, br in data["branches"].items():
         ax.plot(br["amplitude"], br["mu_over_mu_c"], "o-", ms=3, label=name)
-    ax.set_xlabel("amplitude of the critical mode (largest out-of-plane displacement)")
+    ax.set_xlabel("xi: largest out-of-plane displacement / L (free rigid motion removed)")
     ax.set_ylabel("mu / mu_c")
-    ax.set_title("post-buckled branches (amplitude control along one mode)")
+    ax.set_title("post-buckled branches, circular sections (amplitude control)")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7)
     ax = axes[0, 1]
@@ -196,6 +196,8 @@ def fig_beyond(data: dict, out: Path) -> list[Path]:
     ax.plot(k, 3 * (k * th) ** 2, "C1", label="folded (straight segments)")
     ax.plot(k, 3 * (th - k * th) ** 2, "C2", label="one-loop (arcs)")
     ax.plot(kr, en, "C3o-", ms=2, label="saddle branch (12 el./segment)")
+    ax.plot([1.0], [3 * th**2 + six["barrier_at_1"]], "k*", ms=8,
+            label=f"saddle at kappa_n R0 = 1 (Richardson), barrier {six['barrier_at_1']:.3g}")
     ax.axvspan(lo, hi, color="0.9", label="both stable")
     ax.set_xlabel("kappa_n R0")
     ax.set_ylabel("energy (B3 / L)")

@@ -11,16 +11,17 @@ from typing import Any
 
 from tqdm import tqdm
 
-from .. import __version__
+from .. import __version__, checks
+from ..checks import REPRODUCED, Claim, sec3_1, sec3_2_stiffness, sec5
 from ..results import jsonable
-from . import claims as C
 from . import figures
 
-_STEPS = 26
+#: Progress ticks: 21 inside the slow checks, one after each registry entry, 3 for the figures.
+_STEPS = 21 + len(checks.REGISTRY) + 3
 
 
-def _markdown(rows: list[C.Claim], figs: dict[str, Path], elapsed: float) -> str:
-    n_rep = sum(r.status == C.REPRODUCED for r in rows)
+def _markdown(rows: list[Claim], figs: dict[str, Path], elapsed: float) -> str:
+    n_rep = sum(r.status == REPRODUCED for r in rows)
     lines = [
         "# rodstab reproduction report",
         "",
@@ -48,14 +49,14 @@ def _markdown(rows: list[C.Claim], figs: dict[str, Path], elapsed: float) -> str
     return "\n".join(lines) + "\n"
 
 
-def _html(rows: list[C.Claim], figs: dict[str, Path], elapsed: float) -> str:
-    n_rep = sum(r.status == C.REPRODUCED for r in rows)
+def _html(rows: list[Claim], figs: dict[str, Path], elapsed: float) -> str:
+    n_rep = sum(r.status == REPRODUCED for r in rows)
     head = ["id", "§", "eq.", "claim", "paper", "rodstab", "second method", "status", "note"]
     body = []
     for r in rows:
         second = (f"{r.second}<br><small>{html.escape(r.second_method)}</small>"
                   if r.second_method not in ("-", "") else html.escape(r.second))
-        cls = "ok" if r.status == C.REPRODUCED else "diff"
+        cls = "ok" if r.status == REPRODUCED else "diff"
         cells = [html.escape(r.id), html.escape(r.section), html.escape(r.equation),
                  html.escape(r.statement), html.escape(r.paper), html.escape(r.rodstab), second,
                  f'<span class="{cls}">{r.status}</span>', html.escape(r.note)]
@@ -81,7 +82,7 @@ reproduced, {len(rows) - n_rep} differ (each explained). Computed in {elapsed:.1
 
 
 def run_reproduction(out_dir: str | Path, *, progress: bool = True) -> dict[str, Any]:
-    """Evaluate every Section 2-3 claim, draw the figures and write the report.
+    """Evaluate every check of :data:`rodstab.checks.REGISTRY`, draw the figures, write the report.
 
     Writes ``report.md``, ``report.html`` (self-contained, figures embedded), ``results.json``
     and PNG/SVG figures into ``out_dir`` (created if missing). Returns a summary dict.
@@ -91,21 +92,14 @@ def run_reproduction(out_dir: str | Path, *, progress: bool = True) -> dict[str,
     out.mkdir(parents=True, exist_ok=True)
     bar = tqdm(total=_STEPS, desc="rodstab reproduce", disable=not progress, leave=False)
     tick = lambda: bar.update(1)  # noqa: E731
-    rows: list[C.Claim] = list(C.section2_claims())
+    run = checks.Run(progress=tick)
+    rows = checks.evaluate(run)
+    data = {"fig3": run.figures["fig3"], "fig4": sec3_2_stiffness.fig4_data(),
+            "fig5": sec3_2_stiffness.fig5_data()}
     tick()
-    rows += list(C.ring_claims(tick))
-    rows += list(C.arc_claims(tick))
-    rows += list(C.michell_claims())
-    tick()
-    rows += list(C.engine_claims())
-    rows += list(C.section45_claims(tick))
-    beyond_rows, beyond_data = C.beyond_claims(tick)
-    rows += beyond_rows
-    data = {"fig3": C.fig3_data(), "fig4": C.fig4_data(), "fig5": C.fig5_data()}
-    tick()
-    data["rings"] = C.rings_data()
-    data["fig9"] = C.fig9_data()
-    data["beyond"] = beyond_data
+    data["rings"] = sec3_1.rings_data()
+    data["fig9"] = sec5.fig9_data()
+    data["beyond"] = run.figures["beyond"]
     tick()
     figs: dict[str, Path] = {}
     figs["Fig. 3 - clamped arcs: stable range of L kappa_n"] = figures.fig3(data["fig3"], out)[0]
@@ -124,7 +118,7 @@ def run_reproduction(out_dir: str | Path, *, progress: bool = True) -> dict[str,
     htm.write_text(_html(rows, figs, elapsed))
     js.write_text(json.dumps(jsonable({"version": __version__, "claims": rows, "figures": data}),
                              indent=1, allow_nan=False))
-    n_rep = sum(r.status == C.REPRODUCED for r in rows)
+    n_rep = sum(r.status == REPRODUCED for r in rows)
     return {"report_md": str(md), "report_html": str(htm), "results_json": str(js),
             "figures": [str(p) for p in figs.values()], "n_claims": len(rows),
             "n_reproduced": n_rep, "n_differs": len(rows) - n_rep,

@@ -50,8 +50,9 @@ PROBE_XI = 2e-3
 PROBE_SCAN = 12
 #: P varies by less than this relative to its mean: a continuous family of branches.
 FAMILY_RTOL = 1e-4
-#: Largest acceptable residual of the degree-4 trigonometric fit of P, relative to its range
-#: (the O(eps^2) terms of p - p_c are ~PROBE_XI^2 relative).
+#: Largest residual of the degree-4 trigonometric fit of P, relative to its range, for its
+#: stationary points to be used (the O(eps^2) terms of p - p_c are ~PROBE_XI^2 relative);
+#: beyond it the sampled extremes are used.
 FIT_RTOL = 1e-2
 
 
@@ -122,8 +123,10 @@ def branch_directions(rod: DiscreteRod, param: Parameter, stable_side: float,
     coef, *_ = np.linalg.lstsq(_harmonics(grid), P, rcond=None)
     misfit = float(np.max(np.abs(_harmonics(grid) @ coef - P)))
     if misfit > FIT_RTOL * spread:
-        raise RuntimeError(f"P(phi) at the double eigenvalue is not a quartic form (misfit "
-                           f"{misfit:.3g} of range {spread:.3g}): the probe is not small")
+        # P too flat to resolve its stationary points (near a change of character of the
+        # bifurcation, where b ~ 0 in every direction): take the sampled extremes.
+        order = np.argsort(-P * stable_side)
+        return [Direction(*pair(float(grid[i])), float(P[i])) for i in order[[0, -1]]]
     k = np.array([0, 2, 2, 4, 4])
 
     def dP(phi: float) -> float:
@@ -157,6 +160,28 @@ def _branch_path(key: str, p_c: float, sides: dict, start: tuple, stable_side: f
                 specials, (), 0, tuple(shapes), tuple(shape_values), states)
 
 
+def _land(rod: DiscreteRod, param: Parameter, value: float, phase: np.ndarray | None
+          ) -> DiscreteRod | None:
+    """The equilibrium at ``value`` next to ``rod`` on its branch: the corrector with the
+    parameter held (row ``(0, 1)``), i.e. plain Newton, which stays on a saddle branch where
+    the descent safeguards of :func:`..solve.newton` would leave it; in 1, 2, 4 or 8 equal
+    parameter steps. None if none converges."""
+    zero = np.zeros(len(rod.free_dofs()))
+    p0 = param.get(rod)
+    for m in (1, 2, 4, 8):
+        trial = rod.copy()
+        for k in range(1, m + 1):
+            p_prev, p_next = param.get(trial), p0 + (value - p0) * k / m
+            param.set(trial, p_next)
+            sigma = correct(trial, param, zero, 1.0, p_next - p_prev, acc_q=zero,
+                            acc_p=p_next - p_prev, phase=phase)
+            if not pinned_equilibrium(trial, sigma, phase):
+                break
+        else:
+            return trial
+    return None
+
+
 def trace_branch(rod: DiscreteRod, param: Parameter, stable_side: float, ds: float,
                  n_steps: int, *, length: float, signs: tuple[float, ...] = (1.0, -1.0),
                  direction: Direction | None = None, stop_at_special: bool = False,
@@ -168,7 +193,7 @@ def trace_branch(rod: DiscreteRod, param: Parameter, stable_side: float, ds: flo
     ``direction``: default the most dangerous of :func:`branch_directions`. With
     ``stop_at_special`` the special points are located (in ``special_points``; the states there
     in ``states``) and a side stops at the first one of a kind in ``stop_kinds``; ``window``: a
-    side stops once the parameter leaves it."""
+    side stops once the parameter leaves it, on a point landed exactly on its edge."""
     p_c = param.get(rod)
     d = direction or branch_directions(rod, param, stable_side, length)[0]
     mode_w = mode_out_of_plane(rod, d.mode)
@@ -187,6 +212,15 @@ def trace_branch(rod: DiscreteRod, param: Parameter, stable_side: float, ds: flo
             if not path.step():
                 ok_all = False
                 break
+            left = window is not None and not window[0] <= param.get(r) <= window[1]
+            if left:
+                # Land exactly on the window's edge: the corrector with the parameter held
+                # (row (0, 1)) from the last point inside -- plain Newton, which stays on a
+                # saddle branch where the descent safeguards of solve.newton would leave it.
+                edge = min(window, key=lambda w: abs(w - param.get(r)))  # type: ignore[arg-type]
+                landed = _land(prev, param, edge, d.phase)
+                if landed is not None:
+                    r.assign(landed)
             e1 = lowest(r)
             if stop_at_special and e_prev is not None and crossed(e_prev, e1, prev_tp, path.tp):
                 point, at = locate(r, param, prev, prev_tq, prev_tp, path.last_h, e_prev, e1,
@@ -204,7 +238,7 @@ def trace_branch(rod: DiscreteRod, param: Parameter, stable_side: float, ds: flo
             if sign > 0:
                 shapes.append(r.x.copy())
                 shape_values.append(param.get(r))
-            if window and not window[0] <= param.get(r) <= window[1]:
+            if left:
                 break
     return _branch_path(str(param.key), p_c, sides, (0.0, p_c, rod.energy(), lowest(rod)),
                         stable_side, ok_all,

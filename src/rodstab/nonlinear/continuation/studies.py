@@ -12,8 +12,9 @@ from ...errors import RodstabInputError
 from ...model import Assembly
 from ...results import Result
 from ..discrete import DiscreteRod, discretise, held_curvatures
-from ..solve import lowest_modes
-from .path import SpecialKind
+from ..parameters import parameter
+from .branches import branch_directions
+from .path import SpecialKind, reference_length
 from .run import continuation
 
 
@@ -105,8 +106,11 @@ def imperfection_sensitivity(a: Assembly, key: str, start: float, stop: float, *
         raise RodstabInputError(f"the perfect structure does not lose stability between "
                                 f"{key} = {start!r} and {stop!r}")
     p_c, state = perfect.states[0]
-    _, vecs = lowest_modes(state, 1)
-    v = vecs[:, 0] / np.max(np.abs(vecs[:, 0]))
+    # The imperfection is shaped like the critical mode -- at a double eigenvalue the most
+    # dangerous branch direction, so the result does not depend on the eigen solver's basis.
+    side = math.copysign(1.0, start - p_c)
+    mode = branch_directions(state, parameter(a, key, n), side, reference_length(a))[0].mode
+    v = mode / np.max(np.abs(mode))
     limits, paths = [], []
     for eps in epsilons:
         imp = imperfect(state, discretise(a, n), v, eps * a.total_length)
