@@ -205,7 +205,11 @@ def find_roots(
         x = _bracketed_root(f, a, b, xtol)
         fx = abs(f(x))
         # A sign change through a pole is not a root: there |f| grows as the bracket shrinks.
-        if fx > 1e-3 * min(abs(fa), abs(fb)) and fx > touch_tol * scale:
+        # A root refined to xtol leaves |f| up to ~slope * xtol (the second bound: a coarse
+        # rel_xtol must not turn a root into a "pole").
+        slope = abs(fb - fa) / (b - a)
+        if fx > max(1e-3 * min(abs(fa), abs(fb)), 10.0 * slope * xtol) \
+                and fx > touch_tol * scale:
             return
         m = _order_of_vanishing(f, x, min(h_order, 0.25 * (b - a)))
         m = m if m % 2 == 1 else m + 1  # a sign change has odd order

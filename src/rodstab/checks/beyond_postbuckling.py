@@ -24,15 +24,16 @@ from .core import Claim, Run, fmt
 from .rules import REPRODUCED, every, holds, methods_agree
 
 #: What the project claims for each row of :func:`postbuckling_checks`.
-EXPECTED = {f"PB-{k}": REPRODUCED for k in ("straightened", "bi-rod", "folded")} | {
-    f"PB-threshold-{k}": REPRODUCED for k in ("straightened", "bi-rod", "folded")}
+EXPECTED = {f"PB-{p}{k}": REPRODUCED for k in ("straightened", "bi-rod", "folded")
+            for p in ("", "threshold-")}
 
 #: ``b`` from amplitude control vs pseudo-arclength (same mesh; measured <= 3e-4 relative).
 PB_RTOL = 2e-2
 #: Bracket of rectangle aspects h/t searched for the change of sign of ``b``.
 ASPECT_BRACKET = (1.0, 2.0)
-#: The threshold is refined to this fraction of the bracket (three digits of h/t).
-THRESHOLD_XTOL = 1e-3
+#: The threshold is refined to this fraction of the bracket (h/t to +-0.005: below the
+#: discretisation's shift of it, ~0.02 between 12 and 16 elements for the rod).
+THRESHOLD_XTOL = 5e-3
 #: Relative offset from the threshold at which the second tracer confirms the two signs.
 CONFIRM_OFFSET = 0.05
 
