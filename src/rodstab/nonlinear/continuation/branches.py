@@ -46,6 +46,9 @@ from .special import crossed, locate, lowest
 DOUBLE_RTOL = 1e-3
 #: Amplitude of the direction probe (largest node displacement / reference length).
 PROBE_XI = 2e-3
+#: Branch points with |xi| up to this enter the fit of p/p_c = 1 + a xi + b xi^2 (+ xi^3, xi^4
+#: terms), when there are at least five.
+FIT_XI = 0.04
 #: Directions probed in [0, pi) for the quartic form P(phi).
 PROBE_SCAN = 12
 #: P varies by less than this relative to its mean: a continuous family of branches.
@@ -152,7 +155,11 @@ def _branch_path(key: str, p_c: float, sides: dict, start: tuple, stable_side: f
     pts = sides.get(-1.0, [])[::-1] + [start] + sides.get(1.0, [])
     X = np.array([q[0] for q in pts])
     V = np.array([q[1] for q in pts])
-    small = np.abs(X) <= 0.6 * np.max(np.abs(X))
+    # Initial post-buckling: fit where xi is small; a coarse branch falls back on its inner
+    # 60 % (stated by the verdict's coefficients only as far as the points allow).
+    small = np.abs(X) <= FIT_XI
+    if small.sum() < 5:
+        small = np.abs(X) <= 0.6 * np.max(np.abs(X))
     verdict, a, b = post_buckling(X[small], V[small], p_c, stable_side)
     return Path(key, tuple(V), tuple(q[2] for q in pts), tuple(q[3] for q in pts), tuple(X),
                 "xi: largest out-of-plane node displacement (free rigid motion removed) / L, "
@@ -186,14 +193,16 @@ def trace_branch(rod: DiscreteRod, param: Parameter, stable_side: float, ds: flo
                  n_steps: int, *, length: float, signs: tuple[float, ...] = (1.0, -1.0),
                  direction: Direction | None = None, stop_at_special: bool = False,
                  stop_kinds: tuple[SpecialKind, ...] = tuple(SpecialKind),
-                 window: tuple[float, float] | None = None) -> Path:
+                 window: tuple[float, float] | None = None, first_step: float = 1.0) -> Path:
     """Trace the branch leaving the bifurcation ``rod`` by pseudo-arclength, ``n_steps`` steps
     each way (``signs``), about ``ds`` (length unit) of amplitude per step, up to 4 ``ds``.
 
     ``direction``: default the most dangerous of :func:`branch_directions`. With
     ``stop_at_special`` the special points are located (in ``special_points``; the states there
     in ``states``) and a side stops at the first one of a kind in ``stop_kinds``; ``window``: a
-    side stops once the parameter leaves it, on a point landed exactly on its edge."""
+    side stops once the parameter leaves it, on a point landed exactly on its edge.
+    ``first_step``: the first step as a fraction of ``ds`` (steps then grow by 1.5), so that a
+    coarse branch still has points at small amplitude for the post-buckling fit."""
     p_c = param.get(rod)
     d = direction or branch_directions(rod, param, stable_side, length)[0]
     mode_w = mode_out_of_plane(rod, d.mode)
@@ -205,7 +214,7 @@ def trace_branch(rod: DiscreteRod, param: Parameter, stable_side: float, ds: flo
     for sign in signs:
         pts = sides.setdefault(sign, [])
         r = rod.copy()
-        path = Stepper(r, param, sign * d.mode, 0.0, h, 4 * h, phase=d.phase)
+        path = Stepper(r, param, sign * d.mode, 0.0, first_step * h, 4 * h, phase=d.phase)
         e_prev = None
         for _ in range(n_steps):
             prev, prev_tq, prev_tp = r.copy(), path.tq.copy(), path.tp

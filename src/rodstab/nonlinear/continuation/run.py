@@ -21,6 +21,9 @@ from .corrector import Stepper, tangent
 from .path import Path, SpecialKind, reference_length
 from .special import crossed, locate, lowest
 
+#: First step along a branch from a branch point, as a fraction of ``branch_ds``: small
+#: amplitudes first, for the post-buckling fit (the steps grow by 1.5 up to 4 branch_ds).
+BRANCH_FIRST_STEP = 1 / 8
 #: Most Newton steps taken while reaching the start of a path from the design's value.
 REACH_STEPS_MAX = 200
 
@@ -174,7 +177,8 @@ def continuation(a: Assembly, key: str, start: float, stop: float, n_steps: int,
                 if point["kind"] == SpecialKind.LOST.value and at is not None \
                         and branch_steps > 0:
                     side = math.copysign(1.0, param.get(prev) - point["value"])
-                    b = trace_branch(at, param, side, branch_ds, branch_steps, length=length)
+                    b = trace_branch(at, param, side, branch_ds, branch_steps, length=length,
+                                     first_step=BRANCH_FIRST_STEP)
                     point["post_buckling"] = b.verdict
                     point["branch"] = _branch_dict(b)
                     branches.append(b)
