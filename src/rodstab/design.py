@@ -241,7 +241,8 @@ def set_design_value(data: dict, key: str, value: float) -> dict:
 @dataclasses.dataclass(frozen=True)
 class VarySpec:
     """A parsed ``--vary KEY=START:STOP[:N]``: ``n`` values of ``key`` from ``start`` to
-    ``stop`` (a sweep), or ``n`` steps from ``start`` to ``stop`` (a continuation)."""
+    ``stop`` (a sweep), or ``n`` steps from ``start`` to ``stop`` (a continuation).
+    """
 
     key: str
     start: float

@@ -24,7 +24,8 @@ class NotConverged(RuntimeError):
 
     Solvers that return a result with a ``converged`` flag do not raise this: they report.
     It is raised where no meaningful result exists without convergence (e.g. the start of a
-    path that cannot be reached)."""
+    path that cannot be reached).
+    """
 
 
 def require_positive(name: str, value: float) -> float:

@@ -480,7 +480,8 @@ def count_below(A: Any, sigma: float) -> int | None:
     ``A - sigma I = P L D L^T P^T`` by SuperLU in symmetric mode (diagonal pivots, the same
     symmetric ordering for rows and columns), so the negative entries of ``U``'s diagonal count
     the eigenvalues below ``sigma``. None when that factorisation is not available (singular,
-    or the pivoting left the diagonal)."""
+    or the pivoting left the diagonal).
+    """
     import scipy.sparse as sp
     import scipy.sparse.linalg as spla
 

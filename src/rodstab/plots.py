@@ -68,7 +68,8 @@ def plot_equilibrium(x: np.ndarray, edge_nodes: np.ndarray, path: str | Path, *,
                      edge_values: np.ndarray | None = None, value_label: str = "moment",
                      title: str = "equilibrium") -> Path:
     """3D centreline of an equilibrium: node positions ``x`` (n, 3), edges ``(i, j)`` pairs,
-    coloured by ``edge_values`` (e.g. the internal moment per edge) or else by z."""
+    coloured by ``edge_values`` (e.g. the internal moment per edge) or else by z.
+    """
     fig = Figure(figsize=(7, 5))
     ax = fig.add_subplot(projection="3d")
     z = x[:, 2]

@@ -48,7 +48,8 @@ class SweepResult(Result):
     def table(self) -> list[dict[str, Any]]:
         """The rows as the CLI's CSV/JSON records: the varied value under the column ``key``,
         then ``load_factor_critical``, ``load_factor_lower``, ``multiplicity``,
-        ``paper_load_factor_critical``, ``residual``."""
+        ``paper_load_factor_critical``, ``residual``.
+        """
         return [{self.key: r.value, "load_factor_critical": r.load_factor_critical,
                  "load_factor_lower": r.load_factor_lower, "multiplicity": r.multiplicity,
                  "paper_load_factor_critical": r.paper_load_factor_critical,

@@ -99,7 +99,8 @@ def evaluate(run: Run | None = None, *, workers: int | None = None) -> list[Clai
     """Run every check of :data:`REGISTRY` and return the rows (computed statuses) in
     registry order. The checks are independent: with ``workers`` > 1 (default: the number of
     CPUs, at most the number of checks) they run in that many processes; figure data are
-    merged into ``run.figures``; ``run.progress`` ticks once per finished check."""
+    merged into ``run.figures``; ``run.progress`` ticks once per finished check.
+    """
     import os
 
     run = Run() if run is None else run

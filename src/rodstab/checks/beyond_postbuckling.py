@@ -59,7 +59,8 @@ def _label(aspect: float) -> str:
 @functools.lru_cache(maxsize=None)
 def coefficient(name: str, aspect: float, tracer: str = "amplitude"):
     """The branch (:class:`..nonlinear.continuation.Path`) of structure ``name`` at ``aspect``
-    by ``tracer`` (``"amplitude"`` or ``"arclength"``)."""
+    by ``tracer`` (``"amplitude"`` or ``"arclength"``).
+    """
     from ..nonlinear.continuation import arclength_from_bifurcation, post_buckling_branch
 
     build, lo, hi, n, _ = CASES[name]
@@ -104,7 +105,8 @@ def postbuckling_checks(run: Run) -> Iterator[Claim]:
 
 def _threshold(name: str, run: Run) -> Claim:
     """Rectangle aspect where ``b`` of structure ``name`` changes sign (amplitude control,
-    root finder), confirmed on both sides by the arclength tracer."""
+    root finder), confirmed on both sides by the arclength tracer.
+    """
     lo, hi = ASPECT_BRACKET  # the PB rows' h/t = 2 is one end: its branch is reused
     found = find_roots(lambda h: coefficient(name, h).coefficients[1], lo, hi, n_scan=1,
                        rel_xtol=THRESHOLD_XTOL)

@@ -1,5 +1,6 @@
 """Beyond the paper: transitions between the stable states of a ring, followed by arclength
-(1-loop -> 3-loop ring, Section 3.1; folded <-> one-loop six-sided ring, Section 5)."""
+(1-loop -> 3-loop ring, Section 3.1; folded <-> one-loop six-sided ring, Section 5).
+"""
 
 from __future__ import annotations
 
@@ -82,7 +83,8 @@ def _ring_transition_claim(run: Run) -> Claim:
 
 def _saddle(folded: Assembly, n: int, window: tuple[float, float], n_steps: int, theta: float):
     """The saddle branch of the folded six-ring (most dangerous direction of its double
-    bifurcation) at ``n`` el./segment, traced while the load factor stays in ``window``."""
+    bifurcation) at ``n`` el./segment, traced while the load factor stays in ``window``.
+    """
     from ..nonlinear.continuation import arclength_from_bifurcation
 
     return arclength_from_bifurcation(folded, 1.0, 8.0, elements_per_segment=n, ds=0.25,

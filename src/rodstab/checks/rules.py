@@ -84,14 +84,16 @@ def methods_agree(a: ArrayLike, b: ArrayLike, rtol: float, atol: float = 0.0) ->
 def order_is(measured: float | Sequence[float], expected: float | Sequence[float],
              tol: float = ORDER_TOL) -> str:
     """``reproduced`` when every measured exponent (order of a remainder, slope of a power law)
-    is within ``tol`` of the expected one."""
+    is within ``tol`` of the expected one.
+    """
     m, e = np.atleast_1d(np.asarray(measured, dtype=float)), np.asarray(expected, dtype=float)
     return _status(bool(np.all(np.abs(m - e) <= tol)))
 
 
 def residual_below(residual: float, tol: float) -> str:
     """``reproduced`` when a computed residual of the paper's statement (an identity, an ODE or
-    a closed form evaluated on independently computed data) is at most ``tol``."""
+    a closed form evaluated on independently computed data) is at most ``tol``.
+    """
     return _status(bool(residual <= tol))
 
 
@@ -112,13 +114,15 @@ def typo_shown_by(printed_error: ArrayLike, corrected_error: ArrayLike, tol: flo
 
 def holds(condition: bool) -> str:
     """``reproduced`` when a computed comparison (inequalities between computed values, e.g. a
-    stability margin or the sign of a load change along a branch) holds."""
+    stability margin or the sign of a load change along a branch) holds.
+    """
     return _status(bool(condition))
 
 
 def every(*statuses: str) -> str:
     """Combine the statuses of several comparisons that together check one statement:
-    ``reproduced`` only if all are; ``unresolved`` if any is; ``differs`` otherwise."""
+    ``reproduced`` only if all are; ``unresolved`` if any is; ``differs`` otherwise.
+    """
     if all(s == REPRODUCED for s in statuses):
         return REPRODUCED
     return UNRESOLVED if UNRESOLVED in statuses else DIFFERS

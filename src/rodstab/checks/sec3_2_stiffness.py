@@ -1,5 +1,6 @@
 """Section 3.2 of the paper, continued: stiffness ratios (3.11)-(3.12), the longest arc
-(3.13)-(3.14), the energy ratio (3.15), and the data of Figs. 4 and 5."""
+(3.13)-(3.14), the energy ratio (3.15), and the data of Figs. 4 and 5.
+"""
 
 from __future__ import annotations
 

@@ -29,7 +29,8 @@ TEST_DEGREE = 4
 def random_fields(seed: int, n_fields: int, vanish: tuple[int, ...] = ()) -> list[Polynomial]:
     """``n_fields`` random polynomials on ``[0, 1]``; field ``i`` is multiplied by
     ``(x (1 - x))**vanish[i]`` (so it and its first ``vanish[i] - 1`` derivatives vanish at both
-    ends) when ``vanish`` is given, and has degree ``STATE_DEGREE`` otherwise."""
+    ends) when ``vanish`` is given, and has degree ``STATE_DEGREE`` otherwise.
+    """
     rng = np.random.default_rng(seed)
     if not vanish:
         return [Polynomial(rng.uniform(-1.0, 1.0, STATE_DEGREE + 1)) for _ in range(n_fields)]

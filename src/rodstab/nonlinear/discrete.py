@@ -173,7 +173,8 @@ class DiscreteRod:
         """Discrete natural curvature: the held state's discrete curvature shifted by the
         continuum prestress ``(0, 0, mu kappa_n - k)``, so that every joint of the held state
         carries exactly the continuum moment ``B3 (k - mu kappa_n)`` -- the held state is then
-        an exact equilibrium of the discrete model, as it is of the continuum."""
+        an exact equilibrium of the discrete model, as it is of the continuum.
+        """
         k0 = np.zeros((len(e), 3)) if k_held is None else k_held.copy()
         k0[:, 2] += mu * self.edge_kn[e] - self.edge_k[e]
         if self.edge_tw is not None:
@@ -195,7 +196,8 @@ class DiscreteRod:
 
     def link_rotations(self) -> tuple[np.ndarray, np.ndarray, JetMat]:
         """Edges, joints and relative-rotation jets ``P`` of the half-joints (vars: phi_edge
-        0..2, phi_joint 3..5): ``R_e^T R_J Q`` at a segment end, ``(R_J Q)^T R_e`` at a start."""
+        0..2, phi_joint 3..5): ``R_e^T R_J Q`` at a segment end, ``(R_J Q)^T R_e`` at a start.
+        """
         ee = np.array([lk[0] for lk in self.end_links])
         jj = np.array([lk[1] for lk in self.end_links])
         Q = np.array([lk[2] for lk in self.end_links])
@@ -212,7 +214,8 @@ class DiscreteRod:
 
     def edge_moments(self) -> np.ndarray:
         """Magnitude of the internal moment ``|B (k - k0)|`` per edge (n_edges,): the average of
-        the joints on either side of the edge (lab units of B x curvature)."""
+        the joints on either side of the edge (lab units of B x curvature).
+        """
         mom = np.zeros(len(self.R_edge))
         cnt = np.zeros(len(self.R_edge))
         if len(self.bend_pairs):
@@ -256,7 +259,8 @@ class DiscreteRod:
 
     def align_frames(self) -> None:
         """Turn every edge frame by the smallest rotation that puts ``d2`` on the chord (the
-        shear of the stiff penalty goes to zero; the twist about the chord is kept)."""
+        shear of the stiff penalty goes to zero; the twist about the chord is kept).
+        """
         chord = self.x[self.edge_nodes[:, 1]] - self.x[self.edge_nodes[:, 0]]
         t = chord / np.linalg.norm(chord, axis=1)[:, None]
         d2 = self.R_edge[:, :, 1]
@@ -268,7 +272,8 @@ class DiscreteRod:
 
     def rotate_joint(self, j: int, r: np.ndarray) -> None:
         """Hold clamped joint ``j`` at its held frame turned by the rotation vector ``r``
-        (components in the held joint frame)."""
+        (components in the held joint frame).
+        """
         self.joint_rotation[j] = np.asarray(r, float).copy()
         self.R_joint[j] = self.R_joint_held[j] @ rodrigues(self.joint_rotation[j][None])[0]
 

@@ -134,7 +134,8 @@ def sweep_plot(rows: list[dict], key: str, out: Path) -> Path:
 
 def fig_beyond(data: dict, out: Path) -> list[Path]:
     """Post-buckled branches, imperfect paths of the straightened rod, Koiter's law of the
-    twisted rod, and the energy along the 1-loop -> 3-loop ring path."""
+    twisted rod, and the energy along the 1-loop -> 3-loop ring path.
+    """
     fig = Figure(figsize=(12, 13))
     axes = fig.subplots(3, 2)
     ax = axes[0, 0]
@@ -219,7 +220,8 @@ def fig_beyond(data: dict, out: Path) -> list[Path]:
 
 def continuation_plot(result, out: Path) -> Path:
     """Bifurcation diagram: the primary path (solid where stable, dashed where not) and the
-    secondary branches (amplitude vs parameter), and the lowest eigenvalue along the path."""
+    secondary branches (amplitude vs parameter), and the lowest eigenvalue along the path.
+    """
     fig = Figure(figsize=(10, 4))
     axes = fig.subplots(1, 2)
     val = np.array(result.value)

@@ -60,7 +60,8 @@ FIT_RTOL = 1e-2
 class Direction:
     """A branch direction at a bifurcation: the mode (free unknowns), the phase pin (the
     orthogonal critical mode at a double eigenvalue, else None) and ``P`` (module docstring;
-    NaN at a simple eigenvalue)."""
+    NaN at a simple eigenvalue).
+    """
 
     mode: np.ndarray
     phase: np.ndarray | None
@@ -91,7 +92,8 @@ def _probe(rod: DiscreteRod, param: Parameter, v: np.ndarray, z: np.ndarray, eps
            ) -> float:
     """``P = (p(2 eps) - p(eps)) / (3 eps^2)``: the quadratic coefficient of the pinned
     solution's parameter, free of the offset of ``rod`` from the exact bifurcation (a located
-    branch point is off by ~1e-4 in ``p``, which would swamp ``(p - p0) / eps^2``)."""
+    branch point is off by ~1e-4 in ``p``, which would swamp ``(p - p0) / eps^2``).
+    """
     return (_pinned(rod, param, v, z, 2 * eps) - _pinned(rod, param, v, z, eps)) / (3 * eps**2)
 
 
@@ -165,7 +167,8 @@ def _land(rod: DiscreteRod, param: Parameter, value: float, phase: np.ndarray | 
     """The equilibrium at ``value`` next to ``rod`` on its branch: the corrector with the
     parameter held (row ``(0, 1)``), i.e. plain Newton, which stays on a saddle branch where
     the descent safeguards of :func:`..solve.newton` would leave it; in 1, 2, 4 or 8 equal
-    parameter steps. None if none converges."""
+    parameter steps. None if none converges.
+    """
     zero = np.zeros(len(rod.free_dofs()))
     p0 = param.get(rod)
     for m in (1, 2, 4, 8):
@@ -193,7 +196,8 @@ def trace_branch(rod: DiscreteRod, param: Parameter, stable_side: float, ds: flo
     ``direction``: default the most dangerous of :func:`branch_directions`. With
     ``stop_at_special`` the special points are located (in ``special_points``; the states there
     in ``states``) and a side stops at the first one of a kind in ``stop_kinds``; ``window``: a
-    side stops once the parameter leaves it, on a point landed exactly on its edge."""
+    side stops once the parameter leaves it, on a point landed exactly on its edge.
+    """
     p_c = param.get(rod)
     d = direction or branch_directions(rod, param, stable_side, length)[0]
     mode_w = mode_out_of_plane(rod, d.mode)
@@ -251,7 +255,8 @@ def _advance(rod: DiscreteRod, param: Parameter, k: int, target: float, directio
              phase: np.ndarray | None, depth: int = 0) -> bool:
     """Move the branch to amplitude ``target`` of free unknown ``k`` (predictor along
     ``direction``, the amplitude row in :func:`.corrector.correct`); on failure restore the
-    state and take two half steps (at most 5 halvings)."""
+    state and take two half steps (at most 5 halvings).
+    """
     free = rod.free_dofs()
     saved = rod.copy()
     cur = rod.x.reshape(-1)[free[k]]
@@ -278,7 +283,8 @@ def amplitude_branch(rod: DiscreteRod, param: Parameter, stable_side: float,
     """Branch from the bifurcation ``rod`` under amplitude control: the free unknown that the
     critical mode moves most is prescribed so that ``xi`` is about each of ``xis`` (both
     signs), the parameter solved for. Passes folds of the parameter; cannot pass a fold of
-    the amplitude (use :func:`trace_branch`)."""
+    the amplitude (use :func:`trace_branch`).
+    """
     p_c = param.get(rod)
     d = direction or branch_directions(rod, param, stable_side, length)[0]
     mode_w = mode_out_of_plane(rod, d.mode)
@@ -325,7 +331,8 @@ def post_buckling_branch(a: Assembly, lo: float, hi: float, *, elements_per_segm
                          reference_segment: str | None = None) -> Path:
     """Branch from the first bifurcation of the held state in the load factor in ``(lo, hi]``
     under amplitude control (:func:`amplitude_branch`); ``amplitudes``: the values of ``xi``
-    (default 12 up to 0.02)."""
+    (default 12 up to 0.02).
+    """
     rod, side = _bifurcation(a, lo, hi, elements_per_segment)
     xis = np.linspace(0.0, 0.02, 13)[1:] if amplitudes is None else np.asarray(amplitudes)
     return amplitude_branch(rod, LoadFactor(), side, xis,
@@ -341,7 +348,8 @@ def arclength_from_bifurcation(a: Assembly, lo: float, hi: float, *,
     """Branch from the first bifurcation of the held state in the load factor in ``(lo, hi]``
     by pseudo-arclength (:func:`trace_branch`), one side (the mode's sign) unless
     ``both_sides``; stops after ``n_steps``, when the load leaves ``mu_window`` or, with
-    ``stop_at_special``, at the first special point of a kind in ``stop_kinds`` (located)."""
+    ``stop_at_special``, at the first special point of a kind in ``stop_kinds`` (located).
+    """
     lo, hi = check_number("lo", lo), check_number("hi", hi)
     if not lo < hi:
         raise RodstabInputError(f"arclength_from_bifurcation needs lo < hi, got {lo!r}, {hi!r}")

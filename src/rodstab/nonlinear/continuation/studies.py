@@ -1,5 +1,6 @@
 """Studies built on continuation: the critical load along a primary path that is not the held
-state, and imperfection sensitivity."""
+state, and imperfection sensitivity.
+"""
 
 from __future__ import annotations
 
@@ -32,7 +33,8 @@ def critical_along_primary(a: Assembly, mu_start: float, mu_stop: float, *,
                            elements_per_segment: int = 32, ds: float = 0.05) -> PrimaryCritical:
     """Critical load of a primary path that is NOT the held state (e.g. a twisted ring): the
     first branch point or fold of :func:`.continuation` in the load factor (no branch traced),
-    located in a bracket re-traced to ``ds / 64`` (error well below the discretisation's)."""
+    located in a bracket re-traced to ``ds / 64`` (error well below the discretisation's).
+    """
     c = continuation(a, "load_factor", mu_start, mu_stop,
                      max(1, int(math.ceil(abs(mu_stop - mu_start) / ds))),
                      elements_per_segment=elements_per_segment, branch_steps=0,
@@ -66,7 +68,8 @@ def imperfect(state: DiscreteRod, target: DiscreteRod, vec: np.ndarray, eps: flo
               ) -> DiscreteRod:
     """``target`` (a held state) whose natural shape contains ``eps`` times the mode ``vec``
     (free unknowns) of ``state``: every joint's natural curvature changes by the curvature
-    change that the displacement ``eps * vec`` causes at ``state``; the supports stay."""
+    change that the displacement ``eps * vec`` causes at ``state``; the supports stay.
+    """
     moved = state.copy()
     dq = np.zeros(state.n_dof)
     dq[state.free_dofs()] = eps * vec
