@@ -190,7 +190,7 @@ def validate(a: Assembly) -> None:
     tol = POSITION_TOL * a.total_length
     for joint in a.joints():
         pts = [a.segment(n).end_point(e) for n, e in joint]
-        for (n, e), p in zip(joint, pts):
+        for (n, e), p in zip(joint, pts, strict=True):
             gap = float(np.linalg.norm(p - pts[0]))
             if gap > tol:
                 raise RodstabInputError(

@@ -78,14 +78,14 @@ def plot_equilibrium(x: np.ndarray, edge_nodes: np.ndarray, path: str | Path, *,
     lo, hi = float(np.min(vals)), float(np.max(vals))
     hi = hi if hi > lo else lo + 1.0
     cmap = matplotlib.colormaps["viridis"]
-    for (i, j), v in zip(edge_nodes, vals):
+    for (i, j), v in zip(edge_nodes, vals, strict=True):
         ax.plot(x[[i, j], 0], x[[i, j], 1], x[[i, j], 2], color=cmap((v - lo) / (hi - lo)),
                 lw=3)
     sm = ScalarMappable(cmap=cmap, norm=Normalize(lo, hi))
     fig.colorbar(sm, ax=ax, shrink=0.6, label=value_label if edge_values is not None else "z")
     span = float(np.ptp(x, axis=0).max()) or 1.0
     mid = x.mean(axis=0)
-    for setter, c in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), mid):
+    for setter, c in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), mid, strict=True):
         setter(c - span / 2, c + span / 2)
     ax.set_title(title)
     ax.set_xlabel("x")
@@ -112,7 +112,7 @@ def animate_shapes(frames: list[np.ndarray], edge_nodes: np.ndarray, path: str |
         x = frames[k]
         for i, j in edge_nodes:
             ax.plot(x[[i, j], 0], x[[i, j], 1], x[[i, j], 2], color="C0", lw=2.5)
-        for setter, c in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), mid):
+        for setter, c in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), mid, strict=True):
             setter(c - span / 2, c + span / 2)
         ax.set_title(labels[k] if labels else f"frame {k}")
         return []

@@ -89,10 +89,10 @@ def postbuckling_checks(run: Run) -> Iterator[Claim]:
             f"PB-{name}", "beyond", "-", f"{_NAMES[name]}: initial post-buckling, "
             "mu/mu_c = 1 + a xi + b xi^2", "open question (paper, Section 6)",
             "; ".join(f"{_label(h)}: b = {fmt(b, 4)}, {amp[h].verdict.split(':')[0]}"
-                      for h, b in zip(aspects, b_amp)) + f" ({n} el./segment)",
+                      for h, b in zip(aspects, b_amp, strict=True)) + f" ({n} el./segment)",
             "arclength: " + "; ".join(f"b = {fmt(b, 4)}" for b in b_arc),
             "amplitude control vs pseudo-arclength from the bifurcation (one corrector)",
-            every(*(methods_agree(x, y, PB_RTOL) for x, y in zip(b_amp, b_arc)),
+            every(*(methods_agree(x, y, PB_RTOL) for x, y in zip(b_amp, b_arc, strict=True)),
                   holds(consistent)),
             "The character depends on the cross-section: stable where the load rises along the "
             "branch (the structure bends on gradually past its limit), unstable where it falls "

@@ -107,7 +107,8 @@ def arc_checks(run: Run) -> Iterator[Claim]:
             if len(tm) != len(roots):
                 worst = math.inf
             else:
-                worst = max(worst, max(abs(a - b) / max(1, abs(b)) for a, b in zip(roots, tm)))
+                worst = max(worst, max(abs(a - b) / max(1, abs(b))
+                                       for a, b in zip(roots, tm, strict=True)))
             for M in (0.0, s.b2):  # the spurious zeros: printed (3.7), (3.8) vs shooting
                 vanish = max(vanish, *map(abs, printed_3_7_3_8(M, Lb, s.b1, s.b2)))
                 sv = np.linalg.svd(transfer.clamped_arc_matrix(Lb * (1 - M), Lb, s.b1, s.b2),

@@ -47,8 +47,8 @@ def integral(f: Callable[[np.ndarray], np.ndarray]) -> float:
 def first_variation(functional: Callable[[list[Polynomial]], float],
                     state: list[Polynomial], test: list[Polynomial]) -> float:
     """``DI(state)[test] = (I[state + test] - I[state - test]) / 2``, exact for quadratic I."""
-    plus = functional([y + d for y, d in zip(state, test)])
-    minus = functional([y - d for y, d in zip(state, test)])
+    plus = functional([y + d for y, d in zip(state, test, strict=True)])
+    minus = functional([y - d for y, d in zip(state, test, strict=True)])
     return 0.5 * (plus - minus)
 
 

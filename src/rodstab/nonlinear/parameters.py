@@ -102,7 +102,8 @@ class SegmentValue:
             base = rod.edge_tw if rod.edge_tw is not None else z
             rod.edge_tw = base + ((new[1] if new[1] is not None else z)
                                   - (old[1] if old[1] is not None else z))
-        rod.k0_links = tuple(c + (n_ - o) for c, n_, o in zip(rod.k0_links, new[2], old[2]))
+        rod.k0_links = tuple(c + (n_ - o)
+                             for c, n_, o in zip(rod.k0_links, new[2], old[2], strict=True))
         rod.param_values[self.key] = float(value)
 
     def dgrad(self, rod: DiscreteRod) -> np.ndarray:

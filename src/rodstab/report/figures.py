@@ -101,7 +101,7 @@ def fig9(data: dict, out: Path) -> list[Path]:
     """Fig. 9: modal u3/L and twist around the folded six-sided ring (two modes)."""
     fig = Figure(figsize=(7, 2.6 * len(data)))
     axes = fig.subplots(len(data), 1, sharex=True)
-    for ax, (label, d) in zip(axes, data.items()):
+    for ax, (label, d) in zip(axes, data.items(), strict=True):
         ax.plot(d["s_over_L"], d["u3_over_L"], label="u3 / L (max 1)")
         om = d["omega"]
         scale = max(abs(v) for v in om) or 1.0
@@ -148,7 +148,7 @@ def fig_beyond(data: dict, out: Path) -> list[Path]:
     ax.legend(fontsize=7)
     ax = axes[0, 1]
     imp = data["imperfection"]
-    for eps, path in zip(imp["epsilon"], imp["paths"]):
+    for eps, path in zip(imp["epsilon"], imp["paths"], strict=True):
         ax.plot([p[1] for p in path], [p[0] / imp["mu_c"] for p in path],
                 label=f"eps = {eps:g} L")
     ax.axhline(1.0, color="k", lw=0.8, ls=":")

@@ -76,6 +76,7 @@ def export(out: FsPath, rows: list, specials: list) -> None:
     lines = ["branch,value,amplitude,energy,lowest_eigenvalue"]
     for i, sp_ in enumerate(s for s in specials if "branch" in s):
         b = sp_["branch"]
-        for row in zip(b["value"], b["amplitude"], b["energy"], b["lowest_eigenvalue"]):
+        for row in zip(b["value"], b["amplitude"], b["energy"], b["lowest_eigenvalue"],
+                       strict=True):
             lines.append(f"{i}," + ",".join(repr(float(v)) for v in row))
     write_atomic(out / "branches.csv", "\n".join(lines) + "\n")

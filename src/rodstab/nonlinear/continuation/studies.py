@@ -125,7 +125,7 @@ def imperfection_sensitivity(a: Assembly, key: str, start: float, stop: float, *
         # result that does not grow with eps is reported as inconclusive below.
         lost = [s for s in c.special_points if s["kind"] != SpecialKind.REGAINED.value]
         limits.append(float(lost[0]["value"]) if lost else math.nan)
-        paths.append(tuple(zip(c.value, c.amplitude)))
+        paths.append(tuple(zip(c.value, c.amplitude, strict=True)))
     lim = np.array(limits)
     side = math.copysign(1.0, start - p_c)  # the stable side of p_c
     ok = np.isfinite(lim) & ((lim - p_c) * side > 0)
