@@ -107,7 +107,7 @@ def cli() -> None:
     Exit status: 0 done; 2 invalid input (one line on stderr);
     3 not converged (one line on stderr; equilibrium and continue print
     their table or JSON first).
-    """
+    """  # noqa: D301 - "\b" is click's no-rewrap marker (a backspace character), not a regex
 
 
 @cli.command()

@@ -40,9 +40,11 @@ class LoadFactor:
     key = "load_factor"
 
     def get(self, rod: DiscreteRod) -> float:
+        """Return ``mu`` of ``rod``."""
         return float(rod.load_factor)
 
     def set(self, rod: DiscreteRod, value: float) -> None:
+        """Set ``mu`` of ``rod`` to ``value``."""
         rod.load_factor = float(value)
 
     def dgrad(self, rod: DiscreteRod) -> np.ndarray:
@@ -75,6 +77,7 @@ class SegmentValue:
 
     @property
     def key(self) -> str:
+        """Design key of the parameter, ``segment.<name>.<attr>``."""
         return f"segment.{self.name}.{self.attr}"
 
     def _natural(self, value: float) -> tuple:
@@ -89,10 +92,12 @@ class SegmentValue:
         return self._cache[value]
 
     def get(self, rod: DiscreteRod) -> float:
+        """Return the segment's value on ``rod`` (the design's until it was set)."""
         return float(rod.param_values.get(
             self.key, getattr(self.assembly.segment(self.name), self.attr)))
 
     def set(self, rod: DiscreteRod, value: float) -> None:
+        """Set the segment's value on ``rod`` to ``value`` (natural curvatures rebuilt)."""
         # Incremental (exact: everything is affine in the value), so that changes made to the
         # rod's natural shape elsewhere (an imperfection) are kept.
         new, old = self._natural(float(value)), self._natural(self.get(rod))
@@ -148,6 +153,7 @@ class EndRotation:
 
     @property
     def key(self) -> str:
+        """Design key of the parameter, ``support.<i>.rotation.<axis>``."""
         return f"support.{self.support}.rotation.{self.axis}"
 
     def _joint_Q(self, rod: DiscreteRod) -> tuple[int, np.ndarray]:
@@ -161,9 +167,11 @@ class EndRotation:
         return j, Q, Q.T @ rod.joint_rotation.get(j, np.zeros(3))
 
     def get(self, rod: DiscreteRod) -> float:
+        """Return the imposed rotation component ``r_c`` of ``rod`` (radians)."""
         return float(self._r(rod)[2][self._c])
 
     def set(self, rod: DiscreteRod, value: float) -> None:
+        """Turn the clamped end of ``rod`` so that ``r_c`` equals ``value`` (radians)."""
         j, Q, r = self._r(rod)
         r = r.copy()
         r[self._c] = float(value)
