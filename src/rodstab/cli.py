@@ -318,8 +318,9 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
 @_json_option
 def continue_cmd(design_file: str, vary: str, out_dir: str | None, elements: int,
                  branch_steps: int, no_progress: bool, as_json: bool) -> None:
-    """Pseudo-arclength continuation in one parameter: stability along the path, folds,
-    branch points and the branches leaving them (sub- or supercritical).
+    """Pseudo-arclength continuation in one parameter, with stability along the path.
+
+    It finds folds, branch points and the branches leaving them (sub- or supercritical).
 
     If the path stops before STOP, the table (or JSON, converged: false) is still printed and
     the exit status is 3.

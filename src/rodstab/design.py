@@ -187,7 +187,7 @@ def load_design(path: str | Path) -> Design:
 
 
 def set_design_value(data: dict, key: str, value: float) -> dict:
-    """A copy of ``data`` with the value at the dotted ``key`` replaced.
+    """Return a copy of ``data`` with the value at the dotted ``key`` replaced.
 
     Keys: ``section.<k>``, ``analysis.<k>``, ``segment.<name>.<k>`` (a segment by name),
     ``segment.<name>.section.<k>`` or ``support.<i>.rotation.<axis>`` (``i``: the support's
@@ -240,8 +240,10 @@ def set_design_value(data: dict, key: str, value: float) -> dict:
 
 @dataclasses.dataclass(frozen=True)
 class VarySpec:
-    """A parsed ``--vary KEY=START:STOP[:N]``: ``n`` values of ``key`` from ``start`` to
-    ``stop`` (a sweep), or ``n`` steps from ``start`` to ``stop`` (a continuation).
+    """A parsed ``--vary KEY=START:STOP[:N]``.
+
+    ``n`` values of ``key`` from ``start`` to ``stop`` (a sweep), or ``n`` steps from ``start`` to
+    ``stop`` (a continuation).
     """
 
     key: str

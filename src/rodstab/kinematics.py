@@ -96,7 +96,7 @@ def _prestress_curvature(R: float, M: float | None, kappa_n: float | None) -> fl
 
 
 def reference_basis(theta: ArrayLike) -> FloatArray:
-    """Reference basis ``(i_r, i_theta, i_3)`` in lab Cartesian components (Fig. 2a).
+    """Return the reference basis ``(i_r, i_theta, i_3)`` in lab Cartesian components (Fig. 2a).
 
     Parameters
     ----------

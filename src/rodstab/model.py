@@ -61,7 +61,7 @@ class Segment:
             require_finite(f"segment {self.name!r} start", v)
 
     def tangent(self, s: float | np.ndarray) -> np.ndarray:
-        """Unit tangent ``(..., 2)`` at arc length ``s`` in the held state (lab frame)."""
+        """Return the unit tangent ``(..., 2)`` at arc length ``s``, held state, lab frame."""
         phi = self.angle + self.curvature * np.asarray(s, dtype=float)
         return np.stack([np.cos(phi), np.sin(phi)], axis=-1)
 
@@ -104,7 +104,7 @@ class Assembly:
         validate(self)
 
     def segment(self, name: str) -> Segment:
-        """The segment called ``name``."""
+        """Return the segment called ``name``."""
         for s in self.segments:
             if s.name == name:
                 return s

@@ -475,7 +475,7 @@ def pencil_interval(A: np.ndarray, C: np.ndarray, *,
 
 
 def count_below(A: Any, sigma: float) -> int | None:
-    """Number of eigenvalues of the sparse symmetric ``A`` below ``sigma`` (Sylvester's inertia).
+    """Count the eigenvalues of the sparse symmetric ``A`` below ``sigma`` (Sylvester's inertia).
 
     ``A - sigma I = P L D L^T P^T`` by SuperLU in symmetric mode (diagonal pivots, the same
     symmetric ordering for rows and columns), so the negative entries of ``U``'s diagonal count

@@ -67,8 +67,10 @@ def plot_mode(assembly: Assembly, result: LinearStability, path: str | Path, *,
 def plot_equilibrium(x: np.ndarray, edge_nodes: np.ndarray, path: str | Path, *,
                      edge_values: np.ndarray | None = None, value_label: str = "moment",
                      title: str = "equilibrium") -> Path:
-    """3D centreline of an equilibrium: node positions ``x`` (n, 3), edges ``(i, j)`` pairs,
-    coloured by ``edge_values`` (e.g. the internal moment per edge) or else by z.
+    """Plot the 3D centreline of an equilibrium, coloured by ``edge_values`` or else by z.
+
+    Node positions ``x`` (n, 3), edges ``(i, j)`` pairs; ``edge_values`` e.g. the internal moment
+    per edge.
     """
     fig = Figure(figsize=(7, 5))
     ax = fig.add_subplot(projection="3d")
@@ -126,9 +128,10 @@ def animate_shapes(frames: list[np.ndarray], edge_nodes: np.ndarray, path: str |
 def html_view(shapes: list[np.ndarray], edge_nodes: np.ndarray, path: str | Path, *,
               labels: list[str] | None = None, edge_values: list[np.ndarray] | None = None,
               value_label: str = "", title: str = "") -> Path:
-    """Interactive 3D view (self-contained HTML, plotly): rotate, zoom, and, for several
-    shapes (a continuation path), a slider and a play button. Edges are coloured by
-    ``edge_values`` (one array per shape) when given.
+    """Write an interactive 3D view (self-contained HTML, plotly).
+
+    Rotate and zoom, and, for several shapes (a continuation path), a slider and a play button.
+    Edges are coloured by ``edge_values`` (one array per shape) when given.
 
     Needs the optional plotly package (``pip install "rodstab[viz]"``); raises naming it.
     """

@@ -63,7 +63,7 @@ def folded_ring(section: Section, *, segments: int = 6, length: float = 1.0) -> 
 
 def unfolded_ring(section: Section, *, segments: int = 6, arc_angle_deg: float = 120.0,
                   radius: float = 1.0) -> Assembly:
-    """The one-loop state of a ring of ``segments`` circular arcs joined at cusps (Fig. 1).
+    """Return the one-loop state of a ring of ``segments`` circular arcs joined at cusps (Fig. 1).
 
     Every arc turns left by ``arc_angle_deg`` on radius ``R0``; at each cusp the tangent
     reverses. Natural curvature ``1/R0`` per unit ``mu`` (``mu = 1``: stress-free one-loop

@@ -37,7 +37,7 @@ _FREE = [2, 3, 5]
 
 
 def arc_system_matrix(L_kappa: float, L_over_R: float, b1: float, b2: float) -> np.ndarray:
-    """The 6x6 matrix ``S`` of ``y' = S y`` for the clamped-arc P2 (see module docstring).
+    """Return the 6x6 matrix ``S`` of ``y' = S y`` for the clamped-arc P2 (see module docstring).
 
     ``L_kappa = L kappa_n`` is the load, ``L_over_R = L/R`` (0 for a straight rod).
     """

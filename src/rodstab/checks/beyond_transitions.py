@@ -1,5 +1,6 @@
-"""Beyond the paper: transitions between the stable states of a ring, followed by arclength
-(1-loop -> 3-loop ring, Section 3.1; folded <-> one-loop six-sided ring, Section 5).
+"""Beyond the paper: transitions between the stable states of a ring, followed by arclength.
+
+The 1-loop -> 3-loop ring (Section 3.1) and the folded <-> one-loop six-sided ring (Section 5).
 """
 
 from __future__ import annotations
@@ -37,7 +38,7 @@ def transition_checks(run: Run) -> Iterator[Claim]:
 
 
 def _ring_transition_claim(run: Run) -> Claim:
-    """The 1-loop ring beyond its bifurcation, followed to the 3-loop ring."""
+    """Follow the 1-loop ring beyond its bifurcation to the 3-loop ring."""
     from ..nonlinear.continuation import arclength_from_bifurcation
 
     c = circle()
@@ -82,8 +83,10 @@ def _ring_transition_claim(run: Run) -> Claim:
 
 
 def _saddle(folded: Assembly, n: int, window: tuple[float, float], n_steps: int, theta: float):
-    """The saddle branch of the folded six-ring (most dangerous direction of its double
-    bifurcation) at ``n`` el./segment, traced while the load factor stays in ``window``.
+    """Trace the saddle branch of the folded six-ring at ``n`` el./segment.
+
+    The branch leaves the double bifurcation along its most dangerous direction and is traced while
+    the load factor stays in ``window``.
     """
     from ..nonlinear.continuation import arclength_from_bifurcation
 
@@ -98,7 +101,7 @@ def _richardson(coarse: float, fine: float, n0: int, n1: int) -> float:
 
 
 def _six_ring_transition_claim(run: Run) -> Claim:
-    """The six-sided ring (h/t = 4, 120 deg arcs) between its folded and one-loop states.
+    """Follow the six-sided ring (h/t = 4, 120 deg arcs) between its folded and one-loop states.
 
     One discrete model (the folded design, segment length L = 1, B3 = 1): the saddle branch
     leaving the folded state's double bifurcation along its most dangerous direction is followed

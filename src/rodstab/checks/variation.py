@@ -27,9 +27,11 @@ TEST_DEGREE = 4
 
 
 def random_fields(seed: int, n_fields: int, vanish: tuple[int, ...] = ()) -> list[Polynomial]:
-    """``n_fields`` random polynomials on ``[0, 1]``; field ``i`` is multiplied by
-    ``(x (1 - x))**vanish[i]`` (so it and its first ``vanish[i] - 1`` derivatives vanish at both
-    ends) when ``vanish`` is given, and has degree ``STATE_DEGREE`` otherwise.
+    """Return ``n_fields`` random polynomials on ``[0, 1]``.
+
+    Field ``i`` is multiplied by ``(x (1 - x))**vanish[i]`` (so it and its first ``vanish[i] - 1``
+    derivatives vanish at both ends) when ``vanish`` is given, and has degree ``STATE_DEGREE``
+    otherwise.
     """
     rng = np.random.default_rng(seed)
     if not vanish:
@@ -53,5 +55,5 @@ def first_variation(functional: Callable[[list[Polynomial]], float],
 
 
 def relative_mismatch(a: float, b: float) -> float:
-    """``|a - b| / max(|a|, |b|)``: 0 when two first variations agree, ~1 when they do not."""
+    """Return ``|a - b| / max(|a|, |b|)``: 0 when two first variations agree, ~1 when not."""
     return abs(a - b) / max(abs(a), abs(b), np.finfo(float).tiny)

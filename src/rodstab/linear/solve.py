@@ -59,7 +59,7 @@ class LinearStability(Result):
 
 
 def default_reference_load(a: Assembly) -> float:
-    """The stress-free load factor if all segments share one, else 0 (natural curvature 0)."""
+    """Return the stress-free load factor if all segments share one, else 0 (curvature 0)."""
     if a.reference_load is not None:
         return a.reference_load
     ratios = set()

@@ -189,7 +189,7 @@ Parameter = LoadFactor | SegmentValue | EndRotation
 
 
 def parameter(assembly: Assembly, key: str, elements_per_segment: int) -> Parameter:
-    """The continuation parameter named ``key`` (see the module docstring); errors name it."""
+    """Return the continuation parameter named ``key`` (module docstring); errors name it."""
     parts = key.split(".")
     if key == "load_factor":
         return LoadFactor()

@@ -73,7 +73,7 @@ def fig5(data: dict, out: Path) -> list[Path]:
 
 
 def fig_rings(data: dict, out: Path) -> list[Path]:
-    """New figure: stable (L/2pi) kappa_n intervals of N-loop rings vs rectangle h/t."""
+    """Draw the new figure: stable (L/2pi) kappa_n intervals of N-loop rings vs rectangle h/t."""
     fig = Figure(figsize=(6.4, 4.6))
     ax = fig.subplots()
     for N in data["loops"]:
@@ -133,8 +133,10 @@ def sweep_plot(rows: list[dict], key: str, out: Path) -> Path:
 
 
 def fig_beyond(data: dict, out: Path) -> list[Path]:
-    """Post-buckled branches, imperfect paths of the straightened rod, Koiter's law of the
-    twisted rod, and the energy along the 1-loop -> 3-loop ring path.
+    """Draw the beyond-the-paper figure: post-buckling, imperfections, Koiter, ring energy.
+
+    Post-buckled branches, imperfect paths of the straightened rod, Koiter's law of the twisted rod,
+    and the energy along the 1-loop -> 3-loop ring path.
     """
     fig = Figure(figsize=(12, 13))
     axes = fig.subplots(3, 2)
@@ -219,8 +221,10 @@ def fig_beyond(data: dict, out: Path) -> list[Path]:
 
 
 def continuation_plot(result, out: Path) -> Path:
-    """Bifurcation diagram: the primary path (solid where stable, dashed where not) and the
-    secondary branches (amplitude vs parameter), and the lowest eigenvalue along the path.
+    """Draw the bifurcation diagram and the lowest eigenvalue along the path.
+
+    The primary path (solid where stable, dashed where not) and the secondary branches (amplitude vs
+    parameter).
     """
     fig = Figure(figsize=(10, 4))
     axes = fig.subplots(1, 2)

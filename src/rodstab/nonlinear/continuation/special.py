@@ -32,7 +32,7 @@ FOLD_COS = 1e-3
 
 
 def lowest(rod: DiscreteRod) -> float:
-    """The lowest (scaled) Hessian eigenvalue of ``rod``: > 0 stable."""
+    """Return the lowest (scaled) Hessian eigenvalue of ``rod``: > 0 stable."""
     return float(lowest_modes(rod, 1)[0][0])
 
 
@@ -119,5 +119,5 @@ def locate(rod: DiscreteRod, param: Parameter, prev: DiscreteRod, prev_tq: np.nd
 
 
 def crossed(e0: float, e1: float, tp0: float, tp1: float) -> bool:
-    """A special point lies between two points with these eigenvalues and tangents ``t_p``."""
+    """Test for a special point between two points with these eigenvalues and tangents ``t_p``."""
     return (e0 > 0) != (e1 > 0) or (tp0 > 0) != (tp1 > 0)

@@ -24,12 +24,12 @@ OUTPUTS = ("run.json", "state.npz", "primary.csv", "special_points.json", "branc
 
 
 def design_hash(a: Assembly) -> str:
-    """A short hash of the whole design (its repr)."""
+    """Return a short hash of the whole design (its repr)."""
     return hashlib.sha256(repr(a).encode()).hexdigest()[:16]
 
 
 def state_hash(rod: DiscreteRod) -> str:
-    """A short hash of a discrete state and its natural shape (an imperfect start differs)."""
+    """Return a short hash of a discrete state and its natural shape (imperfect starts differ)."""
     hsh = hashlib.sha256()
     for arr in (rod.x, rod.R_edge, rod.R_joint, rod.k_held_pairs, rod.k0_links[0]):
         hsh.update(np.ascontiguousarray(arr).tobytes())
@@ -44,7 +44,7 @@ def write_atomic(path: FsPath, text: str) -> None:
 
 
 def load_state(path: FsPath) -> dict | None:
-    """The saved run in ``path``, or None if there is none or it cannot be read."""
+    """Return the saved run in ``path``, or None if there is none or it cannot be read."""
     if not path.exists():
         return None
     try:

@@ -1,5 +1,6 @@
-"""Studies built on continuation: the critical load along a primary path that is not the held
-state, and imperfection sensitivity.
+"""Studies built on continuation: critical loads off the held state, imperfection sensitivity.
+
+The critical load along a primary path that is not the held state, and imperfection sensitivity.
 """
 
 from __future__ import annotations
@@ -31,8 +32,9 @@ class PrimaryCritical(Result):
 
 def critical_along_primary(a: Assembly, mu_start: float, mu_stop: float, *,
                            elements_per_segment: int = 32, ds: float = 0.05) -> PrimaryCritical:
-    """Critical load of a primary path that is NOT the held state (e.g. a twisted ring): the
-    first branch point or fold of :func:`.continuation` in the load factor (no branch traced),
+    """Find the critical load of a primary path that is NOT the held state (e.g. a twisted ring).
+
+    The first branch point or fold of :func:`.continuation` in the load factor (no branch traced),
     located in a bracket re-traced to ``ds / 64`` (error well below the discretisation's).
     """
     c = continuation(a, "load_factor", mu_start, mu_stop,
@@ -66,9 +68,10 @@ class ImperfectionSensitivity(Result):
 
 def imperfect(state: DiscreteRod, target: DiscreteRod, vec: np.ndarray, eps: float
               ) -> DiscreteRod:
-    """``target`` (a held state) whose natural shape contains ``eps`` times the mode ``vec``
-    (free unknowns) of ``state``: every joint's natural curvature changes by the curvature
-    change that the displacement ``eps * vec`` causes at ``state``; the supports stay.
+    """Return ``target`` (a held state) whose natural shape contains ``eps`` times a mode.
+
+    The mode is ``vec`` (free unknowns) of ``state``: every joint's natural curvature changes by the
+    curvature change that the displacement ``eps * vec`` causes at ``state``; the supports stay.
     """
     moved = state.copy()
     dq = np.zeros(state.n_dof)
@@ -87,9 +90,10 @@ def imperfection_sensitivity(a: Assembly, key: str, start: float, stop: float, *
                              epsilons: tuple[float, ...] = (1e-3, 2e-3, 4e-3, 8e-3),
                              elements_per_segment: int = 16,
                              n_steps: int = 20) -> ImperfectionSensitivity:
-    """Limit value ``p_max(eps)`` of the parameter ``key`` for imperfections of amplitude
-    ``eps L`` (``L``: total length; mode scaled to a largest entry of 1) shaped like the
-    critical mode of the perfect structure.
+    """Find the limit value ``p_max(eps)`` of parameter ``key`` for imperfections of size ``eps``.
+
+    Imperfections of amplitude ``eps L`` (``L``: total length; mode scaled to a largest entry of 1)
+    shaped like the critical mode of the perfect structure.
 
     The perfect path from ``start`` towards ``stop`` gives the critical value ``p_c`` and its
     mode (:func:`.continuation`); each imperfect structure is followed from ``start`` by the
