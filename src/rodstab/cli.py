@@ -445,7 +445,7 @@ def birod(section: Section, as_json: bool) -> None:
     r = linear_stability(build(section), 48)
     lam = r.load_factor_critical / section.sqrt_b1b2
     an = birod_critical(section)
-    payload = {"lambda_c": lam, "psi_c": 0.5 * lam * section.sqrt_b1b2,
+    payload: dict[str, Any] = {"lambda_c": lam, "psi_c": 0.5 * lam * section.sqrt_b1b2,
                "mode_family": mode_family(r.mode), "multiplicity": r.multiplicity,
                "lambda_c_full_system": an.lambda_c, "paper_lambda_c": 2 * 3.141592653589793,
                "paper_psi_c": 3.141592653589793 * section.sqrt_b1b2,
@@ -478,7 +478,7 @@ def folded_ring(section: Section, segments: int, arc_angle: float, as_json: bool
     r = linear_stability(build(section, segments=segments), 24)
     lam = r.load_factor_critical / section.sqrt_b1b2
     an = folded_ring_critical(section, segments)
-    payload = {"lambda_c": lam, "multiplicity": r.multiplicity,
+    payload: dict[str, Any] = {"lambda_c": lam, "multiplicity": r.multiplicity,
                "kappa_R0_c": lam * section.sqrt_b1b2 / theta,
                "lambda_c_full_system": an.lambda_c, "multiplicity_full_system": an.multiplicity,
                "paper_lambda_c": 2 * math.pi,

@@ -159,7 +159,7 @@ def parse_design(data: dict, source: str = "<dict>") -> Design:
                             for v in rot)):
                 raise RodstabInputError(f"support[{i}].rotation must be three numbers "
                                         f"[normal, tangent, binormal] in radians, got {rot!r}")
-            rotations.append((name, end, tuple(float(v) for v in rot)))
+            rotations.append((name, end, (float(rot[0]), float(rot[1]), float(rot[2]))))
     analysis = data.get("analysis", {})
     _check_keys(analysis, _ANALYSIS, "[analysis]")
     elements = require_positive_int("analysis.elements", analysis.get("elements", 32))

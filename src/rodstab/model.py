@@ -204,9 +204,9 @@ def validate(a: Assembly) -> None:
         for n, e in joint:
             s = a.segment(n)
             t = s.tangent(0.0 if e == "start" else s.length)
-            v = s.B2 * s.natural_twist * t
-            torque += v if e == "start" else -v
-            tscale += float(np.linalg.norm(v))
+            tw = s.B2 * s.natural_twist * t
+            torque += tw if e == "start" else -tw
+            tscale += float(np.linalg.norm(tw))
         if tscale > 0 and np.linalg.norm(torque) > MOMENT_TOL * tscale:
             raise RodstabInputError(
                 f"joint {[f'{n}.{e}' for n, e in joint]} is not in moment equilibrium "

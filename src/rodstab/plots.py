@@ -8,6 +8,7 @@ writing a file needs no display.
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import matplotlib
 import numpy as np
@@ -157,7 +158,7 @@ def html_view(shapes: list[np.ndarray], edge_nodes: np.ndarray, path: str | Path
         seg[:, 0] = x[edge_nodes[:, 0]]
         seg[:, 1] = x[edge_nodes[:, 1]]
         pts = seg.reshape(-1, 3)
-        line = dict(width=6)
+        line: dict[str, Any] = dict(width=6)
         if edge_values is not None:
             line |= dict(color=np.repeat(edge_values[i], 3), colorscale="Viridis", cmin=0.0,
                          cmax=vmax, colorbar=dict(title=value_label))
@@ -168,7 +169,7 @@ def html_view(shapes: list[np.ndarray], edge_nodes: np.ndarray, path: str | Path
                     frames=[go.Frame(data=[trace(i)], name=str(i)) for i in range(len(shapes))])
     scene = dict(aspectmode="cube", **{f"{ax}axis": dict(range=[mid[k] - half, mid[k] + half])
                                        for k, ax in enumerate("xyz")})
-    layout = dict(title=title, scene=scene, margin=dict(l=0, r=0, t=40, b=0))
+    layout: dict[str, Any] = dict(title=title, scene=scene, margin=dict(l=0, r=0, t=40, b=0))
     if len(shapes) > 1:
         layout["sliders"] = [dict(steps=[dict(method="animate", label=labels[i],
                                               args=[[str(i)], dict(mode="immediate")])

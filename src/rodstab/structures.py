@@ -36,7 +36,8 @@ def birod(section: Section, *, length: float = 1.0, clamp: str | None = "start")
     welds = ((("upper", "start"), ("lower", "start")), (("upper", "end"), ("lower", "end")))
     if clamp not in ("start", "both", None):
         raise RodstabInputError(f"clamp must be 'start', 'both' or None, got {clamp!r}")
-    sup = () if clamp is None else (("upper", "start", "clamped"),)
+    sup: tuple[tuple[str, str, str], ...] = (
+        () if clamp is None else (("upper", "start", "clamped"),))
     if clamp == "both":
         sup += (("upper", "end", "clamped"),)
     return Assembly(segs, welds=welds, supports=sup, reference_load=0.0)

@@ -25,6 +25,8 @@ and require rows ``(u, u', w)`` of ``T`` times them to vanish: the 3x3 matrix
 
 from __future__ import annotations
 
+from typing import cast
+
 import numpy as np
 from scipy.linalg import expm, null_space
 
@@ -257,7 +259,8 @@ def straight_assembly_matrix(assembly, mu: float) -> np.ndarray:
             raise RodstabInputError(f"straight_assembly_matrix supports only clamped or free "
                                     f"joints, got {kinds}")
         else:
-            rows.append(sum(sg * q["V"] for q, _, _, sg in ends))
+            # sum() of arrays (at least one end): an array, never the start value 0.
+            rows.append(cast(np.ndarray, sum(sg * q["V"] for q, _, _, sg in ends)))
             for c in range(2):
                 rows.append(sum(sg * (q["Mb"] * nrm[c] + q["Tq"] * t[c])
                                 for q, t, nrm, sg in ends))

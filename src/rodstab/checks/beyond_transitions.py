@@ -130,8 +130,8 @@ def _six_ring_transition_claim(run: Run) -> Claim:
         barriers.append(at1.energy[-1] - 3 * theta**2 if abs(at1.value[-1] - theta) < 1e-9
                         else math.nan)
         run.progress()
-    end = _richardson(*ends, *meshes)
-    barrier = _richardson(*barriers, *meshes)
+    end = _richardson(ends[0], ends[1], *meshes)
+    barrier = _richardson(barriers[0], barriers[1], *meshes)
     path = paths[-1]
     mu, ev, en = np.array(path.value), np.array(path.lowest_eigenvalue), np.array(path.energy)
     i = int(np.argmin(mu))

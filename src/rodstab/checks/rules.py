@@ -115,7 +115,7 @@ def typo_shown_by(printed_error: ArrayLike, corrected_error: ArrayLike, tol: flo
     return DIFFERS if corrected_ok else UNRESOLVED
 
 
-def holds(condition: bool) -> str:
+def holds(condition: bool | np.bool_) -> str:
     """Return ``reproduced`` if a computed comparison holds.
 
     Inequalities between computed values, e.g. a stability margin or the sign of a load change along

@@ -100,6 +100,7 @@ def stiffness_checks(run: Run) -> Iterator[Claim]:
                       holds(m1_sq < m105 < m2)))
     run.progress()
     c = circle()
+    assert c.area is not None and c.I3 is not None  # a circle() always has its geometry
     ratio = arc.energy_ratio_column_to_straightened(b1=c.b1, b2=c.b2, area=c.area,
                                                     I_min=c.I3, I3=c.I3, L=100.0)
     closed = (1 + 1 / 3) * math.pi**2 * (1 / 100.0) ** 2

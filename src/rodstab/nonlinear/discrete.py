@@ -194,6 +194,7 @@ class DiscreteRod:
             kc = vee[c] * den * (2.0 / ds) - k0[:, c]
             term = kc * kc * (0.5 * B[:, c] * ds)
             out = term if out is None else out + term
+        assert out is not None  # three components summed
         return out
 
     def link_rotations(self) -> tuple[np.ndarray, np.ndarray, JetMat]:
@@ -282,6 +283,7 @@ class DiscreteRod:
         The components of ``r`` are in the held joint frame.
         """
         self.joint_rotation[j] = np.asarray(r, float).copy()
+        assert self.R_joint_held is not None  # set by discretise
         self.R_joint[j] = self.R_joint_held[j] @ rodrigues(self.joint_rotation[j][None])[0]
 
     def apply(self, dq: np.ndarray) -> None:
@@ -302,7 +304,8 @@ def discretise(a: Assembly, elements_per_segment: int = 32, load_factor: float =
                                 f"{elements_per_segment!r}")
     joints = a.joints()
     joint_of = {end: k for k, joint in enumerate(joints) for end in joint}
-    xs, edge_nodes, lengths, Bs, kns, R_edge, pairs, links = [], [], [], [], [], [], [], []
+    xs, edge_nodes, lengths, Bs, kns, pairs, links = [], [], [], [], [], [], []
+    R_edge: list[np.ndarray] = []
     joint_node = {}
     n_nodes = 0
 
@@ -316,9 +319,9 @@ def discretise(a: Assembly, elements_per_segment: int = 32, load_factor: float =
     for k, joint in enumerate(joints):
         name, end = joint[0]
         seg = a.segment(name)
-        s = 0.0 if end == "start" else seg.length
-        joint_node[k] = node_at(seg.position(s))
-        R_joint[k] = _frame(seg.tangent(s))
+        s_end = 0.0 if end == "start" else seg.length
+        joint_node[k] = node_at(seg.position(s_end))
+        R_joint[k] = _frame(seg.tangent(s_end))
     ks, tws = [], []
     for seg in a.segments:
         n = elements_per_segment

@@ -21,6 +21,7 @@ cost the corrector its quadratic convergence, never its accuracy, because the re
 from __future__ import annotations
 
 import dataclasses
+from typing import Any
 
 import numpy as np
 
@@ -82,7 +83,8 @@ class SegmentValue:
 
     def _natural(self, value: float) -> tuple:
         if value not in self._cache:
-            segs = tuple(dataclasses.replace(s, **{self.attr: float(value)})
+            change: dict[str, Any] = {self.attr: float(value)}
+            segs = tuple(dataclasses.replace(s, **change)
                          if s.name == self.name else s for s in self.assembly.segments)
             a = dataclasses.replace(self.assembly, segments=segs)  # validated again
             r = discretise(a, self.elements_per_segment)
@@ -107,6 +109,7 @@ class SegmentValue:
             base = rod.edge_tw if rod.edge_tw is not None else z
             rod.edge_tw = base + ((new[1] if new[1] is not None else z)
                                   - (old[1] if old[1] is not None else z))
+        assert rod.k0_links is not None  # set by discretise
         rod.k0_links = tuple(c + (n_ - o)
                              for c, n_, o in zip(rod.k0_links, new[2], old[2], strict=True))
         rod.param_values[self.key] = float(value)

@@ -31,6 +31,7 @@ def design_hash(a: Assembly) -> str:
 def state_hash(rod: DiscreteRod) -> str:
     """Return a short hash of a discrete state and its natural shape (imperfect starts differ)."""
     hsh = hashlib.sha256()
+    assert rod.k0_links is not None  # set by discretise
     for arr in (rod.x, rod.R_edge, rod.R_joint, rod.k_held_pairs, rod.k0_links[0]):
         hsh.update(np.ascontiguousarray(arr).tobytes())
     return hsh.hexdigest()[:16]

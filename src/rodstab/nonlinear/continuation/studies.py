@@ -81,6 +81,7 @@ def imperfect(state: DiscreteRod, target: DiscreteRod, vec: np.ndarray, eps: flo
     kp1, kl1 = held_curvatures(moved)
     imp = target.copy()
     imp.k_held_pairs = target.k_held_pairs + (kp1 - kp0)
+    assert target.k0_links is not None  # set by discretise
     a, b = target.k0_links
     imp.k0_links = (a + (kl1 - kl0), b)
     return imp
