@@ -1,7 +1,10 @@
-"""Style gate: ruff (pyflakes, pycodestyle, import order) over the package, as configured."""
+"""Style gate: ruff (pyflakes, pycodestyle, import order, numpy docstrings, bugbear) and mypy
+over the package, as configured in pyproject.toml.
+"""
 
 from __future__ import annotations
 
+import importlib.util
 import shutil
 import subprocess
 import sys
@@ -20,3 +23,11 @@ def test_ruff_is_clean_on_src():
     r = subprocess.run([sys.executable, "-m", "ruff", "check", "src"], cwd=ROOT,
                        capture_output=True, text=True)
     assert r.returncode == 0, r.stdout + r.stderr
+
+
+@pytest.mark.skipif(importlib.util.find_spec("mypy") is None,
+                    reason="mypy is in the test extras; not installed here")
+def test_mypy_is_clean_on_src():
+    r = subprocess.run([sys.executable, "-m", "mypy", "src"], cwd=ROOT,
+                       capture_output=True, text=True)
+    assert r.returncode == 0 and "error:" not in r.stdout, r.stdout + r.stderr

@@ -107,7 +107,7 @@ def cli() -> None:
     Exit status: 0 done; 2 invalid input (one line on stderr);
     3 not converged (one line on stderr; equilibrium and continue print
     their table or JSON first).
-    """
+    """  # noqa: D301 - "\b" is click's no-rewrap marker (a backspace character), not a regex
 
 
 @cli.command()
@@ -318,8 +318,9 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
 @_json_option
 def continue_cmd(design_file: str, vary: str, out_dir: str | None, elements: int,
                  branch_steps: int, no_progress: bool, as_json: bool) -> None:
-    """Pseudo-arclength continuation in one parameter: stability along the path, folds,
-    branch points and the branches leaving them (sub- or supercritical).
+    """Pseudo-arclength continuation in one parameter, with stability along the path.
+
+    It finds folds, branch points and the branches leaving them (sub- or supercritical).
 
     If the path stops before STOP, the table (or JSON, converged: false) is still printed and
     the exit status is 3.
@@ -444,7 +445,7 @@ def birod(section: Section, as_json: bool) -> None:
     r = linear_stability(build(section), 48)
     lam = r.load_factor_critical / section.sqrt_b1b2
     an = birod_critical(section)
-    payload = {"lambda_c": lam, "psi_c": 0.5 * lam * section.sqrt_b1b2,
+    payload: dict[str, Any] = {"lambda_c": lam, "psi_c": 0.5 * lam * section.sqrt_b1b2,
                "mode_family": mode_family(r.mode), "multiplicity": r.multiplicity,
                "lambda_c_full_system": an.lambda_c, "paper_lambda_c": 2 * 3.141592653589793,
                "paper_psi_c": 3.141592653589793 * section.sqrt_b1b2,
@@ -477,7 +478,7 @@ def folded_ring(section: Section, segments: int, arc_angle: float, as_json: bool
     r = linear_stability(build(section, segments=segments), 24)
     lam = r.load_factor_critical / section.sqrt_b1b2
     an = folded_ring_critical(section, segments)
-    payload = {"lambda_c": lam, "multiplicity": r.multiplicity,
+    payload: dict[str, Any] = {"lambda_c": lam, "multiplicity": r.multiplicity,
                "kappa_R0_c": lam * section.sqrt_b1b2 / theta,
                "lambda_c_full_system": an.lambda_c, "multiplicity_full_system": an.multiplicity,
                "paper_lambda_c": 2 * math.pi,

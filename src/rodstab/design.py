@@ -159,7 +159,7 @@ def parse_design(data: dict, source: str = "<dict>") -> Design:
                             for v in rot)):
                 raise RodstabInputError(f"support[{i}].rotation must be three numbers "
                                         f"[normal, tangent, binormal] in radians, got {rot!r}")
-            rotations.append((name, end, tuple(float(v) for v in rot)))
+            rotations.append((name, end, (float(rot[0]), float(rot[1]), float(rot[2]))))
     analysis = data.get("analysis", {})
     _check_keys(analysis, _ANALYSIS, "[analysis]")
     elements = require_positive_int("analysis.elements", analysis.get("elements", 32))
@@ -187,7 +187,7 @@ def load_design(path: str | Path) -> Design:
 
 
 def set_design_value(data: dict, key: str, value: float) -> dict:
-    """A copy of ``data`` with the value at the dotted ``key`` replaced.
+    """Return a copy of ``data`` with the value at the dotted ``key`` replaced.
 
     Keys: ``section.<k>``, ``analysis.<k>``, ``segment.<name>.<k>`` (a segment by name),
     ``segment.<name>.section.<k>`` or ``support.<i>.rotation.<axis>`` (``i``: the support's
@@ -240,8 +240,11 @@ def set_design_value(data: dict, key: str, value: float) -> dict:
 
 @dataclasses.dataclass(frozen=True)
 class VarySpec:
-    """A parsed ``--vary KEY=START:STOP[:N]``: ``n`` values of ``key`` from ``start`` to
-    ``stop`` (a sweep), or ``n`` steps from ``start`` to ``stop`` (a continuation)."""
+    """A parsed ``--vary KEY=START:STOP[:N]``.
+
+    ``n`` values of ``key`` from ``start`` to ``stop`` (a sweep), or ``n`` steps from ``start`` to
+    ``stop`` (a continuation).
+    """
 
     key: str
     start: float

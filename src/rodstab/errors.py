@@ -19,12 +19,14 @@ class RodstabInputError(ValueError):
 
 
 class NotConverged(RuntimeError):
-    """A solver did not converge where its answer is needed; the message names what did not
-    converge (which solve, at which parameter value).
+    """A solver did not converge where its answer is needed.
+
+    The message names what did not converge (which solve, at which parameter value).
 
     Solvers that return a result with a ``converged`` flag do not raise this: they report.
     It is raised where no meaningful result exists without convergence (e.g. the start of a
-    path that cannot be reached)."""
+    path that cannot be reached).
+    """
 
 
 def require_positive(name: str, value: float) -> float:

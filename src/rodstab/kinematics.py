@@ -96,7 +96,7 @@ def _prestress_curvature(R: float, M: float | None, kappa_n: float | None) -> fl
 
 
 def reference_basis(theta: ArrayLike) -> FloatArray:
-    """Reference basis ``(i_r, i_theta, i_3)`` in lab Cartesian components (Fig. 2a).
+    """Return the reference basis ``(i_r, i_theta, i_3)`` in lab Cartesian components (Fig. 2a).
 
     Parameters
     ----------
@@ -416,9 +416,10 @@ def remainder_orders(seed: int = 0, *, R: float = 1.3) -> dict[str, float]:
     eps = np.geomspace(EPS_MAX, EPS_MIN, N_EPS)
     err = np.empty((N_EPS, 3))
     for n, e in enumerate(eps):
-        args = [e * x for x in state]
+        a, b, g, da, db, dg = (e * x for x in state)
         err[n] = np.max(
-            np.abs(curvatures(*args, R=R) - curvatures_second_order(*args, R=R)), axis=0
+            np.abs(curvatures(a, b, g, da, db, dg, R=R)
+                   - curvatures_second_order(a, b, g, da, db, dg, R=R)), axis=0
         )
     return {f"kappa{i + 1}": _loglog_slope(eps, err[:, i]) for i in range(3)}
 

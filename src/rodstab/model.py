@@ -61,7 +61,7 @@ class Segment:
             require_finite(f"segment {self.name!r} start", v)
 
     def tangent(self, s: float | np.ndarray) -> np.ndarray:
-        """Unit tangent ``(..., 2)`` at arc length ``s`` in the held state (lab frame)."""
+        """Return the unit tangent ``(..., 2)`` at arc length ``s``, held state, lab frame."""
         phi = self.angle + self.curvature * np.asarray(s, dtype=float)
         return np.stack([np.cos(phi), np.sin(phi)], axis=-1)
 
@@ -104,7 +104,7 @@ class Assembly:
         validate(self)
 
     def segment(self, name: str) -> Segment:
-        """The segment called ``name``."""
+        """Return the segment called ``name``."""
         for s in self.segments:
             if s.name == name:
                 return s
@@ -190,7 +190,7 @@ def validate(a: Assembly) -> None:
     tol = POSITION_TOL * a.total_length
     for joint in a.joints():
         pts = [a.segment(n).end_point(e) for n, e in joint]
-        for (n, e), p in zip(joint, pts):
+        for (n, e), p in zip(joint, pts, strict=True):
             gap = float(np.linalg.norm(p - pts[0]))
             if gap > tol:
                 raise RodstabInputError(
@@ -204,9 +204,9 @@ def validate(a: Assembly) -> None:
         for n, e in joint:
             s = a.segment(n)
             t = s.tangent(0.0 if e == "start" else s.length)
-            v = s.B2 * s.natural_twist * t
-            torque += v if e == "start" else -v
-            tscale += float(np.linalg.norm(v))
+            tw = s.B2 * s.natural_twist * t
+            torque += tw if e == "start" else -tw
+            tscale += float(np.linalg.norm(tw))
         if tscale > 0 and np.linalg.norm(torque) > MOMENT_TOL * tscale:
             raise RodstabInputError(
                 f"joint {[f'{n}.{e}' for n, e in joint]} is not in moment equilibrium "

@@ -388,10 +388,10 @@ def matrix_roots(
     roots.sort(key=lambda r: r.x)
     # Merge duplicates found from adjacent candidates.
     merged: list[Root] = []
-    for r in roots:
-        if merged and abs(r.x - merged[-1].x) <= 1e3 * xtol + 1e-10 * abs(r.x):
+    for root in roots:
+        if merged and abs(root.x - merged[-1].x) <= 1e3 * xtol + 1e-10 * abs(root.x):
             continue
-        merged.append(r)
+        merged.append(root)
     return RootSearch(tuple(merged), (float(lo), float(hi)), n_scan, True, method_name)
 
 
@@ -475,12 +475,13 @@ def pencil_interval(A: np.ndarray, C: np.ndarray, *,
 
 
 def count_below(A: Any, sigma: float) -> int | None:
-    """Number of eigenvalues of the sparse symmetric ``A`` below ``sigma`` (Sylvester's inertia).
+    """Count the eigenvalues of the sparse symmetric ``A`` below ``sigma`` (Sylvester's inertia).
 
     ``A - sigma I = P L D L^T P^T`` by SuperLU in symmetric mode (diagonal pivots, the same
     symmetric ordering for rows and columns), so the negative entries of ``U``'s diagonal count
     the eigenvalues below ``sigma``. None when that factorisation is not available (singular,
-    or the pivoting left the diagonal)."""
+    or the pivoting left the diagonal).
+    """
     import scipy.sparse as sp
     import scipy.sparse.linalg as spla
 
@@ -537,7 +538,7 @@ def pencil_interval_sparse(A, C, *, multiplicity_rtol: float = MULTIPLICITY_RTOL
                 continue
             return vals, vecs
 
-    out = {}
+    out: dict[str, tuple[float, int, np.ndarray | None]] = {}
     residual = 0.0
     for which, sign in (("LA", 1.0), ("SA", -1.0)):
         vals, vecs = extreme(which)

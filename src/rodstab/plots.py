@@ -8,6 +8,7 @@ writing a file needs no display.
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import matplotlib
 import numpy as np
@@ -67,8 +68,11 @@ def plot_mode(assembly: Assembly, result: LinearStability, path: str | Path, *,
 def plot_equilibrium(x: np.ndarray, edge_nodes: np.ndarray, path: str | Path, *,
                      edge_values: np.ndarray | None = None, value_label: str = "moment",
                      title: str = "equilibrium") -> Path:
-    """3D centreline of an equilibrium: node positions ``x`` (n, 3), edges ``(i, j)`` pairs,
-    coloured by ``edge_values`` (e.g. the internal moment per edge) or else by z."""
+    """Plot the 3D centreline of an equilibrium, coloured by ``edge_values`` or else by z.
+
+    Node positions ``x`` (n, 3), edges ``(i, j)`` pairs; ``edge_values`` e.g. the internal moment
+    per edge.
+    """
     fig = Figure(figsize=(7, 5))
     ax = fig.add_subplot(projection="3d")
     z = x[:, 2]
@@ -77,14 +81,14 @@ def plot_equilibrium(x: np.ndarray, edge_nodes: np.ndarray, path: str | Path, *,
     lo, hi = float(np.min(vals)), float(np.max(vals))
     hi = hi if hi > lo else lo + 1.0
     cmap = matplotlib.colormaps["viridis"]
-    for (i, j), v in zip(edge_nodes, vals):
+    for (i, j), v in zip(edge_nodes, vals, strict=True):
         ax.plot(x[[i, j], 0], x[[i, j], 1], x[[i, j], 2], color=cmap((v - lo) / (hi - lo)),
                 lw=3)
     sm = ScalarMappable(cmap=cmap, norm=Normalize(lo, hi))
     fig.colorbar(sm, ax=ax, shrink=0.6, label=value_label if edge_values is not None else "z")
     span = float(np.ptp(x, axis=0).max()) or 1.0
     mid = x.mean(axis=0)
-    for setter, c in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), mid):
+    for setter, c in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), mid, strict=True):
         setter(c - span / 2, c + span / 2)
     ax.set_title(title)
     ax.set_xlabel("x")
@@ -111,7 +115,7 @@ def animate_shapes(frames: list[np.ndarray], edge_nodes: np.ndarray, path: str |
         x = frames[k]
         for i, j in edge_nodes:
             ax.plot(x[[i, j], 0], x[[i, j], 1], x[[i, j], 2], color="C0", lw=2.5)
-        for setter, c in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), mid):
+        for setter, c in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), mid, strict=True):
             setter(c - span / 2, c + span / 2)
         ax.set_title(labels[k] if labels else f"frame {k}")
         return []
@@ -125,9 +129,10 @@ def animate_shapes(frames: list[np.ndarray], edge_nodes: np.ndarray, path: str |
 def html_view(shapes: list[np.ndarray], edge_nodes: np.ndarray, path: str | Path, *,
               labels: list[str] | None = None, edge_values: list[np.ndarray] | None = None,
               value_label: str = "", title: str = "") -> Path:
-    """Interactive 3D view (self-contained HTML, plotly): rotate, zoom, and, for several
-    shapes (a continuation path), a slider and a play button. Edges are coloured by
-    ``edge_values`` (one array per shape) when given.
+    """Write an interactive 3D view (self-contained HTML, plotly).
+
+    Rotate and zoom, and, for several shapes (a continuation path), a slider and a play button.
+    Edges are coloured by ``edge_values`` (one array per shape) when given.
 
     Needs the optional plotly package (``pip install "rodstab[viz]"``); raises naming it.
     """
@@ -153,7 +158,7 @@ def html_view(shapes: list[np.ndarray], edge_nodes: np.ndarray, path: str | Path
         seg[:, 0] = x[edge_nodes[:, 0]]
         seg[:, 1] = x[edge_nodes[:, 1]]
         pts = seg.reshape(-1, 3)
-        line = dict(width=6)
+        line: dict[str, Any] = dict(width=6)
         if edge_values is not None:
             line |= dict(color=np.repeat(edge_values[i], 3), colorscale="Viridis", cmin=0.0,
                          cmax=vmax, colorbar=dict(title=value_label))
@@ -164,7 +169,7 @@ def html_view(shapes: list[np.ndarray], edge_nodes: np.ndarray, path: str | Path
                     frames=[go.Frame(data=[trace(i)], name=str(i)) for i in range(len(shapes))])
     scene = dict(aspectmode="cube", **{f"{ax}axis": dict(range=[mid[k] - half, mid[k] + half])
                                        for k, ax in enumerate("xyz")})
-    layout = dict(title=title, scene=scene, margin=dict(l=0, r=0, t=40, b=0))
+    layout: dict[str, Any] = dict(title=title, scene=scene, margin=dict(l=0, r=0, t=40, b=0))
     if len(shapes) > 1:
         layout["sliders"] = [dict(steps=[dict(method="animate", label=labels[i],
                                               args=[[str(i)], dict(mode="immediate")])

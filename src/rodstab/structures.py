@@ -36,7 +36,8 @@ def birod(section: Section, *, length: float = 1.0, clamp: str | None = "start")
     welds = ((("upper", "start"), ("lower", "start")), (("upper", "end"), ("lower", "end")))
     if clamp not in ("start", "both", None):
         raise RodstabInputError(f"clamp must be 'start', 'both' or None, got {clamp!r}")
-    sup = () if clamp is None else (("upper", "start", "clamped"),)
+    sup: tuple[tuple[str, str, str], ...] = (
+        () if clamp is None else (("upper", "start", "clamped"),))
     if clamp == "both":
         sup += (("upper", "end", "clamped"),)
     return Assembly(segs, welds=welds, supports=sup, reference_load=0.0)
@@ -63,7 +64,7 @@ def folded_ring(section: Section, *, segments: int = 6, length: float = 1.0) -> 
 
 def unfolded_ring(section: Section, *, segments: int = 6, arc_angle_deg: float = 120.0,
                   radius: float = 1.0) -> Assembly:
-    """The one-loop state of a ring of ``segments`` circular arcs joined at cusps (Fig. 1).
+    """Return the one-loop state of a ring of ``segments`` circular arcs joined at cusps (Fig. 1).
 
     Every arc turns left by ``arc_angle_deg`` on radius ``R0``; at each cusp the tangent
     reverses. Natural curvature ``1/R0`` per unit ``mu`` (``mu = 1``: stress-free one-loop

@@ -1,5 +1,6 @@
-"""Parameter sweeps of the linear engine: the critical load factor of a design while one
-design value varies (``rodstab sweep``).
+"""Parameter sweeps of the linear engine (``rodstab sweep``).
+
+The critical load factor of a design while one design value varies.
 
 Each value gives an independent design (:func:`rodstab.design.set_design_value`, validated
 by :func:`rodstab.design.parse_design`) and one linear stability solve
@@ -46,9 +47,11 @@ class SweepResult(Result):
         return all(r.converged for r in self.rows)
 
     def table(self) -> list[dict[str, Any]]:
-        """The rows as the CLI's CSV/JSON records: the varied value under the column ``key``,
-        then ``load_factor_critical``, ``load_factor_lower``, ``multiplicity``,
-        ``paper_load_factor_critical``, ``residual``."""
+        """Return the rows as the CLI's CSV/JSON records.
+
+        The varied value under the column ``key``, then ``load_factor_critical``,
+        ``load_factor_lower``, ``multiplicity``, ``paper_load_factor_critical``, ``residual``.
+        """
         return [{self.key: r.value, "load_factor_critical": r.load_factor_critical,
                  "load_factor_lower": r.load_factor_lower, "multiplicity": r.multiplicity,
                  "paper_load_factor_critical": r.paper_load_factor_critical,

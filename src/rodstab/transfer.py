@@ -25,6 +25,8 @@ and require rows ``(u, u', w)`` of ``T`` times them to vanish: the 3x3 matrix
 
 from __future__ import annotations
 
+from typing import cast
+
 import numpy as np
 from scipy.linalg import expm, null_space
 
@@ -37,7 +39,7 @@ _FREE = [2, 3, 5]
 
 
 def arc_system_matrix(L_kappa: float, L_over_R: float, b1: float, b2: float) -> np.ndarray:
-    """The 6x6 matrix ``S`` of ``y' = S y`` for the clamped-arc P2 (see module docstring).
+    """Return the 6x6 matrix ``S`` of ``y' = S y`` for the clamped-arc P2 (see module docstring).
 
     ``L_kappa = L kappa_n`` is the load, ``L_over_R = L/R`` (0 for a straight rod).
     """
@@ -257,7 +259,8 @@ def straight_assembly_matrix(assembly, mu: float) -> np.ndarray:
             raise RodstabInputError(f"straight_assembly_matrix supports only clamped or free "
                                     f"joints, got {kinds}")
         else:
-            rows.append(sum(sg * q["V"] for q, _, _, sg in ends))
+            # sum() of arrays (at least one end): an array, never the start value 0.
+            rows.append(cast(np.ndarray, sum(sg * q["V"] for q, _, _, sg in ends)))
             for c in range(2):
                 rows.append(sum(sg * (q["Mb"] * nrm[c] + q["Tq"] * t[c])
                                 for q, t, nrm, sg in ends))

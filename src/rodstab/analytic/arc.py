@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Callable
 
 import numpy as np
 
@@ -241,8 +242,10 @@ def max_arc_length(b1: float, b2: float, *, L_over_R_cap: float = 40.0) -> MaxAr
         M = _guarded(1.0, b1, b2) if name == "antisymmetric" else 1.0
         # L/R -> 0 is a trivial zero of both brackets (no arc); a straight rod with
         # kappa_n = 0 is stable, so the scan starts at L/R = 1e-3.
-        found = find_roots(lambda L, M=M, fn=fn: fn(M, L, b1, b2), 1e-3, L_over_R_cap,
-                           n_scan=800)
+        def bracket(L: float, M: float = M, fn: Callable[..., float] = fn) -> float:
+            return fn(M, L, b1, b2)
+
+        found = find_roots(bracket, 1e-3, L_over_R_cap, n_scan=800)
         if found.roots:
             r = found.roots[0]
             if best is None or r.x < best[0]:

@@ -52,7 +52,7 @@ def joint_matrix(load_factor: float, sigma_i: float) -> np.ndarray:
 
 
 def monodromy(load_factor: float) -> np.ndarray:
-    """``A = (D_B T_B^-1 D_A T_A)^3`` of (5.10) (six segments, three A-B pairs)."""
+    """Return ``A = (D_B T_B^-1 D_A T_A)^3`` of (5.10) (six segments, three A-B pairs)."""
     TA, TB = transfer_matrix(load_factor, -1.0), transfer_matrix(load_factor, +1.0)
     DA, DB = joint_matrix(load_factor, -1.0), joint_matrix(load_factor, +1.0)
     P = DB @ np.linalg.solve(TB, DA @ TA)

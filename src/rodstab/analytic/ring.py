@@ -141,7 +141,7 @@ class RingOverlap(Result):
 
 
 def ring_overlap(b1: float, b2: float, loops_a: int = 1, loops_b: int = 3) -> RingOverlap:
-    """Do the stable natural-curvature ranges of an ``loops_a`` and ``loops_b`` ring overlap?
+    """Compare the stable natural-curvature ranges of an ``loops_a`` and a ``loops_b`` ring.
 
     Both rings are made of the same rod (same ``L``, ``kappa_n``), so the ranges are compared in
     ``(L / 2 pi) kappa_n`` (Section 3.1, after eq 3.3).

@@ -96,10 +96,12 @@ def _merge(run: Run, figures: dict) -> None:
 
 
 def evaluate(run: Run | None = None, *, workers: int | None = None) -> list[Claim]:
-    """Run every check of :data:`REGISTRY` and return the rows (computed statuses) in
-    registry order. The checks are independent: with ``workers`` > 1 (default: the number of
-    CPUs, at most the number of checks) they run in that many processes; figure data are
-    merged into ``run.figures``; ``run.progress`` ticks once per finished check."""
+    """Run every check of :data:`REGISTRY`; return the rows (computed statuses) in registry order.
+
+    The checks are independent: with ``workers`` > 1 (default: the number of CPUs, at most the
+    number of checks) they run in that many processes; figure data are merged into ``run.figures``;
+    ``run.progress`` ticks once per finished check.
+    """
     import os
 
     run = Run() if run is None else run

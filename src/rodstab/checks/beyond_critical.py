@@ -1,5 +1,7 @@
-"""Beyond the paper: nonlinear critical loads of the straightened rod (Section 3.2), the bi-rod
-(Section 4) and the folded ring (Section 5) against the linear engine."""
+"""Beyond the paper: nonlinear critical loads against the linear engine.
+
+For the straightened rod (Section 3.2), the bi-rod (Section 4) and the folded ring (Section 5).
+"""
 
 from __future__ import annotations
 
@@ -19,8 +21,10 @@ _NL = "discrete geometrically exact rod, lowest Hessian eigenvalue"
 
 
 def straightened_rod(section: Section | None = None) -> Assembly:
-    """The straightened rod of (3.9): unit length, clamped / sliding clamp; default section a
-    circle (nu = 1/3)."""
+    """Return the straightened rod of (3.9): unit length, clamped / sliding clamp.
+
+    The default section is a circle (nu = 1/3).
+    """
     c = circle() if section is None else section
     s = Segment("rod", 1.0, 0.0, 1.0, c.b1, c.b2, 1.0)
     return Assembly((s,), supports=(("rod", "start", "clamped"),

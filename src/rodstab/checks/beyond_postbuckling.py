@@ -1,5 +1,7 @@
-"""Beyond the paper: the initial post-buckling of the straightened rod (Section 3.2), the bi-rod
-(Section 4) and the folded six-sided ring (Section 5), per cross-section, by two tracers.
+"""Beyond the paper: initial post-buckling of three structures, per cross-section, by two tracers.
+
+The structures: the straightened rod (Section 3.2), the bi-rod (Section 4) and the folded six-sided
+ring (Section 5).
 
 ``p/p_c = 1 + a xi + b xi^2`` (:mod:`rodstab.nonlinear.continuation.path`: ``xi`` the largest
 out-of-plane node displacement over the segment length). ``b`` of the same sign as the unstable
@@ -58,8 +60,10 @@ def _label(aspect: float) -> str:
 
 @functools.lru_cache(maxsize=None)
 def coefficient(name: str, aspect: float, tracer: str = "amplitude"):
-    """The branch (:class:`..nonlinear.continuation.Path`) of structure ``name`` at ``aspect``
-    by ``tracer`` (``"amplitude"`` or ``"arclength"``)."""
+    """Return the branch of structure ``name`` at ``aspect`` by ``tracer``.
+
+    A :class:`..nonlinear.continuation.Path`; ``tracer`` is ``"amplitude"`` or ``"arclength"``.
+    """
     from ..nonlinear.continuation import arclength_from_bifurcation, post_buckling_branch
 
     build, lo, hi, n, _ = CASES[name]
@@ -88,10 +92,10 @@ def postbuckling_checks(run: Run) -> Iterator[Claim]:
             f"PB-{name}", "beyond", "-", f"{_NAMES[name]}: initial post-buckling, "
             "mu/mu_c = 1 + a xi + b xi^2", "open question (paper, Section 6)",
             "; ".join(f"{_label(h)}: b = {fmt(b, 4)}, {amp[h].verdict.split(':')[0]}"
-                      for h, b in zip(aspects, b_amp)) + f" ({n} el./segment)",
+                      for h, b in zip(aspects, b_amp, strict=True)) + f" ({n} el./segment)",
             "arclength: " + "; ".join(f"b = {fmt(b, 4)}" for b in b_arc),
             "amplitude control vs pseudo-arclength from the bifurcation (one corrector)",
-            every(*(methods_agree(x, y, PB_RTOL) for x, y in zip(b_amp, b_arc)),
+            every(*(methods_agree(x, y, PB_RTOL) for x, y in zip(b_amp, b_arc, strict=True)),
                   holds(consistent)),
             "The character depends on the cross-section: stable where the load rises along the "
             "branch (the structure bends on gradually past its limit), unstable where it falls "
@@ -103,8 +107,10 @@ def postbuckling_checks(run: Run) -> Iterator[Claim]:
 
 
 def _threshold(name: str, run: Run) -> Claim:
-    """Rectangle aspect where ``b`` of structure ``name`` changes sign (amplitude control,
-    root finder), confirmed on both sides by the arclength tracer."""
+    """Find the rectangle aspect where ``b`` of structure ``name`` changes sign.
+
+    By amplitude control and the root finder; confirmed on both sides by the arclength tracer.
+    """
     lo, hi = ASPECT_BRACKET  # the PB rows' h/t = 2 is one end: its branch is reused
     found = find_roots(lambda h: coefficient(name, h).coefficients[1], lo, hi, n_scan=1,
                        rel_xtol=THRESHOLD_XTOL)

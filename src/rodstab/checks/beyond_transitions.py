@@ -1,5 +1,7 @@
-"""Beyond the paper: transitions between the stable states of a ring, followed by arclength
-(1-loop -> 3-loop ring, Section 3.1; folded <-> one-loop six-sided ring, Section 5)."""
+"""Beyond the paper: transitions between the stable states of a ring, followed by arclength.
+
+The 1-loop -> 3-loop ring (Section 3.1) and the folded <-> one-loop six-sided ring (Section 5).
+"""
 
 from __future__ import annotations
 
@@ -36,7 +38,7 @@ def transition_checks(run: Run) -> Iterator[Claim]:
 
 
 def _ring_transition_claim(run: Run) -> Claim:
-    """The 1-loop ring beyond its bifurcation, followed to the 3-loop ring."""
+    """Follow the 1-loop ring beyond its bifurcation to the 3-loop ring."""
     from ..nonlinear.continuation import arclength_from_bifurcation
 
     c = circle()
@@ -81,8 +83,11 @@ def _ring_transition_claim(run: Run) -> Claim:
 
 
 def _saddle(folded: Assembly, n: int, window: tuple[float, float], n_steps: int, theta: float):
-    """The saddle branch of the folded six-ring (most dangerous direction of its double
-    bifurcation) at ``n`` el./segment, traced while the load factor stays in ``window``."""
+    """Trace the saddle branch of the folded six-ring at ``n`` el./segment.
+
+    The branch leaves the double bifurcation along its most dangerous direction and is traced while
+    the load factor stays in ``window``.
+    """
     from ..nonlinear.continuation import arclength_from_bifurcation
 
     return arclength_from_bifurcation(folded, 1.0, 8.0, elements_per_segment=n, ds=0.25,
@@ -96,7 +101,7 @@ def _richardson(coarse: float, fine: float, n0: int, n1: int) -> float:
 
 
 def _six_ring_transition_claim(run: Run) -> Claim:
-    """The six-sided ring (h/t = 4, 120 deg arcs) between its folded and one-loop states.
+    """Follow the six-sided ring (h/t = 4, 120 deg arcs) between its folded and one-loop states.
 
     One discrete model (the folded design, segment length L = 1, B3 = 1): the saddle branch
     leaving the folded state's double bifurcation along its most dangerous direction is followed
@@ -125,8 +130,8 @@ def _six_ring_transition_claim(run: Run) -> Claim:
         barriers.append(at1.energy[-1] - 3 * theta**2 if abs(at1.value[-1] - theta) < 1e-9
                         else math.nan)
         run.progress()
-    end = _richardson(*ends, *meshes)
-    barrier = _richardson(*barriers, *meshes)
+    end = _richardson(ends[0], ends[1], *meshes)
+    barrier = _richardson(barriers[0], barriers[1], *meshes)
     path = paths[-1]
     mu, ev, en = np.array(path.value), np.array(path.lowest_eigenvalue), np.array(path.energy)
     i = int(np.argmin(mu))

@@ -1,5 +1,7 @@
-"""Beyond the paper: Greenhill's twisted rod under end rotation (continuation in a rotation,
-and the one unstable bifurcation found, with Koiter's 2/3 law measured)."""
+"""Beyond the paper: Greenhill's twisted rod under end rotation.
+
+Continuation in a rotation, and the one unstable bifurcation found, with Koiter's 2/3 law measured.
+"""
 
 from __future__ import annotations
 

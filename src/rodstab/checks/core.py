@@ -47,7 +47,7 @@ class Run:
     figures: dict = dataclasses.field(default_factory=dict)
 
     def beyond(self) -> dict:
-        """The ``"beyond"`` figure data, created empty on first use."""
+        """Return the ``"beyond"`` figure data, created empty on first use."""
         return self.figures.setdefault("beyond", {})
 
 

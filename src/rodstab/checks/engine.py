@@ -26,7 +26,7 @@ def engine_checks(run: Run) -> Iterator[Claim]:
         r = linear_stability(Assembly((seg,), welds=((("ring", "start"), ("ring", "end")),)), n)
         an = ring.ring_stability(c.b1, c.b2, N).M_interval
         got = (1 - r.load_factor_interval[1], 1 - r.load_factor_interval[0])
-        err = max(abs(g - a) / abs(a) for g, a in zip(got, an))
+        err = max(abs(g - a) / abs(a) for g, a in zip(got, an, strict=True))
         yield Claim(f"E3.1-N{N}", "3.1", "(3.3)", f"{N}-loop ring interval of M by the engine",
                     f"({fmt(an[0])}, {fmt(an[1])}) (analytic)", f"({fmt(got[0])}, {fmt(got[1])})",
                     f"rel. difference {err:.1e} ({n} elements)", _FE,
@@ -36,7 +36,7 @@ def engine_checks(run: Run) -> Iterator[Claim]:
                                                     ("arc", "end", "clamped"))), 96)
     an = arc.clamped_arc_stability(c.b1, c.b2, 2.0).L_kappa_interval
     got = (2 * r.load_factor_interval[0], 2 * r.load_factor_interval[1])
-    err = max(abs(g - a) / abs(a) for g, a in zip(got, an))
+    err = max(abs(g - a) / abs(a) for g, a in zip(got, an, strict=True))
     yield Claim("E3.2", "3.2", "(3.7)/(3.8)", "Clamped arc L/R = 2 by the engine",
                 f"({fmt(an[0])}, {fmt(an[1])}) (analytic)", f"({fmt(got[0])}, {fmt(got[1])})",
                 f"rel. difference {err:.1e} (96 elements)", _FE, methods_agree(got, an, FE_RTOL))

@@ -60,8 +60,9 @@ def _status(ok: bool) -> str:
 
 
 def agrees_to_printed(value: float, printed: float, digits: int) -> str:
-    """``reproduced`` when ``value`` agrees with the printed number to one unit of its last
-    printed decimal (``digits`` decimals), ``differs`` otherwise.
+    """Return ``reproduced`` if ``value`` agrees with the printed number, else ``differs``.
+
+    Agreement means to one unit of its last printed decimal (``digits`` decimals).
 
     The paper sometimes truncates (-0.86156 printed as -0.861), sometimes rounds; both pass.
     """
@@ -83,15 +84,19 @@ def methods_agree(a: ArrayLike, b: ArrayLike, rtol: float, atol: float = 0.0) ->
 
 def order_is(measured: float | Sequence[float], expected: float | Sequence[float],
              tol: float = ORDER_TOL) -> str:
-    """``reproduced`` when every measured exponent (order of a remainder, slope of a power law)
-    is within ``tol`` of the expected one."""
+    """Return ``reproduced`` if every measured exponent is within ``tol`` of the expected one.
+
+    An exponent is the order of a remainder or the slope of a power law.
+    """
     m, e = np.atleast_1d(np.asarray(measured, dtype=float)), np.asarray(expected, dtype=float)
     return _status(bool(np.all(np.abs(m - e) <= tol)))
 
 
 def residual_below(residual: float, tol: float) -> str:
-    """``reproduced`` when a computed residual of the paper's statement (an identity, an ODE or
-    a closed form evaluated on independently computed data) is at most ``tol``."""
+    """Return ``reproduced`` if a computed residual of the paper's statement is at most ``tol``.
+
+    The residual of an identity, an ODE or a closed form evaluated on independently computed data.
+    """
     return _status(bool(residual <= tol))
 
 
@@ -110,15 +115,20 @@ def typo_shown_by(printed_error: ArrayLike, corrected_error: ArrayLike, tol: flo
     return DIFFERS if corrected_ok else UNRESOLVED
 
 
-def holds(condition: bool) -> str:
-    """``reproduced`` when a computed comparison (inequalities between computed values, e.g. a
-    stability margin or the sign of a load change along a branch) holds."""
+def holds(condition: bool | np.bool_) -> str:
+    """Return ``reproduced`` if a computed comparison holds.
+
+    Inequalities between computed values, e.g. a stability margin or the sign of a load change along
+    a branch.
+    """
     return _status(bool(condition))
 
 
 def every(*statuses: str) -> str:
-    """Combine the statuses of several comparisons that together check one statement:
-    ``reproduced`` only if all are; ``unresolved`` if any is; ``differs`` otherwise."""
+    """Combine the statuses of several comparisons that together check one statement.
+
+    ``reproduced`` only if all are; ``unresolved`` if any is; ``differs`` otherwise.
+    """
     if all(s == REPRODUCED for s in statuses):
         return REPRODUCED
     return UNRESOLVED if UNRESOLVED in statuses else DIFFERS

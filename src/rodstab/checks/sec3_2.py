@@ -2,15 +2,17 @@
 
 from __future__ import annotations
 
+import functools
 import math
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 
 import numpy as np
+from numpy.polynomial import Polynomial
 
 from .. import kinematics, transfer
 from ..analytic import arc
 from ..numerics import find_roots, matrix_roots
-from ..sections import circle, rectangle
+from ..sections import Section, circle, rectangle
 from . import variation
 from .core import Claim, Run, fmt
 from .rules import (
@@ -61,8 +63,10 @@ def arc_equations_mismatch(b1: float, b2: float, Lb: float, M: float,
     for w_1, w_2, u_2 in ((w3, w3, u3), (w2, w2, u2)):  # printed, corrected
         l1 = b1 * (u4 - Lb * w_1) - b2 * Lb * (w2 + Lb * u2) + M * Lb * (Lb * u2 + w2)
         l2 = b1 * Lb * (u2 - Lb * w) + b2 * (w_2 + Lb * u_2) + M * Lb * (Lb * w - u2)
-        out.append(variation.relative_mismatch(
-            DI, variation.integral(lambda x, l1=l1, l2=l2: l1(x) * du(x) - l2(x) * dw(x))))
+        def integrand(x: np.ndarray, l1: Polynomial = l1, l2: Polynomial = l2) -> np.ndarray:
+            return l1(x) * du(x) - l2(x) * dw(x)
+
+        out.append(variation.relative_mismatch(DI, variation.integral(integrand)))
     return out[0], out[1]
 
 
@@ -97,17 +101,23 @@ def arc_checks(run: Run) -> Iterator[Claim]:
     worst, vanish, regular = 0.0, 0.0, math.inf
     for s in (c, rectangle(aspect=0.75), rectangle(aspect=2.0)):
         for Lb in (0.5, 2.0, 4.0, 6.0):
+            def bracket(p: float, f: Callable[..., float], Lb: float = Lb, s: Section = s
+                        ) -> float:
+                return f(arc._guarded(1 - p / Lb, s.b1, s.b2), Lb, s.b1, s.b2)
+
             cf = sorted(
-                find_roots(lambda p, f=f, Lb=Lb, s=s: f(arc._guarded(1 - p / Lb, s.b1, s.b2), Lb,
-                                                     s.b1, s.b2), -20, 20, n_scan=1500).values
+                find_roots(functools.partial(bracket, f=f), -20, 20, n_scan=1500).values
                 for f in (arc.symmetric_function, arc.antisymmetric_function))
             roots = sorted(x for lst in cf for x in lst)
-            tm = matrix_roots(lambda p, Lb=Lb, s=s: transfer.clamped_arc_matrix(p, Lb, s.b1, s.b2),
-                              -20, 20, n_scan=1500).values
+            def matrix(p: float, Lb: float = Lb, s: Section = s) -> np.ndarray:
+                return transfer.clamped_arc_matrix(p, Lb, s.b1, s.b2)
+
+            tm = matrix_roots(matrix, -20, 20, n_scan=1500).values
             if len(tm) != len(roots):
                 worst = math.inf
             else:
-                worst = max(worst, max(abs(a - b) / max(1, abs(b)) for a, b in zip(roots, tm)))
+                worst = max(worst, max(abs(a - b) / max(1, abs(b))
+                                       for a, b in zip(roots, tm, strict=True)))
             for M in (0.0, s.b2):  # the spurious zeros: printed (3.7), (3.8) vs shooting
                 vanish = max(vanish, *map(abs, printed_3_7_3_8(M, Lb, s.b1, s.b2)))
                 sv = np.linalg.svd(transfer.clamped_arc_matrix(Lb * (1 - M), Lb, s.b1, s.b2),

@@ -1,5 +1,8 @@
-"""Section 3.2 of the paper, continued: stiffness ratios (3.11)-(3.12), the longest arc
-(3.13)-(3.14), the energy ratio (3.15), and the data of Figs. 4 and 5."""
+"""Section 3.2 of the paper, continued: stiffness ratios, longest arc, energy ratio, Figs. 4-5.
+
+The stiffness ratios (3.11)-(3.12), the longest arc (3.13)-(3.14), the energy ratio (3.15), and the
+data of Figs. 4 and 5.
+"""
 
 from __future__ import annotations
 
@@ -35,8 +38,10 @@ CONSTANT_TOL = 0.5
 
 
 def equivalent_constant(aspect: float, nu: float = 1 / 3) -> float:
-    """The constant ``C`` for which the form of (3.12), ``b2 = 2/(1+nu) (1 - C/pi^5 (t/h)
-    tanh(pi h/2t))``, gives the exact (Saint-Venant series) ``b2`` of an ``h/t = aspect`` rectangle.
+    """Return ``C`` that makes the form of (3.12) exact for an ``h/t = aspect`` rectangle.
+
+    The form ``b2 = 2/(1+nu) (1 - C/pi^5 (t/h) tanh(pi h/2t))`` then gives the exact (Saint-Venant
+    series) ``b2``.
 
     The paper prints ``C = 195``; Saint-Venant's series gives ``C = 192 sum_{n odd}
     tanh(n pi h/2t) / n^5 / tanh(pi h/2t)``, which tends to ``192 sum_{n odd} 1/n^5``.
@@ -95,6 +100,7 @@ def stiffness_checks(run: Run) -> Iterator[Claim]:
                       holds(m1_sq < m105 < m2)))
     run.progress()
     c = circle()
+    assert c.area is not None and c.I3 is not None  # a circle() always has its geometry
     ratio = arc.energy_ratio_column_to_straightened(b1=c.b1, b2=c.b2, area=c.area,
                                                     I_min=c.I3, I3=c.I3, L=100.0)
     closed = (1 + 1 / 3) * math.pi**2 * (1 / 100.0) ** 2

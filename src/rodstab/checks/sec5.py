@@ -86,7 +86,7 @@ def folded_ring_checks(run: Run) -> Iterator[Claim]:
             / g for n in ns]
     yield Claim(
         "B.2n", "beyond", "-", "Rings of 2n segments folded into n loops",
-        "not studied", ", ".join(f"2n = {n}: {fmt(v)}" for n, v in zip(ns, vals)),
+        "not studied", ", ".join(f"2n = {n}: {fmt(v)}" for n, v in zip(ns, vals, strict=True)),
         "lam_c = 2 pi / (2n): kappa_n x total length = 2 pi sqrt(B1 B2)/B3", "engine",
         methods_agree(vals, [2 * math.pi / n for n in ns], FE_RTOL),
         "New result; also checked by the full system in the tests.")

@@ -27,9 +27,12 @@ TEST_DEGREE = 4
 
 
 def random_fields(seed: int, n_fields: int, vanish: tuple[int, ...] = ()) -> list[Polynomial]:
-    """``n_fields`` random polynomials on ``[0, 1]``; field ``i`` is multiplied by
-    ``(x (1 - x))**vanish[i]`` (so it and its first ``vanish[i] - 1`` derivatives vanish at both
-    ends) when ``vanish`` is given, and has degree ``STATE_DEGREE`` otherwise."""
+    """Return ``n_fields`` random polynomials on ``[0, 1]``.
+
+    Field ``i`` is multiplied by ``(x (1 - x))**vanish[i]`` (so it and its first ``vanish[i] - 1``
+    derivatives vanish at both ends) when ``vanish`` is given, and has degree ``STATE_DEGREE``
+    otherwise.
+    """
     rng = np.random.default_rng(seed)
     if not vanish:
         return [Polynomial(rng.uniform(-1.0, 1.0, STATE_DEGREE + 1)) for _ in range(n_fields)]
@@ -46,11 +49,11 @@ def integral(f: Callable[[np.ndarray], np.ndarray]) -> float:
 def first_variation(functional: Callable[[list[Polynomial]], float],
                     state: list[Polynomial], test: list[Polynomial]) -> float:
     """``DI(state)[test] = (I[state + test] - I[state - test]) / 2``, exact for quadratic I."""
-    plus = functional([y + d for y, d in zip(state, test)])
-    minus = functional([y - d for y, d in zip(state, test)])
+    plus = functional([y + d for y, d in zip(state, test, strict=True)])
+    minus = functional([y - d for y, d in zip(state, test, strict=True)])
     return 0.5 * (plus - minus)
 
 
 def relative_mismatch(a: float, b: float) -> float:
-    """``|a - b| / max(|a|, |b|)``: 0 when two first variations agree, ~1 when they do not."""
+    """Return ``|a - b| / max(|a|, |b|)``: 0 when two first variations agree, ~1 when not."""
     return abs(a - b) / max(abs(a), abs(b), np.finfo(float).tiny)

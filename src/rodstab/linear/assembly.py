@@ -91,19 +91,27 @@ def discretise(a: Assembly, elements_per_segment: int | dict[str, int] = 16) -> 
                 t = s.tangent(0.0 if node == 0 else s.length)
                 n = np.array([t[1], -t[0]])
                 if comp == 0:
-                    Tr.append(loc), Tc.append(3 * j), Tv.append(1.0)
+                    Tr.append(loc)
+                    Tc.append(3 * j)
+                    Tv.append(1.0)
                 else:
                     vec = n if comp == 1 else t
                     for c in range(2):
-                        Tr.append(loc), Tc.append(3 * j + 1 + c), Tv.append(float(vec[c]))
+                        Tr.append(loc)
+                        Tc.append(3 * j + 1 + c)
+                        Tv.append(float(vec[c]))
             else:
-                Tr.append(loc), Tc.append(interior), Tv.append(1.0)
+                Tr.append(loc)
+                Tc.append(interior)
+                Tv.append(1.0)
                 interior += 1
         T = sp.csr_matrix((Tv, (Tr, Tc)), shape=(nl, n_global))
         seg_dofs.append(SegmentDofs(s.name, n_el, T))
         G0 = (T.T @ sp.csr_matrix(Kl0) @ T).tocoo()
         G1 = (T.T @ sp.csr_matrix(Kl1) @ T).tocoo()
-        rows0.append(G0.row), cols0.append(G0.col), v0.append(G0.data)
+        rows0.append(G0.row)
+        cols0.append(G0.col)
+        v0.append(G0.data)
         v1.append((G1.row, G1.col, G1.data))
     K0 = sp.csr_matrix((np.concatenate(v0), (np.concatenate(rows0), np.concatenate(cols0))),
                        shape=(n_global, n_global))
@@ -142,8 +150,9 @@ def _support_rows(a: Assembly, joint) -> np.ndarray:
 
 def rigid_modes_left(a: Assembly, joints) -> np.ndarray:
     """Coefficients (3 x r) of the rigid motions the supports do not prevent."""
-    G = [_support_rows(a, j) @ _rigid_at(a.segment(j[0][0]).end_point(j[0][1])) for j in joints]
-    G = np.vstack(G) if G else np.zeros((0, 3))
+    blocks = [_support_rows(a, j) @ _rigid_at(a.segment(j[0][0]).end_point(j[0][1]))
+              for j in joints]
+    G = np.vstack(blocks) if blocks else np.zeros((0, 3))
     return null_space(G) if G.size else np.eye(3)
 
 

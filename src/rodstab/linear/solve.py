@@ -59,7 +59,7 @@ class LinearStability(Result):
 
 
 def default_reference_load(a: Assembly) -> float:
-    """The stress-free load factor if all segments share one, else 0 (natural curvature 0)."""
+    """Return the stress-free load factor if all segments share one, else 0 (curvature 0)."""
     if a.reference_load is not None:
         return a.reference_load
     ratios = set()
@@ -102,7 +102,8 @@ def mode_family(mode: tuple[SegmentMode, ...]) -> str:
     def sgn(v: float) -> str:
         return "0" if abs(v) <= 1e-6 * big else ("+" if v * flip > 0 else "-")
 
-    return ", ".join(f"{m.name}: w{sgn(a)} omega{sgn(b)}" for m, (a, b) in zip(mode, means))
+    return ", ".join(f"{m.name}: w{sgn(a)} omega{sgn(b)}"
+                     for m, (a, b) in zip(mode, means, strict=True))
 
 
 def linear_stability(a: Assembly, elements_per_segment: int = 16) -> LinearStability:

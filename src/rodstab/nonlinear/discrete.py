@@ -106,7 +106,7 @@ class DiscreteRod:
         return 3 * (len(self.x) + len(self.R_edge) + np.asarray(j))[..., None] + np.arange(3)
 
     def free_dofs(self) -> np.ndarray:
-        """Indices not held by clamps or the rigid-motion gauge."""
+        """Return the indices not held by clamps or the rigid-motion gauge."""
         fixed = set()
         for i in self.fixed_nodes:
             fixed.update(self.node_dofs(i).tolist())
@@ -170,10 +170,13 @@ class DiscreteRod:
         return total, grad, H
 
     def _k0(self, k_held: np.ndarray | None, e: np.ndarray, mu: float) -> np.ndarray:
-        """Discrete natural curvature: the held state's discrete curvature shifted by the
-        continuum prestress ``(0, 0, mu kappa_n - k)``, so that every joint of the held state
-        carries exactly the continuum moment ``B3 (k - mu kappa_n)`` -- the held state is then
-        an exact equilibrium of the discrete model, as it is of the continuum."""
+        """Return the discrete natural curvature: held curvature plus continuum prestress.
+
+        The held state's discrete curvature shifted by the continuum prestress
+        ``(0, 0, mu kappa_n - k)``, so that every joint of the held state carries exactly the
+        continuum moment ``B3 (k - mu kappa_n)`` -- the held state is then an exact equilibrium of
+        the discrete model, as it is of the continuum.
+        """
         k0 = np.zeros((len(e), 3)) if k_held is None else k_held.copy()
         k0[:, 2] += mu * self.edge_kn[e] - self.edge_k[e]
         if self.edge_tw is not None:
@@ -191,11 +194,15 @@ class DiscreteRod:
             kc = vee[c] * den * (2.0 / ds) - k0[:, c]
             term = kc * kc * (0.5 * B[:, c] * ds)
             out = term if out is None else out + term
+        assert out is not None  # three components summed
         return out
 
     def link_rotations(self) -> tuple[np.ndarray, np.ndarray, JetMat]:
-        """Edges, joints and relative-rotation jets ``P`` of the half-joints (vars: phi_edge
-        0..2, phi_joint 3..5): ``R_e^T R_J Q`` at a segment end, ``(R_J Q)^T R_e`` at a start."""
+        """Return the edges, joints and relative-rotation jets ``P`` of the half-joints.
+
+        Vars: phi_edge 0..2, phi_joint 3..5. ``P`` is ``R_e^T R_J Q`` at a segment end,
+        ``(R_J Q)^T R_e`` at a start.
+        """
         ee = np.array([lk[0] for lk in self.end_links])
         jj = np.array([lk[1] for lk in self.end_links])
         Q = np.array([lk[2] for lk in self.end_links])
@@ -211,8 +218,10 @@ class DiscreteRod:
         return ee, jj, P
 
     def edge_moments(self) -> np.ndarray:
-        """Magnitude of the internal moment ``|B (k - k0)|`` per edge (n_edges,): the average of
-        the joints on either side of the edge (lab units of B x curvature)."""
+        """Return the magnitude of the internal moment ``|B (k - k0)|`` per edge (n_edges,).
+
+        The average of the joints on either side of the edge (lab units of B x curvature).
+        """
         mom = np.zeros(len(self.R_edge))
         cnt = np.zeros(len(self.R_edge))
         if len(self.bend_pairs):
@@ -232,7 +241,7 @@ class DiscreteRod:
 
     # ---- updates
     def copy(self) -> DiscreteRod:
-        """An independent copy of the state."""
+        """Return an independent copy of the state."""
         return dataclasses.replace(self, x=self.x.copy(), R_edge=self.R_edge.copy(),
                                    R_joint=self.R_joint.copy(),
                                    joint_rotation=dict(self.joint_rotation),
@@ -255,8 +264,10 @@ class DiscreteRod:
         return np.arctan2(np.linalg.norm(np.cross(d2, t), axis=1), np.einsum("ei,ei->e", d2, t))
 
     def align_frames(self) -> None:
-        """Turn every edge frame by the smallest rotation that puts ``d2`` on the chord (the
-        shear of the stiff penalty goes to zero; the twist about the chord is kept)."""
+        """Turn every edge frame by the smallest rotation that puts ``d2`` on the chord.
+
+        The shear of the stiff penalty goes to zero; the twist about the chord is kept.
+        """
         chord = self.x[self.edge_nodes[:, 1]] - self.x[self.edge_nodes[:, 0]]
         t = chord / np.linalg.norm(chord, axis=1)[:, None]
         d2 = self.R_edge[:, :, 1]
@@ -267,9 +278,12 @@ class DiscreteRod:
         self.R_edge = rodrigues(phi) @ self.R_edge  # lab-frame rotation
 
     def rotate_joint(self, j: int, r: np.ndarray) -> None:
-        """Hold clamped joint ``j`` at its held frame turned by the rotation vector ``r``
-        (components in the held joint frame)."""
+        """Hold clamped joint ``j`` at its held frame turned by the rotation vector ``r``.
+
+        The components of ``r`` are in the held joint frame.
+        """
         self.joint_rotation[j] = np.asarray(r, float).copy()
+        assert self.R_joint_held is not None  # set by discretise
         self.R_joint[j] = self.R_joint_held[j] @ rodrigues(self.joint_rotation[j][None])[0]
 
     def apply(self, dq: np.ndarray) -> None:
@@ -283,14 +297,15 @@ class DiscreteRod:
 def discretise(a: Assembly, elements_per_segment: int = 32, load_factor: float = 1.0,
                *, supports_ok: tuple[str, ...] = ("clamped", "sliding-clamp", "free")
                ) -> DiscreteRod:
-    """The discrete rod of an assembly in its held state (an equilibrium when P2 says so)."""
+    """Return the discrete rod of an assembly in its held state (an equilibrium when P2 says so)."""
     if isinstance(elements_per_segment, bool) or not isinstance(elements_per_segment, int) \
             or elements_per_segment < 2:
         raise RodstabInputError(f"elements_per_segment must be an integer >= 2, got "
                                 f"{elements_per_segment!r}")
     joints = a.joints()
     joint_of = {end: k for k, joint in enumerate(joints) for end in joint}
-    xs, edge_nodes, lengths, Bs, kns, R_edge, pairs, links = [], [], [], [], [], [], [], []
+    xs, edge_nodes, lengths, Bs, kns, pairs, links = [], [], [], [], [], [], []
+    R_edge: list[np.ndarray] = []
     joint_node = {}
     n_nodes = 0
 
@@ -304,9 +319,9 @@ def discretise(a: Assembly, elements_per_segment: int = 32, load_factor: float =
     for k, joint in enumerate(joints):
         name, end = joint[0]
         seg = a.segment(name)
-        s = 0.0 if end == "start" else seg.length
-        joint_node[k] = node_at(seg.position(s))
-        R_joint[k] = _frame(seg.tangent(s))
+        s_end = 0.0 if end == "start" else seg.length
+        joint_node[k] = node_at(seg.position(s_end))
+        R_joint[k] = _frame(seg.tangent(s_end))
     ks, tws = [], []
     for seg in a.segments:
         n = elements_per_segment
@@ -372,8 +387,9 @@ def discretise(a: Assembly, elements_per_segment: int = 32, load_factor: float =
 
 
 def _balanced_link_curvatures(rod: DiscreteRod) -> tuple[np.ndarray, np.ndarray]:
-    """Natural curvatures ``a + mu b`` of the half-joints that make the held state an exact
-    equilibrium of every end edge.
+    """Return the half-joint natural curvatures ``a + mu b`` that balance the held end edges.
+
+    With them the held state is an exact equilibrium of every end edge.
 
     A half-joint spans half an edge, so the same curvature mismatch gives a slightly different
     generalised moment than a full joint (the Cayley measure's ``sec^2`` factor): its natural

@@ -21,6 +21,7 @@ cost the corrector its quadratic convergence, never its accuracy, because the re
 from __future__ import annotations
 
 import dataclasses
+from typing import Any
 
 import numpy as np
 
@@ -40,9 +41,11 @@ class LoadFactor:
     key = "load_factor"
 
     def get(self, rod: DiscreteRod) -> float:
+        """Return ``mu`` of ``rod``."""
         return float(rod.load_factor)
 
     def set(self, rod: DiscreteRod, value: float) -> None:
+        """Set ``mu`` of ``rod`` to ``value``."""
         rod.load_factor = float(value)
 
     def dgrad(self, rod: DiscreteRod) -> np.ndarray:
@@ -75,11 +78,13 @@ class SegmentValue:
 
     @property
     def key(self) -> str:
+        """Design key of the parameter, ``segment.<name>.<attr>``."""
         return f"segment.{self.name}.{self.attr}"
 
     def _natural(self, value: float) -> tuple:
         if value not in self._cache:
-            segs = tuple(dataclasses.replace(s, **{self.attr: float(value)})
+            change: dict[str, Any] = {self.attr: float(value)}
+            segs = tuple(dataclasses.replace(s, **change)
                          if s.name == self.name else s for s in self.assembly.segments)
             a = dataclasses.replace(self.assembly, segments=segs)  # validated again
             r = discretise(a, self.elements_per_segment)
@@ -89,10 +94,12 @@ class SegmentValue:
         return self._cache[value]
 
     def get(self, rod: DiscreteRod) -> float:
+        """Return the segment's value on ``rod`` (the design's until it was set)."""
         return float(rod.param_values.get(
             self.key, getattr(self.assembly.segment(self.name), self.attr)))
 
     def set(self, rod: DiscreteRod, value: float) -> None:
+        """Set the segment's value on ``rod`` to ``value`` (natural curvatures rebuilt)."""
         # Incremental (exact: everything is affine in the value), so that changes made to the
         # rod's natural shape elsewhere (an imperfection) are kept.
         new, old = self._natural(float(value)), self._natural(self.get(rod))
@@ -102,7 +109,9 @@ class SegmentValue:
             base = rod.edge_tw if rod.edge_tw is not None else z
             rod.edge_tw = base + ((new[1] if new[1] is not None else z)
                                   - (old[1] if old[1] is not None else z))
-        rod.k0_links = tuple(c + (n_ - o) for c, n_, o in zip(rod.k0_links, new[2], old[2]))
+        assert rod.k0_links is not None  # set by discretise
+        rod.k0_links = tuple(c + (n_ - o)
+                             for c, n_, o in zip(rod.k0_links, new[2], old[2], strict=True))
         rod.param_values[self.key] = float(value)
 
     def dgrad(self, rod: DiscreteRod) -> np.ndarray:
@@ -147,6 +156,7 @@ class EndRotation:
 
     @property
     def key(self) -> str:
+        """Design key of the parameter, ``support.<i>.rotation.<axis>``."""
         return f"support.{self.support}.rotation.{self.axis}"
 
     def _joint_Q(self, rod: DiscreteRod) -> tuple[int, np.ndarray]:
@@ -160,9 +170,11 @@ class EndRotation:
         return j, Q, Q.T @ rod.joint_rotation.get(j, np.zeros(3))
 
     def get(self, rod: DiscreteRod) -> float:
+        """Return the imposed rotation component ``r_c`` of ``rod`` (radians)."""
         return float(self._r(rod)[2][self._c])
 
     def set(self, rod: DiscreteRod, value: float) -> None:
+        """Turn the clamped end of ``rod`` so that ``r_c`` equals ``value`` (radians)."""
         j, Q, r = self._r(rod)
         r = r.copy()
         r[self._c] = float(value)
@@ -180,7 +192,7 @@ Parameter = LoadFactor | SegmentValue | EndRotation
 
 
 def parameter(assembly: Assembly, key: str, elements_per_segment: int) -> Parameter:
-    """The continuation parameter named ``key`` (see the module docstring); errors name it."""
+    """Return the continuation parameter named ``key`` (module docstring); errors name it."""
     parts = key.split(".")
     if key == "load_factor":
         return LoadFactor()

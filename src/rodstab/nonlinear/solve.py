@@ -83,7 +83,7 @@ def vee_log(P: np.ndarray) -> np.ndarray:
 
 
 def sliding_mode(rod: DiscreteRod) -> np.ndarray | None:
-    """The material-sliding zero mode of a uniform closed ring (free unknowns), or None.
+    """Return the material-sliding zero mode of a uniform closed ring (free unknowns), or None.
 
     A ring made of one uniform segment welded to itself has the same energy when its material
     slides along its own centreline: on a non-circular state that is a zero mode the
@@ -148,7 +148,8 @@ def _lowest_sparse(A: sp.spmatrix, k: int) -> tuple[np.ndarray, np.ndarray]:
     eigenvalues NEAREST the shift, so the shift is first moved below the lowest eigenvalue,
     certified by the inertia (:func:`count_below` = 0): then the nearest are the lowest and
     none is missed (a negative eigenvalue farther from 0 than a small positive one would be
-    missed by a shift placed from the eigenvalue nearest 0 alone)."""
+    missed by a shift placed from the eigenvalue nearest 0 alone).
+    """
     import warnings
 
     # A fixed start vector: ARPACK's default is random, which makes the last digits -- and so
@@ -176,8 +177,10 @@ def _lowest_sparse(A: sp.spmatrix, k: int) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _scaled_lowest(A: sp.spmatrix, k: int) -> tuple[np.ndarray, np.ndarray]:
-    """Lowest ``k`` eigenpairs of a (Jacobi-scaled) symmetric matrix: dense up to
-    ``DENSE_EIG_MAX`` unknowns, shift-invert Lanczos beyond."""
+    """Return the lowest ``k`` eigenpairs of a (Jacobi-scaled) symmetric matrix.
+
+    Dense up to ``DENSE_EIG_MAX`` unknowns, shift-invert Lanczos beyond.
+    """
     n = A.shape[0]
     if n <= DENSE_EIG_MAX:
         return sla.eigh(A.toarray(), subset_by_index=[0, min(k, n) - 1])
@@ -185,9 +188,11 @@ def _scaled_lowest(A: sp.spmatrix, k: int) -> tuple[np.ndarray, np.ndarray]:
 
 
 def lowest_modes(rod: DiscreteRod, k: int = 4) -> tuple[np.ndarray, np.ndarray]:
-    """Lowest ``k`` eigenpairs of the Jacobi-scaled free Hessian; vectors mapped back to the
-    free unknowns (``D v``), one column each. For a uniform closed ring the eigenpair that is
-    the material-sliding zero mode (:func:`sliding_mode`) is left out."""
+    """Return the lowest ``k`` eigenpairs of the Jacobi-scaled free Hessian.
+
+    Vectors are mapped back to the free unknowns (``D v``), one column each. For a uniform closed
+    ring the eigenpair that is the material-sliding zero mode (:func:`sliding_mode`) is left out.
+    """
     _, _, H = rod.energy_terms()
     free = rod.free_dofs()
     Hf = H[free][:, free].tocsc()
@@ -215,7 +220,7 @@ def lowest_modes(rod: DiscreteRod, k: int = 4) -> tuple[np.ndarray, np.ndarray]:
 
 
 def lowest_eigenvalues(rod: DiscreteRod, k: int = 4) -> np.ndarray:
-    """The ``k`` lowest eigenvalues of the Jacobi-scaled free Hessian at the current state."""
+    """Return the ``k`` lowest eigenvalues of the Jacobi-scaled free Hessian at this state."""
     return lowest_modes(rod, k)[0]
 
 
@@ -241,10 +246,12 @@ ROTATION_STEP = math.pi / 4
 
 
 def settle(rod: DiscreteRod) -> None:
-    """Apply the design's imposed end rotations gradually (in place): a rotation vector is
-    only defined modulo 2 pi, so a turn of 4 rad applied at once is a turn of 4 - 2 pi; the
-    path from the held state decides which twist the rod carries. Raises naming the angle
-    where Newton fails."""
+    """Apply the design's imposed end rotations gradually (in place).
+
+    A rotation vector is only defined modulo 2 pi, so a turn of 4 rad applied at once is a turn of 4
+    - 2 pi; the path from the held state decides which twist the rod carries. Raises naming the
+    angle where Newton fails.
+    """
     targets = {j: np.asarray(r, float).copy() for j, r in rod.joint_rotation.items()}
     largest = max((float(np.linalg.norm(r)) for r in targets.values()), default=0.0)
     n = int(math.ceil(largest / ROTATION_STEP))
@@ -264,9 +271,11 @@ RELAX_MAX_ITER = 600
 
 
 def relax(rod: DiscreteRod, *, escapes: int = 4) -> tuple[bool, int, float]:
-    """Newton, then, while the equilibrium found is unstable, a step down along its unstable
-    mode (both signs tried, the lower energy kept) and Newton again: a stable equilibrium
-    below the start's energy when one is reachable. Returns (ok, iterations, residual)."""
+    """Relax to a stable equilibrium below the start's energy when one is reachable.
+
+    Newton, then, while the equilibrium found is unstable, a step down along its unstable mode (both
+    signs tried, the lower energy kept) and Newton again. Returns (ok, iterations, residual).
+    """
     ok, its, res = newton(rod, max_iter=RELAX_MAX_ITER)
     scale = 0.01 * rod.assembly.total_length
     for _ in range(escapes):
@@ -308,10 +317,12 @@ def _newton_step(Hf: sp.spmatrix, gf: np.ndarray, dg: np.ndarray, tau: float
 
 
 def _spd_shift(Hf: sp.spmatrix, dg: np.ndarray) -> float:
-    """A shift ``tau`` with ``H + tau D`` positive definite: twice the magnitude of the
-    lowest eigenvalue of the Jacobi-scaled ``H`` when it is negative (else 0). Scaled
-    bending eigenvalues are tiny (~1e-8, the penalty dominates the diagonal), so a fixed
-    shift would swamp them and Newton would crawl like steepest descent."""
+    """Return a shift ``tau`` with ``H + tau D`` positive definite.
+
+    Twice the magnitude of the lowest eigenvalue of the Jacobi-scaled ``H`` when it is negative
+    (else 0). Scaled bending eigenvalues are tiny (~1e-8, the penalty dominates the diagonal), so a
+    fixed shift would swamp them and Newton would crawl like steepest descent.
+    """
     d = 1.0 / np.sqrt(dg)
     A = (sp.diags(d) @ Hf @ sp.diags(d)).tocsc()
     lam = float(_scaled_lowest(A, 1)[0][0])
@@ -319,7 +330,7 @@ def _spd_shift(Hf: sp.spmatrix, dg: np.ndarray) -> float:
 
 
 def _newton(rod: DiscreteRod, max_iter: int) -> tuple[bool, int, float]:
-    """The iteration of :func:`newton`: Newton with a Levenberg-Marquardt safeguard.
+    """Run the iteration of :func:`newton`: Newton with a Levenberg-Marquardt safeguard.
 
     Each step solves ``(H + lam D) s = -g`` (``D`` = |diag H|, so ``lam`` is on the scale of
     the Jacobi-scaled eigenvalues). ``lam = 0`` (pure Newton) while steps succeed; on an
@@ -327,7 +338,8 @@ def _newton(rod: DiscreteRod, max_iter: int) -> tuple[bool, int, float]:
     the energy falls by at least a quarter of the quadratic model's prediction, else ``lam``
     grows; after very good steps it shrinks back towards 0, so the final convergence is
     quadratic. Near a solution, where energy differences drown in round-off, a step that
-    lowers the gradient is accepted instead."""
+    lowers the gradient is accepted instead.
+    """
     free = rod.free_dofs()
     # Force scale of the stiffest terms (stretch/shear penalty): the residual is relative to it.
     scale = float(PENALTY * np.max(rod.edge_B) / np.min(rod.rest_length))
@@ -375,10 +387,12 @@ def _newton(rod: DiscreteRod, max_iter: int) -> tuple[bool, int, float]:
 
 def equilibrium(a: Assembly, *, load_factor: float = 1.0, elements_per_segment: int = 32,
                 n_eig: int = 4, perturb: float = 0.0) -> tuple[Equilibrium, DiscreteRod]:
-    """Equilibrium from the held state at ``load_factor`` and its Hessian stability. With
-    ``perturb``: from the held state plus a seeded random mix of its four softest modes with a
-    largest node displacement of ``perturb`` x the total length, relaxed to a stable
-    equilibrium when one is reachable (:func:`relax`)."""
+    """Find the equilibrium from the held state at ``load_factor`` and its Hessian stability.
+
+    With ``perturb``: from the held state plus a seeded random mix of its four softest modes with a
+    largest node displacement of ``perturb`` x the total length, relaxed to a stable equilibrium
+    when one is reachable (:func:`relax`).
+    """
     rod = discretise(a, elements_per_segment, load_factor)
     settle(rod)
     if perturb:

@@ -73,7 +73,7 @@ def fig5(data: dict, out: Path) -> list[Path]:
 
 
 def fig_rings(data: dict, out: Path) -> list[Path]:
-    """New figure: stable (L/2pi) kappa_n intervals of N-loop rings vs rectangle h/t."""
+    """Draw the new figure: stable (L/2pi) kappa_n intervals of N-loop rings vs rectangle h/t."""
     fig = Figure(figsize=(6.4, 4.6))
     ax = fig.subplots()
     for N in data["loops"]:
@@ -101,7 +101,7 @@ def fig9(data: dict, out: Path) -> list[Path]:
     """Fig. 9: modal u3/L and twist around the folded six-sided ring (two modes)."""
     fig = Figure(figsize=(7, 2.6 * len(data)))
     axes = fig.subplots(len(data), 1, sharex=True)
-    for ax, (label, d) in zip(axes, data.items()):
+    for ax, (label, d) in zip(axes, data.items(), strict=True):
         ax.plot(d["s_over_L"], d["u3_over_L"], label="u3 / L (max 1)")
         om = d["omega"]
         scale = max(abs(v) for v in om) or 1.0
@@ -133,8 +133,11 @@ def sweep_plot(rows: list[dict], key: str, out: Path) -> Path:
 
 
 def fig_beyond(data: dict, out: Path) -> list[Path]:
-    """Post-buckled branches, imperfect paths of the straightened rod, Koiter's law of the
-    twisted rod, and the energy along the 1-loop -> 3-loop ring path."""
+    """Draw the beyond-the-paper figure: post-buckling, imperfections, Koiter, ring energy.
+
+    Post-buckled branches, imperfect paths of the straightened rod, Koiter's law of the twisted rod,
+    and the energy along the 1-loop -> 3-loop ring path.
+    """
     fig = Figure(figsize=(12, 13))
     axes = fig.subplots(3, 2)
     ax = axes[0, 0]
@@ -147,7 +150,7 @@ def fig_beyond(data: dict, out: Path) -> list[Path]:
     ax.legend(fontsize=7)
     ax = axes[0, 1]
     imp = data["imperfection"]
-    for eps, path in zip(imp["epsilon"], imp["paths"]):
+    for eps, path in zip(imp["epsilon"], imp["paths"], strict=True):
         ax.plot([p[1] for p in path], [p[0] / imp["mu_c"] for p in path],
                 label=f"eps = {eps:g} L")
     ax.axhline(1.0, color="k", lw=0.8, ls=":")
@@ -218,8 +221,11 @@ def fig_beyond(data: dict, out: Path) -> list[Path]:
 
 
 def continuation_plot(result, out: Path) -> Path:
-    """Bifurcation diagram: the primary path (solid where stable, dashed where not) and the
-    secondary branches (amplitude vs parameter), and the lowest eigenvalue along the path."""
+    """Draw the bifurcation diagram and the lowest eigenvalue along the path.
+
+    The primary path (solid where stable, dashed where not) and the secondary branches (amplitude vs
+    parameter).
+    """
     fig = Figure(figsize=(10, 4))
     axes = fig.subplots(1, 2)
     val = np.array(result.value)

@@ -1,5 +1,7 @@
-"""Continuation of discrete-rod equilibria: one corrector, one path type, special points,
-branches and their post-buckling, studies, run storage.
+"""Continuation of discrete-rod equilibria.
+
+One corrector, one path type, special points, branches and their post-buckling, studies, run
+storage.
 
 :mod:`.corrector` (the bordered Newton corrector with arclength/amplitude/phase rows, the
 stepper) -> :mod:`.path` (the :class:`Path` result, the amplitude ``xi`` and the post-buckling

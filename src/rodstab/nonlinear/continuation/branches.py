@@ -1,5 +1,7 @@
-"""Branches from a bifurcation: their directions, tracing (arclength or amplitude control) and
-the one post-buckling verdict (:func:`.path.post_buckling`).
+"""Branches from a bifurcation: their directions, tracing and post-buckling verdict.
+
+Tracing by arclength or amplitude control; the one post-buckling verdict is
+:func:`.path.post_buckling`.
 
 **Directions.** At a simple critical eigenvalue the branch leaves along the critical mode. At a
 double one (a symmetric structure: the folded six-sided ring, a uniform ring, an isotropic
@@ -61,9 +63,11 @@ FIT_RTOL = 1e-2
 
 @dataclasses.dataclass(frozen=True)
 class Direction:
-    """A branch direction at a bifurcation: the mode (free unknowns), the phase pin (the
-    orthogonal critical mode at a double eigenvalue, else None) and ``P`` (module docstring;
-    NaN at a simple eigenvalue)."""
+    """A branch direction at a bifurcation.
+
+    The mode (free unknowns), the phase pin (the orthogonal critical mode at a double eigenvalue,
+    else None) and ``P`` (module docstring; NaN at a simple eigenvalue).
+    """
 
     mode: np.ndarray
     phase: np.ndarray | None
@@ -92,9 +96,12 @@ def _pinned(rod: DiscreteRod, param: Parameter, v: np.ndarray, z: np.ndarray, ep
 
 def _probe(rod: DiscreteRod, param: Parameter, v: np.ndarray, z: np.ndarray, eps: float
            ) -> float:
-    """``P = (p(2 eps) - p(eps)) / (3 eps^2)``: the quadratic coefficient of the pinned
-    solution's parameter, free of the offset of ``rod`` from the exact bifurcation (a located
-    branch point is off by ~1e-4 in ``p``, which would swamp ``(p - p0) / eps^2``)."""
+    """Return ``P = (p(2 eps) - p(eps)) / (3 eps^2)``, the parameter's quadratic coefficient.
+
+    The coefficient of the pinned solution's parameter, free of the offset of ``rod`` from the exact
+    bifurcation (a located branch point is off by ~1e-4 in ``p``, which would swamp
+    ``(p - p0) / eps^2``).
+    """
     return (_pinned(rod, param, v, z, 2 * eps) - _pinned(rod, param, v, z, eps)) / (3 * eps**2)
 
 
@@ -151,7 +158,7 @@ def branch_directions(rod: DiscreteRod, param: Parameter, stable_side: float,
 def _branch_path(key: str, p_c: float, sides: dict, start: tuple, stable_side: float,
                  converged: bool, method: str, shapes: list, shape_values: list,
                  specials: tuple = (), states: tuple = ()) -> Path:
-    """A branch in path order: the negative side reversed, the bifurcation, the positive."""
+    """Return a branch in path order: the negative side reversed, the bifurcation, the positive."""
     pts = sides.get(-1.0, [])[::-1] + [start] + sides.get(1.0, [])
     X = np.array([q[0] for q in pts])
     V = np.array([q[1] for q in pts])
@@ -169,10 +176,12 @@ def _branch_path(key: str, p_c: float, sides: dict, start: tuple, stable_side: f
 
 def _land(rod: DiscreteRod, param: Parameter, value: float, phase: np.ndarray | None
           ) -> DiscreteRod | None:
-    """The equilibrium at ``value`` next to ``rod`` on its branch: the corrector with the
-    parameter held (row ``(0, 1)``), i.e. plain Newton, which stays on a saddle branch where
-    the descent safeguards of :func:`..solve.newton` would leave it; in 1, 2, 4 or 8 equal
-    parameter steps. None if none converges."""
+    """Return the equilibrium at ``value`` next to ``rod`` on its branch, or None.
+
+    The corrector with the parameter held (row ``(0, 1)``), i.e. plain Newton, which stays on a
+    saddle branch where the descent safeguards of :func:`..solve.newton` would leave it; in 1, 2, 4
+    or 8 equal parameter steps. None if none converges.
+    """
     zero = np.zeros(len(rod.free_dofs()))
     p0 = param.get(rod)
     for m in (1, 2, 4, 8):
@@ -194,15 +203,18 @@ def trace_branch(rod: DiscreteRod, param: Parameter, stable_side: float, ds: flo
                  direction: Direction | None = None, stop_at_special: bool = False,
                  stop_kinds: tuple[SpecialKind, ...] = tuple(SpecialKind),
                  window: tuple[float, float] | None = None, first_step: float = 1.0) -> Path:
-    """Trace the branch leaving the bifurcation ``rod`` by pseudo-arclength, ``n_steps`` steps
-    each way (``signs``), about ``ds`` (length unit) of amplitude per step, up to 4 ``ds``.
+    """Trace the branch leaving the bifurcation ``rod`` by pseudo-arclength.
+
+    ``n_steps`` steps each way (``signs``), about ``ds`` (length unit) of amplitude per step, up to
+    4 ``ds``.
 
     ``direction``: default the most dangerous of :func:`branch_directions`. With
     ``stop_at_special`` the special points are located (in ``special_points``; the states there
     in ``states``) and a side stops at the first one of a kind in ``stop_kinds``; ``window``: a
     side stops once the parameter leaves it, on a point landed exactly on its edge.
     ``first_step``: the first step as a fraction of ``ds`` (steps then grow by 1.5), so that a
-    coarse branch still has points at small amplitude for the post-buckling fit."""
+    coarse branch still has points at small amplitude for the post-buckling fit.
+    """
     p_c = param.get(rod)
     d = direction or branch_directions(rod, param, stable_side, length)[0]
     mode_w = mode_out_of_plane(rod, d.mode)
@@ -258,9 +270,11 @@ def trace_branch(rod: DiscreteRod, param: Parameter, stable_side: float, ds: flo
 
 def _advance(rod: DiscreteRod, param: Parameter, k: int, target: float, direction: np.ndarray,
              phase: np.ndarray | None, depth: int = 0) -> bool:
-    """Move the branch to amplitude ``target`` of free unknown ``k`` (predictor along
-    ``direction``, the amplitude row in :func:`.corrector.correct`); on failure restore the
-    state and take two half steps (at most 5 halvings)."""
+    """Move the branch to amplitude ``target`` of free unknown ``k``.
+
+    Predictor along ``direction``, the amplitude row in :func:`.corrector.correct`; on failure
+    restore the state and take two half steps (at most 5 halvings).
+    """
     free = rod.free_dofs()
     saved = rod.copy()
     cur = rod.x.reshape(-1)[free[k]]
@@ -284,10 +298,12 @@ def _advance(rod: DiscreteRod, param: Parameter, k: int, target: float, directio
 def amplitude_branch(rod: DiscreteRod, param: Parameter, stable_side: float,
                      xis: np.ndarray, *, length: float, direction: Direction | None = None
                      ) -> Path:
-    """Branch from the bifurcation ``rod`` under amplitude control: the free unknown that the
-    critical mode moves most is prescribed so that ``xi`` is about each of ``xis`` (both
-    signs), the parameter solved for. Passes folds of the parameter; cannot pass a fold of
-    the amplitude (use :func:`trace_branch`)."""
+    """Branch from the bifurcation ``rod`` under amplitude control.
+
+    The free unknown that the critical mode moves most is prescribed so that ``xi`` is about each of
+    ``xis`` (both signs), the parameter solved for. Passes folds of the parameter; cannot pass a
+    fold of the amplitude (use :func:`trace_branch`).
+    """
     p_c = param.get(rod)
     d = direction or branch_directions(rod, param, stable_side, length)[0]
     mode_w = mode_out_of_plane(rod, d.mode)
@@ -332,9 +348,11 @@ def _bifurcation(a: Assembly, lo: float, hi: float, n: int) -> tuple[DiscreteRod
 def post_buckling_branch(a: Assembly, lo: float, hi: float, *, elements_per_segment: int = 24,
                          amplitudes: np.ndarray | None = None,
                          reference_segment: str | None = None) -> Path:
-    """Branch from the first bifurcation of the held state in the load factor in ``(lo, hi]``
-    under amplitude control (:func:`amplitude_branch`); ``amplitudes``: the values of ``xi``
-    (default 12 up to 0.02)."""
+    """Branch from the first bifurcation of the held state under amplitude control.
+
+    The first bifurcation in the load factor in ``(lo, hi]``, traced by :func:`amplitude_branch`;
+    ``amplitudes``: the values of ``xi`` (default 12 up to 0.02).
+    """
     rod, side = _bifurcation(a, lo, hi, elements_per_segment)
     xis = np.linspace(0.0, 0.02, 13)[1:] if amplitudes is None else np.asarray(amplitudes)
     return amplitude_branch(rod, LoadFactor(), side, xis,
@@ -347,10 +365,13 @@ def arclength_from_bifurcation(a: Assembly, lo: float, hi: float, *,
                                both_sides: bool = False, stop_at_special: bool = False,
                                stop_kinds: tuple[SpecialKind, ...] = tuple(SpecialKind),
                                reference_segment: str | None = None) -> Path:
-    """Branch from the first bifurcation of the held state in the load factor in ``(lo, hi]``
-    by pseudo-arclength (:func:`trace_branch`), one side (the mode's sign) unless
-    ``both_sides``; stops after ``n_steps``, when the load leaves ``mu_window`` or, with
-    ``stop_at_special``, at the first special point of a kind in ``stop_kinds`` (located)."""
+    """Branch from the first bifurcation of the held state by pseudo-arclength.
+
+    The first bifurcation in the load factor in ``(lo, hi]``, traced by :func:`trace_branch`, one
+    side (the mode's sign) unless ``both_sides``; stops after ``n_steps``, when the load leaves
+    ``mu_window`` or, with ``stop_at_special``, at the first special point of a kind in
+    ``stop_kinds`` (located).
+    """
     lo, hi = check_number("lo", lo), check_number("hi", hi)
     if not lo < hi:
         raise RodstabInputError(f"arclength_from_bifurcation needs lo < hi, got {lo!r}, {hi!r}")

@@ -53,9 +53,12 @@ def force_scale(rod: DiscreteRod) -> float:
 
 
 def solve_bordered(M: sp.spmatrix, rhs: np.ndarray) -> np.ndarray | None:
-    """Solve a bordered system; at a double eigenvalue (singular ``M``: a second critical
-    mode) take the minimum-norm solution, which keeps that mode's amplitude. None if that fails
-    too (or the system is too large for the dense fallback)."""
+    """Solve a bordered system, with a minimum-norm fallback at a double eigenvalue.
+
+    At a double eigenvalue (singular ``M``: a second critical mode) take the minimum-norm solution,
+    which keeps that mode's amplitude. None if that fails too (or the system is too large for the
+    dense fallback).
+    """
     with np.errstate(all="ignore"), warnings.catch_warnings():
         warnings.simplefilter("ignore")
         sol = spla.spsolve(M.tocsc(), rhs)
@@ -122,7 +125,7 @@ def correct(rod: DiscreteRod, param: Parameter, row_q: np.ndarray, row_p: float,
 
 
 def pinned_equilibrium(rod: DiscreteRod, sigma: float | None, phase: np.ndarray | None) -> bool:
-    """True when :func:`correct` converged to a true equilibrium (``sigma`` ~ 0)."""
+    """Return whether :func:`correct` converged to a true equilibrium (``sigma`` ~ 0)."""
     if sigma is None:
         return False
     return phase is None or abs(sigma) * float(np.max(np.abs(phase))) <= PHASE_RTOL * \
@@ -131,8 +134,10 @@ def pinned_equilibrium(rod: DiscreteRod, sigma: float | None, phase: np.ndarray 
 
 def tangent(rod: DiscreteRod, param: Parameter, tq_prev: np.ndarray, tp_prev: float,
             phase: np.ndarray | None = None) -> tuple[np.ndarray, float]:
-    """Unit tangent of the path: ``[H dg/dp; t_prev^T] t = [0; 1]``, normalised, oriented
-    along the previous tangent (kept if the solve fails)."""
+    """Return the unit tangent of the path: ``[H dg/dp; t_prev^T] t = [0; 1]``, normalised.
+
+    Oriented along the previous tangent (kept if the solve fails).
+    """
     free = rod.free_dofs()
     n = len(free)
     _, _, H = rod.energy_terms()
@@ -163,7 +168,8 @@ class Stepper:
     :func:`tangent`. The step halves when the corrector fails or the corrected point lies
     farther than ``2 h`` from the step's start (it jumped to another branch), and grows by 1.5
     after a success up to ``h_max``. On a non-circular state of a uniform closed ring the
-    material-sliding family is pinned by its own mode; otherwise by ``phase`` if given."""
+    material-sliding family is pinned by its own mode; otherwise by ``phase`` if given.
+    """
 
     def __init__(self, rod: DiscreteRod, param: Parameter, tq: np.ndarray, tp: float,
                  h: float, h_max: float | None = None, phase: np.ndarray | None = None) -> None:

@@ -51,7 +51,8 @@ class Path(Result):
     ``branches`` are empty on a branch unless it was traced with special-point detection.
     ``shapes`` (node positions, one side of a branch, at the parameter values
     ``shape_values``) and ``states`` (``(value, state)`` at losses of stability and folds) are
-    left out of :meth:`to_dict`."""
+    left out of :meth:`to_dict`.
+    """
 
     key: str
     value: tuple[float, ...]
@@ -95,8 +96,11 @@ def _rigid_free(rod: DiscreteRod) -> bool:
 
 
 def out_of_plane(rod: DiscreteRod, x: np.ndarray, ref: np.ndarray) -> np.ndarray:
-    """Out-of-plane displacement ``x - ref`` per node, less the rigid part the supports leave
-    free (least squares on ``1, x, y`` of the reference positions)."""
+    """Return the out-of-plane displacement ``x - ref`` per node, less the free rigid part.
+
+    The rigid part the supports leave free is removed by least squares on ``1, x, y`` of the
+    reference positions.
+    """
     w = x[:, 2] - ref[:, 2]
     if _rigid_free(rod):
         A = np.column_stack([np.ones(len(ref)), ref[:, 0], ref[:, 1]])
@@ -106,8 +110,10 @@ def out_of_plane(rod: DiscreteRod, x: np.ndarray, ref: np.ndarray) -> np.ndarray
 
 def xi(rod: DiscreteRod, x: np.ndarray, ref: np.ndarray, mode_w: np.ndarray,
        length: float) -> float:
-    """The signed amplitude ``xi`` of state ``x`` relative to ``ref`` (module docstring);
-    ``mode_w``: the critical mode's :func:`out_of_plane` field, for the sign."""
+    """Return the signed amplitude ``xi`` of state ``x`` relative to ``ref`` (module docstring).
+
+    ``mode_w``: the critical mode's :func:`out_of_plane` field, for the sign.
+    """
     w = out_of_plane(rod, x, ref)
     return math.copysign(float(np.max(np.abs(w))) / length, float(w @ mode_w) or 1.0)
 
@@ -126,10 +132,12 @@ ASYMMETRY_RATIO = 0.2
 
 def post_buckling(xis: np.ndarray, values: np.ndarray, p_c: float, stable_side: float
                   ) -> tuple[str, float, float]:
-    """Verdict and ``(a, b)`` of ``p/p_c = 1 + a xi + b xi^2`` from a branch's points (both
-    signs of ``xi``); ``stable_side``: the sign of ``p - p_c`` where the primary path is
-    stable. A quartic fit (when there are >= 6 points) keeps ``b`` from absorbing the
-    higher-order terms, so tracers that sample different amplitudes agree."""
+    """Return the verdict and ``(a, b)`` of ``p/p_c = 1 + a xi + b xi^2`` from a branch's points.
+
+    The points cover both signs of ``xi``; ``stable_side``: the sign of ``p - p_c`` where the
+    primary path is stable. A quartic fit (when there are >= 6 points) keeps ``b`` from absorbing
+    the higher-order terms, so tracers that sample different amplitudes agree.
+    """
     xis, values = np.asarray(xis, float), np.asarray(values, float)
     if len(xis) < 3 or p_c == 0 or not math.isfinite(p_c):
         return "undetermined (branch too short)", math.nan, math.nan

@@ -1,5 +1,8 @@
-"""Continuation of the equilibrium in one parameter: the primary path, its special points
-(:mod:`.special`) and the branches leaving its losses of stability (:mod:`.branches`)."""
+"""Continuation of the equilibrium in one parameter.
+
+The primary path, its special points (:mod:`.special`) and the branches leaving its losses of
+stability (:mod:`.branches`).
+"""
 
 from __future__ import annotations
 
@@ -29,8 +32,10 @@ REACH_STEPS_MAX = 200
 
 
 def _reach(rod: DiscreteRod, param: Parameter, key: str, start: float, h: float) -> None:
-    """Bring ``rod`` from its parameter value to ``start`` by Newton in steps of at most ``h``
-    (at most REACH_STEPS_MAX steps); raise naming the value where Newton fails."""
+    """Bring ``rod`` from its parameter value to ``start`` by Newton in steps of at most ``h``.
+
+    At most REACH_STEPS_MAX steps; raise naming the value where Newton fails.
+    """
     p0 = param.get(rod)
     n = int(math.ceil(abs(start - p0) / h)) if start != p0 else 0
     if n > REACH_STEPS_MAX:

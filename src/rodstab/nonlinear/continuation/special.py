@@ -32,7 +32,7 @@ FOLD_COS = 1e-3
 
 
 def lowest(rod: DiscreteRod) -> float:
-    """The lowest (scaled) Hessian eigenvalue of ``rod``: > 0 stable."""
+    """Return the lowest (scaled) Hessian eigenvalue of ``rod``: > 0 stable."""
     return float(lowest_modes(rod, 1)[0][0])
 
 
@@ -41,7 +41,8 @@ def _refine(param: Parameter, prev: DiscreteRod, tq: np.ndarray, tp: float, h: f
             phase: np.ndarray | None) -> tuple[DiscreteRod, tuple, tuple | None, float]:
     """Re-trace a bracket twice with an eighth of the step until ``indicator`` changes sign.
 
-    Returns the state at the bracket's start, its (p, indicator) ends and the step used."""
+    Returns the state at the bracket's start, its (p, indicator) ends and the step used.
+    """
     lo, lo_tq, lo_tp = prev.copy(), tq, tp
     b0, b1 = (param.get(prev), v0), None
     for _ in range(2):
@@ -68,7 +69,8 @@ def locate(rod: DiscreteRod, param: Parameter, prev: DiscreteRod, prev_tq: np.nd
     """Classify and locate the special point between ``prev`` and ``rod`` (module docstring).
 
     Returns the point (``kind``, ``value``, ``bracket``, and for turning points
-    ``mode_cosine_with_dg_dp``) and the state there (None if Newton failed there)."""
+    ``mode_cosine_with_dg_dp``) and the state there (None if Newton failed there).
+    """
     if (prev_tp > 0) != (tp_now > 0):
         # Near a turning point p(s) is a parabola in the arclength s, t_p = dp/ds linear: from
         # the two ends of the refined bracket, s* = ds tp0 / (tp0 - tp1), p* = p0 + tp0 s* / 2.
@@ -117,5 +119,5 @@ def locate(rod: DiscreteRod, param: Parameter, prev: DiscreteRod, prev_tq: np.nd
 
 
 def crossed(e0: float, e1: float, tp0: float, tp1: float) -> bool:
-    """A special point lies between two points with these eigenvalues and tangents ``t_p``."""
+    """Test for a special point between two points with these eigenvalues and tangents ``t_p``."""
     return (e0 > 0) != (e1 > 0) or (tp0 > 0) != (tp1 > 0)

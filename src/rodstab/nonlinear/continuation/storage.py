@@ -24,13 +24,14 @@ OUTPUTS = ("run.json", "state.npz", "primary.csv", "special_points.json", "branc
 
 
 def design_hash(a: Assembly) -> str:
-    """A short hash of the whole design (its repr)."""
+    """Return a short hash of the whole design (its repr)."""
     return hashlib.sha256(repr(a).encode()).hexdigest()[:16]
 
 
 def state_hash(rod: DiscreteRod) -> str:
-    """A short hash of a discrete state and its natural shape (an imperfect start differs)."""
+    """Return a short hash of a discrete state and its natural shape (imperfect starts differ)."""
     hsh = hashlib.sha256()
+    assert rod.k0_links is not None  # set by discretise
     for arr in (rod.x, rod.R_edge, rod.R_joint, rod.k_held_pairs, rod.k0_links[0]):
         hsh.update(np.ascontiguousarray(arr).tobytes())
     return hsh.hexdigest()[:16]
@@ -44,7 +45,7 @@ def write_atomic(path: FsPath, text: str) -> None:
 
 
 def load_state(path: FsPath) -> dict | None:
-    """The saved run in ``path``, or None if there is none or it cannot be read."""
+    """Return the saved run in ``path``, or None if there is none or it cannot be read."""
     if not path.exists():
         return None
     try:
@@ -76,6 +77,7 @@ def export(out: FsPath, rows: list, specials: list) -> None:
     lines = ["branch,value,amplitude,energy,lowest_eigenvalue"]
     for i, sp_ in enumerate(s for s in specials if "branch" in s):
         b = sp_["branch"]
-        for row in zip(b["value"], b["amplitude"], b["energy"], b["lowest_eigenvalue"]):
+        for row in zip(b["value"], b["amplitude"], b["energy"], b["lowest_eigenvalue"],
+                       strict=True):
             lines.append(f"{i}," + ",".join(repr(float(v)) for v in row))
     write_atomic(out / "branches.csv", "\n".join(lines) + "\n")

@@ -1,5 +1,7 @@
-"""Studies built on continuation: the critical load along a primary path that is not the held
-state, and imperfection sensitivity."""
+"""Studies built on continuation: critical loads off the held state, imperfection sensitivity.
+
+The critical load along a primary path that is not the held state, and imperfection sensitivity.
+"""
 
 from __future__ import annotations
 
@@ -30,9 +32,11 @@ class PrimaryCritical(Result):
 
 def critical_along_primary(a: Assembly, mu_start: float, mu_stop: float, *,
                            elements_per_segment: int = 32, ds: float = 0.05) -> PrimaryCritical:
-    """Critical load of a primary path that is NOT the held state (e.g. a twisted ring): the
-    first branch point or fold of :func:`.continuation` in the load factor (no branch traced),
-    located in a bracket re-traced to ``ds / 64`` (error well below the discretisation's)."""
+    """Find the critical load of a primary path that is NOT the held state (e.g. a twisted ring).
+
+    The first branch point or fold of :func:`.continuation` in the load factor (no branch traced),
+    located in a bracket re-traced to ``ds / 64`` (error well below the discretisation's).
+    """
     c = continuation(a, "load_factor", mu_start, mu_stop,
                      max(1, int(math.ceil(abs(mu_stop - mu_start) / ds))),
                      elements_per_segment=elements_per_segment, branch_steps=0,
@@ -64,9 +68,11 @@ class ImperfectionSensitivity(Result):
 
 def imperfect(state: DiscreteRod, target: DiscreteRod, vec: np.ndarray, eps: float
               ) -> DiscreteRod:
-    """``target`` (a held state) whose natural shape contains ``eps`` times the mode ``vec``
-    (free unknowns) of ``state``: every joint's natural curvature changes by the curvature
-    change that the displacement ``eps * vec`` causes at ``state``; the supports stay."""
+    """Return ``target`` (a held state) whose natural shape contains ``eps`` times a mode.
+
+    The mode is ``vec`` (free unknowns) of ``state``: every joint's natural curvature changes by the
+    curvature change that the displacement ``eps * vec`` causes at ``state``; the supports stay.
+    """
     moved = state.copy()
     dq = np.zeros(state.n_dof)
     dq[state.free_dofs()] = eps * vec
@@ -75,6 +81,7 @@ def imperfect(state: DiscreteRod, target: DiscreteRod, vec: np.ndarray, eps: flo
     kp1, kl1 = held_curvatures(moved)
     imp = target.copy()
     imp.k_held_pairs = target.k_held_pairs + (kp1 - kp0)
+    assert target.k0_links is not None  # set by discretise
     a, b = target.k0_links
     imp.k0_links = (a + (kl1 - kl0), b)
     return imp
@@ -84,9 +91,10 @@ def imperfection_sensitivity(a: Assembly, key: str, start: float, stop: float, *
                              epsilons: tuple[float, ...] = (1e-3, 2e-3, 4e-3, 8e-3),
                              elements_per_segment: int = 16,
                              n_steps: int = 20) -> ImperfectionSensitivity:
-    """Limit value ``p_max(eps)`` of the parameter ``key`` for imperfections of amplitude
-    ``eps L`` (``L``: total length; mode scaled to a largest entry of 1) shaped like the
-    critical mode of the perfect structure.
+    """Find the limit value ``p_max(eps)`` of parameter ``key`` for imperfections of size ``eps``.
+
+    Imperfections of amplitude ``eps L`` (``L``: total length; mode scaled to a largest entry of 1)
+    shaped like the critical mode of the perfect structure.
 
     The perfect path from ``start`` towards ``stop`` gives the critical value ``p_c`` and its
     mode (:func:`.continuation`); each imperfect structure is followed from ``start`` by the
@@ -122,7 +130,7 @@ def imperfection_sensitivity(a: Assembly, key: str, start: float, stop: float, *
         # result that does not grow with eps is reported as inconclusive below.
         lost = [s for s in c.special_points if s["kind"] != SpecialKind.REGAINED.value]
         limits.append(float(lost[0]["value"]) if lost else math.nan)
-        paths.append(tuple(zip(c.value, c.amplitude)))
+        paths.append(tuple(zip(c.value, c.amplitude, strict=True)))
     lim = np.array(limits)
     side = math.copysign(1.0, start - p_c)  # the stable side of p_c
     ok = np.isfinite(lim) & ((lim - p_c) * side > 0)
