@@ -247,7 +247,8 @@ def continuation_plot(result, out: Path) -> Path:
         axes[0].axvline(p["value"], color="r", ls=":", lw=0.8)
         axes[1].axvline(p["value"], color="r", ls=":", lw=0.8)
     axes[0].set_xlabel(result.key)
-    axes[0].set_ylabel("amplitude (primary: largest node displacement;\nbranch: xi, out-of-plane / L)")
+    axes[0].set_ylabel("amplitude (primary: largest node displacement;\n"
+                       "branch: xi, out-of-plane / L)")
     axes[0].set_title("bifurcation diagram (dashed: unstable)")
     axes[0].legend(fontsize=7)
     axes[0].grid(alpha=0.3)
