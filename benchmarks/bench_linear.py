@@ -12,13 +12,13 @@ import statistics
 import time
 
 from rodstab.linear.solve import linear_stability
+from rodstab.problems import folded_ring
 from rodstab.sections import circle
-from rodstab.structures import folded_ring
 
 
 def main() -> None:
     sec = circle()
-    a = folded_ring(sec)
+    a = folded_ring.build(folded_ring.Params(section=sec))
     exact = math.pi / 3 * sec.sqrt_b1b2  # three methods agree (tests)
     print(f"{'elements/seg':>12} {'dof':>7} {'median ms':>10} {'rel. error':>11}")
     rows = []

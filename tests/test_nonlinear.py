@@ -11,10 +11,12 @@ from rodstab.linear.solve import linear_stability
 from rodstab.model import Assembly, Segment
 from rodstab.nonlinear.discrete import discretise
 from rodstab.nonlinear.solve import critical_load_factor, equilibrium, lowest_eigenvalues, newton
+from rodstab.problems import birod, folded_ring
 from rodstab.sections import circle, rectangle
-from rodstab.structures import birod, folded_ring
 
 C = circle()
+BIROD = birod.Params(section=C)
+SIX = folded_ring.Params(section=C)
 EXPECTED_ORDER = 2.0  # Cayley curvature between edge frames: O(l_e^2)
 
 
@@ -34,7 +36,7 @@ def arc(L_over_R, sec=C):
 
 
 @pytest.mark.parametrize("build", [lambda: arc(2.0, rectangle(aspect=2.0)), lambda: ring(1),
-                                   lambda: folded_ring(C)], ids=["arc", "ring", "six"])
+                                   lambda: folded_ring.build(SIX)], ids=["arc", "ring", "six"])
 def test_gradient_and_hessian_match_finite_differences_on_random_states(build):
     """Exact jets vs central differences of the energy along random directions in the chart
     x + dx, R exp(hat(phi)) (second differences give d^T H d; first differences g . d)."""
@@ -56,8 +58,8 @@ def test_gradient_and_hessian_match_finite_differences_on_random_states(build):
     assert abs(H - H.T).max() <= 1e-10 * abs(H).max()
 
 
-@pytest.mark.parametrize("build", [straight, lambda: ring(3), lambda: arc(2.0), lambda: birod(C),
-                                   lambda: folded_ring(C)])
+@pytest.mark.parametrize("build", [straight, lambda: ring(3), lambda: arc(2.0),
+                                   lambda: birod.build(BIROD), lambda: folded_ring.build(SIX)])
 def test_held_state_is_an_exact_equilibrium(build):
     rod = discretise(build(), 8, 0.7)
     _, g, _ = rod.energy_terms()
@@ -70,8 +72,8 @@ def test_held_state_is_an_exact_equilibrium(build):
     ("ring N=1", lambda: ring(1), 1.05, 3.0, 32),
     ("ring N=3", lambda: ring(3), 1.01, 1.6, 96),
     ("arc L/R=2", lambda: arc(2.0), 1.05, 6.0, 32),
-    ("bi-rod", lambda: birod(C), 0.1, 4.0, 32),
-    ("folded six-ring", lambda: folded_ring(C), 0.1, 2.0, 16),
+    ("bi-rod", lambda: birod.build(BIROD), 0.1, 4.0, 32),
+    ("folded six-ring", lambda: folded_ring.build(SIX), 0.1, 2.0, 16),
 ])
 def test_nonlinear_hessian_critical_agrees_with_linear_engine_within_half_percent(
         name, build, lo, hi, n):
@@ -83,7 +85,8 @@ def test_nonlinear_hessian_critical_agrees_with_linear_engine_within_half_percen
     assert abs(nl - lin) / lin < 5e-3
 
 
-@pytest.mark.parametrize("build, lo, hi", [(straight, 1.0, 9.0), (lambda: birod(C), 0.1, 4.0)],
+@pytest.mark.parametrize("build, lo, hi",
+                         [(straight, 1.0, 9.0), (lambda: birod.build(BIROD), 0.1, 4.0)],
                          ids=["straight", "birod"])
 def test_nonlinear_critical_converges_at_second_order(build, lo, hi):
     a = build()
@@ -211,7 +214,7 @@ def test_cli_continue_detects_the_birod_branch_point_and_resumes(run_cli, tmp_pa
     r = run_cli(cmd)
     assert r.exit_code == 0, r.stderr
     p = json.loads(r.stdout)
-    lin = linear_stability(birod(C), 64).load_factor_critical
+    lin = linear_stability(birod.build(BIROD), 64).load_factor_critical
     (sp,) = p["special_points"]
     assert abs(sp["value"] - lin) / lin < 5e-3
     assert "supercritical" in sp["post_buckling"]

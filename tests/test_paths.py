@@ -213,12 +213,12 @@ def test_folded_six_ring_bifurcation_is_subcritical_and_its_saddle_reaches_the_o
     1 %). Start energy: the folded state's closed form 6 x 1/2 kappa_n^2 L (B3 = 1, L = 1)."""
     from rodstab.nonlinear.continuation.branches import branch_directions
     from rodstab.nonlinear.parameters import LoadFactor
+    from rodstab.problems import folded_ring, unfolded_ring
     from rodstab.sections import rectangle
-    from rodstab.structures import folded_ring, unfolded_ring
 
     r4 = rectangle(aspect=4.0)
     theta = 2 * math.pi / 3
-    a = folded_ring(r4)
+    a = folded_ring.build(folded_ring.Params(section=r4))
     lin = linear_stability(a, 16).load_factor_critical
     c = continuation(a, "load_factor", 1.0, 6.0, 10, elements_per_segment=8, branch_steps=6)
     (sp,) = c.special_points
@@ -235,7 +235,7 @@ def test_folded_six_ring_bifurcation_is_subcritical_and_its_saddle_reaches_the_o
     six = json.loads((out / "results.json").read_text())["figures"]["beyond"]["six_path"]
     k, rad, en = np.array(six["kappa_R0"]), np.array(six["radius"]), np.array(six["energy"])
     assert np.all(np.diff(k) < 1e-9)
-    one = unfolded_ring(r4, radius=1 / theta)
+    one = unfolded_ring.build(unfolded_ring.Params(section=r4, radius=1 / theta))
     lo = linear_stability(one, 24).load_factor_interval[0]  # kappa_n R0
     assert abs(k[-1] - lo) / lo < 0.05
     x = discretise(one, 12).x

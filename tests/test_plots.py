@@ -11,9 +11,9 @@ import numpy as np
 
 from rodstab.linear.solve import linear_stability
 from rodstab.plots import animate_shapes, plot_equilibrium, plot_mode
+from rodstab.problems import birod
 from rodstab.report.figures import sweep_plot
 from rodstab.sections import circle
-from rodstab.structures import birod
 
 KEEPS_BACKEND = """
 import sys
@@ -38,7 +38,7 @@ def test_importing_and_drawing_keeps_the_users_backend(tmp_path):
 
 
 def test_plots_write_their_files(tmp_path):
-    a = birod(circle())
+    a = birod.build(birod.Params(section=circle()))
     r = linear_stability(a, 8)
     assert plot_mode(a, r, tmp_path / "mode.png").stat().st_size > 0
     x = np.array([[0.0, 0, 0], [1, 0, 0.1], [2, 0.5, 0.2]])

@@ -438,22 +438,23 @@ def sweep(design_file: str, vary: str, out_dir: str, elements: int | None, no_pr
 @_json_option
 def birod(section: Section, as_json: bool) -> None:
     """Bi-rod of Section 4 (clamped at one end): lam_c by the engine and the full system."""
-    from .analytic.birod import birod_critical
     from .linear.solve import linear_stability, mode_family
-    from .structures import birod as build
+    from .problems import birod as problem
 
-    r = linear_stability(build(section), 48)
-    lam = r.load_factor_critical / section.sqrt_b1b2
-    an = birod_critical(section)
-    payload: dict[str, Any] = {"lambda_c": lam, "psi_c": 0.5 * lam * section.sqrt_b1b2,
+    params = problem.Params(section=section)
+    r = linear_stability(problem.build(params), problem.DEFAULT_ELEMENTS)
+    paper = problem.to_paper(r.load_factor_critical, params)
+    claimed = problem.paper_critical(params)
+    an = problem.full_system(params)
+    payload: dict[str, Any] = {"lambda_c": paper["lambda"], "psi_c": paper["psi"],
                "mode_family": mode_family(r.mode), "multiplicity": r.multiplicity,
-               "lambda_c_full_system": an.lambda_c, "paper_lambda_c": 2 * 3.141592653589793,
-               "paper_psi_c": 3.141592653589793 * section.sqrt_b1b2,
+               "lambda_c_full_system": an.lambda_c, "paper_lambda_c": claimed["lambda"],
+               "paper_psi_c": claimed["psi"],
                "residual": r.residual, "n_dof": r.n_dof, "section": section.to_dict()}
     _emit(payload, as_json, [
         _section_line(section),
-        f"lam_c = B3 kappa0 L/sqrt(B1 B2) = {_fmt(lam)} (engine), {_fmt(an.lambda_c)} (full "
-        f"system of general solutions); paper: 2 pi",
+        f"lam_c = B3 kappa0 L/sqrt(B1 B2) = {_fmt(payload['lambda_c'])} (engine), "
+        f"{_fmt(an.lambda_c)} (full system of general solutions); paper: 2 pi",
         f"psi_c = {_fmt(payload['psi_c'])} rad (paper: {_fmt(payload['paper_psi_c'])})",
         f"mode         {payload['mode_family']}",
     ])
@@ -468,21 +469,20 @@ def birod(section: Section, as_json: bool) -> None:
 @_json_option
 def folded_ring(section: Section, segments: int, arc_angle: float, as_json: bool) -> None:
     """Ring of 2n arcs held in the straight folded n-loop state (Section 5)."""
-    import math
-
-    from .analytic.birod import folded_ring_critical
     from .linear.solve import linear_stability, mode_family
-    from .structures import folded_ring as build
+    from .problems import folded_ring as problem
 
-    theta = math.radians(require_positive("--arc-angle", arc_angle))
-    r = linear_stability(build(section, segments=segments), 24)
-    lam = r.load_factor_critical / section.sqrt_b1b2
-    an = folded_ring_critical(section, segments)
-    payload: dict[str, Any] = {"lambda_c": lam, "multiplicity": r.multiplicity,
-               "kappa_R0_c": lam * section.sqrt_b1b2 / theta,
+    require_positive("--arc-angle", arc_angle)
+    params = problem.Params(section=section, segments=segments, arc_angle_deg=arc_angle)
+    r = linear_stability(problem.build(params), problem.DEFAULT_ELEMENTS)
+    paper = problem.to_paper(r.load_factor_critical, params)
+    claimed = problem.paper_critical(params)
+    an = problem.full_system(params)
+    payload: dict[str, Any] = {"lambda_c": paper["lambda"], "multiplicity": r.multiplicity,
+               "kappa_R0_c": paper["kappa_R0"],
                "lambda_c_full_system": an.lambda_c, "multiplicity_full_system": an.multiplicity,
-               "paper_lambda_c": 2 * math.pi,
-               "paper_kappa_R0_c": 2 * math.pi * section.sqrt_b1b2 / theta,
+               "paper_lambda_c": claimed["lambda"],
+               "paper_kappa_R0_c": claimed["kappa_R0"],
                "segments": segments, "arc_angle_deg": arc_angle,
                "mode_family": mode_family(r.mode), "residual": r.residual, "n_dof": r.n_dof,
                "section": section.to_dict()}
@@ -490,7 +490,7 @@ def folded_ring(section: Section, segments: int, arc_angle: float, as_json: bool
         _section_line(section),
         f"segments     {segments} (folded {segments // 2}-loop state), "
         f"arcs of {_fmt(arc_angle)} deg",
-        f"lam_c = {_fmt(lam)} (x{r.multiplicity}, engine), {_fmt(an.lambda_c)} "
+        f"lam_c = {_fmt(payload['lambda_c'])} (x{r.multiplicity}, engine), {_fmt(an.lambda_c)} "
         f"(x{an.multiplicity}, full system); paper: 2 pi",
         f"kappa_n R0 critical = {_fmt(payload['kappa_R0_c'])} "
         f"(paper: {_fmt(payload['paper_kappa_R0_c'])})",

@@ -25,6 +25,8 @@ and require rows ``(u, u', w)`` of ``T`` times them to vanish: the 3x3 matrix
 
 from __future__ import annotations
 
+import dataclasses
+import math
 from typing import cast
 
 import numpy as np
@@ -32,6 +34,7 @@ from scipy.linalg import expm, null_space
 
 from .errors import RodstabInputError
 from .numerics import matrix_roots
+from .results import Result
 
 #: Indices in the state vector y = (u, u', u'', u''', w, w').
 _ESSENTIAL = [0, 1, 4]
@@ -306,3 +309,35 @@ def straight_assembly_modes(assembly, mu: float, n_points: int = 101,
         scale = max(np.max(np.abs(v[1])) for v in mode.values()) or 1.0
         modes.append({k2: (x, w / scale, om / scale) for k2, (x, w, om) in mode.items()})
     return modes
+
+
+@dataclasses.dataclass(frozen=True)
+class FullSystemCritical(Result):
+    """Lowest singular load of the full system, in ``lam = B3 kappa L / sqrt(B1 B2)``."""
+
+    lambda_c: float
+    multiplicity: int
+    next_roots: tuple[float, ...]
+    residual: float
+    method: str
+
+
+def full_system_critical(assembly, mu_per_lambda: float, known_nullity: int,
+                         lambda_max: float) -> FullSystemCritical:
+    """Lowest singular load of :func:`straight_assembly_matrix` for ``0.02 < lam < lambda_max``.
+
+    ``mu_per_lambda`` converts the paper's ``lam`` to the assembly's load factor ``mu``
+    (``sqrt(b1 b2)`` for unit lengths and unit natural curvature); ``known_nullity`` counts
+    the rigid motions (``ASSEMBLY_RIGID_NULLITY`` for a free assembly, 0 if clamped). One root
+    finder on the smallest singular value, with the multiplicity.
+    """
+    g = mu_per_lambda
+    found = matrix_roots(lambda mu: straight_assembly_matrix(assembly, mu), 0.02 * g,
+                         lambda_max * g, n_scan=300, known_nullity=known_nullity,
+                         method_name="full system of general solutions, sigma_min scan")
+    if not found.roots:
+        return FullSystemCritical(math.nan, 0, (), math.nan, found.method)
+    first = found.roots[0]
+    return FullSystemCritical(first.x / g, first.multiplicity,
+                              tuple(r.x / g for r in found.roots[1:4]), first.residual,
+                              found.method)

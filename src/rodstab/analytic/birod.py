@@ -1,10 +1,9 @@
-"""Bi-rod (Section 4) and folded 2n-rings (Section 5) by exact general solutions.
+"""Bi-rod of Section 4: closed forms (the admissible test field of P2 (4.4)).
 
-The second, independent method for Sections 4-5: each straight segment's general solution
-(transfer matrix ``expm(S L)``, :func:`rodstab.transfer.straight_assembly_matrix`) joined by
-ALL joint conditions -- geometric continuity and the natural (force and moment) conditions,
-the latter not imposed at a clamp -- into one square system, whose singular loads are found by
-the one root finder on the smallest singular value (rigid motions declared as known nullity).
+The second, independent method for Sections 4-5 (each straight segment's general solution joined
+by ALL joint conditions into one square system) is
+:func:`rodstab.transfer.full_system_critical`, applied to the structures by
+:func:`rodstab.problems.birod.full_system` and :func:`rodstab.problems.folded_ring.full_system`.
 
 Paper's derivation after (4.6) imposes the natural conditions (4.6) at the clamped end
 ``x = 0`` as well; at a clamp they do not hold (the clamp reacts), so that solution is confined
@@ -14,51 +13,11 @@ also has the mode ``u(1) = u(2)``, ``alpha(1) = -alpha(2)`` with ``sin(lam) = 0`
 
 from __future__ import annotations
 
-import dataclasses
 import math
 
 import numpy as np
 
-from ..numerics import matrix_roots
-from ..results import Result
 from ..sections import Section
-from ..structures import birod, folded_ring
-from ..transfer import ASSEMBLY_RIGID_NULLITY, straight_assembly_matrix
-
-
-@dataclasses.dataclass(frozen=True)
-class FullSystemCritical(Result):
-    """Lowest singular load of the full system, in ``lam = B3 kappa L / sqrt(B1 B2)``."""
-
-    lambda_c: float
-    multiplicity: int
-    next_roots: tuple[float, ...]
-    residual: float
-    method: str
-
-
-def _critical(assembly, section: Section, nullity: int, hi: float) -> FullSystemCritical:
-    g = section.sqrt_b1b2
-    found = matrix_roots(lambda mu: straight_assembly_matrix(assembly, mu), 0.02 * g, hi * g,
-                         n_scan=300, known_nullity=nullity,
-                         method_name="full system of general solutions, sigma_min scan")
-    if not found.roots:
-        return FullSystemCritical(math.nan, 0, (), math.nan, found.method)
-    first = found.roots[0]
-    return FullSystemCritical(first.x / g, first.multiplicity,
-                              tuple(r.x / g for r in found.roots[1:4]), first.residual,
-                              found.method)
-
-
-def birod_critical(section: Section) -> FullSystemCritical:
-    """Bi-rod clamped at one end (as the paper states): ``lam_c`` by the full system."""
-    return _critical(birod(section), section, 0, 7.0)
-
-
-def folded_ring_critical(section: Section, segments: int = 6) -> FullSystemCritical:
-    """Folded ring of ``segments`` straight segments: ``lam_c`` by the full system."""
-    return _critical(folded_ring(section, segments=segments), section, ASSEMBLY_RIGID_NULLITY,
-                     7.0)
 
 
 def birod_test_field_energy(section: Section, lam: float, n_quad: int = 2001) -> float:

@@ -7,9 +7,8 @@ from collections.abc import Iterator
 
 import numpy as np
 
-from .. import structures
+from ..problems import folded_ring, straightened_rod
 from ..sections import rectangle
-from .beyond_critical import straightened_rod
 from .core import Claim, Run, fmt
 from .rules import KOITER_TOL, REPRODUCED, holds, order_is
 
@@ -21,7 +20,7 @@ def imperfection_checks(run: Run) -> Iterator[Claim]:
     """Limit loads of imperfect structures (imperfection = eps L x critical mode)."""
     from ..nonlinear.continuation import imperfection_sensitivity
 
-    straight = straightened_rod()
+    straight = straightened_rod.build(straightened_rod.Params())
     stop = 6.2
     imp = imperfection_sensitivity(straight, "load_factor", 1.0, stop,
                                    epsilons=(1e-3, 4e-3, 1.6e-2), elements_per_segment=12,
@@ -41,7 +40,7 @@ def imperfection_checks(run: Run) -> Iterator[Claim]:
     beyond = run.beyond()
     beyond["imperfection"] = {"mu_c": imp.value_critical, "epsilon": imp.epsilon,
                               "paths": [list(p) for p in imp.paths]}
-    fold = structures.folded_ring(rectangle(aspect=4.0))
+    fold = folded_ring.build(folded_ring.Params(section=rectangle(aspect=4.0)))
     impf = imperfection_sensitivity(fold, "load_factor", 1.0, 6.0,
                                     epsilons=(2.5e-4, 5e-4, 1e-3, 2e-3, 4e-3),
                                     elements_per_segment=8, n_steps=20)

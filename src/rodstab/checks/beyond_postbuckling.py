@@ -15,13 +15,11 @@ from __future__ import annotations
 
 import functools
 import math
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 
-from .. import structures
-from ..model import Assembly
+from .. import problems
 from ..numerics import find_roots
 from ..sections import Section, circle, rectangle
-from .beyond_critical import straightened_rod
 from .core import Claim, Run, fmt
 from .rules import REPRODUCED, every, holds, methods_agree
 
@@ -39,11 +37,12 @@ THRESHOLD_XTOL = 5e-3
 #: Relative offset from the threshold at which the second tracer confirms the two signs.
 CONFIRM_OFFSET = 0.05
 
-#: name -> (builder, load-factor bracket of the first bifurcation, elements per segment, sections)
-CASES: dict[str, tuple[Callable[[Section], Assembly], float, float, int, tuple[float, ...]]] = {
-    "straightened": (straightened_rod, 1.0, 40.0, 12, (0.0, 2.0)),
-    "bi-rod": (structures.birod, 0.5, 20.0, 8, (0.0, 2.0)),
-    "folded": (structures.folded_ring, 0.2, 30.0, 6, (0.0, 4.0)),
+#: name -> (problems.REGISTRY name, load-factor bracket of the first bifurcation, elements per
+#: segment, sections)
+CASES: dict[str, tuple[str, float, float, int, tuple[float, ...]]] = {
+    "straightened": ("straightened-rod", 1.0, 40.0, 12, (0.0, 2.0)),
+    "bi-rod": ("bi-rod", 0.5, 20.0, 8, (0.0, 2.0)),
+    "folded": ("folded-ring", 0.2, 30.0, 6, (0.0, 4.0)),
 }
 _NAMES = {"straightened": "straightened clamped rod", "bi-rod": "bi-rod",
           "folded": "folded six-sided ring"}
@@ -66,8 +65,9 @@ def coefficient(name: str, aspect: float, tracer: str = "amplitude"):
     """
     from ..nonlinear.continuation import arclength_from_bifurcation, post_buckling_branch
 
-    build, lo, hi, n, _ = CASES[name]
-    a = build(_section(aspect))
+    problem_name, lo, hi, n, _ = CASES[name]
+    problem = problems.REGISTRY[problem_name]
+    a = problem.build(problem.Params(section=_section(aspect)))
     if tracer == "amplitude":
         return post_buckling_branch(a, lo, hi, elements_per_segment=n)
     return arclength_from_bifurcation(a, lo, hi, elements_per_segment=n, ds=0.002, n_steps=8,

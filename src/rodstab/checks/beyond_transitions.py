@@ -10,10 +10,10 @@ from collections.abc import Iterator
 
 import numpy as np
 
-from .. import structures
 from ..analytic import ring
 from ..linear.solve import linear_stability
 from ..model import Assembly, Segment
+from ..problems import folded_ring, unfolded_ring
 from ..sections import circle, rectangle
 from .core import Claim, Run, fmt
 from .rules import NONLINEAR_RTOL, REPRODUCED, RICHARDSON_RTOL, every, holds, methods_agree
@@ -115,9 +115,10 @@ def _six_ring_transition_claim(run: Run) -> Claim:
 
     r4 = rectangle(aspect=4.0)
     theta = 2 * math.pi / 3
-    folded = structures.folded_ring(r4)
+    folded = folded_ring.build(folded_ring.Params(section=r4))
     lin_fold = linear_stability(folded, 16).load_factor_critical
-    lin_one = linear_stability(structures.unfolded_ring(r4, radius=1 / theta), 24)
+    lin_one = linear_stability(
+        unfolded_ring.build(unfolded_ring.Params(section=r4, radius=1 / theta)), 24)
     one_lo, one_hi = lin_one.load_factor_interval  # kappa_n R0 (R0 = 1/theta: mu / theta)
     meshes = (8, 12)
     ends, barriers, paths = [], [], []

@@ -5,9 +5,9 @@ from __future__ import annotations
 import math
 from collections.abc import Iterator
 
-from .. import structures
 from ..analytic import birod
 from ..linear.solve import linear_stability
+from ..problems import birod as birod_problem
 from ..sections import circle
 from .core import Claim, Run, fmt
 from .rules import (
@@ -36,9 +36,10 @@ def birod_checks(run: Run) -> Iterator[Claim]:
     """Rows of Section 4: lam_c of the bi-rod by the engine and by the full system."""
     c = circle()
     g = c.sqrt_b1b2
-    eng = linear_stability(structures.birod(c), 48)
-    lam_e = eng.load_factor_critical / g
-    lam_a = birod.birod_critical(c)
+    params = birod_problem.Params(section=c)
+    eng = linear_stability(birod_problem.build(params), birod_problem.DEFAULT_ELEMENTS)
+    lam_e = birod_problem.to_paper(eng.load_factor_critical, params)["lambda"]
+    lam_a = birod_problem.full_system(params)
     e15 = birod.birod_test_field_energy(c, 1.5 * math.pi)
     run.progress()
     lams = (lam_e, lam_a.lambda_c)
@@ -63,7 +64,8 @@ def birod_checks(run: Run) -> Iterator[Claim]:
         typo_shown_by([_rel(p, psi_paper) for p in psis],
                       [_rel(p, psi_paper / 2) for p in psis], FE_RTOL),
         "Follows from lam_c = pi (claim 4.8).")
-    free = linear_stability(structures.birod(c, clamp=None), 48)
+    free = linear_stability(
+        birod_problem.build(birod_problem.Params(section=c, clamp=None)), 48)
     yield Claim(
         "4.free", "4", "(4.6)", "Clamping one end only excludes rigid motions",
         "clamp = rigid-motion exclusion", f"free bi-rod: {fmt(free.load_factor_critical / g)}",
@@ -71,7 +73,8 @@ def birod_checks(run: Run) -> Iterator[Claim]:
         methods_agree(free.load_factor_critical / g, lam_e, FE_RTOL),
         "The free bi-rod has the same lam_c = pi: the one-end clamp indeed only removes rigid "
         "motions, as the paper intends; the opening mode is not the lowest.")
-    both = linear_stability(structures.birod(c, clamp="both"), 48)
+    both = linear_stability(
+        birod_problem.build(birod_problem.Params(section=c, clamp="both")), 48)
     yield Claim(
         "4.7", "4", "(4.7)", "Opening mode u1 = -u2 at lam = 2 pi is an eigenmode",
         "2 pi", f"both ends clamped: {fmt(both.load_factor_critical / g)} "

@@ -5,9 +5,11 @@ from __future__ import annotations
 import math
 from collections.abc import Iterator
 
-from .. import structures, transfer
-from ..analytic import birod, folded_ring
+from .. import transfer
+from ..analytic import folded_ring
 from ..linear.solve import linear_stability
+from ..problems import folded_ring as folded
+from ..problems import unfolded_ring as unfolded
 from ..sections import circle, rectangle
 from .core import Claim, Run, fmt
 from .rules import (
@@ -30,9 +32,10 @@ def folded_ring_checks(run: Run) -> Iterator[Claim]:
     """Rows of Section 5 and two new results on folded and unfolded rings."""
     c = circle()
     g = c.sqrt_b1b2
-    eng6 = linear_stability(structures.folded_ring(c), 24)
-    lam6 = eng6.load_factor_critical / g
-    full6 = birod.folded_ring_critical(c)
+    six = folded.Params(section=c)
+    eng6 = linear_stability(folded.build(six), folded.DEFAULT_ELEMENTS)
+    lam6 = folded.to_paper(eng6.load_factor_critical, six)["lambda"]
+    full6 = folded.full_system(six)
     pm = folded_ring.folded_ring_paper_method(0.05, 7.0, 700)
     run.progress()
     lams = (lam6, full6.lambda_c, pm.load_factor_critical)
@@ -57,7 +60,7 @@ def folded_ring_checks(run: Run) -> Iterator[Claim]:
         + "Stacked segments' w differ in the pi/3 mode: contact between the stacked loops "
         "(ignored by the paper and here) may restrict it.")
     secs = [rectangle(aspect=a) for a in (0.75, 2.0, 4.0)]
-    lams_b = [linear_stability(structures.folded_ring(s), 24).load_factor_critical
+    lams_b = [linear_stability(folded.build(folded.Params(section=s)), 24).load_factor_critical
               / s.sqrt_b1b2 for s in secs]
     yield Claim(
         "5.14b", "5", "(5.14)", "lam_c independent of B2/B1", "independent",
@@ -82,7 +85,8 @@ def folded_ring_checks(run: Run) -> Iterator[Claim]:
         f"{fmt(lam6 * r4.sqrt_b1b2 / (2 * math.pi / 3), 3)} and {fmt(3 * r4.sqrt_b1b2, 3)} "
         "(h/t = 4) would.")
     ns = (4, 8, 10)
-    vals = [linear_stability(structures.folded_ring(c, segments=n), 16).load_factor_critical
+    vals = [linear_stability(
+        folded.build(folded.Params(section=c, segments=n)), 16).load_factor_critical
             / g for n in ns]
     yield Claim(
         "B.2n", "beyond", "-", "Rings of 2n segments folded into n loops",
@@ -90,7 +94,8 @@ def folded_ring_checks(run: Run) -> Iterator[Claim]:
         "lam_c = 2 pi / (2n): kappa_n x total length = 2 pi sqrt(B1 B2)/B3", "engine",
         methods_agree(vals, [2 * math.pi / n for n in ns], FE_RTOL),
         "New result; also checked by the full system in the tests.")
-    lo, hi = linear_stability(structures.unfolded_ring(r4), 24).load_factor_interval
+    lo, hi = linear_stability(
+        unfolded.build(unfolded.Params(section=r4)), unfolded.DEFAULT_ELEMENTS).load_factor_interval
     yield Claim(
         "B.unfold", "beyond", "-", "Unfolded one-loop six-sided ring (120 deg arcs, h/t = 4)",
         "not studied", f"stable for {fmt(lo, 4)} < kappa_n R0 < {fmt(hi, 4)}", "-", "engine",
@@ -103,7 +108,7 @@ def fig9_data() -> dict:
     """Fig. 9: modal u3/L and omega along the path around the folded six-sided ring."""
     c = circle()
     g = c.sqrt_b1b2
-    a = structures.folded_ring(c)
+    a = folded.build(folded.Params(section=c))
     out = {}
     for label, lam in (("critical, lam = pi/3", math.pi / 3), ("paper's mode, lam = 2 pi",
                                                               2 * math.pi)):

@@ -1,0 +1,96 @@
+"""Folded ring of Section 5: ``2n`` arcs held straight and stacked into the folded n-loop state.
+
+Strain energy (5.1) with ``Delta kappa_0 = +-kappa_n``; joints (5.2)-(5.6) as in Fig. 8; the
+paper's load ``lambda = B3 kappa_n L / sqrt(B1 B2)`` (5.7) and ``kappa_n R0 = lambda sqrt(b1 b2)
+/ theta`` for arcs of angle ``theta`` (``L = theta R0``, (5.14): ``L = 2 pi R0 / 3``). Units:
+``B3 = 1``; the load factor ``mu`` is ``kappa_n`` (natural curvature ``+-1`` per unit ``mu``).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+from ..errors import RodstabInputError, require_positive, require_positive_int
+from ..model import Assembly
+from ..sections import Section, circle
+from ..transfer import ASSEMBLY_RIGID_NULLITY, FullSystemCritical, full_system_critical
+from ._common import segment
+
+#: Elements per segment of the linear engine used by ``rodstab folded-ring``.
+DEFAULT_ELEMENTS = 24
+#: The paper's critical load (5.14): ``lambda_c = 2 pi`` (this project finds ``2 pi / (2n)``).
+PAPER_LAMBDA_C = 2 * math.pi
+
+
+@dataclasses.dataclass(frozen=True, kw_only=True)
+class Params:
+    """Parameters of the folded ring: ``section``, ``segments``, ``length``, ``arc_angle_deg``.
+
+    ``segments`` is 2n (even, >= 2), ``length`` L of each segment, ``arc_angle_deg`` the angle of
+    each arc in its natural state (it enters only the paper's units, ``kappa_n R0``).
+    """
+
+    section: Section = dataclasses.field(default_factory=circle)
+    segments: int = 6
+    length: float = 1.0
+    arc_angle_deg: float = 120.0
+
+    def __post_init__(self) -> None:
+        """Validate: an even number of segments >= 2, positive length and arc angle."""
+        n_seg = require_positive_int("segments", self.segments)
+        if n_seg < 2 or n_seg % 2:
+            raise RodstabInputError(
+                f"segments must be an even number >= 2, got {self.segments!r}")
+        require_positive("length", self.length)
+        require_positive("arc_angle_deg", self.arc_angle_deg)
+
+    @property
+    def theta(self) -> float:
+        """Arc angle in radians."""
+        return math.radians(self.arc_angle_deg)
+
+
+def build(params: Params) -> Assembly:
+    """Return ``2n`` straight segments stacked into the folded ``n``-loop state.
+
+    Segment ``i`` runs from ``x = 0`` to ``x = L`` with natural curvature (per unit ``mu``)
+    ``-1`` for odd ``i``, ``+1`` for even ``i`` (``Delta kappa_0`` of (5.1)); odd segments are
+    joined to the next at ``x = L``, even ones at ``x = 0`` (Fig. 8), the last to the first.
+    """
+    n_seg = int(params.segments)
+    L = float(params.length)
+    segs = tuple(segment(str(i), params.section, L, 0.0, -1.0 if i % 2 else 1.0)
+                 for i in range(1, n_seg + 1))
+    welds = tuple(((str(i), "end" if i % 2 else "start"),
+                   (str(i % n_seg + 1), "end" if i % 2 else "start"))
+                  for i in range(1, n_seg + 1))
+    return Assembly(segs, welds=welds, reference_load=0.0)
+
+
+def to_paper(mu: float, params: Params) -> dict[str, float]:
+    """Return the paper's units of load factor ``mu``: ``lambda`` (5.7) and ``kappa_R0``.
+
+    ``lambda = mu L / sqrt(b1 b2)``; ``kappa_R0 = kappa_n R0 = lambda sqrt(b1 b2) / theta``.
+    """
+    lam = mu * params.length / params.section.sqrt_b1b2
+    return {"lambda": lam, "kappa_R0": lam * params.section.sqrt_b1b2 / params.theta}
+
+
+def paper_critical(params: Params) -> dict[str, float]:
+    """Return the paper's claimed (5.14): ``lambda_c = 2 pi``, ``kappa_R0 = 2 pi g / theta``.
+
+    ``g = sqrt(b1 b2)``.
+    """
+    return {"lambda": PAPER_LAMBDA_C,
+            "kappa_R0": 2 * math.pi * params.section.sqrt_b1b2 / params.theta}
+
+
+def full_system(params: Params) -> FullSystemCritical:
+    """``lambda_c`` by the exact general solutions joined by all joint conditions (second method).
+
+    :func:`rodstab.transfer.full_system_critical`, the three rigid motions of the free ring
+    declared as known nullity.
+    """
+    return full_system_critical(build(params), params.section.sqrt_b1b2 / params.length,
+                                ASSEMBLY_RIGID_NULLITY, 7.0)
