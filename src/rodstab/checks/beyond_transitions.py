@@ -124,7 +124,10 @@ def _six_ring_transition_claim(run: Run) -> Claim:
     ends, barriers, paths = [], [], []
     for n in meshes:
         path = _saddle(folded, n, (0.0, 6.0), SADDLE_STEPS, theta)
-        folds = [sp["value"] for sp in path.special_points if sp["kind"] == SpecialKind.FOLD.value]
+        # The turning point on the one-loop state: a fold of the discrete path (its symmetry is
+        # not exact) or, were it exact, the branch point the path turns through.
+        turns = (SpecialKind.FOLD.value, SpecialKind.BRANCH_TURNED.value)
+        folds = [sp["value"] for sp in path.special_points if sp["kind"] in turns]
         ends.append(min(folds) / theta if folds else math.nan)
         paths.append(path)
         at1 = _saddle(folded, n, (theta, 6.0), SADDLE_STEPS, theta)
