@@ -9,6 +9,7 @@ checked by a Cholesky factorisation), and the one eigen solver
 from __future__ import annotations
 
 import dataclasses
+import math
 
 import numpy as np
 import scipy.sparse as sp
@@ -58,6 +59,11 @@ class LinearStability(Result):
     method: str
 
 
+#: A stress-free load factor beyond this is not used as the reference (the pencil would be
+#: evaluated at a load where K0 is lost to round-off); 0 is used instead.
+MAX_REFERENCE_LOAD = 1e8
+
+
 def default_reference_load(a: Assembly) -> float:
     """Return the stress-free load factor if all segments share one, else 0 (curvature 0)."""
     if a.reference_load is not None:
@@ -68,7 +74,12 @@ def default_reference_load(a: Assembly) -> float:
             if s.curvature != 0.0:
                 return 0.0
             continue
-        ratios.add(round(s.curvature / s.natural_curvature, 12))
+        ratio = s.curvature / s.natural_curvature
+        if not math.isfinite(ratio) or abs(ratio) > MAX_REFERENCE_LOAD:
+            # A natural curvature so small that the stress-free load factor is out of reach
+            # (subnormal: it overflows): no usable stress-free state.
+            return 0.0
+        ratios.add(round(ratio, 12))
     return ratios.pop() if len(ratios) == 1 else 0.0
 
 
