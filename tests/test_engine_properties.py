@@ -30,8 +30,10 @@ chains = st.fixed_dictionaries({
     "kinks": st.lists(st.floats(-1.0, 1.0), min_size=2, max_size=2),
     "b1": st.lists(st.floats(0.3, 3.0), min_size=3, max_size=3),
     "b2": st.lists(st.floats(0.3, 1.5), min_size=3, max_size=3),
-    "k": st.floats(-1.0, 1.0),
-    "kn": st.floats(-2.0, 2.0),
+    # Tiny curvatures are kept (they found a cancellation in Segment.position); subnormal ones
+    # are left out (a stress-free load of 1e308 is no structure; the engine then ignores it).
+    "k": st.floats(-1.0, 1.0, allow_subnormal=False),
+    "kn": st.floats(-2.0, 2.0, allow_subnormal=False),
 })
 
 
