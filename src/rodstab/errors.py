@@ -56,6 +56,13 @@ def require_positive_int(name: str, value: int) -> int:
     return int(value)
 
 
+def require_int(name: str, value: int, minimum: int) -> int:
+    """Return ``value`` if it is an integer >= ``minimum`` (bools rejected), else raise."""
+    if isinstance(value, bool) or not isinstance(value, Integral) or value < minimum:
+        raise RodstabInputError(f"{name} must be an integer >= {minimum}, got {value!r}")
+    return int(value)
+
+
 def require_poisson(nu: float) -> float:
     """Return Poisson's ratio if it lies in (-1, 0.5], else raise naming ``nu``."""
     v = require_finite("nu", nu)

@@ -39,18 +39,22 @@ def transition_checks(run: Run) -> Iterator[Claim]:
 
 def _ring_transition_claim(run: Run) -> Claim:
     """Follow the 1-loop ring beyond its bifurcation to the 3-loop ring."""
-    from ..nonlinear.continuation import arclength_from_bifurcation
+    from ..nonlinear.continuation import SpecialKind, arclength_from_bifurcation
 
     c = circle()
     seg = Segment("ring", 2 * math.pi, 1.0, 1.0, c.b1, c.b2, 1.0)
     ring1 = Assembly((seg,), welds=((("ring", "start"), ("ring", "end")),))
     ends = []
+    turns = (SpecialKind.BRANCH_TURNED.value, SpecialKind.FOLD.value)
     for n, steps in ((36, 45), (48, 52)):
         path = arclength_from_bifurcation(ring1, 1.05, 3.0, elements_per_segment=n, ds=0.25,
-                                          n_steps=steps)
+                                          n_steps=steps, stop_at_special=True, stop_kinds=())
         rad = np.array(path.radius)
         i = int(np.argmin(rad))
-        ends.append(path.value[i])
+        # The 3-loop ring is where the path turns (into the mirror image): located there, not
+        # read off the sampled point nearest to it (which moved the Richardson value by 1e-3).
+        located = [sp["value"] for sp in path.special_points if sp["kind"] in turns]
+        ends.append(located[0] if located else math.nan)
     run.progress()
     mu = np.array(path.value[: i + 1])
     ev = np.array(path.lowest_eigenvalue[: i + 1])

@@ -32,7 +32,7 @@ import math
 
 import numpy as np
 
-from ...errors import RodstabInputError
+from ...errors import RodstabInputError, require_finite, require_int
 from ...model import Assembly
 from ...numerics import find_roots
 from ..discrete import DiscreteRod, discretise
@@ -372,30 +372,15 @@ def arclength_from_bifurcation(a: Assembly, lo: float, hi: float, *,
     ``mu_window`` or, with ``stop_at_special``, at the first special point of a kind in
     ``stop_kinds`` (located).
     """
-    lo, hi = check_number("lo", lo), check_number("hi", hi)
+    lo, hi = require_finite("lo", lo), require_finite("hi", hi)
     if not lo < hi:
         raise RodstabInputError(f"arclength_from_bifurcation needs lo < hi, got {lo!r}, {hi!r}")
-    if check_number("ds", ds) <= 0:
+    if require_finite("ds", ds) <= 0:
         raise RodstabInputError(f"ds must be > 0, got {ds!r}")
-    n_steps = check_count("n_steps", n_steps, 1)
+    n_steps = require_int("n_steps", n_steps, 1)
     rod, side = _bifurcation(a, lo, hi, elements_per_segment)
     return trace_branch(rod, LoadFactor(), side, ds, n_steps,
                         length=reference_length(a, reference_segment),
                         signs=(1.0, -1.0) if both_sides else (1.0,),
                         stop_at_special=stop_at_special, stop_kinds=stop_kinds,
                         window=mu_window)
-
-
-def check_number(name: str, v: object) -> float:
-    """``v`` as a float if it is a finite real number (bools rejected), else raise naming it."""
-    if isinstance(v, bool) or not isinstance(v, (int, float, np.floating, np.integer)) \
-            or not math.isfinite(v):
-        raise RodstabInputError(f"{name} must be a finite number, got {v!r}")
-    return float(v)
-
-
-def check_count(name: str, v: object, minimum: int) -> int:
-    """``v`` as an int if it is an integer >= ``minimum`` (bools rejected), else raise."""
-    if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < minimum:
-        raise RodstabInputError(f"{name} must be an integer >= {minimum}, got {v!r}")
-    return int(v)

@@ -13,13 +13,13 @@ from pathlib import Path as FsPath
 
 import numpy as np
 
-from ...errors import NotConverged, RodstabInputError
+from ...errors import NotConverged, RodstabInputError, require_finite, require_int
 from ...model import Assembly
 from ..discrete import DiscreteRod, discretise
 from ..parameters import Parameter, parameter
 from ..solve import newton, settle
 from . import storage
-from .branches import check_count, check_number, trace_branch
+from .branches import trace_branch
 from .corrector import Stepper, tangent
 from .path import Path, SpecialKind, reference_length
 from .special import crossed, locate, lowest
@@ -91,14 +91,14 @@ def continuation(a: Assembly, key: str, start: float, stop: float, n_steps: int,
     With ``out_dir``: the run is stored after every step (:mod:`.storage`); a rerun with the
     same design and arguments continues from the last completed step.
     """
-    start, stop = check_number("start", start), check_number("stop", stop)
+    start, stop = require_finite("start", start), require_finite("stop", stop)
     if start == stop or not math.isfinite(stop - start):
         raise RodstabInputError(f"continuation needs two different values a finite distance "
                                 f"apart, got {start!r}:{stop!r}")
-    n_steps = check_count("n_steps", n_steps, 1)
-    n = check_count("elements_per_segment", elements_per_segment, 2)
-    branch_steps = check_count("branch_steps", branch_steps, 0)
-    max_steps_factor = check_count("max_steps_factor", max_steps_factor, 1)
+    n_steps = require_int("n_steps", n_steps, 1)
+    n = require_int("elements_per_segment", elements_per_segment, 2)
+    branch_steps = require_int("branch_steps", branch_steps, 0)
+    max_steps_factor = require_int("max_steps_factor", max_steps_factor, 1)
     length = reference_length(a, reference_segment)
     param = parameter(a, key, n)
     fresh = rod is None
@@ -107,7 +107,7 @@ def continuation(a: Assembly, key: str, start: float, stop: float, n_steps: int,
     direction = 1.0 if stop > start else -1.0
     h = abs(stop - start) / n_steps
     branch_ds = 0.01 * a.total_length if branch_ds is None else \
-        check_number("branch_ds", branch_ds)
+        require_finite("branch_ds", branch_ds)
     rows: list[tuple[float, float, float, float, bool]] = []
     specials: list[dict] = []
     states: list[tuple[float, DiscreteRod]] = []
