@@ -1,0 +1,48 @@
+"""The command lines whose ``--json`` output must not change across refactorings.
+
+Shared by ``tests/test_cli_outputs.py`` (which compares the current output with the recorded
+one) and ``tests/data/record_cli_outputs.py`` (which records them from a given checkout).
+Every subcommand except ``reproduce`` (its numbers are the report's, compared row by row by
+``tests/test_checks.py``) appears, and the design-file commands run on every example.
+Output paths (``--out``) are written under a temporary directory named by ``{tmp}``.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+EXAMPLES = sorted(p.relative_to(ROOT).as_posix() for p in (ROOT / "examples").glob("*.toml"))
+
+_SECTIONS = [[], ["--shape", "rectangle", "--aspect", "4"], ["--shape", "ellipse", "--aspect",
+             "2"], ["--shape", "tube", "--aspect", "0.5"], ["--shape", "rectangle", "--aspect",
+             "4", "--torsion", "paper"], ["--b1", "4", "--b2", "0.9"]]
+
+CASES: list[list[str]] = (
+    [["section", *s] for s in _SECTIONS]
+    + [["ring", "--loops", str(n), *s] for n in (1, 2, 3) for s in _SECTIONS[:2]]
+    + [["arc", "--L-over-R", x, *s] for x in ("0", "0.5", "2", "4") for s in _SECTIONS[:2]]
+    + [["arc-max-length", *s] for s in _SECTIONS[:3]]
+    + [["michell", "--loops", str(n), *s] for n in (1, 2, 3) for s in _SECTIONS[:2]]
+    + [["birod", *s] for s in (_SECTIONS[0], _SECTIONS[1], _SECTIONS[5])]
+    + [["folded-ring", *s] for s in ([], ["--segments", "8"], ["--arc-angle", "90"],
+                                      _SECTIONS[1])]
+    + [["analyze", e] for e in EXAMPLES]
+    + [["analyze", e, "--elements", "8"] for e in EXAMPLES]
+    + [["equilibrium", e] for e in EXAMPLES]
+    + [["equilibrium", "examples/birod.toml", "--load-factor", "0.5"],
+       ["equilibrium", "examples/straight_clamped_rod.toml", "--load-factor", "6",
+        "--perturb", "0.01"]]
+    + [["sweep", "examples/clamped_arc.toml", "--vary", "section.aspect=1:3:3",
+        "--elements", "16", "--no-progress", "--out", "{tmp}/sweep"],
+       ["continue", "examples/straight_clamped_rod.toml", "--vary", "load_factor=4:7:6",
+        "--elements", "12", "--branch-steps", "4", "--no-progress"],
+       ["continue", "examples/twisted_rod.toml", "--vary",
+        "support.1.rotation.tangent=0:14:7", "--elements", "8", "--branch-steps", "0",
+        "--no-progress"]]
+)
+
+
+def case_id(args: list[str]) -> str:
+    """A readable, unique test id of a command line."""
+    return " ".join(a for a in args if not a.startswith("{tmp}"))
