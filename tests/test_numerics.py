@@ -306,3 +306,37 @@ def test_xtol_constant_is_relative_to_span():
     res = find_roots(math.sin, 0.5, 1000.5, n_scan=4000)
     assert res.values[0] == pytest.approx(math.pi, abs=XTOL * 1000 * 10)
     assert len(res.values) == 318  # k pi for k = 1 .. 318 (318 pi = 999.03)
+
+
+@pytest.mark.parametrize("n", [50, 600], ids=["dense", "shift-invert Lanczos"])
+def test_lowest_eigenpairs_of_a_shifted_laplacian_closed_form(n):
+    """-u'' on n points minus a shift: eigenvalues 2 - 2 cos(j pi / (n + 1)) - s (closed
+    form). With s between the 3rd and 4th Laplacian eigenvalue, three are negative, the
+    farthest from 0 being the lowest, and a small positive one sits closest to 0: the
+    Lanczos shift placed from the eigenvalue nearest 0 would miss the negatives."""
+    import scipy.sparse as sp
+
+    from rodstab import numerics
+
+    j = np.arange(1, n + 1)
+    exact = np.sort(2 - 2 * np.cos(j * np.pi / (n + 1)))
+    s = 0.5 * (exact[2] + exact[3]) + 0.3 * (exact[3] - exact[2])
+    A = sp.diags([-np.ones(n - 1), 2 * np.ones(n) - s, -np.ones(n - 1)], [-1, 0, 1]).tocsc()
+    assert (n > numerics.DENSE_EIG_MAX) == (n == 600)
+    vals, vecs = numerics.lowest_eigenpairs(A, 5)
+    assert np.allclose(vals, exact[:5] - s, rtol=0, atol=1e-12)
+    assert np.sum(vals < 0) == 3 and abs(vals[3]) < abs(vals[0])
+    assert np.allclose(np.abs(vecs.T @ vecs), np.eye(5), atol=1e-8)
+
+
+def test_jacobi_scaling_gives_a_unit_diagonal_and_keeps_the_inertia():
+    """D A D has diag 1 (|diag| > 0) and the same number of negative eigenvalues (Sylvester)."""
+    from rodstab.numerics import jacobi_scaling
+
+    rng = np.random.default_rng(3)
+    Q = np.linalg.qr(rng.standard_normal((8, 8)))[0]
+    A = Q @ np.diag([-3.0, -1e-3, 2e-4, 1.0, 5.0, 9.0, 1e3, 1e6]) @ Q.T
+    d = jacobi_scaling(A)
+    S = d[:, None] * A * d[None, :]
+    assert np.allclose(np.abs(np.diag(S)), 1.0)
+    assert np.sum(np.linalg.eigvalsh(S) < 0) == np.sum(np.linalg.eigvalsh(A) < 0) == 2

@@ -16,7 +16,7 @@ import scipy.sparse as sp
 
 from ..errors import RodstabInputError
 from ..model import Assembly
-from ..numerics import pencil_interval_sparse
+from ..numerics import jacobi_scaling, pencil_interval_sparse
 from ..results import Result
 from .assembly import discretise, rigid_modes_left
 
@@ -147,7 +147,7 @@ def linear_stability(a: Assembly, elements_per_segment: int = 16) -> LinearStabi
         raise RodstabInputError(
             f"the held state is not stable at the reference load factor {mu_ref:g} (a "
             "non-positive diagonal entry: an unrestrained unknown)")
-    Dg = sp.diags(1.0 / np.sqrt(diag))
+    Dg = sp.diags(jacobi_scaling(A))
     A = (Dg @ A @ Dg).tocsc()
     C = (Dg @ C @ Dg).tocsc()
     try:

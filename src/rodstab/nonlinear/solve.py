@@ -11,13 +11,12 @@ import dataclasses
 import math
 
 import numpy as np
-import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from ..errors import NotConverged, RodstabInputError
 from ..model import Assembly
-from ..numerics import count_below, find_roots
+from ..numerics import find_roots, jacobi_scaling, lowest_eigenpairs
 from ..results import Result
 from .discrete import PENALTY, DiscreteRod, discretise
 
@@ -133,58 +132,6 @@ def sliding_mode(rod: DiscreteRod) -> np.ndarray | None:
 #: Newton first turns the edge frames onto their chords when some frame is sheared by more
 #: than this (rad); an equilibrium's shear is O(1/PENALTY).
 ALIGN_SHEAR = 1e-2
-#: Up to this many free unknowns the lowest eigenpairs come from a dense solver; beyond, from
-#: shift-invert Lanczos (tested against the dense solver, tests/test_paths.py). The dense
-#: solve is O(n^3) and, with a multithreaded BLAS on a loaded machine, slow already at a few
-#: hundred unknowns (0.85 s at 300 measured on 2 busy cores, 0.006 s sparse).
-DENSE_EIG_MAX = 200
-
-
-def _lowest_sparse(A: sp.spmatrix, k: int) -> tuple[np.ndarray, np.ndarray]:
-    """Lowest ``k`` eigenpairs of the scaled Hessian by shift-invert Lanczos.
-
-    The stiff stretch/shear penalty leaves the bending eigenvalues of the Jacobi-scaled matrix
-    tiny (~1e-8) and clustered, so the shift must sit at their scale. Shift-invert returns the
-    eigenvalues NEAREST the shift, so the shift is first moved below the lowest eigenvalue,
-    certified by the inertia (:func:`count_below` = 0): then the nearest are the lowest and
-    none is missed (a negative eigenvalue farther from 0 than a small positive one would be
-    missed by a shift placed from the eigenvalue nearest 0 alone).
-    """
-    import warnings
-
-    # A fixed start vector: ARPACK's default is random, which makes the last digits -- and so
-    # the sign of quantities near zero along a path -- differ from run to run.
-    v0 = np.linspace(1.0, 2.0, A.shape[0])
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        lam0 = spla.eigsh(A, k=1, sigma=0.0, which="LM", tol=1e-10, v0=v0)[0][0]
-    step = max(abs(lam0), 1e-12)
-    sigma = min(lam0, 0.0) - 2.0 * step
-    for _ in range(80):
-        below = count_below(A, sigma)
-        if below == 0:
-            break
-        step *= 2.0
-        sigma = min(lam0, 0.0) - 2.0 * step
-    else:
-        raise RuntimeError("could not place a shift below the lowest eigenvalue")
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        vals, vecs = spla.eigsh(A, k=k, sigma=sigma, which="LM", tol=1e-10, maxiter=20000,
-                                v0=v0)
-    order = np.argsort(vals)
-    return vals[order], vecs[:, order]
-
-
-def _scaled_lowest(A: sp.spmatrix, k: int) -> tuple[np.ndarray, np.ndarray]:
-    """Return the lowest ``k`` eigenpairs of a (Jacobi-scaled) symmetric matrix.
-
-    Dense up to ``DENSE_EIG_MAX`` unknowns, shift-invert Lanczos beyond.
-    """
-    n = A.shape[0]
-    if n <= DENSE_EIG_MAX:
-        return sla.eigh(A.toarray(), subset_by_index=[0, min(k, n) - 1])
-    return _lowest_sparse(A, min(k, n - 1))
 
 
 def lowest_modes(rod: DiscreteRod, k: int = 4) -> tuple[np.ndarray, np.ndarray]:
@@ -197,14 +144,10 @@ def lowest_modes(rod: DiscreteRod, k: int = 4) -> tuple[np.ndarray, np.ndarray]:
     free = rod.free_dofs()
     Hf = H[free][:, free].tocsc()
     Hf = 0.5 * (Hf + Hf.T)
-    dg = np.abs(Hf.diagonal())
-    dg[dg == 0] = 1.0
-    d = 1.0 / np.sqrt(dg)
+    d = jacobi_scaling(Hf)
     A = (sp.diags(d) @ Hf @ sp.diags(d)).tocsc()
-    n = A.shape[0]
     slide = sliding_mode(rod)
-    kk = min(k + (1 if slide is not None else 0), n if n <= DENSE_EIG_MAX else n - 1)
-    vals, vecs = _scaled_lowest(A, kk)
+    vals, vecs = lowest_eigenpairs(A, k + (1 if slide is not None else 0))
     if slide is not None:
         # Leave out the eigenpair that IS the sliding mode (cosine > SLIDING_OVERLAP of the
         # node displacements: the frame part of the finite-difference field is less accurate).
@@ -316,16 +259,15 @@ def _newton_step(Hf: sp.spmatrix, gf: np.ndarray, dg: np.ndarray, tau: float
     return step if np.all(np.isfinite(step)) else None
 
 
-def _spd_shift(Hf: sp.spmatrix, dg: np.ndarray) -> float:
+def _spd_shift(Hf: sp.spmatrix, d: np.ndarray) -> float:
     """Return a shift ``tau`` with ``H + tau D`` positive definite.
 
     Twice the magnitude of the lowest eigenvalue of the Jacobi-scaled ``H`` when it is negative
     (else 0). Scaled bending eigenvalues are tiny (~1e-8, the penalty dominates the diagonal), so a
     fixed shift would swamp them and Newton would crawl like steepest descent.
     """
-    d = 1.0 / np.sqrt(dg)
     A = (sp.diags(d) @ Hf @ sp.diags(d)).tocsc()
-    lam = float(_scaled_lowest(A, 1)[0][0])
+    lam = float(lowest_eigenpairs(A, 1)[0][0])
     return 2.0 * -lam if lam < 0 else 0.0
 
 
@@ -357,11 +299,12 @@ def _newton(rod: DiscreteRod, max_iter: int) -> tuple[bool, int, float]:
         it += 1
         Hf = H[free][:, free].tocsc()
         Hf = 0.5 * (Hf + Hf.T)
-        dg = np.abs(Hf.diagonal()) + 1e-300
+        d = jacobi_scaling(Hf)
+        dg = 1.0 / d**2
         for _ in range(40):
             step = _newton_step(Hf, gf, dg, lam)
             if step is None or gf @ step >= 0:
-                lam = max(_spd_shift(Hf, dg), 4 * lam, lam_floor)
+                lam = max(_spd_shift(Hf, d), 4 * lam, lam_floor)
                 continue
             pred = -(gf @ step + 0.5 * step @ (Hf @ step))
             trial = rod.copy()
