@@ -35,7 +35,7 @@ def main() -> None:
     first = next(row for row in rows if row[3] < 1e-8)
     print(f"to 1e-8: {first[0]} elements/segment, {first[1]} dof, {first[2] * 1e3:.1f} ms "
           f"(ratio to the 50 ms target {first[2] / 0.05:.2f})")
-    (n0, d0, t0, _), (n1, d1, t1, _) = rows[3], rows[-1]
+    (_, d0, t0, _), (_, d1, t1, _) = rows[3], rows[-1]
     print(f"growth: time x{t1 / t0:.1f} for dof x{d1 / d0:.1f} "
           f"(exponent {math.log(t1 / t0) / math.log(d1 / d0):.2f})")
 

@@ -235,7 +235,7 @@ def test_fig_3_symmetric_mode_is_critical(name):
         r = clamped_arc_stability(s.b1, s.b2, Lb)
         up = r.L_kappa_interval[1]
         assert r.critical_mode == "symmetric", Lb
-        sym = find_roots(lambda p: symmetric_function(_guarded(1 - p / Lb, s.b1, s.b2), Lb,
+        sym = find_roots(lambda p, Lb=Lb: symmetric_function(_guarded(1 - p / Lb, s.b1, s.b2), Lb,
                                                       s.b1, s.b2), Lb + 1e-9, up + 1.0)
         assert sym.values[0] == pytest.approx(up, rel=1e-12)
         assert up == pytest.approx(_first_transfer_root(Lb, s.b1, s.b2, +1), rel=METHOD_RTOL)

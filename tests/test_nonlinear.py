@@ -241,7 +241,7 @@ def test_arclength_path_from_the_straightened_rod_bifurcation_matches_amplitude_
     zmax = float(np.max(np.abs(p.shapes[2][:, 2])))
     assert min(abs(abs(x) - zmax) for x in p.amplitude) < 1e-12
     b = post_buckling_branch(a, 1.0, 8.0, elements_per_segment=12, amplitudes=np.array([zmax]))
-    (xb, mu_b), = [(x, m) for x, m in zip(b.amplitude, b.value) if x > 0]
+    (xb, mu_b), = [(x, m) for x, m in zip(b.amplitude, b.value, strict=True) if x > 0]
     assert xb == pytest.approx(zmax, rel=1e-6)
     assert p.shape_values[2] == pytest.approx(mu_b, rel=1e-5)
     # the two methods' post-buckling coefficient b of mu/mu_c = 1 + a xi + b xi^2 agree

@@ -91,7 +91,7 @@ def test_twisted_rod_buckles_subcritically_with_koiter_two_thirds_law():
     (b,) = c.branches
     assert "subcritical" in b.verdict
     # every point off the bifurcation (xi != 0) lies at a smaller rotation
-    assert max(v for x, v in zip(b.amplitude, b.value) if x != 0) < b.value_critical
+    assert max(v for x, v in zip(b.amplitude, b.value, strict=True) if x != 0) < b.value_critical
     r = imperfection_sensitivity(_twisted(), "support.1.rotation.tangent", 0.0, 13.0,
                                  epsilons=(5e-4, 1e-3, 2e-3), elements_per_segment=12,
                                  n_steps=13)

@@ -32,7 +32,7 @@ def test_fig5_data_is_2pi_at_square_and_rises(reproduction):
     i1 = min(range(len(hts)), key=lambda i: abs(hts[i] - 1.0))
     if abs(hts[i1] - 1.0) < 1e-12:
         assert vals[i1] == pytest.approx(2 * math.pi, rel=1e-9)
-    assert all(v2 >= v1 - 1e-9 for v1, v2 in zip(vals, vals[1:]))
+    assert all(v2 >= v1 - 1e-9 for v1, v2 in zip(vals, vals[1:], strict=False))
 
 
 def test_ring_overlap_threshold_brackets_overlap():
