@@ -1,0 +1,132 @@
+"""Resource limits: the size of every run estimated from its inputs before anything is allocated.
+
+A run that would exceed a limit is refused with a :class:`~rodstab.errors.RodstabInputError`
+(exit status 2) naming the option that set the size, the estimate, the limit and the option
+that raises it; nothing is allocated first. The estimates are exact counts of unknowns (tested
+against the discretisations, tests/test_limits.py) and a memory bound from them.
+
+Limits (defaults; the CLI raises them with ``--max-dof``, ``--max-steps``, ``--max-memory``):
+
+* :data:`MAX_DOF` unknowns of one linear (FE of P2) solve, :data:`MAX_DOF_NONLINEAR` of one
+  nonlinear (discrete rod) state;
+* :data:`MAX_STEPS` steps of a continuation, points of a sweep, or Fourier modes of an
+  analytic ring check (each a separate solve);
+* :data:`MAX_MEMORY` bytes of the estimated peak memory of one solve.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Iterable
+
+from .errors import RodstabInputError
+
+#: Unknowns of one linear solve (a million is the speed target; the sparse factorisation of a
+#: banded P2 pencil stays within a few GiB there).
+MAX_DOF = 2_000_000
+#: Unknowns of one nonlinear state (its Hessian has ~60 entries per row, twice for the jets).
+MAX_DOF_NONLINEAR = 500_000
+#: Steps of one continuation, points of one sweep, modes of one analytic ring check.
+MAX_STEPS = 100_000
+#: Estimated peak memory of one solve, bytes (the machine this was written on has 24 GiB).
+MAX_MEMORY = 8 * 2**30
+#: Bytes per unknown of a sparse solve: the matrices (K0, K1, Z, the scaled pencil: ~10
+#: entries per row, 12 bytes each, several copies) and the sparse LU's fill (banded, ~40
+#: entries per row): a generous bound, not a measurement of one run.
+BYTES_PER_DOF = 4096
+
+
+@dataclasses.dataclass(frozen=True, kw_only=True)
+class Limits:
+    """The limits of one run; see the module docstring for the meaning of each."""
+
+    max_dof: int = MAX_DOF
+    max_dof_nonlinear: int = MAX_DOF_NONLINEAR
+    max_steps: int = MAX_STEPS
+    max_memory: int = MAX_MEMORY
+
+    def __post_init__(self) -> None:
+        """Every limit a positive integer."""
+        for f in dataclasses.fields(self):
+            v = getattr(self, f.name)
+            if isinstance(v, bool) or not isinstance(v, int) or v <= 0:
+                raise RodstabInputError(f"--{f.name.replace('_', '-')} must be a positive "
+                                        f"integer, got {v!r}")
+
+
+DEFAULT = Limits()
+
+
+def linear_dof(elements: Iterable[int], n_joints: int) -> int:
+    """Unknowns of the linear engine before constraints: ``3 J + sum(4 n - 3)``.
+
+    Per segment of ``n`` elements: nodal ``(w, w', omega)`` at ``n + 1`` nodes and one mid-element
+    ``omega`` per element, less the two end nodes' three, which are the joint's (``3 J``).
+    """
+    return 3 * int(n_joints) + sum(4 * int(n) - 3 for n in elements)
+
+
+def nonlinear_dof(elements: Iterable[int], n_joints: int) -> int:
+    """Unknowns of the discrete rod: ``3 (2 sum n - S + 2 J)`` for ``S`` segments.
+
+    Node positions (``sum (n - 1)`` interior nodes and one per joint) and a rotation per edge
+    (``sum n``) and per joint, three each.
+    """
+    ns = [int(n) for n in elements]
+    return 3 * (2 * sum(ns) - len(ns) + 2 * int(n_joints))
+
+
+def linear_memory(elements: Iterable[int], n_joints: int) -> int:
+    """Estimated peak bytes of one linear solve.
+
+    ``BYTES_PER_DOF`` per unknown, plus the dense local matrices the assembly builds for one
+    segment at a time (two of ``(4 n + 3)^2`` doubles for its largest segment).
+    """
+    ns = [int(n) for n in elements]
+    dense = 2 * 8 * (4 * max(ns, default=0) + 3) ** 2
+    return BYTES_PER_DOF * linear_dof(ns, n_joints) + dense
+
+
+def _gib(n: float) -> str:
+    return f"{n / 2**30:.3g} GiB"
+
+
+def require_linear(elements: Iterable[int], n_joints: int, cause: str,
+                   limits: Limits = DEFAULT) -> int:
+    """Return the linear engine's unknown count, or refuse a run past the limits.
+
+    ``cause`` names the input that set the size (e.g. ``"--elements 100000000"``) for the
+    message. Raises :class:`RodstabInputError` past ``max_dof`` or ``max_memory``.
+    """
+    ns = [int(n) for n in elements]
+    dof = linear_dof(ns, n_joints)
+    if dof > limits.max_dof:
+        raise RodstabInputError(
+            f"{cause}: the linear solve would have {dof:.4g} unknowns, above the limit of "
+            f"{limits.max_dof:,} (raise it with --max-dof)")
+    mem = linear_memory(ns, n_joints)
+    if mem > limits.max_memory:
+        raise RodstabInputError(
+            f"{cause}: the linear solve would need about {_gib(mem)} of memory, above the "
+            f"limit of {_gib(limits.max_memory)} (raise it with --max-memory)")
+    return dof
+
+
+def require_nonlinear(elements: Iterable[int], n_joints: int, cause: str,
+                      limits: Limits = DEFAULT) -> int:
+    """Return the discrete rod's unknown count, or refuse a run past ``max_dof_nonlinear``."""
+    dof = nonlinear_dof(elements, n_joints)
+    if dof > limits.max_dof_nonlinear:
+        raise RodstabInputError(
+            f"{cause}: the nonlinear model would have {dof:.4g} unknowns, above the limit of "
+            f"{limits.max_dof_nonlinear:,} (raise it with --max-dof)")
+    return dof
+
+
+def require_steps(n: int, cause: str, what: str = "steps", limits: Limits = DEFAULT) -> int:
+    """Return ``n``, or refuse a run of more than ``max_steps`` separate solves."""
+    if n > limits.max_steps:
+        raise RodstabInputError(
+            f"{cause}: {n:.4g} {what}, above the limit of {limits.max_steps:,} "
+            "(raise it with --max-steps)")
+    return int(n)
