@@ -374,3 +374,27 @@ def test_bad_input_names_parameter_and_value(func, kwargs, name, value):
     message = str(info.value)
     assert name in message
     assert repr(value) in message
+
+
+@pytest.mark.parametrize("build, word", [
+    (lambda: rectangle(aspect=1e308), "aspect"),
+    (lambda: rectangle(aspect=1e-300), "aspect"),
+    (lambda: ellipse(aspect=2e4), "aspect"),
+    (lambda: rectangle(aspect=1e4, thickness=1e100), "thickness"),
+    (lambda: rectangle(aspect=1.0, thickness=1e-120), "thickness"),
+    (lambda: from_ratios(b1=1e308, b2=1e308), "b1"),
+    (lambda: from_ratios(b1=1.0, b2=1e-12), "b2"),
+], ids=["rect 1e308", "rect 1e-300", "ellipse 2e4", "I1 overflow", "I3 underflow",
+        "ratios 1e308", "b2 1e-12"])
+def test_out_of_range_sections_are_refused_naming_the_input(build, word):
+    """Hostile sizes never overflow into a traceback or a null sqrt(b1 b2) (issue 10)."""
+    with pytest.raises(RodstabInputError, match=word):
+        build()
+
+
+@pytest.mark.parametrize("aspect", [1e-4, 1e4])
+def test_the_ends_of_the_aspect_range_give_finite_ratios(aspect):
+    """b1 = (h/t)^2 exactly at both ends, and sqrt(b1 b2) finite and positive."""
+    for s in (rectangle(aspect=aspect), ellipse(aspect=aspect)):
+        assert s.b1 == pytest.approx(aspect**2, rel=1e-15)
+        assert 0 < s.sqrt_b1b2 < math.inf

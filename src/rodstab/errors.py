@@ -49,6 +49,17 @@ def require_finite(name: str, value: float) -> float:
     return v
 
 
+def require_in_range(name: str, value: float, lo: float, hi: float, why: str) -> float:
+    """Return ``value`` as float if it is a number in ``[lo, hi]``, else raise.
+
+    The message names ``name``, the value, the range and ``why`` the range is what it is.
+    """
+    v = require_finite(name, value)
+    if not (lo <= v <= hi):
+        raise RodstabInputError(f"{name} must lie in [{lo:g}, {hi:g}] ({why}), got {value!r}")
+    return v
+
+
 def require_positive_int(name: str, value: int) -> int:
     """Return ``value`` if it is an integer >= 1 (bools rejected), else raise naming ``name``."""
     if isinstance(value, bool) or not isinstance(value, Integral) or value < 1:

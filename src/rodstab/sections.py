@@ -25,7 +25,13 @@ import math
 
 import numpy as np
 
-from .errors import RodstabInputError, require_finite, require_poisson, require_positive
+from .errors import (
+    RodstabInputError,
+    require_finite,
+    require_in_range,
+    require_poisson,
+    require_positive,
+)
 from .results import Result
 
 #: Torsion-constant options of the non-circular shapes: the exact Saint-Venant value, or the
@@ -45,6 +51,15 @@ SERIES_RTOL = 1e-15
 SERIES_RTOL_MIN = 1e-16
 #: Default inner/outer radius ratio of the tube that :func:`make_section` builds.
 TUBE_DEFAULT_ASPECT = 0.5
+
+#: Accepted h/t of ellipses and rectangles: a rod's cross-section (beyond, a plate or a sheet
+#: of wires; b1 = (h/t)^2 would reach 1e8).
+ASPECT_RANGE = (1e-4, 1e4)
+#: Accepted stiffness ratios b1 = B1/B3 and b2 = B2/B3: every section in ASPECT_RANGE lies
+#: inside (b1 = (h/t)^2 in [1e-8, 1e8]); beyond, sqrt(b1 b2) and the critical loads overflow.
+RATIO_RANGE = (1e-9, 1e9)
+_ASPECT_WHY = "the h/t of a rod's cross-section"
+_RATIO_WHY = "the stiffness ratio of a rod's cross-section; h/t in [1e-4, 1e4] gives at most 1e8"
 
 # Saint-Venant's constant 192/pi^5 and the paper's printed 195/pi^5 (eq. 3.12).
 _SV_CONSTANT = 192.0 / math.pi**5
@@ -93,8 +108,8 @@ class Section(Result):
             raise RodstabInputError(
                 f"torsion must be one of {_ALL_TORSION}, got {self.torsion!r}"
             )
-        require_positive("b1", self.b1)
-        require_positive("b2", self.b2)
+        require_in_range("b1", self.b1, *RATIO_RANGE, _RATIO_WHY)
+        require_in_range("b2", self.b2, *RATIO_RANGE, _RATIO_WHY)
 
     @property
     def sqrt_b1b2(self) -> float:
@@ -241,7 +256,7 @@ def ellipse(
         With ``shape="ellipse"``, ``area`` = pi h t/4, ``I1`` = pi t h^3/64,
         ``I3`` = pi h t^3/64.
     """
-    x = require_positive("aspect", aspect)
+    x = require_in_range("aspect", aspect, *ASPECT_RANGE, _ASPECT_WHY)
     t = require_positive("thickness", thickness)
     nu = require_poisson(nu)
     torsion = _check_torsion(torsion)
@@ -371,13 +386,16 @@ def rectangle(
     RodstabInputError
         If ``torsion="paper"`` and eq. (3.12) gives b2 <= 0 (aspect below about 0.0334).
     """
-    x = require_positive("aspect", aspect)
+    x = require_in_range("aspect", aspect, *ASPECT_RANGE, _ASPECT_WHY)
     t = require_positive("thickness", thickness)
     nu = require_poisson(nu)
     torsion = _check_torsion(torsion)
     h = x * t
-    I1 = t * h**3 / 12.0
-    I3 = h * t**3 / 12.0
+    # Products, not powers: a float power raises OverflowError where a product gives inf.
+    I1 = t * h * h * h / 12.0
+    I3 = h * t * t * t / 12.0
+    require_finite("thickness (I1 = t h^3 / 12 overflows)", I1)
+    require_positive("thickness (I3 = h t^3 / 12 underflows)", I3)
     if torsion == "exact":
         J = rectangle_torsion_constant(width=t, height=h)
         b2 = _b2(J, I3, nu)
@@ -414,8 +432,8 @@ def from_ratios(*, b1: float, b2: float) -> Section:
     """
     return Section(
         shape="ratios",
-        b1=require_positive("b1", b1),
-        b2=require_positive("b2", b2),
+        b1=require_in_range("b1", b1, *RATIO_RANGE, _RATIO_WHY),
+        b2=require_in_range("b2", b2, *RATIO_RANGE, _RATIO_WHY),
         nu=None,
         torsion="given",
         aspect=None,
