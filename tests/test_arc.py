@@ -292,22 +292,48 @@ def test_fig_3_h_over_t_075_has_dramatically_reduced_range():
         assert (t[1] - t[0]) / (c[1] - c[0]) < 0.65
 
 
-def test_clamped_arc_stability_large_L_over_R_does_not_overflow():
-    """L/R = 1e4 is a finite, non-negative L/R (accepted by the validation): the solver returns
-    an interval containing the stress-free state L kappa_n = L/R, or rejects the input with a
-    ValueError naming L_over_R -- it does not crash with OverflowError."""
-    try:
-        r = clamped_arc_stability(1.0, 0.75, 1e4)
-    except ValueError as exc:
-        assert "L_over_R" in str(exc)
-    else:
-        assert r.L_kappa_interval[0] < 1e4 < r.L_kappa_interval[1]
+@pytest.mark.parametrize("Lb", [50.0, 1e3, 1e4])
+def test_long_arcs_are_found_by_a_scan_8x_denser_and_stay_near_the_stress_free_state(
+        Lb, monkeypatch):
+    """Up to L_OVER_R_MAX the interval is the same with an 8x denser scan (no root stepped
+    over), is converged, and its ends lie within 5.3-5.45 of the stress-free L kappa_n = L/R
+    (b1 = 1, b2 = 0.75: the window does not grow with L/R; at L/R = 1e9 a window ~ L/R once
+    gave ends 2.5e6 away, reported converged)."""
+    import rodstab.analytic.arc as arc_module
+    from rodstab.numerics import find_roots as plain
+
+    r = clamped_arc_stability(1.0, 0.75, Lb)
+    monkeypatch.setattr(arc_module, "find_roots",
+                        lambda f, lo, hi, n_scan=400, **k: plain(f, lo, hi, n_scan=8 * n_scan,
+                                                                 **k))
+    dense = clamped_arc_stability(1.0, 0.75, Lb)
+    assert r.converged and dense.converged
+    assert np.allclose(r.L_kappa_interval, dense.L_kappa_interval, rtol=1e-11)
+    lo, hi = r.L_kappa_interval
+    assert 5.3 < Lb - lo < 5.45 and 5.3 < hi - Lb < 5.45
+
+
+def test_a_long_arc_agrees_with_the_fe_engine():
+    """L/R = 50 (8 turns), second method: the FE of P2 (400 elements) gives the same ends
+    L kappa_n - L/R to 2e-3 (its discretisation error: 0.0054 at 200, 0.0004 at 400)."""
+    from rodstab.linear.solve import linear_stability
+    from rodstab.model import Assembly, Segment
+
+    Lb = 50.0
+    a = Assembly(segments=(Segment(name="arc", length=Lb, curvature=1.0, natural_curvature=1.0,
+                                   B1=1.0, B2=0.75, B3=1.0),),
+                 supports=(("arc", "start", "clamped"), ("arc", "end", "clamped")))
+    fe = linear_stability(a, 400).load_factor_interval
+    an = clamped_arc_stability(1.0, 0.75, Lb).L_kappa_interval
+    for f, p in zip(fe, an, strict=True):
+        assert f * Lb - Lb == pytest.approx(p - Lb, rel=2e-3)
 
 
 @pytest.mark.parametrize("kwargs, name", [
     (dict(b1=1.0, b2=0.75, L_over_R=-1.0), "L_over_R"),
     (dict(b1=1.0, b2=0.75, L_over_R=math.nan), "L_over_R"),
     (dict(b1=1.0, b2=0.75, L_over_R=math.inf), "L_over_R"),
+    (dict(b1=1.0, b2=0.75, L_over_R=1e9), "L_over_R"),
     (dict(b1=0.0, b2=0.75, L_over_R=1.0), "b1"),
     (dict(b1=1.0, b2=-0.75, L_over_R=1.0), "b2"),
 ])
