@@ -175,3 +175,11 @@ def test_michell_mode_pencil_is_the_quadratic_form_of_3_26(k):
         x = np.array([1.0, r])  # b k = 1
         assert x @ (A - t * C) @ x == pytest.approx(2 * t * k * r + k * k * (1 + r * r) - 1,
                                                     rel=1e-14)
+
+
+def test_michell_ring_of_huge_loop_count_is_refused_before_any_work():
+    """3N + 4 modes past limits.max_steps, refused naming loops (issue 10: unbounded)."""
+    from rodstab.errors import RodstabInputError
+
+    with pytest.raises(RodstabInputError, match=r"loops 1000000000.*--max-steps"):
+        michell_stability(0.75, 10**9)

@@ -213,3 +213,16 @@ def test_ring_stability_rejects_bad_input_naming_it(kwargs, name):
     """Bad input raises RodstabInputError (a ValueError) whose message names the parameter."""
     with pytest.raises(RodstabInputError, match=name):
         ring_stability(**kwargs)
+
+
+def test_a_ring_of_a_billion_loops_is_refused_before_any_work():
+    """2N + 4 mode eigenproblems past limits.max_steps: refused naming loops and the limit
+    option (issue 10: it ran unbounded); a lower limit refuses a small ring too."""
+    from rodstab.errors import RodstabInputError
+    from rodstab.limits import Limits
+
+    with pytest.raises(RodstabInputError, match=r"loops 1000000000.*--max-steps"):
+        ring_stability(1.0, 0.75, 10**9)
+    with pytest.raises(RodstabInputError, match=r"loops 5: 14 Fourier modes"):
+        ring_stability(1.0, 0.75, 5, limits=Limits(max_steps=13))
+    assert ring_stability(1.0, 0.75, 5, limits=Limits(max_steps=14)).loops == 5

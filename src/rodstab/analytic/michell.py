@@ -24,6 +24,8 @@ import math
 import numpy as np
 
 from ..errors import RodstabInputError, require_positive, require_positive_int
+from ..limits import DEFAULT as DEFAULT_LIMITS
+from ..limits import Limits, require_steps
 from ..numerics import pencil_interval
 from ..results import Result
 
@@ -66,7 +68,8 @@ class MichellStability(Result):
 
 
 def michell_stability(b2: float, loops: int = 1, *, b1: float = 1.0,
-                      j_max: int | None = None) -> MichellStability:
+                      j_max: int | None = None,
+                      limits: Limits = DEFAULT_LIMITS) -> MichellStability:
     """Critical twist ``b2 omega0'`` of Michell's ring with N loops (eqs 3.21-3.26).
 
     Parameters
@@ -77,6 +80,10 @@ def michell_stability(b2: float, loops: int = 1, *, b1: float = 1.0,
         Number of loops N.
     b1 : float
         Must be 1: the analysis (and the paper's) assumes isotropic bending ``B1 = B3``.
+    j_max : int, optional
+        Highest mode number checked (default ``3 N + 4``).
+    limits : Limits, optional
+        Refuse (``RodstabInputError``) more than ``limits.max_steps`` modes to check.
     """
     b2 = require_positive("b2", b2)
     N = require_positive_int("loops", loops)
@@ -84,6 +91,7 @@ def michell_stability(b2: float, loops: int = 1, *, b1: float = 1.0,
         raise RodstabInputError(f"b1 must be 1 for Michell's problem (isotropic bending), "
                                 f"got {b1!r}")
     j_max = 3 * N + 4 if j_max is None else j_max
+    require_steps(j_max, f"loops {N}", "Fourier modes to check (one eigenproblem each)", limits)
     unstable = tuple(j for j in range(1, N))  # k < 1: k^2 - 1 < 0 at zero twist
     best: tuple[float, int, float] | None = None
     residual = 0.0

@@ -19,6 +19,8 @@ import math
 import numpy as np
 
 from ..errors import require_positive, require_positive_int
+from ..limits import DEFAULT as DEFAULT_LIMITS
+from ..limits import Limits, require_steps
 from ..numerics import pencil_interval
 from ..results import Result
 
@@ -85,7 +87,8 @@ class RingStability(Result):
     method: str
 
 
-def ring_stability(b1: float, b2: float, loops: int, *, j_max: int | None = None) -> RingStability:
+def ring_stability(b1: float, b2: float, loops: int, *, j_max: int | None = None,
+                   limits: Limits = DEFAULT_LIMITS) -> RingStability:
     """Stable interval of ``M = 1 - R kappa_n`` for an untwisted N-loop ring (Section 3.1).
 
     Every mode ``j = 0 .. j_max`` except the rigid ``j = N`` is checked through the pencil
@@ -100,11 +103,16 @@ def ring_stability(b1: float, b2: float, loops: int, *, j_max: int | None = None
         Stiffness ratios ``B1/B3`` and ``B2/B3`` (> 0).
     loops : int
         Number of loops N >= 1.
+    j_max : int, optional
+        Highest mode number checked (default ``2 N + 4``).
+    limits : Limits, optional
+        Refuse (``RodstabInputError``) more than ``limits.max_steps`` modes to check.
     """
     b1 = require_positive("b1", b1)
     b2 = require_positive("b2", b2)
     N = require_positive_int("loops", loops)
     j_max = 2 * N + 4 if j_max is None else j_max
+    require_steps(j_max, f"loops {N}", "Fourier modes to check (one eigenproblem each)", limits)
     modes: list[ModeBound] = []
     residual = 0.0
     for j in range(j_max + 1):
