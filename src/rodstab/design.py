@@ -141,8 +141,9 @@ def parse_design(data: dict, source: str = "<dict>") -> Design:
             angle = 0.0
         k, kn, tw = (require_finite(f"{where}.{key}", raw.get(key, 0.0))
                      for key in ("curvature", "natural_curvature", "natural_twist"))
-        segments.append(Segment(str(raw["name"]), raw["length"], k, kn, B1, B2, B3, start, angle,
-                                tw))
+        segments.append(Segment(name=str(raw["name"]), length=raw["length"], curvature=k,
+                                natural_curvature=kn, B1=B1, B2=B2, B3=B3, start=start, angle=angle,
+                                natural_twist=tw))
     welds = []
     for i, w in enumerate(data.get("weld", [])):
         _check_keys(w, _WELD, f"weld[{i}]")
@@ -164,9 +165,10 @@ def parse_design(data: dict, source: str = "<dict>") -> Design:
     _check_keys(analysis, _ANALYSIS, "[analysis]")
     elements = require_positive_int("analysis.elements", analysis.get("elements", 32))
     ref = analysis.get("reference_load")
-    assembly = Assembly(tuple(segments), tuple(welds), tuple(supports),
-                        None if ref is None else require_finite("analysis.reference_load", ref),
-                        tuple(rotations))
+    assembly = Assembly(segments=tuple(segments), welds=tuple(welds), supports=tuple(supports),
+                        reference_load=(None if ref is None
+                                        else require_finite("analysis.reference_load", ref)),
+                        end_rotations=tuple(rotations))
     lf = analysis.get("load_factor_segment", segments[0].name)
     assembly.segment(lf)
     return Design(assembly, elements, lf, source, data)

@@ -35,7 +35,7 @@ SUPPORTS = ("clamped", "sliding-clamp", "fork", "pinned", "free")
 ENDS = ("start", "end")
 
 
-@dataclasses.dataclass(frozen=True)
+@dataclasses.dataclass(frozen=True, kw_only=True)
 class Segment:
     """One rod segment in its held (reference) state; see the module docstring."""
 
@@ -83,7 +83,7 @@ class Segment:
         return self.position(0.0 if end == "start" else self.length)
 
 
-@dataclasses.dataclass(frozen=True)
+@dataclasses.dataclass(frozen=True, kw_only=True)
 class Assembly:
     """Segments, welds (groups of segment ends) and supports (on segment ends).
 
