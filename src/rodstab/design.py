@@ -46,7 +46,7 @@ from pathlib import Path
 from typing import Any
 
 from .errors import RodstabInputError, require_finite, require_positive, require_positive_int
-from .model import Assembly, Segment
+from .model import ROTATION_AXES, SUPPORT_KINDS, SUPPORTS, Assembly, Segment
 from .sections import make_section
 
 _TOP = {"section", "segment", "weld", "support", "analysis"}
@@ -55,8 +55,8 @@ _SEGMENT = {"name", "length", "curvature", "natural_curvature", "natural_twist",
             "angle_deg", "cusp", "section"}
 _WELD = {"ends"}
 _SUPPORT = {"end", "type", "rotation"}
-#: Names of the rotation-vector components of a support (``support.<i>.rotation.<name>``).
-ROTATION_AXES = ("normal", "tangent", "binormal")
+#: Support type of a ``[[support]]`` table that gives none (a key of ``SUPPORT_KINDS``).
+DEFAULT_SUPPORT = "clamped"
 _ANALYSIS = {"elements", "reference_load", "load_factor_segment"}
 
 
@@ -152,7 +152,10 @@ def parse_design(data: dict, source: str = "<dict>") -> Design:
     for i, s in enumerate(data.get("support", [])):
         _check_keys(s, _SUPPORT, f"support[{i}]")
         name, end = _end(s.get("end"), f"support[{i}]")
-        supports.append((name, end, s.get("type", "clamped")))
+        kind = s.get("type", DEFAULT_SUPPORT)
+        if not isinstance(kind, str) or kind not in SUPPORT_KINDS:
+            raise RodstabInputError(f"support[{i}].type must be one of {SUPPORTS}, got {kind!r}")
+        supports.append((name, end, kind))
         if "rotation" in s:
             rot = s["rotation"]
             if not (isinstance(rot, list) and len(rot) == 3
@@ -237,7 +240,7 @@ def set_design_value(data: dict, key: str, value: float) -> dict:
         return out
     raise RodstabInputError(f"--vary key {key!r} must be section.<k>, analysis.<k>, "
                             "segment.<name>.<k>, segment.<name>.section.<k> or "
-                            "support.<i>.rotation.<normal|tangent|binormal>")
+                            f"support.<i>.rotation.<{'|'.join(ROTATION_AXES)}>")
 
 
 @dataclasses.dataclass(frozen=True)
