@@ -27,8 +27,10 @@ B1 = 1.0  # circle: B1 = B3, B2 = B1 / (1 + nu)
 
 
 def straight_rod(support_end: str = "sliding-clamp") -> Assembly:
-    s = Segment("rod", 1.0, 0.0, 1.0, B1, B1 / (1 + NU), B1)
-    return Assembly((s,), supports=(("rod", "start", "clamped"), ("rod", "end", support_end)))
+    s = Segment(name="rod", length=1.0, curvature=0.0, natural_curvature=1.0, B1=B1,
+                B2=B1 / (1 + NU), B3=B1)
+    return Assembly(segments=(s,),
+                    supports=(("rod", "start", "clamped"), ("rod", "end", support_end)))
 
 
 def newton_scaling() -> None:

@@ -43,7 +43,8 @@ def build(c: dict, *, shift=(0.0, 0.0), turn: float = 0.0, reverse: bool = False
     for i, L in enumerate(c["lengths"]):
         if i:
             ang += c["kinks"][i - 1]
-        s = Segment(f"s{i}", L, c["k"], c["kn"], c["b1"][i], c["b2"][i], 1.0, tuple(x), ang)
+        s = Segment(name=f"s{i}", length=L, curvature=c["k"], natural_curvature=c["kn"],
+                    B1=c["b1"][i], B2=c["b2"][i], B3=1.0, start=tuple(x), angle=ang)
         segs.append(s)
         x, t = s.end_point("end"), s.tangent(L)
         ang = math.atan2(t[1], t[0])
@@ -55,12 +56,13 @@ def build(c: dict, *, shift=(0.0, 0.0), turn: float = 0.0, reverse: bool = False
         rev = []
         for s in segs:
             t = s.tangent(s.length)
-            rev.append(Segment(s.name, s.length, -s.curvature, -s.natural_curvature, s.B1, s.B2,
-                               s.B3, tuple(s.end_point("end")), math.atan2(-t[1], -t[0])))
+            rev.append(Segment(name=s.name, length=s.length, curvature=-s.curvature,
+                               natural_curvature=-s.natural_curvature, B1=s.B1, B2=s.B2, B3=s.B3,
+                               start=tuple(s.end_point("end")), angle=math.atan2(-t[1], -t[0])))
         segs = rev
         welds = [tuple((name, flip[end]) for name, end in w) for w in welds]
         sup = [(name, flip[end], kind) for name, end, kind in sup]
-    return Assembly(tuple(segs), welds=tuple(welds), supports=tuple(sup))
+    return Assembly(segments=tuple(segs), welds=tuple(welds), supports=tuple(sup))
 
 
 def interval(a: Assembly) -> np.ndarray:

@@ -24,28 +24,34 @@ RECT2 = rectangle(aspect=2.0)
 
 
 def clamped(L, k, kn, s, *, start=(0.0, 0.0), angle=0.0):
-    seg = Segment("a", L, k, kn, s.b1, s.b2, 1.0, start, angle)
-    return Assembly((seg,), supports=(("a", "start", "clamped"), ("a", "end", "clamped")))
+    seg = Segment(name="a", length=L, curvature=k, natural_curvature=kn, B1=s.b1, B2=s.b2, B3=1.0,
+                  start=start, angle=angle)
+    return Assembly(segments=(seg,), supports=(("a", "start", "clamped"), ("a", "end", "clamped")))
 
 
 def ring(N, s):
-    seg = Segment("a", 2 * math.pi * N, 1.0, 1.0, s.b1, s.b2, 1.0)
-    return Assembly((seg,), welds=((("a", "start"), ("a", "end")),))
+    seg = Segment(name="a", length=2 * math.pi * N, curvature=1.0, natural_curvature=1.0, B1=s.b1,
+                  B2=s.b2, B3=1.0)
+    return Assembly(segments=(seg,), welds=((("a", "start"), ("a", "end")),))
 
 
 def birod(s, clamp=True):
-    segs = (Segment("u", 1.0, 0.0, 1.0, s.b1, s.b2, 1.0),
-            Segment("l", 1.0, 0.0, -1.0, s.b1, s.b2, 1.0))
+    segs = (Segment(name="u", length=1.0, curvature=0.0, natural_curvature=1.0, B1=s.b1, B2=s.b2,
+                    B3=1.0),
+            Segment(name="l", length=1.0, curvature=0.0, natural_curvature=-1.0, B1=s.b1, B2=s.b2,
+                    B3=1.0))
     welds = ((("u", "start"), ("l", "start")), (("u", "end"), ("l", "end")))
-    return Assembly(segs, welds=welds, supports=(("u", "start", "clamped"),) if clamp else ())
+    return Assembly(segments=segs, welds=welds,
+                    supports=(("u", "start", "clamped"),) if clamp else ())
 
 
 def six_ring(s):
-    segs = tuple(Segment(str(i), 1.0, 0.0, -1.0 if i % 2 else 1.0, s.b1, s.b2, 1.0)
+    segs = tuple(Segment(name=str(i), length=1.0, curvature=0.0,
+                         natural_curvature=-1.0 if i % 2 else 1.0, B1=s.b1, B2=s.b2, B3=1.0)
                  for i in range(1, 7))
     welds = tuple(((str(i), "end" if i % 2 else "start"), (str(i % 6 + 1), "end" if i % 2
                                                             else "start")) for i in range(1, 7))
-    return Assembly(segs, welds=welds)
+    return Assembly(segments=segs, welds=welds)
 
 
 def _order(ns, errs):
@@ -168,19 +174,21 @@ def test_global_matrices_are_symmetric():
         assert abs(K - K.T).max() <= 1e-12 * abs(K).max()
 
 
+def _unit(name="a", **kw):
+    """A unit straight segment (all stiffnesses 1) with ``kw`` overriding any field."""
+    return Segment(**({"name": name, "length": 1.0, "curvature": 0.0, "natural_curvature": 0.0,
+                       "B1": 1.0, "B2": 1.0, "B3": 1.0} | kw))
+
+
 @pytest.mark.parametrize("build, needle", [
-    (lambda: Assembly((Segment("a", 1, 0, 0, 1, 1, 1), Segment("b", 1, 0, 0, 1, 1, 1,
-                                                             (0.5, 0.0))),
+    (lambda: Assembly(segments=(_unit("a"), _unit("b", start=(0.5, 0.0))),
                       welds=((("a", "end"), ("b", "start")),)), "do not meet"),
-    (lambda: Assembly((Segment("a", 1, 0, 1.0, 1, 1, 1),)), "moment equilibrium"),
-    (lambda: Assembly((Segment("a", 1, 0, 0, 1, 1, 1),), supports=(("a", "start", "glued"),)),
-     "glued"),
-    (lambda: Segment("a", -1.0, 0, 0, 1, 1, 1), "length"),
-    (lambda: Segment("a", 1.0, 0, 0, 1, 0.0, 1), "B2"),
-    (lambda: Assembly((Segment("a", 1, 0, 0, 1, 1, 1),), welds=((("a", "middle"),
-                                                                ("a", "end")),)), "middle"),
-    (lambda: Assembly((Segment("a", 1, 0, 0, 1, 1, 1),), supports=(("zz", "start", "clamped"),)),
-     "zz"),
+    (lambda: Assembly(segments=(_unit(natural_curvature=1.0),)), "moment equilibrium"),
+    (lambda: Assembly(segments=(_unit(),), supports=(("a", "start", "glued"),)), "glued"),
+    (lambda: _unit(length=-1.0), "length"),
+    (lambda: _unit(B2=0.0), "B2"),
+    (lambda: Assembly(segments=(_unit(),), welds=((("a", "middle"), ("a", "end")),)), "middle"),
+    (lambda: Assembly(segments=(_unit(),), supports=(("zz", "start", "clamped"),)), "zz"),
 ])
 def test_bad_assemblies_raise_naming_the_problem(build, needle):
     with pytest.raises(RodstabInputError, match=needle):
@@ -202,9 +210,11 @@ def test_mixed_sections_welded_rod_matches_full_system():
     with natural curvature: engine vs exact general solutions with all joint conditions."""
     s1, s2 = CIRCLE, rectangle(aspect=2.0)
     # Held moments B3 kappa_n must balance at the weld: kappa_n = 1/1.5 in b (B3 = 1.5).
-    segs = (Segment("a", 0.6, 0.0, 1.0, s1.b1, s1.b2, 1.0),
-            Segment("b", 0.4, 0.0, 1 / 1.5, s2.b1 * 1.5, s2.b2 * 1.5, 1.5, (0.6, 0.0)))
-    a = Assembly(segs, welds=((("a", "end"), ("b", "start")),),
+    segs = (Segment(name="a", length=0.6, curvature=0.0, natural_curvature=1.0, B1=s1.b1, B2=s1.b2,
+                    B3=1.0),
+            Segment(name="b", length=0.4, curvature=0.0, natural_curvature=1 / 1.5, B1=s2.b1 * 1.5,
+                    B2=s2.b2 * 1.5, B3=1.5, start=(0.6, 0.0)))
+    a = Assembly(segments=segs, welds=((("a", "end"), ("b", "start")),),
                  supports=(("a", "start", "clamped"), ("b", "end", "clamped")))
     full = matrix_roots(lambda mu: straight_assembly_matrix(a, mu), 0.2, 20.0, n_scan=400)
     r = linear_stability(a, 48)
@@ -213,10 +223,12 @@ def test_mixed_sections_welded_rod_matches_full_system():
 
 def test_weld_out_of_moment_equilibrium_is_rejected():
     """A weld joining ends with different held moments B3 kappa_n is not an equilibrium."""
-    segs = (Segment("a", 0.6, 0.0, 1.0, 1.0, 0.75, 1.0),
-            Segment("b", 0.4, 0.0, 1.0, 2.0, 1.0, 1.5, (0.6, 0.0)))
+    segs = (Segment(name="a", length=0.6, curvature=0.0, natural_curvature=1.0, B1=1.0, B2=0.75,
+                    B3=1.0),
+            Segment(name="b", length=0.4, curvature=0.0, natural_curvature=1.0, B1=2.0, B2=1.0,
+                    B3=1.5, start=(0.6, 0.0)))
     with pytest.raises(RodstabInputError, match="moment equilibrium"):
-        Assembly(segs, welds=((("a", "end"), ("b", "start")),),
+        Assembly(segments=segs, welds=((("a", "end"), ("b", "start")),),
                  supports=(("a", "start", "clamped"), ("b", "end", "clamped")))
 
 

@@ -21,18 +21,21 @@ EXPECTED_ORDER = 2.0  # Cayley curvature between edge frames: O(l_e^2)
 
 
 def straight(sec=C):
-    s = Segment("a", 1.0, 0.0, 1.0, sec.b1, sec.b2, 1.0)
-    return Assembly((s,), supports=(("a", "start", "clamped"), ("a", "end", "clamped")))
+    s = Segment(name="a", length=1.0, curvature=0.0, natural_curvature=1.0, B1=sec.b1, B2=sec.b2,
+                B3=1.0)
+    return Assembly(segments=(s,), supports=(("a", "start", "clamped"), ("a", "end", "clamped")))
 
 
 def ring(N, sec=C):
-    s = Segment("r", 2 * math.pi * N, 1.0, 1.0, sec.b1, sec.b2, 1.0)
-    return Assembly((s,), welds=((("r", "start"), ("r", "end")),))
+    s = Segment(name="r", length=2 * math.pi * N, curvature=1.0, natural_curvature=1.0, B1=sec.b1,
+                B2=sec.b2, B3=1.0)
+    return Assembly(segments=(s,), welds=((("r", "start"), ("r", "end")),))
 
 
 def arc(L_over_R, sec=C):
-    s = Segment("a", L_over_R, 1.0, 1.0, sec.b1, sec.b2, 1.0)
-    return Assembly((s,), supports=(("a", "start", "clamped"), ("a", "end", "clamped")))
+    s = Segment(name="a", length=L_over_R, curvature=1.0, natural_curvature=1.0, B1=sec.b1,
+                B2=sec.b2, B3=1.0)
+    return Assembly(segments=(s,), supports=(("a", "start", "clamped"), ("a", "end", "clamped")))
 
 
 @pytest.mark.parametrize("build", [lambda: arc(2.0, rectangle(aspect=2.0)), lambda: ring(1),
@@ -144,8 +147,10 @@ def test_equilibrium_result_stable_flag():
 def test_sliding_clamp_same_linear_result_and_frees_the_axial_dof():
     """The paper's modified support (after 3.8): same P2 (linear engine unchanged), but the
     nonlinear rod's end may slide along the tangent (one more free unknown than a clamp)."""
-    s = Segment("a", 1.0, 0.0, 1.0, C.b1, C.b2, 1.0)
-    slide = Assembly((s,), supports=(("a", "start", "clamped"), ("a", "end", "sliding-clamp")))
+    s = Segment(name="a", length=1.0, curvature=0.0, natural_curvature=1.0, B1=C.b1, B2=C.b2,
+                B3=1.0)
+    slide = Assembly(segments=(s,),
+                     supports=(("a", "start", "clamped"), ("a", "end", "sliding-clamp")))
     assert linear_stability(slide, 32).load_factor_critical == pytest.approx(
         linear_stability(straight(), 32).load_factor_critical, rel=1e-12)
     n_slide = len(discretise(slide, 8).free_dofs())
@@ -166,8 +171,10 @@ def test_cli_equilibrium_json_contract(run_cli):
 
 
 def _sliding_straight():
-    s = Segment("a", 1.0, 0.0, 1.0, C.b1, C.b2, 1.0)
-    return Assembly((s,), supports=(("a", "start", "clamped"), ("a", "end", "sliding-clamp")))
+    s = Segment(name="a", length=1.0, curvature=0.0, natural_curvature=1.0, B1=C.b1, B2=C.b2,
+                B3=1.0)
+    return Assembly(segments=(s,),
+                    supports=(("a", "start", "clamped"), ("a", "end", "sliding-clamp")))
 
 
 def test_post_buckling_of_straightened_rod_is_stable_symmetric():
@@ -304,8 +311,9 @@ def test_greenhill_twisted_clamped_rod_closed_form():
     x1 = brentq(lambda x: math.tan(x) - x, 4.4, 4.6)
     exact = 2 * x1
     b2 = 0.75
-    s = Segment("a", 1.0, 0.0, 0.0, 1.0, b2, 1.0, natural_twist=1.0)
-    a = Assembly((s,), supports=(("a", "start", "clamped"), ("a", "end", "sliding-clamp")))
+    s = Segment(name="a", length=1.0, curvature=0.0, natural_curvature=0.0, B1=1.0, B2=b2, B3=1.0,
+                natural_twist=1.0)
+    a = Assembly(segments=(s,), supports=(("a", "start", "clamped"), ("a", "end", "sliding-clamp")))
     errs = []
     for n in (16, 32, 64):
         T = b2 * critical_load_factor(a, 1.0, 20.0, elements_per_segment=n).load_factor_critical
@@ -317,12 +325,13 @@ def test_greenhill_twisted_clamped_rod_closed_form():
 def test_natural_twist_is_refused_by_the_linear_engine_and_checked_at_joints():
     from rodstab.errors import RodstabInputError
 
-    s = Segment("a", 1.0, 0.0, 0.0, 1.0, 0.75, 1.0, natural_twist=1.0)
-    a = Assembly((s,), supports=(("a", "start", "clamped"), ("a", "end", "clamped")))
+    s = Segment(name="a", length=1.0, curvature=0.0, natural_curvature=0.0, B1=1.0, B2=0.75, B3=1.0,
+                natural_twist=1.0)
+    a = Assembly(segments=(s,), supports=(("a", "start", "clamped"), ("a", "end", "clamped")))
     with pytest.raises(RodstabInputError, match="natural twist"):
         linear_stability(a, 8)
     with pytest.raises(RodstabInputError, match="torque"):
-        Assembly((s,), supports=(("a", "start", "clamped"),))  # free end carries a torque
+        Assembly(segments=(s,), supports=(("a", "start", "clamped"),))  # free end carries a torque
 
 
 def test_michell_twisted_ring_by_the_nonlinear_model():
@@ -332,8 +341,9 @@ def test_michell_twisted_ring_by_the_nonlinear_model():
     from rodstab.nonlinear.continuation import critical_along_primary
 
     b2 = 0.75
-    s = Segment("r", 2 * math.pi, 1.0, 0.0, 1.0, b2, 1.0, natural_twist=1.0)
-    a = Assembly((s,), welds=((("r", "start"), ("r", "end")),))
+    s = Segment(name="r", length=2 * math.pi, curvature=1.0, natural_curvature=0.0, B1=1.0, B2=b2,
+                B3=1.0, natural_twist=1.0)
+    a = Assembly(segments=(s,), welds=((("r", "start"), ("r", "end")),))
     ns = [16, 32, 64]
     vals = [b2 * critical_along_primary(a, 2.0, 4.0, elements_per_segment=n)
             .load_factor_critical for n in ns]
@@ -348,7 +358,8 @@ def test_newton_converges_from_a_rough_start_by_removing_shear_first():
     """Edge frames tilted 0.3 rad and twisted 0.2 rad (a rough user shape, far from the
     Kirchhoff constraint): Newton turns the frames onto their chords first (zero shear, twist
     kept) and converges to the stable held state of the straightened rod below mu_c."""
-    a = Assembly((Segment("rod", 1.0, 0.0, 1.0, C.b1, C.b2, 1.0),),
+    a = Assembly(segments=(Segment(name="rod", length=1.0, curvature=0.0, natural_curvature=1.0,
+                                   B1=C.b1, B2=C.b2, B3=1.0),),
                  supports=(("rod", "start", "clamped"), ("rod", "end", "sliding-clamp")))
     rod = discretise(a, 32, 4.0)  # mu_c = 5.56
     held = rod.x.copy()

@@ -33,7 +33,8 @@ GREENHILL = 2 * so.brentq(lambda x: math.tan(x) - x, 4.0, 4.6)
 
 
 def _twisted(n_end: str = "sliding-clamp", B2: float = B2_ISO) -> Assembly:
-    return Assembly((Segment("rod", 1.0, 0.0, 0.0, 1.0, B2, 1.0),),
+    return Assembly(segments=(Segment(name="rod", length=1.0, curvature=0.0, natural_curvature=0.0,
+                                      B1=1.0, B2=B2, B3=1.0),),
                     supports=(("rod", "start", "clamped"), ("rod", "end", n_end)))
 
 
@@ -46,7 +47,8 @@ KEYS = ("load_factor", "segment.rod.natural_curvature", "segment.rod.natural_twi
 def test_parameter_derivative_of_the_gradient_is_exact(key):
     """dg/dp against a central difference of the exact gradient on a random state (affine
     parameters: exact difference, so a wide step; rotations: a small one)."""
-    a = Assembly((Segment("rod", 1.0, 0.0, 1.0, 1.2, 0.8, 1.0, natural_twist=0.5),),
+    a = Assembly(segments=(Segment(name="rod", length=1.0, curvature=0.0, natural_curvature=1.0,
+                                   B1=1.2, B2=0.8, B3=1.0, natural_twist=0.5),),
                  supports=(("rod", "start", "clamped"), ("rod", "end", "clamped")),
                  end_rotations=(("rod", "end", (0.1, 0.3, -0.2)),))
     rng = np.random.default_rng(1)
@@ -115,7 +117,8 @@ def test_segment_natural_curvature_key_matches_the_held_state_critical_load():
     """Varying a segment's natural curvature (incremental natural-shape update) at load factor
     1 locates the same critical value as the held-state root finder in the load factor."""
     C = circle()
-    a = Assembly((Segment("ring", 6 * math.pi, 1.0, 1.0, C.b1, C.b2, 1.0),),
+    a = Assembly(segments=(Segment(name="ring", length=6 * math.pi, curvature=1.0,
+                                   natural_curvature=1.0, B1=C.b1, B2=C.b2, B3=1.0),),
                  welds=((("ring", "end"), ("ring", "start")),))
     held = critical_load_factor(a, 0.6, 1.0, elements_per_segment=36).load_factor_critical
     c = continuation(a, "segment.ring.natural_curvature", 1.0, 0.6, 8, elements_per_segment=36,
@@ -254,11 +257,13 @@ def test_sparse_lowest_eigenvalues_match_the_dense_solver(case, monkeypatch):
 
     C = circle()
     if case == "unstable straight rod":
-        a = Assembly((Segment("a", 1.0, 0.0, 1.0, C.b1, C.b2, 1.0),),
+        a = Assembly(segments=(Segment(name="a", length=1.0, curvature=0.0, natural_curvature=1.0,
+                                       B1=C.b1, B2=C.b2, B3=1.0),),
                      supports=(("a", "start", "clamped"), ("a", "end", "sliding-clamp")))
         rod = discretise(a, 60, 9.0)  # mu_c = 5.56: one or more negative eigenvalues
     else:
-        a = Assembly((Segment("ring", 6 * math.pi, 1.0, 1.0, C.b1, C.b2, 1.0),),
+        a = Assembly(segments=(Segment(name="ring", length=6 * math.pi, curvature=1.0,
+                                       natural_curvature=1.0, B1=C.b1, B2=C.b2, B3=1.0),),
                      welds=((("ring", "end"), ("ring", "start")),))
         rod = discretise(a, 90, 1.0)
     dense = S.lowest_modes(rod, 4)[0]
@@ -276,7 +281,8 @@ def test_equilibrium_reports_the_strain_of_an_impossible_end_motion():
     from rodstab.nonlinear.solve import STRAIN_WARN, equilibrium
 
     def rod(end: str) -> Assembly:
-        return Assembly((Segment("rod", 1.0, 0.0, 0.0, 1.0, B2_ISO, 1.0),),
+        return Assembly(segments=(Segment(name="rod", length=1.0, curvature=0.0,
+                                          natural_curvature=0.0, B1=1.0, B2=B2_ISO, B3=1.0),),
                         supports=(("rod", "start", "clamped"), ("rod", "end", end)),
                         end_rotations=(("rod", "end", (0.0, 0.0, 0.5)),))
 
@@ -292,7 +298,8 @@ def test_design_rotation_beyond_pi_keeps_its_twist():
     the twist 4 - 2 pi of the same end frame."""
     from rodstab.nonlinear.solve import equilibrium
 
-    a = Assembly((Segment("rod", 1.0, 0.0, 0.0, 1.0, B2_ISO, 1.0),),
+    a = Assembly(segments=(Segment(name="rod", length=1.0, curvature=0.0, natural_curvature=0.0,
+                                   B1=1.0, B2=B2_ISO, B3=1.0),),
                  supports=(("rod", "start", "clamped"), ("rod", "end", "sliding-clamp")),
                  end_rotations=(("rod", "end", (0.0, 4.0, 0.0)),))
     r, _ = equilibrium(a, elements_per_segment=32)

@@ -41,7 +41,8 @@ TWISTED_TOML = ROOT / "examples" / "twisted_rod.toml"
 
 
 def straight(kappa_n: float = 1.0, end: str = "sliding-clamp", rot=()) -> Assembly:
-    return Assembly((Segment("rod", 1.0, 0.0, kappa_n, C.b1, C.b2, 1.0),),
+    return Assembly(segments=(Segment(name="rod", length=1.0, curvature=0.0,
+                                      natural_curvature=kappa_n, B1=C.b1, B2=C.b2, B3=1.0),),
                     supports=(("rod", "start", "clamped"), ("rod", "end", end)),
                     end_rotations=rot)
 

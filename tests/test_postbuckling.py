@@ -16,9 +16,9 @@ from rodstab.nonlinear.continuation import (
 
 
 def _straightened(b1: float, b2: float) -> Assembly:
-    s = Segment("rod", 1.0, 0.0, 1.0, b1, b2, 1.0)
-    return Assembly((s,), supports=(("rod", "start", "clamped"),
-                                    ("rod", "end", "sliding-clamp")))
+    s = Segment(name="rod", length=1.0, curvature=0.0, natural_curvature=1.0, B1=b1, B2=b2, B3=1.0)
+    return Assembly(segments=(s,), supports=(("rod", "start", "clamped"),
+                                             ("rod", "end", "sliding-clamp")))
 
 
 @pytest.mark.parametrize(("b1", "b2", "sign"), [(1.0, 0.75, 1.0), (4.0, 0.9, -1.0)])

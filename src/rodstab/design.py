@@ -46,7 +46,7 @@ from pathlib import Path
 from typing import Any
 
 from .errors import RodstabInputError, require_finite, require_positive, require_positive_int
-from .model import Assembly, Segment
+from .model import ROTATION_AXES, SUPPORT_KINDS, SUPPORTS, Assembly, Segment
 from .sections import make_section
 
 _TOP = {"section", "segment", "weld", "support", "analysis"}
@@ -55,8 +55,8 @@ _SEGMENT = {"name", "length", "curvature", "natural_curvature", "natural_twist",
             "angle_deg", "cusp", "section"}
 _WELD = {"ends"}
 _SUPPORT = {"end", "type", "rotation"}
-#: Names of the rotation-vector components of a support (``support.<i>.rotation.<name>``).
-ROTATION_AXES = ("normal", "tangent", "binormal")
+#: Support type of a ``[[support]]`` table that gives none (a key of ``SUPPORT_KINDS``).
+DEFAULT_SUPPORT = "clamped"
 _ANALYSIS = {"elements", "reference_load", "load_factor_segment"}
 
 
@@ -141,8 +141,9 @@ def parse_design(data: dict, source: str = "<dict>") -> Design:
             angle = 0.0
         k, kn, tw = (require_finite(f"{where}.{key}", raw.get(key, 0.0))
                      for key in ("curvature", "natural_curvature", "natural_twist"))
-        segments.append(Segment(str(raw["name"]), raw["length"], k, kn, B1, B2, B3, start, angle,
-                                tw))
+        segments.append(Segment(name=str(raw["name"]), length=raw["length"], curvature=k,
+                                natural_curvature=kn, B1=B1, B2=B2, B3=B3, start=start, angle=angle,
+                                natural_twist=tw))
     welds = []
     for i, w in enumerate(data.get("weld", [])):
         _check_keys(w, _WELD, f"weld[{i}]")
@@ -151,7 +152,10 @@ def parse_design(data: dict, source: str = "<dict>") -> Design:
     for i, s in enumerate(data.get("support", [])):
         _check_keys(s, _SUPPORT, f"support[{i}]")
         name, end = _end(s.get("end"), f"support[{i}]")
-        supports.append((name, end, s.get("type", "clamped")))
+        kind = s.get("type", DEFAULT_SUPPORT)
+        if not isinstance(kind, str) or kind not in SUPPORT_KINDS:
+            raise RodstabInputError(f"support[{i}].type must be one of {SUPPORTS}, got {kind!r}")
+        supports.append((name, end, kind))
         if "rotation" in s:
             rot = s["rotation"]
             if not (isinstance(rot, list) and len(rot) == 3
@@ -164,9 +168,10 @@ def parse_design(data: dict, source: str = "<dict>") -> Design:
     _check_keys(analysis, _ANALYSIS, "[analysis]")
     elements = require_positive_int("analysis.elements", analysis.get("elements", 32))
     ref = analysis.get("reference_load")
-    assembly = Assembly(tuple(segments), tuple(welds), tuple(supports),
-                        None if ref is None else require_finite("analysis.reference_load", ref),
-                        tuple(rotations))
+    assembly = Assembly(segments=tuple(segments), welds=tuple(welds), supports=tuple(supports),
+                        reference_load=(None if ref is None
+                                        else require_finite("analysis.reference_load", ref)),
+                        end_rotations=tuple(rotations))
     lf = analysis.get("load_factor_segment", segments[0].name)
     assembly.segment(lf)
     return Design(assembly, elements, lf, source, data)
@@ -235,7 +240,7 @@ def set_design_value(data: dict, key: str, value: float) -> dict:
         return out
     raise RodstabInputError(f"--vary key {key!r} must be section.<k>, analysis.<k>, "
                             "segment.<name>.<k>, segment.<name>.section.<k> or "
-                            "support.<i>.rotation.<normal|tangent|binormal>")
+                            f"support.<i>.rotation.<{'|'.join(ROTATION_AXES)}>")
 
 
 @dataclasses.dataclass(frozen=True)

@@ -9,7 +9,8 @@ tangent in the natural state, scaled by ``mu`` likewise); the held state itself 
 a natural twist is an imposed twist of the opposite sign (Michell's ring, Section 3.3). Only
 the nonlinear model accepts it: the linear P2 (2.12) assumes no initial twist.
 Welds join segment ends (any angle in the plane): they share out-of-plane displacement and the
-full rotation of the cross-section. Supports act on joints.
+full rotation of the cross-section. Supports act on joints; what each kind holds, and which
+method implements it, is the one table :data:`SUPPORT_KINDS`.
 
 Units: any consistent set (lengths, stiffnesses as force x length^2). Nothing is rescaled.
 """
@@ -27,15 +28,143 @@ from .errors import RodstabInputError, require_finite, require_positive
 POSITION_TOL = 1e-8
 #: Held-state moment balance at a joint is checked to this relative tolerance.
 MOMENT_TOL = 1e-8
-#: Support types: clamped (w = 0, all rotations 0), sliding-clamp (a clamp that lets the end
-#: slide along its tangent, the paper's modified support after (3.8); the same as a clamp for the
-#: linear P2, different for the nonlinear, inextensible rod), pinned with a fork (w = 0, rotation
-#: about the tangent 0), pinned (w = 0), free.
-SUPPORTS = ("clamped", "sliding-clamp", "fork", "pinned", "free")
+#: Axes of a segment end's held frame, in this order: normal ``n = t x e3``, tangent ``t``,
+#: binormal ``e3``. They name the rotations a support holds (:class:`SupportKind`) and the
+#: components of an imposed end rotation (``Assembly.end_rotations``, the design key
+#: ``support.<i>.rotation.<axis>``).
+ROTATION_AXES = ("normal", "tangent", "binormal")
+
+
+def held_frame(tangent: np.ndarray) -> np.ndarray:
+    """Held frame(s) ``(..., 3, 3)`` of in-plane unit tangent(s) ``(..., 2)``, lab frame.
+
+    Columns in the order of :data:`ROTATION_AXES`: ``n = t x e3``, ``t``, ``e3``.
+    """
+    t = np.asarray(tangent, dtype=float)
+    t3 = np.zeros(t.shape[:-1] + (3,))
+    t3[..., :2] = t
+    e3 = np.zeros_like(t3)
+    e3[..., 2] = 1.0
+    n = np.cross(t3, e3)
+    return np.stack([n, t3, e3], axis=-1)
+
+
+#: Names of the methods that read the support table (:attr:`SupportKind.methods`): the FE of
+#: the linear P2 (:mod:`rodstab.linear`), the discrete geometrically exact rod
+#: (:mod:`rodstab.nonlinear`, with its continuation) and the full system of exact general
+#: solutions of straight segments (:func:`rodstab.transfer.straight_assembly_matrix`).
+LINEAR, NONLINEAR, FULL_SYSTEM = "linear", "nonlinear", "full-system"
+
+
+@dataclasses.dataclass(frozen=True, kw_only=True)
+class SupportKind:
+    """What one kind of support holds at a joint, and which methods implement it.
+
+    Every method reads these fields; none tests support names.
+
+    Parameters
+    ----------
+    name : str
+        The name used in an :class:`Assembly`'s ``supports`` and in design files.
+    holds_deflection : bool
+        The out-of-plane displacement ``w`` of the joint is 0. The nonlinear rod also holds
+        the joint's in-plane position (except along the tangent if ``slides_along_tangent``).
+    held_rotations : frozenset of str
+        Axes of :data:`ROTATION_AXES` (the supported end's held frame) about which the
+        cross-section cannot turn. The linear P2 has no in-plane rotation unknown, so there
+        only ``normal`` and ``tangent`` matter.
+    slides_along_tangent : bool
+        The joint may move along the end's held tangent (the paper's modified support after
+        (3.8)); this changes nothing in the linear P2, whose unknowns are out of plane.
+    methods : frozenset of str
+        The methods (:data:`LINEAR`, :data:`NONLINEAR`, :data:`FULL_SYSTEM`) that implement
+        this kind; the others raise :class:`~rodstab.errors.RodstabInputError` naming it.
+    """
+
+    name: str
+    holds_deflection: bool
+    held_rotations: frozenset[str]
+    slides_along_tangent: bool
+    methods: frozenset[str]
+
+    def __post_init__(self) -> None:
+        unknown = sorted(self.held_rotations - set(ROTATION_AXES))
+        if unknown:
+            raise ValueError(f"support kind {self.name!r}: held_rotations {unknown} are not "
+                             f"in {ROTATION_AXES}")
+
+    @property
+    def holds_all_rotations(self) -> bool:
+        """The end's frame is held: the cross-section turns about no axis (a clamp)."""
+        return self.held_rotations == frozenset(ROTATION_AXES)
+
+    @property
+    def accepts_end_rotation(self) -> bool:
+        """An end rotation can be imposed here: only on a frame the support holds."""
+        return self.holds_all_rotations
+
+    @property
+    def holds_rigid_motions(self) -> bool:
+        """Alone, this support holds every out-of-plane rigid motion of the structure.
+
+        Those are the translation along e3 and the rotations about the two in-plane axes
+        (normal and tangent of the end).
+        """
+        return self.holds_deflection and {"normal", "tangent"} <= self.held_rotations
+
+
+_ALL = frozenset((LINEAR, NONLINEAR, FULL_SYSTEM))
+#: The one support table, in the order of :data:`SUPPORTS`. Which method implements which kind:
+#:
+#: ============== ====== ========= ===========
+#: kind           linear nonlinear full-system
+#: ============== ====== ========= ===========
+#: clamped        yes    yes       yes
+#: sliding-clamp  yes    yes       yes
+#: fork           yes    no        no
+#: pinned         yes    no        no
+#: free           yes    yes       yes
+#: ============== ====== ========= ===========
+SUPPORT_KINDS: dict[str, SupportKind] = {k.name: k for k in (
+    # w = 0, all rotations 0.
+    SupportKind(name="clamped", holds_deflection=True, held_rotations=frozenset(ROTATION_AXES),
+                slides_along_tangent=False, methods=_ALL),
+    # A clamp that lets the end slide along its tangent (the paper's modified support after
+    # (3.8)): the same as a clamp for the linear P2, different for the inextensible rod.
+    SupportKind(name="sliding-clamp", holds_deflection=True,
+                held_rotations=frozenset(ROTATION_AXES), slides_along_tangent=True,
+                methods=_ALL),
+    # Pinned with a fork: w = 0, no rotation about the tangent (no twist).
+    SupportKind(name="fork", holds_deflection=True, held_rotations=frozenset({"tangent"}),
+                slides_along_tangent=False, methods=frozenset({LINEAR})),
+    # w = 0 only.
+    SupportKind(name="pinned", holds_deflection=True, held_rotations=frozenset(),
+                slides_along_tangent=False, methods=frozenset({LINEAR})),
+    # Holds nothing.
+    SupportKind(name="free", holds_deflection=False, held_rotations=frozenset(),
+                slides_along_tangent=False, methods=_ALL),
+)}
+#: Names of the support kinds (the keys of :data:`SUPPORT_KINDS`).
+SUPPORTS = tuple(SUPPORT_KINDS)
+
+
+def support_kind(name: str) -> SupportKind:
+    """Return the :class:`SupportKind` called ``name``; raise naming it if there is none."""
+    kind = SUPPORT_KINDS.get(name) if isinstance(name, str) else None
+    if kind is None:
+        raise RodstabInputError(f"support type must be one of {SUPPORTS}, got {name!r}")
+    return kind
+
+
+def kinds_of(method: str) -> tuple[str, ...]:
+    """Names of the support kinds that ``method`` implements, in the order of :data:`SUPPORTS`."""
+    return tuple(k.name for k in SUPPORT_KINDS.values() if method in k.methods)
+
+
 ENDS = ("start", "end")
 
 
-@dataclasses.dataclass(frozen=True)
+@dataclasses.dataclass(frozen=True, kw_only=True)
 class Segment:
     """One rod segment in its held (reference) state; see the module docstring."""
 
@@ -83,12 +212,14 @@ class Segment:
         return self.position(0.0 if end == "start" else self.length)
 
 
-@dataclasses.dataclass(frozen=True)
+@dataclasses.dataclass(frozen=True, kw_only=True)
 class Assembly:
     """Segments, welds (groups of segment ends) and supports (on segment ends).
 
     ``welds``: each a sequence of ``(segment_name, end)`` joined into one joint. ``supports``:
-    ``(segment_name, end, type)``; a support on any end of a joint holds the whole joint.
+    ``(segment_name, end, type)``, ``type`` a key of :data:`SUPPORT_KINDS` (which says what it
+    holds and which methods implement it); a support on any end of a joint holds the whole
+    joint.
     ``reference_load``: a load factor at which the held state is known to be stable (default:
     the stress-free value if one exists, else 0); the stable interval is sought around it.
     ``end_rotations``: ``(segment_name, end, (r_n, r_t, r_b))``, a rotation imposed on a clamped
@@ -167,8 +298,7 @@ def validate(a: Assembly) -> None:
         a.segment(name)
         if end not in ENDS:
             raise RodstabInputError(f"support end must be 'start' or 'end', got {end!r}")
-        if kind not in SUPPORTS:
-            raise RodstabInputError(f"support type must be one of {SUPPORTS}, got {kind!r}")
+        support_kind(kind)
     ends = [(n, e) for n, e, _ in a.supports]
     twice = sorted({f"{n}.{e}" for n, e in ends if ends.count((n, e)) > 1})
     if twice:
@@ -177,10 +307,11 @@ def validate(a: Assembly) -> None:
     twice = sorted({f"{n}.{e}" for n, e in rot_ends if rot_ends.count((n, e)) > 1})
     if twice:
         raise RodstabInputError(f"end(s) {twice} carry more than one imposed rotation")
-    clamps = {(n, e) for n, e, k in a.supports if k in ("clamped", "sliding-clamp")}
+    clamps = {(n, e) for n, e, k in a.supports if SUPPORT_KINDS[k].accepts_end_rotation}
+    turnable = " or ".join(k.name for k in SUPPORT_KINDS.values() if k.accepts_end_rotation)
     for name, end, rot in a.end_rotations:
         if (name, end) not in clamps:
-            raise RodstabInputError(f"an end rotation needs a clamped or sliding-clamp support at "
+            raise RodstabInputError(f"an end rotation needs a {turnable} support at "
                                     f"{name}.{end}; supports are {list(a.supports)!r}")
         if len(rot) != 3:
             raise RodstabInputError(f"end rotation at {name}.{end} must be [r_n, r_t, r_b], "

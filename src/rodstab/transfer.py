@@ -33,6 +33,7 @@ import numpy as np
 from scipy.linalg import expm, null_space
 
 from .errors import RodstabInputError
+from .model import FULL_SYSTEM, SUPPORT_KINDS
 from .numerics import matrix_roots
 from .results import Result
 
@@ -224,7 +225,10 @@ def straight_assembly_matrix(assembly, mu: float) -> np.ndarray:
     of ``w`` and of the rotation vector ``theta_e = w'_e n_e + omega_e t_e``; then either the
     support conditions (clamped: ``w = 0``, ``theta = 0``) or the natural conditions
     ``sum_e sign_e V_e = 0`` and ``sum_e sign_e (Mb_e n_e + Tq_e t_e) = 0``. A free assembly has
-    ``ASSEMBLY_RIGID_NULLITY`` null vectors for every ``mu``.
+    ``ASSEMBLY_RIGID_NULLITY`` null vectors for every ``mu``. Supports are read from
+    :data:`~rodstab.model.SUPPORT_KINDS`: a kind holding ``w`` and every rotation gives the
+    clamp conditions, kinds without :data:`~rodstab.model.FULL_SYSTEM` in their methods (fork,
+    pinned) raise :class:`RodstabInputError`, the rest (free) hold nothing.
     """
     segs = assembly.segments
     for s in segs:
@@ -256,9 +260,10 @@ def straight_assembly_matrix(assembly, mu: float) -> np.ndarray:
             for c in range(2):
                 rows.append(q["dw"] * nrm[c] + q["om"] * t[c] - theta0[c])
         kinds = [k for name, end, k in assembly.supports if (name, end) in joint]
-        if "clamped" in kinds or "sliding-clamp" in kinds:
+        held = [SUPPORT_KINDS[k] for k in kinds]
+        if any(h.holds_deflection and h.holds_all_rotations for h in held):
             rows += [q0["w"], theta0[0], theta0[1]]
-        elif kinds and set(kinds) != {"free"}:
+        elif any(FULL_SYSTEM not in h.methods for h in held):
             raise RodstabInputError(f"straight_assembly_matrix supports only clamped or free "
                                     f"joints, got {kinds}")
         else:

@@ -42,8 +42,9 @@ def _ring_transition_claim(run: Run) -> Claim:
     from ..nonlinear.continuation import SpecialKind, arclength_from_bifurcation
 
     c = circle()
-    seg = Segment("ring", 2 * math.pi, 1.0, 1.0, c.b1, c.b2, 1.0)
-    ring1 = Assembly((seg,), welds=((("ring", "start"), ("ring", "end")),))
+    seg = Segment(name="ring", length=2 * math.pi, curvature=1.0, natural_curvature=1.0, B1=c.b1,
+                  B2=c.b2, B3=1.0)
+    ring1 = Assembly(segments=(seg,), welds=((("ring", "start"), ("ring", "end")),))
     ends = []
     turns = (SpecialKind.BRANCH_TURNED.value, SpecialKind.FOLD.value)
     for n, steps in ((36, 45), (48, 52)):

@@ -25,7 +25,8 @@ def twisted_rod_checks(run: Run) -> Iterator[Claim]:
     from ..nonlinear.continuation import continuation, imperfection_sensitivity
 
     b2 = 1.0 / 1.3  # circle, nu = 0.3
-    rod = Assembly((Segment("rod", 1.0, 0.0, 0.0, 1.0, b2, 1.0),),
+    rod = Assembly(segments=(Segment(name="rod", length=1.0, curvature=0.0, natural_curvature=0.0,
+                                     B1=1.0, B2=b2, B3=1.0),),
                    supports=(("rod", "start", "clamped"), ("rod", "end", "sliding-clamp")))
     key = "support.1.rotation.tangent"
     x = so.brentq(lambda x: math.tan(x) - x, 4.0, 4.6)

@@ -22,8 +22,10 @@ def engine_checks(run: Run) -> Iterator[Claim]:
     """N-loop rings (3.3) and a clamped arc (3.7)/(3.8) by the general FE engine."""
     c = circle()
     for N, n in ((1, 150), (3, 450)):
-        seg = Segment("ring", 2 * math.pi * N, 1.0, 1.0, c.b1, c.b2, 1.0)
-        r = linear_stability(Assembly((seg,), welds=((("ring", "start"), ("ring", "end")),)), n)
+        seg = Segment(name="ring", length=2 * math.pi * N, curvature=1.0, natural_curvature=1.0,
+                      B1=c.b1, B2=c.b2, B3=1.0)
+        ring_ = Assembly(segments=(seg,), welds=((("ring", "start"), ("ring", "end")),))
+        r = linear_stability(ring_, n)
         an = ring.ring_stability(c.b1, c.b2, N).M_interval
         got = (1 - r.load_factor_interval[1], 1 - r.load_factor_interval[0])
         err = max(abs(g - a) / abs(a) for g, a in zip(got, an, strict=True))
@@ -31,9 +33,10 @@ def engine_checks(run: Run) -> Iterator[Claim]:
                     f"({fmt(an[0])}, {fmt(an[1])}) (analytic)", f"({fmt(got[0])}, {fmt(got[1])})",
                     f"rel. difference {err:.1e} ({n} elements)", _FE,
                     methods_agree(got, an, FE_RTOL))
-    seg = Segment("arc", 2.0, 1.0, 1.0, c.b1, c.b2, 1.0)
-    r = linear_stability(Assembly((seg,), supports=(("arc", "start", "clamped"),
-                                                    ("arc", "end", "clamped"))), 96)
+    seg = Segment(name="arc", length=2.0, curvature=1.0, natural_curvature=1.0, B1=c.b1, B2=c.b2,
+                  B3=1.0)
+    r = linear_stability(Assembly(segments=(seg,), supports=(("arc", "start", "clamped"),
+                                                             ("arc", "end", "clamped"))), 96)
     an = arc.clamped_arc_stability(c.b1, c.b2, 2.0).L_kappa_interval
     got = (2 * r.load_factor_interval[0], 2 * r.load_factor_interval[1])
     err = max(abs(g - a) / abs(a) for g, a in zip(got, an, strict=True))

@@ -88,8 +88,9 @@ def michell_checks(run: Run) -> Iterator[Claim]:
     from ..model import Assembly, Segment
     from ..nonlinear.continuation import critical_along_primary
 
-    seg = Segment("r", 2 * math.pi, 1.0, 0.0, 1.0, 0.75, 1.0, natural_twist=1.0)
-    tw = Assembly((seg,), welds=((("r", "start"), ("r", "end")),))
+    seg = Segment(name="r", length=2 * math.pi, curvature=1.0, natural_curvature=0.0, B1=1.0,
+                  B2=0.75, B3=1.0, natural_twist=1.0)
+    tw = Assembly(segments=(seg,), welds=((("r", "start"), ("r", "end")),))
     v32, v64 = (0.75 * critical_along_primary(tw, 2.0, 4.0, elements_per_segment=n)
                 .load_factor_critical for n in (32, 64))
     rich = v64 + (v64 - v32) / 3.0

@@ -16,7 +16,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.linalg import null_space
 
-from ..model import Assembly
+from ..model import ROTATION_AXES, SUPPORT_KINDS, Assembly, held_frame
 from .elements import density_matrices, element_matrices
 
 
@@ -133,18 +133,25 @@ def _rigid_at(point: np.ndarray) -> np.ndarray:
 
 
 def _support_rows(a: Assembly, joint) -> np.ndarray:
+    """Rows ``(k, 3)`` on the joint unknowns ``(w, theta_x, theta_y)`` that the supports zero.
+
+    Read from :data:`~rodstab.model.SUPPORT_KINDS`: ``w`` if the kind holds the deflection;
+    ``theta . n`` and ``theta . t`` (lab frame, the supported end's held normal and tangent)
+    for each of those axes it holds. The binormal (in-plane) rotation is no unknown of P2, and
+    sliding along the tangent is in-plane: neither gives a row.
+    """
     rows = []
-    for name, end, kind in a.supports:
+    for name, end, kind_name in a.supports:
         if (name, end) not in joint:
             continue
+        kind = SUPPORT_KINDS[kind_name]
         seg = a.segment(name)
-        t = seg.tangent(0.0 if end == "start" else seg.length)
-        if kind in ("clamped", "sliding-clamp", "fork", "pinned"):
+        F = held_frame(seg.tangent(0.0 if end == "start" else seg.length))
+        if kind.holds_deflection:
             rows.append([1.0, 0.0, 0.0])
-        if kind in ("clamped", "sliding-clamp"):
-            rows += [[0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
-        if kind == "fork":
-            rows.append([0.0, t[0], t[1]])
+        for c, axis in enumerate(ROTATION_AXES):
+            if axis in kind.held_rotations and axis != "binormal":
+                rows.append([0.0, float(F[0, c]), float(F[1, c])])
     return np.array(rows).reshape(-1, 3)
 
 

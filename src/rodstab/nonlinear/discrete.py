@@ -39,23 +39,13 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import RodstabInputError
-from ..model import Assembly
+from ..model import NONLINEAR, SUPPORT_KINDS, Assembly, held_frame, kinds_of
 from .jets import Jet, JetMat, rodrigues, rotation_jet, vector_jet
 
 #: Stretch/shear stiffness K = PENALTY * max(B1, B2, B3) / l_e^2. The discrete model tends to
 #: the inextensible, unshearable Kirchhoff rod as l_e -> 0 with an error ~ l_e^2 / PENALTY.
 PENALTY = 1e3
 _T0 = np.array([0.0, 1.0, 0.0])
-
-
-def _frame(t: np.ndarray) -> np.ndarray:
-    """Held-state frames (..., 3, 3): columns ``n = t x e3``, ``t``, ``e3``."""
-    t3 = np.zeros(t.shape[:-1] + (3,))
-    t3[..., :2] = t
-    e3 = np.zeros_like(t3)
-    e3[..., 2] = 1.0
-    n = np.cross(t3, e3)
-    return np.stack([n, t3, e3], axis=-1)
 
 
 @dataclasses.dataclass
@@ -294,10 +284,16 @@ class DiscreteRod:
         self.R_joint = self.R_joint @ rodrigues(dq[3 * (nx + ne):].reshape(-1, 3))
 
 
-def discretise(a: Assembly, elements_per_segment: int = 32, load_factor: float = 1.0,
-               *, supports_ok: tuple[str, ...] = ("clamped", "sliding-clamp", "free")
+def discretise(a: Assembly, elements_per_segment: int = 32, load_factor: float = 1.0
                ) -> DiscreteRod:
-    """Return the discrete rod of an assembly in its held state (an equilibrium when P2 says so)."""
+    """Return the discrete rod of an assembly in its held state (an equilibrium when P2 says so).
+
+    Supports are read from :data:`~rodstab.model.SUPPORT_KINDS`: a kind that holds all
+    rotations holds the joint's frame; one that holds the deflection holds the joint's position,
+    except along the end tangent if it slides (that tangent must then be along x or y). Kinds
+    without :data:`~rodstab.model.NONLINEAR` in their methods (fork, pinned: not implemented
+    here) raise :class:`RodstabInputError`.
+    """
     if isinstance(elements_per_segment, bool) or not isinstance(elements_per_segment, int) \
             or elements_per_segment < 2:
         raise RodstabInputError(f"elements_per_segment must be an integer >= 2, got "
@@ -321,7 +317,7 @@ def discretise(a: Assembly, elements_per_segment: int = 32, load_factor: float =
         seg = a.segment(name)
         s_end = 0.0 if end == "start" else seg.length
         joint_node[k] = node_at(seg.position(s_end))
-        R_joint[k] = _frame(seg.tangent(s_end))
+        R_joint[k] = held_frame(seg.tangent(s_end))
     ks, tws = [], []
     for seg in a.segments:
         n = elements_per_segment
@@ -340,30 +336,32 @@ def discretise(a: Assembly, elements_per_segment: int = 32, load_factor: float =
             kns.append(seg.natural_curvature)
             ks.append(seg.curvature)
             tws.append(seg.natural_twist)
-            R_edge.append(_frame(chord / L))
+            R_edge.append(held_frame(chord / L))
             if e:
                 pairs.append((first + e - 1, first + e))
         for end, e in (("start", first), ("end", first + n - 1)):
             k = joint_of[(seg.name, end)]
-            F = _frame(seg.tangent(0.0 if end == "start" else seg.length))
+            F = held_frame(seg.tangent(0.0 if end == "start" else seg.length))
             links.append((e, k, R_joint[k].T @ F, end))
     fixed_nodes, fixed_joints, fixed_components = [], [], []
-    for name, end, kind in a.supports:
-        if kind not in supports_ok:
+    supports_ok = kinds_of(NONLINEAR)
+    for name, end, kind_name in a.supports:
+        kind = SUPPORT_KINDS[kind_name]
+        if NONLINEAR not in kind.methods:
             raise RodstabInputError(f"the nonlinear model supports {supports_ok} supports, "
-                                    f"got {kind!r}")
+                                    f"got {kind_name!r}")
         k = joint_of[(name, end)]
-        if kind == "clamped":
-            fixed_nodes.append(joint_node[k])
+        if kind.holds_all_rotations:
             fixed_joints.append(k)
-        elif kind == "sliding-clamp":
+        if kind.holds_deflection and not kind.slides_along_tangent:
+            fixed_nodes.append(joint_node[k])
+        elif kind.holds_deflection:
             seg = a.segment(name)
             t = seg.tangent(0.0 if end == "start" else seg.length)
             axis = int(np.argmax(np.abs(t)))
             if abs(abs(t[axis]) - 1.0) > 1e-12:
                 raise RodstabInputError(f"a sliding-clamp needs an end tangent along x or y; "
                                         f"{name}.{end} has tangent {t.round(6).tolist()}")
-            fixed_joints.append(k)
             fixed_components.append((joint_node[k], [c for c in range(3) if c != axis]))
     if not fixed_nodes and not fixed_joints:
         # Free assembly: gauge the six rigid motions by holding joint 0 (position and frame).

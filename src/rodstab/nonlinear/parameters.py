@@ -25,9 +25,8 @@ from typing import Any
 
 import numpy as np
 
-from ..design import ROTATION_AXES
 from ..errors import RodstabInputError
-from ..model import Assembly
+from ..model import ROTATION_AXES, SUPPORT_KINDS, Assembly
 from .discrete import DiscreteRod, discretise
 from .jets import hat
 
@@ -147,9 +146,11 @@ class EndRotation:
             raise RodstabInputError(f"support index {self.support!r} is not one of "
                                     f"0..{len(sups) - 1}")
         name, end, kind = sups[self.support]
-        if kind not in ("clamped", "sliding-clamp"):
+        if not SUPPORT_KINDS[kind].accepts_end_rotation:
+            turnable = " or ".join(k.name for k in SUPPORT_KINDS.values()
+                                   if k.accepts_end_rotation)
             raise RodstabInputError(f"support {self.support} ({name}.{end}) is {kind!r}: only a "
-                                    "clamped or sliding-clamp end can be turned")
+                                    f"{turnable} end can be turned")
         if self.axis not in ROTATION_AXES:
             raise RodstabInputError(f"rotation axis {self.axis!r} is not one of {ROTATION_AXES}")
         self._c = ROTATION_AXES.index(self.axis)

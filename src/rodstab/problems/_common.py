@@ -9,4 +9,5 @@ from ..sections import Section
 def segment(name: str, section: Section, L: float, k: float, kn: float,
             start: tuple[float, float] = (0.0, 0.0), angle: float = 0.0) -> Segment:
     """Return a segment with ``B3 = 1`` and the stiffness ratios of ``section``."""
-    return Segment(name, L, k, kn, section.b1, section.b2, 1.0, start, angle)
+    return Segment(name=name, length=L, curvature=k, natural_curvature=kn, B1=section.b1,
+                   B2=section.b2, B3=1.0, start=start, angle=angle)

@@ -53,7 +53,7 @@ def build(params: Params) -> Assembly:
         () if params.clamp is None else (("upper", "start", "clamped"),))
     if params.clamp == "both":
         sup += (("upper", "end", "clamped"),)
-    return Assembly(segs, welds=welds, supports=sup, reference_load=0.0)
+    return Assembly(segments=segs, welds=welds, supports=sup, reference_load=0.0)
 
 
 def to_paper(mu: float, params: Params) -> dict[str, float]:

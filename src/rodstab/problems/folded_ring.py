@@ -65,7 +65,7 @@ def build(params: Params) -> Assembly:
     welds = tuple(((str(i), "end" if i % 2 else "start"),
                    (str(i % n_seg + 1), "end" if i % 2 else "start"))
                   for i in range(1, n_seg + 1))
-    return Assembly(segs, welds=welds, reference_load=0.0)
+    return Assembly(segments=segs, welds=welds, reference_load=0.0)
 
 
 def to_paper(mu: float, params: Params) -> dict[str, float]:

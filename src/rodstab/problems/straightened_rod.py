@@ -36,8 +36,8 @@ class Params:
 def build(params: Params) -> Assembly:
     """Return the straight rod ``rod``, natural curvature 1 per unit ``mu``, clamped / sliding."""
     s = segment("rod", params.section, float(params.length), 0.0, 1.0)
-    return Assembly((s,), supports=(("rod", "start", "clamped"),
-                                    ("rod", "end", "sliding-clamp")))
+    return Assembly(segments=(s,), supports=(("rod", "start", "clamped"),
+                                             ("rod", "end", "sliding-clamp")))
 
 
 def to_paper(mu: float, params: Params) -> dict[str, float]:

@@ -55,7 +55,7 @@ def build(params: Params) -> Assembly:
         t = s.tangent(s.length)
         pos, ang = (float(end[0]), float(end[1])), math.atan2(-t[1], -t[0])
     welds = tuple(((str(i), "end"), (str(i % n + 1), "start")) for i in range(1, n + 1))
-    return Assembly(tuple(segs), welds=welds)
+    return Assembly(segments=tuple(segs), welds=welds)
 
 
 def to_paper(mu: float, params: Params) -> dict[str, float]:

@@ -26,7 +26,7 @@ from typing import Any
 
 import numpy as np
 
-from ...model import Assembly
+from ...model import SUPPORT_KINDS, Assembly
 from ...results import Result, jsonable
 from ..discrete import DiscreteRod
 
@@ -91,8 +91,10 @@ def reference_length(a: Assembly, segment: str | None = None) -> float:
 
 def _rigid_free(rod: DiscreteRod) -> bool:
     # Any clamp (plain or sliding) holds the out-of-plane rigid motions; a structure without
-    # one is held only by the gauge, which is no support.
-    return not any(kind in ("clamped", "sliding-clamp") for _, _, kind in rod.assembly.supports)
+    # one is held only by the gauge, which is no support. (The nonlinear model accepts no
+    # support that holds only some of them: fork and pinned are refused by discretise.)
+    return not any(SUPPORT_KINDS[kind].holds_rigid_motions
+                   for _, _, kind in rod.assembly.supports)
 
 
 def out_of_plane(rod: DiscreteRod, x: np.ndarray, ref: np.ndarray) -> np.ndarray:
