@@ -279,6 +279,10 @@ class Assembly:
         return sum(s.length for s in self.segments)
 
 
+def _holds_something(kind: SupportKind) -> bool:
+    return kind.holds_deflection or bool(kind.held_rotations)
+
+
 def validate(a: Assembly) -> None:
     """Check names, ends, supports, that welded ends meet, and moment balance at joints."""
     names = [s.name for s in a.segments]
@@ -330,7 +334,10 @@ def validate(a: Assembly) -> None:
                 raise RodstabInputError(
                     f"welded ends do not meet: {joint[0][0]}.{joint[0][1]} at {pts[0].round(9)}"
                     f" and {n}.{e} at {p.round(9)} are {gap:.3g} apart (tolerance {tol:.3g})")
-        supported = any((n, e) == (sn, se) for n, e in joint for sn, se, _ in a.supports)
+        # A support that holds something holds the joint's held (in-plane) state too, so its
+        # moments are reacted; a "free" entry holds nothing and excuses nothing.
+        supported = any((n, e) == (sn, se) for n, e in joint for sn, se, kind in a.supports
+                        if _holds_something(support_kind(kind)))
         if supported:
             continue
         torque = np.zeros(2)
