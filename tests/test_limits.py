@@ -19,7 +19,7 @@ EXAMPLES_LINEAR = [str(p) for p in sorted((ROOT / "examples").glob("*.toml"))
 
 
 @pytest.mark.parametrize("path", EXAMPLES_LINEAR)
-@pytest.mark.parametrize("n", [3, 8])
+@pytest.mark.parametrize("n", [12, 17])
 def test_unknown_counts_equal_the_discretisations(path, n):
     a = load_design(path).assembly
     ns = [n] * len(a.segments)

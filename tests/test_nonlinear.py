@@ -7,6 +7,7 @@ import math
 import numpy as np
 import pytest
 
+from rodstab.errors import RodstabInputError
 from rodstab.linear.solve import linear_stability
 from rodstab.model import Assembly, Segment
 from rodstab.nonlinear.discrete import discretise
@@ -377,3 +378,18 @@ def test_newton_converges_from_a_rough_start_by_removing_shear_first():
     assert ok
     assert np.max(np.abs(rod.x - held)) < 1e-6
     assert lowest_eigenvalues(rod, 1)[0] > 0
+
+
+@pytest.mark.parametrize("elements, load, match", [
+    (3, 1.0, r"elements per segment 3: .*'ring' turns by 360 deg.*at least 8 elements"),
+    (7, 1.0, r"turns by 154.3 deg"),
+    (8, 1e300, r"load factor 1e\+300: segment 'ring' .* above 1e\+08"),
+    (8, math.inf, r"load factor must be a finite number"),
+])
+def test_meshes_and_loads_the_discrete_rod_cannot_represent_are_refused(elements, load, match):
+    """A 3-loop ring: 8 elements (135 deg each) is the coarsest accepted mesh; a load factor
+    whose natural turning overflows the energy is refused naming it (issue 10: equilibrium
+    --load-factor 1e300 'converged' after overflow warnings)."""
+    with pytest.raises(RodstabInputError, match=match):
+        discretise(ring(3), elements, load)
+    assert discretise(ring(3), 8, 1.0).n_dof > 0

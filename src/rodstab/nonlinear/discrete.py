@@ -34,11 +34,12 @@ Increments: ``x <- x + dx``, ``R <- R exp(hat(phi))``; gradients and Hessians ar
 from __future__ import annotations
 
 import dataclasses
+import math
 
 import numpy as np
 import scipy.sparse as sp
 
-from ..errors import RodstabInputError
+from ..errors import RodstabInputError, require_finite
 from ..model import NONLINEAR, SUPPORT_KINDS, Assembly, held_frame, kinds_of
 from .jets import Jet, JetMat, rodrigues, rotation_jet, vector_jet
 
@@ -284,6 +285,40 @@ class DiscreteRod:
         self.R_joint = self.R_joint @ rodrigues(dq[3 * (nx + ne):].reshape(-1, 3))
 
 
+#: Largest held turning of one element (rad): the rotation between neighbouring edge frames is
+#: stored as a Cayley vector ~ tan(theta / 2), singular at a half turn; 3/4 of it (a 3-loop
+#: ring of 8 elements, used by the tests) keeps tan(theta / 2) below 2.5.
+MAX_ELEMENT_TURNING = 0.75 * math.pi
+#: Largest |load factor x natural curvature x length| of a segment: far beyond any held state
+#: (a rod of natural radius 1e-8 of its length) and far from the energy's overflow.
+MAX_NATURAL_TURNING = 1e8
+
+
+def check_mesh(a: Assembly, elements_per_segment: int, load_factor: float) -> None:
+    """Refuse a mesh or load the discrete rod cannot represent, naming what to change.
+
+    Every element turns by less than :data:`MAX_ELEMENT_TURNING` in the held state (a 3-loop
+    ring of 3 elements would have each element close on itself), and every segment's natural
+    turning ``|load_factor kappa_n L|`` is finite and at most :data:`MAX_NATURAL_TURNING`.
+    """
+    mu = require_finite("load factor", load_factor)
+    for s in a.segments:
+        turn = abs(s.curvature) * s.length / elements_per_segment
+        if turn > MAX_ELEMENT_TURNING * (1 + 1e-12):
+            need = math.ceil(abs(s.curvature) * s.length / MAX_ELEMENT_TURNING)
+            raise RodstabInputError(
+                f"elements per segment {elements_per_segment}: an element of segment "
+                f"{s.name!r} turns by {math.degrees(turn):.4g} deg in the held state, the "
+                f"discrete rod allows at most {math.degrees(MAX_ELEMENT_TURNING):g}; use at "
+                f"least {need} elements")
+        natural = abs(mu * s.natural_curvature) * s.length
+        if not natural <= MAX_NATURAL_TURNING:  # also catches inf and nan
+            raise RodstabInputError(
+                f"load factor {load_factor:g}: segment {s.name!r} would have a natural "
+                f"turning |load factor x natural_curvature x length| = {natural:.3g} rad, "
+                f"above {MAX_NATURAL_TURNING:g}")
+
+
 def discretise(a: Assembly, elements_per_segment: int = 32, load_factor: float = 1.0
                ) -> DiscreteRod:
     """Return the discrete rod of an assembly in its held state (an equilibrium when P2 says so).
@@ -298,6 +333,7 @@ def discretise(a: Assembly, elements_per_segment: int = 32, load_factor: float =
             or elements_per_segment < 2:
         raise RodstabInputError(f"elements_per_segment must be an integer >= 2, got "
                                 f"{elements_per_segment!r}")
+    check_mesh(a, elements_per_segment, load_factor)
     joints = a.joints()
     joint_of = {end: k for k, joint in enumerate(joints) for end in joint}
     xs, edge_nodes, lengths, Bs, kns, pairs, links = [], [], [], [], [], [], []
