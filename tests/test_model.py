@@ -246,3 +246,19 @@ def test_free_support_does_not_excuse_an_unbalanced_joint():
         rod("clamped", None, kn=1.0)
     with pytest.raises(RodstabInputError, match="moment equilibrium"):
         rod("clamped", "free", kn=1.0)
+
+
+def test_a_weld_of_an_end_to_itself_is_refused_naming_the_end():
+    """Issue 10: ends = ["rod.end", "rod.end"] was accepted as a joint of one end."""
+    s = Segment(name="a", length=1.0, curvature=0.0, natural_curvature=0.0, B1=1.0, B2=0.75,
+                B3=1.0)
+    with pytest.raises(RodstabInputError, match=r"joins an end to itself: \['a.end'\]"):
+        Assembly(segments=(s,), welds=((("a", "end"), ("a", "end")),))
+
+
+def test_an_unknown_segment_is_named_with_the_known_ones():
+    s = Segment(name="a", length=1.0, curvature=0.0, natural_curvature=0.0, B1=1.0, B2=0.75,
+                B3=1.0)
+    a = Assembly(segments=(s,))
+    with pytest.raises(RodstabInputError, match=r"unknown segment 'nope'; the segments are a"):
+        a.segment("nope")

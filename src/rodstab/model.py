@@ -17,6 +17,7 @@ Units: any consistent set (lengths, stiffnesses as force x length^2). Nothing is
 
 from __future__ import annotations
 
+import collections
 import dataclasses
 import math
 
@@ -239,10 +240,20 @@ class Assembly:
 
     def segment(self, name: str) -> Segment:
         """Return the segment called ``name``."""
-        for s in self.segments:
-            if s.name == name:
-                return s
-        raise RodstabInputError(f"unknown segment {name!r}")
+        # A dict built once (a frozen dataclass has no other place to cache it): validation
+        # looks up every end, which a linear search made quadratic in the number of segments.
+        by_name = self.__dict__.get("_by_name")
+        if by_name is None:
+            by_name = {s.name: s for s in self.segments}
+            object.__setattr__(self, "_by_name", by_name)
+        try:
+            return by_name[name]
+        except (KeyError, TypeError):
+            known = list(by_name)
+            listed = ", ".join(known[:10]) + (f", ... ({len(known)} in all)"
+                                              if len(known) > 10 else "")
+            raise RodstabInputError(
+                f"unknown segment {name!r}; the segments are {listed}") from None
 
     def joints(self) -> list[tuple[tuple[str, str], ...]]:
         """Every segment end grouped into joints (welded ends together, others alone)."""
@@ -288,12 +299,16 @@ def validate(a: Assembly) -> None:
     names = [s.name for s in a.segments]
     if not names:
         raise RodstabInputError("an assembly needs at least one segment")
-    dup = {n for n in names if names.count(n) > 1}
+    dup = {n for n, c in collections.Counter(names).items() if c > 1}
     if dup:
         raise RodstabInputError(f"duplicate segment name(s) {sorted(dup)}")
     for w in a.welds:
         if len(w) < 2:
             raise RodstabInputError(f"a weld joins at least two ends, got {list(w)!r}")
+        twice = sorted({f"{n}.{e}" for n, e in w if list(w).count((n, e)) > 1})
+        if twice:
+            raise RodstabInputError(f"a weld joins an end to itself: {twice} appear(s) twice "
+                                    f"in {[f'{n}.{e}' for n, e in w]}")
         for name, end in w:
             a.segment(name)
             if end not in ENDS:
@@ -304,11 +319,11 @@ def validate(a: Assembly) -> None:
             raise RodstabInputError(f"support end must be 'start' or 'end', got {end!r}")
         support_kind(kind)
     ends = [(n, e) for n, e, _ in a.supports]
-    twice = sorted({f"{n}.{e}" for n, e in ends if ends.count((n, e)) > 1})
+    twice = sorted(f"{n}.{e}" for (n, e), c in collections.Counter(ends).items() if c > 1)
     if twice:
         raise RodstabInputError(f"end(s) {twice} carry more than one support")
     rot_ends = [(n, e) for n, e, _ in a.end_rotations]
-    twice = sorted({f"{n}.{e}" for n, e in rot_ends if rot_ends.count((n, e)) > 1})
+    twice = sorted(f"{n}.{e}" for (n, e), c in collections.Counter(rot_ends).items() if c > 1)
     if twice:
         raise RodstabInputError(f"end(s) {twice} carry more than one imposed rotation")
     clamps = {(n, e) for n, e, k in a.supports if SUPPORT_KINDS[k].accepts_end_rotation}
