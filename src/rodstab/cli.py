@@ -125,7 +125,7 @@ def _html_output(option: str, value: str) -> Path:
 def _warnings_as_lines() -> Iterator[None]:
     """Print each :class:`~rodstab.errors.RodstabWarning` as one ``rodstab: warning:`` line.
 
-    Written through tqdm, so that a progress bar being drawn is cleared first.
+    A progress bar being drawn is cleared first (tqdm's external write mode).
     """
     from tqdm import tqdm
 
@@ -136,8 +136,9 @@ def _warnings_as_lines() -> Iterator[None]:
         def show(message: Warning | str, category: type[Warning], filename: str, lineno: int,
                  file: Any = None, line: str | None = None) -> None:
             if issubclass(category, RodstabWarning):
-                tqdm.write(f"rodstab: warning: {' '.join(str(message).split())}",
-                           file=sys.stderr)
+                with tqdm.external_write_mode(file=sys.stderr):
+                    click.echo(f"rodstab: warning: {' '.join(str(message).split())}",
+                               err=True)
             else:
                 shown(message, category, filename, lineno, file, line)
 

@@ -131,8 +131,11 @@ def continuation(a: Assembly, key: str, start: float, stop: float, n_steps: int,
             st = None
             if not restart:
                 try:
-                    st = storage.load_state(out / "state.npz", rod)
+                    st = storage.load_state(out / "state.npz")
+                    if st is not None and st["meta"] == meta:  # else: another run's, replaced
+                        storage.check_fits(st, rod)
                 except storage.StateUnreadable as exc:
+                    st = None
                     storage.set_aside(out / "state.npz", str(exc))
             storage.remove_temporaries(out)
             if st is not None and st["meta"] == meta:

@@ -91,7 +91,8 @@ def load_state(path: FsPath, rod: DiscreteRod | None = None) -> dict | None:
     path : Path
         The ``state.npz`` file.
     rod : DiscreteRod, optional
-        The discretised design of the run: the saved arrays must have its shapes.
+        The discretised design of the run: the saved arrays must have its shapes
+        (:func:`check_fits`).
 
     Returns
     -------
@@ -133,19 +134,28 @@ def load_state(path: FsPath, rod: DiscreteRod | None = None) -> dict | None:
     rows = out["rows"]
     if rows.ndim != 2 or rows.shape[1] != 5 or not np.issubdtype(rows.dtype, np.number):
         raise StateUnreadable(f"its rows have shape {rows.shape}, not (n, 5)")
-    if rod is not None:
-        want = {"x": rod.x.shape, "R_edge": rod.R_edge.shape, "R_joint": rod.R_joint.shape,
-                "tq": (len(rod.free_dofs()),)}
-        for name, shape in want.items():
-            if out[name].shape != shape:
-                raise StateUnreadable(f"its {name!r} has shape {out[name].shape}, the design's "
-                                      f"{shape}")
     for name in ("x", "R_edge", "R_joint", "tq"):
         if not np.issubdtype(out[name].dtype, np.number) or \
                 not np.all(np.isfinite(out[name])):
             raise StateUnreadable(f"its {name!r} is not an array of finite numbers")
     out["rows"] = rows.tolist()
+    if rod is not None:
+        check_fits(out, rod)
     return out
+
+
+def check_fits(state: dict, rod: DiscreteRod) -> None:
+    """Raise :class:`StateUnreadable` unless the saved arrays of ``state`` fit ``rod``'s shapes.
+
+    A rerun with the same arguments (the same ``meta``) discretises the same design, so a
+    state that does not fit was damaged or written by something else.
+    """
+    want = {"x": rod.x.shape, "R_edge": rod.R_edge.shape, "R_joint": rod.R_joint.shape,
+            "tq": (len(rod.free_dofs()),)}
+    for name, shape in want.items():
+        if state[name].shape != shape:
+            raise StateUnreadable(f"its {name!r} has shape {state[name].shape}, the design's "
+                                  f"{shape}")
 
 
 def set_aside(path: FsPath, reason: str) -> FsPath:
