@@ -384,3 +384,17 @@ def test_finished_sweep_csv_is_the_json_rows(run_cli, tmp_path):
         rows = list(csv.DictReader(fh))
     assert [{k: float(v) for k, v in row.items()} for row in rows] == \
         [{k: float(v) for k, v in row.items()} for row in json.loads(r.stdout)["rows"]]
+
+
+def test_check_output_names_a_directory_it_cannot_write(tmp_path, monkeypatch):
+    """The read-only case without chmod (ineffective for root): the write probe fails."""
+    import rodstab.outputs
+
+    def denied(*args, **kwargs):
+        raise PermissionError(13, "Permission denied")
+    monkeypatch.setattr(rodstab.outputs.tempfile, "mkstemp", denied)
+    with pytest.raises(RodstabInputError, match=r"--out .*not writable \(Permission denied\)"):
+        check_output("--out", tmp_path / "d", directory=True)
+    monkeypatch.setattr(Path, "mkdir", denied)
+    with pytest.raises(RodstabInputError, match=r"--plot .*cannot create the directory"):
+        check_output("--plot", tmp_path / "e" / "x.png", directory=False)
