@@ -17,10 +17,13 @@ Any other exception is a bug in rodstab and propagates with its traceback.
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import json
 import sys
-from collections.abc import Callable
+import warnings
+from collections.abc import Callable, Iterator
+from pathlib import Path
 from typing import Any, NoReturn
 
 import click
@@ -32,10 +35,12 @@ from .analytic.ring import ring_stability
 from .errors import (
     NotConverged,
     RodstabInputError,
+    RodstabWarning,
     require_finite,
     require_positive,
     require_positive_int,
 )
+from .outputs import check_output
 from .results import jsonable
 from .sections import SHAPES, TORSION_OPTIONS, Section, make_section
 
@@ -96,6 +101,49 @@ def _section_line(s: Section) -> str:
     nu = f", nu {_fmt(s.nu)}" if s.nu is not None else ""
     return (f"section      {geom}{nu}, torsion {s.torsion}: b1 = {_fmt(s.b1)}, "
             f"b2 = {_fmt(s.b2)}, sqrt(b1 b2) = {_fmt(s.sqrt_b1b2)}")
+
+
+def _image_output(option: str, value: str) -> Path:
+    """Check a picture's output path: :func:`~rodstab.outputs.check_output`, matplotlib's types."""
+    from matplotlib.backend_bases import FigureCanvasBase
+
+    types = FigureCanvasBase.get_supported_filetypes()
+    return check_output(option, value, directory=False, suffixes={f".{t}" for t in types})
+
+
+def _html_output(option: str, value: str) -> Path:
+    """Check an interactive view's output path, and that plotly is there to write it."""
+    import importlib.util
+
+    path = check_output(option, value, directory=False)
+    if importlib.util.find_spec("plotly") is None:
+        raise RodstabInputError(f'{option} needs plotly: pip install "rodstab[viz]"')
+    return path
+
+
+@contextlib.contextmanager
+def _warnings_as_lines() -> Iterator[None]:
+    """Print each :class:`~rodstab.errors.RodstabWarning` as one ``rodstab: warning:`` line.
+
+    A progress bar being drawn is cleared first (tqdm's external write mode).
+    """
+    from tqdm import tqdm
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("always", RodstabWarning)
+        shown = warnings.showwarning
+
+        def show(message: Warning | str, category: type[Warning], filename: str, lineno: int,
+                 file: Any = None, line: str | None = None) -> None:
+            if issubclass(category, RodstabWarning):
+                with tqdm.external_write_mode(file=sys.stderr):
+                    click.echo(f"rodstab: warning: {' '.join(str(message).split())}",
+                               err=True)
+            else:
+                shown(message, category, filename, lineno, file, line)
+
+        warnings.showwarning = show
+        yield
 
 
 @click.group(context_settings={"help_option_names": ["-h", "--help"]})
@@ -202,6 +250,7 @@ def analyze(design_file: str, elements: int | None, plot_path: str | None,
 
     d = load_design(design_file)
     n = d.elements if elements is None else require_positive_int("--elements", elements)
+    plot = None if plot_path is None else _image_output("--plot", plot_path)
     r = linear_stability(d.assembly, n)
     lam = d.paper_load_factor(r.load_factor_critical)
     payload = {
@@ -223,10 +272,10 @@ def analyze(design_file: str, elements: int | None, plot_path: str | None,
                                         f"{d.load_factor_segment!r}",
         "paper_load_factor_critical": lam,
     }
-    if plot_path:
+    if plot is not None:
         from .plots import plot_mode
 
-        payload["plot"] = str(plot_mode(d.assembly, r, plot_path))
+        payload["plot"] = str(plot_mode(d.assembly, r, plot))
     lo, hi = r.load_factor_interval
     _emit(payload, as_json, [
         f"design       {d.source}  ({len(d.assembly.segments)} segments, {r.n_dof} dof)",
@@ -264,6 +313,9 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
     from .design import load_design
     from .nonlinear.solve import STRAIN_WARN, equilibrium
 
+    render = None if render_path is None else _image_output("--render", render_path)
+    html = None if html_path is None else _html_output("--html", html_path)
+
     d = load_design(design_file)
     n = max(d.elements, 16) if elements is None else require_positive_int("--elements",
                                                                           elements)
@@ -273,17 +325,17 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
     ev = r.lowest_eigenvalues
     payload = r.to_dict() | {"design": d.source, "elements_per_segment": n,
                              "max_out_of_plane": float(np.max(np.abs(rod.x[:, 2])))}
-    if render_path:
+    if render is not None:
         from .plots import plot_equilibrium
 
         payload["render"] = str(plot_equilibrium(
-            rod.x, rod.edge_nodes, render_path, edge_values=rod.edge_moments(),
+            rod.x, rod.edge_nodes, render, edge_values=rod.edge_moments(),
             value_label="|internal moment|", title=f"{d.source}, load factor {load_factor:g}"))
-    if html_path:
+    if html is not None:
         from .plots import html_view
 
         payload["html"] = str(html_view(
-            [rod.x], rod.edge_nodes, html_path, edge_values=[rod.edge_moments()],
+            [rod.x], rod.edge_nodes, html, edge_values=[rod.edge_moments()],
             value_label="|internal moment|", title=f"{d.source}, load factor {load_factor:g}"))
     _emit(payload, as_json, [
         f"design       {d.source}, load factor {_fmt(load_factor)}, {n} elements/segment",
@@ -314,62 +366,55 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
               help="Elements per segment.")
 @click.option("--branch-steps", type=int, default=8, show_default=True,
               help="Steps traced each way along a secondary branch (0: none).")
+@click.option("--restart", is_flag=True,
+              help="Start afresh in --out: ignore (and remove) the run saved there.")
 @click.option("--no-progress", is_flag=True, help="Do not draw the progress bar.")
 @_json_option
 def continue_cmd(design_file: str, vary: str, out_dir: str | None, elements: int,
-                 branch_steps: int, no_progress: bool, as_json: bool) -> None:
+                 branch_steps: int, restart: bool, no_progress: bool, as_json: bool) -> None:
     """Pseudo-arclength continuation in one parameter, with stability along the path.
 
     It finds folds, branch points and the branches leaving them (sub- or supercritical).
 
     If the path stops before STOP, the table (or JSON, converged: false) is still printed and
     the exit status is 3.
+
+    With --out, one run at a time writes into the directory (a lock file, run.lock, names the
+    running process; a second run exits with status 2). A saved run that cannot be read is
+    set aside (state.npz.corrupt-N) with a warning, and the run starts afresh.
     """
     from tqdm import tqdm
 
     from .design import load_design, parse_vary
+    from .errors import require_int
     from .nonlinear.continuation import continuation
+    from .nonlinear.continuation.storage import run_lock
 
     spec = parse_vary(vary, default_n=CONTINUE_DEFAULT_N)
     key, start, stop, n = spec.key, spec.start, spec.stop, spec.n
     if branch_steps < 0:
         raise RodstabInputError(f"--branch-steps must be >= 0, got {branch_steps!r}")
+    elements = require_int("--elements", elements, 2)
+    if restart and out_dir is None:
+        raise RodstabInputError("--restart needs --out (there is no saved run without it)")
     d = load_design(design_file)
-    with tqdm(total=n + 1, desc="rodstab continue", disable=no_progress, leave=False) as bar:
-        r = continuation(d.assembly, key, start, stop, n,
-                         elements_per_segment=require_positive_int("--elements", elements),
-                         out_dir=out_dir, progress=lambda: bar.update(1),
-                         branch_steps=branch_steps, reference_segment=d.load_factor_segment)
-    specials = [{k: v for k, v in p.items() if k != "branch"} for p in r.special_points]
-    payload = {"key": r.key, "value": list(r.value), "energy": list(r.energy),
-               "lowest_eigenvalue": list(r.lowest_eigenvalue),
-               "stable": [e > 0 for e in r.lowest_eigenvalue], "special_points": specials,
-               "resumed_steps": r.resumed_steps, "converged": r.converged}
-    if out_dir:
-        from pathlib import Path
-
-        from .report.figures import continuation_plot
-
-        payload["diagram"] = str(continuation_plot(r, Path(out_dir)))
-        if r.branches and r.branches[0].shapes:
-            from .nonlinear.discrete import discretise
-            from .plots import animate_shapes
-
-            first = r.branches[0]
-            edges = discretise(d.assembly, elements).edge_nodes
-            gif = Path(out_dir) / "branch.gif"
-            animate_shapes(list(first.shapes), edges, gif,
-                           labels=[f"{r.key} = {v:.6g}" for v in first.shape_values])
-            payload["animation"] = str(gif)
-            try:
-                from .plots import html_view
-
-                payload["interactive"] = str(html_view(
-                    list(first.shapes), edges, Path(out_dir) / "branch.html",
-                    labels=[f"{v:.6g}" for v in first.shape_values],
-                    title=f"{d.source}: branch from {r.key} = {first.value_critical:.6g}"))
-            except RodstabInputError:
-                pass  # plotly not installed: the GIF is the picture (see --help)
+    out = None if out_dir is None else check_output("--out", out_dir, directory=True)
+    with _warnings_as_lines(), contextlib.ExitStack() as held:
+        if out is not None:
+            held.enter_context(run_lock(out, label=f"--out {out_dir!r}"))
+        with tqdm(total=n + 1, desc="rodstab continue", disable=no_progress,
+                  leave=False) as bar:
+            r = continuation(d.assembly, key, start, stop, n, elements_per_segment=elements,
+                             out_dir=out, progress=lambda: bar.update(1),
+                             branch_steps=branch_steps, reference_segment=d.load_factor_segment,
+                             restart=restart)
+        specials = [{k: v for k, v in p.items() if k != "branch"} for p in r.special_points]
+        payload = {"key": r.key, "value": list(r.value), "energy": list(r.energy),
+                   "lowest_eigenvalue": list(r.lowest_eigenvalue),
+                   "stable": [e > 0 for e in r.lowest_eigenvalue], "special_points": specials,
+                   "resumed_steps": r.resumed_steps, "converged": r.converged}
+        if out is not None:
+            _continuation_pictures(r, d, out, elements, payload)
     lines = [f"design       {d.source}: {len(r.value)} steps in {r.key} "
              f"({r.resumed_steps} resumed), path {'complete' if r.converged else 'STOPPED'}"]
     lines += [f"special      {p['kind']} at {r.key} = {_fmt(p['value'])}"
@@ -381,6 +426,33 @@ def continue_cmd(design_file: str, vary: str, out_dir: str | None, elements: int
     if not r.converged:
         raise NotConverged(f"the continuation in {r.key} stopped at {r.value[-1]:.6g} before "
                            f"reaching {stop:.6g} (a step failed or the step budget ran out)")
+
+
+def _continuation_pictures(r: Any, d: Any, out: Path, elements: int,
+                           payload: dict[str, Any]) -> None:
+    """Write diagram.png, and branch.gif and branch.html of the first branch, into ``out``."""
+    from .report.figures import continuation_plot
+
+    payload["diagram"] = str(continuation_plot(r, out))
+    if r.branches and r.branches[0].shapes:
+        from .nonlinear.discrete import discretise
+        from .plots import animate_shapes
+
+        first = r.branches[0]
+        edges = discretise(d.assembly, elements).edge_nodes
+        gif = out / "branch.gif"
+        animate_shapes(list(first.shapes), edges, gif,
+                       labels=[f"{r.key} = {v:.6g}" for v in first.shape_values])
+        payload["animation"] = str(gif)
+        try:
+            from .plots import html_view
+
+            payload["interactive"] = str(html_view(
+                list(first.shapes), edges, out / "branch.html",
+                labels=[f"{v:.6g}" for v in first.shape_values],
+                title=f"{d.source}: branch from {r.key} = {first.value_critical:.6g}"))
+        except RodstabInputError:
+            pass  # plotly not installed: the GIF is the picture (see --help)
 
 
 @cli.command()
@@ -399,13 +471,13 @@ def sweep(design_file: str, vary: str, out_dir: str, elements: int | None, no_pr
           as_json: bool) -> None:
     """Critical load factor of a design while one parameter varies (CSV + plot)."""
     import csv
-    from pathlib import Path
 
     import numpy as np
     from tqdm import tqdm
 
     from .design import load_design, parse_design, parse_vary, set_design_value
     from .report.figures import sweep_plot
+    from .sweep import COLUMNS, SweepRow
     from .sweep import sweep as run_sweep
 
     spec = parse_vary(vary, default_n=SWEEP_DEFAULT_N)
@@ -414,17 +486,20 @@ def sweep(design_file: str, vary: str, out_dir: str, elements: int | None, no_pr
         require_positive_int("--elements", elements)
     base = load_design(design_file)
     parse_design(set_design_value(base.raw, key, spec.start), base.source)  # before the bar
-    with tqdm(total=spec.n, desc="rodstab sweep", disable=no_progress, leave=False) as bar:
-        result = run_sweep(base, key, np.linspace(spec.start, spec.stop, spec.n),
-                           elements=elements, progress=lambda: bar.update(1))
-    rows = result.table()
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
+    out = check_output("--out", out_dir, directory=True)
     csv_path = out / "sweep.csv"
-    with csv_path.open("w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
+    with csv_path.open("w", newline="") as fh, \
+            tqdm(total=spec.n, desc="rodstab sweep", disable=no_progress, leave=False) as bar:
+        w = csv.DictWriter(fh, fieldnames=[key, *COLUMNS])
         w.writeheader()
-        w.writerows(rows)
+
+        def write_row(row: SweepRow) -> None:  # each row on disk before the next is solved
+            w.writerow(row.record(key))
+            fh.flush()
+
+        result = run_sweep(base, key, np.linspace(spec.start, spec.stop, spec.n),
+                           elements=elements, progress=lambda: bar.update(1), on_row=write_row)
+    rows = result.table()
     png = sweep_plot(rows, key, out)
     payload = {"key": key, "values": [r[key] for r in rows], "rows": rows, "csv": str(csv_path),
                "plot": str(png)}
@@ -504,9 +579,10 @@ def folded_ring(section: Section, segments: int, arc_angle: float, as_json: bool
 @_json_option
 def reproduce(out_dir: str, no_progress: bool, as_json: bool) -> None:
     """Reproduce every claim of the paper: report (md + html), results.json, figures."""
+    out = check_output("--out", out_dir, directory=True)  # before the long computation
     from .report.reproduce import run_reproduction  # deferred: matplotlib is slow to import
 
-    summary = run_reproduction(out_dir, progress=not no_progress)
+    summary = run_reproduction(out, progress=not no_progress)
     _emit(summary, as_json, [
         f"wrote {summary['report_md']}, {summary['report_html']}, {summary['results_json']}",
         f"claims: {summary['n_claims']} ({summary['n_reproduced']} reproduced, "

@@ -5,6 +5,8 @@
 * :class:`NotConverged` (a :class:`RuntimeError`): a solver did not converge where the caller
   needs its answer; the message names what did not converge. The CLI exits with status 3.
 
+:class:`RodstabWarning` (a :class:`UserWarning`) reports what a run recovered from.
+
 Any other exception is a bug in rodstab and is not caught by the CLI (it shows a traceback).
 """
 
@@ -26,6 +28,14 @@ class NotConverged(RuntimeError):
     Solvers that return a result with a ``converged`` flag do not raise this: they report.
     It is raised where no meaningful result exists without convergence (e.g. the start of a
     path that cannot be reached).
+    """
+
+
+class RodstabWarning(UserWarning):
+    """Something the user should know that did not stop the run.
+
+    E.g. a resume state set aside, or a stale lock taken over. The CLI prints it as one line
+    ``rodstab: warning: ...``.
     """
 
 

@@ -18,6 +18,10 @@ from .errors import RodstabInputError, require_finite, require_positive_int
 from .linear.solve import linear_stability
 from .results import Result
 
+#: The columns of a sweep's table after the varied key (:meth:`SweepRow.record`).
+COLUMNS = ("load_factor_critical", "load_factor_lower", "multiplicity",
+           "paper_load_factor_critical", "residual")
+
 
 @dataclasses.dataclass(frozen=True)
 class SweepRow(Result):
@@ -30,6 +34,10 @@ class SweepRow(Result):
     paper_load_factor_critical: float
     residual: float
     converged: bool
+
+    def record(self, key: str) -> dict[str, Any]:
+        """Return the row as the CLI's CSV/JSON record: ``key`` (the value), then COLUMNS."""
+        return {key: self.value} | {c: getattr(self, c) for c in COLUMNS}
 
 
 @dataclasses.dataclass(frozen=True)
@@ -52,14 +60,12 @@ class SweepResult(Result):
         The varied value under the column ``key``, then ``load_factor_critical``,
         ``load_factor_lower``, ``multiplicity``, ``paper_load_factor_critical``, ``residual``.
         """
-        return [{self.key: r.value, "load_factor_critical": r.load_factor_critical,
-                 "load_factor_lower": r.load_factor_lower, "multiplicity": r.multiplicity,
-                 "paper_load_factor_critical": r.paper_load_factor_critical,
-                 "residual": r.residual} for r in self.rows]
+        return [r.record(self.key) for r in self.rows]
 
 
 def sweep(design: Design, key: str, values: Iterable[float], *, elements: int | None = None,
-          progress: Callable[[], Any] | None = None) -> SweepResult:
+          progress: Callable[[], Any] | None = None,
+          on_row: Callable[[SweepRow], Any] | None = None) -> SweepResult:
     """Linear stability of ``design`` with the design value ``key`` set to each of ``values``.
 
     Parameters
@@ -75,6 +81,14 @@ def sweep(design: Design, key: str, values: Iterable[float], *, elements: int | 
         Elements per segment; default: each modified design's ``[analysis] elements``.
     progress : callable, optional
         Called with no argument after each value (e.g. a progress bar's update).
+    on_row : callable, optional
+        Called with each finished :class:`SweepRow` before the next value is solved (e.g. to
+        append it to a file, so that an interrupted sweep keeps its finished rows).
+
+    Returns
+    -------
+    SweepResult
+        One row per value, in the order given.
 
     Raises
     ------
@@ -95,6 +109,8 @@ def sweep(design: Design, key: str, values: Iterable[float], *, elements: int | 
         rows.append(SweepRow(v, r.load_factor_critical, r.load_factor_interval[0],
                              r.multiplicity, d.paper_load_factor(r.load_factor_critical),
                              r.residual, r.converged))
+        if on_row is not None:
+            on_row(rows[-1])
         if progress is not None:
             progress()
     method = "linear_stability at each value (FE of P2, eq 2.12)"

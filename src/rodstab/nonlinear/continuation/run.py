@@ -6,6 +6,7 @@ stability (:mod:`.branches`).
 
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 from collections.abc import Callable
@@ -69,7 +70,7 @@ def continuation(a: Assembly, key: str, start: float, stop: float, n_steps: int,
                  progress: Callable[[], None] | None = None, branch_steps: int = 8,
                  branch_ds: float | None = None, max_steps_factor: int = 8,
                  rod: DiscreteRod | None = None, stop_at_first: bool = False,
-                 reference_segment: str | None = None) -> Path:
+                 reference_segment: str | None = None, restart: bool = False) -> Path:
     """Follow the equilibrium of ``a`` as the parameter ``key`` goes from ``start`` to ``stop``.
 
     ``key``: ``load_factor``, ``segment.<name>.natural_curvature`` / ``.natural_twist`` or
@@ -89,7 +90,10 @@ def continuation(a: Assembly, key: str, start: float, stop: float, n_steps: int,
     ``(value, rod)`` at the losses of stability and folds found by this run.
 
     With ``out_dir``: the run is stored after every step (:mod:`.storage`); a rerun with the
-    same design and arguments continues from the last completed step.
+    same design and arguments continues from the last completed step, unless ``restart``. The
+    run holds the directory's lock (:func:`.storage.run_lock`: a concurrent run into it raises
+    :class:`~rodstab.errors.RodstabInputError`); a saved state that cannot be used is set
+    aside with a :class:`~rodstab.errors.RodstabWarning` and the run starts afresh.
     """
     start, stop = require_finite("start", start), require_finite("stop", stop)
     if start == stop or not math.isfinite(stop - start):
@@ -120,89 +124,100 @@ def continuation(a: Assembly, key: str, start: float, stop: float, n_steps: int,
             "max_steps_factor": max_steps_factor, "design": storage.design_hash(a),
             "start_state": "held" if fresh else storage.state_hash(rod),
             "reference_length": length}
-    if out is not None:
-        out.mkdir(parents=True, exist_ok=True)
-        st = storage.load_state(out / "state.npz")
-        if st is not None and st["meta"] == meta:
-            rows = [tuple(r[:4]) + (bool(r[4]),) for r in st["rows"]]
-            specials = st["specials"]
-            rod.x, rod.R_edge, rod.R_joint = st["x"], st["R_edge"], st["R_joint"]
-            param.set(rod, st["value"])
-            tq, tp, h = st["tq"], st["tp"], st["h"]
-            resumed = len(rows)
-        else:
-            for name in storage.OUTPUTS:
-                (out / name).unlink(missing_ok=True)
-            storage.write_atomic(out / "run.json", json.dumps(meta, indent=1))
-    if not rows:
-        if fresh:
-            settle(rod)
-        _reach(rod, param, key, start, h)
-        tq, tp = tangent(rod, param, tq, tp)  # the true tangent (the start is regular)
-        # Arclength counts the unknowns too: size the step so that the parameter advances by
-        # about |stop - start| / n_steps while the path is the primary one.
-        h = h / max(abs(tp), 1e-3)
-    path = Stepper(rod, param, tq, tp, h)
-
-    def record(ok: bool, low: float | None = None) -> None:
-        rows.append((param.get(rod), rod.energy(), lowest(rod) if low is None else low,
-                     _moved(rod.x, held_x), ok))
+    with contextlib.ExitStack() as held:
         if out is not None:
-            storage.save_state(out, rod, param.get(rod), path.tq, path.tp, path.h, rows, meta,
-                               specials)
-            storage.export(out, rows, specials)
-        if progress is not None:
-            progress()
+            out.mkdir(parents=True, exist_ok=True)
+            held.enter_context(storage.run_lock(out))
+            st = None
+            if not restart:
+                try:
+                    st = storage.load_state(out / "state.npz")
+                    if st is not None and st["meta"] == meta:  # else: another run's, replaced
+                        storage.check_fits(st, rod)
+                except storage.StateUnreadable as exc:
+                    st = None
+                    storage.set_aside(out / "state.npz", str(exc))
+            storage.remove_temporaries(out)
+            if st is not None and st["meta"] == meta:
+                rows = [tuple(r[:4]) + (bool(r[4]),) for r in st["rows"]]
+                specials = st["specials"]
+                rod.x, rod.R_edge, rod.R_joint = st["x"], st["R_edge"], st["R_joint"]
+                param.set(rod, st["value"])
+                tq, tp, h = st["tq"], st["tp"], st["h"]
+                resumed = len(rows)
+            else:
+                for name in storage.OUTPUTS:
+                    (out / name).unlink(missing_ok=True)
+                storage.write_atomic(out / "run.json", json.dumps(meta, indent=1))
+        if not rows:
+            if fresh:
+                settle(rod)
+            _reach(rod, param, key, start, h)
+            tq, tp = tangent(rod, param, tq, tp)  # the true tangent (the start is regular)
+            # Arclength counts the unknowns too: size the step so that the parameter advances by
+            # about |stop - start| / n_steps while the path is the primary one.
+            h = h / max(abs(tp), 1e-3)
+        path = Stepper(rod, param, tq, tp, h)
 
-    if not rows:
-        record(True)
-    ok_all, why = True, ""
-    budget = max_steps_factor * n_steps + 1
-    while (rows[-1][0] - stop) * direction < 0:
-        if len(rows) >= budget:
-            ok_all, why = False, f"{stop!r} not reached in {budget - 1} steps"
-            break
-        prev, prev_tp, prev_tq = rod.copy(), path.tp, path.tq.copy()
-        if not path.step():
-            ok_all, why = False, f"step failed at {key} = {param.get(rod)!r}"
-            break
-        if (param.get(rod) - stop) * direction > 0:
-            # Past the end: land exactly on ``stop`` by Newton from the previous point.
-            trial = prev.copy()
-            param.set(trial, stop)
-            if newton(trial)[0]:
-                rod.assign(trial)
-        e0, e1 = rows[-1][2], lowest(rod)
-        if crossed(e0, e1, prev_tp, path.tp):
-            point, at = locate(rod, param, prev, prev_tq, prev_tp, path.last_h, e0, e1,
-                               path.tp)
-            if (point["value"] - stop) * direction <= 0:
-                if at is not None and point["kind"] != SpecialKind.REGAINED.value:
-                    states.append((point["value"], at))
-                if point["kind"] == SpecialKind.LOST.value and at is not None \
-                        and branch_steps > 0:
-                    side = math.copysign(1.0, param.get(prev) - point["value"])
-                    b = trace_branch(at, param, side, branch_ds, branch_steps, length=length,
-                                     first_step=BRANCH_FIRST_STEP)
-                    point["post_buckling"] = b.verdict
-                    point["branch"] = _branch_dict(b)
-                    branches.append(b)
-                specials.append(point)
-                if stop_at_first:
-                    record(True, e1)
-                    break
-        record(True, e1)
-    if out is not None:
-        storage.export(out, rows, specials)
-    if resumed:  # branches found before the resume: rebuilt from their stored points
-        branches = [_from_dict(key, s) for s in specials if "branch" in s]
-    return Path(key, tuple(r[0] for r in rows), tuple(r[1] for r in rows),
-                tuple(r[2] for r in rows), tuple(r[3] for r in rows),
-                "largest node displacement from the start state (length unit)", ok_all,
-                "pseudo-arclength (Keller) with Hessian eigenvalue monitoring"
-                + (f"; STOPPED: {why}" if why else ""), special_points=tuple(specials),
-                branches=tuple(branches), resumed_steps=resumed,
-                states=tuple(states))
+        def record(ok: bool, low: float | None = None) -> None:
+            rows.append((param.get(rod), rod.energy(), lowest(rod) if low is None else low,
+                         _moved(rod.x, held_x), ok))
+            if out is not None:
+                storage.save_state(out, rod, param.get(rod), path.tq, path.tp, path.h, rows, meta,
+                                   specials)
+                storage.export(out, rows, specials)
+            if progress is not None:
+                progress()
+
+        if not rows:
+            record(True)
+        ok_all, why = True, ""
+        budget = max_steps_factor * n_steps + 1
+        while (rows[-1][0] - stop) * direction < 0:
+            if len(rows) >= budget:
+                ok_all, why = False, f"{stop!r} not reached in {budget - 1} steps"
+                break
+            prev, prev_tp, prev_tq = rod.copy(), path.tp, path.tq.copy()
+            if not path.step():
+                ok_all, why = False, f"step failed at {key} = {param.get(rod)!r}"
+                break
+            if (param.get(rod) - stop) * direction > 0:
+                # Past the end: land exactly on ``stop`` by Newton from the previous point.
+                trial = prev.copy()
+                param.set(trial, stop)
+                if newton(trial)[0]:
+                    rod.assign(trial)
+            e0, e1 = rows[-1][2], lowest(rod)
+            if crossed(e0, e1, prev_tp, path.tp):
+                point, at = locate(rod, param, prev, prev_tq, prev_tp, path.last_h, e0, e1,
+                                   path.tp)
+                if (point["value"] - stop) * direction <= 0:
+                    if at is not None and point["kind"] != SpecialKind.REGAINED.value:
+                        states.append((point["value"], at))
+                    if point["kind"] == SpecialKind.LOST.value and at is not None \
+                            and branch_steps > 0:
+                        side = math.copysign(1.0, param.get(prev) - point["value"])
+                        b = trace_branch(at, param, side, branch_ds, branch_steps, length=length,
+                                         first_step=BRANCH_FIRST_STEP)
+                        point["post_buckling"] = b.verdict
+                        point["branch"] = _branch_dict(b)
+                        branches.append(b)
+                    specials.append(point)
+                    if stop_at_first:
+                        record(True, e1)
+                        break
+            record(True, e1)
+        if out is not None:
+            storage.export(out, rows, specials)
+        if resumed:  # branches found before the resume: rebuilt from their stored points
+            branches = [_from_dict(key, s) for s in specials if "branch" in s]
+        return Path(key, tuple(r[0] for r in rows), tuple(r[1] for r in rows),
+                    tuple(r[2] for r in rows), tuple(r[3] for r in rows),
+                    "largest node displacement from the start state (length unit)", ok_all,
+                    "pseudo-arclength (Keller) with Hessian eigenvalue monitoring"
+                    + (f"; STOPPED: {why}" if why else ""), special_points=tuple(specials),
+                    branches=tuple(branches), resumed_steps=resumed,
+                    states=tuple(states))
 
 
 def _from_dict(key: str, s: dict) -> Path:

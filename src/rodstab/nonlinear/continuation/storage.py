@@ -1,26 +1,54 @@
-"""Run storage of a continuation: one atomically replaced state file, and the exports.
+"""Run storage of a continuation: one atomically replaced state file, a lock, and the exports.
 
 ``state.npz`` holds the state, the stepper (tangent, step), the rows and special points and the
 run's arguments (``meta``, with a hash of the design and of the start state). A rerun with the
 same ``meta`` resumes from it, losing at most the step in progress; anything else starts afresh
-and removes the previous run's files (:data:`OUTPUTS`). ``primary.csv``,
-``special_points.json`` and ``branches.csv`` are rebuilt from the run in memory after each step.
+and removes the previous run's files (:data:`OUTPUTS`). A ``state.npz`` that cannot be read, or
+does not fit the design (truncated, another program's file, arrays of other shapes), is set
+aside as ``state.npz.corrupt-<n>`` with one :class:`~rodstab.errors.RodstabWarning` and the run
+starts afresh (:func:`set_aside`). ``primary.csv``, ``special_points.json`` and
+``branches.csv`` are rebuilt from the run in memory after each step. Every file is written to a
+uniquely named sibling and renamed over the old one.
+
+``run.lock`` (:func:`run_lock`) holds the process id and host of the run writing into the
+directory: a second run into the same directory is refused (exit 2) while that process lives;
+the lock of a process that is gone (killed) is taken over with a warning.
 """
 
 from __future__ import annotations
 
+import contextlib
+import datetime
 import hashlib
 import json
+import os
+import socket
+import sys
+import tempfile
+import warnings
+from collections.abc import Callable, Iterator
 from pathlib import Path as FsPath
+from typing import IO, Any
 
 import numpy as np
 
+from ...errors import RodstabInputError, RodstabWarning
 from ...model import Assembly
 from ..discrete import DiscreteRod
 
 #: Output files of a continuation run (removed when a run starts afresh in the directory).
 OUTPUTS = ("run.json", "state.npz", "primary.csv", "special_points.json", "branches.csv",
            "diagram.png", "branch.gif", "branch.html")
+#: The lock file of the run writing into an output directory (:func:`run_lock`).
+LOCK = "run.lock"
+
+
+#: The arrays of ``state.npz`` (:func:`save_state`).
+_ARRAYS = ("x", "R_edge", "R_joint", "value", "tq", "tp", "h", "rows", "text")
+
+
+class StateUnreadable(Exception):
+    """A saved ``state.npz`` that cannot be used; the message says why."""
 
 
 def design_hash(a: Assembly) -> str:
@@ -37,35 +65,121 @@ def state_hash(rod: DiscreteRod) -> str:
     return hsh.hexdigest()[:16]
 
 
+def _replace_atomic(path: FsPath, write: Callable[[IO[bytes]], Any]) -> None:
+    """Write ``path`` through ``write(file)`` into a uniquely named sibling, then rename it."""
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            write(fh)
+        os.replace(tmp, path)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            os.unlink(tmp)
+        raise
+
+
 def write_atomic(path: FsPath, text: str) -> None:
-    """Replace ``path`` by ``text`` atomically (write a sibling, then rename)."""
-    tmp = path.with_suffix(path.suffix + ".tmp")
-    tmp.write_text(text)
-    tmp.replace(path)
+    """Replace ``path`` by ``text`` atomically (write a uniquely named sibling, then rename)."""
+    _replace_atomic(path, lambda fh: fh.write(text.encode()))
 
 
-def load_state(path: FsPath) -> dict | None:
-    """Return the saved run in ``path``, or None if there is none or it cannot be read."""
-    if not path.exists():
+def load_state(path: FsPath, rod: DiscreteRod | None = None) -> dict | None:
+    """Return the saved run in ``path``, or None if there is none.
+
+    Parameters
+    ----------
+    path : Path
+        The ``state.npz`` file.
+    rod : DiscreteRod, optional
+        The discretised design of the run: the saved arrays must have its shapes
+        (:func:`check_fits`).
+
+    Returns
+    -------
+    dict or None
+        The saved state, stepper, rows, special points and ``meta``; None if ``path`` does not
+        exist.
+
+    Raises
+    ------
+    StateUnreadable
+        If the file exists but cannot be read as a saved run (not an npz file, truncated,
+        missing or malformed arrays, shapes that do not fit ``rod``).
+    """
+    if not os.path.lexists(path):
         return None
     try:
-        st = np.load(path)
-        text = json.loads(str(st["text"]))
-        return {"x": st["x"], "R_edge": st["R_edge"], "R_joint": st["R_joint"],
-                "value": float(st["value"]), "tq": st["tq"], "tp": float(st["tp"]),
-                "h": float(st["h"]), "rows": st["rows"].tolist(), "meta": text["meta"],
-                "specials": text["specials"]}
-    except (OSError, ValueError, KeyError, json.JSONDecodeError):
-        return None
+        with open(path, "rb") as fh:
+            magic = fh.read(4)
+        if magic != b"PK\x03\x04":
+            raise StateUnreadable("it is not an npz (zip) file")
+        with np.load(path, allow_pickle=False) as st:
+            missing = [k for k in _ARRAYS if k not in st.files]
+            if missing:
+                raise StateUnreadable(f"it lacks {', '.join(map(repr, missing))} (not a rodstab "
+                                      "run)")
+            text = json.loads(str(st["text"]))
+            out = {"x": st["x"], "R_edge": st["R_edge"], "R_joint": st["R_joint"],
+                   "value": float(st["value"]), "tq": st["tq"], "tp": float(st["tp"]),
+                   "h": float(st["h"]), "rows": st["rows"], "meta": text["meta"],
+                   "specials": text["specials"]}
+    except StateUnreadable:
+        raise
+    except Exception as exc:  # any failure to parse foreign bytes: the file is unusable
+        why = " ".join(str(exc).split())
+        raise StateUnreadable(f"it cannot be read ({type(exc).__name__}"
+                              + (f": {why[:100]}" if why else "") + ")") from None
+    if not isinstance(out["meta"], dict) or not isinstance(out["specials"], list):
+        raise StateUnreadable("its run description is malformed")
+    rows = out["rows"]
+    if rows.ndim != 2 or rows.shape[1] != 5 or not np.issubdtype(rows.dtype, np.number):
+        raise StateUnreadable(f"its rows have shape {rows.shape}, not (n, 5)")
+    for name in ("x", "R_edge", "R_joint", "tq"):
+        if not np.issubdtype(out[name].dtype, np.number) or \
+                not np.all(np.isfinite(out[name])):
+            raise StateUnreadable(f"its {name!r} is not an array of finite numbers")
+    out["rows"] = rows.tolist()
+    if rod is not None:
+        check_fits(out, rod)
+    return out
+
+
+def check_fits(state: dict, rod: DiscreteRod) -> None:
+    """Raise :class:`StateUnreadable` unless the saved arrays of ``state`` fit ``rod``'s shapes.
+
+    A rerun with the same arguments (the same ``meta``) discretises the same design, so a
+    state that does not fit was damaged or written by something else.
+    """
+    want = {"x": rod.x.shape, "R_edge": rod.R_edge.shape, "R_joint": rod.R_joint.shape,
+            "tq": (len(rod.free_dofs()),)}
+    for name, shape in want.items():
+        if state[name].shape != shape:
+            raise StateUnreadable(f"its {name!r} has shape {state[name].shape}, the design's "
+                                  f"{shape}")
+
+
+def set_aside(path: FsPath, reason: str) -> FsPath:
+    """Rename the unusable ``path`` to ``<name>.corrupt-<n>`` and warn once; return the name.
+
+    ``n`` is the smallest integer >= 1 not yet taken, so that earlier ones are kept.
+    """
+    n = 1
+    while os.path.lexists(aside := path.with_name(f"{path.name}.corrupt-{n}")):
+        n += 1
+    os.replace(path, aside)
+    warnings.warn(f"{path} is not a usable saved run: {reason}; set aside as {aside.name}; "
+                  "starting afresh", RodstabWarning, stacklevel=3)
+    return aside
 
 
 def save_state(out: FsPath, rod: DiscreteRod, value: float, tq: np.ndarray, tp: float,
                h: float, rows: list, meta: dict, specials: list) -> None:
     """Write ``state.npz`` atomically."""
-    np.savez(out / "state.tmp.npz", x=rod.x, R_edge=rod.R_edge, R_joint=rod.R_joint,
-             value=value, tq=tq, tp=tp, h=h, rows=np.array(rows, dtype=float).reshape(-1, 5),
-             text=json.dumps({"meta": meta, "specials": specials}))
-    (out / "state.tmp.npz").replace(out / "state.npz")
+    arrays: dict[str, Any] = dict(
+        x=rod.x, R_edge=rod.R_edge, R_joint=rod.R_joint, value=value, tq=tq, tp=tp, h=h,
+        rows=np.array(rows, dtype=float).reshape(-1, 5),
+        text=json.dumps({"meta": meta, "specials": specials}))
+    _replace_atomic(out / "state.npz", lambda fh: np.savez(fh, **arrays))
 
 
 def export(out: FsPath, rows: list, specials: list) -> None:
@@ -81,3 +195,121 @@ def export(out: FsPath, rows: list, specials: list) -> None:
                        strict=True):
             lines.append(f"{i}," + ",".join(repr(float(v)) for v in row))
     write_atomic(out / "branches.csv", "\n".join(lines) + "\n")
+
+
+#: Output directories (resolved) locked by this process, with their nesting depth: a caller
+#: holding the lock (the CLI) may call :func:`continuation` on the same directory.
+_HELD: dict[str, int] = {}
+
+
+def _alive(pid: int) -> bool:
+    """Return True unless the process ``pid`` on this host is known to be gone."""
+    if pid <= 0:
+        return False
+    if sys.platform == "win32":  # os.kill would terminate it: cannot tell, assume alive
+        return True
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except OSError:  # e.g. EPERM: it exists, owned by someone else
+        return True
+    return True
+
+
+def _read_lock(lock: FsPath) -> dict | None:
+    """Return the holder recorded in ``lock`` (pid, host, started), or None if unreadable."""
+    try:
+        info = json.loads(lock.read_text())
+    except (OSError, ValueError):
+        return None
+    if not isinstance(info, dict) or isinstance(info.get("pid"), bool) \
+            or not isinstance(info.get("pid"), int) or not isinstance(info.get("host"), str):
+        return None
+    return info
+
+
+@contextlib.contextmanager
+def run_lock(out: FsPath, label: str | None = None) -> Iterator[None]:
+    """Hold ``out/run.lock`` while the body runs: one run at a time writes into ``out``.
+
+    Parameters
+    ----------
+    out : Path
+        The output directory (it must exist).
+    label : str, optional
+        How to name the directory in messages (default: its path), e.g. ``--out 'cont'``.
+
+    Raises
+    ------
+    RodstabInputError
+        If another live process (or a process on another host) holds the lock; the message
+        names its process id, host and start time, and the lock file.
+
+    Notes
+    -----
+    The lock file is created with its content in one step (a hard link of a complete unique
+    file), so a concurrent reader never sees it half written. A lock whose process is gone
+    (same host, no such process id) or that is unreadable is taken over with a
+    :class:`~rodstab.errors.RodstabWarning`. Re-entrant within a process.
+    """
+    key = os.path.realpath(out)
+    if _HELD.get(key):
+        _HELD[key] += 1
+        try:
+            yield
+        finally:
+            _HELD[key] -= 1
+        return
+    lock = out / LOCK
+    me = {"pid": os.getpid(), "host": socket.gethostname(),
+          "started": datetime.datetime.now().astimezone().isoformat(timespec="seconds")}
+    text = json.dumps(me)
+    where = label or repr(str(out))
+    for _ in range(3):
+        fd, tmp = tempfile.mkstemp(prefix=f".{LOCK}.", suffix=".tmp", dir=out)
+        try:
+            with os.fdopen(fd, "w") as fh:
+                fh.write(text)
+            try:
+                os.link(tmp, lock)  # created with its content, or not at all
+                break
+            except FileExistsError:
+                pass
+            holder = _read_lock(lock)
+            if holder is not None and (holder["host"] != me["host"] or _alive(holder["pid"])):
+                raise RodstabInputError(
+                    f"{where} is in use by another rodstab run (process {holder['pid']} on "
+                    f"host {holder['host']}, started {holder.get('started', '?')}); wait for "
+                    f"it to finish, or remove {lock} if that process is not rodstab")
+            if not os.path.lexists(lock):
+                continue  # its holder just released it
+            what = ("an unreadable lock" if holder is None else
+                    f"a stale lock of process {holder['pid']} (no longer running)")
+            # Take over: replace it by ours in one rename, then check that ours stayed.
+            os.replace(tmp, lock)
+            if lock.read_text() == text:
+                warnings.warn(f"{where}: took over {what}", RodstabWarning, stacklevel=3)
+                break
+        finally:
+            with contextlib.suppress(OSError):
+                os.unlink(tmp)
+    else:
+        raise RodstabInputError(f"{where}: could not take the lock {lock} (other runs keep "
+                                "taking it)")
+    _HELD[key] = 1
+    try:
+        yield
+    finally:
+        del _HELD[key]
+        with contextlib.suppress(OSError):
+            if lock.read_text() == text:
+                lock.unlink()
+
+
+def remove_temporaries(out: FsPath) -> None:
+    """Remove the temporary files of outputs left in ``out`` by a killed run (hold the lock)."""
+    for name in OUTPUTS:
+        for tmp in out.glob(f".{name}.*.tmp"):
+            with contextlib.suppress(OSError):
+                tmp.unlink()
