@@ -38,7 +38,7 @@ def folded_ring_checks(run: Run) -> Iterator[Claim]:
     full6 = folded.full_system(six)
     pm = folded_ring.folded_ring_paper_method(0.05, 7.0, 700)
     run.progress()
-    lams = (lam6, full6.lambda_c, pm.load_factor_critical)
+    lams = (lam6, full6.lambda_c, pm.lam_critical)
     third = math.pi / 3
     before = [r for r in pm.det_A1_roots if r < 2 * math.pi * (1 - FE_RTOL)]
     paper_mode = any(abs(r / (2 * math.pi) - 1) < FE_RTOL for r in pm.full_roots)
@@ -47,7 +47,7 @@ def folded_ring_checks(run: Run) -> Iterator[Claim]:
         "2 pi", f"{fmt(lam6)} = pi/3 (engine, x{eng6.multiplicity})",
         f"{fmt(full6.lambda_c)} (x{full6.multiplicity}); paper's own (5.8)-(5.12): first zero "
         f"of det A1 at {fmt(pm.det_A1_roots[0])}, [A1; A2] rank loss at "
-        f"{fmt(pm.load_factor_critical)} (x{pm.multiplicity})", FULL,
+        f"{fmt(pm.lam_critical)} (x{pm.multiplicity})", FULL,
         typo_shown_by([abs(v / (2 * math.pi) - 1) for v in lams],
                       [abs(v / third - 1) for v in lams], FE_RTOL),
         f"Three methods agree on pi/3 (multiplicity {eng6.multiplicity}, "
