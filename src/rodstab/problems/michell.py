@@ -50,7 +50,8 @@ def build(params: Params) -> Assembly:
     N = int(params.loops)
     segs = tuple(segment(str(i), params.section, 2 * math.pi, 1.0, 0.0, natural_twist=1.0)
                  for i in range(1, N + 1))
-    welds = tuple(((str(i), "end"), (str(i % N + 1), "start")) for i in range(1, N + 1))
+    # Each loop's start to the previous loop's end (as in the ring, :mod:`.ring`).
+    welds = tuple(((str(i), "start"), (str((i - 2) % N + 1), "end")) for i in range(1, N + 1))
     return Assembly(segs, welds=welds)
 
 

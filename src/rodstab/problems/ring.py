@@ -38,12 +38,22 @@ class Params:
         require_positive_int("loops", self.loops)
 
 
-def build(params: Params) -> Assembly:
-    """Return the N-loop ring: segments ``"1"..."N"``, one loop each, welded end to start."""
+def segment_names(params: Params) -> tuple[str, ...]:
+    """Names of the loops: ``("ring",)`` for one loop, else ``("ring1", ..., "ringN")``."""
     N = int(params.loops)
-    segs = tuple(segment(str(i), params.section, 2 * math.pi, 1.0, 1.0)
-                 for i in range(1, N + 1))
-    welds = tuple(((str(i), "end"), (str(i % N + 1), "start")) for i in range(1, N + 1))
+    return ("ring",) if N == 1 else tuple(f"ring{i}" for i in range(1, N + 1))
+
+
+def build(params: Params) -> Assembly:
+    """Return the N-loop ring: one segment per loop (:func:`segment_names`), welded in a cycle.
+
+    Every loop ends where the next starts; one loop is welded to itself.
+    """
+    names = segment_names(params)
+    segs = tuple(segment(name, params.section, 2 * math.pi, 1.0, 1.0) for name in names)
+    # Each loop's start to the previous loop's end (the weld order of the report's rows).
+    welds = tuple(((a, "start"), (b, "end")) for a, b in zip(names, names[-1:] + names[:-1],
+                                                             strict=True))
     return Assembly(segs, welds=welds)
 
 
