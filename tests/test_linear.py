@@ -141,7 +141,7 @@ def test_section_5_paper_method_own_equations_give_pi_over_3():
     r = folded_ring_paper_method(0.05, 7.0, 700)
     assert np.allclose(np.array(r.det_A1_roots[:6]) / math.pi,
                        [1 / 3, 2 / 3, 1, 4 / 3, 5 / 3, 2], rtol=1e-9)
-    assert r.load_factor_critical == pytest.approx(math.pi / 3, rel=1e-9)
+    assert r.lam_critical == pytest.approx(math.pi / 3, rel=1e-9)
     assert r.multiplicity == 2
     assert r.first_columns_residual < 1e-9  # (5.11): first three columns of A - I vanish
 

@@ -29,9 +29,7 @@ from typing import Any, NoReturn
 import click
 
 from . import __version__
-from .analytic.arc import clamped_arc_stability, max_arc_length
-from .analytic.michell import michell_stability
-from .analytic.ring import ring_stability
+from .design import CONTINUATION_ELEMENTS, NONLINEAR_MIN_ELEMENTS
 from .errors import (
     NotConverged,
     RodstabInputError,
@@ -173,7 +171,10 @@ def section(section: Section, as_json: bool) -> None:
 @_json_option
 def ring(section: Section, loops: int, as_json: bool) -> None:
     """Stable range of an untwisted N-loop ring (Section 3.1, eq 3.3)."""
-    r = ring_stability(section.b1, section.b2, loops)
+    from .problems import REGISTRY
+
+    problem = REGISTRY["ring"]
+    r = problem.analytic_stability(problem.Params(section=section, loops=loops))
     payload = r.to_dict() | {"section": section.to_dict()}
     lo, hi = r.M_interval
     klo, khi = r.kappa_L_over_2pi_interval
@@ -193,7 +194,10 @@ def ring(section: Section, loops: int, as_json: bool) -> None:
 @_json_option
 def arc(section: Section, L_over_R: float, as_json: bool) -> None:
     """Stable range of L kappa_n for a naturally curved rod bent into a clamped arc (3.7-3.9)."""
-    r = clamped_arc_stability(section.b1, section.b2, L_over_R)
+    from .problems import REGISTRY
+
+    problem = REGISTRY["clamped-arc"]
+    r = problem.analytic_stability(problem.Params(section=section, L_over_R=L_over_R))
     payload = r.to_dict() | {"section": section.to_dict()}
     lo, hi = r.L_kappa_interval
     _emit(payload, as_json, [
@@ -210,7 +214,9 @@ def arc(section: Section, L_over_R: float, as_json: bool) -> None:
 @_json_option
 def arc_max_length(section: Section, as_json: bool) -> None:
     """Longest stable clamped arc bent from a straight rod, L/R max (3.13/3.14, Fig. 5)."""
-    r = max_arc_length(section.b1, section.b2)
+    from .problems import REGISTRY
+
+    r = REGISTRY["clamped-arc"].max_arc_length(section)
     payload = r.to_dict() | {"section": section.to_dict()}
     _emit(payload, as_json, [
         _section_line(section),
@@ -224,7 +230,10 @@ def arc_max_length(section: Section, as_json: bool) -> None:
 @_json_option
 def michell(section: Section, loops: int, as_json: bool) -> None:
     """Critical pre-twist b2 omega0' of Michell's ring with N loops (3.16-3.26)."""
-    r = michell_stability(section.b2, loops, b1=section.b1)
+    from .problems import REGISTRY
+
+    problem = REGISTRY["michell"]
+    r = problem.analytic_stability(problem.Params(section=section, loops=loops))
     payload = r.to_dict() | {"section": section.to_dict()}
     if r.stable_at_zero_twist:
         verdict = (f"critical b2 omega0' = {_fmt(r.b2_omega0_critical)}  (mode j = {r.mode_j}, "
@@ -292,7 +301,8 @@ def analyze(design_file: str, elements: int | None, plot_path: str | None,
 @click.option("--load-factor", type=float, default=1.0, show_default=True,
               help="Natural curvatures = load factor x the design's natural_curvature.")
 @click.option("--elements", type=int, default=None,
-              help="Elements per segment (default: the design's, at least 16).")
+              help=f"Elements per segment (default: the design's, at least "
+                   f"{NONLINEAR_MIN_ELEMENTS}).")
 @click.option("--perturb", type=float, default=0.0, show_default=True,
               help="Start from the held state plus a seeded random mix of its softest modes, "
                    "largest displacement PERTURB x total length, and relax to a stable state.")
@@ -310,15 +320,15 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
     """
     import numpy as np
 
-    from .design import load_design
+    from .design import load_design, nonlinear_elements
     from .nonlinear.solve import STRAIN_WARN, equilibrium
 
     render = None if render_path is None else _image_output("--render", render_path)
     html = None if html_path is None else _html_output("--html", html_path)
 
     d = load_design(design_file)
-    n = max(d.elements, 16) if elements is None else require_positive_int("--elements",
-                                                                          elements)
+    n = (nonlinear_elements(d) if elements is None
+         else require_positive_int("--elements", elements))
     r, rod = equilibrium(d.assembly, load_factor=require_finite("--load-factor", load_factor),
                          elements_per_segment=n, perturb=require_finite("--perturb", perturb))
     ok, its, res = r.converged, r.iterations, r.residual
@@ -362,7 +372,7 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
 @click.option("--out", "out_dir", type=click.Path(file_okay=False), default=None,
               help="Directory for primary.csv, branches.csv, special_points.json, diagram.png, "
                    "branch.gif; a rerun with the same directory and arguments resumes.")
-@click.option("--elements", type=int, default=16, show_default=True,
+@click.option("--elements", type=int, default=CONTINUATION_ELEMENTS, show_default=True,
               help="Elements per segment.")
 @click.option("--branch-steps", type=int, default=8, show_default=True,
               help="Steps traced each way along a secondary branch (0: none).")
@@ -513,11 +523,12 @@ def sweep(design_file: str, vary: str, out_dir: str, elements: int | None, no_pr
 @_json_option
 def birod(section: Section, as_json: bool) -> None:
     """Bi-rod of Section 4 (clamped at one end): lam_c by the engine and the full system."""
-    from .linear.solve import linear_stability, mode_family
-    from .problems import birod as problem
+    from .linear.solve import mode_family
+    from .problems import REGISTRY
 
+    problem = REGISTRY["bi-rod"]
     params = problem.Params(section=section)
-    r = linear_stability(problem.build(params), problem.DEFAULT_ELEMENTS)
+    r = problem.engine_stability(params)
     paper = problem.to_paper(r.load_factor_critical, params)
     claimed = problem.paper_critical(params)
     an = problem.full_system(params)
@@ -544,12 +555,13 @@ def birod(section: Section, as_json: bool) -> None:
 @_json_option
 def folded_ring(section: Section, segments: int, arc_angle: float, as_json: bool) -> None:
     """Ring of 2n arcs held in the straight folded n-loop state (Section 5)."""
-    from .linear.solve import linear_stability, mode_family
-    from .problems import folded_ring as problem
+    from .linear.solve import mode_family
+    from .problems import REGISTRY
 
+    problem = REGISTRY["folded-ring"]
     require_positive("--arc-angle", arc_angle)
     params = problem.Params(section=section, segments=segments, arc_angle_deg=arc_angle)
-    r = linear_stability(problem.build(params), problem.DEFAULT_ELEMENTS)
+    r = problem.engine_stability(params)
     paper = problem.to_paper(r.load_factor_critical, params)
     claimed = problem.paper_critical(params)
     an = problem.full_system(params)

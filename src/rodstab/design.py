@@ -301,3 +301,19 @@ def parse_vary(spec: str, *, default_n: int) -> VarySpec:
     if not (text.isascii() and text.isdigit()) or int(text) < 1:
         raise RodstabInputError(f"--vary N {text!r} must be a positive integer (in {spec!r})")
     return VarySpec(key, start, stop, int(text))
+
+
+#: Fewest elements per segment of the nonlinear rod (``rodstab equilibrium``): a design's
+#: ``[analysis] elements`` is chosen for the linear engine (Hermite FE, fourth order), the
+#: discrete rod converges at second order and needs at least this many.
+NONLINEAR_MIN_ELEMENTS = 16
+#: Default elements per segment of a continuation (``rodstab continue``).
+CONTINUATION_ELEMENTS = 16
+
+
+def nonlinear_elements(design: Design) -> int:
+    """Elements per segment of the nonlinear rod for ``design``: its own, at least 16.
+
+    ``max(design.elements, NONLINEAR_MIN_ELEMENTS)``.
+    """
+    return max(design.elements, NONLINEAR_MIN_ELEMENTS)

@@ -1,8 +1,8 @@
 """The folded six-sided ring in its straight three-loop state, by the paper's method (Section 5).
 
 Eqs (5.4)-(5.14). Non-dimensional as in (5.7): ``x = s/L``, ``u = u3/L``,
-``a = alpha / (B3 kappa_n L / B2)``, load ``lam = B3 kappa_n L / sqrt(B1 B2)`` (called
-``load_factor`` in rodstab to keep it apart from the lambda of Section 3.2). With
+``a = alpha / (B3 kappa_n L / B2)``, load ``lam = B3 kappa_n L / sqrt(B1 B2)`` (the lambda of
+Sections 4-5; not the engine's load factor ``mu``, see docs/notation.md). With
 ``Delta kappa_0 = sigma kappa_n`` (``sigma = -1`` in segments 1, 3, 5, ``+1`` in 2, 4, 6) the
 equations (5.4) become ``u'''' = -lam^2 u''`` and ``a'' = sigma u''``, so the transfer matrices
 ``T_A`` (sigma = -1) and ``T_B`` (sigma = +1) of (5.8) depend on ``lam`` only.
@@ -27,13 +27,14 @@ import math
 import numpy as np
 from scipy.linalg import expm
 
+from ..errors import require_positive_int
 from ..numerics import find_roots, matrix_roots
 from ..results import Result
 
 
-def transfer_matrix(load_factor: float, sigma: float) -> np.ndarray:
+def transfer_matrix(lam: float, sigma: float) -> np.ndarray:
     """``T_A`` (``sigma = -1``) or ``T_B`` (``sigma = +1``) of (5.8): ``[u](1) = T [u](0)``."""
-    lam2 = load_factor * load_factor
+    lam2 = lam * lam
     S = np.zeros((6, 6))
     S[0, 1] = 1.0  # u'
     S[1, 3] = 1.0  # u''
@@ -44,24 +45,24 @@ def transfer_matrix(load_factor: float, sigma: float) -> np.ndarray:
     return expm(S)
 
 
-def joint_matrix(load_factor: float, sigma_i: float) -> np.ndarray:
+def joint_matrix(lam: float, sigma_i: float) -> np.ndarray:
     """``D_A`` / ``D_B`` of (5.9): ``[u_(i+1)] = D [u_i]`` at a joint (conditions 5.5/5.6)."""
     D = np.diag([1.0, 1.0, 1.0, -1.0, -1.0, -1.0])
-    D[4, 5] = -2.0 * sigma_i * load_factor**2
+    D[4, 5] = -2.0 * sigma_i * lam**2
     return D
 
 
-def monodromy(load_factor: float) -> np.ndarray:
-    """Return ``A = (D_B T_B^-1 D_A T_A)^3`` of (5.10) (six segments, three A-B pairs)."""
-    TA, TB = transfer_matrix(load_factor, -1.0), transfer_matrix(load_factor, +1.0)
-    DA, DB = joint_matrix(load_factor, -1.0), joint_matrix(load_factor, +1.0)
+def monodromy(lam: float, pairs: int = 3) -> np.ndarray:
+    """Return ``A = (D_B T_B^-1 D_A T_A)^pairs`` of (5.10) (the paper's ring: 3 A-B pairs)."""
+    TA, TB = transfer_matrix(lam, -1.0), transfer_matrix(lam, +1.0)
+    DA, DB = joint_matrix(lam, -1.0), joint_matrix(lam, +1.0)
     P = DB @ np.linalg.solve(TB, DA @ TA)
-    return np.linalg.matrix_power(P, 3)
+    return np.linalg.matrix_power(P, pairs)
 
 
-def blocks(load_factor: float) -> tuple[np.ndarray, np.ndarray, float]:
+def blocks(lam: float, pairs: int = 3) -> tuple[np.ndarray, np.ndarray, float]:
     """``(A^(1), A^(2), max |first three columns of A - I|)`` of (5.11)."""
-    AmI = monodromy(load_factor) - np.eye(6)
+    AmI = monodromy(lam, pairs) - np.eye(6)
     return AmI[:3, 3:], AmI[3:, 3:], float(np.max(np.abs(AmI[:, :3])))
 
 
@@ -72,29 +73,32 @@ class FoldedRingPaperMethod(Result):
     det_A1_roots: tuple[float, ...]
     full_roots: tuple[float, ...]
     full_multiplicities: tuple[int, ...]
-    load_factor_critical: float
+    lam_critical: float
     multiplicity: int
     first_columns_residual: float
     method: str
 
 
-def folded_ring_paper_method(lo: float = 0.05, hi: float = 8.0,
-                             n_scan: int = 800) -> FoldedRingPaperMethod:
-    """Critical ``lam`` of the folded 6-sided ring by (5.8)-(5.12) as the paper states them.
+def folded_ring_paper_method(lo: float = 0.05, hi: float = 8.0, n_scan: int = 800, *,
+                             pairs: int = 3) -> FoldedRingPaperMethod:
+    """Critical ``lam`` of the folded ring by (5.8)-(5.12) as the paper states them.
+
+    The paper's six-sided ring is ``pairs = 3`` (``2 pairs`` segments in general).
 
     ``det_A1_roots``: sign changes of ``det A^(1)`` and its touching zeros (what (5.12) asks);
     ``full_roots``: loads where ``[A^(1); A^(2)]`` loses rank (smallest singular value scan),
     with the null-space dimension as multiplicity. The critical value is the lowest full root.
     """
-    det_roots = find_roots(lambda t: float(np.linalg.det(blocks(t)[0])), lo, hi,
+    pairs = require_positive_int("pairs", pairs)
+    det_roots = find_roots(lambda t: float(np.linalg.det(blocks(t, pairs)[0])), lo, hi,
                            n_scan=n_scan).values
-    full = matrix_roots(lambda t: np.vstack(blocks(t)[:2]), lo, hi, n_scan=n_scan,
+    full = matrix_roots(lambda t: np.vstack(blocks(t, pairs)[:2]), lo, hi, n_scan=n_scan,
                         method_name="sigma_min of [A1; A2]")
-    resid = max(blocks(t)[2] for t in (lo, 1.0, hi))
+    resid = max(blocks(t, pairs)[2] for t in (lo, 1.0, hi))
     first = full.roots[0] if full.roots else None
     return FoldedRingPaperMethod(
         det_A1_roots=tuple(det_roots), full_roots=tuple(full.values),
         full_multiplicities=tuple(r.multiplicity for r in full.roots),
-        load_factor_critical=first.x if first else math.nan,
+        lam_critical=first.x if first else math.nan,
         multiplicity=first.multiplicity if first else 0, first_columns_residual=resid,
         method="transfer matrices (5.8), joints (5.9), monodromy (5.10)-(5.12)")

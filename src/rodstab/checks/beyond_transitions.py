@@ -10,10 +10,8 @@ from collections.abc import Iterator
 
 import numpy as np
 
-from ..analytic import ring
-from ..linear.solve import linear_stability
-from ..model import Assembly, Segment
-from ..problems import folded_ring, unfolded_ring
+from ..model import Assembly
+from ..problems import folded_ring, ring, unfolded_ring
 from ..sections import circle, rectangle
 from .core import Claim, Run, fmt
 from .rules import NONLINEAR_RTOL, REPRODUCED, RICHARDSON_RTOL, every, holds, methods_agree
@@ -42,9 +40,7 @@ def _ring_transition_claim(run: Run) -> Claim:
     from ..nonlinear.continuation import SpecialKind, arclength_from_bifurcation
 
     c = circle()
-    seg = Segment(name="ring", length=2 * math.pi, curvature=1.0, natural_curvature=1.0, B1=c.b1,
-                  B2=c.b2, B3=1.0)
-    ring1 = Assembly(segments=(seg,), welds=((("ring", "start"), ("ring", "end")),))
+    ring1 = ring.build(ring.Params(section=c, loops=1))
     ends = []
     turns = (SpecialKind.BRANCH_TURNED.value, SpecialKind.FOLD.value)
     for n, steps in ((36, 45), (48, 52)):
@@ -60,8 +56,8 @@ def _ring_transition_claim(run: Run) -> Claim:
     mu = np.array(path.value[: i + 1])
     ev = np.array(path.lowest_eigenvalue[: i + 1])
     en = np.array(path.energy[: i + 1])
-    r1 = ring.ring_stability(c.b1, c.b2, 1).kappa_L_over_2pi_interval[1]
-    r3, r3_hi = ring.ring_stability(c.b1, c.b2, 3).kappa_L_over_2pi_interval
+    r1 = ring.analytic_stability(ring.Params(section=c, loops=1)).kappa_L_over_2pi_interval[1]
+    r3, r3_hi = ring.analytic_stability(ring.Params(section=c, loops=3)).kappa_L_over_2pi_interval
     rich = ends[1] + (ends[1] - ends[0]) * 36**2 / (48**2 - 36**2)
     k_max = float(mu[int(np.argmax(en))])
     run.beyond()["ring_path"] = {"mu": mu.tolist(), "radius": rad[: i + 1].tolist(),
@@ -121,9 +117,8 @@ def _six_ring_transition_claim(run: Run) -> Claim:
     r4 = rectangle(aspect=4.0)
     theta = 2 * math.pi / 3
     folded = folded_ring.build(folded_ring.Params(section=r4))
-    lin_fold = linear_stability(folded, 16).load_factor_critical
-    lin_one = linear_stability(
-        unfolded_ring.build(unfolded_ring.Params(section=r4, radius=1 / theta)), 24)
+    lin_fold = folded_ring.engine_stability(folded_ring.Params(section=r4), 16).load_factor_critical
+    lin_one = unfolded_ring.engine_stability(unfolded_ring.Params(section=r4, radius=1 / theta))
     one_lo, one_hi = lin_one.load_factor_interval  # kappa_n R0 (R0 = 1/theta: mu / theta)
     meshes = (8, 12)
     ends, barriers, paths = [], [], []

@@ -5,12 +5,13 @@ Continuation in a rotation, and the one unstable bifurcation found, with Koiter'
 
 from __future__ import annotations
 
-import math
 from collections.abc import Iterator
 
 import numpy as np
 
-from ..model import Assembly, Segment
+from ..analytic.twisted_rod import greenhill_end_rotation
+from ..problems import twisted_rod
+from ..sections import circle
 from .core import Claim, Run, fmt
 from .rules import KOITER_TOL, REPRODUCED, RICHARDSON_RTOL, holds, methods_agree, order_is
 
@@ -20,22 +21,20 @@ EXPECTED = {"GR-rot": REPRODUCED, "PB-twist": REPRODUCED, "IMP-twist": REPRODUCE
 
 def twisted_rod_checks(run: Run) -> Iterator[Claim]:
     """Greenhill's threshold phi_c B2 / (B L) = 2 x (root of tan x = x), and beyond it."""
-    import scipy.optimize as so
-
     from ..nonlinear.continuation import continuation, imperfection_sensitivity
 
-    b2 = 1.0 / 1.3  # circle, nu = 0.3
-    rod = Assembly(segments=(Segment(name="rod", length=1.0, curvature=0.0, natural_curvature=0.0,
-                                     B1=1.0, B2=b2, B3=1.0),),
-                   supports=(("rod", "start", "clamped"), ("rod", "end", "sliding-clamp")))
-    key = "support.1.rotation.tangent"
-    x = so.brentq(lambda x: math.tan(x) - x, 4.0, 4.6)
-    exact = 2 * x
+    params = twisted_rod.Params(section=circle(nu=0.3))  # b1 = 1, b2 = 1/1.3
+    b2 = params.section.b2
+    rod = twisted_rod.build(params)
+    key = twisted_rod.LOAD_KEY
+    exact = greenhill_end_rotation(params.section.b1, b2)
+    x = exact / 2
     vals = []
     for n in (16, 32, 64):
         cont = continuation(rod, key, 0.0, 14.0, 14, elements_per_segment=n, branch_steps=0,
                             stop_at_first=True)
-        vals.append(cont.special_points[0]["value"] * b2)
+        vals.append(twisted_rod.to_paper(cont.special_points[0]["value"],
+                                         params)["phi_B2_over_BL"])
     run.progress()
     rich = vals[2] + (vals[2] - vals[1]) / 3
     yield Claim(

@@ -8,6 +8,8 @@ from collections.abc import Iterator
 import numpy as np
 
 from ..analytic import michell
+from ..problems import michell as michell_problem
+from ..sections import circle
 from .core import Claim, Run, fmt
 from .rules import (
     DIFFERS,
@@ -59,7 +61,8 @@ def beta_gamma_prime_errors(j: int = 2, r: float = -math.sqrt(3) / 2) -> tuple[f
 
 def michell_checks(run: Run) -> Iterator[Claim]:
     """Rows of Section 3.3 (Michell's problem)."""
-    m = michell.michell_stability(0.75, 1)
+    params = michell_problem.Params(section=circle())  # b2 = 0.75 (nu = 1/3), one loop
+    m = michell_problem.analytic_stability(params)
     t_paper = michell.michell_critical_paper_route(2)
     yield Claim("3.26", "3.3", "(3.26)", "Michell: b2 omega0' = sqrt(3), j = 2, r = -sqrt(3)/2",
                 f"{fmt(math.sqrt(3))}, j = 2, r = {fmt(-math.sqrt(3) / 2)}",
@@ -85,21 +88,14 @@ def michell_checks(run: Run) -> Iterator[Claim]:
                 "atan2 of (3.23), 4th-order differences; quadrature (claim 3.26)",
                 typo_shown_by(printed, corrected, FD_TOL),
                 "Typo in (3.24) only; (3.25) and the result are correct.")
-    from ..model import Assembly, Segment
-    from ..nonlinear.continuation import critical_along_primary
-
-    seg = Segment(name="r", length=2 * math.pi, curvature=1.0, natural_curvature=0.0, B1=1.0,
-                  B2=0.75, B3=1.0, natural_twist=1.0)
-    tw = Assembly(segments=(seg,), welds=((("r", "start"), ("r", "end")),))
-    v32, v64 = (0.75 * critical_along_primary(tw, 2.0, 4.0, elements_per_segment=n)
-                .load_factor_critical for n in (32, 64))
+    v32, v64 = (michell_problem.nonlinear_critical_twist(params, n) for n in (32, 64))
     rich = v64 + (v64 - v32) / 3.0
     yield Claim("3.26c", "3.3", "(3.26)", "Michell by the nonlinear rod (third method)",
                 fmt(math.sqrt(3)), f"{fmt(v64, 5)} (64 el.), {fmt(v32, 5)} (32 el.)",
                 f"Richardson (order 2): {fmt(rich, 5)}",
                 "discrete geometrically exact ring with natural twist, continuation along the "
                 "primary path", methods_agree(rich, math.sqrt(3), RICHARDSON_RTOL))
-    m3 = michell.michell_stability(0.75, 3)
+    m3 = michell_problem.analytic_stability(michell_problem.Params(section=circle(), loops=3))
     # (3.26) with j -> j/N, r = 0: N (k^2 - 1) < 0 whatever the twist t = b2 omega0'.
     closed = tuple(j for j in range(1, 7) if all(
         michell.michell_p2_closed_form(t, j, 0.0, loops=3) < 0 for t in (-5.0, 0.0, 5.0)))

@@ -7,7 +7,6 @@ from collections.abc import Iterator
 
 from .. import transfer
 from ..analytic import folded_ring
-from ..linear.solve import linear_stability
 from ..problems import folded_ring as folded
 from ..problems import unfolded_ring as unfolded
 from ..sections import circle, rectangle
@@ -31,14 +30,13 @@ EXPECTED = {"5.14": DIFFERS, "5.14b": REPRODUCED, "5.240": REPRODUCED, "Fig10": 
 def folded_ring_checks(run: Run) -> Iterator[Claim]:
     """Rows of Section 5 and two new results on folded and unfolded rings."""
     c = circle()
-    g = c.sqrt_b1b2
     six = folded.Params(section=c)
-    eng6 = linear_stability(folded.build(six), folded.DEFAULT_ELEMENTS)
+    eng6 = folded.engine_stability(six)
     lam6 = folded.to_paper(eng6.load_factor_critical, six)["lambda"]
     full6 = folded.full_system(six)
     pm = folded_ring.folded_ring_paper_method(0.05, 7.0, 700)
     run.progress()
-    lams = (lam6, full6.lambda_c, pm.load_factor_critical)
+    lams = (lam6, full6.lambda_c, pm.lam_critical)
     third = math.pi / 3
     before = [r for r in pm.det_A1_roots if r < 2 * math.pi * (1 - FE_RTOL)]
     paper_mode = any(abs(r / (2 * math.pi) - 1) < FE_RTOL for r in pm.full_roots)
@@ -47,7 +45,7 @@ def folded_ring_checks(run: Run) -> Iterator[Claim]:
         "2 pi", f"{fmt(lam6)} = pi/3 (engine, x{eng6.multiplicity})",
         f"{fmt(full6.lambda_c)} (x{full6.multiplicity}); paper's own (5.8)-(5.12): first zero "
         f"of det A1 at {fmt(pm.det_A1_roots[0])}, [A1; A2] rank loss at "
-        f"{fmt(pm.load_factor_critical)} (x{pm.multiplicity})", FULL,
+        f"{fmt(pm.lam_critical)} (x{pm.multiplicity})", FULL,
         typo_shown_by([abs(v / (2 * math.pi) - 1) for v in lams],
                       [abs(v / third - 1) for v in lams], FE_RTOL),
         f"Three methods agree on pi/3 (multiplicity {eng6.multiplicity}, "
@@ -60,18 +58,19 @@ def folded_ring_checks(run: Run) -> Iterator[Claim]:
         + "Stacked segments' w differ in the pi/3 mode: contact between the stacked loops "
         "(ignored by the paper and here) may restrict it.")
     secs = [rectangle(aspect=a) for a in (0.75, 2.0, 4.0)]
-    lams_b = [linear_stability(folded.build(folded.Params(section=s)), 24).load_factor_critical
-              / s.sqrt_b1b2 for s in secs]
+    lams_b = [folded.to_paper(folded.engine_stability(p).load_factor_critical, p)["lambda"]
+              for p in (folded.Params(section=s) for s in secs)]
     yield Claim(
         "5.14b", "5", "(5.14)", "lam_c independent of B2/B1", "independent",
         "h/t = 0.75, 2, 4: " + ", ".join(fmt(v) for v in lams_b), "(engine)",
         "FE engine", methods_agree(lams_b, lams_b[0], FE_RTOL))
-    k120 = lam6 * g / (2 * math.pi / 3)
-    k240 = lam6 * g / (4 * math.pi / 3)
+    k120 = folded.to_paper(eng6.load_factor_critical, six)["kappa_R0"]
+    six240 = folded.Params(section=c, arc_angle_deg=240.0)
+    k240 = folded.to_paper(eng6.load_factor_critical, six240)["kappa_R0"]
     yield Claim(
         "5.240", "5", "after (5.14)", "240 deg arcs: L doubles, limiting kappa_n halves",
-        f"kappa_n R0 = {fmt(2 * math.pi * g / (2 * math.pi / 3))} / "
-        f"{fmt(2 * math.pi * g / (4 * math.pi / 3))}", f"{fmt(k120)} / {fmt(k240)} (ratio "
+        f"kappa_n R0 = {fmt(folded.paper_critical(six)['kappa_R0'])} / "
+        f"{fmt(folded.paper_critical(six240)['kappa_R0'])}", f"{fmt(k120)} / {fmt(k240)} (ratio "
         f"{fmt(k120 / k240)})", "same lam_c for both (same folded topology)", "engine",
         methods_agree(k120 / k240, 2.0, ROUNDOFF_RTOL),
         "The factor 2 holds; the values follow lam_c = pi/3, not 2 pi.")
@@ -85,17 +84,15 @@ def folded_ring_checks(run: Run) -> Iterator[Claim]:
         f"{fmt(lam6 * r4.sqrt_b1b2 / (2 * math.pi / 3), 3)} and {fmt(3 * r4.sqrt_b1b2, 3)} "
         "(h/t = 4) would.")
     ns = (4, 8, 10)
-    vals = [linear_stability(
-        folded.build(folded.Params(section=c, segments=n)), 16).load_factor_critical
-            / g for n in ns]
+    vals = [folded.to_paper(folded.engine_stability(p, 16).load_factor_critical, p)["lambda"]
+            for p in (folded.Params(section=c, segments=n) for n in ns)]
     yield Claim(
         "B.2n", "beyond", "-", "Rings of 2n segments folded into n loops",
         "not studied", ", ".join(f"2n = {n}: {fmt(v)}" for n, v in zip(ns, vals, strict=True)),
         "lam_c = 2 pi / (2n): kappa_n x total length = 2 pi sqrt(B1 B2)/B3", "engine",
         methods_agree(vals, [2 * math.pi / n for n in ns], FE_RTOL),
         "New result; also checked by the full system in the tests.")
-    lo, hi = linear_stability(
-        unfolded.build(unfolded.Params(section=r4)), unfolded.DEFAULT_ELEMENTS).load_factor_interval
+    lo, hi = unfolded.engine_stability(unfolded.Params(section=r4)).load_factor_interval
     yield Claim(
         "B.unfold", "beyond", "-", "Unfolded one-loop six-sided ring (120 deg arcs, h/t = 4)",
         "not studied", f"stable for {fmt(lo, 4)} < kappa_n R0 < {fmt(hi, 4)}", "-", "engine",

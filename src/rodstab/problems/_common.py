@@ -1,13 +1,53 @@
-"""Shared helper of the problem modules: a segment in the units of :mod:`rodstab.problems`."""
+"""Shared helpers of the problem modules: segments, the type of a method, engine solves.
+
+A segment in the units of :mod:`rodstab.problems` (``B3 = 1``), the type of an entry of a
+module's ``METHODS``, and the linear and nonlinear solves that every module shares.
+"""
 
 from __future__ import annotations
 
-from ..model import Segment
+from collections.abc import Callable
+from typing import Any
+
+from ..linear.solve import LinearStability, linear_stability
+from ..model import Assembly, Segment
 from ..sections import Section
+
+#: A solution method of a problem: ``Params -> {paper quantity: critical value}``, the values
+#: in the paper's units (the keys of the module's ``to_paper``, possibly suffixed
+#: ``_lower``/``_upper`` for the two ends of a stable interval).
+Method = Callable[[Any], dict[str, float]]
 
 
 def segment(name: str, section: Section, L: float, k: float, kn: float,
-            start: tuple[float, float] = (0.0, 0.0), angle: float = 0.0) -> Segment:
-    """Return a segment with ``B3 = 1`` and the stiffness ratios of ``section``."""
+            start: tuple[float, float] = (0.0, 0.0), angle: float = 0.0,
+            natural_twist: float = 0.0) -> Segment:
+    """Return a segment with ``B3 = 1`` and the stiffness ratios of ``section``.
+
+    ``L`` length, ``k`` held curvature, ``kn`` natural curvature per unit load factor,
+    ``natural_twist`` per unit load factor (nonlinear model only).
+    """
     return Segment(name=name, length=L, curvature=k, natural_curvature=kn, B1=section.b1,
-                   B2=section.b2, B3=1.0, start=start, angle=angle)
+                   B2=section.b2, B3=1.0, start=start, angle=angle, natural_twist=natural_twist)
+
+
+def engine(assembly: Assembly, elements: int) -> LinearStability:
+    """Linear stability of ``assembly`` by the FE engine with ``elements`` per segment."""
+    return linear_stability(assembly, elements)
+
+
+def nonlinear_critical(assembly: Assembly, lo: float, hi: float, elements: int) -> float:
+    """First load factor in ``(lo, hi]`` where the held state of the discrete rod loses stability.
+
+    :func:`rodstab.nonlinear.solve.critical_load_factor` (lowest Hessian eigenvalue, scan +
+    Brent); the held state must be an equilibrium at every load (untwisted, no end rotation).
+    """
+    from ..nonlinear.solve import critical_load_factor
+
+    found = critical_load_factor(assembly, lo, hi, elements_per_segment=elements)
+    return found.load_factor_critical
+
+
+def richardson(coarse: float, fine: float) -> float:
+    """Second-order Richardson extrapolation from a mesh and the mesh twice as fine."""
+    return fine + (fine - coarse) / 3.0

@@ -12,13 +12,16 @@ import dataclasses
 import math
 
 from ..errors import RodstabInputError, require_positive
+from ..linear.solve import LinearStability
 from ..model import Assembly
 from ..sections import Section, circle
 from ..transfer import ASSEMBLY_RIGID_NULLITY, FullSystemCritical, full_system_critical
-from ._common import segment
+from ._common import Method, engine, nonlinear_critical, segment
 
 #: Elements per segment of the linear engine used by ``rodstab birod``.
 DEFAULT_ELEMENTS = 48
+#: Elements per segment of the nonlinear rod in :data:`METHODS` (report row NL-bi-rod).
+NONLINEAR_ELEMENTS = 24
 #: The paper's critical load (Section 4): ``lambda_c = 2 pi`` (this project finds ``pi``).
 PAPER_LAMBDA_C = 2 * math.pi
 _CLAMPS = ("start", "both", None)
@@ -82,3 +85,39 @@ def full_system(params: Params) -> FullSystemCritical:
     nullity = ASSEMBLY_RIGID_NULLITY if params.clamp is None else 0
     return full_system_critical(build(params), params.section.sqrt_b1b2 / params.length,
                                 nullity, 7.0)
+
+
+def engine_stability(params: Params, elements: int = DEFAULT_ELEMENTS) -> LinearStability:
+    """Critical load factor ``mu = kappa0`` by the linear FE engine."""
+    return engine(build(params), elements)
+
+
+def _lam(mu: float, params: Params) -> dict[str, float]:
+    return {"lambda": to_paper(mu, params)["lambda"]}
+
+
+def _transfer(params: Params) -> dict[str, float]:
+    return {"lambda": full_system(params).lambda_c}
+
+
+def _fe(params: Params) -> dict[str, float]:
+    return _lam(engine_stability(params).load_factor_critical, params)
+
+
+def _nonlinear(params: Params) -> dict[str, float]:
+    # Scan lambda in (0.5, 4.5): it holds pi (and not the paper's 2 pi) first.
+    mu_per_lam = params.section.sqrt_b1b2 / params.length
+    return _lam(nonlinear_critical(build(params), 0.5 * mu_per_lam, 4.5 * mu_per_lam,
+                                   NONLINEAR_ELEMENTS), params)
+
+
+#: Methods that solve the bi-rod, each returning the critical ``lambda``. None is the paper's
+#: derivation: its ``2 pi`` (:func:`paper_critical`) is not expected to agree (Section 4 row 4.8).
+METHODS: dict[str, Method] = {"transfer": _transfer, "fe": _fe, "nonlinear": _nonlinear}
+#: How closely each pair must agree (relative), and why.
+AGREE_RTOL: dict[tuple[str, str], float] = {
+    # FE mesh error at DEFAULT_ELEMENTS vs the exact full system (report row 4.8).
+    ("transfer", "fe"): 1e-6,
+    # Discrete rod at NONLINEAR_ELEMENTS: second-order mesh error (report row NL-bi-rod).
+    ("transfer", "nonlinear"): 5e-3,
+}

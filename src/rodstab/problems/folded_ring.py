@@ -11,14 +11,18 @@ from __future__ import annotations
 import dataclasses
 import math
 
+from ..analytic.folded_ring import folded_ring_paper_method
 from ..errors import RodstabInputError, require_positive, require_positive_int
+from ..linear.solve import LinearStability
 from ..model import Assembly
 from ..sections import Section, circle
 from ..transfer import ASSEMBLY_RIGID_NULLITY, FullSystemCritical, full_system_critical
-from ._common import segment
+from ._common import Method, engine, nonlinear_critical, segment
 
 #: Elements per segment of the linear engine used by ``rodstab folded-ring``.
 DEFAULT_ELEMENTS = 24
+#: Elements per segment of the nonlinear rod in :data:`METHODS` (report row NL-folded).
+NONLINEAR_ELEMENTS = 8
 #: The paper's critical load (5.14): ``lambda_c = 2 pi`` (this project finds ``2 pi / (2n)``).
 PAPER_LAMBDA_C = 2 * math.pi
 
@@ -94,3 +98,48 @@ def full_system(params: Params) -> FullSystemCritical:
     """
     return full_system_critical(build(params), params.section.sqrt_b1b2 / params.length,
                                 ASSEMBLY_RIGID_NULLITY, 7.0)
+
+
+def engine_stability(params: Params, elements: int = DEFAULT_ELEMENTS) -> LinearStability:
+    """Critical load factor ``mu = kappa_n`` by the linear FE engine."""
+    return engine(build(params), elements)
+
+
+def _lam(mu: float, params: Params) -> dict[str, float]:
+    return {"lambda": to_paper(mu, params)["lambda"]}
+
+
+def _analytic(params: Params) -> dict[str, float]:
+    # The paper's transfer matrices (5.8)-(5.11) with the full criterion on [A1; A2].
+    pm = folded_ring_paper_method(0.05, 7.0, 700, pairs=int(params.segments) // 2)
+    return {"lambda": pm.lam_critical}
+
+
+def _transfer(params: Params) -> dict[str, float]:
+    return {"lambda": full_system(params).lambda_c}
+
+
+def _fe(params: Params) -> dict[str, float]:
+    return _lam(engine_stability(params).load_factor_critical, params)
+
+
+def _nonlinear(params: Params) -> dict[str, float]:
+    # Scan lambda in (0.2, 2.3): it holds 2 pi / (2n) for 2n >= 4 (pi/3 for the paper's ring).
+    mu_per_lam = params.section.sqrt_b1b2 / params.length
+    return _lam(nonlinear_critical(build(params), 0.2 * mu_per_lam, 2.3 * mu_per_lam,
+                                   NONLINEAR_ELEMENTS), params)
+
+
+#: Methods that solve the folded ring, each returning the critical ``lambda``. None is the
+#: paper's (5.12)-(5.14): its ``2 pi`` (:func:`paper_critical`) is not expected to agree.
+METHODS: dict[str, Method] = {"analytic": _analytic, "transfer": _transfer, "fe": _fe,
+                              "nonlinear": _nonlinear}
+#: How closely each pair must agree (relative), and why.
+AGREE_RTOL: dict[tuple[str, str], float] = {
+    # Two exact transfer-matrix formulations (the paper's state vector vs rodstab.transfer).
+    ("analytic", "transfer"): 1e-8,
+    # FE mesh error at DEFAULT_ELEMENTS (report row 5.14).
+    ("transfer", "fe"): 1e-6,
+    # Discrete rod at NONLINEAR_ELEMENTS: second-order mesh error (report row NL-folded).
+    ("transfer", "nonlinear"): 5e-3,
+}

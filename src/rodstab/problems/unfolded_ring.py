@@ -12,12 +12,15 @@ import dataclasses
 import math
 
 from ..errors import require_positive, require_positive_int
+from ..linear.solve import LinearStability
 from ..model import Assembly
 from ..sections import Section, circle
-from ._common import segment
+from ._common import Method, engine, nonlinear_critical, segment
 
 #: Elements per segment of the linear engine (the report's B.unfold row).
 DEFAULT_ELEMENTS = 24
+#: Elements per segment of the nonlinear rod in :data:`METHODS` (observed error ~1e-3).
+NONLINEAR_ELEMENTS = 8
 
 
 @dataclasses.dataclass(frozen=True, kw_only=True)
@@ -61,3 +64,30 @@ def build(params: Params) -> Assembly:
 def to_paper(mu: float, params: Params) -> dict[str, float]:
     """Return ``kappa_R0 = kappa_n R0 = mu`` and ``lambda = mu theta / sqrt(b1 b2)`` (5.7)."""
     return {"kappa_R0": mu, "lambda": mu * params.theta / params.section.sqrt_b1b2}
+
+
+def engine_stability(params: Params, elements: int = DEFAULT_ELEMENTS) -> LinearStability:
+    """Stable interval of the load factor ``mu = kappa_n R0`` by the linear FE engine."""
+    return engine(build(params), elements)
+
+
+def _fe(params: Params) -> dict[str, float]:
+    lo, hi = engine_stability(params).load_factor_interval
+    return {"kappa_R0_lower": to_paper(lo, params)["kappa_R0"],
+            "kappa_R0_upper": to_paper(hi, params)["kappa_R0"]}
+
+
+def _nonlinear(params: Params) -> dict[str, float]:
+    # Upwards from the stress-free one-loop state (kappa_n R0 = 1).
+    mu = nonlinear_critical(build(params), 1.0, 3.0, NONLINEAR_ELEMENTS)
+    return {"kappa_R0_upper": to_paper(mu, params)["kappa_R0"]}
+
+
+#: Methods that solve the unfolded ring (no closed form), each returning its stable interval
+#: of ``kappa_n R0`` (the nonlinear method its upper end).
+METHODS: dict[str, Method] = {"fe": _fe, "nonlinear": _nonlinear}
+#: How closely each pair must agree (relative), and why.
+AGREE_RTOL: dict[tuple[str, str], float] = {
+    # Discrete rod at NONLINEAR_ELEMENTS: second-order mesh error (observed 8e-4).
+    ("fe", "nonlinear"): 5e-3,
+}

@@ -1,0 +1,128 @@
+"""Clamped arc of Section 3.2: a naturally curved rod bent into an arc of ``L/R`` and clamped.
+
+Eqs (3.4)-(3.9) (stable range of ``L kappa_n``) and (3.13)/(3.14) (the longest arc bent from a
+straight rod, :func:`max_arc_length`). Units: ``B3 = 1``; for ``L/R > 0`` the radius is
+``R = 1`` (``L = L/R``, held curvature 1) and the load factor is ``mu = R kappa_n``; for
+``L/R = 0`` (the straightened rod, (3.9)) ``L = 1`` and ``mu = L kappa_n``. Either way the paper's
+load is ``L kappa_n`` (:func:`to_paper`), which stays finite in the straight limit.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+from ..analytic.arc import ArcStability, MaxArcLength, clamped_arc_stability
+from ..analytic.arc import max_arc_length as _max_arc_length
+from ..errors import RodstabInputError, require_finite
+from ..linear.solve import LinearStability
+from ..model import Assembly
+from ..numerics import matrix_roots
+from ..sections import Section, circle
+from ..transfer import clamped_arc_matrix
+from ._common import Method, engine, nonlinear_critical, segment
+
+#: Elements of the linear engine (report row E3.2: FE error ~1e-8 at L/R = 2).
+DEFAULT_ELEMENTS = 96
+#: Elements of the nonlinear rod in :data:`METHODS` (second-order error, ~1e-3).
+NONLINEAR_ELEMENTS = 32
+#: Grid intervals of the transfer-matrix scan, per unit of the scanned ``L kappa_n``.
+_TRANSFER_SCAN_DENSITY = 40
+
+
+@dataclasses.dataclass(frozen=True, kw_only=True)
+class Params:
+    """Clamped arc: ``section`` (default circle, nu = 1/3) and ``L_over_R`` (>= 0; 0: straight)."""
+
+    section: Section = dataclasses.field(default_factory=circle)
+    L_over_R: float = 2.0
+
+    def __post_init__(self) -> None:
+        """Validate: finite ``L_over_R >= 0``."""
+        if require_finite("L_over_R", self.L_over_R) < 0:
+            raise RodstabInputError(f"L_over_R must be >= 0, got {self.L_over_R!r}")
+
+
+def _geometry(params: Params) -> tuple[float, float, float]:
+    """``(L, held curvature, natural curvature per unit mu)`` of the segment."""
+    Lb = float(params.L_over_R)
+    return (Lb, 1.0, 1.0) if Lb > 0 else (1.0, 0.0, 1.0)
+
+
+def build(params: Params) -> Assembly:
+    """Return the arc ``arc`` clamped at both ends (see the module docstring for its units)."""
+    L, k, kn = _geometry(params)
+    return Assembly((segment("arc", params.section, L, k, kn),),
+                    supports=(("arc", "start", "clamped"), ("arc", "end", "clamped")))
+
+
+def to_paper(mu: float, params: Params) -> dict[str, float]:
+    """Return ``L_kappa_n = L kappa_n`` of load factor ``mu`` (the load of (3.7)-(3.9))."""
+    L, _, kn = _geometry(params)
+    return {"L_kappa_n": L * kn * mu}
+
+
+def analytic_stability(params: Params) -> ArcStability:
+    """Stable interval of ``L kappa_n`` by (3.7)/(3.8), :func:`.clamped_arc_stability`."""
+    return clamped_arc_stability(params.section.b1, params.section.b2, params.L_over_R)
+
+
+def max_arc_length(section: Section) -> MaxArcLength:
+    """Longest stable clamped arc bent from a straight rod, ``L/R max`` of (3.13)/(3.14).
+
+    The arc of :func:`build` with ``kappa_n = 0`` (load factor 0): Fig. 5,
+    :func:`rodstab.analytic.arc.max_arc_length`.
+    """
+    return _max_arc_length(section.b1, section.b2)
+
+
+def engine_stability(params: Params, elements: int = DEFAULT_ELEMENTS) -> LinearStability:
+    """Stable interval of the load factor by the linear FE engine."""
+    return engine(build(params), elements)
+
+
+def _analytic(params: Params) -> dict[str, float]:
+    lo, hi = analytic_stability(params).L_kappa_interval
+    return {"L_kappa_n_lower": lo, "L_kappa_n_upper": hi}
+
+
+def _transfer(params: Params) -> dict[str, float]:
+    s, Lb = params.section, float(params.L_over_R)
+    span = 4.0 * math.pi * max(s.sqrt_b1b2, 1.0) + Lb
+    n_scan = int(2 * span * _TRANSFER_SCAN_DENSITY)
+    roots = matrix_roots(lambda p: clamped_arc_matrix(p, Lb, s.b1, s.b2), Lb - span, Lb + span,
+                         n_scan=n_scan).values
+    below = [p for p in roots if p < Lb]
+    above = [p for p in roots if p > Lb]
+    return {"L_kappa_n_lower": max(below) if below else -math.inf,
+            "L_kappa_n_upper": min(above) if above else math.inf}
+
+
+def _fe(params: Params) -> dict[str, float]:
+    lo, hi = engine_stability(params).load_factor_interval
+    return {"L_kappa_n_lower": to_paper(lo, params)["L_kappa_n"],
+            "L_kappa_n_upper": to_paper(hi, params)["L_kappa_n"]}
+
+
+def _nonlinear(params: Params) -> dict[str, float]:
+    # Upwards from the stress-free state; the analytic scan window bounds the first root.
+    L, _, kn = _geometry(params)
+    p0 = float(params.L_over_R)
+    span = 4.0 * math.pi * max(params.section.sqrt_b1b2, 1.0) + p0
+    mu = nonlinear_critical(build(params), p0 / (L * kn), (p0 + span) / (L * kn),
+                            NONLINEAR_ELEMENTS)
+    return {"L_kappa_n_upper": to_paper(mu, params)["L_kappa_n"]}
+
+
+#: Methods that solve the clamped arc, each returning the stable interval of ``L kappa_n``.
+METHODS: dict[str, Method] = {"analytic": _analytic, "transfer": _transfer, "fe": _fe,
+                              "nonlinear": _nonlinear}
+#: How closely each pair must agree (relative), and why.
+AGREE_RTOL: dict[tuple[str, str], float] = {
+    # (3.7)/(3.8) vs the shooting matrix: both exact, root-finder tolerance.
+    ("analytic", "transfer"): 1e-8,
+    # FE mesh error at DEFAULT_ELEMENTS (observed ~1e-8 at L/R = 2).
+    ("analytic", "fe"): 1e-6,
+    # Discrete rod at NONLINEAR_ELEMENTS: second-order mesh error.
+    ("analytic", "nonlinear"): 5e-3,
+}

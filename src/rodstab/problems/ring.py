@@ -1,0 +1,113 @@
+"""Untwisted N-loop ring of Section 3.1: a naturally curved rod closed into a circle of N loops.
+
+Eqs (3.1)-(3.3). Units: radius ``R = 1``, ``B3 = 1``; the ring is ``N`` welded loops of length
+``2 pi R`` (same mesh per loop), held curvature ``1/R``, natural curvature ``mu / R``: the load
+factor is ``mu = R kappa_n``. Paper units: ``M = 1 - R kappa_n = 1 - mu`` (Audoly & Seffen's
+parameter) and ``(L / 2 pi) kappa_n = N mu`` (``L = 2 pi N R``).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+from ..analytic.ring import RingStability, ring_stability
+from ..errors import require_positive_int
+from ..linear.solve import LinearStability
+from ..model import Assembly
+from ..sections import Section, circle
+from ..transfer import ring_interval_transfer
+from ._common import Method, engine, nonlinear_critical, segment
+
+#: Elements per loop (one segment per loop) of the linear engine: FE error of the interval
+#: ~1e-8 relative (report row E3.1).
+DEFAULT_ELEMENTS = 150
+#: Elements per loop of the nonlinear rod in :data:`METHODS` (second-order error, 2e-3).
+NONLINEAR_ELEMENTS = 32
+
+
+@dataclasses.dataclass(frozen=True, kw_only=True)
+class Params:
+    """Untwisted ring: ``section`` (default circle, nu = 1/3) and number of ``loops`` N."""
+
+    section: Section = dataclasses.field(default_factory=circle)
+    loops: int = 1
+
+    def __post_init__(self) -> None:
+        """Validate: a positive integer number of loops."""
+        require_positive_int("loops", self.loops)
+
+
+def segment_names(params: Params) -> tuple[str, ...]:
+    """Names of the loops: ``("ring",)`` for one loop, else ``("ring1", ..., "ringN")``."""
+    N = int(params.loops)
+    return ("ring",) if N == 1 else tuple(f"ring{i}" for i in range(1, N + 1))
+
+
+def build(params: Params) -> Assembly:
+    """Return the N-loop ring: one segment per loop (:func:`segment_names`), welded in a cycle.
+
+    Every loop ends where the next starts; one loop is welded to itself.
+    """
+    names = segment_names(params)
+    segs = tuple(segment(name, params.section, 2 * math.pi, 1.0, 1.0) for name in names)
+    # Each loop's start to the previous loop's end (the weld order of the report's rows).
+    welds = tuple(((a, "start"), (b, "end")) for a, b in zip(names, names[-1:] + names[:-1],
+                                                             strict=True))
+    return Assembly(segs, welds=welds)
+
+
+def to_paper(mu: float, params: Params) -> dict[str, float]:
+    """Return ``M = 1 - R kappa_n`` (3.3) and ``kappa_L_over_2pi = (L / 2 pi) kappa_n = N mu``."""
+    return {"M": 1 - mu, "kappa_L_over_2pi": params.loops * mu}
+
+
+def analytic_stability(params: Params) -> RingStability:
+    """Stable interval by the Fourier modes (3.2) and eq (3.3), :func:`.ring_stability`."""
+    return ring_stability(params.section.b1, params.section.b2, params.loops)
+
+
+def engine_stability(params: Params, elements: int = DEFAULT_ELEMENTS) -> LinearStability:
+    """Stable interval of the load factor ``mu = R kappa_n`` by the linear FE engine."""
+    return engine(build(params), elements)
+
+
+def _interval(lo_mu: float, hi_mu: float, params: Params) -> dict[str, float]:
+    """Stable interval of ``mu`` as ``kappa_L_over_2pi_lower`` / ``_upper``."""
+    return {"kappa_L_over_2pi_lower": to_paper(lo_mu, params)["kappa_L_over_2pi"],
+            "kappa_L_over_2pi_upper": to_paper(hi_mu, params)["kappa_L_over_2pi"]}
+
+
+def _analytic(params: Params) -> dict[str, float]:
+    lo, hi = analytic_stability(params).kappa_L_over_2pi_interval
+    return {"kappa_L_over_2pi_lower": lo, "kappa_L_over_2pi_upper": hi}
+
+
+def _transfer(params: Params) -> dict[str, float]:
+    M_lo, M_hi, _ = ring_interval_transfer(params.section.b1, params.section.b2, params.loops)
+    return _interval(1 - M_hi, 1 - M_lo, params)
+
+
+def _fe(params: Params) -> dict[str, float]:
+    return _interval(*engine_stability(params).load_factor_interval, params)
+
+
+def _nonlinear(params: Params) -> dict[str, float]:
+    # From the stress-free state (mu = 1) upwards; |M| < 3 max(b1, b2) at every mode bound.
+    hi = 1.0 + 3.0 * max(params.section.b1, params.section.b2)
+    mu = nonlinear_critical(build(params), 1.0, hi, NONLINEAR_ELEMENTS)
+    return {"kappa_L_over_2pi_upper": to_paper(mu, params)["kappa_L_over_2pi"]}
+
+
+#: Methods that solve the ring, each returning the stable interval in ``(L/2pi) kappa_n``.
+METHODS: dict[str, Method] = {"analytic": _analytic, "transfer": _transfer, "fe": _fe,
+                              "nonlinear": _nonlinear}
+#: How closely each pair must agree (relative), and why.
+AGREE_RTOL: dict[tuple[str, str], float] = {
+    # Closed form (3.3) vs the monodromy scan: both exact, root-finder tolerance.
+    ("analytic", "transfer"): 1e-8,
+    # FE mesh error at DEFAULT_ELEMENTS per loop (observed ~1e-8).
+    ("analytic", "fe"): 1e-6,
+    # Discrete rod at NONLINEAR_ELEMENTS per loop: second-order mesh error (observed 2e-3).
+    ("analytic", "nonlinear"): 5e-3,
+}
