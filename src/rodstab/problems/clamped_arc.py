@@ -52,7 +52,7 @@ def _geometry(params: Params) -> tuple[float, float, float]:
 def build(params: Params) -> Assembly:
     """Return the arc ``arc`` clamped at both ends (see the module docstring for its units)."""
     L, k, kn = _geometry(params)
-    return Assembly((segment("arc", params.section, L, k, kn),),
+    return Assembly(segments=(segment("arc", params.section, L, k, kn),),
                     supports=(("arc", "start", "clamped"), ("arc", "end", "clamped")))
 
 

@@ -52,7 +52,7 @@ def build(params: Params) -> Assembly:
                  for i in range(1, N + 1))
     # Each loop's start to the previous loop's end (as in the ring, :mod:`.ring`).
     welds = tuple(((str(i), "start"), (str((i - 2) % N + 1), "end")) for i in range(1, N + 1))
-    return Assembly(segs, welds=welds)
+    return Assembly(segments=segs, welds=welds)
 
 
 def to_paper(mu: float, params: Params) -> dict[str, float]:

@@ -54,7 +54,7 @@ def build(params: Params) -> Assembly:
     # Each loop's start to the previous loop's end (the weld order of the report's rows).
     welds = tuple(((a, "start"), (b, "end")) for a, b in zip(names, names[-1:] + names[:-1],
                                                              strict=True))
-    return Assembly(segs, welds=welds)
+    return Assembly(segments=segs, welds=welds)
 
 
 def to_paper(mu: float, params: Params) -> dict[str, float]:

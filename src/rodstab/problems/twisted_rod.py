@@ -46,7 +46,7 @@ class Params:
 def build(params: Params) -> Assembly:
     """Return the straight rod ``rod``: clamped at its start, sliding clamp at its end."""
     s = segment("rod", params.section, float(params.length), 0.0, 0.0)
-    return Assembly((s,), supports=(("rod", "start", "clamped"),
+    return Assembly(segments=(s,), supports=(("rod", "start", "clamped"),
                                     ("rod", "end", "sliding-clamp")))
 
 
