@@ -31,10 +31,10 @@ def test_unknown_counts_equal_the_discretisations(path, n):
 def test_runs_past_a_limit_are_refused_naming_cause_estimate_and_override():
     with pytest.raises(RodstabInputError, match=r"--elements 100000000.*unknowns.*--max-dof"):
         limits.require_linear([100_000_000], 2, "--elements 100000000")
-    # One segment of 32k elements fits the unknown limit but not the memory (dense local
-    # matrices of the assembly: 2 x 8 x 128003^2 bytes ~ 244 GiB).
+    # 400k elements (1.6 million unknowns) fit the default unknown limit, not 1 GiB of memory.
     with pytest.raises(RodstabInputError, match=r"memory.*GiB.*--max-memory"):
-        limits.require_linear([32_000], 2, "--elements 32000")
+        limits.require_linear([400_000], 2, "--elements 400000",
+                              limits.Limits(max_memory=2**30))
     with pytest.raises(RodstabInputError, match=r"--max-dof"):
         limits.require_nonlinear([10_000_000], 2, "--elements 10000000")
     with pytest.raises(RodstabInputError, match=r"--vary .*1e\+09 steps.*--max-steps"):

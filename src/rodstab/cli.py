@@ -38,6 +38,7 @@ from .errors import (
     require_positive,
     require_positive_int,
 )
+from .limits import MAX_DOF, MAX_DOF_NONLINEAR, MAX_MEMORY, MAX_STEPS, Limits, require_steps
 from .outputs import check_output
 from .results import jsonable
 from .sections import SHAPES, TORSION_OPTIONS, Section, make_section
@@ -83,11 +84,46 @@ _json_option = click.option("--json", "as_json", is_flag=True,
                             help="Print one JSON object instead of a table.")
 
 
+def _limit_options(f: Callable[..., Any]) -> Callable[..., Any]:
+    """Add ``--max-dof``, ``--max-steps``, ``--max-memory`` and pass :class:`Limits` as ``limits``.
+
+    A run is sized from its inputs before anything is allocated (:mod:`rodstab.limits`) and
+    refused (exit 2) past these limits, the message naming the estimate and the option.
+    """
+
+    @click.option("--max-dof", type=int, default=None,
+                  help=f"Most unknowns of one solve [default: {MAX_DOF:,} linear, "
+                       f"{MAX_DOF_NONLINEAR:,} nonlinear].")
+    @click.option("--max-steps", type=int, default=MAX_STEPS, show_default=True,
+                  help="Most steps of a continuation, points of a sweep or modes of a ring.")
+    @click.option("--max-memory", type=float, default=MAX_MEMORY / 2**30, show_default=True,
+                  help="Most estimated memory of one solve, GiB.")
+    @functools.wraps(f)
+    def wrapper(max_dof: int | None, max_steps: int, max_memory: float, **kwargs: Any) -> Any:
+        mem = require_positive("--max-memory", max_memory) * 2**30
+        if not mem < 2**62:
+            raise RodstabInputError(f"--max-memory must be below 2^32 GiB, got {max_memory!r}")
+        dof = {} if max_dof is None else {"max_dof": max_dof, "max_dof_nonlinear": max_dof}
+        return f(limits=Limits(max_steps=max_steps, max_memory=int(mem), **dof), **kwargs)
+
+    return wrapper
+
+
 def _emit(payload: dict[str, Any], as_json: bool, lines: list[str]) -> None:
     if as_json:
         click.echo(json.dumps(jsonable(payload), allow_nan=False))
     else:
         click.echo("\n".join(lines))
+
+
+def _require_converged(result: Any, what: str) -> None:
+    """Raise :class:`NotConverged` (exit 3, after the output) if ``result`` did not converge.
+
+    ``result`` has ``converged`` and ``residual``; the message names both and ``what``.
+    """
+    if not result.converged:
+        raise NotConverged(f"{what}: residual {result.residual:.3g} is above the method's "
+                           "tolerance (the printed numbers are not to be trusted)")
 
 
 def _fmt(x: float) -> str:
@@ -168,13 +204,14 @@ def section(section: Section, as_json: bool) -> None:
 @cli.command()
 @click.option("--loops", type=int, default=1, show_default=True, help="Number of loops N.")
 @_section_options
+@_limit_options
 @_json_option
-def ring(section: Section, loops: int, as_json: bool) -> None:
+def ring(section: Section, loops: int, limits: Limits, as_json: bool) -> None:
     """Stable range of an untwisted N-loop ring (Section 3.1, eq 3.3)."""
     from .problems import REGISTRY
 
     problem = REGISTRY["ring"]
-    r = problem.analytic_stability(problem.Params(section=section, loops=loops))
+    r = problem.analytic_stability(problem.Params(section=section, loops=loops), limits)
     payload = r.to_dict() | {"section": section.to_dict()}
     lo, hi = r.M_interval
     klo, khi = r.kappa_L_over_2pi_interval
@@ -185,6 +222,7 @@ def ring(section: Section, loops: int, as_json: bool) -> None:
         f"(modes j = {r.bounding_modes[0]}, {r.bounding_modes[1]})",
         f"(L/2pi) kappa_n stable for     {_fmt(klo)} < (L/2pi) kappa_n < {_fmt(khi)}",
     ])
+    _require_converged(r, "the mode eigenproblems of (3.3)")
 
 
 @cli.command()
@@ -207,6 +245,7 @@ def arc(section: Section, L_over_R: float, as_json: bool) -> None:
         f"critical mode at the upper end (kappa_n > 1/R): {r.critical_mode}; "
         f"at the lower end: {r.lower_mode}",
     ])
+    _require_converged(r, "the roots of (3.7)/(3.8)")
 
 
 @cli.command("arc-max-length")
@@ -227,13 +266,14 @@ def arc_max_length(section: Section, as_json: bool) -> None:
 @cli.command()
 @click.option("--loops", type=int, default=1, show_default=True, help="Number of loops N.")
 @_section_options
+@_limit_options
 @_json_option
-def michell(section: Section, loops: int, as_json: bool) -> None:
+def michell(section: Section, loops: int, limits: Limits, as_json: bool) -> None:
     """Critical pre-twist b2 omega0' of Michell's ring with N loops (3.16-3.26)."""
     from .problems import REGISTRY
 
     problem = REGISTRY["michell"]
-    r = problem.analytic_stability(problem.Params(section=section, loops=loops))
+    r = problem.analytic_stability(problem.Params(section=section, loops=loops), limits)
     payload = r.to_dict() | {"section": section.to_dict()}
     if r.stable_at_zero_twist:
         verdict = (f"critical b2 omega0' = {_fmt(r.b2_omega0_critical)}  (mode j = {r.mode_j}, "
@@ -250,8 +290,9 @@ def michell(section: Section, loops: int, as_json: bool) -> None:
               help="Elements per segment (default: the design's [analysis] elements).")
 @click.option("--plot", "plot_path", type=click.Path(dir_okay=False), default=None,
               help="Write a 3D picture of the held state and the critical mode (PNG).")
+@_limit_options
 @_json_option
-def analyze(design_file: str, elements: int | None, plot_path: str | None,
+def analyze(design_file: str, elements: int | None, plot_path: str | None, limits: Limits,
             as_json: bool) -> None:
     """Linear stability of the assembly in a TOML design file (FE of P2, eq 2.12)."""
     from .design import load_design
@@ -260,7 +301,7 @@ def analyze(design_file: str, elements: int | None, plot_path: str | None,
     d = load_design(design_file)
     n = d.elements if elements is None else require_positive_int("--elements", elements)
     plot = None if plot_path is None else _image_output("--plot", plot_path)
-    r = linear_stability(d.assembly, n)
+    r = linear_stability(d.assembly, n, limits=limits)
     lam = d.paper_load_factor(r.load_factor_critical)
     payload = {
         "design": d.source,
@@ -294,6 +335,8 @@ def analyze(design_file: str, elements: int | None, plot_path: str | None,
         f"({payload['paper_load_factor_definition']})",
         f"mode         {payload['mode_family']}",
     ])
+    _require_converged(r, f"the FE eigen solve at {n} elements per segment (round-off grows "
+                          "with the mesh, as h^-4: try fewer elements)")
 
 
 @cli.command("equilibrium")
@@ -310,9 +353,11 @@ def analyze(design_file: str, elements: int | None, plot_path: str | None,
               help="Write a 3D picture of the equilibrium (PNG).")
 @click.option("--html", "html_path", type=click.Path(dir_okay=False), default=None,
               help="Write an interactive 3D view (HTML; needs plotly: rodstab[viz]).")
+@_limit_options
 @_json_option
 def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, perturb: float,
-                    render_path: str | None, html_path: str | None, as_json: bool) -> None:
+                    render_path: str | None, html_path: str | None, limits: Limits,
+                    as_json: bool) -> None:
     """Nonlinear equilibrium (Newton) of a design and its Hessian stability.
 
     If Newton does not converge, the table (or JSON, converged: false) is still printed and
@@ -330,7 +375,8 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
     n = (nonlinear_elements(d) if elements is None
          else require_positive_int("--elements", elements))
     r, rod = equilibrium(d.assembly, load_factor=require_finite("--load-factor", load_factor),
-                         elements_per_segment=n, perturb=require_finite("--perturb", perturb))
+                         elements_per_segment=n, perturb=require_finite("--perturb", perturb),
+                         limits=limits)
     ok, its, res = r.converged, r.iterations, r.residual
     ev = r.lowest_eigenvalues
     payload = r.to_dict() | {"design": d.source, "elements_per_segment": n,
@@ -379,9 +425,11 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
 @click.option("--restart", is_flag=True,
               help="Start afresh in --out: ignore (and remove) the run saved there.")
 @click.option("--no-progress", is_flag=True, help="Do not draw the progress bar.")
+@_limit_options
 @_json_option
 def continue_cmd(design_file: str, vary: str, out_dir: str | None, elements: int,
-                 branch_steps: int, restart: bool, no_progress: bool, as_json: bool) -> None:
+                 branch_steps: int, restart: bool, no_progress: bool, limits: Limits,
+                 as_json: bool) -> None:
     """Pseudo-arclength continuation in one parameter, with stability along the path.
 
     It finds folds, branch points and the branches leaving them (sub- or supercritical).
@@ -402,6 +450,7 @@ def continue_cmd(design_file: str, vary: str, out_dir: str | None, elements: int
 
     spec = parse_vary(vary, default_n=CONTINUE_DEFAULT_N)
     key, start, stop, n = spec.key, spec.start, spec.stop, spec.n
+    require_steps(n, f"--vary {vary}", "continuation steps", limits)
     if branch_steps < 0:
         raise RodstabInputError(f"--branch-steps must be >= 0, got {branch_steps!r}")
     elements = require_int("--elements", elements, 2)
@@ -412,12 +461,12 @@ def continue_cmd(design_file: str, vary: str, out_dir: str | None, elements: int
     with _warnings_as_lines(), contextlib.ExitStack() as held:
         if out is not None:
             held.enter_context(run_lock(out, label=f"--out {out_dir!r}"))
-        with tqdm(total=n + 1, desc="rodstab continue", disable=no_progress,
+        with tqdm(total=n + 1, desc="rodstab continue", disable=no_progress, delay=0.5,
                   leave=False) as bar:
             r = continuation(d.assembly, key, start, stop, n, elements_per_segment=elements,
                              out_dir=out, progress=lambda: bar.update(1),
                              branch_steps=branch_steps, reference_segment=d.load_factor_segment,
-                             restart=restart)
+                             limits=limits, restart=restart)
         specials = [{k: v for k, v in p.items() if k != "branch"} for p in r.special_points]
         payload = {"key": r.key, "value": list(r.value), "energy": list(r.energy),
                    "lowest_eigenvalue": list(r.lowest_eigenvalue),
@@ -476,9 +525,10 @@ def _continuation_pictures(r: Any, d: Any, out: Path, elements: int,
               show_default=True, help="Directory for sweep.csv and sweep.png.")
 @click.option("--elements", type=int, default=None, help="Elements per segment.")
 @click.option("--no-progress", is_flag=True, help="Do not draw the progress bar.")
+@_limit_options
 @_json_option
 def sweep(design_file: str, vary: str, out_dir: str, elements: int | None, no_progress: bool,
-          as_json: bool) -> None:
+          limits: Limits, as_json: bool) -> None:
     """Critical load factor of a design while one parameter varies (CSV + plot)."""
     import csv
 
@@ -492,6 +542,7 @@ def sweep(design_file: str, vary: str, out_dir: str, elements: int | None, no_pr
 
     spec = parse_vary(vary, default_n=SWEEP_DEFAULT_N)
     key = spec.key
+    require_steps(spec.n, f"--vary {vary}", "sweep points", limits)  # before the values exist
     if elements is not None:
         require_positive_int("--elements", elements)
     base = load_design(design_file)
@@ -499,7 +550,8 @@ def sweep(design_file: str, vary: str, out_dir: str, elements: int | None, no_pr
     out = check_output("--out", out_dir, directory=True)
     csv_path = out / "sweep.csv"
     with csv_path.open("w", newline="") as fh, \
-            tqdm(total=spec.n, desc="rodstab sweep", disable=no_progress, leave=False) as bar:
+            tqdm(total=spec.n, desc="rodstab sweep", disable=no_progress, leave=False,
+                 delay=0.5) as bar:
         w = csv.DictWriter(fh, fieldnames=[key, *COLUMNS])
         w.writeheader()
 
@@ -508,7 +560,8 @@ def sweep(design_file: str, vary: str, out_dir: str, elements: int | None, no_pr
             fh.flush()
 
         result = run_sweep(base, key, np.linspace(spec.start, spec.stop, spec.n),
-                           elements=elements, progress=lambda: bar.update(1), on_row=write_row)
+                           elements=elements, progress=lambda: bar.update(1), on_row=write_row,
+                           limits=limits)
     rows = result.table()
     png = sweep_plot(rows, key, out)
     payload = {"key": key, "values": [r[key] for r in rows], "rows": rows, "csv": str(csv_path),
@@ -516,19 +569,26 @@ def sweep(design_file: str, vary: str, out_dir: str, elements: int | None, no_pr
     _emit(payload, as_json, [f"{key:>24} {'critical':>12} {'lower':>12} mult"] + [
         f"{r[key]:>24.6g} {r['load_factor_critical']:>12.6g} {r['load_factor_lower']:>12.6g} "
         f"{r['multiplicity']:>4}" for r in rows] + [f"wrote {csv_path} and {png}"])
+    bad = [row for row in result.rows if not row.converged]
+    if bad:
+        raise NotConverged(f"the FE eigen solve at {key} = "
+                           f"{', '.join(f'{row.value:g}' for row in bad)}: residual "
+                           f"{max(row.residual for row in bad):.3g} is above the method's "
+                           "tolerance (those rows are not to be trusted)")
 
 
 @cli.command()
 @_section_options
+@_limit_options
 @_json_option
-def birod(section: Section, as_json: bool) -> None:
+def birod(section: Section, limits: Limits, as_json: bool) -> None:
     """Bi-rod of Section 4 (clamped at one end): lam_c by the engine and the full system."""
     from .linear.solve import mode_family
     from .problems import REGISTRY
 
     problem = REGISTRY["bi-rod"]
     params = problem.Params(section=section)
-    r = problem.engine_stability(params)
+    r = problem.engine_stability(params, limits=limits)
     paper = problem.to_paper(r.load_factor_critical, params)
     claimed = problem.paper_critical(params)
     an = problem.full_system(params)
@@ -544,6 +604,7 @@ def birod(section: Section, as_json: bool) -> None:
         f"psi_c = {_fmt(payload['psi_c'])} rad (paper: {_fmt(payload['paper_psi_c'])})",
         f"mode         {payload['mode_family']}",
     ])
+    _require_converged(r, "the FE eigen solve")
 
 
 @cli.command("folded-ring")
@@ -552,8 +613,10 @@ def birod(section: Section, as_json: bool) -> None:
 @click.option("--arc-angle", type=float, default=120.0, show_default=True,
               help="Arc angle of each segment in its natural state (degrees).")
 @_section_options
+@_limit_options
 @_json_option
-def folded_ring(section: Section, segments: int, arc_angle: float, as_json: bool) -> None:
+def folded_ring(section: Section, segments: int, arc_angle: float, limits: Limits,
+                as_json: bool) -> None:
     """Ring of 2n arcs held in the straight folded n-loop state (Section 5)."""
     from .linear.solve import mode_family
     from .problems import REGISTRY
@@ -561,13 +624,15 @@ def folded_ring(section: Section, segments: int, arc_angle: float, as_json: bool
     problem = REGISTRY["folded-ring"]
     require_positive("--arc-angle", arc_angle)
     params = problem.Params(section=section, segments=segments, arc_angle_deg=arc_angle)
-    r = problem.engine_stability(params)
+    r = problem.engine_stability(params, limits=limits)
     paper = problem.to_paper(r.load_factor_critical, params)
     claimed = problem.paper_critical(params)
-    an = problem.full_system(params)
+    full = segments <= problem.FULL_SYSTEM_MAX_SEGMENTS
+    an = problem.full_system(params) if full else None
     payload: dict[str, Any] = {"lambda_c": paper["lambda"], "multiplicity": r.multiplicity,
                "kappa_R0_c": paper["kappa_R0"],
-               "lambda_c_full_system": an.lambda_c, "multiplicity_full_system": an.multiplicity,
+               "lambda_c_full_system": an.lambda_c if an else None,
+               "multiplicity_full_system": an.multiplicity if an else None,
                "paper_lambda_c": claimed["lambda"],
                "paper_kappa_R0_c": claimed["kappa_R0"],
                "segments": segments, "arc_angle_deg": arc_angle,
@@ -577,11 +642,14 @@ def folded_ring(section: Section, segments: int, arc_angle: float, as_json: bool
         _section_line(section),
         f"segments     {segments} (folded {segments // 2}-loop state), "
         f"arcs of {_fmt(arc_angle)} deg",
-        f"lam_c = {_fmt(payload['lambda_c'])} (x{r.multiplicity}, engine), {_fmt(an.lambda_c)} "
-        f"(x{an.multiplicity}, full system); paper: 2 pi",
+        f"lam_c = {_fmt(payload['lambda_c'])} (x{r.multiplicity}, engine), "
+        + (f"{_fmt(an.lambda_c)} (x{an.multiplicity}, full system)" if an else
+           f"full system not run (it runs up to {problem.FULL_SYSTEM_MAX_SEGMENTS} segments)")
+        + "; paper: 2 pi",
         f"kappa_n R0 critical = {_fmt(payload['kappa_R0_c'])} "
         f"(paper: {_fmt(payload['paper_kappa_R0_c'])})",
     ])
+    _require_converged(r, "the FE eigen solve")
 
 
 @cli.command()

@@ -32,7 +32,8 @@ MAX_STEPS = 100_000
 MAX_MEMORY = 8 * 2**30
 #: Bytes per unknown of a sparse solve: the matrices (K0, K1, Z, the scaled pencil: ~10
 #: entries per row, 12 bytes each, several copies) and the sparse LU's fill (banded, ~40
-#: entries per row): a generous bound, not a measurement of one run.
+#: entries per row): a bound ~3x the measured peak (275 MB at 200k unknowns in 1000
+#: segments, 1.4 kB per unknown with the interpreter's 80 MB; benchmarks/bench_linear.py).
 BYTES_PER_DOF = 4096
 
 
@@ -77,14 +78,12 @@ def nonlinear_dof(elements: Iterable[int], n_joints: int) -> int:
 
 
 def linear_memory(elements: Iterable[int], n_joints: int) -> int:
-    """Estimated peak bytes of one linear solve.
+    """Estimated peak bytes of one linear solve: ``BYTES_PER_DOF`` per unknown.
 
-    ``BYTES_PER_DOF`` per unknown, plus the dense local matrices the assembly builds for one
-    segment at a time (two of ``(4 n + 3)^2`` doubles for its largest segment).
+    The assembly is sparse throughout (element matrices scattered into sparse local matrices),
+    so memory grows linearly with the unknowns.
     """
-    ns = [int(n) for n in elements]
-    dense = 2 * 8 * (4 * max(ns, default=0) + 3) ** 2
-    return BYTES_PER_DOF * linear_dof(ns, n_joints) + dense
+    return BYTES_PER_DOF * linear_dof(elements, n_joints)
 
 
 def _gib(n: float) -> str:

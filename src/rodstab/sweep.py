@@ -15,6 +15,8 @@ from typing import Any
 
 from .design import Design, parse_design, set_design_value
 from .errors import RodstabInputError, require_finite, require_positive_int
+from .limits import DEFAULT as DEFAULT_LIMITS
+from .limits import Limits, require_steps
 from .linear.solve import linear_stability
 from .results import Result
 
@@ -65,7 +67,8 @@ class SweepResult(Result):
 
 def sweep(design: Design, key: str, values: Iterable[float], *, elements: int | None = None,
           progress: Callable[[], Any] | None = None,
-          on_row: Callable[[SweepRow], Any] | None = None) -> SweepResult:
+          on_row: Callable[[SweepRow], Any] | None = None,
+          limits: Limits = DEFAULT_LIMITS) -> SweepResult:
     """Linear stability of ``design`` with the design value ``key`` set to each of ``values``.
 
     Parameters
@@ -102,10 +105,11 @@ def sweep(design: Design, key: str, values: Iterable[float], *, elements: int | 
         raise RodstabInputError(f"sweep needs one or more values of {key!r}, got none")
     vals = [require_finite(f"sweep value of {key!r}", v) for v in vals]
     ne = None if elements is None else require_positive_int("elements", elements)
+    require_steps(len(vals), f"{len(vals)} values", "sweep points", limits)
     rows = []
     for v in vals:
         d = parse_design(set_design_value(design.raw, key, v), design.source)
-        r = linear_stability(d.assembly, d.elements if ne is None else ne)
+        r = linear_stability(d.assembly, d.elements if ne is None else ne, limits=limits)
         rows.append(SweepRow(v, r.load_factor_critical, r.load_factor_interval[0],
                              r.multiplicity, d.paper_load_factor(r.load_factor_critical),
                              r.residual, r.converged))

@@ -45,9 +45,14 @@ def _local_size(n_el: int) -> int:
     return 3 * (n_el + 1) + n_el
 
 
-def _element_dofs(e: int, n_el: int) -> list[int]:
-    mid = 3 * (n_el + 1) + e
-    return [3 * e, 3 * e + 1, 3 * (e + 1), 3 * (e + 1) + 1, 3 * e + 2, mid, 3 * (e + 1) + 2]
+def _element_dof_table(n_el: int) -> np.ndarray:
+    """Local unknowns of every element, ``(n_el, 7)``, in the order of the element matrices.
+
+    ``(w, w')`` at both nodes, ``omega`` at the first node, mid-element and second node.
+    """
+    e = np.arange(n_el)[:, None]
+    return np.hstack([3 * e, 3 * e + 1, 3 * (e + 1), 3 * (e + 1) + 1, 3 * e + 2,
+                      3 * (n_el + 1) + e, 3 * (e + 1) + 2])
 
 
 def discretise(a: Assembly, elements_per_segment: int | dict[str, int] = 16) -> Discretisation:
@@ -74,41 +79,38 @@ def discretise(a: Assembly, elements_per_segment: int | dict[str, int] = 16) -> 
         h = s.length / n_el
         D0, D1 = density_matrices(s.curvature, s.natural_curvature, s.B1, s.B2, s.B3)
         Ke0, Ke1 = element_matrices(h, D0, D1)
-        Kl0 = np.zeros((nl, nl))
-        Kl1 = np.zeros((nl, nl))
-        for e in range(n_el):
-            idx = _element_dofs(e, n_el)
-            Kl0[np.ix_(idx, idx)] += Ke0
-            Kl1[np.ix_(idx, idx)] += Ke1
-        # Local -> global map.
-        Tr, Tc, Tv = [], [], []
-        interior = seg_offsets[s.name]
-        for loc in range(nl):
-            node, comp = divmod(loc, 3)
-            if loc < 3 * (n_el + 1) and node in (0, n_el):
-                end = "start" if node == 0 else "end"
-                j = joint_of[(s.name, end)]
-                t = s.tangent(0.0 if node == 0 else s.length)
-                n = np.array([t[1], -t[0]])
-                if comp == 0:
-                    Tr.append(loc)
-                    Tc.append(3 * j)
-                    Tv.append(1.0)
-                else:
-                    vec = n if comp == 1 else t
-                    for c in range(2):
-                        Tr.append(loc)
-                        Tc.append(3 * j + 1 + c)
-                        Tv.append(float(vec[c]))
-            else:
-                Tr.append(loc)
-                Tc.append(interior)
-                Tv.append(1.0)
-                interior += 1
+        # Element matrices scattered into sparse local matrices (duplicates are summed); a
+        # dense local matrix costs (4 n + 3)^2 doubles -- 270 GB for one segment of 32k.
+        idx = _element_dof_table(n_el)
+        rows = np.repeat(idx, 7, axis=1).ravel()
+        cols = np.tile(idx, (1, 7)).ravel()
+        Kl0 = sp.csr_matrix((np.tile(Ke0.ravel(), n_el), (rows, cols)), shape=(nl, nl))
+        Kl1 = sp.csr_matrix((np.tile(Ke1.ravel(), n_el), (rows, cols)), shape=(nl, nl))
+        # Local -> global map: the end nodes' (w, w', omega) are the joint's (w, theta),
+        # w' = theta . n and omega = theta . t; every other local unknown is interior.
+        Tr: list[int] = []
+        Tc: list[int] = []
+        Tv: list[float] = []
+        for node, end in ((0, "start"), (n_el, "end")):
+            j = joint_of[(s.name, end)]
+            t = s.tangent(0.0 if node == 0 else s.length)
+            n = np.array([t[1], -t[0]])
+            Tr.append(3 * node)
+            Tc.append(3 * j)
+            Tv.append(1.0)
+            for comp, vec in ((1, n), (2, t)):
+                for c in range(2):
+                    Tr.append(3 * node + comp)
+                    Tc.append(3 * j + 1 + c)
+                    Tv.append(float(vec[c]))
+        inner = np.setdiff1d(np.arange(nl), [0, 1, 2, 3 * n_el, 3 * n_el + 1, 3 * n_el + 2])
+        Tr += inner.tolist()
+        Tc += (seg_offsets[s.name] + np.arange(inner.size)).tolist()
+        Tv += [1.0] * inner.size
         T = sp.csr_matrix((Tv, (Tr, Tc)), shape=(nl, n_global))
         seg_dofs.append(SegmentDofs(s.name, n_el, T))
-        G0 = (T.T @ sp.csr_matrix(Kl0) @ T).tocoo()
-        G1 = (T.T @ sp.csr_matrix(Kl1) @ T).tocoo()
+        G0 = (T.T @ Kl0 @ T).tocoo()
+        G1 = (T.T @ Kl1 @ T).tocoo()
         rows0.append(G0.row)
         cols0.append(G0.col)
         v0.append(G0.data)

@@ -15,6 +15,8 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import RodstabInputError
+from ..limits import DEFAULT as DEFAULT_LIMITS
+from ..limits import Limits, require_linear
 from ..model import Assembly
 from ..numerics import jacobi_scaling, pencil_interval_sparse
 from ..results import Result
@@ -117,11 +119,14 @@ def mode_family(mode: tuple[SegmentMode, ...]) -> str:
                      for m, (a, b) in zip(mode, means, strict=True))
 
 
-def linear_stability(a: Assembly, elements_per_segment: int = 16) -> LinearStability:
+def linear_stability(a: Assembly, elements_per_segment: int | dict[str, int] = 16, *,
+                     limits: Limits = DEFAULT_LIMITS) -> LinearStability:
     """Stable interval of the load factor ``mu`` for the assembly ``a``.
 
     Mode coordinates ``s`` are normalised by each segment's length; ``w`` is scaled so that its
-    largest magnitude over the assembly is 1.
+    largest magnitude over the assembly is 1. ``elements_per_segment``: one count for every
+    segment, or a count per segment name. A run past ``limits`` (unknowns, memory;
+    :mod:`rodstab.limits`) is refused before anything is allocated.
     """
     twisted = [s.name for s in a.segments if s.natural_twist != 0.0]
     if twisted:
@@ -133,6 +138,11 @@ def linear_stability(a: Assembly, elements_per_segment: int = 16) -> LinearStabi
             f"end rotations {[f'{n}.{e}' for n, e, r in a.end_rotations if any(r)]} move the "
             "held state off equilibrium: the linear engine linearises about the held state; use "
             "the nonlinear model (rodstab equilibrium / continue)")
+    counts = ([elements_per_segment[s.name] for s in a.segments]
+              if isinstance(elements_per_segment, dict)
+              else [elements_per_segment] * len(a.segments))
+    require_linear(counts, len(a.joints()), f"{elements_per_segment} elements per segment",
+                   limits)
     disc = discretise(a, elements_per_segment)
     mu_ref = default_reference_load(a)
     Z = disc.Z

@@ -15,6 +15,8 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from ..errors import NotConverged, RodstabInputError
+from ..limits import DEFAULT as DEFAULT_LIMITS
+from ..limits import Limits, require_nonlinear
 from ..model import Assembly
 from ..numerics import find_roots, jacobi_scaling, lowest_eigenpairs
 from ..results import Result
@@ -329,13 +331,17 @@ def _newton(rod: DiscreteRod, max_iter: int) -> tuple[bool, int, float]:
 
 
 def equilibrium(a: Assembly, *, load_factor: float = 1.0, elements_per_segment: int = 32,
-                n_eig: int = 4, perturb: float = 0.0) -> tuple[Equilibrium, DiscreteRod]:
+                n_eig: int = 4, perturb: float = 0.0,
+                limits: Limits = DEFAULT_LIMITS) -> tuple[Equilibrium, DiscreteRod]:
     """Find the equilibrium from the held state at ``load_factor`` and its Hessian stability.
 
     With ``perturb``: from the held state plus a seeded random mix of its four softest modes with a
     largest node displacement of ``perturb`` x the total length, relaxed to a stable equilibrium
-    when one is reachable (:func:`relax`).
+    when one is reachable (:func:`relax`). A model past ``limits.max_dof_nonlinear`` unknowns is
+    refused before it is built.
     """
+    require_nonlinear([elements_per_segment] * len(a.segments), len(a.joints()),
+                      f"{elements_per_segment} elements per segment", limits)
     rod = discretise(a, elements_per_segment, load_factor)
     settle(rod)
     if perturb:

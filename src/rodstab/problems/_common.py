@@ -9,6 +9,8 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
+from ..limits import DEFAULT as DEFAULT_LIMITS
+from ..limits import Limits
 from ..linear.solve import LinearStability, linear_stability
 from ..model import Assembly, Segment
 from ..sections import Section
@@ -31,9 +33,10 @@ def segment(name: str, section: Section, L: float, k: float, kn: float,
                    B2=section.b2, B3=1.0, start=start, angle=angle, natural_twist=natural_twist)
 
 
-def engine(assembly: Assembly, elements: int) -> LinearStability:
+def engine(assembly: Assembly, elements: int, limits: Limits = DEFAULT_LIMITS
+           ) -> LinearStability:
     """Linear stability of ``assembly`` by the FE engine with ``elements`` per segment."""
-    return linear_stability(assembly, elements)
+    return linear_stability(assembly, elements, limits=limits)
 
 
 def nonlinear_critical(assembly: Assembly, lo: float, hi: float, elements: int) -> float:

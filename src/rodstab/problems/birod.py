@@ -12,6 +12,8 @@ import dataclasses
 import math
 
 from ..errors import RodstabInputError, require_positive
+from ..limits import DEFAULT as DEFAULT_LIMITS
+from ..limits import Limits
 from ..linear.solve import LinearStability
 from ..model import Assembly
 from ..sections import Section, circle
@@ -87,9 +89,10 @@ def full_system(params: Params) -> FullSystemCritical:
                                 nullity, 7.0)
 
 
-def engine_stability(params: Params, elements: int = DEFAULT_ELEMENTS) -> LinearStability:
+def engine_stability(params: Params, elements: int = DEFAULT_ELEMENTS,
+                     limits: Limits = DEFAULT_LIMITS) -> LinearStability:
     """Critical load factor ``mu = kappa0`` by the linear FE engine."""
-    return engine(build(params), elements)
+    return engine(build(params), elements, limits)
 
 
 def _lam(mu: float, params: Params) -> dict[str, float]:

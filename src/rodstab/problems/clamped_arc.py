@@ -15,6 +15,8 @@ import math
 from ..analytic.arc import ArcStability, MaxArcLength, clamped_arc_stability
 from ..analytic.arc import max_arc_length as _max_arc_length
 from ..errors import RodstabInputError, require_finite
+from ..limits import DEFAULT as DEFAULT_LIMITS
+from ..limits import Limits
 from ..linear.solve import LinearStability
 from ..model import Assembly
 from ..numerics import matrix_roots
@@ -76,9 +78,10 @@ def max_arc_length(section: Section) -> MaxArcLength:
     return _max_arc_length(section.b1, section.b2)
 
 
-def engine_stability(params: Params, elements: int = DEFAULT_ELEMENTS) -> LinearStability:
+def engine_stability(params: Params, elements: int = DEFAULT_ELEMENTS,
+                     limits: Limits = DEFAULT_LIMITS) -> LinearStability:
     """Stable interval of the load factor by the linear FE engine."""
-    return engine(build(params), elements)
+    return engine(build(params), elements, limits)
 
 
 def _analytic(params: Params) -> dict[str, float]:

@@ -12,7 +12,14 @@ import dataclasses
 import math
 
 from ..analytic.folded_ring import folded_ring_paper_method
-from ..errors import RodstabInputError, require_positive, require_positive_int
+from ..errors import (
+    RodstabInputError,
+    require_in_range,
+    require_positive,
+    require_positive_int,
+)
+from ..limits import DEFAULT as DEFAULT_LIMITS
+from ..limits import Limits
 from ..linear.solve import LinearStability
 from ..model import Assembly
 from ..sections import Section, circle
@@ -23,6 +30,12 @@ from ._common import Method, engine, nonlinear_critical, segment
 DEFAULT_ELEMENTS = 24
 #: Elements per segment of the nonlinear rod in :data:`METHODS` (report row NL-folded).
 NONLINEAR_ELEMENTS = 8
+#: Largest ring the full system of general solutions runs on: its dense 6S x 6S matrix is
+#: scanned for singular points on (0, 7] (measured: 1.1 s at 12 segments, 44 s at 24).
+FULL_SYSTEM_MAX_SEGMENTS = 12
+#: Arc angles accepted (degrees): an arc of more than a full turn is not a segment of a ring;
+#: below the minimum its natural radius exceeds 6e7 lengths and kappa_n R0 loses its meaning.
+ARC_ANGLE_RANGE_DEG = (1e-6, 360.0)
 #: The paper's critical load (5.14): ``lambda_c = 2 pi`` (this project finds ``2 pi / (2n)``).
 PAPER_LAMBDA_C = 2 * math.pi
 
@@ -47,7 +60,9 @@ class Params:
             raise RodstabInputError(
                 f"segments must be an even number >= 2, got {self.segments!r}")
         require_positive("length", self.length)
-        require_positive("arc_angle_deg", self.arc_angle_deg)
+        require_in_range("arc_angle_deg", self.arc_angle_deg, *ARC_ANGLE_RANGE_DEG,
+                         "degrees: an arc of at most a full turn, of natural radius at most "
+                         "6e7 segment lengths")
 
     @property
     def theta(self) -> float:
@@ -94,15 +109,22 @@ def full_system(params: Params) -> FullSystemCritical:
     """``lambda_c`` by the exact general solutions joined by all joint conditions (second method).
 
     :func:`rodstab.transfer.full_system_critical`, the three rigid motions of the free ring
-    declared as known nullity.
+    declared as known nullity. Refused (``RodstabInputError``) above
+    :data:`FULL_SYSTEM_MAX_SEGMENTS` segments.
     """
+    if params.segments > FULL_SYSTEM_MAX_SEGMENTS:
+        raise RodstabInputError(
+            f"segments {params.segments}: the full system of general solutions runs up to "
+            f"{FULL_SYSTEM_MAX_SEGMENTS} segments (a dense {6 * params.segments}-square matrix "
+            "scanned for singular points; 44 s at 24 segments); use the FE engine")
     return full_system_critical(build(params), params.section.sqrt_b1b2 / params.length,
                                 ASSEMBLY_RIGID_NULLITY, 7.0)
 
 
-def engine_stability(params: Params, elements: int = DEFAULT_ELEMENTS) -> LinearStability:
+def engine_stability(params: Params, elements: int = DEFAULT_ELEMENTS,
+                     limits: Limits = DEFAULT_LIMITS) -> LinearStability:
     """Critical load factor ``mu = kappa_n`` by the linear FE engine."""
-    return engine(build(params), elements)
+    return engine(build(params), elements, limits)
 
 
 def _lam(mu: float, params: Params) -> dict[str, float]:

@@ -15,6 +15,8 @@ import math
 
 from ..analytic.michell import MichellStability, michell_stability
 from ..errors import require_positive_int
+from ..limits import DEFAULT as DEFAULT_LIMITS
+from ..limits import Limits
 from ..model import Assembly
 from ..sections import Section, circle
 from ._common import Method, richardson, segment
@@ -60,12 +62,13 @@ def to_paper(mu: float, params: Params) -> dict[str, float]:
     return {"b2_omega0": params.section.b2 * mu, "omega0": mu}
 
 
-def analytic_stability(params: Params) -> MichellStability:
+def analytic_stability(params: Params, limits: Limits = DEFAULT_LIMITS) -> MichellStability:
     """Critical twist by the quadratic form of (3.21) and the modes (3.22)-(3.26).
 
     :func:`rodstab.analytic.michell.michell_stability`; raises unless ``b1 = 1``.
     """
-    return michell_stability(params.section.b2, params.loops, b1=params.section.b1)
+    return michell_stability(params.section.b2, params.loops, b1=params.section.b1,
+                             limits=limits)
 
 
 def nonlinear_critical_twist(params: Params, elements: int = DEFAULT_ELEMENTS) -> float:

@@ -13,6 +13,8 @@ import math
 
 from ..analytic.ring import RingStability, ring_stability
 from ..errors import require_positive_int
+from ..limits import DEFAULT as DEFAULT_LIMITS
+from ..limits import Limits
 from ..linear.solve import LinearStability
 from ..model import Assembly
 from ..sections import Section, circle
@@ -62,14 +64,15 @@ def to_paper(mu: float, params: Params) -> dict[str, float]:
     return {"M": 1 - mu, "kappa_L_over_2pi": params.loops * mu}
 
 
-def analytic_stability(params: Params) -> RingStability:
+def analytic_stability(params: Params, limits: Limits = DEFAULT_LIMITS) -> RingStability:
     """Stable interval by the Fourier modes (3.2) and eq (3.3), :func:`.ring_stability`."""
-    return ring_stability(params.section.b1, params.section.b2, params.loops)
+    return ring_stability(params.section.b1, params.section.b2, params.loops, limits=limits)
 
 
-def engine_stability(params: Params, elements: int = DEFAULT_ELEMENTS) -> LinearStability:
+def engine_stability(params: Params, elements: int = DEFAULT_ELEMENTS,
+                     limits: Limits = DEFAULT_LIMITS) -> LinearStability:
     """Stable interval of the load factor ``mu = R kappa_n`` by the linear FE engine."""
-    return engine(build(params), elements)
+    return engine(build(params), elements, limits)
 
 
 def _interval(lo_mu: float, hi_mu: float, params: Params) -> dict[str, float]:

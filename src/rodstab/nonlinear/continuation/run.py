@@ -15,8 +15,10 @@ from pathlib import Path as FsPath
 import numpy as np
 
 from ...errors import NotConverged, RodstabInputError, require_finite, require_int
+from ...limits import DEFAULT as DEFAULT_LIMITS
+from ...limits import Limits, require_nonlinear, require_steps
 from ...model import Assembly
-from ..discrete import DiscreteRod, discretise
+from ..discrete import DiscreteRod, check_mesh, discretise
 from ..parameters import Parameter, parameter
 from ..solve import newton, settle
 from . import storage
@@ -70,7 +72,8 @@ def continuation(a: Assembly, key: str, start: float, stop: float, n_steps: int,
                  progress: Callable[[], None] | None = None, branch_steps: int = 8,
                  branch_ds: float | None = None, max_steps_factor: int = 8,
                  rod: DiscreteRod | None = None, stop_at_first: bool = False,
-                 reference_segment: str | None = None, restart: bool = False) -> Path:
+                 reference_segment: str | None = None, restart: bool = False,
+                 limits: Limits = DEFAULT_LIMITS) -> Path:
     """Follow the equilibrium of ``a`` as the parameter ``key`` goes from ``start`` to ``stop``.
 
     ``key``: ``load_factor``, ``segment.<name>.natural_curvature`` / ``.natural_twist`` or
@@ -93,7 +96,8 @@ def continuation(a: Assembly, key: str, start: float, stop: float, n_steps: int,
     same design and arguments continues from the last completed step, unless ``restart``. The
     run holds the directory's lock (:func:`.storage.run_lock`: a concurrent run into it raises
     :class:`~rodstab.errors.RodstabInputError`); a saved state that cannot be used is set
-    aside with a :class:`~rodstab.errors.RodstabWarning` and the run starts afresh.
+    aside with a :class:`~rodstab.errors.RodstabWarning` and the run starts afresh. A run past
+    ``limits`` (steps, unknowns; :mod:`rodstab.limits`) is refused before it starts.
     """
     start, stop = require_finite("start", start), require_finite("stop", stop)
     if start == stop or not math.isfinite(stop - start):
@@ -101,6 +105,12 @@ def continuation(a: Assembly, key: str, start: float, stop: float, n_steps: int,
                                 f"apart, got {start!r}:{stop!r}")
     n_steps = require_int("n_steps", n_steps, 1)
     n = require_int("elements_per_segment", elements_per_segment, 2)
+    require_steps(n_steps, f"{n_steps} steps", "continuation steps", limits)
+    require_nonlinear([n] * len(a.segments), len(a.joints()), f"{n} elements per segment",
+                      limits)
+    if key == "load_factor":  # the natural turning at both ends of the range, before stepping
+        check_mesh(a, n, start)
+        check_mesh(a, n, stop)
     branch_steps = require_int("branch_steps", branch_steps, 0)
     max_steps_factor = require_int("max_steps_factor", max_steps_factor, 1)
     length = reference_length(a, reference_segment)

@@ -1,0 +1,82 @@
+"""Issue 10: hostile inputs end in exit 2 (one stderr line naming the input) or exit 3 (not
+converged, after the output) -- never a traceback, a hang or a silent success.
+
+Each row is one class of the issue's catalogue with the example it listed; the resource rows
+must be refused before any allocation (they would otherwise run for minutes or exhaust memory).
+"""
+
+from __future__ import annotations
+
+import pytest
+
+E = "examples/"
+
+#: (argv, exit status, words the one stderr line must contain)
+CASES = [
+    # unbounded before: loops, segments, steps, points, elements
+    (["ring", "--loops", "1000000000"], 2, ["loops 1000000000", "--max-steps"]),
+    (["ring", "--loops", "99999999999999999999"], 2, ["--max-steps"]),
+    (["michell", "--loops", "1000000000"], 2, ["loops 1000000000", "--max-steps"]),
+    (["folded-ring", "--segments", "100000"], 2, ["unknowns", "--max-dof"]),
+    (["continue", E + "birod.toml", "--vary", "load_factor=1:4:1000000000", "--no-progress"],
+     2, ["--vary load_factor=1:4:1000000000", "--max-steps"]),
+    (["sweep", E + "birod.toml", "--vary", "section.nu=0.1:0.3:1000000000", "--no-progress",
+      "--out", "{tmp}/s"], 2, ["sweep points", "--max-steps"]),
+    (["analyze", E + "birod.toml", "--elements", "100000000"], 2, ["100000000", "--max-dof"]),
+    (["equilibrium", E + "birod.toml", "--elements", "100000000"], 2, ["100000000",
+                                                                         "--max-dof"]),
+    (["continue", E + "birod.toml", "--vary", "load_factor=0:1:2", "--elements", "100000000",
+      "--no-progress"], 2, ["100000000", "--max-dof"]),
+    (["analyze", E + "birod.toml", "--elements", "200000", "--max-memory", "1"], 2,
+     ["GiB", "--max-memory"]),
+    (["ring", "--loops", "5", "--max-steps", "13"], 2, ["14 Fourier modes", "--max-steps"]),
+    (["analyze", E + "birod.toml", "--max-dof", "0"], 2, ["--max-dof", "0"]),
+    (["analyze", E + "birod.toml", "--max-memory", "-1"], 2, ["--max-memory", "-1"]),
+    # overflow and derived quantities, blamed on the input
+    (["section", "--shape", "rectangle", "--aspect", "1e308"], 2, ["aspect", "1e+308"]),
+    (["section", "--shape", "rectangle", "--aspect", "1e-300"], 2, ["aspect", "1e-300"]),
+    (["section", "--b1", "1e308", "--b2", "1e308"], 2, ["b1", "1e+308"]),
+    (["equilibrium", E + "birod.toml", "--load-factor", "1e300"], 2, ["load factor 1e+300"]),
+    (["continue", E + "birod.toml", "--vary", "load_factor=0:1e300:3", "--no-progress"], 2,
+     ["load factor 1e+300"]),
+    (["equilibrium", E + "ring_3_loops.toml", "--elements", "3"], 2,
+     ["elements per segment 3", "at least 8"]),
+    # accepted silently before
+    (["arc", "--L-over-R", "1e9"], 2, ["L_over_R", "1000000000.0"]),
+    (["folded-ring", "--arc-angle", "720"], 2, ["arc_angle_deg", "720"]),
+    (["folded-ring", "--arc-angle", "1e308"], 2, ["arc_angle_deg"]),
+    (["folded-ring", "--arc-angle", "1e-320"], 2, ["arc_angle_deg"]),
+    # not converged: exit 3 after the output
+    (["analyze", E + "straight_clamped_rod.toml", "--elements", "2048"], 3,
+     ["residual", "fewer elements"]),
+]
+
+
+@pytest.mark.parametrize("argv, status, words", CASES,
+                         ids=[" ".join(c[0][:4]) for c in CASES])
+def test_hostile_input_gets_its_exit_status_and_one_line_naming_it(argv, status, words,
+                                                                   run_cli, tmp_path):
+    r = run_cli([a.replace("{tmp}", str(tmp_path)) for a in argv])
+    assert r.exit_code == status, (r.exit_code, r.stderr[-2000:])
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("rodstab: "), r.stderr
+    for w in words:
+        assert w in lines[0], (w, lines[0])
+    if status == 2:
+        assert not r.stdout.strip()
+    else:
+        assert r.stdout.strip()  # the output is printed before the exit 3
+
+
+def test_folded_ring_above_the_full_system_size_says_it_did_not_run_it(run_cli):
+    """24 segments: the engine answers (lam_c = 2 pi / 24 within its mesh error) and the
+    full system is reported as not run, in the table and as null in the JSON."""
+    import json
+    import math
+
+    r = run_cli(["folded-ring", "--segments", "24", "--json"])
+    assert r.exit_code == 0, r.stderr
+    d = json.loads(r.stdout)
+    assert d["lambda_c_full_system"] is None and d["multiplicity_full_system"] is None
+    assert d["lambda_c"] == pytest.approx(2 * math.pi / 24, rel=1e-6)
+    assert "full system not run" in run_cli(["folded-ring", "--segments", "24"]).stdout
