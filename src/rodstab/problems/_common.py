@@ -33,6 +33,17 @@ def segment(name: str, section: Section, L: float, k: float, kn: float,
                    B2=section.b2, B3=1.0, start=start, angle=angle, natural_twist=natural_twist)
 
 
+def clamped_sliding_rod(section: Section, L: float, kn: float) -> Assembly:
+    """Return the straight rod ``rod``: clamped at its start, sliding clamp at its end.
+
+    Natural curvature ``kn`` per unit load factor. The sliding clamp lets the end move along
+    the rod (the paper's modified support before (3.9)), so an inextensible rod can deflect.
+    """
+    s = segment("rod", section, float(L), 0.0, kn)
+    return Assembly(segments=(s,), supports=(("rod", "start", "clamped"),
+                                             ("rod", "end", "sliding-clamp")))
+
+
 def engine(assembly: Assembly, elements: int, limits: Limits = DEFAULT_LIMITS
            ) -> LinearStability:
     """Linear stability of ``assembly`` by the FE engine with ``elements`` per segment."""

@@ -17,7 +17,7 @@ from ..model import Assembly
 from ..numerics import matrix_roots
 from ..sections import Section, circle
 from ..transfer import clamped_arc_matrix
-from ._common import Method, engine, nonlinear_critical, segment
+from ._common import Method, clamped_sliding_rod, engine, nonlinear_critical
 
 #: Elements of the linear engine (the report's NL-straightened row).
 DEFAULT_ELEMENTS = 32
@@ -41,9 +41,7 @@ class Params:
 
 def build(params: Params) -> Assembly:
     """Return the straight rod ``rod``, natural curvature 1 per unit ``mu``, clamped / sliding."""
-    s = segment("rod", params.section, float(params.length), 0.0, 1.0)
-    return Assembly(segments=(s,), supports=(("rod", "start", "clamped"),
-                                             ("rod", "end", "sliding-clamp")))
+    return clamped_sliding_rod(params.section, params.length, 1.0)
 
 
 def to_paper(mu: float, params: Params) -> dict[str, float]:

@@ -16,7 +16,7 @@ from ..analytic.twisted_rod import greenhill_end_rotation
 from ..errors import require_positive
 from ..model import Assembly
 from ..sections import Section, circle
-from ._common import Method, richardson, segment
+from ._common import Method, clamped_sliding_rod, richardson
 
 #: Elements of the nonlinear rod (the model that solves this assembly).
 DEFAULT_ELEMENTS = 16
@@ -45,9 +45,7 @@ class Params:
 
 def build(params: Params) -> Assembly:
     """Return the straight rod ``rod``: clamped at its start, sliding clamp at its end."""
-    s = segment("rod", params.section, float(params.length), 0.0, 0.0)
-    return Assembly(segments=(s,), supports=(("rod", "start", "clamped"),
-                                    ("rod", "end", "sliding-clamp")))
+    return clamped_sliding_rod(params.section, params.length, 0.0)
 
 
 def to_paper(phi: float, params: Params) -> dict[str, float]:
