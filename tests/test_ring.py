@@ -226,3 +226,20 @@ def test_a_ring_of_a_billion_loops_is_refused_before_any_work():
     with pytest.raises(RodstabInputError, match=r"loops 5: 14 Fourier modes"):
         ring_stability(1.0, 0.75, 5, limits=Limits(max_steps=13))
     assert ring_stability(1.0, 0.75, 5, limits=Limits(max_steps=14)).loops == 5
+
+
+@pytest.mark.parametrize("b1, b2", [(1.0, 0.75), (16.0, 1.45), (0.25, 0.05), (3.0, 3.0)])
+@pytest.mark.parametrize("loops", [1, 2, 3, 5])
+def test_closed_form_mode_bounds_equal_the_pencil_eigen_solve(b1, b2, loops):
+    """ring_mode_bound (the roots of (3.3), corrected) gives the interval about M = 0 that the
+    generalized eigen solve of the mode's pencil gives, for every mode j != N up to 2N + 4."""
+    from rodstab.analytic.ring import ring_mode_bound
+    from rodstab.numerics import pencil_interval
+
+    for j in range(2 * loops + 5):
+        if j == loops:
+            continue
+        got = ring_mode_bound(j, loops, b1, b2)
+        ref = pencil_interval(*ring_mode_pencil(j / loops, b1, b2))
+        for a, b in ((got.lower, ref.lo), (got.upper, ref.hi)):
+            assert a == b or a == pytest.approx(b, rel=1e-12), (j, a, b)

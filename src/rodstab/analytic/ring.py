@@ -21,7 +21,6 @@ import numpy as np
 from ..errors import require_positive, require_positive_int
 from ..limits import DEFAULT as DEFAULT_LIMITS
 from ..limits import Limits, require_steps
-from ..numerics import pencil_interval
 from ..results import Result
 
 
@@ -66,6 +65,35 @@ class ModeBound(Result):
     upper: float
 
 
+def ring_mode_bound(j: int, loops: int, b1: float, b2: float) -> ModeBound:
+    """Bounds on ``M`` from mode ``j`` (``k = j/N``): the interval about ``M = 0`` (eq 3.3).
+
+    ``det(A_k - M C_k) = (1 - k^2) (M^2 - (b1 + b2) M + b1 b2 (1 - k^2))`` with roots
+    ``M- <= M+`` (:func:`ring_mode_eigenvalues`). ``C_k`` is positive definite for ``k < 1``, so
+    both roots lie above 0 and the mode bounds ``M < M-`` only; for ``k > 1`` it is indefinite
+    and ``M- < 0 < M+`` bound both sides; ``k = 0`` (twist alone) gives ``M < b1``. The same
+    interval as :func:`rodstab.numerics.pencil_interval` on :func:`ring_mode_pencil`
+    (tests/test_ring.py), at a fraction of its cost.
+    """
+    if j == 0:
+        return ModeBound(0, -math.inf, b1)
+    M_minus, M_plus = ring_mode_eigenvalues(j, loops, b1, b2)
+    if j < loops:
+        return ModeBound(j, -math.inf, M_minus)
+    return ModeBound(j, M_minus, M_plus)
+
+
+def _pencil_residual(m: ModeBound, loops: int, b1: float, b2: float) -> float:
+    """Smallest singular value of ``A_k - M C_k`` over ``||A_k||`` at each finite bound."""
+    A, C = ring_mode_pencil(m.j / loops, b1, b2)
+    out = 0.0
+    for M in (m.lower, m.upper):
+        if math.isfinite(M):
+            sv = np.linalg.svd(A - M * C, compute_uv=False)
+            out = max(out, float(sv[-1] / np.linalg.norm(A, 2)))
+    return out
+
+
 @dataclasses.dataclass(frozen=True)
 class RingStability(Result):
     """Stable interval of an N-loop untwisted ring (Section 3.1).
@@ -91,8 +119,9 @@ def ring_stability(b1: float, b2: float, loops: int, *, j_max: int | None = None
                    limits: Limits = DEFAULT_LIMITS) -> RingStability:
     """Stable interval of ``M = 1 - R kappa_n`` for an untwisted N-loop ring (Section 3.1).
 
-    Every mode ``j = 0 .. j_max`` except the rigid ``j = N`` is checked through the pencil
-    :func:`ring_mode_pencil` with the one eigen solver (:func:`rodstab.numerics.pencil_interval`).
+    Every mode ``j = 0 .. j_max`` except the rigid ``j = N`` is bounded by the closed-form roots
+    of its pencil (:func:`ring_mode_bound`), each checked by the pencil's smallest singular value
+    there (``residual``).
     ``j_max`` defaults to ``2 N + 4``: ``M-(k)`` falls and ``M+(k)`` rises monotonically in
     ``k = j/N``, so the binding modes are ``j = 0``, ``N - 1`` and ``N + 1``; the extra modes
     are a check of that argument, not needed for the answer.
@@ -113,15 +142,9 @@ def ring_stability(b1: float, b2: float, loops: int, *, j_max: int | None = None
     N = require_positive_int("loops", loops)
     j_max = 2 * N + 4 if j_max is None else j_max
     require_steps(j_max, f"loops {N}", "Fourier modes to check (one eigenproblem each)", limits)
-    modes: list[ModeBound] = []
-    residual = 0.0
-    for j in range(j_max + 1):
-        if j == N:  # rigid-body rotations about in-plane axes: P2 = 0 for every M
-            continue
-        A, C = ring_mode_pencil(j / N, b1, b2)
-        res = pencil_interval(A, C)
-        residual = max(residual, res.residual)
-        modes.append(ModeBound(j, res.lo, res.hi))
+    modes = [ring_mode_bound(j, N, b1, b2) for j in range(j_max + 1) if j != N]
+    # j = N: rigid-body rotations about in-plane axes, P2 = 0 for every M (left out).
+    residual = max(_pencil_residual(m, N, b1, b2) for m in modes)
     lo_mode = max(modes, key=lambda m: m.lower)
     hi_mode = min(modes, key=lambda m: m.upper)
     lo, hi = lo_mode.lower, hi_mode.upper
@@ -135,7 +158,7 @@ def ring_stability(b1: float, b2: float, loops: int, *, j_max: int | None = None
         modes=tuple(modes),
         residual=residual,
         converged=residual < 1e-10,
-        method="Fourier modes (3.2) + generalized symmetric eigenproblem per mode",
+        method="Fourier modes (3.2), closed-form roots (3.3) per mode, checked on the pencil",
     )
 
 
