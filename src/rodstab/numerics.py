@@ -34,8 +34,6 @@ from collections.abc import Callable
 from typing import Any
 
 import numpy as np
-import scipy.linalg as sla
-from scipy.optimize import brentq
 
 from .errors import RodstabInputError
 from .results import Result
@@ -67,6 +65,24 @@ DENSE_EIG_MAX = 200
 #: below this times ``max |A_ij|`` (ARPACK's own test is relative to the shifted-inverted
 #: eigenvalue, which says little about a tiny eigenvalue of a stiff matrix).
 EIG_RESIDUAL_TOL = 1e-8
+
+
+def _brentq() -> Any:
+    """Return scipy's Brent root finder, imported on first use.
+
+    ``scipy.optimize`` costs ~0.3 s to import; an analytic CLI answer needs it only when it
+    refines a root (issue 12: start-up time).
+    """
+    from scipy.optimize import brentq
+
+    return brentq
+
+
+def _sla() -> Any:
+    """Return ``scipy.linalg``, imported on first use (~0.1-0.4 s to import)."""
+    import scipy.linalg
+
+    return scipy.linalg
 
 
 @dataclasses.dataclass(frozen=True)
@@ -142,7 +158,7 @@ def _bracketed_root(f: Callable[[float], float], a: float, b: float, xtol: float
     flat; bisection on the same bracket always converges (to ``xtol``).
     """
     try:
-        return float(brentq(f, a, b, xtol=xtol, rtol=4 * np.finfo(float).eps, maxiter=500))
+        return float(_brentq()(f, a, b, xtol=xtol, rtol=4 * np.finfo(float).eps, maxiter=500))
     except RuntimeError:
         fa = f(a)
         while b - a > xtol:
@@ -352,7 +368,7 @@ def matrix_roots(
     eps4 = 4 * np.finfo(float).eps
 
     def add_sign_change(xa: float, xb: float) -> None:
-        x = float(brentq(det, xa, xb, xtol=xtol, rtol=eps4))
+        x = float(_brentq()(det, xa, xb, xtol=xtol, rtol=eps4))
         gx = g(x)
         if gx <= singular_tol and not is_pole(x, xa, xb):
             _, s = _sv_ratio(matrix(x))
@@ -452,11 +468,11 @@ def pencil_interval(A: np.ndarray, C: np.ndarray, *,
     C = np.asarray(C, dtype=float)
     n = A.shape[0]
     try:
-        sla.cholesky(A, lower=True)
+        _sla().cholesky(A, lower=True)
     except np.linalg.LinAlgError as exc:
         raise RodstabInputError("pencil_interval: A (zero-load second variation) is not "
                                 "positive definite") from exc
-    theta, V = sla.eigh(C, A)
+    theta, V = _sla().eigh(C, A)
     cnorm = max(float(np.max(np.abs(theta))), 1e-300)
     tol = MULTIPLICITY_RTOL * cnorm
 
@@ -542,7 +558,7 @@ def lowest_eigenpairs(A: Any, k: int) -> tuple[np.ndarray, np.ndarray]:
 
     n = A.shape[0]
     if n <= DENSE_EIG_MAX:
-        vals, vecs = sla.eigh(A.toarray(), subset_by_index=[0, min(k, n) - 1])
+        vals, vecs = _sla().eigh(A.toarray(), subset_by_index=[0, min(k, n) - 1])
     else:
         # A fixed start vector: ARPACK's default is random, which makes the last digits -- and
         # so the sign of quantities near zero along a path -- differ from run to run.
