@@ -126,6 +126,12 @@ def _require_converged(result: Any, what: str) -> None:
                            "tolerance (the printed numbers are not to be trusted)")
 
 
+def _one_of(multiplicity: int) -> str:
+    """Say that a multiple mode's sign pattern is one vector of its eigenspace, not the mode."""
+    return (f" (one vector of the {multiplicity}-fold eigenspace; any combination is critical)"
+            if multiplicity > 1 else "")
+
+
 def _fmt(x: float) -> str:
     return f"{x:.6g}"
 
@@ -333,7 +339,7 @@ def analyze(design_file: str, elements: int | None, plot_path: str | None, limit
         f"{'stable' if r.stable_at_design else 'NOT stable'})",
         f"critical     {_fmt(hi)} (multiplicity {r.multiplicity}); lam = {_fmt(lam)} "
         f"({payload['paper_load_factor_definition']})",
-        f"mode         {payload['mode_family']}",
+        f"mode         {payload['mode_family']}" + _one_of(r.multiplicity),
     ])
     _require_converged(r, f"the FE eigen solve at {n} elements per segment (round-off grows "
                           "with the mesh, as h^-4: try fewer elements)")
@@ -602,7 +608,7 @@ def birod(section: Section, limits: Limits, as_json: bool) -> None:
         f"lam_c = B3 kappa0 L/sqrt(B1 B2) = {_fmt(payload['lambda_c'])} (engine), "
         f"{_fmt(an.lambda_c)} (full system of general solutions); paper: 2 pi",
         f"psi_c = {_fmt(payload['psi_c'])} rad (paper: {_fmt(payload['paper_psi_c'])})",
-        f"mode         {payload['mode_family']}",
+        f"mode         {payload['mode_family']}" + _one_of(r.multiplicity),
     ])
     _require_converged(r, "the FE eigen solve")
 
