@@ -653,6 +653,54 @@ def folded_ring(section: Section, segments: int, arc_angle: float, limits: Limit
 
 
 @cli.command()
+@click.option("--segments", type=int, default=6, show_default=True,
+              help="Number n of identical rods welded end to start into a ring.")
+@click.option("--cusps/--smooth", "cusps", default=True, show_default=True,
+              help="Every weld reverses the tangent (cusp, the hexagram's) or continues it.")
+@click.option("--max-turns", type=float, default=1.0, show_default=True,
+              help="List the states whose rods turn by at most this many full turns.")
+@click.option("--length", type=float, default=1.0, show_default=True,
+              help="Length L of each rod.")
+@click.option("--natural-curvature", type=float, default=0.0, show_default=True,
+              help="kappa_n (1/length) at which the stored energy is given (B3 = 1).")
+@click.option("--plot", "plot_path", type=click.Path(dir_okay=False), default=None,
+              help="Write the planar shapes of the states in a grid (PNG).")
+@_json_option
+def states(segments: int, cusps: bool, max_turns: float, length: float,
+           natural_curvature: float, plot_path: str | None, as_json: bool) -> None:
+    """List the closed planar held states of uniform moment of a ring of n welded rods."""
+    import math
+
+    from .states import closed_states, state_centrelines
+
+    plot = None if plot_path is None else _image_output("--plot", plot_path)
+    r = closed_states(segments, weld="cusp" if cusps else "smooth", length=length,
+                      natural_curvature=natural_curvature, max_turns=max_turns)
+    rows = [{"label": s.label, "held_curvature": s.held_curvature,
+             "turning_number": s.turning_number, "distinct_weld_points": s.distinct_weld_points,
+             "energy": s.energy, "theta_deg": math.degrees(s.theta), "covering": s.covering,
+             "mirror": s.mirror} for s in r.states]
+    payload: dict[str, Any] = {"states": rows, "segments": r.segments, "weld": r.weld,
+                               "length": r.length, "natural_curvature": r.natural_curvature,
+                               "max_turns": r.max_turns, "method": r.method}
+    if plot is not None:
+        from .plots import plot_ring_states
+
+        payload["plot"] = str(plot_ring_states(
+            [state_centrelines(r, s) for s in r.states],
+            [f"{s.label}: kL = {math.degrees(s.theta):.6g} deg" for s in r.states], plot))
+    _emit(payload, as_json, [
+        f"ring         {r.segments} rods, {r.weld} welds, |kL| <= {_fmt(r.max_turns)} turns, "
+        f"energy at kappa_n = {_fmt(r.natural_curvature)} (B3 = 1)",
+        f"{'label':>16} {'kL deg':>9} {'k':>10} {'turning':>8} {'welds at':>8} "
+        f"{'covering':>8} {'energy':>10}",
+    ] + [f"{row['label']:>16} {row['theta_deg']:>9.6g} {row['held_curvature']:>10.6g} "
+         f"{row['turning_number']:>8.4g} {row['distinct_weld_points']:>8} "
+         f"{row['covering']:>8} {row['energy']:>10.6g}" for row in rows]
+      + ([f"wrote {payload['plot']}"] if plot is not None else []))
+
+
+@cli.command()
 @click.option("--out", "out_dir", type=click.Path(file_okay=False), default="results",
               show_default=True, help="Output directory.")
 @click.option("--no-progress", is_flag=True, help="Do not draw the progress bar.")

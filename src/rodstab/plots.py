@@ -180,3 +180,31 @@ def html_view(shapes: list[np.ndarray], edge_nodes: np.ndarray, path: str | Path
     p = Path(path)
     fig.write_html(p, include_plotlyjs=True, full_html=True)
     return p
+
+
+def plot_ring_states(shapes: list[list[np.ndarray]], titles: list[str], path: str | Path, *,
+                     columns: int = 4) -> Path:
+    """Draw closed planar states of a ring in a grid, one panel per state.
+
+    ``shapes[i]`` holds the centrelines ``(n_points, 2)`` of state ``i``'s rods (lab frame, as
+    :func:`rodstab.states.state_centrelines` gives them); each rod has its own colour, the
+    welds (rod ends) are dots. ``titles[i]`` is written above panel ``i``.
+    """
+    n = len(shapes)
+    cols = max(1, min(columns, n))
+    rows = max(1, -(-n // cols))
+    fig = Figure(figsize=(2.6 * cols, 2.6 * rows))
+    cmap = matplotlib.colormaps["tab10"]
+    for i, (rods, title) in enumerate(zip(shapes, titles, strict=True)):
+        ax = fig.add_subplot(rows, cols, i + 1)
+        for j, xy in enumerate(rods):
+            ax.plot(xy[:, 0], xy[:, 1], color=cmap(j % 10), lw=1.8)
+            ax.plot(xy[-1, 0], xy[-1, 1], "o", color="k", ms=3)
+        ax.set_aspect("equal")
+        ax.set_xticks([])
+        ax.set_yticks([])
+        ax.set_title(title, fontsize=8)
+    fig.tight_layout()
+    out = Path(path)
+    fig.savefig(out, dpi=110)
+    return out
