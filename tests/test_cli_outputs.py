@@ -110,8 +110,12 @@ def test_cli_prints_the_numbers_of_07ed206(args, run_cli, tmp_path):
     assert not errors, "\n".join(errors)
 
 
+#: Commands added after 07ed206 (nothing recorded to compare with), each with its own tests.
+NEW_COMMANDS = {"states": "tests/test_states.py", "hexagram": "tests/test_hexagram.py"}
+
+
 def test_every_subcommand_but_reproduce_is_compared():
     from rodstab.cli import cli
 
-    assert set(cli.commands) - {a[0] for a in CASES} == {"reproduce"}
+    assert set(cli.commands) - {a[0] for a in CASES} - set(NEW_COMMANDS) == {"reproduce"}
     assert set(RECORDED) == {case_id(a) for a in CASES}

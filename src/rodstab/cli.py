@@ -659,6 +659,124 @@ def folded_ring(section: Section, segments: int, arc_angle: float, limits: Limit
 
 
 @cli.command()
+@click.option("--segments", type=int, default=6, show_default=True,
+              help="Number n of identical rods welded end to start into a ring.")
+@click.option("--cusps/--smooth", "cusps", default=True, show_default=True,
+              help="Every weld reverses the tangent (cusp, the hexagram's) or continues it.")
+@click.option("--max-turns", type=float, default=1.0, show_default=True,
+              help="List the states whose rods turn by at most this many full turns.")
+@click.option("--length", type=float, default=1.0, show_default=True,
+              help="Length L of each rod.")
+@click.option("--natural-curvature", type=float, default=0.0, show_default=True,
+              help="kappa_n (1/length) at which the stored energy is given (B3 = 1).")
+@click.option("--plot", "plot_path", type=click.Path(dir_okay=False), default=None,
+              help="Write the planar shapes of the states in a grid (PNG).")
+@_json_option
+def states(segments: int, cusps: bool, max_turns: float, length: float,
+           natural_curvature: float, plot_path: str | None, as_json: bool) -> None:
+    """List the closed planar held states of uniform moment of a ring of n welded rods."""
+    import math
+
+    from .states import closed_states, state_centrelines
+
+    plot = None if plot_path is None else _image_output("--plot", plot_path)
+    r = closed_states(segments, weld="cusp" if cusps else "smooth", length=length,
+                      natural_curvature=natural_curvature, max_turns=max_turns)
+    rows = [{"label": s.label, "held_curvature": s.held_curvature,
+             "turning_number": s.turning_number, "distinct_weld_points": s.distinct_weld_points,
+             "energy": s.energy, "theta_deg": math.degrees(s.theta), "covering": s.covering,
+             "mirror": s.mirror} for s in r.states]
+    payload: dict[str, Any] = {"states": rows, "segments": r.segments, "weld": r.weld,
+                               "length": r.length, "natural_curvature": r.natural_curvature,
+                               "max_turns": r.max_turns, "method": r.method}
+    if plot is not None:
+        from .plots import plot_ring_states
+
+        payload["plot"] = str(plot_ring_states(
+            [state_centrelines(r, s) for s in r.states],
+            [f"{s.label}: kL = {math.degrees(s.theta):.6g} deg" for s in r.states], plot))
+    _emit(payload, as_json, [
+        f"ring         {r.segments} rods, {r.weld} welds, |kL| <= {_fmt(r.max_turns)} turns, "
+        f"energy at kappa_n = {_fmt(r.natural_curvature)} (B3 = 1)",
+        f"{'label':>16} {'kL deg':>9} {'k':>10} {'turning':>8} {'welds at':>8} "
+        f"{'covering':>8} {'energy':>10}",
+    ] + [f"{row['label']:>16} {row['theta_deg']:>9.6g} {row['held_curvature']:>10.6g} "
+         f"{row['turning_number']:>8.4g} {row['distinct_weld_points']:>8} "
+         f"{row['covering']:>8} {row['energy']:>10.6g}" for row in rows]
+      + ([f"wrote {payload['plot']}"] if plot is not None else []))
+
+
+@cli.command()
+@click.option("--threshold", "find_threshold", is_flag=True,
+              help="Solve for the smallest rectangle h/t above which all four states are "
+                   "stable together (uses --nu and --torsion; --aspect is the unknown).")
+@click.option("--method", type=click.Choice(["transfer", "fe"]), default="transfer",
+              show_default=True,
+              help="Exact arc with a Bloch phase per harmonic, or the FE engine "
+                   "(Richardson-extrapolated from 32 and 64 elements per rod).")
+@click.option("--chart", "chart_path", type=click.Path(dir_okay=False), default=None,
+              help="Write the stable bands of the four states against h/t in [1, 6] "
+                   "(rectangles of --nu, --torsion; PNG).")
+@_section_options
+@_limit_options
+@_json_option
+def hexagram(section: Section, find_threshold: bool, method: str, chart_path: str | None,
+             limits: Limits, as_json: bool) -> None:
+    """Stable kappa_n R0 of the curved-sided hexagram's four states (six rods, cusps)."""
+    from .problems import REGISTRY
+
+    problem = REGISTRY["hexagram"]
+    ctx = click.get_current_context()
+    torsion = ctx.params["torsion"]
+    chart = None if chart_path is None else _image_output("--chart", chart_path)
+    rect_only = find_threshold or chart is not None
+    if rect_only:
+        what = "--threshold" if find_threshold else "--chart"
+        for option, name in (("shape", "--shape"), ("aspect", "--aspect"), ("b1", "--b1"),
+                             ("b2", "--b2")):
+            src = ctx.get_parameter_source(option)
+            given = src is not None and src.name != "DEFAULT"
+            if given and not (option == "shape" and ctx.params["shape"] == "rectangle"):
+                raise RodstabInputError(
+                    f"{what} varies rectangles' h/t: {name} {ctx.params[option]!r} cannot be "
+                    "given with it (use --nu and --torsion)")
+    nu = float(ctx.params["nu"])
+    payload: dict[str, Any]
+    if find_threshold:
+        th = problem.threshold(nu=nu, torsion=torsion, method=method)
+        payload = {"aspect_threshold": th.aspect_threshold, "kappa_R0": th.kappa_R0,
+                   "binding": list(th.binding), "bracket": list(th.bracket), "nu": nu,
+                   "torsion": torsion, "method": th.method,
+                   "published_threshold": problem.PUBLISHED_THRESHOLD,
+                   "published_binding": list(problem.PUBLISHED_BINDING)}
+        lines = [f"rectangles, nu {_fmt(nu)}, torsion {torsion}: all four states stable "
+                 f"together for h/t > {_fmt(th.aspect_threshold)} (kappa_n R0 = "
+                 f"{_fmt(th.kappa_R0)} there)",
+                 f"binding      {th.binding[0]} = {th.binding[1]}; published: h/t > "
+                 f"{problem.PUBLISHED_THRESHOLD:g} ({', '.join(problem.PUBLISHED_BINDING)})"]
+    else:
+        at = problem.atlas(section, method, limits)
+        payload = {"states": {s: list(v) for s, v in at.states.items()},
+                   "all_four": None if at.all_four is None else list(at.all_four),
+                   "method": method, "section": section.to_dict()}
+        lines = [_section_line(section)] + [
+            f"{s:>6}       {_fmt(lo)} < kappa_n R0 < {_fmt(hi)}"
+            for s, (lo, hi) in at.states.items()] + [
+            "all four     " + ("never stable together" if at.all_four is None else
+                               f"{_fmt(at.all_four[0])} < kappa_n R0 < {_fmt(at.all_four[1])}")]
+    if chart is not None:
+        from .plots import plot_stable_bands
+
+        data = problem.chart_data(nu=nu, torsion=torsion, method=method)
+        mark = payload["aspect_threshold"] if find_threshold else None
+        payload["chart"] = str(plot_stable_bands(
+            data, problem.STATES, chart, threshold=mark,
+            title=f"hexagram, rectangles, nu = {nu:.4g}, torsion {torsion}, {method}"))
+        lines.append(f"wrote {payload['chart']}")
+    _emit(payload, as_json, lines)
+
+
+@cli.command()
 @click.option("--out", "out_dir", type=click.Path(file_okay=False), default="results",
               show_default=True, help="Output directory.")
 @click.option("--no-progress", is_flag=True, help="Do not draw the progress bar.")

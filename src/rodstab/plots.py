@@ -180,3 +180,65 @@ def html_view(shapes: list[np.ndarray], edge_nodes: np.ndarray, path: str | Path
     p = Path(path)
     fig.write_html(p, include_plotlyjs=True, full_html=True)
     return p
+
+
+def plot_ring_states(shapes: list[list[np.ndarray]], titles: list[str], path: str | Path, *,
+                     columns: int = 4) -> Path:
+    """Draw closed planar states of a ring in a grid, one panel per state.
+
+    ``shapes[i]`` holds the centrelines ``(n_points, 2)`` of state ``i``'s rods (lab frame, as
+    :func:`rodstab.states.state_centrelines` gives them); each rod has its own colour, the
+    welds (rod ends) are dots. ``titles[i]`` is written above panel ``i``.
+    """
+    n = len(shapes)
+    cols = max(1, min(columns, n))
+    rows = max(1, -(-n // cols))
+    fig = Figure(figsize=(2.6 * cols, 2.6 * rows))
+    cmap = matplotlib.colormaps["tab10"]
+    for i, (rods, title) in enumerate(zip(shapes, titles, strict=True)):
+        ax = fig.add_subplot(rows, cols, i + 1)
+        for j, xy in enumerate(rods):
+            ax.plot(xy[:, 0], xy[:, 1], color=cmap(j % 10), lw=1.8)
+            ax.plot(xy[-1, 0], xy[-1, 1], "o", color="k", ms=3)
+        ax.set_aspect("equal")
+        ax.set_xticks([])
+        ax.set_yticks([])
+        ax.set_title(title, fontsize=8)
+    fig.tight_layout()
+    out = Path(path)
+    fig.savefig(out, dpi=110)
+    return out
+
+
+def plot_stable_bands(data: dict[str, list[float]], states: tuple[str, ...], path: str | Path,
+                      *, threshold: float | None = None, title: str = "") -> Path:
+    """Draw each state's stable band of the load between ``<state>.lower`` and ``.upper``.
+
+    ``data["aspect"]`` is the abscissa (h/t); the bands are filled, translucent, one colour per
+    state; the band where all are stable together is hatched, and ``threshold`` (if given) is
+    a vertical dotted line.
+    """
+    x = np.asarray(data["aspect"], dtype=float)
+    fig = Figure(figsize=(6.4, 4.6))
+    ax = fig.subplots()
+    cmap = matplotlib.colormaps["tab10"]
+    for i, state in enumerate(states):
+        lo = np.asarray(data[f"{state}.lower"], dtype=float)
+        hi = np.asarray(data[f"{state}.upper"], dtype=float)
+        ax.fill_between(x, lo, hi, color=cmap(i), alpha=0.25, label=state)
+        ax.plot(x, lo, color=cmap(i), lw=1)
+        ax.plot(x, hi, color=cmap(i), lw=1)
+    lows = np.max([data[f"{s}.lower"] for s in states], axis=0)
+    highs = np.min([data[f"{s}.upper"] for s in states], axis=0)
+    ax.fill_between(x, lows, highs, where=highs > lows, facecolor="none", hatch="//",
+                    edgecolor="k", lw=0, label="all stable")
+    if threshold is not None:
+        ax.axvline(threshold, color="k", ls=":", lw=1, label=f"h/t* = {threshold:.4g}")
+    ax.set_xlabel("h / t")
+    ax.set_ylabel("kappa_n R0")
+    ax.set_title(title, fontsize=9)
+    ax.legend(fontsize=8, loc="upper left")
+    ax.grid(alpha=0.3)
+    out = Path(path)
+    fig.savefig(out, dpi=120, bbox_inches="tight")
+    return out

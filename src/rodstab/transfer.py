@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Callable
 from typing import cast
 
 import numpy as np
@@ -346,3 +347,163 @@ def full_system_critical(assembly, mu_per_lambda: float, known_nullity: int,
     return FullSystemCritical(first.x / g, first.multiplicity,
                               tuple(r.x / g for r in found.roots[1:4]), first.residual,
                               found.method)
+
+
+# --------------------------------------------------------------------------------------------
+# Rings of n identical arcs welded end to start (smooth or at cusps), reduced by their n-fold
+# cyclic symmetry to one arc and a Bloch phase per harmonic (the curved-sided hexagram).
+
+#: Joint map of a cusp on ``(u, u', omega, P_u, P_u', P_w)`` (:func:`arc_end_matrix`): the next
+#: arc's tangent and normal are the reversed ones, so ``u`` and the shear keep their sign and
+#: the slope, the twist and the two moment components change it (continuity of ``u`` and of
+#: the rotation vector ``u' n + omega t``, balance of force and moment at the weld).
+CUSP_JOINT_MAP = np.diag([1.0, -1.0, -1.0, 1.0, -1.0, -1.0])
+#: Singular values below this times the largest, at a load where the ring is stable, are its
+#: rigid motions (counted per harmonic, then declared to the root finder as known nullity).
+RIGID_SV_RTOL = 1e-9
+
+
+def arc_end_matrix(L_kappa: float, L_over_R: float, b1: float, b2: float) -> np.ndarray:
+    """6x6 map from the state ``y`` of :func:`arc_system_matrix` to ``(u, u', omega, P)``.
+
+    ``P = (P_u, P_u', P_w)`` are the coefficients of ``du``, ``du'``, ``d omega`` in the boundary
+    terms of the first variation of the module docstring's ``I[u, w]`` (``Lbar = L/R``,
+    ``m = Lbar - L kappa_n``)::
+
+        P_u  = -b1 (u''' - Lbar w') + Lbar b2 (w' + Lbar u') - m (Lbar u' + w')
+        P_u' =  b1 (u'' - Lbar w)
+        P_w  =  b2 (w' + Lbar u') - m u'
+
+    (shear, bending moment about the normal ``n = t x e3`` and torque; at ``Lbar = 0`` the
+    ``V``, ``Mb``, ``Tq`` of :func:`straight_segment_system` with ``B3 = 1``, lengths in ``L``).
+    """
+    Lb = L_over_R
+    m = Lb - L_kappa
+    G = np.zeros((6, 6))
+    G[0, 0] = G[1, 1] = G[2, 4] = 1.0
+    G[3, 3] = -b1
+    G[3, 5] = b1 * Lb + b2 * Lb - m
+    G[3, 1] = b2 * Lb * Lb - m * Lb
+    G[4, 2] = b1
+    G[4, 4] = -b1 * Lb
+    G[5, 5] = b2
+    G[5, 1] = b2 * Lb - m
+    return G
+
+
+def _cyclic_parts(L_kappa: float, L_over_R: float, b1: float, b2: float,
+                  weld: str) -> tuple[np.ndarray, np.ndarray]:
+    """``(G, J G T)`` of :func:`cyclic_ring_matrix` (the same for every harmonic)."""
+    if weld not in ("cusp", "smooth"):
+        raise RodstabInputError(f"weld must be 'cusp' or 'smooth', got {weld!r}")
+    S = arc_system_matrix(L_kappa, L_over_R, b1, b2)
+    G = arc_end_matrix(L_kappa, L_over_R, b1, b2)
+    J = CUSP_JOINT_MAP if weld == "cusp" else np.eye(6)
+    return G, J @ G @ expm(S)
+
+
+def _bloch(G: np.ndarray, right: np.ndarray, harmonic: int, segments: int) -> np.ndarray:
+    """``rho G - right`` for ``rho = exp(2 pi i m / n)``, real (6x6 or the 12x12 real form)."""
+    if (2 * harmonic) % segments == 0:
+        rho = 1.0 if harmonic % segments == 0 else -1.0
+        return cast(np.ndarray, rho * G - right)
+    phase = 2 * math.pi * harmonic / segments
+    re = math.cos(phase) * G - right
+    im = math.sin(phase) * G
+    return np.block([[re, -im], [im, re]])
+
+
+def cyclic_ring_matrix(L_kappa: float, L_over_R: float, b1: float, b2: float, harmonic: int,
+                       segments: int, weld: str) -> np.ndarray:
+    """Bloch matrix of harmonic ``m`` of a ring of ``segments`` equal arcs; singular at its loads.
+
+    Arc ``i + 1`` is arc ``i`` turned about ``e3`` (by ``L/R + pi`` across a cusp, ``L/R``
+    across a smooth weld), so the P2 of every arc is the same in its own frame and the modes
+    of harmonic ``m`` have ``y_{i+1}(0) = rho y_i(0)``, ``rho = exp(2 pi i m / n)``. With
+    ``T = expm(S)`` over one arc (:func:`arc_system_matrix`), ``G`` = :func:`arc_end_matrix`
+    and ``J`` the joint map (:data:`CUSP_JOINT_MAP`, or the identity for a smooth weld), the
+    weld conditions of arc ``i``'s end and arc ``i + 1``'s start read
+    ``(rho G - J G T) y_i(0) = 0``. For ``rho = +-1`` this 6x6 matrix is real; otherwise its
+    real 12x12 form ``[[Re, -Im], [Im, Re]]`` is returned, singular on the pair ``m, n - m``
+    together (a mode of multiplicity 2).
+    """
+    G, right = _cyclic_parts(L_kappa, L_over_R, b1, b2, weld)
+    return _bloch(G, right, harmonic, segments)
+
+
+@dataclasses.dataclass(frozen=True)
+class CyclicRingInterval(Result):
+    """Stable interval of the load factor of a cyclic ring of arcs, one end from each side.
+
+    ``lo``/``hi`` are the singular loads nearest below/above ``reference`` over the harmonics
+    ``0 .. n/2`` (``-inf``/``+inf`` if none within ``max_span``); ``harmonic_*`` the harmonic
+    ``m`` (the pair ``m, n - m``) and ``multiplicity_*`` the null-space dimension there;
+    ``rigid_nullity`` the rigid motions per harmonic.
+    """
+
+    lo: float
+    hi: float
+    harmonic_lo: int
+    harmonic_hi: int
+    multiplicity_lo: int
+    multiplicity_hi: int
+    rigid_nullity: tuple[int, ...]
+    residual: float
+    method: str
+
+
+def cyclic_ring_interval(L_over_R: float, L_kappa_per_mu: float, b1: float, b2: float,
+                         segments: int, weld: str, reference: float, *, chunk: float = 1.0,
+                         max_span: float = 50.0, n_scan: int = 40) -> CyclicRingInterval:
+    """Stable interval of ``mu`` (``L kappa_n = mu L_kappa_per_mu``) around a stable ``reference``.
+
+    For every harmonic ``m = 0 .. n/2`` of :func:`cyclic_ring_matrix`, the rigid motions are
+    counted at ``reference`` (singular values below :data:`RIGID_SV_RTOL`); then the package's
+    root finder (:func:`rodstab.numerics.matrix_roots`, the rigid motions as known nullity)
+    scans outwards from ``reference`` in overlapping windows of ``chunk`` (``n_scan`` intervals
+    each) until
+    a singular load is found or ``max_span`` is passed. An eigenvalue of the pencil crosses
+    zero exactly at a singular load, so the first one on each side bounds the stable interval.
+    """
+    n = int(segments)
+    harmonics = range(n // 2 + 1)
+
+    parts: dict[float, tuple[np.ndarray, np.ndarray]] = {}  # the harmonics share T(mu)
+
+    def matrix(h: int) -> Callable[[float], np.ndarray]:
+        def at(mu: float) -> np.ndarray:
+            if mu not in parts:
+                parts[mu] = _cyclic_parts(mu * L_kappa_per_mu, L_over_R, b1, b2, weld)
+            return _bloch(*parts[mu], h, n)
+        return at
+
+    nullity = []
+    for h in harmonics:
+        s = np.linalg.svd(matrix(h)(reference), compute_uv=False)
+        nullity.append(int(np.sum(s <= RIGID_SV_RTOL * s[0])))
+    found: dict[int, tuple[float, int, int, float]] = {}
+    for side in (-1, 1):
+        best: tuple[float, int, int, float] | None = None
+        start = 0.0
+        while best is None and start < max_span:
+            # Windows overlap by a tenth of a window: a root within one scan spacing of a
+            # window's end (where sigma_min has no interior minimum on the grid) is found by
+            # the next window as an interior point.
+            a, b = sorted((reference + side * (start - 0.1 * chunk),
+                           reference + side * (start + 1.1 * chunk)))
+            for h in harmonics:
+                search = matrix_roots(matrix(h), a, b, n_scan=n_scan, known_nullity=nullity[h],
+                                      method_name="Bloch harmonic")
+                roots = [r for r in search.roots if (r.x - reference) * side > 0]
+                if roots:
+                    r = roots[0] if side > 0 else roots[-1]
+                    if best is None or abs(r.x - reference) < abs(best[0] - reference):
+                        best = (r.x, h, r.multiplicity, r.residual)
+            start += chunk
+        found[side] = best if best is not None else (side * math.inf, -1, 0, 0.0)
+    lo, hi = found[-1], found[1]
+    return CyclicRingInterval(
+        lo=lo[0], hi=hi[0], harmonic_lo=lo[1], harmonic_hi=hi[1], multiplicity_lo=lo[2],
+        multiplicity_hi=hi[2], rigid_nullity=tuple(nullity), residual=max(lo[3], hi[3]),
+        method=f"exact P2 on one arc, {weld} joint map, Bloch phase per harmonic 0..{n // 2}, "
+               "sigma_min scan")

@@ -18,6 +18,8 @@ name                      structure                                   paper
 ``unfolded-ring``         one-loop ring of 2n arcs with cusps         Fig. 1, Fig. 10
 ``twisted-rod``           Greenhill's rod twisted by an end rotation  beyond the paper
                           (nonlinear)
+``hexagram``              six rods welded at cusps in its four        beyond the paper
+                          states (Lu, Leanza, Zhao, Hutchinson)
 ========================  ==========================================  ====================
 
 ``METHODS`` maps method names (``"analytic"``: :mod:`rodstab.analytic`; ``"transfer"``:
@@ -42,6 +44,7 @@ from . import (
     birod,
     clamped_arc,
     folded_ring,
+    hexagram,
     michell,
     ring,
     straightened_rod,
@@ -60,6 +63,7 @@ REGISTRY: dict[str, ModuleType] = {
     "folded-ring": folded_ring,
     "unfolded-ring": unfolded_ring,
     "twisted-rod": twisted_rod,
+    "hexagram": hexagram,
 }
 
 
@@ -74,5 +78,5 @@ def agree(a: float, b: float, rtol: float) -> bool:
     return abs(a - b) <= rtol * max(abs(a), abs(b), 1.0) if math.isfinite(a - b) else False
 
 
-__all__ = ["REGISTRY", "agree", "birod", "clamped_arc", "folded_ring", "michell", "ring",
-           "straightened_rod", "twisted_rod", "unfolded_ring"]
+__all__ = ["REGISTRY", "agree", "birod", "clamped_arc", "folded_ring", "hexagram", "michell",
+           "ring", "straightened_rod", "twisted_rod", "unfolded_ring"]
