@@ -607,7 +607,7 @@ def pencil_interval_sparse(A, C, *, multiplicity_rtol: float = MULTIPLICITY_RTOL
     A = sp.csc_matrix(A)
     C = sp.csc_matrix(C)
     n = A.shape[0]
-    if n < 400:
+    if n <= DENSE_EIG_MAX:  # the dense solve is O(n^3) and slow on a busy multithreaded BLAS
         return pencil_interval(A.toarray(), C.toarray(), multiplicity_rtol=multiplicity_rtol)
     # Symmetric permutation and diagonal pivots only: U's diagonal is then the D of
     # P A P^T = L D L^T, whose signs are A's inertia (Sylvester) -- a definiteness test.
