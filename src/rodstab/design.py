@@ -35,6 +35,17 @@ Format (every key optional unless marked; unknown keys are errors)::
     load_factor_segment = "a" # report lam = B3 kappa_n L / sqrt(B1 B2) of this segment
 
 Plain data only: parsed with :mod:`tomllib`; nothing is evaluated.
+
+Validation happens once, here, at the boundary: every value is read by one of a small set of
+typed readers (``_number``, ``_int``, ``_bool``, ``_str``, ``_table``, ``_list``) with its full
+key path (``segment[2].natural_curvature``, ``segment[0].section.aspect``,
+``support[1].rotation[1]``, ``weld[0].ends[1]``, ``analysis.elements``). A boolean is not a
+number, a float is not an integer, an array is not a table. Ranges: lengths in
+:data:`LENGTH_RANGE`, ``B3`` in :data:`STIFFNESS_RANGE`, ``|curvature|``, ``|natural_curvature|``
+and ``|natural_twist|`` times the length at most :data:`MAX_TURNING`, ``angle_deg`` in
+:data:`ANGLE_RANGE_DEG`, rotations within :data:`MAX_END_ROTATION`, ``nu`` in (-1, 0.5],
+``aspect``, ``b1``, ``b2`` as :mod:`rodstab.sections` accepts them. Messages start with the
+file's name.
 """
 
 from __future__ import annotations
