@@ -51,6 +51,8 @@ CASES = [
     (["arc", "--L-over-R", "1e-14", "--shape", "ellipse"], 2, ["L_over_R", "1e-14"]),
     (["folded-ring", "--segments", "106638", "--max-dof", "20000"], 2,
      ["segments 106638", "--max-dof"]),
+    (["folded-ring", "--segments", "1000000000000"], 2, ["segments 1000000000000",
+                                                         "--max-dof"]),
     # not converged: exit 3 after the output
     (["analyze", E + "straight_clamped_rod.toml", "--elements", "2048"], 3,
      ["residual", "fewer elements"]),

@@ -19,7 +19,7 @@ from ..errors import (
     require_positive_int,
 )
 from ..limits import DEFAULT as DEFAULT_LIMITS
-from ..limits import Limits, require_linear
+from ..limits import Limits, require_linear_uniform
 from ..linear.solve import LinearStability
 from ..model import Assembly
 from ..sections import Section, circle
@@ -126,8 +126,8 @@ def engine_stability(params: Params, elements: int = DEFAULT_ELEMENTS,
     """Critical load factor ``mu = kappa_n`` by the linear FE engine."""
     # Refused before the segments are built (validating 1e5 welded segments takes seconds).
     n_seg = int(params.segments)
-    require_linear([elements] * n_seg, n_seg, f"{elements} elements per segment, segments "
-                   f"{n_seg}", limits)
+    require_linear_uniform(elements, n_seg, n_seg, f"{elements} elements per segment, segments "
+                           f"{n_seg}", limits)
     return engine(build(params), elements, limits)
 
 
