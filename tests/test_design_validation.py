@@ -93,6 +93,8 @@ CASES = [
     (_design(seg2="curvature = inf"), ["segment[2].curvature", "inf", "finite"]),
     (_design(seg2="natural_curvature = 1e308"), ["segment[2].natural_curvature", "1e+308",
                                                  "at most"]),
+    (_design(seg2="angle_deg = 1" + "0" * 400), ["segment[2].angle_deg", "finite",
+                                                  "digits"]),
     (_design(seg2="natural_twist = 99999999999999999999999"),
      ["segment[2].natural_twist", "99999999999999999999999"]),
     (_design(replace=(("length = 1.0", "length = 0"),)), ["segment[0].length", "0", "[1e-09"]),

@@ -53,6 +53,13 @@ CASES = [
      ["segments 106638", "--max-dof"]),
     (["folded-ring", "--segments", "1000000000000"], 2, ["segments 1000000000000",
                                                          "--max-dof"]),
+    (["continue", E + "twisted_rod.toml", "--vary", "support.0.rotation.tangent=-1e308:1:4",
+      "--elements", "4", "--no-progress"], 2, ["support.0.rotation.tangent", "-1e+308"]),
+    (["continue", E + "twisted_rod.toml", "--vary",
+      "support.0.rotation.tangent=0:3.0464138875641794e+289:1", "--elements", "4",
+      "--no-progress"], 2, ["support.0.rotation.tangent", "3.04641e+289"]),
+    (["continue", E + "twisted_rod.toml", "--vary", "segment.rod.natural_curvature=0:1e300:2",
+      "--elements", "4", "--no-progress"], 2, ["segment.rod.natural_curvature", "1e+300"]),
     # not converged: exit 3 after the output
     (["analyze", E + "straight_clamped_rod.toml", "--elements", "2048"], 3,
      ["residual", "fewer elements"]),

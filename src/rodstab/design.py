@@ -58,7 +58,7 @@ from pathlib import Path
 from typing import Any
 
 from .errors import RodstabInputError, require_positive_int
-from .model import ROTATION_AXES, SUPPORTS, Assembly, Segment
+from .model import MAX_END_ROTATION, ROTATION_AXES, SUPPORTS, Assembly, Segment
 from .sections import ASPECT_RANGE, RATIO_RANGE, SHAPES, TORSION_OPTIONS, make_section
 
 _TOP = {"section", "segment", "weld", "support", "analysis"}
@@ -85,8 +85,6 @@ MAX_TURNING = 2000 * math.pi
 MAX_COORDINATE = 1e12
 #: Accepted ``angle_deg``: a direction in degrees.
 ANGLE_RANGE_DEG = (-360.0, 360.0)
-#: Largest |component| of an imposed end rotation (radians): a hundred turns.
-MAX_END_ROTATION = 200 * math.pi
 #: Largest |reference_load| (a load factor; the design's natural curvatures are at 1).
 MAX_REFERENCE_LOAD = 1e6
 _NU_RANGE = (-1.0, 0.5)
@@ -177,8 +175,8 @@ def _as_number(value: Any, path: str, *, lo: float = -math.inf, hi: float = math
                                 f"{_got(value)}")
     try:
         v = float(value)
-    except OverflowError:  # an integer beyond 1.8e308
-        v = math.copysign(math.inf, value)
+    except OverflowError:  # an integer beyond 1.8e308 (copysign would overflow as well)
+        v = math.inf if value > 0 else -math.inf
     if not math.isfinite(v):
         raise RodstabInputError(f"{path} must be a finite number, got {_show(value)}")
     if v < lo or v > hi or (lo_open and v == lo) or (hi_open and v == hi):
