@@ -46,6 +46,20 @@ CASES = [
     (["folded-ring", "--arc-angle", "720"], 2, ["arc_angle_deg", "720"]),
     (["folded-ring", "--arc-angle", "1e308"], 2, ["arc_angle_deg"]),
     (["folded-ring", "--arc-angle", "1e-320"], 2, ["arc_angle_deg"]),
+    # found by benchmarks/fuzz.py
+    (["arc", "--L-over-R", "1e-300"], 2, ["L_over_R", "1e-300", "straight limit"]),
+    (["arc", "--L-over-R", "1e-14", "--shape", "ellipse"], 2, ["L_over_R", "1e-14"]),
+    (["folded-ring", "--segments", "106638", "--max-dof", "20000"], 2,
+     ["segments 106638", "--max-dof"]),
+    (["folded-ring", "--segments", "1000000000000"], 2, ["segments 1000000000000",
+                                                         "--max-dof"]),
+    (["continue", E + "twisted_rod.toml", "--vary", "support.0.rotation.tangent=-1e308:1:4",
+      "--elements", "4", "--no-progress"], 2, ["support.0.rotation.tangent", "-1e+308"]),
+    (["continue", E + "twisted_rod.toml", "--vary",
+      "support.0.rotation.tangent=0:3.0464138875641794e+289:1", "--elements", "4",
+      "--no-progress"], 2, ["support.0.rotation.tangent", "3.04641e+289"]),
+    (["continue", E + "twisted_rod.toml", "--vary", "segment.rod.natural_curvature=0:1e300:2",
+      "--elements", "4", "--no-progress"], 2, ["segment.rod.natural_curvature", "1e+300"]),
     # not converged: exit 3 after the output
     (["analyze", E + "straight_clamped_rod.toml", "--elements", "2048"], 3,
      ["residual", "fewer elements"]),
@@ -80,3 +94,17 @@ def test_folded_ring_above_the_full_system_size_says_it_did_not_run_it(run_cli):
     assert d["lambda_c_full_system"] is None and d["multiplicity_full_system"] is None
     assert d["lambda_c"] == pytest.approx(2 * math.pi / 24, rel=1e-6)
     assert "full system not run" in run_cli(["folded-ring", "--segments", "24"]).stdout
+
+
+def test_a_design_without_natural_curvature_on_the_sparse_path_is_stable_everywhere(run_cli):
+    """Found by benchmarks/fuzz.py: >= 400 unknowns and no natural curvature (C = 0) raised
+    ARPACK's "Starting vector is zero"; now the whole line, as the dense path says."""
+    import json
+
+    r = run_cli(["analyze", E + "twisted_rod.toml", "--elements", "257", "--json"])
+    assert r.exit_code == 0, r.stderr
+    d = json.loads(r.stdout)
+    assert d["n_dof"] >= 400 and d["load_factor_interval"] == [None, None]  # infinite
+    small = json.loads(run_cli(["analyze", E + "twisted_rod.toml", "--elements", "8",
+                                "--json"]).stdout)
+    assert small["n_dof"] < 400 and small["load_factor_interval"] == [None, None]

@@ -541,9 +541,9 @@ def sweep(design_file: str, vary: str, out_dir: str, elements: int | None, no_pr
     import numpy as np
     from tqdm import tqdm
 
-    from .design import load_design, parse_design, parse_vary, set_design_value
+    from .design import load_design, parse_vary
     from .report.figures import sweep_plot
-    from .sweep import COLUMNS, SweepRow
+    from .sweep import COLUMNS, SweepRow, design_at
     from .sweep import sweep as run_sweep
 
     spec = parse_vary(vary, default_n=SWEEP_DEFAULT_N)
@@ -552,7 +552,8 @@ def sweep(design_file: str, vary: str, out_dir: str, elements: int | None, no_pr
     if elements is not None:
         require_positive_int("--elements", elements)
     base = load_design(design_file)
-    parse_design(set_design_value(base.raw, key, spec.start), base.source)  # before the bar
+    for value in (spec.start, spec.stop):  # both ends of the range, before the bar
+        design_at(base, key, value)
     out = check_output("--out", out_dir, directory=True)
     csv_path = out / "sweep.csv"
     with csv_path.open("w", newline="") as fh, \

@@ -35,19 +35,31 @@ Format (every key optional unless marked; unknown keys are errors)::
     load_factor_segment = "a" # report lam = B3 kappa_n L / sqrt(B1 B2) of this segment
 
 Plain data only: parsed with :mod:`tomllib`; nothing is evaluated.
+
+Validation happens once, here, at the boundary: every value is read by one of a small set of
+typed readers (``_number``, ``_int``, ``_bool``, ``_str``, ``_table``, ``_list``) with its full
+key path (``segment[2].natural_curvature``, ``segment[0].section.aspect``,
+``support[1].rotation[1]``, ``weld[0].ends[1]``, ``analysis.elements``). A boolean is not a
+number, a float is not an integer, an array is not a table. Ranges: lengths in
+:data:`LENGTH_RANGE`, ``B3`` in :data:`STIFFNESS_RANGE`, ``|curvature|``, ``|natural_curvature|``
+and ``|natural_twist|`` times the length at most :data:`MAX_TURNING`, ``angle_deg`` in
+:data:`ANGLE_RANGE_DEG`, rotations within :data:`MAX_END_ROTATION`, ``nu`` in (-1, 0.5],
+``aspect``, ``b1``, ``b2`` as :mod:`rodstab.sections` accepts them. Messages start with the
+file's name.
 """
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 import math
-import tomllib
+from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from .errors import RodstabInputError, require_finite, require_positive, require_positive_int
-from .model import ROTATION_AXES, SUPPORT_KINDS, SUPPORTS, Assembly, Segment
-from .sections import make_section
+from .errors import RodstabInputError, require_positive_int
+from .model import MAX_END_ROTATION, ROTATION_AXES, SUPPORTS, Assembly, Segment
+from .sections import ASPECT_RANGE, RATIO_RANGE, SHAPES, TORSION_OPTIONS, make_section
 
 _TOP = {"section", "segment", "weld", "support", "analysis"}
 _SECTION = {"shape", "aspect", "nu", "torsion", "b1", "b2", "B3"}
@@ -58,6 +70,210 @@ _SUPPORT = {"end", "type", "rotation"}
 #: Support type of a ``[[support]]`` table that gives none (a key of ``SUPPORT_KINDS``).
 DEFAULT_SUPPORT = "clamped"
 _ANALYSIS = {"elements", "reference_load", "load_factor_segment"}
+
+#: Largest design file read (bytes): a design is a few kB; beyond this it is not a design.
+MAX_FILE_BYTES = 16 * 2**20
+#: Accepted segment lengths and stiffnesses B3, in the file's own (consistent) units: wide
+#: enough for any unit system, narrow enough that the FE matrices (length^-3 x stiffness) and
+#: the held-state geometry stay far from overflow and underflow.
+LENGTH_RANGE = (1e-9, 1e9)
+STIFFNESS_RANGE = (1e-30, 1e30)
+#: Largest |curvature x length|, |natural_curvature x length| and |natural_twist x length| of
+#: a segment (radians): a thousand turns. Beyond it no mesh of a design resolves the segment.
+MAX_TURNING = 2000 * math.pi
+#: Largest |start| coordinate, in units of the largest accepted length.
+MAX_COORDINATE = 1e12
+#: Accepted ``angle_deg``: a direction in degrees.
+ANGLE_RANGE_DEG = (-360.0, 360.0)
+#: Largest |reference_load| (a load factor; the design's natural curvatures are at 1).
+MAX_REFERENCE_LOAD = 1e6
+_NU_RANGE = (-1.0, 0.5)
+_TURNING_WHY = "at most a thousand turns (2000 pi rad) of the segment"
+
+_REQUIRED = object()
+
+
+# --------------------------------------------------------------------------- typed readers
+# Every value of a design file is read by one of these, with the full key path of the value
+# (``segment[2].natural_curvature``, ``support[1].rotation[1]``): a wrong value is refused
+# once, here, in a message that names the path, the value and what was expected.
+
+
+def _kind(value: Any) -> str:
+    """Return the TOML kind of a parsed value, for messages ("a string", "an array", ...)."""
+    if isinstance(value, bool):
+        return "a boolean"
+    if isinstance(value, int):
+        return "an integer"
+    if isinstance(value, float):
+        return "a float"
+    if isinstance(value, str):
+        return "a string"
+    if isinstance(value, list):
+        return "an array"
+    if isinstance(value, Mapping):
+        return "a table"
+    return f"a {type(value).__name__}"
+
+
+def _show(value: Any, depth: int = 0) -> str:
+    """Render ``value`` short and TOML-like for a message (bounded length and depth)."""
+    if isinstance(value, bool):
+        text = "true" if value else "false"
+    elif isinstance(value, int):
+        # str() of an integer beyond 4300 digits raises: give its size instead.
+        text = str(value) if value.bit_length() <= 200 else \
+            f"{'-' if value < 0 else ''}<an integer of about {int(value.bit_length() * 0.30103)}" \
+            " digits>"
+    elif isinstance(value, float):
+        text = repr(value)
+    elif isinstance(value, str):
+        text = repr(value if len(value) <= 60 else value[:57] + "...")
+    elif depth >= 3 and isinstance(value, (list, Mapping)):
+        text = "[...]" if isinstance(value, list) else "{...}"
+    elif isinstance(value, list):
+        text = "[" + ", ".join(_show(v, depth + 1) for v in value[:6]) + \
+            (", ..." if len(value) > 6 else "") + "]"
+    elif isinstance(value, Mapping):
+        items = list(value.items())
+        text = "{" + ", ".join(f"{k} = {_show(v, depth + 1)}" for k, v in items[:6]) + \
+            (", ..." if len(items) > 6 else "") + "}"
+    else:
+        text = str(value)
+    return text if len(text) <= 100 else text[:97] + "..."
+
+
+def _got(value: Any) -> str:
+    return f"got {_show(value)} ({_kind(value)})"
+
+
+def _path(where: str, key: str | int) -> str:
+    if isinstance(key, int):
+        return f"{where}[{key}]"
+    return f"{where}.{key}" if where else key
+
+
+def _get(table: Mapping, key: str, where: str, default: Any) -> tuple[Any, str]:
+    """``(table[key], its path)``; a missing key gives ``default`` or, if required, raises."""
+    path = _path(where, key)
+    if key in table:
+        return table[key], path
+    if default is _REQUIRED:
+        raise RodstabInputError(f"{path} is required (in {where or 'the design file'})")
+    return default, path
+
+
+def _interval(lo: float, hi: float, lo_open: bool, hi_open: bool) -> str:
+    return f"{'(' if lo_open else '['}{lo:g}, {hi:g}{')' if hi_open else ']'}"
+
+
+def _as_number(value: Any, path: str, *, lo: float = -math.inf, hi: float = math.inf,
+               lo_open: bool = False, hi_open: bool = False, why: str = "") -> float:
+    """``value`` as a finite float in the interval; bools, strings, arrays, tables refused."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise RodstabInputError(f"{path} must be a number{f' ({why})' if why else ''}, "
+                                f"{_got(value)}")
+    try:
+        v = float(value)
+    except OverflowError:  # an integer beyond 1.8e308 (copysign would overflow as well)
+        v = math.inf if value > 0 else -math.inf
+    if not math.isfinite(v):
+        raise RodstabInputError(f"{path} must be a finite number, got {_show(value)}")
+    if v < lo or v > hi or (lo_open and v == lo) or (hi_open and v == hi):
+        span = _interval(lo, hi, lo_open, hi_open)
+        raise RodstabInputError(f"{path} must lie in {span}{f' ({why})' if why else ''}, "
+                                f"got {_show(value)}")
+    return v
+
+
+def _number(table: Mapping, key: str, where: str, default: Any = _REQUIRED,
+            **bounds: Any) -> float | None:
+    """Read ``table[key]`` (path ``where.key``) with :func:`_as_number`; absent: ``default``."""
+    value, path = _get(table, key, where, default)
+    return value if value is default else _as_number(value, path, **bounds)
+
+
+def _as_int(value: Any, path: str, *, lo: int, why: str = "") -> int:
+    """``value`` as an integer ``>= lo``; bools and floats (even 32.0) refused."""
+    if isinstance(value, bool) or not isinstance(value, int):
+        raise RodstabInputError(f"{path} must be an integer{f' ({why})' if why else ''}, "
+                                f"{_got(value)}")
+    if value < lo:
+        raise RodstabInputError(f"{path} must be an integer >= {lo}"
+                                f"{f' ({why})' if why else ''}, got {_show(value)}")
+    return int(value)
+
+
+def _int(table: Mapping, key: str, where: str, default: Any = _REQUIRED, **bounds: Any) -> Any:
+    """Read ``table[key]`` with :func:`_as_int`; absent: ``default``."""
+    value, path = _get(table, key, where, default)
+    return value if value is default else _as_int(value, path, **bounds)
+
+
+def _bool(table: Mapping, key: str, where: str, default: bool) -> bool:
+    """Read ``table[key]`` as ``true`` or ``false``; absent: ``default``."""
+    value, path = _get(table, key, where, default)
+    if not isinstance(value, bool):
+        raise RodstabInputError(f"{path} must be true or false, {_got(value)}")
+    return value
+
+
+def _as_str(value: Any, path: str, choices: tuple[str, ...] | None = None) -> str:
+    """``value`` as a string (one of ``choices`` if given)."""
+    if not isinstance(value, str):
+        expected = f"one of {list(choices)}" if choices else "a string"
+        raise RodstabInputError(f"{path} must be {expected}, {_got(value)}")
+    if choices is not None and value not in choices:
+        raise RodstabInputError(f"{path} must be one of {list(choices)}, got {_show(value)}")
+    return value
+
+
+def _str(table: Mapping, key: str, where: str, default: Any = _REQUIRED,
+         choices: tuple[str, ...] | None = None) -> Any:
+    """Read ``table[key]`` with :func:`_as_str`; absent: ``default``."""
+    value, path = _get(table, key, where, default)
+    return value if value is default else _as_str(value, path, choices)
+
+
+def _as_table(value: Any, path: str, allowed: set[str]) -> dict[str, Any]:
+    """``value`` as a table whose keys are all in ``allowed``."""
+    if not isinstance(value, Mapping):
+        raise RodstabInputError(f"{path or 'the design file'} must be a table, {_got(value)}")
+    unknown = sorted(str(k) for k in set(value) - allowed)
+    if unknown:
+        raise RodstabInputError(f"unknown key(s) {unknown} in {path or 'the design file'}; "
+                                f"allowed: {sorted(allowed)}")
+    return dict(value)
+
+
+def _table(table: Mapping, key: str, where: str, allowed: set[str]) -> dict[str, Any]:
+    """Read ``table[key]`` with :func:`_as_table`; absent: an empty table."""
+    value, path = _get(table, key, where, {})
+    return _as_table(value, path, allowed)
+
+
+def _as_list(value: Any, path: str, what: str, *, length: int | None = None,
+             min_length: int = 0) -> list[Any]:
+    """``value`` as an array (of ``length`` items, or at least ``min_length``)."""
+    if (not isinstance(value, list) or (length is not None and len(value) != length)
+            or len(value) < min_length):
+        raise RodstabInputError(f"{path} must be {what}, {_got(value)}")
+    return value
+
+
+def _list(table: Mapping, key: str, where: str, what: str, **size: Any) -> list[Any]:
+    """Read ``table[key]`` with :func:`_as_list`; absent: an empty array."""
+    value, path = _get(table, key, where, [])
+    return _as_list(value, path, what, **size)
+
+
+def _tables(data: Mapping, key: str, allowed: set[str]) -> list[dict[str, Any]]:
+    """Read the array of tables ``[[key]]``, each table checked against ``allowed``."""
+    items = _list(data, key, "", f"an array of tables [[{key}]]")
+    return [_as_table(t, f"{key}[{i}]", allowed) for i, t in enumerate(items)]
+
+
+# --------------------------------------------------------------------------- the design
 
 
 @dataclasses.dataclass(frozen=True)
@@ -76,171 +292,381 @@ class Design:
         return mu * s.B3 * abs(s.natural_curvature) * s.length / math.sqrt(s.B1 * s.B2)
 
 
-def _check_keys(table: dict, allowed: set[str], where: str) -> None:
-    if not isinstance(table, dict):
-        raise RodstabInputError(f"{where} must be a table, got {table!r}")
-    unknown = sorted(set(table) - allowed)
-    if unknown:
-        raise RodstabInputError(f"unknown key(s) {unknown} in {where}; allowed: {sorted(allowed)}")
+def _section_table(table: dict[str, Any], where: str) -> dict[str, tuple[Any, str]]:
+    """Check the types and shape-independent ranges of one section table.
+
+    Returns ``{key: (value, path)}`` so that a merged section still names where each value
+    came from.
+    """
+    out: dict[str, tuple[Any, str]] = {}
+    for key, value in table.items():
+        path = _path(where, key)
+        if key == "shape":
+            value = _as_str(value, path, SHAPES)
+        elif key == "torsion":
+            value = _as_str(value, path, TORSION_OPTIONS)
+        elif key == "nu":
+            value = _as_number(value, path, lo=_NU_RANGE[0], hi=_NU_RANGE[1], lo_open=True,
+                               why="Poisson's ratio")
+        elif key in ("b1", "b2"):
+            value = _as_number(value, path, lo=RATIO_RANGE[0], hi=RATIO_RANGE[1],
+                               why=f"the stiffness ratio {key[0].upper()}{key[1]}/B3")
+        elif key == "B3":
+            value = _as_number(value, path, lo=STIFFNESS_RANGE[0], hi=STIFFNESS_RANGE[1],
+                               why="the in-plane bending stiffness, force x length^2")
+        else:  # aspect: its range depends on the shape (_stiffness)
+            value = _as_number(value, path)
+        out[key] = (value, path)
+    return out
 
 
-def _stiffness(spec: dict, where: str) -> tuple[float, float, float]:
-    _check_keys(spec, _SECTION, where)
-    B3 = require_positive(f"{where}.B3", spec.get("B3", 1.0))
-    sec = make_section(spec.get("shape", "circle") if "b1" not in spec else None,
-                       aspect=spec.get("aspect"), nu=spec.get("nu", 1 / 3),
-                       torsion=spec.get("torsion", "exact"), b1=spec.get("b1"),
-                       b2=spec.get("b2"))
+def _stiffness(spec: dict[str, tuple[Any, str]], where: str) -> tuple[float, float, float]:
+    """``(B1, B2, B3)`` of a checked, merged section; combinations checked with their paths."""
+    def val(key: str, default: Any = None) -> Any:
+        return spec[key][0] if key in spec else default
+
+    def path(key: str) -> str:
+        return spec[key][1]
+
+    b1, b2, aspect = val("b1"), val("b2"), val("aspect")
+    if (b1 is None) != (b2 is None):
+        given, missing = ("b1", "b2") if b2 is None else ("b2", "b1")
+        raise RodstabInputError(f"{path(given)} = {_show(val(given))} is given without "
+                                f"{missing}: give both b1 and b2, or neither")
+    shape = None if b1 is not None else val("shape", "circle")
+    if b1 is not None:
+        for key in ("aspect", "torsion"):
+            if key in spec and not (key == "torsion" and val(key) == "exact"):
+                raise RodstabInputError(f"{path(key)} = {_show(val(key))} cannot be used with "
+                                        "b1 and b2, which fix the section")
+    elif aspect is not None:
+        if shape == "circle":
+            raise RodstabInputError(f"{path('aspect')} = {_show(aspect)} has no meaning for "
+                                    "shape 'circle'; omit it")
+        if shape == "tube":
+            _as_number(aspect, path("aspect"), lo=0.0, hi=1.0, hi_open=True,
+                       why="the inner/outer radius ratio of a tube")
+        else:
+            _as_number(aspect, path("aspect"), lo=ASPECT_RANGE[0], hi=ASPECT_RANGE[1],
+                       why=f"the h/t of a rod's {shape} cross-section")
+    B3 = val("B3", 1.0)
+    try:
+        sec = make_section(shape, aspect=aspect, nu=val("nu", 1 / 3),
+                           torsion=val("torsion", "exact"), b1=b1, b2=b2)
+    except RodstabInputError as exc:  # a combination not caught above: name the table
+        raise RodstabInputError(f"{where}: {exc}") from None
     return sec.b1 * B3, sec.b2 * B3, B3
 
 
-def _end(ref: Any, where: str) -> tuple[str, str]:
-    if not isinstance(ref, str) or ref.count(".") != 1:
-        raise RodstabInputError(f"{where}: an end is written 'segment.start' or 'segment.end', "
-                                f"got {ref!r}")
-    name, end = ref.split(".")
+def _end(value: Any, path: str, known: Mapping[str, int]) -> tuple[str, str]:
+    """Read a segment end ``'name.start'`` or ``'name.end'`` of a segment of the file."""
+    ref = _as_str(value, path)
+    name, dot, end = ref.rpartition(".")
+    if not dot or end not in ("start", "end"):
+        raise RodstabInputError(f"{path} must be 'segment.start' or 'segment.end', "
+                                f"got {_show(value)}")
+    if name not in known:
+        raise RodstabInputError(f"{path} = {_show(value)}: {_unknown_segment(name, known)}")
     return name, end
 
 
-def parse_design(data: dict, source: str = "<dict>") -> Design:
-    """Build a :class:`Design` from parsed TOML data (see the module docstring)."""
-    _check_keys(data, _TOP, "the design file")
-    default = data.get("section", {})
-    segs_raw = data.get("segment")
-    if not segs_raw:
-        raise RodstabInputError("the design file needs at least one [[segment]]")
+def _unknown_segment(name: str, known: Mapping[str, int]) -> str:
+    names = list(known)
+    listed = ", ".join(names[:10]) + (f", ... ({len(names)} in all)" if len(names) > 10 else "")
+    return f"there is no segment {name!r}; the segments are {listed}"
+
+
+def _segment(raw: dict[str, Any], where: str, default: dict[str, tuple[Any, str]],
+             prev: Segment | None, known: dict[str, int]) -> Segment:
+    """One ``[[segment]]`` table (checked by :func:`_as_table`) -> :class:`Segment`."""
+    name = _str(raw, "name", where)
+    if not name.strip() or "." in name:
+        raise RodstabInputError(f"{where}.name must be a non-empty name without '.' (ends are "
+                                f"written name.start, name.end), got {_show(name)}")
+    if name in known:
+        raise RodstabInputError(f"{where}.name {_show(name)} is a duplicate segment name "
+                                f"(segment[{known[name]}] has it): names are unique")
+    length = _number(raw, "length", where, lo=LENGTH_RANGE[0], hi=LENGTH_RANGE[1],
+                     why="a rod length in the file's units")
+    assert length is not None
+    spec = default
+    if "section" in raw:
+        own = _section_table(_table(raw, "section", where, _SECTION), f"{where}.section")
+        spec = own if ("shape" in own or "b1" in own) else default | own
+    B1, B2, B3 = _stiffness(spec, f"{where}.section")
+    values = {}
+    for key in ("curvature", "natural_curvature", "natural_twist"):
+        v = _number(raw, key, where, 0.0)
+        assert v is not None
+        if abs(v) * length > MAX_TURNING:
+            raise RodstabInputError(
+                f"{where}.{key} = {_show(raw[key])} turns the segment of length {length:g} by "
+                f"{abs(v) * length:.3g} rad; |{key} x length| must be at most "
+                f"{MAX_TURNING:.6g} ({_TURNING_WHY})")
+        values[key] = v
+    if "start" in raw:
+        xy = _list(raw, "start", where, "an array of two numbers [x, y]", length=2)
+        bound = MAX_COORDINATE * LENGTH_RANGE[1]
+        start = tuple(_as_number(v, f"{where}.start[{i}]", lo=-bound, hi=bound,
+                                 why="a coordinate in the file's length unit")
+                      for i, v in enumerate(xy))
+    else:
+        start = tuple(float(v) for v in prev.end_point("end")) if prev else (0.0, 0.0)
+    cusp = _bool(raw, "cusp", where, False)
+    if "angle_deg" in raw:
+        if cusp:
+            raise RodstabInputError(f"{where}: give either angle_deg or cusp, not both")
+        angle = math.radians(_as_number(raw["angle_deg"], f"{where}.angle_deg",
+                                        lo=ANGLE_RANGE_DEG[0], hi=ANGLE_RANGE_DEG[1],
+                                        why="the start tangent's direction in degrees"))
+    elif prev is not None:
+        t = prev.tangent(prev.length)
+        angle = math.atan2(t[1], t[0]) + (math.pi if cusp else 0.0)
+    else:
+        angle = 0.0
+    known[name] = len(known)
+    return Segment(name=name, length=length, curvature=values["curvature"],
+                   natural_curvature=values["natural_curvature"], B1=B1, B2=B2, B3=B3,
+                   start=(start[0], start[1]), angle=angle,
+                   natural_twist=values["natural_twist"])
+
+
+def _parse(data: Any) -> tuple[Assembly, int, str]:
+    top = _as_table(data, "", _TOP)
+    default = _section_table(_table(top, "section", "", _SECTION), "section")
+    seg_tables = _tables(top, "segment", _SEGMENT)
+    if not seg_tables:
+        raise RodstabInputError("the design file needs at least one [[segment]] table "
+                                "(with a name and a length)")
+    known: dict[str, int] = {}
     segments: list[Segment] = []
-    for i, raw in enumerate(segs_raw):
-        where = f"segment[{i}]"
-        _check_keys(raw, _SEGMENT, where)
-        if "name" not in raw or "length" not in raw:
-            raise RodstabInputError(f"{where} needs 'name' and 'length'")
-        spec = dict(default)
-        if "section" in raw:
-            _check_keys(raw["section"], _SECTION, f"{where}.section")
-            spec = dict(raw["section"]) if ("shape" in raw["section"] or "b1" in raw["section"]) \
-                else spec | raw["section"]
-        B1, B2, B3 = _stiffness(spec, f"{where}.section")
-        prev = segments[-1] if segments else None
-        if "start" in raw:
-            start = raw["start"]
-            if not (isinstance(start, list) and len(start) == 2):
-                raise RodstabInputError(f"{where}.start must be [x, y], got {start!r}")
-            start = (require_finite(f"{where}.start", start[0]),
-                     require_finite(f"{where}.start", start[1]))
-        else:
-            start = tuple(float(v) for v in prev.end_point("end")) if prev else (0.0, 0.0)
-        if "angle_deg" in raw:
-            if raw.get("cusp"):
-                raise RodstabInputError(f"{where}: give either angle_deg or cusp, not both")
-            angle = math.radians(require_finite(f"{where}.angle_deg", raw["angle_deg"]))
-        elif prev is not None:
-            t = prev.tangent(prev.length)
-            angle = math.atan2(t[1], t[0]) + (math.pi if raw.get("cusp") else 0.0)
-        else:
-            angle = 0.0
-        k, kn, tw = (require_finite(f"{where}.{key}", raw.get(key, 0.0))
-                     for key in ("curvature", "natural_curvature", "natural_twist"))
-        segments.append(Segment(name=str(raw["name"]), length=raw["length"], curvature=k,
-                                natural_curvature=kn, B1=B1, B2=B2, B3=B3, start=start, angle=angle,
-                                natural_twist=tw))
+    for i, raw in enumerate(seg_tables):
+        segments.append(_segment(raw, f"segment[{i}]", default,
+                                 segments[-1] if segments else None, known))
     welds = []
-    for i, w in enumerate(data.get("weld", [])):
-        _check_keys(w, _WELD, f"weld[{i}]")
-        welds.append(tuple(_end(e, f"weld[{i}]") for e in w.get("ends", [])))
+    for i, w in enumerate(_tables(top, "weld", _WELD)):
+        ends = _list(w, "ends", f"weld[{i}]", "an array of two or more ends such as "
+                     "['a.end', 'b.start']", min_length=2)
+        welds.append(tuple(_end(e, f"weld[{i}].ends[{j}]", known) for j, e in enumerate(ends)))
     supports, rotations = [], []
-    for i, s in enumerate(data.get("support", [])):
-        _check_keys(s, _SUPPORT, f"support[{i}]")
-        name, end = _end(s.get("end"), f"support[{i}]")
-        kind = s.get("type", DEFAULT_SUPPORT)
-        if not isinstance(kind, str) or kind not in SUPPORT_KINDS:
-            raise RodstabInputError(f"support[{i}].type must be one of {SUPPORTS}, got {kind!r}")
+    for i, s in enumerate(_tables(top, "support", _SUPPORT)):
+        where = f"support[{i}]"
+        name, end = _end(_get(s, "end", where, _REQUIRED)[0], f"{where}.end", known)
+        kind = _str(s, "type", where, DEFAULT_SUPPORT, SUPPORTS)
         supports.append((name, end, kind))
         if "rotation" in s:
-            rot = s["rotation"]
-            if not (isinstance(rot, list) and len(rot) == 3
-                    and all(isinstance(v, (int, float)) and not isinstance(v, bool)
-                            for v in rot)):
-                raise RodstabInputError(f"support[{i}].rotation must be three numbers "
-                                        f"[normal, tangent, binormal] in radians, got {rot!r}")
-            rotations.append((name, end, (float(rot[0]), float(rot[1]), float(rot[2]))))
-    analysis = data.get("analysis", {})
-    _check_keys(analysis, _ANALYSIS, "[analysis]")
-    elements = require_positive_int("analysis.elements", analysis.get("elements", 32))
-    ref = analysis.get("reference_load")
+            rot = _list(s, "rotation", where, "three numbers [normal, tangent, binormal] in "
+                        "radians", length=3)
+            r = tuple(_as_number(v, f"{where}.rotation[{j}]", lo=-MAX_END_ROTATION,
+                                 hi=MAX_END_ROTATION, why="radians, at most a hundred turns")
+                      for j, v in enumerate(rot))
+            rotations.append((name, end, (r[0], r[1], r[2])))
+    analysis = _table(top, "analysis", "", _ANALYSIS)
+    elements = _int(analysis, "elements", "analysis", 32, lo=1, why="elements per segment")
+    ref = _number(analysis, "reference_load", "analysis", None, lo=-MAX_REFERENCE_LOAD,
+                  hi=MAX_REFERENCE_LOAD, why="a load factor at which the held state is stable")
+    lf = _str(analysis, "load_factor_segment", "analysis", segments[0].name)
+    if lf not in known:
+        raise RodstabInputError(f"analysis.load_factor_segment = {_show(lf)}: "
+                                f"{_unknown_segment(lf, known)}")
     assembly = Assembly(segments=tuple(segments), welds=tuple(welds), supports=tuple(supports),
-                        reference_load=(None if ref is None
-                                        else require_finite("analysis.reference_load", ref)),
-                        end_rotations=tuple(rotations))
-    lf = analysis.get("load_factor_segment", segments[0].name)
-    assembly.segment(lf)
+                        reference_load=ref, end_rotations=tuple(rotations))
+    return assembly, elements, lf
+
+
+def parse_design(data: dict, source: str = "<dict>") -> Design:
+    """Build a :class:`Design` from parsed TOML data (see the module docstring).
+
+    Every value is checked once, here: its type (a boolean is not a number, an array is not a
+    table), finiteness and range, and every segment name it refers to.
+
+    Parameters
+    ----------
+    data : dict
+        The parsed TOML document.
+    source : str
+        Where ``data`` came from (a file name), to name in error messages.
+
+    Returns
+    -------
+    Design
+        The assembly and the analysis settings.
+
+    Raises
+    ------
+    RodstabInputError
+        For any invalid value, naming ``source``, the key path (e.g.
+        ``segment[2].natural_curvature``, ``support[0].rotation[1]``) and the value.
+    """
+    try:
+        assembly, elements, lf = _parse(data)
+    except RodstabInputError as exc:
+        raise RodstabInputError(f"{source}: {exc}") from None
     return Design(assembly, elements, lf, source, data)
 
 
 def load_design(path: str | Path) -> Design:
-    """Read and validate a TOML design file."""
+    """Read and validate a TOML design file.
+
+    Parameters
+    ----------
+    path : str or Path
+        The design file (UTF-8 TOML, at most :data:`MAX_FILE_BYTES`).
+
+    Returns
+    -------
+    Design
+        See :func:`parse_design`.
+
+    Raises
+    ------
+    RodstabInputError
+        Naming the file if it is missing, a directory, unreadable, too large, not UTF-8 or not
+        TOML (with line and column), and as :func:`parse_design` for its values.
+    """
+    import tomllib
+
     p = Path(path)
+    name = repr(str(p))
     try:
-        text = p.read_text()
+        if p.is_dir():
+            raise RodstabInputError(f"design file {name} is a directory, not a TOML file")
+        with p.open("rb") as fh:
+            raw = fh.read(MAX_FILE_BYTES + 1)
+    except FileNotFoundError:
+        raise RodstabInputError(f"design file {name} does not exist") from None
     except OSError as exc:
-        raise RodstabInputError(f"cannot read design file {str(p)!r}: {exc.strerror}") from exc
+        raise RodstabInputError(f"cannot read design file {name}: "
+                                f"{exc.strerror or exc}") from None
+    if len(raw) > MAX_FILE_BYTES:
+        raise RodstabInputError(f"design file {name} is larger than {MAX_FILE_BYTES} bytes; "
+                                "a design file is a short TOML text")
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise RodstabInputError(f"design file {name} is not UTF-8 text (byte "
+                                f"0x{raw[exc.start]:02x} at offset {exc.start}); a design file "
+                                "is TOML") from None
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise RodstabInputError(f"design file {str(p)!r} is not valid TOML: {exc}") from exc
+        raise RodstabInputError(f"design file {name} is not valid TOML: {exc}") from None
+    except RecursionError:
+        raise RodstabInputError(f"design file {name} is not a design: its arrays or tables "
+                                "are nested too deeply to read") from None
+    except ValueError as exc:  # e.g. an integer of more than 4300 digits
+        raise RodstabInputError(f"design file {name} cannot be read as TOML: {exc}") from None
     return parse_design(data, str(p))
+
+
+# --------------------------------------------------------------------------- --vary keys
+
+#: Numeric keys of a section table that ``--vary`` may set.
+_VARY_SECTION = ("aspect", "nu", "b1", "b2", "B3")
+#: Numeric keys of a segment that ``--vary`` may set.
+_VARY_SEGMENT = ("length", "curvature", "natural_curvature", "natural_twist", "angle_deg")
+#: Keys of [analysis] that ``--vary`` may set (elements: integer values only).
+_VARY_ANALYSIS = ("elements", "reference_load")
+#: The forms of a ``--vary`` key of a sweep, as its error messages list them.
+VARY_FORMS = (f"section.<{'|'.join(_VARY_SECTION)}>, analysis.<{'|'.join(_VARY_ANALYSIS)}>, "
+              f"segment.<name>.<{'|'.join(_VARY_SEGMENT)}>, "
+              f"segment.<name>.section.<{'|'.join(_VARY_SECTION)}> or "
+              f"support.<i>.rotation.<{'|'.join(ROTATION_AXES)}>")
+
+
+def _index(text: str, what: str, key: str, count: int) -> int:
+    """``text`` as an index ``0..count-1`` (ASCII digits only), else raise naming ``key``."""
+    if not (text.isascii() and text.isdigit()) or len(text) > 9 or int(text) >= count:
+        raise RodstabInputError(f"--vary key {key!r}: {what} index {text!r} is not one of "
+                                f"0..{count - 1} (the [[{what}]] tables in order)")
+    return int(text)
 
 
 def set_design_value(data: dict, key: str, value: float) -> dict:
     """Return a copy of ``data`` with the value at the dotted ``key`` replaced.
 
-    Keys: ``section.<k>``, ``analysis.<k>``, ``segment.<name>.<k>`` (a segment by name),
-    ``segment.<name>.section.<k>`` or ``support.<i>.rotation.<axis>`` (``i``: the support's
-    position in the file from 0; axis: normal, tangent or binormal). The key must name an
-    existing value or a known key of that table; anything else raises naming the key.
-    """
-    import copy
+    Parameters
+    ----------
+    data : dict
+        A parsed design (``Design.raw``); not modified.
+    key : str
+        ``section.<k>``, ``analysis.<k>``, ``segment.<name>.<k>`` (a segment by name),
+        ``segment.<name>.section.<k>`` or ``support.<i>.rotation.<axis>`` (``i``: the
+        support's position in the file from 0; axis: normal, tangent or binormal); ``k`` a
+        numeric key (:data:`VARY_FORMS`).
+    value : float
+        The new value (``analysis.elements``: an integral value).
 
+    Returns
+    -------
+    dict
+        The modified copy (validate it with :func:`parse_design`).
+
+    Raises
+    ------
+    RodstabInputError
+        Naming ``key`` and the part of it that is wrong, with the valid forms.
+    """
+    if isinstance(value, bool) or not isinstance(value, (int, float)) \
+            or not math.isfinite(value):
+        raise RodstabInputError(f"--vary key {key!r}: a value must be a finite number, "
+                                f"got {value!r}")
     out = copy.deepcopy(data)
     parts = key.split(".")
     if parts[0] in ("section", "analysis") and len(parts) == 2:
-        allowed = _SECTION if parts[0] == "section" else _ANALYSIS
+        allowed = _VARY_SECTION if parts[0] == "section" else _VARY_ANALYSIS
         if parts[1] not in allowed:
-            raise RodstabInputError(f"--vary key {key!r}: {parts[1]!r} is not a key of "
-                                    f"[{parts[0]}] (allowed: {sorted(allowed)})")
-        out.setdefault(parts[0], {})[parts[1]] = value
+            raise RodstabInputError(f"--vary key {key!r}: {parts[1]!r} is not a numeric key of "
+                                    f"[{parts[0]}] (allowed: {list(allowed)})")
+        if parts[1] == "elements":
+            if value != int(value):
+                raise RodstabInputError(f"--vary key {key!r} takes integer values, "
+                                        f"got {value!r}")
+            value = int(value)
+        table = out.setdefault(parts[0], {})
+        if not isinstance(table, dict):
+            raise RodstabInputError(f"--vary key {key!r}: [{parts[0]}] is not a table")
+        table[parts[1]] = value
         return out
     if parts[0] == "segment" and len(parts) in (3, 4):
-        segs = [sg for sg in out.get("segment", []) if str(sg.get("name")) == parts[1]]
-        if not segs:
-            raise RodstabInputError(f"--vary key {key!r}: no segment named {parts[1]!r}")
+        segs = out.get("segment", [])
+        named = [sg for sg in segs if isinstance(sg, dict) and sg.get("name") == parts[1]] \
+            if isinstance(segs, list) else []
+        if not named:
+            names = [sg.get("name") for sg in segs if isinstance(sg, dict)] \
+                if isinstance(segs, list) else []
+            raise RodstabInputError(f"--vary key {key!r}: no segment named {parts[1]!r} "
+                                    f"(the segments are {', '.join(map(str, names))})")
         if len(parts) == 3:
-            if parts[2] not in _SEGMENT - {"name", "start", "cusp", "section"}:
-                raise RodstabInputError(f"--vary key {key!r}: {parts[2]!r} cannot be varied")
-            segs[0][parts[2]] = value
+            if parts[2] not in _VARY_SEGMENT:
+                raise RodstabInputError(f"--vary key {key!r}: {parts[2]!r} cannot be varied "
+                                        f"(a segment's numeric keys: {list(_VARY_SEGMENT)})")
+            named[0][parts[2]] = value
         else:
-            if parts[2] != "section" or parts[3] not in _SECTION:
-                raise RodstabInputError(f"--vary key {key!r} is not segment.<name>.section.<k>")
-            segs[0].setdefault("section", dict(out.get("section", {})))[parts[3]] = value
+            if parts[2] != "section" or parts[3] not in _VARY_SECTION:
+                raise RodstabInputError(f"--vary key {key!r} is not segment.<name>.section."
+                                        f"<{'|'.join(_VARY_SECTION)}>")
+            sec = named[0].setdefault("section", dict(out.get("section", {})))
+            if not isinstance(sec, dict):
+                raise RodstabInputError(f"--vary key {key!r}: segment {parts[1]!r} has a "
+                                        "section that is not a table")
+            sec[parts[3]] = value
         return out
     if parts[0] == "support" and len(parts) == 4 and parts[2] == "rotation":
         sups = out.get("support", [])
-        if not parts[1].isdigit() or int(parts[1]) >= len(sups):
-            raise RodstabInputError(f"--vary key {key!r}: support index {parts[1]!r} is not one "
-                                    f"of 0..{len(sups) - 1} (the [[support]] tables in order)")
+        sups = sups if isinstance(sups, list) else []
+        i = _index(parts[1], "support", key, len(sups))
         if parts[3] not in ROTATION_AXES:
             raise RodstabInputError(f"--vary key {key!r}: rotation axis {parts[3]!r} is not one "
                                     f"of {ROTATION_AXES}")
-        if isinstance(value, bool) or not isinstance(value, (int, float)):
-            raise RodstabInputError(f"--vary key {key!r}: a rotation must be a number of "
-                                    f"radians, got {value!r}")
-        rot = list(sups[int(parts[1])].get("rotation", [0.0, 0.0, 0.0]))
+        if not isinstance(sups[i], dict):
+            raise RodstabInputError(f"--vary key {key!r}: support[{i}] is not a table")
+        rot = sups[i].get("rotation", [0.0, 0.0, 0.0])
+        rot = list(rot) if isinstance(rot, list) and len(rot) == 3 else [0.0, 0.0, 0.0]
         rot[ROTATION_AXES.index(parts[3])] = value
-        sups[int(parts[1])]["rotation"] = rot
+        sups[i]["rotation"] = rot
         return out
-    raise RodstabInputError(f"--vary key {key!r} must be section.<k>, analysis.<k>, "
-                            "segment.<name>.<k>, segment.<name>.section.<k> or "
-                            f"support.<i>.rotation.<{'|'.join(ROTATION_AXES)}>")
+    raise RodstabInputError(f"--vary key {key!r} must be {VARY_FORMS}")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -265,11 +691,11 @@ def _vary_number(spec: str, part: str, text: str) -> float:
     try:
         value = float(text)
     except ValueError:
-        raise RodstabInputError(f"--vary {part} {text.strip()!r} is not a number "
-                                f"(in {spec!r}; expected {VARY_GRAMMAR})") from None
+        raise RodstabInputError(f"--vary {_show(spec)}: {part} {_show(text.strip())} is not a "
+                                f"number (expected {VARY_GRAMMAR})") from None
     if not math.isfinite(value):
-        raise RodstabInputError(f"--vary {part} {text.strip()!r} is not a finite number "
-                                f"(in {spec!r})")
+        raise RodstabInputError(f"--vary {_show(spec)}: {part} {_show(text.strip())} is not a "
+                                "finite number")
     return value
 
 
@@ -279,28 +705,48 @@ def parse_vary(spec: str, *, default_n: int) -> VarySpec:
     ``KEY`` is non-empty (whether it names a design value is checked where it is used:
     :func:`set_design_value`, :func:`rodstab.nonlinear.parameters.parameter`); ``START`` and
     ``STOP`` are finite numbers; ``N``, a positive integer, defaults to ``default_n``.
-    Raises :class:`RodstabInputError` naming the part that is wrong and its text.
+
+    Parameters
+    ----------
+    spec : str
+        The option's text.
+    default_n : int
+        ``N`` when the text gives none.
+
+    Returns
+    -------
+    VarySpec
+        The key, the range and ``N``.
+
+    Raises
+    ------
+    RodstabInputError
+        Naming the option's text, the part that is wrong (KEY, START, STOP or N) and its text,
+        e.g. ``--vary 'section.aspect=1:x:3': STOP 'x' is not a number``.
     """
     n_default = require_positive_int("default_n", default_n)
     if not isinstance(spec, str) or "=" not in spec:
-        raise RodstabInputError(f"--vary must be {VARY_GRAMMAR}, got {spec!r}")
+        raise RodstabInputError(f"--vary must be {VARY_GRAMMAR}, got {_show(spec)}")
     key, _, rng = spec.partition("=")
     key = key.strip()
     if not key:
-        raise RodstabInputError(f"--vary KEY '' is empty: expected {VARY_GRAMMAR}, "
-                                f"got {spec!r}")
+        raise RodstabInputError(f"--vary {_show(spec)}: KEY '' is empty (expected "
+                                f"{VARY_GRAMMAR})")
     parts = rng.split(":")
     if len(parts) not in (2, 3):
-        raise RodstabInputError(f"--vary must be {VARY_GRAMMAR}, got {spec!r} "
+        raise RodstabInputError(f"--vary must be {VARY_GRAMMAR}, got {_show(spec)} "
                                 f"({len(parts)} part(s) after '=')")
     start = _vary_number(spec, "START", parts[0])
     stop = _vary_number(spec, "STOP", parts[1])
     if len(parts) == 2:
         return VarySpec(key, start, stop, n_default)
     text = parts[2].strip()
-    if not (text.isascii() and text.isdigit()) or int(text) < 1:
-        raise RodstabInputError(f"--vary N {text!r} must be a positive integer (in {spec!r})")
-    return VarySpec(key, start, stop, int(text))
+    digits = text.lstrip("0")
+    if not (text.isascii() and text.isdigit()) or not digits:
+        raise RodstabInputError(f"--vary {_show(spec)}: N {_show(text)} must be a positive "
+                                "integer")
+    # Past 18 digits N is beyond every step limit; int() of over 4300 digits would raise.
+    return VarySpec(key, start, stop, int(digits) if len(digits) <= 18 else 10**18)
 
 
 #: Fewest elements per segment of the nonlinear rod (``rodstab equilibrium``): a design's

@@ -111,6 +111,47 @@ def require_linear(elements: Iterable[int], n_joints: int, cause: str,
     return dof
 
 
+def require_linear_uniform(elements: int, n_segments: int, n_joints: int, cause: str,
+                           limits: Limits = DEFAULT) -> int:
+    """:func:`require_linear` for ``n_segments`` segments of ``elements`` each, in closed form.
+
+    Nothing of the size of ``n_segments`` is allocated (``folded-ring --segments 1e12`` must be
+    refused, not build a list of 1e12 element counts first).
+
+    Parameters
+    ----------
+    elements : int
+        Elements per segment.
+    n_segments : int
+        Number of segments.
+    n_joints : int
+        Number of joints.
+    cause : str
+        The input that set the size, for the message.
+    limits : Limits
+        The limits.
+
+    Returns
+    -------
+    int
+        The unknown count.
+    """
+    big = int(n_segments) > 1000
+    if not big:
+        return require_linear([int(elements)] * int(n_segments), n_joints, cause, limits)
+    # The same count and message as require_linear, without the list.
+    dof = 3 * int(n_joints) + int(n_segments) * (4 * int(elements) - 3)
+    if dof > limits.max_dof:
+        raise RodstabInputError(
+            f"{cause}: the linear solve would have {dof:.4g} unknowns, above the limit of "
+            f"{limits.max_dof:,} (raise it with --max-dof)")
+    if BYTES_PER_DOF * dof > limits.max_memory:
+        raise RodstabInputError(
+            f"{cause}: the linear solve would need about {_gib(BYTES_PER_DOF * dof)} of memory, "
+            f"above the limit of {_gib(limits.max_memory)} (raise it with --max-memory)")
+    return dof
+
+
 def require_nonlinear(elements: Iterable[int], n_joints: int, cause: str,
                       limits: Limits = DEFAULT) -> int:
     """Return the discrete rod's unknown count, or refuse a run past ``max_dof_nonlinear``."""

@@ -34,6 +34,9 @@ MOMENT_TOL = 1e-8
 #: components of an imposed end rotation (``Assembly.end_rotations``, the design key
 #: ``support.<i>.rotation.<axis>``).
 ROTATION_AXES = ("normal", "tangent", "binormal")
+#: Largest |component| of an imposed end rotation (radians): a hundred turns. Checked in
+#: design files and at both ends of a continuation in an end rotation.
+MAX_END_ROTATION = 200 * math.pi
 
 
 def held_frame(tangent: np.ndarray) -> np.ndarray:

@@ -35,7 +35,7 @@ from typing import Any
 
 import numpy as np
 
-from .errors import RodstabInputError
+from .errors import NotConverged, RodstabInputError
 from .results import Result
 
 #: Default number of scan intervals on the search interval.
@@ -617,12 +617,23 @@ def pencil_interval_sparse(A, C, *, multiplicity_rtol: float = MULTIPLICITY_RTOL
     if np.any(lu.U.diagonal() <= 0):
         raise RodstabInputError("pencil_interval_sparse: A is not positive definite")
 
+    if C.count_nonzero() == 0 or not np.any(C.data):
+        # C = 0 (e.g. no natural curvature anywhere): every theta is 0, the interval is the
+        # whole line, as the dense pencil_interval says (ARPACK would stop: "Starting vector
+        # is zero", found by benchmarks/fuzz.py).
+        return PencilInterval(-math.inf, math.inf, 0, 0, None, None, 0.0, True, n,
+                              "C = 0: no load-dependent term, every eigenvalue theta is 0")
+
     def extreme(which: str) -> tuple[np.ndarray, np.ndarray]:
         k = min(n_eig, n - 2)
         while True:
             # fixed start vector: ARPACK's default is random (results would vary run to run)
-            vals, vecs = spla.eigsh(C, k=k, M=A, Minv=Ainv, which=which, tol=tol,
-                                    v0=np.linspace(1.0, 2.0, n))
+            try:
+                vals, vecs = spla.eigsh(C, k=k, M=A, Minv=Ainv, which=which, tol=tol,
+                                        v0=np.linspace(1.0, 2.0, n))
+            except spla.ArpackError as exc:  # ArpackNoConvergence is one
+                raise NotConverged(f"the sparse Lanczos eigen solve ({n} unknowns) failed: "
+                                   f"{exc}") from None
             order = np.argsort(vals)[::-1] if which == "LA" else np.argsort(vals)
             vals, vecs = vals[order], vecs[:, order]
             t = vals[0]

@@ -65,6 +65,36 @@ class SweepResult(Result):
         return [r.record(self.key) for r in self.rows]
 
 
+def design_at(design: Design, key: str, value: float) -> Design:
+    """Return ``design`` with the design value ``key`` set to ``value``, validated.
+
+    Parameters
+    ----------
+    design : Design
+        The base design (not modified).
+    key : str
+        A key of :func:`rodstab.design.set_design_value`.
+    value : float
+        Its new value.
+
+    Returns
+    -------
+    Design
+        The modified design.
+
+    Raises
+    ------
+    RodstabInputError
+        If ``key`` names no design value, or the design is invalid at ``value``; the message
+        names the key and the value (``--vary KEY = VALUE: ...``).
+    """
+    data = set_design_value(design.raw, key, value)
+    try:
+        return parse_design(data, design.source)
+    except RodstabInputError as exc:
+        raise RodstabInputError(f"--vary {key} = {value:g}: {exc}") from None
+
+
 def sweep(design: Design, key: str, values: Iterable[float], *, elements: int | None = None,
           progress: Callable[[], Any] | None = None,
           on_row: Callable[[SweepRow], Any] | None = None,
@@ -108,7 +138,7 @@ def sweep(design: Design, key: str, values: Iterable[float], *, elements: int | 
     require_steps(len(vals), f"{len(vals)} values", "sweep points", limits)
     rows = []
     for v in vals:
-        d = parse_design(set_design_value(design.raw, key, v), design.source)
+        d = design_at(design, key, v)
         r = linear_stability(d.assembly, d.elements if ne is None else ne, limits=limits)
         rows.append(SweepRow(v, r.load_factor_critical, r.load_factor_interval[0],
                              r.multiplicity, d.paper_load_factor(r.load_factor_critical),

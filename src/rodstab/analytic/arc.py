@@ -27,7 +27,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from ..errors import require_in_range, require_positive
+from ..errors import RodstabInputError, require_in_range, require_positive
 from ..numerics import Root, find_roots
 from ..results import Result
 
@@ -116,6 +116,11 @@ def _guarded(M: float, b1: float, b2: float) -> float:
 #: the characteristic functions more digits than their roots can spare (|f| at the roots grows
 #: past 1e-2 at L/R = 1e5).
 L_OVER_R_MAX = 1e4
+#: Smallest accepted L/R > 0 (0 itself is the straight limit, solved by its own equations).
+#: The reduced functions divide by L/R: at 1e-14 they lost every digit and the interval came
+#: out 5600x too narrow, reported converged; at 1e-200 they overflowed (math domain error).
+#: Found by benchmarks/fuzz.py; at 1e-10 the interval still agrees with the straight limit.
+L_OVER_R_MIN = 1e-8
 #: Root kinds of :func:`rodstab.numerics.find_roots` that are bracketed and refined to its
 #: tolerance (a "touching" root is a minimum of |f| and needs its residual checked instead).
 _BRACKETED = ("sign-change", "grid-point")
@@ -174,6 +179,11 @@ def clamped_arc_stability(b1: float, b2: float, L_over_R: float) -> ArcStability
     Lb = require_in_range("L_over_R", L_over_R, 0.0, L_OVER_R_MAX,
                           "at most ~1600 turns, where the characteristic equations keep "
                           "their digits")
+    if 0.0 < Lb < L_OVER_R_MIN:
+        raise RodstabInputError(
+            f"L_over_R must be 0 (the straight limit) or in [{L_OVER_R_MIN:g}, "
+            f"{L_OVER_R_MAX:g}] (below, the characteristic equations lose their digits), "
+            f"got {L_over_R!r}")
     g = math.sqrt(b1 * b2)
     # The critical loads lie within ~2 pi sqrt(b1 b2) of the stress-free L/R for every L/R
     # (|L kappa_n - L/R| -> 5.3856 for b1 = 1, b2 = 0.75 as L/R grows), so the first window

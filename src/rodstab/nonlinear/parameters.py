@@ -193,18 +193,42 @@ Parameter = LoadFactor | SegmentValue | EndRotation
 
 
 def parameter(assembly: Assembly, key: str, elements_per_segment: int) -> Parameter:
-    """Return the continuation parameter named ``key`` (module docstring); errors name it."""
+    """Return the continuation parameter named ``key`` (module docstring).
+
+    Parameters
+    ----------
+    assembly : Assembly
+        The design's assembly.
+    key : str
+        ``load_factor``, ``segment.<name>.<natural_curvature|natural_twist>`` or
+        ``support.<i>.rotation.<normal|tangent|binormal>``.
+    elements_per_segment : int
+        Elements per segment of the discrete rod (a segment value rebuilds it).
+
+    Returns
+    -------
+    Parameter
+        The parameter.
+
+    Raises
+    ------
+    RodstabInputError
+        Naming ``--vary key KEY``, the part of it that is wrong and the valid forms.
+    """
     parts = key.split(".")
-    if key == "load_factor":
-        return LoadFactor()
-    if parts[0] == "segment" and len(parts) == 3:
-        return SegmentValue(assembly, parts[1], parts[2], elements_per_segment)
-    if parts[0] == "support" and len(parts) == 4 and parts[2] == "rotation":
-        if not parts[1].isdigit():
-            raise RodstabInputError(f"--vary key {key!r}: support index {parts[1]!r} is not a "
-                                    "number")
-        return EndRotation(assembly, int(parts[1]), parts[3])
-    raise RodstabInputError(
-        f"--vary key {key!r} cannot be continued; use load_factor, "
-        f"segment.<name>.<{'|'.join(SEGMENT_KEYS)}> or "
-        f"support.<i>.rotation.<{'|'.join(ROTATION_AXES)}>")
+    forms = (f"load_factor, segment.<name>.<{'|'.join(SEGMENT_KEYS)}> or "
+             f"support.<i>.rotation.<{'|'.join(ROTATION_AXES)}>")
+    try:
+        if key == "load_factor":
+            return LoadFactor()
+        if parts[0] == "segment" and len(parts) == 3:
+            return SegmentValue(assembly, parts[1], parts[2], elements_per_segment)
+        if parts[0] == "support" and len(parts) == 4 and parts[2] == "rotation":
+            index = parts[1]
+            if not (index.isascii() and index.isdigit()) or len(index) > 9:
+                raise RodstabInputError(f"support index {index!r} is not a number "
+                                        f"0..{len(assembly.supports) - 1}")
+            return EndRotation(assembly, int(index), parts[3])
+    except RodstabInputError as exc:
+        raise RodstabInputError(f"--vary key {key!r}: {exc}") from None
+    raise RodstabInputError(f"--vary key {key!r} cannot be continued; use {forms}")

@@ -17,9 +17,9 @@ import numpy as np
 from ...errors import NotConverged, RodstabInputError, require_finite, require_int
 from ...limits import DEFAULT as DEFAULT_LIMITS
 from ...limits import Limits, require_nonlinear, require_steps
-from ...model import Assembly
-from ..discrete import DiscreteRod, check_mesh, discretise
-from ..parameters import Parameter, parameter
+from ...model import MAX_END_ROTATION, Assembly
+from ..discrete import MAX_NATURAL_TURNING, DiscreteRod, check_mesh, discretise
+from ..parameters import EndRotation, Parameter, SegmentValue, parameter
 from ..solve import newton, settle
 from . import storage
 from .branches import trace_branch
@@ -115,6 +115,17 @@ def continuation(a: Assembly, key: str, start: float, stop: float, n_steps: int,
     max_steps_factor = require_int("max_steps_factor", max_steps_factor, 1)
     length = reference_length(a, reference_segment)
     param = parameter(a, key, n)
+    for value in (start, stop):  # both ends of the range, before stepping
+        if isinstance(param, EndRotation) and abs(value) > MAX_END_ROTATION:
+            raise RodstabInputError(
+                f"--vary {key}: {value:g} rad is beyond +-{MAX_END_ROTATION:.6g} (a hundred "
+                "turns of the end)")
+        if isinstance(param, SegmentValue):
+            turn = abs(value) * a.segment(param.name).length
+            if turn > MAX_NATURAL_TURNING:
+                raise RodstabInputError(
+                    f"--vary {key}: {value:g} turns the segment by {turn:.3g} rad, above "
+                    f"{MAX_NATURAL_TURNING:g}")
     fresh = rod is None
     rod = discretise(a, n) if rod is None else rod
     held_x = rod.x.copy()
