@@ -340,3 +340,21 @@ def test_jacobi_scaling_gives_a_unit_diagonal_and_keeps_the_inertia():
     S = d[:, None] * A * d[None, :]
     assert np.allclose(np.abs(np.diag(S)), 1.0)
     assert np.sum(np.linalg.eigvalsh(S) < 0) == np.sum(np.linalg.eigvalsh(A) < 0) == 2
+
+
+def test_refine_root_refines_a_bracket_without_scanning():
+    """A sign-change bracket refined by Brent alone: cos on [1, 2] gives pi/2 to XTOL in a few
+    evaluations (a scan would take dozens); no sign change is refused naming the interval."""
+    from rodstab.errors import RodstabInputError
+    from rodstab.numerics import refine_root
+
+    calls = []
+
+    def f(x):
+        calls.append(x)
+        return math.cos(x)
+
+    assert refine_root(f, 2.0, 1.0) == pytest.approx(math.pi / 2, abs=1e-13)
+    assert len(calls) < 15
+    with pytest.raises(RodstabInputError, match=r"no sign change on \[0.0, 1.0\]"):
+        refine_root(math.cos, 0.0, 1.0)

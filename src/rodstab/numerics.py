@@ -151,6 +151,21 @@ def golden_min(g: Callable[[float], float], a: float, b: float, xtol: float) -> 
     return x, g(x)
 
 
+def refine_root(f: Callable[[float], float], a: float, b: float, *,
+                rel_xtol: float = XTOL) -> float:
+    """Refine the root of ``f`` in ``[a, b]``, where ``f(a)`` and ``f(b)`` differ in sign.
+
+    The refinement step of :func:`find_roots` alone (Brent, bisection where it stalls), to
+    ``rel_xtol * |b - a|``, for a caller that already holds a sign-change bracket (e.g. a
+    stability change between two steps of a path, where each evaluation is a Newton solve and
+    a scan would cost dozens). Raises :class:`RodstabInputError` if the signs do not differ.
+    """
+    lo, hi = min(a, b), max(a, b)
+    if not (f(lo) * f(hi) < 0):
+        raise RodstabInputError(f"refine_root: f has no sign change on [{lo!r}, {hi!r}]")
+    return _bracketed_root(f, lo, hi, rel_xtol * (hi - lo))
+
+
 def _bracketed_root(f: Callable[[float], float], a: float, b: float, xtol: float) -> float:
     """Root in a sign-change bracket: Brent, falling back to bisection where Brent stalls.
 

@@ -15,12 +15,14 @@ points of a path:
 
 from __future__ import annotations
 
+import contextlib
 import math
 from collections.abc import Callable
 
 import numpy as np
 
-from ...numerics import find_roots
+from ...errors import RodstabInputError
+from ...numerics import refine_root
 from ..discrete import DiscreteRod
 from ..parameters import Parameter
 from ..solve import lowest_modes, newton
@@ -110,10 +112,8 @@ def locate(rod: DiscreteRod, param: Parameter, prev: DiscreteRod, prev_tq: np.nd
     # at the exact branch point both eigenvalues of a double pair vanish, which is how
     # .branches tells a double eigenvalue from a small second one.
     if m0 != m1 and (v0 > 0) != (v1 > 0):
-        found = find_roots(eig, min(m0, m1), max(m0, m1), n_scan=2)
-        roots = [r.x for r in found.roots if r.kind == "sign-change"]
-        if roots:
-            p_c = min(roots, key=lambda x: abs(x - p_c))
+        with contextlib.suppress(RodstabInputError):  # re-solved ends without a sign change
+            p_c = refine_root(eig, m0, m1)
     return ({"kind": kind.value, "value": float(p_c),
              "bracket": sorted([float(m0), float(m1)])}, at_value(p_c))
 
