@@ -6,14 +6,16 @@ module's ``METHODS``, and the linear and nonlinear solves that every module shar
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable
 from typing import Any
 
+from ..errors import require_positive
 from ..limits import DEFAULT as DEFAULT_LIMITS
 from ..limits import Limits
 from ..linear.solve import LinearStability, linear_stability
 from ..model import Assembly, Segment
-from ..sections import Section
+from ..sections import Section, circle
 
 #: A solution method of a problem: ``Params -> {paper quantity: critical value}``, the values
 #: in the paper's units (the keys of the module's ``to_paper``, possibly suffixed
@@ -31,6 +33,18 @@ def segment(name: str, section: Section, L: float, k: float, kn: float,
     """
     return Segment(name=name, length=L, curvature=k, natural_curvature=kn, B1=section.b1,
                    B2=section.b2, B3=1.0, start=start, angle=angle, natural_twist=natural_twist)
+
+
+@dataclasses.dataclass(frozen=True, kw_only=True)
+class StraightRodParams:
+    """A straight rod: ``section`` (default circle, nu = 1/3) and ``length`` L (> 0)."""
+
+    section: Section = dataclasses.field(default_factory=circle)
+    length: float = 1.0
+
+    def __post_init__(self) -> None:
+        """Validate: positive length."""
+        require_positive("length", self.length)
 
 
 def clamped_sliding_rod(section: Section, L: float, kn: float) -> Assembly:

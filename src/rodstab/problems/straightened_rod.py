@@ -7,17 +7,14 @@ before (3.9) requires). Natural curvature ``kappa_n = mu`` (``B3 = 1``); the pap
 
 from __future__ import annotations
 
-import dataclasses
 import math
 
 from ..analytic.arc import straight_clamped_critical
-from ..errors import require_positive
 from ..linear.solve import LinearStability
 from ..model import Assembly
 from ..numerics import matrix_roots
-from ..sections import Section, circle
 from ..transfer import clamped_arc_matrix
-from ._common import Method, clamped_sliding_rod, engine, nonlinear_critical
+from ._common import Method, StraightRodParams, clamped_sliding_rod, engine, nonlinear_critical
 
 #: Elements of the linear engine (the report's NL-straightened row).
 DEFAULT_ELEMENTS = 32
@@ -27,16 +24,8 @@ NONLINEAR_ELEMENTS = 32
 PAPER_LAMBDA_C = 2 * math.pi
 
 
-@dataclasses.dataclass(frozen=True, kw_only=True)
-class Params:
-    """Straightened rod: ``section`` (default circle, nu = 1/3) and ``length`` L."""
-
-    section: Section = dataclasses.field(default_factory=circle)
-    length: float = 1.0
-
-    def __post_init__(self) -> None:
-        """Validate: positive length."""
-        require_positive("length", self.length)
+#: Straightened rod: ``section`` (default circle, nu = 1/3) and ``length`` L.
+Params = StraightRodParams
 
 
 def build(params: Params) -> Assembly:

@@ -10,13 +10,9 @@ units: ``phi B2 / (B L)`` (``B = B1 = B3``), Greenhill's ``2 x`` with ``tan x = 
 
 from __future__ import annotations
 
-import dataclasses
-
 from ..analytic.twisted_rod import greenhill_end_rotation
-from ..errors import require_positive
 from ..model import Assembly
-from ..sections import Section, circle
-from ._common import Method, clamped_sliding_rod, richardson
+from ._common import Method, StraightRodParams, clamped_sliding_rod, richardson
 
 #: Elements of the nonlinear rod (the model that solves this assembly).
 DEFAULT_ELEMENTS = 16
@@ -31,16 +27,8 @@ ROTATION_STEPS = 14
 NONLINEAR_MESHES = (16, 32)
 
 
-@dataclasses.dataclass(frozen=True, kw_only=True)
-class Params:
-    """Twisted rod: ``section`` (default circle, nu = 1/3) and ``length`` L."""
-
-    section: Section = dataclasses.field(default_factory=circle)
-    length: float = 1.0
-
-    def __post_init__(self) -> None:
-        """Validate: positive length."""
-        require_positive("length", self.length)
+#: Twisted rod: ``section`` (default circle, nu = 1/3) and ``length`` L.
+Params = StraightRodParams
 
 
 def build(params: Params) -> Assembly:
