@@ -330,8 +330,11 @@ def _kabsch_rms(P: np.ndarray, Q: np.ndarray) -> float:
 
 
 def aligned_distance(rod: DiscreteRod, a: Snapshot, b: Snapshot) -> float:
-    """RMS node distance (over ``L``) of ``a`` and ``b``, minimised over rigid motions,
-    reflections and the ring's relabellings (cyclic shift of the rods, reversed traversal)."""
+    """Return the RMS node distance (over ``L``) of ``a`` and ``b`` modulo the ring's symmetry.
+
+    Minimised over rigid motions, reflections and the ring's relabellings (cyclic shift of the
+    rods, reversed traversal).
+    """
     seg = _segment_nodes(rod)
     Pa = a.x[seg]
     Pb = b.x[seg]
@@ -385,7 +388,7 @@ def invariants(rod: DiscreteRod, s: Snapshot) -> Invariants:
     L = _mean_length(rod)
     c, n = _plane(rod, s.x, s.R_edge)
     out = float(np.max(np.abs((s.x - c) @ n))) / L
-    welds = []
+    welds: list[np.ndarray] = []
     for e, _, _, end in rod.end_links:
         p = s.x[rod.edge_nodes[e, 0 if end == "start" else 1]]
         if not any(float(np.linalg.norm(p - q)) <= WELD_POINT_TOL * L for q in welds):
@@ -489,8 +492,11 @@ class Discovery(Result):
     method: str
 
 
-#: Largest node displacement of the perturbed starts, in mean segment lengths, cycled through.
-START_AMPLITUDES = (0.1, 0.3, 0.6, 1.0)
+#: Largest node displacement of the perturbed starts, in mean segment lengths, cycled through
+#: (each amplitude used for a pair of starts, +v and -v). Deflated Newton on the discrete rod
+#: converges from about 0.01-0.03 L; from 0.1 L and beyond it mostly stalls in flat valleys of
+#: the energy (measured on the hexagram at 16 elements per rod), so large ones are few.
+START_AMPLITUDES = (0.01, 0.03, 0.1, 0.3)
 #: Deflated runs from one start: after each success it is rerun from the same start with the new
 #: solution deflated too (Farrell et al.), at most this many times.
 RUNS_PER_START = 3
@@ -506,23 +512,26 @@ def _label(inv: Invariants, known: list[KnownState]) -> str:
     return "unnamed"
 
 
-def _perturbed(rod: DiscreteRod, base: Snapshot, amplitude: float,
-               rng: np.random.Generator) -> Snapshot:
-    """``base`` plus a random mix of its :data:`INDEX_EIGS` softest modes (chart increment),
-    scaled to a largest node displacement ``amplitude`` x L, then put back onto the Kirchhoff
-    constraint (frames on their chords, :func:`restore_positions`)."""
+def _perturbed(rod: DiscreteRod, base: Snapshot, amplitude: float, weights: np.ndarray
+               ) -> Snapshot:
+    """Perturb ``base`` by a mix of its softest modes and return it on the constraint.
+
+    The mix ``weights`` of its :data:`INDEX_EIGS` softest modes (chart increment) is scaled to a
+    largest node displacement ``|amplitude|`` x L (signed), then put back onto the Kirchhoff
+    constraint (frames on their chords, :func:`restore_positions`).
+    """
     from .solve import lowest_modes
 
     trial = rod.copy()
     base.put(trial)
     _, vecs = lowest_modes(trial, INDEX_EIGS)
-    v = vecs @ rng.standard_normal(vecs.shape[1])
+    v = vecs @ weights[: vecs.shape[1]]
     dq = np.zeros(rod.n_dof)
     dq[trial.free_dofs()] = v
     disp = float(np.max(np.linalg.norm(dq[: 3 * len(rod.x)].reshape(-1, 3), axis=1)))
     trial.apply(dq * (amplitude * _mean_length(rod) / max(disp, 1e-300)))
     trial.align_frames()
-    restore_positions(trial)  # back onto the Kirchhoff constraint (frames decide)
+    restore_positions(trial)
     return Snapshot.of(trial)
 
 
@@ -531,9 +540,9 @@ def discover(rod: DiscreteRod, seeds: list[tuple[str, Snapshot]], known: list[Kn
     """Find distinct equilibria of ``rod`` by deflated Newton from seeds and perturbed starts.
 
     1. Every seed state (e.g. a held state) is a start.
-    2. ``starts`` perturbed starts: seed ``i mod n_seeds`` plus a random mix (generator seeded by
-       ``seed``) of its softest modes, largest displacement cycling through
-       :data:`START_AMPLITUDES` x L.
+    2. ``starts`` perturbed starts, in pairs ``+v``, ``-v``: seed ``(i // 2) mod n_seeds`` plus
+       a random mix ``v`` (generator seeded by ``seed``) of its softest modes, largest
+       displacement cycling through :data:`START_AMPLITUDES` x L.
 
     From each start deflated Newton runs with every solution found so far deflated; after a
     success it runs again from the same start (:data:`RUNS_PER_START` runs at most). Returns
@@ -547,11 +556,15 @@ def discover(rod: DiscreteRod, seeds: list[tuple[str, Snapshot]], known: list[Kn
     plan: list[tuple[str, Snapshot | None, int, float]] = [(f"seed {lab}", s, -1, 0.0)
                                                           for lab, s in seeds]
     for i in range(starts):
-        amp = START_AMPLITUDES[i % len(START_AMPLITUDES)]
-        b = i % len(seeds)
-        plan.append((f"start {i + 1}: seed {seeds[b][0]} perturbed by {amp:g} L", None, b, amp))
+        amp = START_AMPLITUDES[(i // 2) % len(START_AMPLITUDES)] * (1 if i % 2 == 0 else -1)
+        b = (i // 2) % len(seeds)
+        plan.append((f"start {i + 1}: seed {seeds[b][0]} perturbed by {amp:+g} L", None, b,
+                     amp))
+    weights = rng.standard_normal(INDEX_EIGS)
     for name, snap, b, amp in plan:
-        start = snap if snap is not None else _perturbed(rod, seeds[b][1], amp, rng)
+        if snap is None and amp > 0:
+            weights = rng.standard_normal(INDEX_EIGS)  # a new mix for each +/- pair
+        start = snap if snap is not None else _perturbed(rod, seeds[b][1], amp, weights)
         for _ in range(RUNS_PER_START):
             start.put(rod)
             runs += 1
@@ -590,3 +603,66 @@ def discover(rod: DiscreteRod, seeds: list[tuple[str, Snapshot]], known: list[Kn
         method=f"deflated Newton (Farrell, Beentjes, Birkisson; p = {DEFLATION_POWER:g}, shift "
                f"= {DEFLATION_SHIFT:g}) on one discrete rod, deduplicated modulo rigid motion, "
                "reflection and relabelling"), [s for s, *_ in distinct]
+
+
+# ---------------------------------------------------------------------------------------------
+# Rings of cusp-welded rods (the hexagram, the six-sided ring of Section 5)
+@dataclasses.dataclass(frozen=True)
+class RingSearch:
+    """A ring of ``segments`` identical cusp-welded rods to search.
+
+    ``length`` L of a rod, ``natural_curvature`` per unit load factor, stiffnesses ``B1``,
+    ``B2`` (``B3 = 1``), and the held state ``state`` (a label of
+    :func:`rodstab.states.closed_states`) whose geometry is the first seed.
+    """
+
+    segments: int
+    length: float
+    natural_curvature: float
+    B1: float
+    B2: float
+    state: str
+
+
+def ring_seeds(ring: RingSearch, elements_per_segment: int, load_factor: float,
+               seed_states: bool) -> tuple[DiscreteRod, list[tuple[str, Snapshot]],
+                                           list[KnownState]]:
+    """Return the common rod (built from ``ring.state``), the seeds and the known states.
+
+    Seeds: the held geometry of ``ring.state``, and with ``seed_states`` that of every other
+    closed planar held state of uniform moment with ``|k L| <= 2 pi``
+    (:func:`rodstab.states.closed_states`: the basic states, their mirrors and the others), each
+    put into the one common rod. Raises naming ``ring.state`` if it is not a closed state.
+    """
+    from ..states import closed_states, ring_assembly, state_turning
+
+    n = ring.segments
+    theta = state_turning(n, "cusp", ring.state)
+    listed = closed_states(n, weld="cusp", length=ring.length).states
+
+    def build(th: float) -> DiscreteRod:
+        a = ring_assembly(n, th, weld="cusp", length=ring.length,
+                          natural_curvature=ring.natural_curvature, B1=ring.B1, B2=ring.B2,
+                          B3=1.0)
+        return common_rod(a, elements_per_segment, load_factor)
+
+    rod = build(theta)
+    seeds = [(ring.state, Snapshot.of(rod))]
+    if seed_states:
+        for st in listed:
+            if st.label != ring.state:
+                seeds.append((st.label, Snapshot.of(build(st.theta))))
+    known = [KnownState(st.label, st.turning_number, st.distinct_weld_points) for st in listed]
+    return rod, seeds, known
+
+
+def shape_2d(rod: DiscreteRod, s: Snapshot) -> list[np.ndarray]:
+    """Centreline of every rod of state ``s`` projected on its best-fit plane, ``(n + 1, 2)``."""
+    c, nrm = _plane(rod, s.x, s.R_edge)
+    e1 = np.cross(nrm, [0.0, 0.0, 1.0])
+    if np.linalg.norm(e1) < 0.5:
+        e1 = np.array([1.0, 0.0, 0.0]) - nrm[0] * nrm
+    e1 /= np.linalg.norm(e1)
+    e2 = np.cross(nrm, e1)
+    return [np.stack([(s.x[ids] - c) @ e1, (s.x[ids] - c) @ e2], axis=1)
+            for ids in _segment_nodes(rod)]
