@@ -841,7 +841,7 @@ def discover(section: Section, structure: str, segments: int, state: str | None,
     if isinstance(starts, bool) or starts < 0:
         raise RodstabInputError(f"--starts must be an integer >= 0, got {starts!r}")
     if structure == "hexagram":
-        if ctx_given("segments"):
+        if _given("segments"):
             raise RodstabInputError(f"--segments {segments!r} is for --structure six-ring "
                                     "(the hexagram has six rods)")
         n, L, kn = hx.SEGMENTS, 1.0, hx.L_OVER_R0
@@ -877,7 +877,7 @@ def discover(section: Section, structure: str, segments: int, state: str | None,
     _emit(payload, as_json, lines)
 
 
-def ctx_given(option: str) -> bool:
+def _given(option: str) -> bool:
     """Whether ``option`` was given on the command line (not its default)."""
     src = click.get_current_context().get_parameter_source(option)
     return src is not None and src.name != "DEFAULT"
