@@ -234,8 +234,10 @@ def weld_joint(assembly: Assembly, rod: DiscreteRod, weld: int) -> tuple[int, in
 
 
 def _take_reference(rod: DiscreteRod, joints: list[int]) -> None:
-    """Make the current frames of ``joints`` their reference frames (a new array: copies of
-    the state share the old one)."""
+    """Make the current frames of ``joints`` their reference frames.
+
+    A new array: copies of the state share the old one.
+    """
     assert rod.R_joint_held is not None  # set by discretise
     ref = rod.R_joint_held.copy()
     for j in joints:
