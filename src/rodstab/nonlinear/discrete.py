@@ -192,7 +192,8 @@ class DiscreteRod:
         assert self.R_joint_held is not None  # set by discretise
         P = rotation_jet(np.swapaxes(self.R_joint_held[joints], 1, 2) @ self.R_joint[joints],
                          3, 0)
-        theta = rotation_vector(P)
+        with np.errstate(all="ignore"):  # past a half turn: NaN energy, the step is refused
+            theta = rotation_vector(P)
         M = np.array([self.joint_moment[int(j)] for j in joints], float)
         return sum((theta[c] * -M[:, c] for c in range(1, 3)), start=theta[0] * -M[:, 0])
 
