@@ -50,8 +50,8 @@ def plot_transition_graph(graph: dict[str, Any], shapes: dict[str, np.ndarray],
         k = seen.get((a, b), 0)
         seen[(a, b)] = k + 1
         physical = bool(e.get("physical", True))
-        style = dict(color="tab:green" if physical else "tab:red",
-                     ls="-" if physical else "--")
+        style: dict[str, Any] = dict(color="tab:green" if physical else "tab:red",
+                                     ls="-" if physical else "--")
         label = f"{e['stimulus']}\n= {e['threshold']:.4g}"
         if a == b:
             px, py = pos[a]

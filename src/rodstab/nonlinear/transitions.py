@@ -38,7 +38,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 
 import numpy as np
 
@@ -410,7 +410,7 @@ class TransitionGraph(Result):
 
 
 def transition_graph(assemblies: dict[str, Assembly],
-                     stimuli: dict[str, Sequence[tuple[str, float]]], *, load_factor: float,
+                     stimuli: Mapping[str, Sequence[tuple[str, float]]], *, load_factor: float,
                      thickness: float, elements_per_segment: int = 8,
                      n_steps: int = 16, all_stimuli: bool = False) -> TransitionGraph:
     """Transitions out of every state of ``assemblies`` (one discretised ring, many states).
