@@ -810,6 +810,8 @@ def reproduce(out_dir: str, no_progress: bool, as_json: bool) -> None:
                    "repeatable, replaces that state's defaults. KEY: load_factor, "
                    "welds.<i>,<j>.rotation.<normal|tangent|binormal> (radians), "
                    "weld.<i>.moment.<normal|tangent|binormal> (B3/L), weld indices 0-5.")
+@click.option("--state", "states_", multiple=True, metavar="STATE",
+              help="Load only these states (repeatable; default: all four).")
 @click.option("--all", "all_stimuli", is_flag=True,
               help="Try every stimulus of each state, not only up to the first transition.")
 @click.option("--out", "out_dir", type=click.Path(file_okay=False), default=None,
@@ -817,8 +819,8 @@ def reproduce(out_dir: str, no_progress: bool, as_json: bool) -> None:
 @_section_options
 @_json_option
 def transitions(section: Section, structure: str, load_factor: float, elements: int,
-                thickness: float, stimuli: tuple[str, ...], all_stimuli: bool,
-                out_dir: str | None, as_json: bool) -> None:
+                thickness: float, stimuli: tuple[str, ...], states_: tuple[str, ...],
+                all_stimuli: bool, out_dir: str | None, as_json: bool) -> None:
     """Transitions between states under a stimulus: the transition graph.
 
     Each state is loaded until it first loses stability, relaxed past it, unloaded and
@@ -831,6 +833,9 @@ def transitions(section: Section, structure: str, load_factor: float, elements: 
     elements = require_int("--elements", elements, 2)
     load_factor = require_finite("--load-factor", load_factor)
     thickness = require_positive("--thickness", thickness)
+    for state in states_:
+        if state not in ht.STATES:
+            raise RodstabInputError(f"--state {state!r} is not one of {ht.STATES}")
     chosen: dict[str, list[tuple[str, float]]] = {}
     for text in stimuli:
         state, key, stop = ht.parse_stimulus(text)
@@ -840,7 +845,8 @@ def transitions(section: Section, structure: str, load_factor: float, elements: 
     with _warnings_as_lines(), warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)
         res = ht.transitions(section, load_factor=load_factor, elements=elements,
-                             thickness=thickness, stimuli=stim, all_stimuli=all_stimuli)
+                             thickness=thickness, stimuli=stim, all_stimuli=all_stimuli,
+                             load=tuple(states_) or ht.STATES)
     payload = res.graph.to_json()
     payload["structure"] = structure
     payload["section"] = section.to_dict()

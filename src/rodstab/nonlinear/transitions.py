@@ -412,12 +412,14 @@ class TransitionGraph(Result):
 def transition_graph(assemblies: dict[str, Assembly],
                      stimuli: Mapping[str, Sequence[tuple[str, float]]], *, load_factor: float,
                      thickness: float, elements_per_segment: int = 8,
-                     n_steps: int = 16, all_stimuli: bool = False) -> TransitionGraph:
+                     n_steps: int = 16, all_stimuli: bool = False,
+                     load: Sequence[str] | None = None) -> TransitionGraph:
     """Transitions out of every state of ``assemblies`` (one discretised ring, many states).
 
     ``stimuli[state]``: ``(key, stop)`` tried in order until one gives a transition to another
-    state (all of them with ``all_stimuli``); a loading that ends where it started or stays
-    stable is kept as an edge without a target (reported under ``no_transition``).
+    state (all of them with ``all_stimuli``); a loading that stays stable is kept as an edge
+    without a target (reported under ``no_transition``). ``load``: the states loaded (default
+    all); every state of ``assemblies`` is a reference for the identification.
     """
     refs = {}
     for name, a in assemblies.items():
@@ -425,7 +427,8 @@ def transition_graph(assemblies: dict[str, Assembly],
         newton(r)
         refs[name] = r
     edges, states = [], list(assemblies)
-    for name, a in assemblies.items():
+    for name in (list(assemblies) if load is None else load):
+        a = assemblies[name]
         for key, stop in stimuli.get(name, ()):
             t = transition(a, name, key, stop, load_factor=load_factor, references=refs,
                            thickness=thickness, elements_per_segment=elements_per_segment,

@@ -24,15 +24,18 @@ from ..sections import Section
 from .hexagram import STATES, Params, build
 
 #: Stimuli ``(key, stop)`` tried in order for each state (the first one that takes the state
-#: to another one is kept). Weld moments in B3 / L, weld rotations in radians, stops bounded.
+#: to another one is kept): the natural curvature first (thermal or swelling actuation, from
+#: the given load factor), then the weld stimuli. Weld moments in B3 / L, weld rotations in
+#: radians; every range bounded.
 STIMULI: dict[str, tuple[tuple[str, float], ...]] = {
-    "line": (("weld.2.moment.binormal", 12.0), ("welds.0,3.rotation.binormal", 3.0)),
-    "star": (("welds.0,3.rotation.binormal", 3.0), ("weld.2.moment.binormal", 12.0),
-             ("load_factor", 0.2)),
-    "daisy": (("welds.0,3.rotation.binormal", 3.0), ("weld.2.moment.binormal", 12.0),
-              ("load_factor", 4.0)),
-    "eight": (("welds.0,3.rotation.binormal", 3.0), ("weld.2.moment.binormal", 12.0),
-              ("load_factor", 0.2)),
+    "line": (("load_factor", 4.0), ("weld.2.moment.binormal", 12.0),
+             ("welds.0,3.rotation.binormal", 3.0)),
+    "star": (("load_factor", 4.0), ("welds.0,3.rotation.binormal", 3.0),
+             ("weld.2.moment.binormal", 12.0)),
+    "daisy": (("load_factor", 0.2), ("load_factor", 4.0),
+              ("welds.0,3.rotation.binormal", 3.0)),
+    "eight": (("load_factor", 0.2), ("welds.0,3.rotation.binormal", 3.0),
+              ("weld.2.moment.binormal", 12.0)),
 }
 #: Default out-of-plane thickness over the rod length, ``h / L``.
 DEFAULT_THICKNESS = 0.02
@@ -61,7 +64,11 @@ def check_stimuli(section: Section, stimuli: dict[str, tuple[tuple[str, float], 
     for state, pairs in stimuli.items():
         a = build(Params(section=section, state=state))
         for key, _ in pairs:
-            parameter(a, key, elements)
+            try:
+                parameter(a, key, elements)
+            except RodstabInputError as exc:
+                raise RodstabInputError(f"--stimulus {state}={key}: "
+                                        + str(exc).replace("--vary key", "key")) from None
 
 
 @dataclasses.dataclass(frozen=True)
@@ -75,13 +82,21 @@ class HexagramTransitions:
 def transitions(section: Section, *, load_factor: float, elements: int = 8,
                 thickness: float = DEFAULT_THICKNESS,
                 stimuli: dict[str, tuple[tuple[str, float], ...]] | None = None,
-                all_stimuli: bool = False) -> HexagramTransitions:
-    """Transition graph of the four basic states at ``load_factor`` (module docstring)."""
-    stim = dict(STIMULI) if stimuli is None else stimuli
+                all_stimuli: bool = False, load: tuple[str, ...] = STATES
+                ) -> HexagramTransitions:
+    """Transition graph of the basic states ``load`` at ``load_factor`` (module docstring).
+
+    All four states are references for the identification, whichever are loaded.
+    """
+    for state in load:
+        if state not in STATES:
+            raise RodstabInputError(f"--state {state!r} is not one of {STATES}")
+    stim = {s: (STIMULI if stimuli is None else stimuli)[s] for s in load}
     check_stimuli(section, stim, elements)
     assemblies = {s: build(Params(section=section, state=s)) for s in STATES}
     graph = transition_graph(assemblies, stim, load_factor=load_factor, thickness=thickness,
-                             elements_per_segment=elements, all_stimuli=all_stimuli)
+                             elements_per_segment=elements, all_stimuli=all_stimuli,
+                             load=load)
     shapes = {}
     for s, a in assemblies.items():
         r = discretise(a, elements, load_factor)
