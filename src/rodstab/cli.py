@@ -419,8 +419,11 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
 @click.option("--vary", required=True,
               help=f"KEY=START:STOP[:N], N steps (default {CONTINUE_DEFAULT_N}); KEY: "
                    "load_factor (natural curvatures and twists scale with it), "
-                   "segment.<name>.natural_curvature, segment.<name>.natural_twist or "
-                   "support.<i>.rotation.<normal|tangent|binormal> (radians).")
+                   "segment.<name>.natural_curvature, segment.<name>.natural_twist, "
+                   "support.<i>.rotation.<normal|tangent|binormal> (radians), "
+                   "welds.<i>,<j>.rotation.<axis> (welds i and j turned by +phi and -phi, "
+                   "radians) or weld.<i>.moment.<axis> (a point moment on weld i); i, j: "
+                   "indices of the design's welds.")
 @click.option("--out", "out_dir", type=click.Path(file_okay=False), default=None,
               help="Directory for primary.csv, branches.csv, special_points.json, diagram.png, "
                    "branch.gif; a rerun with the same directory and arguments resumes.")
