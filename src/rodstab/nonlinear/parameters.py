@@ -49,6 +49,10 @@ from .discrete import DiscreteRod, discretise
 from .jets import hat, rotation_jet, rotation_vector
 
 #: Keys of one segment whose values enter the discrete energy affinely.
+#: ``(E, g, H)`` of :meth:`DiscreteRod.energy_terms` at the current state: a caller that has
+#: them passes them to ``dgrad``, which then spends no second evaluation on them.
+Terms = tuple[float, np.ndarray, Any]
+
 SEGMENT_KEYS = ("natural_curvature", "natural_twist")
 
 
@@ -68,10 +72,10 @@ class LoadFactor:
         """Set ``mu`` of ``rod`` to ``value``."""
         rod.load_factor = float(value)
 
-    def dgrad(self, rod: DiscreteRod) -> np.ndarray:
+    def dgrad(self, rod: DiscreteRod, terms: Terms | None = None) -> np.ndarray:
         """``dg/dmu`` (all unknowns), exact: ``g`` is affine in ``mu``."""
         mu = rod.load_factor
-        g0 = rod.energy_terms()[1]
+        g0 = (rod.energy_terms() if terms is None else terms)[1]
         rod.load_factor = mu + 1.0
         g1 = rod.energy_terms()[1]
         rod.load_factor = mu
@@ -137,10 +141,10 @@ class SegmentValue:
                              for c, n_, o in zip(rod.k0_links, new[2], old[2], strict=True))
         rod.param_values[self.key] = float(value)
 
-    def dgrad(self, rod: DiscreteRod) -> np.ndarray:
+    def dgrad(self, rod: DiscreteRod, terms: Terms | None = None) -> np.ndarray:
         """``dg/dp`` (all unknowns), exact: ``g`` is affine in a natural curvature or twist."""
         p = self.get(rod)
-        g0 = rod.energy_terms()[1]
+        g0 = (rod.energy_terms() if terms is None else terms)[1]
         self.set(rod, p + 1.0)
         g1 = rod.energy_terms()[1]
         self.set(rod, p)
@@ -208,10 +212,10 @@ class EndRotation:
         r[self._c] = float(value)
         rod.rotate_joint(j, Q @ r)
 
-    def dgrad(self, rod: DiscreteRod) -> np.ndarray:
+    def dgrad(self, rod: DiscreteRod, terms: Terms | None = None) -> np.ndarray:
         """``dg/dr_c = H[:, joint] J_r(Q r) Q e_c`` (exact)."""
         j, Q, r = self._r(rod)
-        _, _, H = rod.energy_terms()
+        _, _, H = rod.energy_terms() if terms is None else terms
         direction = _right_jacobian(Q @ r) @ Q[:, self._c]
         return np.asarray(H[:, rod.joint_dofs(j)] @ direction).ravel()
 
@@ -298,10 +302,10 @@ class WeldRotation:
         rod.rotate_joint(jj, -r)
         rod.param_values[self.key] = float(value)
 
-    def dgrad(self, rod: DiscreteRod) -> np.ndarray:
+    def dgrad(self, rod: DiscreteRod, terms: Terms | None = None) -> np.ndarray:
         """``dg/dphi = H[:, i] e_c - H[:, j] e_c`` (exact, module docstring)."""
         ji, jj = self._joints(rod)
-        _, _, H = rod.energy_terms()
+        _, _, H = rod.energy_terms() if terms is None else terms
         return np.asarray(H[:, rod.joint_dofs(ji)[self._c]].toarray().ravel()
                           - H[:, rod.joint_dofs(jj)[self._c]].toarray().ravel())
 
@@ -350,7 +354,7 @@ class WeldMoment:
         m[self._c] = float(value)
         rod.joint_moment[j] = m
 
-    def dgrad(self, rod: DiscreteRod) -> np.ndarray:
+    def dgrad(self, rod: DiscreteRod, terms: Terms | None = None) -> np.ndarray:
         """``dg/dM_c = -d theta_c / d phi`` on the weld's rotation unknowns (exact)."""
         j = self._joint(rod)
         assert rod.R_joint_held is not None  # set by discretise
