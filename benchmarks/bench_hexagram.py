@@ -7,8 +7,7 @@ the ratio to the target.
 
 from __future__ import annotations
 
-import statistics
-import time
+from bench_analytic import median_time
 
 from rodstab.problems import hexagram as hx
 
@@ -16,18 +15,9 @@ TARGET_ATLAS = 60.0
 POINTS = 50
 
 
-def median_time(fn, repeats: int = 3) -> float:
-    times = []
-    for _ in range(repeats):
-        t = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t)
-    return statistics.median(times)
-
-
 def main() -> None:
     for method in ("transfer", "fe"):
-        t = median_time(lambda m=method: hx.chart_data(n_points=POINTS, method=m))
+        t = median_time(lambda m=method: hx.chart_data(n_points=POINTS, method=m), repeats=3)
         print(f"atlas, {POINTS} points, {method:8s}: {t:6.2f} s  (ratio to the {TARGET_ATLAS:g} s "
               f"target {t / TARGET_ATLAS:.2f})")
     t = median_time(lambda: hx.threshold(), repeats=1)
