@@ -963,6 +963,10 @@ def transitions(section: Section, structure: str, load_factor: float, elements: 
               f"{e['message']}" for e in payload["no_transition"]]
     lines += [f"wrote {payload['figure']}, {payload['json_file']}"] if out is not None else []
     _emit(payload, as_json, lines)
+    unconverged = [f"{e['from']} -> {e['to']}" for e in payload["edges"] if not e["converged"]]
+    if unconverged:
+        raise NotConverged(f"a relaxation or the path of {', '.join(unconverged)} did not "
+                           "converge (those edges are not to be trusted)")
 
 
 #: Click >= 8.2 raises this usage error for ``rodstab`` without arguments; its message is the
