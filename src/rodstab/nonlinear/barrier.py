@@ -1,0 +1,636 @@
+"""Energy barriers between two stable equilibria: minimum energy path, saddle, barrier.
+
+The string method (E, Ren and Vanden-Eijnden, *Simplified and improved string method for
+computing the minimum energy paths in barrier-crossing events*, J. Chem. Phys. 126, 164103,
+2007), simplified further: a chain of images from one minimum to the other, each moved by a
+descent step with its component along the chain removed (as in the nudged elastic band), then
+redistributed at equal arclength. The highest image is refined by Newton's method on the
+gradient (not the energy) to the saddle, whose Hessian index is checked to be exactly one.
+
+Generic core: :func:`minimum_energy_path` works on any space given by a :class:`PathSpace`
+(``log``/``exp`` between states, a descent step, a diagonal metric), so the same code runs on a
+Euclidean toy with a known saddle (:class:`EuclideanSpace`) and on the discrete rod
+(:class:`RodSpace`: node positions and edge/joint frames, frames interpolated on SO(3) by the log
+map, distances mixing positions over a length with rotation angles).
+
+Two held states of one structure at one natural curvature are two discretisations with
+different reference geometries; :func:`common_rod` makes them two configurations of ONE
+discrete model whose energy depends on the natural curvature alone (:func:`natural_reference`).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Callable
+from typing import Any, Protocol, TypeVar
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from ..errors import NotConverged, RodstabInputError, require_int
+from ..model import Assembly
+from ..numerics import jacobi_scaling
+from ..results import Result
+from .discrete import PENALTY, DiscreteRod, discretise
+from .solve import (
+    NEWTON_RTOL,
+    lowest_eigenvalues,
+    newton,
+    vee_log,
+    zero_eigenvalue_tol,
+)
+
+#: Images of the string, ends included.
+N_IMAGES = 13
+#: Most iterations of the string (each: one descent step per interior image, one
+#: redistribution).
+STRING_MAX_ITER = 200
+#: The string has converged when no interior image moves (perpendicular to the string) by more
+#: than this fraction of the spacing between images in one iteration.
+STRING_TOL = 2e-3
+#: A descent step is cut to at most this fraction of the spacing between images, so an image
+#: cannot jump past its neighbours (or into a basin) in one step.
+STEP_FRACTION = 0.5
+#: Newton iterations allowed to the saddle refinement.
+SADDLE_MAX_ITER = 50
+#: A state relaxed by Newton from its held geometry must stay within this fraction of the total
+#: length of it (largest node displacement), else it is not the named state at that load.
+STATE_DRIFT = 0.05
+#: Energies of a state copied into the common model and in its own discretisation (both with
+#: :func:`natural_reference`) agree to this (relative): the same configuration, the same energy.
+COPY_RTOL = 1e-10
+
+S = TypeVar("S")
+
+
+class PathSpace(Protocol[S]):
+    """A configuration space on which :func:`minimum_energy_path` runs.
+
+    ``log(a, b)``: tangent vector at ``a`` (shape ``(n,)``) with ``exp(a, log(a, b)) == b``;
+    ``exp(a, v)``: the state reached from ``a`` along ``v`` (a new state, ``a`` unchanged);
+    ``descent(a, key, tangent)``: the energy at ``a`` and a descent step (tangent coordinates at
+    ``a``) with its component along ``tangent`` removed in the metric of the step's
+    preconditioner (``key``: the image's index, for a space that remembers something per image);
+    ``energy(a)``; ``weights``: the diagonal metric ``|v|^2 = sum w v^2``, shape ``(n,)``.
+    """
+
+    weights: np.ndarray
+
+    def log(self, a: S, b: S) -> np.ndarray:
+        """Return the tangent vector at ``a`` pointing to ``b``."""
+        ...
+
+    def exp(self, a: S, v: np.ndarray) -> S:
+        """Return the state reached from ``a`` along ``v``."""
+        ...
+
+    def descent(self, a: S, key: int, tangent: np.ndarray) -> tuple[float, np.ndarray]:
+        """Return the energy at ``a`` and a descent step with no component along ``tangent``."""
+        ...
+
+    def energy(self, a: S) -> float:
+        """Return the energy at ``a``."""
+        ...
+
+
+@dataclasses.dataclass(frozen=True)
+class MinimumEnergyPath(Result):
+    """A converged (or not) string: images from ``a`` to ``b`` at equal arclength.
+
+    ``images``: the states (left out of :meth:`to_dict`); ``energies`` and ``arclength``
+    (metric of the space, from 0) per image; ``highest``: index of the highest image;
+    ``max_move``: the last iteration's largest perpendicular move over the spacing.
+    """
+
+    energies: tuple[float, ...]
+    arclength: tuple[float, ...]
+    highest: int
+    iterations: int
+    converged: bool
+    max_move: float
+    method: str
+    images: tuple = ()
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON form, without the images."""
+        d = super().to_dict()
+        d.pop("images", None)
+        return d
+
+
+def _norm(space: PathSpace[Any], v: np.ndarray) -> float:
+    return float(np.sqrt(np.sum(space.weights * v * v)))
+
+
+def redistribute(space: PathSpace[S], images: list[S]) -> tuple[list[S], np.ndarray]:
+    """Images at equal arclength along the piecewise-geodesic chain; and the arclengths.
+
+    The chain between images ``k`` and ``k + 1`` is ``exp(q_k, t log(q_k, q_(k+1)))``,
+    ``0 <= t <= 1`` (straight lines for positions, geodesics on SO(3) for frames). The ends stay.
+    """
+    logs = [space.log(images[k], images[k + 1]) for k in range(len(images) - 1)]
+    seg = np.array([_norm(space, v) for v in logs])
+    s = np.concatenate([[0.0], np.cumsum(seg)])
+    targets = np.linspace(0.0, s[-1], len(images))
+    out = [images[0]]
+    for t in targets[1:-1]:
+        k = min(int(np.searchsorted(s, t, side="right")) - 1, len(seg) - 1)
+        frac = (t - s[k]) / seg[k] if seg[k] > 0 else 0.0
+        out.append(space.exp(images[k], frac * logs[k]))
+    out.append(images[-1])
+    return out, targets
+
+
+def minimum_energy_path(space: PathSpace[S], a: S, b: S, *, n_images: int = N_IMAGES,
+                        max_iter: int = STRING_MAX_ITER, tol: float = STRING_TOL,
+                        progress: Callable[[int, float], None] | None = None
+                        ) -> MinimumEnergyPath:
+    """Minimum energy path from minimum ``a`` to minimum ``b`` by the string method.
+
+    Start: the geodesic ``exp(a, t log(a, b))`` at ``n_images`` equally spaced ``t``. Each
+    iteration moves every interior image by the space's descent step with its component along
+    the local unit tangent (central difference of the neighbours, metric of the space) removed,
+    the move cut to :data:`STEP_FRACTION` of the spacing, then redistributes the images at
+    equal arclength (:func:`redistribute`). Converged when the largest move is below ``tol``
+    times the spacing. With a preconditioned descent step the fixed point is a minimum energy
+    path of the preconditioned metric: a different curve, but through the same saddle, where the
+    gradient vanishes -- which is all the barrier needs (the highest image is refined there).
+    """
+    n_images = require_int("n_images", n_images, 3)
+    max_iter = require_int("max_iter", max_iter, 1)
+    v_ab = space.log(a, b)
+    images = [a] + [space.exp(a, t * v_ab) for t in np.linspace(0.0, 1.0, n_images)[1:-1]] \
+        + [b]
+    images, s = redistribute(space, images)
+    energies = [space.energy(q) for q in images]
+    move = math.inf
+    it = 0
+    for it in range(1, max_iter + 1):
+        spacing = s[-1] / (n_images - 1)
+        new = list(images)
+        move = 0.0
+        for i in range(1, n_images - 1):
+            tau = space.log(images[i], images[i + 1]) - space.log(images[i], images[i - 1])
+            energies[i], step = space.descent(images[i], i, tau)
+            size = _norm(space, step)
+            cap = STEP_FRACTION * spacing
+            if size > cap:
+                step *= cap / size
+            move = max(move, min(size, cap) / spacing)
+            new[i] = space.exp(images[i], step)
+        images, s = redistribute(space, new)
+        if progress is not None:
+            progress(it, move)
+        if move < tol:
+            break
+    energies = [space.energy(q) for q in images]
+    return MinimumEnergyPath(
+        energies=tuple(float(e) for e in energies), arclength=tuple(float(x) for x in s),
+        highest=int(np.argmax(energies)), iterations=it, converged=bool(move < tol),
+        max_move=float(move),
+        method="string method (projected preconditioned descent, equal-arclength "
+               "redistribution)", images=tuple(images))
+
+
+@dataclasses.dataclass
+class EuclideanSpace:
+    """``R^n`` with energy ``f`` and gradient ``grad``; descent step ``-step * grad``."""
+
+    f: Callable[[np.ndarray], float]
+    grad: Callable[[np.ndarray], np.ndarray]
+    step: float
+    weights: np.ndarray
+
+    def log(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+        """Return ``b - a``."""
+        return np.asarray(b, float) - np.asarray(a, float)
+
+    def exp(self, a: np.ndarray, v: np.ndarray) -> np.ndarray:
+        """Return ``a + v``."""
+        return np.asarray(a, float) + v
+
+    def descent(self, a: np.ndarray, key: int, tangent: np.ndarray) -> tuple[float, np.ndarray]:
+        """Return ``f(a)`` and the gradient step ``-step grad f(a)`` normal to ``tangent``."""
+        g = np.asarray(self.grad(a), float)
+        t = tangent / max(float(np.sqrt(np.sum(self.weights * tangent**2))), 1e-300)
+        d = -self.step * g / self.weights  # the steepest descent of the metric
+        return float(self.f(a)), d - float(np.sum(self.weights * d * t)) * t
+
+    def energy(self, a: np.ndarray) -> float:
+        """Return ``f(a)``."""
+        return float(self.f(a))
+
+
+# ---------------------------------------------------------------- the discrete rod as a space
+def rod_log(a: DiscreteRod, b: DiscreteRod) -> np.ndarray:
+    """Increment ``dq`` (``(n_dof,)``) with ``a.apply(dq)`` giving ``b``'s configuration.
+
+    Positions: ``x_b - x_a``; frames: ``log(R_a^T R_b)`` (material rotation vectors, as
+    :meth:`DiscreteRod.apply` uses them).
+    """
+    dx = b.x - a.x
+    de = vee_log(np.swapaxes(a.R_edge, 1, 2) @ b.R_edge)
+    dj = vee_log(np.swapaxes(a.R_joint, 1, 2) @ b.R_joint)
+    return np.concatenate([dx.ravel(), de.ravel(), dj.ravel()])
+
+
+def _unwrap(v: np.ndarray, ref: np.ndarray) -> np.ndarray:
+    """The rotation vector equivalent to ``v`` (``v + 2 pi m v/|v|``, ``m`` in -1, 0, 1) nearest
+    ``ref``."""
+    th = float(np.linalg.norm(v))
+    if th < 1e-12:
+        return v
+    cands = [v + m * 2 * math.pi * v / th for m in (-1, 0, 1)]
+    return min(cands, key=lambda c: float(np.linalg.norm(c - ref)))
+
+
+def rod_log_continuous(a: DiscreteRod, b: DiscreteRod) -> np.ndarray:
+    """:func:`rod_log` with each frame's rotation continued from its neighbour's.
+
+    Between two distant states (a folded ring and a loop) frames turn by up to and past half a
+    turn; the principal log would send neighbouring frames round opposite ways, and a chain of
+    interpolated frames through a half turn between neighbours has an infinite Cayley energy.
+    Each rotation vector is therefore taken on the branch (``+- 2 pi`` about its axis) nearest
+    its neighbour's, visiting frames outwards from the gauge joint along edges and joints
+    (breadth first). Still ``a.apply(dq)`` gives ``b``.
+    """
+    dq = rod_log(a, b)
+    nx, ne, nj = len(a.x), len(a.R_edge), len(a.R_joint)
+    phi = dq[3 * nx:].reshape(ne + nj, 3)  # edges 0..ne-1, joints ne..
+    nbr: list[list[int]] = [[] for _ in range(ne + nj)]
+    for e1, e2 in a.bend_pairs:
+        nbr[e1].append(int(e2))
+        nbr[e2].append(int(e1))
+    for e, j, _, _ in a.end_links:
+        nbr[e].append(ne + j)
+        nbr[ne + j].append(e)
+    start = ne + (a.fixed_joints[0] if a.fixed_joints else 0)
+    seen = {start}
+    queue = [start]
+    while queue:
+        u = queue.pop(0)
+        for w in nbr[u]:
+            if w not in seen:
+                seen.add(w)
+                phi[w] = _unwrap(phi[w], phi[u])
+                queue.append(w)
+    return dq
+
+
+def rod_exp(a: DiscreteRod, v: np.ndarray) -> DiscreteRod:
+    """A copy of ``a`` moved by ``v`` (:meth:`DiscreteRod.apply`)."""
+    out = a.copy()
+    out.apply(v)
+    return out
+
+
+def _pd_solve(A: sp.spmatrix, rhs: np.ndarray, tau: float, floor: float
+              ) -> tuple[np.ndarray, float, Any]:
+    """Solve ``(A + tau I) y = rhs`` with the smallest ``tau`` (x4 steps) making it positive.
+
+    Positive definiteness is certified by the inertia of SuperLU's symmetric-mode ``L D L^T``
+    (as :func:`rodstab.numerics.count_below`): no negative pivot. ``tau`` starts at the given
+    value; returns ``(y, tau, the factorisation's solve)``.
+    """
+    n = A.shape[0]
+    for _ in range(200):
+        try:
+            lu = spla.splu((A + tau * sp.identity(n)).tocsc(), permc_spec="MMD_AT_PLUS_A",
+                           diag_pivot_thresh=0.0, options={"SymmetricMode": True})
+            d = lu.U.diagonal()
+            pd = bool(np.array_equal(lu.perm_r, lu.perm_c) and np.all(d > 0))
+        except RuntimeError:
+            pd = False
+        if pd:
+            y = lu.solve(rhs)
+            if np.all(np.isfinite(y)):
+                return y, tau, lu.solve
+        tau = max(4.0 * tau, floor)
+    raise NotConverged("no positive definite shift of the Hessian found for a descent step")
+
+
+class RodSpace:
+    """The configuration space of one :class:`DiscreteRod` (positions, edge and joint frames).
+
+    Metric: ``|dq|^2 = sum |dx|^2 / ell^2 + sum |dphi|^2`` with ``ell`` the mean segment
+    length: a bending mode of amplitude ``a`` over a segment turns its frames by ~``a / ell``.
+    Descent step: ``-(H + tau D)^-1 g`` on the free unknowns (``D = |diag H|``, ``tau`` the
+    smallest x4 shift making it positive definite, remembered per image from the last step):
+    Newton's step on a convex image, a trust-region-like descent step on a concave one.
+    Without it the stiff stretch/shear penalty (:data:`~rodstab.nonlinear.discrete.PENALTY`)
+    makes gradient descent crawl.
+    """
+
+    def __init__(self, rod: DiscreteRod) -> None:
+        self.rod = rod
+        a = rod.assembly
+        ell = a.total_length / len(a.segments)
+        self.weights = np.ones(rod.n_dof)
+        self.weights[: 3 * len(rod.x)] = 1.0 / ell**2
+        self.free = rod.free_dofs()
+        self.floor = zero_eigenvalue_tol(rod)
+        self._tau: dict[int, float] = {}
+
+    def log(self, a: DiscreteRod, b: DiscreteRod) -> np.ndarray:
+        """:func:`rod_log_continuous`."""
+        return rod_log_continuous(a, b)
+
+    def exp(self, a: DiscreteRod, v: np.ndarray) -> DiscreteRod:
+        """:func:`rod_exp`."""
+        return rod_exp(a, v)
+
+    def energy(self, a: DiscreteRod) -> float:
+        """Energy of the state."""
+        return a.energy()
+
+    def descent(self, a: DiscreteRod, key: int, tangent: np.ndarray
+                ) -> tuple[float, np.ndarray]:
+        """Energy and the shifted-Newton descent step (class docstring), zero on fixed dofs.
+
+        The component along ``tangent`` is removed in the preconditioner's metric ``P = H + tau
+        D``: ``d = -P^-1 g + (g.t / t.P t) t`` (Makri, Ortner and Kermode, J. Chem. Phys. 150,
+        094109, 2019), still a descent direction (Cauchy-Schwarz in ``P``); removing it in
+        another metric would undo the step's stretch-free balance.
+        """
+        E, g, H = a.energy_terms()
+        free = self.free
+        Hf = H[free][:, free]
+        Hf = 0.5 * (Hf + Hf.T)
+        d = jacobi_scaling(Hf)
+        A = (sp.diags(d) @ Hf @ sp.diags(d)).tocsc()
+        t = tangent[free]
+        y, tau, solve = _pd_solve(A, -d * g[free], 0.25 * self._tau.get(key, 0.0), self.floor)
+        self._tau[key] = tau
+        ts = t / d  # the tangent in scaled unknowns
+        tPt = float(ts @ (A @ ts) + tau * ts @ ts)
+        step = np.zeros(a.n_dof)
+        step[free] = d * y + (float(g[free] @ t) / max(tPt, 1e-300)) * t
+        return E, step
+
+
+# ---------------------------------------------------------------- one model for two states
+def natural_reference(rod: DiscreteRod) -> None:
+    """Make the rod's natural curvature ``mu kappa_n`` exactly, whatever its held state (in place).
+
+    :func:`~rodstab.nonlinear.discrete.discretise` shifts each joint's natural curvature by the
+    discretisation error of its held state's curvature (so that state is an exact equilibrium);
+    that shift is ``O(k^3 l_e^2)`` and differs between two held states of one structure. Here
+    every joint's natural Cayley curvature is ``(0, mu tau_n, mu kappa_n)``: the energy is then a
+    function of the configuration and the natural curvature alone, the same for every held
+    state (tested). Likewise every edge's rest length becomes its arclength ``L / n`` (the
+    discretisation takes the held chord, ``O(k^2 l_e^2)`` shorter on an arc). A straight held
+    state (the folded ring) is unchanged by this.
+    """
+    segs = rod.assembly.segments
+    n_el = len(rod.R_edge) // len(segs)
+    rod.rest_length = np.repeat([s.length / n_el for s in segs], n_el)
+    a = rod.bend_pairs[:, 0]
+    kp = np.zeros((len(a), 3))
+    kp[:, 2] = rod.edge_k[a]
+    ee = np.array([lk[0] for lk in rod.end_links], int)
+    kl = np.zeros((len(ee), 3))
+    kl[:, 2] = rod.edge_k[ee]
+    rod.k_held_pairs, rod.k_held_links, rod.k0_links = kp, kl, None
+
+
+def _rigid_gauge(rod: DiscreteRod, like: DiscreteRod) -> None:
+    """Move ``rod`` rigidly so its gauge joint has ``like``'s position and frame (in place)."""
+    j = like.fixed_joints[0]
+    node = like.fixed_nodes[0]
+    Q = like.R_joint[j] @ rod.R_joint[j].T
+    rod.x = (rod.x - rod.x[node]) @ Q.T + like.x[node]
+    rod.R_edge = Q @ rod.R_edge
+    rod.R_joint = Q @ rod.R_joint
+
+
+def transplant(target: DiscreteRod, source: DiscreteRod) -> DiscreteRod:
+    """A copy of ``target`` (its model) carrying ``source``'s configuration.
+
+    ``source`` must be the same structure discretised alike (same segments in the same order,
+    same joints, same mesh); joint frames are carried through the segment ends they hold
+    (``R_J Q`` is an end's frame, so ``R_J^target = R_J^source Q^source Q^target^T``), and the
+    whole configuration is then moved rigidly onto ``target``'s gauge (its held joint).
+    Raises :class:`RodstabInputError` naming what differs.
+    """
+    checks = (("node count", len(target.x), len(source.x)),
+              ("edges", target.edge_nodes.tolist(), source.edge_nodes.tolist()),
+              ("joints", len(target.R_joint), len(source.R_joint)),
+              ("rest lengths", None, None))
+    for what, u, v in checks[:3]:
+        if u != v:
+            raise RodstabInputError(f"the two states are not one discrete structure: {what} "
+                                    "differ")
+    if not np.allclose(target.rest_length, source.rest_length, rtol=1e-9):
+        raise RodstabInputError("the two states are not one discrete structure: rest lengths "
+                                "differ (segment lengths or mesh)")
+    for what in ("edge_B", "edge_kn"):
+        if not np.allclose(getattr(target, what), getattr(source, what), rtol=1e-12):
+            raise RodstabInputError(f"the two states are not one discrete structure: {what} "
+                                    "(stiffness or natural curvature) differ")
+    out = target.copy()
+    out.x = source.x.copy()
+    out.R_edge = source.R_edge.copy()
+    R_joint = np.full_like(target.R_joint, np.nan)
+    for (e, j, Qt, end), (e2, j2, Qs, end2) in zip(target.end_links, source.end_links,
+                                                     strict=True):
+        if (e, j, end) != (e2, j2, end2):
+            raise RodstabInputError("the two states are not one discrete structure: their "
+                                    "segment ends are welded differently")
+        RJ = source.R_joint[j] @ Qs @ Qt.T
+        if np.isnan(R_joint[j, 0, 0]):
+            R_joint[j] = RJ
+        elif not np.allclose(R_joint[j], RJ, atol=1e-9):
+            raise RodstabInputError("the two states are not one discrete structure: the "
+                                    "angles of a weld differ")
+    out.R_joint = R_joint
+    _rigid_gauge(out, target)
+    return out
+
+
+def _relaxed_state(rod: DiscreteRod, label: str, mu: float) -> tuple[DiscreteRod, float]:
+    """Newton from the configuration; refuse it unless a nearby stable equilibrium.
+
+    Returns the state and its lowest scaled eigenvalue. Raises :class:`RodstabInputError`
+    naming ``label`` and the load when Newton fails, the state drifts past
+    :data:`STATE_DRIFT`, or a Hessian eigenvalue is not above the zero tolerance.
+    """
+    start = rod.x.copy()
+    ok, _, res = newton(rod)
+    if not ok:
+        raise RodstabInputError(f"state {label!r} is not an equilibrium at load factor {mu:g} "
+                                f"(Newton stalled at residual {res:.3g})")
+    drift = float(np.max(np.linalg.norm(rod.x - start, axis=1))) / rod.assembly.total_length
+    if drift > STATE_DRIFT:
+        raise RodstabInputError(f"state {label!r} is not an equilibrium at load factor {mu:g}: "
+                                f"Newton moved it by {drift:.3g} of the total length")
+    lam = float(lowest_eigenvalues(rod, 1)[0])
+    if not lam > zero_eigenvalue_tol(rod):
+        raise RodstabInputError(f"state {label!r} is not stable at load factor {mu:g} (lowest "
+                                f"scaled Hessian eigenvalue {lam:.3g})")
+    return rod, lam
+
+
+def common_rod(a: Assembly, b: Assembly, elements_per_segment: int, load_factor: float
+               ) -> tuple[DiscreteRod, DiscreteRod, float]:
+    """States ``a`` and ``b`` as two configurations of one discrete model.
+
+    Both assemblies are discretised alike at ``load_factor`` with :func:`natural_reference`
+    (the energy depends on the natural curvature alone), ``b``'s configuration is carried into
+    ``a``'s model (:func:`transplant`), and its energy checked against its own discretisation's
+    (:data:`COPY_RTOL`). Returns the two held configurations and that relative difference.
+    """
+    rod_a = discretise(a, elements_per_segment, load_factor)
+    rod_b = discretise(b, elements_per_segment, load_factor)
+    natural_reference(rod_a)
+    natural_reference(rod_b)
+    b_in_a = transplant(rod_a, rod_b)
+    e_own, e_copy = rod_b.energy(), b_in_a.energy()
+    diff = abs(e_copy - e_own) / max(abs(e_own), 1e-300)
+    if diff > COPY_RTOL:
+        raise RodstabInputError(f"the two states are not one discrete structure: the copied "
+                                f"state's energy {e_copy:.12g} differs from its own "
+                                f"{e_own:.12g}")
+    return rod_a, b_in_a, diff
+
+
+# ---------------------------------------------------------------- the saddle
+def newton_stationary(rod: DiscreteRod, *, max_iter: int = SADDLE_MAX_ITER
+                      ) -> tuple[bool, int, float]:
+    """Newton's method on the free gradient (any stationary point: a saddle too), in place.
+
+    Steps ``-H^-1 g`` (the Jacobi-scaled free Hessian, LU), halved until the gradient's norm
+    falls (a line search on ``|g|``, not on the energy, which a saddle does not minimise).
+    Converged when ``max |g_free| <= NEWTON_RTOL x`` the penalty force scale, the criterion of
+    :func:`~rodstab.nonlinear.solve.newton`. Returns ``(ok, iterations, residual)``.
+    """
+    free = rod.free_dofs()
+    scale = float(PENALTY * np.max(rod.edge_B) / np.min(rod.rest_length))
+    _, g, H = rod.energy_terms()
+    res = float(np.max(np.abs(g[free])))
+    for it in range(max_iter + 1):
+        if res <= NEWTON_RTOL * scale:
+            return True, it, res
+        if it == max_iter:
+            break
+        Hf = H[free][:, free]
+        Hf = 0.5 * (Hf + Hf.T)
+        d = jacobi_scaling(Hf)
+        A = (sp.diags(d) @ Hf @ sp.diags(d)).tocsc()
+        try:
+            step = -d * spla.spsolve(A, d * g[free])
+        except RuntimeError:
+            return False, it, res
+        if not np.all(np.isfinite(step)):
+            return False, it, res
+        g0 = float(np.linalg.norm(d * g[free]))
+        t = 1.0
+        for _ in range(30):
+            trial = rod.copy()
+            dq = np.zeros(rod.n_dof)
+            dq[free] = t * step
+            trial.apply(dq)
+            _, gt, Ht = trial.energy_terms()
+            if float(np.linalg.norm(d * gt[free])) < g0 or t < 1e-6:
+                break
+            t *= 0.5
+        rod.x, rod.R_edge, rod.R_joint = trial.x, trial.R_edge, trial.R_joint
+        g, H = gt, Ht
+        res = float(np.max(np.abs(g[free])))
+    return False, max_iter, res
+
+
+def hessian_index(rod: DiscreteRod, k: int = 4) -> tuple[int, tuple[float, ...]]:
+    """Number of scaled Hessian eigenvalues below ``-zero_eigenvalue_tol`` and the lowest ``k``."""
+    ev = lowest_eigenvalues(rod, k)
+    return int(np.sum(ev < -zero_eigenvalue_tol(rod))), tuple(float(v) for v in ev)
+
+
+@dataclasses.dataclass(frozen=True)
+class Barrier(Result):
+    """Energy barrier between two stable states of one discrete rod.
+
+    ``barrier_forward = E_saddle - E_from``, ``barrier_backward = E_saddle - E_to``;
+    ``saddle_index``: negative scaled Hessian eigenvalues at the saddle (1 for a transition
+    state); ``energies``/``arclength``: along the converged string, from ``from`` to ``to``
+    (arclength in the space's metric, normalised to 1); ``converged``: string converged, Newton
+    converged at the saddle and index 1; ``residual``: the saddle's free-gradient max-norm
+    (force units, tolerance ``NEWTON_RTOL`` x the penalty scale). ``shapes`` (node positions of
+    the images, the saddle inserted at its arclength) and ``edge_nodes`` are left out of
+    :meth:`to_dict`.
+    """
+
+    barrier_forward: float
+    barrier_backward: float
+    saddle_index: int
+    energies: tuple[float, ...]
+    arclength: tuple[float, ...]
+    energy_from: float
+    energy_to: float
+    energy_saddle: float
+    saddle_image: int
+    lowest_eigenvalues_saddle: tuple[float, ...]
+    converged: bool
+    residual: float
+    string_iterations: int
+    string_converged: bool
+    newton_iterations: int
+    n_images: int
+    n_dof: int
+    elements_per_segment: int
+    load_factor: float
+    method: str
+    shapes: tuple = ()
+    edge_nodes: Any = None
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON form, without the shapes."""
+        d = super().to_dict()
+        d.pop("shapes", None)
+        d.pop("edge_nodes", None)
+        return d
+
+
+def barrier(a: Assembly, b: Assembly, *, load_factor: float, elements_per_segment: int = 16,
+            n_images: int = N_IMAGES, max_iter: int = STRING_MAX_ITER,
+            labels: tuple[str, str] = ("from", "to")) -> tuple[Barrier, DiscreteRod]:
+    """Energy barrier between held states ``a`` and ``b`` of one structure at ``load_factor``.
+
+    1. :func:`common_rod`: both states in one discrete model (natural curvature only);
+    2. each relaxed by Newton and refused unless a nearby stable equilibrium
+       (:class:`RodstabInputError` naming ``labels[i]``);
+    3. :func:`minimum_energy_path` on :class:`RodSpace`;
+    4. the highest image refined by :func:`newton_stationary` to the saddle, whose index is
+       counted (:func:`hessian_index`).
+
+    Returns the :class:`Barrier` and the saddle state.
+    """
+    rod_a, rod_b, _ = common_rod(a, b, elements_per_segment, load_factor)
+    rod_a, _ = _relaxed_state(rod_a, labels[0], load_factor)
+    rod_b, _ = _relaxed_state(rod_b, labels[1], load_factor)
+    # Newton keeps the gauge joint where it was: both states share it (transplant).
+    space = RodSpace(rod_a)
+    path = minimum_energy_path(space, rod_a, rod_b, n_images=n_images, max_iter=max_iter)
+    top = path.highest
+    saddle = path.images[top].copy()
+    ok, its, res = newton_stationary(saddle)
+    index, ev = hessian_index(saddle)
+    e_a, e_b, e_s = path.energies[0], path.energies[-1], saddle.energy()
+    s = np.asarray(path.arclength) / path.arclength[-1]
+    shapes = [q.x.copy() for q in path.images]
+    # The saddle's place on the path: its nearest image's arclength (for the animation).
+    shapes.insert(top + 1, saddle.x.copy())
+    result = Barrier(
+        barrier_forward=float(e_s - e_a), barrier_backward=float(e_s - e_b),
+        saddle_index=index, energies=path.energies, arclength=tuple(float(v) for v in s),
+        energy_from=float(e_a), energy_to=float(e_b), energy_saddle=float(e_s),
+        saddle_image=top, lowest_eigenvalues_saddle=ev,
+        converged=bool(ok and path.converged and index == 1), residual=res,
+        string_iterations=path.iterations, string_converged=path.converged,
+        newton_iterations=its, n_images=n_images, n_dof=len(rod_a.free_dofs()),
+        elements_per_segment=elements_per_segment, load_factor=load_factor,
+        method=f"{path.method}; highest image refined by Newton on the gradient; index by "
+               "certified lowest eigenvalues of the Jacobi-scaled Hessian",
+        shapes=tuple(shapes), edge_nodes=rod_a.edge_nodes.copy())
+    return result, saddle
