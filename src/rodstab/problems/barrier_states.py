@@ -70,7 +70,7 @@ def rechain(template: Assembly, curvature: dict[str, float]) -> Assembly:
 
 
 def one_loop_assembly(params: folded_ring.Params) -> Assembly:
-    """The folded ring's rods held as arcs of turning ``theta`` curved as their natural curvature.
+    """Return the folded ring's rods held as arcs of turning ``theta``, curved as their natural one.
 
     Each rod's held curvature is ``sign(kappa_n) theta / L``: stress-free at ``kappa_n L =
     theta`` (``kappa_n R0 = 1``), the experiment's one-loop ring (Fig. 10).
@@ -101,7 +101,7 @@ def state_assembly(structure: str, section: Section, state: str) -> Assembly:
 
 
 def model_load_factor(structure: str, kappa_R0: float) -> float:
-    """The discrete model's load factor at ``kappa_n R0`` (module docstring)."""
+    """Return the discrete model's load factor at ``kappa_n R0`` (module docstring)."""
     if structure == "hexagram":
         return kappa_R0
     return kappa_R0 * folded_ring.Params().theta / folded_ring.Params().length
