@@ -795,6 +795,94 @@ def reproduce(out_dir: str, no_progress: bool, as_json: bool) -> None:
     ])
 
 
+@cli.command()
+@click.option("--structure", type=click.Choice(["hexagram", "six-ring"]), default="hexagram",
+              show_default=True,
+              help="hexagram: six rods of length L, load kappa_n R0 (R0 = 3L/2pi); six-ring: "
+                   "the ring of Section 5 (unfolded_ring: --segments arcs of radius 1 welded "
+                   "at cusps), load kappa_n R0.")
+@click.option("--segments", type=int, default=6, show_default=True,
+              help="Rods of the six-ring (even, >= 4).")
+@click.option("--state", default=None,
+              help="Held state the search starts from (a label of `rodstab states`; default "
+                   "star).")
+@click.option("--load-factor", type=float, default=2.0, show_default=True,
+              help="kappa_n R0.")
+@click.option("--starts", type=int, default=8, show_default=True,
+              help="Perturbed starts (in +/- pairs) besides the seeds.")
+@click.option("--elements", type=int, default=16, show_default=True,
+              help="Elements per rod.")
+@click.option("--seed", "rng_seed", type=int, default=0, show_default=True,
+              help="Seed of the random perturbations.")
+@click.option("--seed-states/--no-seed-states", default=True, show_default=True,
+              help="Also start from the held geometry of every other closed state of the ring "
+                   "(rodstab states, |kL| <= 2 pi).")
+@click.option("--plot", "plot_path", type=click.Path(dir_okay=False), default=None,
+              help="Write a grid of the states found (projected on their best-fit planes).")
+@_section_options
+@_limit_options
+@_json_option
+def discover(section: Section, structure: str, segments: int, state: str | None,
+             load_factor: float, starts: int, elements: int, rng_seed: int, seed_states: bool,
+             plot_path: str | None, limits: Limits, as_json: bool) -> None:
+    """Equilibria nobody named: deflated Newton from seeds and perturbed starts."""
+    import math
+
+    from .limits import require_nonlinear
+    from .nonlinear.discover import RUNS_PER_START, RingSearch, ring_seeds, shape_2d
+    from .nonlinear.discover import discover as search
+    from .problems import hexagram as hx
+
+    plot = None if plot_path is None else _image_output("--plot", plot_path)
+    mu = require_finite("--load-factor", load_factor)
+    n_el = require_positive_int("--elements", elements)
+    if n_el < 2:
+        raise RodstabInputError(f"--elements must be at least 2, got {elements!r}")
+    if isinstance(starts, bool) or starts < 0:
+        raise RodstabInputError(f"--starts must be an integer >= 0, got {starts!r}")
+    if structure == "hexagram":
+        if _given("segments"):
+            raise RodstabInputError(f"--segments {segments!r} is for --structure six-ring "
+                                    "(the hexagram has six rods)")
+        n, L, kn = hx.SEGMENTS, 1.0, hx.L_OVER_R0
+    else:
+        n = require_positive_int("--segments", segments)
+        if n < 4 or n % 2:
+            raise RodstabInputError(f"--segments must be an even number >= 4, got {segments!r}")
+        L, kn = math.pi - 2 * math.pi / n, 1.0  # the one-loop state's arc on radius R0 = 1
+    require_nonlinear([n_el] * n, n, f"--elements {n_el}", limits)
+    require_steps((starts + 4 * n) * RUNS_PER_START, f"--starts {starts}",
+                  "deflated Newton runs", limits)
+    ring = RingSearch(n, L, kn, section.b1, section.b2, "star" if state is None else state)
+    rod, seeds, known = ring_seeds(ring, n_el, mu, seed_states)
+    found, snaps = search(rod, seeds, known, starts=starts, seed=rng_seed)
+    payload = found.to_dict() | {"structure": structure, "segments": n,
+                                 "start_state": ring.state, "section": section.to_dict()}
+    if plot is not None:
+        from .plots import plot_ring_states
+
+        titles = [f"{s.label}: E {s.energy:.4g}, index {s.index}"
+                  + ("" if s.invariants.planar else ", 3D") for s in found.states]
+        payload["plot"] = str(plot_ring_states([shape_2d(rod, s) for s in snaps], titles, plot))
+    lines = [_section_line(section),
+             f"{structure}, {n} rods, {n_el} elements each, kappa_n R0 = {_fmt(mu)}: "
+             f"{len(found.states)} distinct equilibria from {found.runs} deflated Newton runs "
+             f"({found.converged_runs} converged); seeds {', '.join(found.seeds)}",
+             f"{'label':>14} {'energy':>10} {'index':>5} {'stable':>6} {'welds':>5} "
+             f"{'turning':>8} {'max|z|/L':>9}  found from"]
+    lines += [f"{s.label:>14} {s.energy:>10.6g} {s.index:>5} {str(s.stable):>6} "
+              f"{s.invariants.distinct_weld_points:>5} {s.invariants.turning_number:>8.4g} "
+              f"{s.invariants.max_out_of_plane:>9.3g}  {s.found_from}" for s in found.states]
+    lines += [f"wrote {payload['plot']}"] if plot is not None else []
+    _emit(payload, as_json, lines)
+
+
+def _given(option: str) -> bool:
+    """Whether ``option`` was given on the command line (not its default)."""
+    src = click.get_current_context().get_parameter_source(option)
+    return src is not None and src.name != "DEFAULT"
+
+
 #: Click >= 8.2 raises this usage error for ``rodstab`` without arguments; its message is the
 #: full help, shown as click shows it (not squeezed onto one line).
 _NoArgsIsHelpError: type[Exception] | None = getattr(click.exceptions, "NoArgsIsHelpError",

@@ -31,12 +31,25 @@ from collections.abc import Callable
 from typing import cast
 
 import numpy as np
-from scipy.linalg import expm, null_space
 
 from .errors import RodstabInputError
 from .model import FULL_SYSTEM, SUPPORT_KINDS
 from .numerics import matrix_roots
 from .results import Result
+
+
+def expm(a: np.ndarray) -> np.ndarray:
+    """``scipy.linalg.expm``, imported on first use (scipy.linalg costs ~0.1-0.4 s to import)."""
+    from scipy.linalg import expm as _expm
+
+    return _expm(a)
+
+
+def null_space(a: np.ndarray, rcond: float | None = None) -> np.ndarray:
+    """``scipy.linalg.null_space``, imported on first use."""
+    from scipy.linalg import null_space as _null_space
+
+    return _null_space(a, rcond=rcond)
 
 #: Indices in the state vector y = (u, u', u'', u''', w, w').
 _ESSENTIAL = [0, 1, 4]

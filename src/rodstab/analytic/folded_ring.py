@@ -25,7 +25,6 @@ import dataclasses
 import math
 
 import numpy as np
-from scipy.linalg import expm
 
 from ..errors import require_positive_int
 from ..numerics import find_roots, matrix_roots
@@ -42,6 +41,8 @@ def transfer_matrix(lam: float, sigma: float) -> np.ndarray:
     S[3, 4] = 1.0  # u'''
     S[4, 3] = -lam2  # u'''' = -lam^2 u''
     S[5, 3] = sigma  # a'' = sigma u''
+    from scipy.linalg import expm  # on first use: scipy.linalg is slow to import
+
     return expm(S)
 
 

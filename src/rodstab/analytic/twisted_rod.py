@@ -12,9 +12,8 @@ from __future__ import annotations
 
 import math
 
-import scipy.optimize as so
-
 from ..errors import RodstabInputError, require_positive
+from ..numerics import refine_root
 
 #: Bracket of the first positive root of ``tan x = x`` (``x = 4.4934``, just below 3 pi / 2).
 _TAN_X_BRACKET = (4.0, 4.6)
@@ -33,5 +32,5 @@ def greenhill_end_rotation(b1: float, b2: float) -> float:
     if abs(require_positive("b1", b1) - 1.0) > 1e-12:
         raise RodstabInputError(f"b1 must be 1 for Greenhill's rod (isotropic bending), "
                                 f"got {b1!r}")
-    x = so.brentq(lambda x: math.tan(x) - x, *_TAN_X_BRACKET)
+    x = refine_root(lambda x: math.tan(x) - x, *_TAN_X_BRACKET)  # the one root finder
     return 2 * x

@@ -16,6 +16,7 @@ the registry and prints the computed status.
 | :mod:`.sec4` | Section 4, (4.4)-(4.8) | bi-rod |
 | :mod:`.sec5` | Section 5, (5.4)-(5.14) | folded six-sided ring |
 | :mod:`.beyond_critical`, ... | beyond the paper | nonlinear rod: post-buckling, transitions |
+| :mod:`.beyond_hexagram` | beyond the paper | the curved-sided hexagram (Lu et al.) |
 """
 
 from __future__ import annotations
@@ -25,6 +26,7 @@ from collections.abc import Callable, Iterator, Mapping
 
 from . import (
     beyond_critical,
+    beyond_hexagram,
     beyond_imperfections,
     beyond_postbuckling,
     beyond_transitions,
@@ -68,6 +70,7 @@ REGISTRY: tuple[Check, ...] = (
     Check(beyond_imperfections.imperfection_checks, beyond_imperfections.EXPECTED),
     Check(beyond_twisted.twisted_rod_checks, beyond_twisted.EXPECTED),
     Check(beyond_transitions.transition_checks, beyond_transitions.EXPECTED),
+    Check(beyond_hexagram.hexagram_checks, beyond_hexagram.EXPECTED),
 )
 
 

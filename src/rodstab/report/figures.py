@@ -220,6 +220,18 @@ def fig_beyond(data: dict, out: Path) -> list[Path]:
     return _save(fig, out, "fig_beyond_post_buckling")
 
 
+def fig_hexagram(data: dict, out: Path) -> list[Path]:
+    """Stable bands of kappa_n R0 of the hexagram's four states against h/t, with h/t*."""
+    from ..plots import plot_stable_bands
+    from ..problems.hexagram import STATES
+
+    png = plot_stable_bands(data["bands"], STATES, out / "fig_hexagram.png",
+                            threshold=data["threshold"],
+                            title="curved-sided hexagram, rectangles, nu = 1/3 (exact arc + "
+                                  "Bloch phase)")
+    return [png]
+
+
 def continuation_plot(result, out: Path) -> Path:
     """Draw the bifurcation diagram and the lowest eigenvalue along the path.
 

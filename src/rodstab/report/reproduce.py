@@ -100,6 +100,7 @@ def run_reproduction(out_dir: str | Path, *, progress: bool = True) -> dict[str,
     data["rings"] = sec3_1.rings_data()
     data["fig9"] = sec5.fig9_data()
     data["beyond"] = run.figures["beyond"]
+    data["hexagram"] = run.figures["hexagram"]
     tick()
     figs: dict[str, Path] = {}
     figs["Fig. 3 - clamped arcs: stable range of L kappa_n"] = figures.fig3(data["fig3"], out)[0]
@@ -110,6 +111,8 @@ def run_reproduction(out_dir: str | Path, *, progress: bool = True) -> dict[str,
     figs["Fig. 9 - modes of the folded six-sided ring"] = figures.fig9(data["fig9"], out)[0]
     figs["Beyond - post-buckling and imperfections"] = figures.fig_beyond(data["beyond"],
                                                                           out)[0]
+    figs["Beyond - curved-sided hexagram: stable bands of its four states vs h/t"] = (
+        figures.fig_hexagram(data["hexagram"], out)[0])
     tick()
     bar.close()
     elapsed = time.perf_counter() - t0

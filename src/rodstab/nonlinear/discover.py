@@ -1,0 +1,668 @@
+"""Discovery of equilibria nobody named: deflated Newton on one discrete rod.
+
+Farrell, Beentjes and Birkisson, *Deflation techniques for finding distinct solutions of
+nonlinear partial differential equations*, SIAM J. Sci. Comput. 37 (2015) A2026 (arXiv 2014,
+"2016" in the issue). Having found equilibria ``q_1 .. q_k`` of the free gradient ``g(q) = 0``,
+Newton is run on the deflated system ``M(q) g(q) = 0`` with the deflation operator
+
+    ``M(q) = prod_i (d(q, q_i)^-p + shift)``,  ``p = 2``, ``shift = 1``   (their eq. 2.4, 4.1),
+
+which has the same roots as ``g`` except the ``q_i`` (``M g -> inf`` there), so Newton is driven
+to new ones. Its Jacobian is ``M H + g (grad M)^T``; with the undeflated step ``delta = -H^-1 g``
+the deflated step is ``tau delta``, ``tau = 1 / (1 - grad(log M) . delta)`` (Sherman-Morrison,
+their eq. 3.5): one factorisation of ``H`` per step, as for Newton.
+
+The distance ``d`` is measured in the gauged unknowns of the rod (the rigid motion is removed by
+the gauge joint, :meth:`~rodstab.nonlinear.discrete.DiscreteRod.free_dofs`): node positions over
+the mean segment length ``L`` and chordal frame distances,
+``d^2 = mean_nodes |x - x_i|^2 / L^2 + mean_frames |R - R_i|_F^2 / 4``. Symmetric images of a
+state (the ring's rods relabelled cyclically, the traversal reversed, a reflection) are distinct
+points there: every converged solution is deflated, and the list reported is deduplicated
+afterwards by energy, Hessian index and the aligned distance minimised over those images
+(:func:`aligned_distance`, Kabsch with reflections allowed).
+
+One rod for every state: all equilibria must be states of the *same* discrete model. A rod
+discretised from a curved held state carries that state in its discrete natural curvature (the
+held Cayley curvature, :mod:`.discrete`) and in its edge rest lengths (the arc's chords), both
+``O(k^2 l_e^2)`` away from another state's. :func:`common_rod` replaces them by the state-free
+ones -- rest length = arc length / elements, natural Cayley curvature ``mu kappa_n`` at every
+joint and half-joint (exactly what the straight held state gives) -- so the energy depends only
+on the natural curvature, whichever held state was discretised (tested).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import warnings
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from ..errors import RodstabInputError
+from ..model import Assembly
+from ..numerics import jacobi_scaling
+from ..results import Result
+from .discrete import PENALTY, DiscreteRod, discretise
+from .solve import NEWTON_RTOL, lowest_eigenvalues, max_strain, zero_eigenvalue_tol
+
+#: Deflation power ``p`` and shift of ``M(q) = prod (d^-p + shift)`` (Farrell et al.'s defaults).
+DEFLATION_POWER = 2.0
+DEFLATION_SHIFT = 1.0
+#: Iterations of one deflated Newton run.
+DEFLATED_MAX_ITER = 80
+#: A step moves no node by more than this times the mean segment length and turns no frame by
+#: more than :data:`MAX_STEP_ROTATION` rad (Newton on a far, flat landscape overshoots).
+MAX_STEP_DISPLACEMENT = 0.25
+MAX_STEP_ROTATION = 0.5
+#: Levenberg-Marquardt shifts tried per deflated Newton step before the run gives up.
+LM_TRIES = 30
+#: Two equilibria closer than this aligned RMS node distance (over ``L``) are the same state ...
+SAME_STATE_DISTANCE = 1e-3
+#: ... when also their energies agree to this (relative to max(|E|, B3 / L)).
+SAME_STATE_ENERGY = 1e-6
+#: Two weld points closer than this times ``L`` are one point.
+WELD_POINT_TOL = 1e-2
+#: A state whose nodes leave their best-fit plane by less than this times ``L`` is planar.
+PLANAR_TOL = 1e-6
+#: A found state takes a known state's label when its turning number is within this of it
+#: (and its distinct weld points and planarity agree).
+TURNING_TOL = 0.05
+#: Lowest eigenvalues computed to count the Hessian index (a larger index is reported as >=).
+INDEX_EIGS = 8
+
+
+# ---------------------------------------------------------------------------------------------
+# One rod for every state
+def common_rod(a: Assembly, elements_per_segment: int, load_factor: float) -> DiscreteRod:
+    """Discretise ``a`` with the held-state-free rest lengths and natural curvatures.
+
+    The state (positions, frames) is the held state of ``a``; the model (rest length
+    ``L_seg / elements``, natural Cayley curvature ``(0, 0, mu kappa_n)`` at every joint and
+    half-joint) is the one the straight held state gives, so any two rods built from states of
+    the same ring have the same energy function (module docstring). Natural twist is refused
+    (the held twisted ring is not a state of the discrete model).
+    """
+    rod = discretise(a, elements_per_segment, load_factor)
+    if rod.edge_tw is not None:
+        raise RodstabInputError("discover: segments with natural twist are not supported")
+    seg_len = np.repeat([s.length for s in a.segments], elements_per_segment)
+    rod.rest_length = seg_len / elements_per_segment
+    pairs = rod.bend_pairs[:, 0]
+    k_held = np.zeros((len(pairs), 3))
+    k_held[:, 2] = rod.edge_k[pairs]  # cancels the "- k" of DiscreteRod._k0: k0 = mu kappa_n
+    rod.k_held_pairs = k_held
+    ee = np.array([lk[0] for lk in rod.end_links], int)
+    per_mu = np.zeros((len(ee), 3))
+    per_mu[:, 2] = rod.edge_kn[ee]
+    rod.k0_links = (np.zeros((len(ee), 3)), per_mu)
+    return rod
+
+
+@dataclasses.dataclass(frozen=True)
+class Snapshot:
+    """A state of a :class:`DiscreteRod`: positions ``(n_nodes, 3)``, frames ``(n, 3, 3)``."""
+
+    x: np.ndarray
+    R_edge: np.ndarray
+    R_joint: np.ndarray
+
+    @staticmethod
+    def of(rod: DiscreteRod) -> Snapshot:
+        """Copy ``rod``'s current state."""
+        return Snapshot(rod.x.copy(), rod.R_edge.copy(), rod.R_joint.copy())
+
+    def put(self, rod: DiscreteRod) -> None:
+        """Set ``rod``'s state to this one (same topology)."""
+        rod.x, rod.R_edge, rod.R_joint = self.x.copy(), self.R_edge.copy(), self.R_joint.copy()
+
+
+def _mean_length(rod: DiscreteRod) -> float:
+    return rod.assembly.total_length / len(rod.assembly.segments)
+
+
+# ---------------------------------------------------------------------------------------------
+# Deflation operator
+def _vee_skew(A: np.ndarray) -> np.ndarray:
+    """``vee(A - A^T)`` of matrices ``A`` (..., 3, 3)."""
+    return np.stack([A[..., 2, 1] - A[..., 1, 2], A[..., 0, 2] - A[..., 2, 0],
+                     A[..., 1, 0] - A[..., 0, 1]], axis=-1)
+
+
+def distance_sq(rod: DiscreteRod, ref: Snapshot) -> tuple[float, np.ndarray]:
+    """``d^2`` from ``rod``'s state to ``ref`` (module docstring) and its gradient (n_dof,).
+
+    The gradient is with respect to the rod's chart increments (:meth:`DiscreteRod.apply`:
+    ``x + dx``, ``R exp(hat(phi))``) at ``phi = 0``: ``2 (x - x_i) / (n L^2)`` for a node and,
+    from ``|R - R_i|^2 = 6 - 2 tr(R_i^T R)``, ``vee(A - A^T) / (2 n_f)`` with ``A = R_i^T R``
+    for a frame.
+    """
+    L = _mean_length(rod)
+    nx, nf = len(rod.x), len(rod.R_edge) + len(rod.R_joint)
+    dx = rod.x - ref.x
+    R = np.concatenate([rod.R_edge, rod.R_joint])
+    Ri = np.concatenate([ref.R_edge, ref.R_joint])
+    d2 = float(np.sum(dx**2)) / (nx * L**2) + float(np.sum((R - Ri) ** 2)) / (4 * nf)
+    A = np.swapaxes(Ri, 1, 2) @ R
+    grad = np.concatenate([(2.0 / (nx * L**2)) * dx.ravel(),
+                           (_vee_skew(A) / (2.0 * nf)).ravel()])
+    return d2, grad
+
+
+def deflation(rod: DiscreteRod, known: list[Snapshot], *, power: float = DEFLATION_POWER,
+              shift: float = DEFLATION_SHIFT) -> tuple[float, np.ndarray]:
+    """Deflation operator ``M(q)`` and the gradient of ``log M`` (n_dof,) at ``rod``'s state.
+
+    ``M = prod_i (d_i^-p + shift)``; ``grad log M = sum_i -(p/2) d_i^(-p-2) grad(d_i^2) /
+    (d_i^-p + shift)``. ``M = 1`` and a zero gradient with nothing known.
+    """
+    M = 1.0
+    glog = np.zeros(rod.n_dof)
+    for ref in known:
+        d2, g2 = distance_sq(rod, ref)
+        d2 = max(d2, 1e-60)  # at a known state M is infinite: keep it finite, huge
+        m = d2 ** (-0.5 * power) + shift
+        M *= m
+        glog += (-0.5 * power * d2 ** (-0.5 * power - 1.0) / m) * g2
+    return M, glog
+
+
+# ---------------------------------------------------------------------------------------------
+# Deflated Newton
+@dataclasses.dataclass(frozen=True)
+class NewtonRun(Result):
+    """One deflated Newton run: converged or not, iterations, undeflated residual max|g_free|."""
+
+    converged: bool
+    iterations: int
+    residual: float
+
+
+def _residual_scale(rod: DiscreteRod) -> float:
+    """Force scale of the stiff stretch/shear terms (as :func:`.solve.newton`)."""
+    return float(PENALTY * np.max(rod.edge_B) / np.min(rod.rest_length))
+
+
+def _solve(Hf: sp.spmatrix, rhs: np.ndarray, dg: np.ndarray, lam_floor: float) -> np.ndarray:
+    """``H^-1 rhs``, shifting ``H`` by ``lam D`` (``D = |diag H|``) if it is singular."""
+    lam = 0.0
+    for _ in range(12):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            try:
+                s = spla.spsolve((Hf + lam * sp.diags(dg)).tocsc(), rhs)
+                if np.all(np.isfinite(s)):
+                    return s
+            except RuntimeError:
+                pass
+        lam = max(10 * lam, lam_floor)
+    raise FloatingPointError("the Hessian stayed singular under shifts")
+
+
+def _cap(rod: DiscreteRod, dq: np.ndarray) -> float:
+    """Largest factor <= 1 keeping ``dq`` within the step caps."""
+    nx = len(rod.x)
+    disp = float(np.max(np.linalg.norm(dq[: 3 * nx].reshape(-1, 3), axis=1)))
+    rot = float(np.max(np.linalg.norm(dq[3 * nx:].reshape(-1, 3), axis=1)))
+    L = _mean_length(rod)
+    return min(1.0, MAX_STEP_DISPLACEMENT * L / max(disp, 1e-300),
+               MAX_STEP_ROTATION / max(rot, 1e-300))
+
+
+def restore_positions(rod: DiscreteRod) -> None:
+    """Move the free nodes to the minimum of the stretch/shear energy for the current frames.
+
+    With the frames fixed, the stretch/shear energy ``sum_e K_e / (2 l_e) |x_j - x_i - l_e
+    d2_e|^2`` is the only term that depends on the positions, and it is quadratic in them: one
+    weighted graph-Laplacian solve per coordinate (held nodes and components kept). The energy
+    can only fall, and a step that turned frames far is brought back onto the Kirchhoff
+    constraint (edges along their frames' tangents, at their rest lengths) instead of leaving
+    stretched chords for Newton to crawl out of.
+    """
+    i, j = rod.edge_nodes[:, 0], rod.edge_nodes[:, 1]
+    le = rod.rest_length
+    w = PENALTY * rod.edge_B.max(axis=1) / le**3  # K_e / l_e
+    b = le[:, None] * rod.R_edge[:, :, 1]  # target edge vectors (n_edges, 3)
+    n = len(rod.x)
+    L = sp.coo_matrix((np.concatenate([w, w, -w, -w]),
+                       (np.concatenate([i, j, i, j]), np.concatenate([i, j, j, i]))),
+                      shape=(n, n)).tocsr()
+    f = np.zeros((n, 3))
+    np.add.at(f, j, w[:, None] * b)
+    np.add.at(f, i, -w[:, None] * b)
+    held_comp = {c: set(int(k) for k in rod.fixed_nodes) for c in range(3)}
+    for k, comps in rod.fixed_components:
+        for c in comps:
+            held_comp[c].add(int(k))
+    for c in range(3):
+        held = np.array(sorted(held_comp[c]), int)
+        free = np.setdiff1d(np.arange(n), held)
+        if not len(held) or not len(free):
+            continue  # no gauge in this coordinate: leave it (never the case for a built rod)
+        rhs = f[free, c] - L[free][:, held] @ rod.x[held, c]
+        rod.x[free, c] = spla.spsolve(L[free][:, free].tocsc(), rhs)
+
+
+def deflated_newton(rod: DiscreteRod, known: list[Snapshot], *,
+                    max_iter: int = DEFLATED_MAX_ITER) -> NewtonRun:
+    """Solve ``M(q) g(q) = 0`` from ``rod``'s state (in place) by damped deflated Newton.
+
+    Each step is ``tau delta`` (module docstring), ``delta = -(H + lam D)^-1 g`` with a
+    Levenberg-Marquardt ``lam`` (``D = |diag H|``; ``lam = 0``, pure Newton, while steps
+    succeed), capped by :data:`MAX_STEP_DISPLACEMENT` and :data:`MAX_STEP_ROTATION`, followed by
+    :func:`restore_positions`; it is taken when the merit ``M |S g|`` (``S`` the Jacobi scaling
+    of ``H``) falls, else ``lam`` grows. Converged when the *undeflated* residual
+    ``max |g_free|`` is below ``NEWTON_RTOL`` times the stiff force scale (as
+    :func:`.solve.newton`) at a point farther than :data:`SAME_STATE_DISTANCE` from every known
+    state: ``M`` is finite there, so the root is an equilibrium. With ``known`` empty this is
+    damped Newton on ``g``, which converges to saddles as well as minima (unlike
+    :func:`.solve.newton`).
+    """
+    if any(distance_sq(rod, s)[0] <= SAME_STATE_DISTANCE**2 for s in known):
+        return NewtonRun(False, 0, math.nan)  # started on a known state: M g is 0 x inf
+    if np.max(rod.shear()) > 1e-2:
+        rod.align_frames()
+    free = rod.free_dofs()
+    tol = NEWTON_RTOL * _residual_scale(rod)
+    lam_floor = zero_eigenvalue_tol(rod)
+    lam = 0.0
+    res = math.inf
+    _, g, H = rod.energy_terms()
+    M, glog = deflation(rod, known)
+    for it in range(max_iter + 1):
+        gf = g[free]
+        res = float(np.max(np.abs(gf))) if gf.size else 0.0
+        if res <= tol:
+            near = [distance_sq(rod, s)[0] for s in known]
+            return NewtonRun(min(near, default=1.0) > SAME_STATE_DISTANCE**2, it, res)
+        if it == max_iter:
+            break
+        Hf = H[free][:, free].tocsc()
+        Hf = 0.5 * (Hf + Hf.T)
+        d = jacobi_scaling(Hf)
+        merit = M * float(np.linalg.norm(d * gf))
+        for _ in range(LM_TRIES):
+            try:
+                delta = _solve(Hf + lam * sp.diags(1.0 / d**2), -gf, 1.0 / d**2, lam_floor)
+            except FloatingPointError:
+                return NewtonRun(False, it, res)
+            eta = float(glog[free] @ delta)
+            # Farrell et al.: tau = 1 / (1 - eta); near eta = 1 the deflated step runs off to
+            # infinity (deflation pushes away): take the undeflated step, the merit decides.
+            tau = 1.0 / (1.0 - eta) if abs(1.0 - eta) > 1e-3 else 1.0
+            dq = np.zeros(rod.n_dof)
+            dq[free] = tau * delta
+            trial = rod.copy()
+            trial.apply(_cap(rod, dq) * dq)
+            restore_positions(trial)
+            _, gt, Ht = trial.energy_terms()
+            Mt, glog_t = deflation(trial, known)
+            if Mt * float(np.linalg.norm(d * gt[free])) < (1.0 - 1e-4) * merit:
+                rod.x, rod.R_edge, rod.R_joint = trial.x, trial.R_edge, trial.R_joint
+                g, H, M, glog = gt, Ht, Mt, glog_t
+                lam = 0.0 if lam <= lam_floor else lam / 4
+                break
+            lam = max(4 * lam, lam_floor)
+        else:
+            return NewtonRun(False, it, res)
+    return NewtonRun(False, max_iter, res)
+
+
+# ---------------------------------------------------------------------------------------------
+# Invariants and deduplication
+def _segment_nodes(rod: DiscreteRod) -> np.ndarray:
+    """Node ids of every segment in order, ``(n_segments, elements + 1)``."""
+    n_seg = len(rod.assembly.segments)
+    ne = len(rod.R_edge) // n_seg
+    en = rod.edge_nodes.reshape(n_seg, ne, 2)
+    return np.concatenate([en[:, :, 0], en[:, -1:, 1]], axis=1)
+
+
+def _kabsch_rms(P: np.ndarray, Q: np.ndarray) -> float:
+    """RMS distance of point sets ``P``, ``Q`` (n, 3) after the best orthogonal map and shift.
+
+    Reflections are allowed (the mirror image of an equilibrium is one of the same ring).
+    """
+    P0, Q0 = P - P.mean(axis=0), Q - Q.mean(axis=0)
+    U, _, Vt = np.linalg.svd(P0.T @ Q0)
+    return float(np.sqrt(np.mean(np.sum((P0 @ (U @ Vt) - Q0) ** 2, axis=1))))
+
+
+def aligned_distance(rod: DiscreteRod, a: Snapshot, b: Snapshot) -> float:
+    """Return the RMS node distance (over ``L``) of ``a`` and ``b`` modulo the ring's symmetry.
+
+    Minimised over rigid motions, reflections and the ring's relabellings (cyclic shift of the
+    rods, reversed traversal).
+    """
+    seg = _segment_nodes(rod)
+    Pa = a.x[seg]
+    Pb = b.x[seg]
+    best = math.inf
+    for images in (Pb, Pb[::-1, ::-1]):
+        for r in range(len(seg)):
+            Q = np.roll(images, r, axis=0).reshape(-1, 3)
+            best = min(best, _kabsch_rms(Pa.reshape(-1, 3), Q))
+    return best / _mean_length(rod)
+
+
+@dataclasses.dataclass(frozen=True)
+class Invariants(Result):
+    """Shape invariants of a ring state.
+
+    Attributes
+    ----------
+    distinct_weld_points : int
+        Weld points more than :data:`WELD_POINT_TOL` x L apart.
+    turning_number : float
+        Total turning of the rods' tangents in the best-fit plane, in full turns, the cusps'
+        reversals not counted (as :class:`rodstab.states.HeldState`); signed with the plane
+        normal taken along the mean frame normal ``d3``.
+    max_out_of_plane : float
+        Largest distance of a node from the best-fit plane, over ``L``.
+    planar : bool
+        ``max_out_of_plane < PLANAR_TOL``.
+    """
+
+    distinct_weld_points: int
+    turning_number: float
+    max_out_of_plane: float
+    planar: bool
+
+
+def _plane(rod: DiscreteRod, x: np.ndarray, R: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Centroid and unit normal of the best-fit plane (oriented along the mean ``d3``)."""
+    c = x.mean(axis=0)
+    _, sv, Vt = np.linalg.svd(x - c)
+    n = Vt[2]
+    if sv[1] < 1e-9 * max(sv[0], 1e-300):  # collinear (the line): the frames' d3 decides
+        m = R[:, :, 2].mean(axis=0)
+        n = m / max(float(np.linalg.norm(m)), 1e-300)
+    if n @ R[:, :, 2].mean(axis=0) < 0:
+        n = -n
+    return c, n
+
+
+def invariants(rod: DiscreteRod, s: Snapshot) -> Invariants:
+    """Distinct weld points, turning number and planarity of state ``s`` of ``rod``."""
+    L = _mean_length(rod)
+    c, n = _plane(rod, s.x, s.R_edge)
+    out = float(np.max(np.abs((s.x - c) @ n))) / L
+    welds: list[np.ndarray] = []
+    for e, _, _, end in rod.end_links:
+        p = s.x[rod.edge_nodes[e, 0 if end == "start" else 1]]
+        if not any(float(np.linalg.norm(p - q)) <= WELD_POINT_TOL * L for q in welds):
+            welds.append(p)
+    # Turning: tangents d2 of [start end frame, edges ..., end end frame] of each segment.
+    n_seg = len(rod.assembly.segments)
+    ne = len(rod.R_edge) // n_seg
+    e1 = np.cross(n, [1.0, 0.0, 0.0])
+    if np.linalg.norm(e1) < 0.5:
+        e1 = np.cross(n, [0.0, 1.0, 0.0])
+    e1 /= np.linalg.norm(e1)
+    e2 = np.cross(n, e1)
+    total = 0.0
+    for k in range(n_seg):
+        t = [s.R_joint[j] @ Q @ [0.0, 1.0, 0.0] for e, j, Q, end in rod.end_links
+             if end == "start" and e == k * ne]
+        t += list(s.R_edge[k * ne:(k + 1) * ne, :, 1])
+        t += [s.R_joint[j] @ Q @ [0.0, 1.0, 0.0] for e, j, Q, end in rod.end_links
+              if end == "end" and e == (k + 1) * ne - 1]
+        ang = np.unwrap(np.arctan2(np.asarray(t) @ e2, np.asarray(t) @ e1))
+        total += float(ang[-1] - ang[0])
+    return Invariants(len(welds), total / (2 * math.pi), out, out < PLANAR_TOL)
+
+
+def same_state(rod: DiscreteRod, a: Snapshot, b: Snapshot, Ea: float, Eb: float) -> bool:
+    """Whether ``a`` and ``b`` are one state modulo rigid motion, reflection and relabelling.
+
+    Energies within :data:`SAME_STATE_ENERGY` and :func:`aligned_distance` below
+    :data:`SAME_STATE_DISTANCE`.
+    """
+    scale = max(abs(Ea), abs(Eb), float(np.max(rod.edge_B[:, 2])) / _mean_length(rod))
+    if abs(Ea - Eb) > SAME_STATE_ENERGY * scale:
+        return False
+    return aligned_distance(rod, a, b) < SAME_STATE_DISTANCE
+
+
+# ---------------------------------------------------------------------------------------------
+# The search
+@dataclasses.dataclass(frozen=True)
+class KnownState:
+    """A named state to recognise: label, turning number, distinct weld points (planar)."""
+
+    label: str
+    turning_number: float
+    distinct_weld_points: int
+
+
+@dataclasses.dataclass(frozen=True)
+class FoundState(Result):
+    """One equilibrium found, deduplicated.
+
+    Attributes
+    ----------
+    label : str
+        The known state it is (:class:`KnownState` matched by turning number, weld points and
+        planarity), else ``"unnamed"``.
+    energy : float
+        Stored energy (units of ``B3 / L``).
+    index : int
+        Negative eigenvalues of the scaled free Hessian (below ``-zero_eigenvalue_tol``);
+        ``index_at_least`` when all :data:`INDEX_EIGS` computed ones are negative.
+    stable : bool
+        Index 0 and no zero eigenvalue.
+    lowest_eigenvalues : tuple of float
+        The lowest scaled Hessian eigenvalues over the zero tolerance.
+    invariants : Invariants
+        Weld points, turning number, out-of-plane extent.
+    found_from : str
+        The start that reached it first (a seed or a perturbed start, its amplitude).
+    times_found : int
+        Converged runs that reached it (symmetric images included).
+    residual, max_strain : float
+        ``max |g_free|`` and the largest stretch/shear strain at the solution.
+    """
+
+    label: str
+    energy: float
+    index: int
+    index_at_least: bool
+    stable: bool
+    lowest_eigenvalues: tuple[float, ...]
+    invariants: Invariants
+    found_from: str
+    times_found: int
+    residual: float
+    max_strain: float
+
+
+@dataclasses.dataclass(frozen=True)
+class Discovery(Result):
+    """Every distinct equilibrium found, by increasing energy, and the search's accounting."""
+
+    states: tuple[FoundState, ...]
+    load_factor: float
+    elements_per_segment: int
+    n_dof: int
+    starts: int
+    runs: int
+    converged_runs: int
+    seeds: tuple[str, ...]
+    method: str
+
+
+#: Largest node displacement of the perturbed starts, in mean segment lengths, cycled through
+#: (each amplitude used for a pair of starts, +v and -v). Deflated Newton on the discrete rod
+#: converges from about 0.01-0.03 L; from 0.1 L and beyond it mostly stalls in flat valleys of
+#: the energy (measured on the hexagram at 16 elements per rod), so large ones are few.
+START_AMPLITUDES = (0.01, 0.03, 0.1, 0.3)
+#: Deflated runs from one start: after each success it is rerun from the same start with the new
+#: solution deflated too (Farrell et al.), at most this many times.
+RUNS_PER_START = 3
+
+
+def _label(inv: Invariants, known: list[KnownState]) -> str:
+    if not inv.planar:
+        return "unnamed"
+    for k in known:
+        if abs(inv.turning_number - k.turning_number) <= TURNING_TOL \
+                and inv.distinct_weld_points == k.distinct_weld_points:
+            return k.label
+    return "unnamed"
+
+
+def _perturbed(rod: DiscreteRod, base: Snapshot, amplitude: float, weights: np.ndarray
+               ) -> Snapshot:
+    """Perturb ``base`` by a mix of its softest modes and return it on the constraint.
+
+    The mix ``weights`` of its :data:`INDEX_EIGS` softest modes (chart increment) is scaled to a
+    largest node displacement ``|amplitude|`` x L (signed), then put back onto the Kirchhoff
+    constraint (frames on their chords, :func:`restore_positions`).
+    """
+    from .solve import lowest_modes
+
+    trial = rod.copy()
+    base.put(trial)
+    _, vecs = lowest_modes(trial, INDEX_EIGS)
+    v = vecs @ weights[: vecs.shape[1]]
+    dq = np.zeros(rod.n_dof)
+    dq[trial.free_dofs()] = v
+    disp = float(np.max(np.linalg.norm(dq[: 3 * len(rod.x)].reshape(-1, 3), axis=1)))
+    trial.apply(dq * (amplitude * _mean_length(rod) / max(disp, 1e-300)))
+    trial.align_frames()
+    restore_positions(trial)
+    return Snapshot.of(trial)
+
+
+def discover(rod: DiscreteRod, seeds: list[tuple[str, Snapshot]], known: list[KnownState], *,
+             starts: int = 8, seed: int = 0) -> tuple[Discovery, list[Snapshot]]:
+    """Find distinct equilibria of ``rod`` by deflated Newton from seeds and perturbed starts.
+
+    1. Every seed state (e.g. a held state) is a start.
+    2. ``starts`` perturbed starts, in pairs ``+v``, ``-v``: seed ``(i // 2) mod n_seeds`` plus
+       a random mix ``v`` (generator seeded by ``seed``) of its softest modes, largest
+       displacement cycling through :data:`START_AMPLITUDES` x L.
+
+    From each start deflated Newton runs with every solution found so far deflated; after a
+    success it runs again from the same start (:data:`RUNS_PER_START` runs at most). Returns
+    the deduplicated states by increasing energy and their snapshots. ``rod`` is left in the
+    last state tried.
+    """
+    rng = np.random.default_rng(seed)
+    deflated: list[Snapshot] = []
+    distinct: list[tuple[Snapshot, float, str, int]] = []  # snapshot, energy, from, count
+    runs = converged = 0
+    plan: list[tuple[str, Snapshot | None, int, float]] = [(f"seed {lab}", s, -1, 0.0)
+                                                          for lab, s in seeds]
+    for i in range(starts):
+        amp = START_AMPLITUDES[(i // 2) % len(START_AMPLITUDES)] * (1 if i % 2 == 0 else -1)
+        b = (i // 2) % len(seeds)
+        plan.append((f"start {i + 1}: seed {seeds[b][0]} perturbed by {amp:+g} L", None, b,
+                     amp))
+    weights = rng.standard_normal(INDEX_EIGS)
+    for name, snap, b, amp in plan:
+        if snap is None and amp > 0:
+            weights = rng.standard_normal(INDEX_EIGS)  # a new mix for each +/- pair
+        start = snap if snap is not None else _perturbed(rod, seeds[b][1], amp, weights)
+        for _ in range(RUNS_PER_START):
+            start.put(rod)
+            runs += 1
+            r = deflated_newton(rod, deflated)
+            if not r.converged:
+                break
+            converged += 1
+            s = Snapshot.of(rod)
+            deflated.append(s)
+            E = rod.energy()
+            for k, (t, Et, src, cnt) in enumerate(distinct):
+                if same_state(rod, s, t, E, Et):
+                    distinct[k] = (t, Et, src, cnt + 1)
+                    break
+            else:
+                distinct.append((s, E, name, 1))
+    distinct.sort(key=lambda item: item[1])
+    tol = zero_eigenvalue_tol(rod)
+    out = []
+    for s, E, src, cnt in distinct:
+        s.put(rod)
+        ev = lowest_eigenvalues(rod, INDEX_EIGS)
+        index = int(np.sum(ev < -tol))
+        _, g, _ = rod.energy_terms()
+        inv = invariants(rod, s)
+        out.append(FoundState(
+            label=_label(inv, known), energy=E, index=index, index_at_least=index == len(ev),
+            stable=bool(ev[0] > tol), lowest_eigenvalues=tuple(float(v) for v in ev[:4]),
+            invariants=inv, found_from=src, times_found=cnt,
+            residual=float(np.max(np.abs(g[rod.free_dofs()]))), max_strain=max_strain(rod)))
+    return Discovery(
+        states=tuple(out), load_factor=rod.load_factor,
+        elements_per_segment=len(rod.R_edge) // len(rod.assembly.segments),
+        n_dof=len(rod.free_dofs()), starts=starts, runs=runs, converged_runs=converged,
+        seeds=tuple(lab for lab, _ in seeds),
+        method=f"deflated Newton (Farrell, Beentjes, Birkisson; p = {DEFLATION_POWER:g}, shift "
+               f"= {DEFLATION_SHIFT:g}) on one discrete rod, deduplicated modulo rigid motion, "
+               "reflection and relabelling"), [s for s, *_ in distinct]
+
+
+# ---------------------------------------------------------------------------------------------
+# Rings of cusp-welded rods (the hexagram, the six-sided ring of Section 5)
+@dataclasses.dataclass(frozen=True)
+class RingSearch:
+    """A ring of ``segments`` identical cusp-welded rods to search.
+
+    ``length`` L of a rod, ``natural_curvature`` per unit load factor, stiffnesses ``B1``,
+    ``B2`` (``B3 = 1``), and the held state ``state`` (a label of
+    :func:`rodstab.states.closed_states`) whose geometry is the first seed.
+    """
+
+    segments: int
+    length: float
+    natural_curvature: float
+    B1: float
+    B2: float
+    state: str
+
+
+def ring_seeds(ring: RingSearch, elements_per_segment: int, load_factor: float,
+               seed_states: bool) -> tuple[DiscreteRod, list[tuple[str, Snapshot]],
+                                           list[KnownState]]:
+    """Return the common rod (built from ``ring.state``), the seeds and the known states.
+
+    Seeds: the held geometry of ``ring.state``, and with ``seed_states`` that of every other
+    closed planar held state of uniform moment with ``|k L| <= 2 pi``
+    (:func:`rodstab.states.closed_states`: the basic states, their mirrors and the others), each
+    put into the one common rod. Raises naming ``ring.state`` if it is not a closed state.
+    """
+    from ..states import closed_states, ring_assembly, state_turning
+
+    n = ring.segments
+    theta = state_turning(n, "cusp", ring.state)
+    listed = closed_states(n, weld="cusp", length=ring.length).states
+
+    def build(th: float) -> DiscreteRod:
+        a = ring_assembly(n, th, weld="cusp", length=ring.length,
+                          natural_curvature=ring.natural_curvature, B1=ring.B1, B2=ring.B2,
+                          B3=1.0)
+        return common_rod(a, elements_per_segment, load_factor)
+
+    rod = build(theta)
+    seeds = [(ring.state, Snapshot.of(rod))]
+    if seed_states:
+        for st in listed:
+            if st.label != ring.state:
+                seeds.append((st.label, Snapshot.of(build(st.theta))))
+    known = [KnownState(st.label, st.turning_number, st.distinct_weld_points) for st in listed]
+    return rod, seeds, known
+
+
+def shape_2d(rod: DiscreteRod, s: Snapshot) -> list[np.ndarray]:
+    """Centreline of every rod of state ``s`` projected on its best-fit plane, ``(n + 1, 2)``."""
+    c, nrm = _plane(rod, s.x, s.R_edge)
+    e1 = np.cross(nrm, [0.0, 0.0, 1.0])
+    if np.linalg.norm(e1) < 0.5:
+        e1 = np.array([1.0, 0.0, 0.0]) - nrm[0] * nrm
+    e1 /= np.linalg.norm(e1)
+    e2 = np.cross(nrm, e1)
+    return [np.stack([(s.x[ids] - c) @ e1, (s.x[ids] - c) @ e2], axis=1)
+            for ids in _segment_nodes(rod)]

@@ -1,0 +1,172 @@
+"""Deflated Newton (nonlinear/discover.py, Farrell, Beentjes and Birkisson) and `rodstab discover`.
+
+Oracles: finite differences of the deflation operator and of the deflated residual; the
+clamped straightened rod above its buckling load (straight state unstable, two mirror buckled
+states stable: the classic three solutions deflation must find from one start); rigid motions
+and relabellings of a ring state leave the aligned distance zero; the hexagram's four basic
+states, stable together at kappa_n R0 = 2 for h/t = 4 (rodstab hexagram: 1.903 < mu < 2.248).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from rodstab.cli import main
+from rodstab.nonlinear import discover as dv
+from rodstab.nonlinear import solve
+from rodstab.nonlinear.jets import rodrigues
+from rodstab.problems import hexagram as hx
+from rodstab.problems import straightened_rod as sr
+from rodstab.sections import rectangle
+
+
+def _straight_rod(elements: int = 8) -> dv.DiscreteRod:
+    p = sr.Params()
+    mu_c = 2 * math.pi / sr.to_paper(1.0, p)["lambda"]  # lambda_c = 2 pi (eq. 3.9)
+    return dv.common_rod(sr.build(p), elements, 1.2 * mu_c)
+
+
+def _hexagram_rod(state: str, elements: int = 8) -> dv.DiscreteRod:
+    return dv.common_rod(hx.build(hx.Params(section=rectangle(aspect=4), state=state)),
+                         elements, 2.0)
+
+
+def test_common_rod_energy_depends_only_on_the_natural_curvature():
+    """The eight's geometry has the same energy in the rods built from the star and the eight."""
+    star, eight = _hexagram_rod("star"), _hexagram_rod("eight")
+    moved = star.copy()
+    dv.Snapshot.of(eight).put(moved)
+    assert moved.energy() == pytest.approx(eight.energy(), rel=1e-12)
+    line = _hexagram_rod("line")
+    dv.Snapshot.of(star).put(line)
+    assert line.energy() == pytest.approx(star.energy(), rel=1e-12)
+
+
+def _random_state(rod: dv.DiscreteRod, rng: np.random.Generator, size: float) -> None:
+    dq = np.zeros(rod.n_dof)
+    dq[rod.free_dofs()] = size * rng.standard_normal(len(rod.free_dofs()))
+    rod.apply(dq)
+
+
+def test_deflation_operator_derivative_matches_finite_differences():
+    """grad(log M) and the chart derivative of M g, ``M (H v - v x g / 2) + g (grad M . v)``.
+
+    The ``- v x g / 2`` of each rotation block is the chart's (``R exp(phi)``) correction to the
+    Hessian away from an equilibrium; Newton drops it (it vanishes at the solution).
+    """
+    rng = np.random.default_rng(1)
+    rod = _straight_rod()
+    known = []
+    for _ in range(2):
+        other = rod.copy()
+        _random_state(other, rng, 0.05)
+        known.append(dv.Snapshot.of(other))
+    _random_state(rod, rng, 0.02)
+    v = np.zeros(rod.n_dof)
+    v[rod.free_dofs()] = rng.standard_normal(len(rod.free_dofs()))
+    M, glog = dv.deflation(rod, known)
+    _, g, H = rod.energy_terms()
+    h = 1e-6
+
+    def at(eps: float) -> tuple[float, np.ndarray]:
+        r = rod.copy()
+        r.apply(eps * v)
+        return dv.deflation(r, known)[0], r.energy_terms()[1]
+
+    (Mp, gp), (Mm, gm) = at(h), at(-h)
+    assert (math.log(Mp) - math.log(Mm)) / (2 * h) == pytest.approx(glog @ v, rel=1e-6)
+    Jv = M * (H @ v) + g * (M * (glog @ v))
+    nx = 3 * len(rod.x)
+    Jv[nx:] -= 0.5 * M * np.cross(v[nx:].reshape(-1, 3), g[nx:].reshape(-1, 3)).ravel()
+    fd = (Mp * gp - Mm * gm) / (2 * h)
+    free = rod.free_dofs()
+    assert np.max(np.abs(fd[free] - Jv[free])) <= 1e-5 * np.max(np.abs(Jv[free]))
+
+
+def test_deflation_finds_the_straight_and_both_buckled_rods():
+    """Straightened clamped rod at 1.2 lambda_c: three equilibria from one start and its mirror.
+
+    Starts +-0.01 L along the straight state's unstable mode, every solution found deflated:
+    the straight state (index 1), then the two buckled states (stable, mirror images: one
+    state modulo reflection), then nothing more.
+    """
+    rod = _straight_rod()
+    straight = dv.Snapshot.of(rod)
+    _, vecs = solve.lowest_modes(rod, 1)
+    known: list[dv.Snapshot] = []
+    indices = []
+    for sign in (1, -1, 1, -1):
+        r = rod.copy()
+        straight.put(r)
+        dq = np.zeros(rod.n_dof)
+        dq[rod.free_dofs()] = vecs[:, 0]
+        r.apply(sign * 0.01 * dq / np.max(np.abs(dq[: 3 * len(rod.x)])))
+        if not dv.deflated_newton(r, known).converged:
+            break
+        known.append(dv.Snapshot.of(r))
+        ev = solve.lowest_eigenvalues(r, 3)
+        indices.append(int(np.sum(ev < -solve.zero_eigenvalue_tol(r))))
+    assert indices == [1, 0, 0]
+    E = []
+    for s in known:
+        s.put(rod)
+        E.append(rod.energy())
+    assert E[1] < E[0] and E[2] == pytest.approx(E[1], rel=1e-9)
+    assert known[1].x[:, 2].sum() * known[2].x[:, 2].sum() < 0  # on opposite sides
+    assert dv.same_state(rod, known[1], known[2], E[1], E[2])  # modulo reflection
+    assert not dv.same_state(rod, known[0], known[1], E[0], E[1])
+
+
+def test_aligned_distance_is_zero_modulo_rigid_motion_and_relabelling():
+    """A star moved rigidly and relabelled (rods shifted by two) is the same state."""
+    rod = _hexagram_rod("star")
+    s = dv.Snapshot.of(rod)
+    Q = rodrigues(np.array([[0.3, -1.1, 0.7]]))[0]
+    seg = dv._segment_nodes(rod)
+    x = s.x.copy()
+    x[seg] = np.roll(s.x[seg], 2, axis=0)
+    moved = dv.Snapshot(x @ Q.T + np.array([1.0, -2.0, 0.5]), s.R_edge, s.R_joint)
+    assert dv.aligned_distance(rod, s, moved) < 1e-12
+    daisy = dv.Snapshot.of(_hexagram_rod("daisy"))
+    assert dv.aligned_distance(rod, s, daisy) > 0.1
+
+
+def test_hexagram_discover_finds_the_four_basic_states_from_the_star(tmp_path, capsys):
+    """Rectangle h/t = 4, kappa_n R0 = 2, 16 elements per rod: from the star's seed and the
+    held geometries of the other closed states (rodstab states), the line, star, daisy and
+    eight are found, each once, stable; the mirror states are found unstable."""
+    main(["discover", "--shape", "rectangle", "--aspect", "4", "--load-factor", "2",
+          "--starts", "0", "--elements", "16", "--plot", str(tmp_path / "g.png"), "--json"])
+    out = json.loads(capsys.readouterr().out)
+    labels = [s["label"] for s in out["states"]]
+    for state in hx.STATES:
+        assert labels.count(state) == 1
+        assert next(s for s in out["states"] if s["label"] == state)["stable"]
+    for s in out["states"]:
+        # Newton's tolerance: 1e-10 x the stiff force scale PENALTY b1 / l_e = 1e3 x 16 x 16.
+        assert s["residual"] <= 1e-10 * 1e3 * 16 * 16
+        if s["label"].startswith("mirror-"):
+            assert s["index"] >= 1 and not s["stable"]
+    assert (tmp_path / "g.png").exists()
+
+
+@pytest.mark.parametrize(("args", "name"), [
+    (["--elements", "1"], "--elements"),
+    (["--starts", "-1"], "--starts"),
+    (["--load-factor", "nan"], "--load-factor"),
+    (["--state", "nosuch"], "nosuch"),
+    (["--structure", "six-ring", "--segments", "5"], "--segments"),
+    (["--segments", "8"], "--segments"),
+    (["--starts", "10", "--max-steps", "5"], "--starts"),
+])
+def test_bad_inputs_exit_2_naming_the_value(args, name, capsys):
+    """Each bad input: exit status 2, one stderr line naming it."""
+    with pytest.raises(SystemExit) as exc:
+        main(["discover", *args])
+    assert exc.value.code == 2
+    err = capsys.readouterr().err
+    assert name in err and err.count("\n") == 1
