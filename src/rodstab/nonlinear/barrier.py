@@ -13,9 +13,9 @@ Euclidean toy with a known saddle (:class:`EuclideanSpace`) and on the discrete 
 (:class:`RodSpace`: node positions and edge/joint frames, frames interpolated on SO(3) by the log
 map, distances mixing positions over a length with rotation angles).
 
-Two held states of one structure at one natural curvature are two discretisations with
-different reference geometries; :func:`common_rod` makes them two configurations of ONE
-discrete model whose energy depends on the natural curvature alone (:func:`natural_reference`).
+Two held states of one structure at one natural curvature are put in ONE discrete model whose
+energy depends on the natural curvature alone by
+:func:`rodstab.nonlinear.discover.common_rod` (the one implementation of that idea).
 
 Status (work in progress, not wired to the CLI): the core converges on the Euclidean toy
 (tests/test_barrier.py); on the rod, the string between the six-ring's folded and one-loop
@@ -24,6 +24,14 @@ far from equilibrium (the two states' frames differ by up to half a turn, and pe
 geodesics put kinks between neighbours; :func:`ring_interpolate` removes the kinks but leaves
 a closure defect) and the descent breaks down on a non-finite energy. No barrier is reported
 from this module until that is fixed.
+
+Also tried (not kept): minimum-mode following from the folded six-ring (8 el./rod,
+kappa_n R0 = 1; dense eigenpairs of the Jacobi-scaled Hessian, a fixed uphill step along the
+followed mode and a shifted Newton step in the others, P-RFO once it turns negative). The
+lowest pair is nearly double (2.07e-8, 2.23e-8) and the followed eigenvector turns inside it:
+following the lowest mode wanders below 0.25 B3/L; following the second by overlap climbs to
+1.44 B3/L (above the continuation's saddle, 1.12) with the mode still positive and falls back.
+A dimer/mode-following search needs the symmetric subspace of the saddle branch fixed first.
 """
 
 from __future__ import annotations
@@ -41,7 +49,8 @@ from ..errors import NotConverged, RodstabInputError, require_int
 from ..model import Assembly
 from ..numerics import jacobi_scaling
 from ..results import Result
-from .discrete import PENALTY, DiscreteRod, discretise
+from .discover import common_rod
+from .discrete import PENALTY, DiscreteRod
 from .solve import (
     NEWTON_RTOL,
     lowest_eigenvalues,
@@ -66,10 +75,6 @@ SADDLE_MAX_ITER = 50
 #: A state relaxed by Newton from its held geometry must stay within this fraction of the total
 #: length of it (largest node displacement), else it is not the named state at that load.
 STATE_DRIFT = 0.05
-#: Energies of a state copied into the common model and in its own discretisation (both with
-#: :func:`natural_reference`) agree to this (relative): the same configuration, the same energy.
-COPY_RTOL = 1e-10
-
 #: Shift of :meth:`RodSpace.relax_stiff` (Jacobi-scaled Hessian), its step budget, and its
 #: stop (relative energy drop of one step).
 STIFF_SHIFT = 1e-3
@@ -494,31 +499,7 @@ class RodSpace:
         return E, step
 
 
-# ---------------------------------------------------------------- one model for two states
-def natural_reference(rod: DiscreteRod) -> None:
-    """Make the rod's natural curvature ``mu kappa_n`` exactly, whatever its held state (in place).
-
-    :func:`~rodstab.nonlinear.discrete.discretise` shifts each joint's natural curvature by the
-    discretisation error of its held state's curvature (so that state is an exact equilibrium);
-    that shift is ``O(k^3 l_e^2)`` and differs between two held states of one structure. Here
-    every joint's natural Cayley curvature is ``(0, mu tau_n, mu kappa_n)``: the energy is then a
-    function of the configuration and the natural curvature alone, the same for every held
-    state (tested). Likewise every edge's rest length becomes its arclength ``L / n`` (the
-    discretisation takes the held chord, ``O(k^2 l_e^2)`` shorter on an arc). A straight held
-    state (the folded ring) is unchanged by this.
-    """
-    segs = rod.assembly.segments
-    n_el = len(rod.R_edge) // len(segs)
-    rod.rest_length = np.repeat([s.length / n_el for s in segs], n_el)
-    a = rod.bend_pairs[:, 0]
-    kp = np.zeros((len(a), 3))
-    kp[:, 2] = rod.edge_k[a]
-    ee = np.array([lk[0] for lk in rod.end_links], int)
-    kl = np.zeros((len(ee), 3))
-    kl[:, 2] = rod.edge_k[ee]
-    rod.k_held_pairs, rod.k_held_links, rod.k0_links = kp, kl, None
-
-
+# ---------------------------------------------------------------- the two states
 def _rigid_gauge(rod: DiscreteRod, like: DiscreteRod) -> None:
     """Move ``rod`` rigidly so its gauge joint has ``like``'s position and frame (in place)."""
     j = like.fixed_joints[0]
@@ -527,50 +508,6 @@ def _rigid_gauge(rod: DiscreteRod, like: DiscreteRod) -> None:
     rod.x = (rod.x - rod.x[node]) @ Q.T + like.x[node]
     rod.R_edge = Q @ rod.R_edge
     rod.R_joint = Q @ rod.R_joint
-
-
-def transplant(target: DiscreteRod, source: DiscreteRod) -> DiscreteRod:
-    """Return a copy of ``target`` (its model) carrying ``source``'s configuration.
-
-    ``source`` must be the same structure discretised alike (same segments in the same order,
-    same joints, same mesh); joint frames are carried through the segment ends they hold
-    (``R_J Q`` is an end's frame, so ``R_J^target = R_J^source Q^source Q^target^T``), and the
-    whole configuration is then moved rigidly onto ``target``'s gauge (its held joint).
-    Raises :class:`RodstabInputError` naming what differs.
-    """
-    checks = (("node count", len(target.x), len(source.x)),
-              ("edges", target.edge_nodes.tolist(), source.edge_nodes.tolist()),
-              ("joints", len(target.R_joint), len(source.R_joint)),
-              ("rest lengths", None, None))
-    for what, u, v in checks[:3]:
-        if u != v:
-            raise RodstabInputError(f"the two states are not one discrete structure: {what} "
-                                    "differ")
-    if not np.allclose(target.rest_length, source.rest_length, rtol=1e-9):
-        raise RodstabInputError("the two states are not one discrete structure: rest lengths "
-                                "differ (segment lengths or mesh)")
-    for what in ("edge_B", "edge_kn"):
-        if not np.allclose(getattr(target, what), getattr(source, what), rtol=1e-12):
-            raise RodstabInputError(f"the two states are not one discrete structure: {what} "
-                                    "(stiffness or natural curvature) differ")
-    out = target.copy()
-    out.x = source.x.copy()
-    out.R_edge = source.R_edge.copy()
-    R_joint = np.full_like(target.R_joint, np.nan)
-    for (e, j, Qt, end), (e2, j2, Qs, end2) in zip(target.end_links, source.end_links,
-                                                     strict=True):
-        if (e, j, end) != (e2, j2, end2):
-            raise RodstabInputError("the two states are not one discrete structure: their "
-                                    "segment ends are welded differently")
-        RJ = source.R_joint[j] @ Qs @ Qt.T
-        if np.isnan(R_joint[j, 0, 0]):
-            R_joint[j] = RJ
-        elif not np.allclose(R_joint[j], RJ, atol=1e-9):
-            raise RodstabInputError("the two states are not one discrete structure: the "
-                                    "angles of a weld differ")
-    out.R_joint = R_joint
-    _rigid_gauge(out, target)
-    return out
 
 
 def _relaxed_state(rod: DiscreteRod, label: str, mu: float) -> tuple[DiscreteRod, float]:
@@ -594,29 +531,6 @@ def _relaxed_state(rod: DiscreteRod, label: str, mu: float) -> tuple[DiscreteRod
         raise RodstabInputError(f"state {label!r} is not stable at load factor {mu:g} (lowest "
                                 f"scaled Hessian eigenvalue {lam:.3g})")
     return rod, lam
-
-
-def common_rod(a: Assembly, b: Assembly, elements_per_segment: int, load_factor: float
-               ) -> tuple[DiscreteRod, DiscreteRod, float]:
-    """States ``a`` and ``b`` as two configurations of one discrete model.
-
-    Both assemblies are discretised alike at ``load_factor`` with :func:`natural_reference`
-    (the energy depends on the natural curvature alone), ``b``'s configuration is carried into
-    ``a``'s model (:func:`transplant`), and its energy checked against its own discretisation's
-    (:data:`COPY_RTOL`). Returns the two held configurations and that relative difference.
-    """
-    rod_a = discretise(a, elements_per_segment, load_factor)
-    rod_b = discretise(b, elements_per_segment, load_factor)
-    natural_reference(rod_a)
-    natural_reference(rod_b)
-    b_in_a = transplant(rod_a, rod_b)
-    e_own, e_copy = rod_b.energy(), b_in_a.energy()
-    diff = abs(e_copy - e_own) / max(abs(e_own), 1e-300)
-    if diff > COPY_RTOL:
-        raise RodstabInputError(f"the two states are not one discrete structure: the copied "
-                                f"state's energy {e_copy:.12g} differs from its own "
-                                f"{e_own:.12g}")
-    return rod_a, b_in_a, diff
 
 
 # ---------------------------------------------------------------- the saddle
@@ -721,7 +635,8 @@ def barrier(a: Assembly, b: Assembly, *, load_factor: float, elements_per_segmen
             labels: tuple[str, str] = ("from", "to")) -> tuple[Barrier, DiscreteRod]:
     """Energy barrier between held states ``a`` and ``b`` of one structure at ``load_factor``.
 
-    1. :func:`common_rod`: both states in one discrete model (natural curvature only);
+    1. :func:`~rodstab.nonlinear.discover.common_rod`: both states in one discrete model
+       (natural curvature only), ``b`` moved rigidly onto ``a``'s gauge joint;
     2. each relaxed by Newton and refused unless a nearby stable equilibrium
        (:class:`RodstabInputError` naming ``labels[i]``);
     3. :func:`minimum_energy_path` on :class:`RodSpace`;
@@ -730,10 +645,12 @@ def barrier(a: Assembly, b: Assembly, *, load_factor: float, elements_per_segmen
 
     Returns the :class:`Barrier` and the saddle state.
     """
-    rod_a, rod_b, _ = common_rod(a, b, elements_per_segment, load_factor)
+    rod_a = common_rod(a, elements_per_segment, load_factor)
+    rod_b = common_rod(b, elements_per_segment, load_factor)
+    _rigid_gauge(rod_b, rod_a)
     rod_a, _ = _relaxed_state(rod_a, labels[0], load_factor)
     rod_b, _ = _relaxed_state(rod_b, labels[1], load_factor)
-    # Newton keeps the gauge joint where it was: both states share it (transplant).
+    # Newton keeps the gauge joint where it was: both states share it (_rigid_gauge).
     space = RodSpace(rod_a)
     path = minimum_energy_path(space, rod_a, rod_b, n_images=n_images, max_iter=max_iter)
     top = path.highest
