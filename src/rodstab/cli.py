@@ -419,8 +419,11 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
 @click.option("--vary", required=True,
               help=f"KEY=START:STOP[:N], N steps (default {CONTINUE_DEFAULT_N}); KEY: "
                    "load_factor (natural curvatures and twists scale with it), "
-                   "segment.<name>.natural_curvature, segment.<name>.natural_twist or "
-                   "support.<i>.rotation.<normal|tangent|binormal> (radians).")
+                   "segment.<name>.natural_curvature, segment.<name>.natural_twist, "
+                   "support.<i>.rotation.<normal|tangent|binormal> (radians), "
+                   "welds.<i>,<j>.rotation.<axis> (welds i and j turned by +phi and -phi, "
+                   "radians) or weld.<i>.moment.<axis> (a point moment on weld i); i, j: "
+                   "indices of the design's welds.")
 @click.option("--out", "out_dir", type=click.Path(file_okay=False), default=None,
               help="Directory for primary.csv, branches.csv, special_points.json, diagram.png, "
                    "branch.gif; a rerun with the same directory and arguments resumes.")
@@ -881,6 +884,85 @@ def _given(option: str) -> bool:
     """Whether ``option`` was given on the command line (not its default)."""
     src = click.get_current_context().get_parameter_source(option)
     return src is not None and src.name != "DEFAULT"
+
+
+@cli.command()
+@click.option("--structure", type=click.Choice(["hexagram"]), default="hexagram",
+              show_default=True, help="The structure whose states are loaded.")
+@click.option("--load-factor", type=float, default=2.0, show_default=True,
+              help="kappa_n R0, at which every state loaded must be stable.")
+@click.option("--elements", type=int, default=8, show_default=True,
+              help="Elements per rod of the discrete rod.")
+@click.option("--thickness", type=float, default=0.02, show_default=True,
+              help="Out-of-plane section height h over the rod length L, for the contact "
+                   "check (rods closer than h touch).")
+@click.option("--stimulus", "stimuli", multiple=True, metavar="STATE=KEY:STOP",
+              help="Load STATE in KEY from 0 (load_factor: from --load-factor) to STOP; "
+                   "repeatable, replaces that state's defaults. KEY: load_factor, "
+                   "welds.<i>,<j>.rotation.<normal|tangent|binormal> (radians), "
+                   "weld.<i>.moment.<normal|tangent|binormal> (B3/L), weld indices 0-5.")
+@click.option("--state", "states_", multiple=True, metavar="STATE",
+              help="Load only these states (repeatable; default: all four).")
+@click.option("--all", "all_stimuli", is_flag=True,
+              help="Try every stimulus of each state, not only up to the first transition.")
+@click.option("--out", "out_dir", type=click.Path(file_okay=False), default=None,
+              help="Directory for transitions.json and transitions.png (the graph).")
+@_section_options
+@_json_option
+def transitions(section: Section, structure: str, load_factor: float, elements: int,
+                thickness: float, stimuli: tuple[str, ...], states_: tuple[str, ...],
+                all_stimuli: bool, out_dir: str | None, as_json: bool) -> None:
+    """Transitions between states under a stimulus: the transition graph.
+
+    Each state is loaded until it first loses stability, relaxed past it, unloaded and
+    identified. Rods have no contact: each edge reports the closest approach of rods over h
+    and whether rods would pass through each other (physical: false).
+    """
+    from .errors import require_int
+    from .problems import hexagram_transitions as ht
+
+    elements = require_int("--elements", elements, 2)
+    load_factor = require_finite("--load-factor", load_factor)
+    thickness = require_positive("--thickness", thickness)
+    for state in states_:
+        if state not in ht.STATES:
+            raise RodstabInputError(f"--state {state!r} is not one of {ht.STATES}")
+    chosen: dict[str, list[tuple[str, float]]] = {}
+    for text in stimuli:
+        state, key, stop = ht.parse_stimulus(text)
+        chosen.setdefault(state, []).append((key, stop))
+    stim = {s: tuple(chosen.get(s, ht.STIMULI[s])) for s in ht.STIMULI}
+    out = None if out_dir is None else check_output("--out", out_dir, directory=True)
+    with _warnings_as_lines(), warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        res = ht.transitions(section, load_factor=load_factor, elements=elements,
+                             thickness=thickness, stimuli=stim, all_stimuli=all_stimuli,
+                             load=tuple(states_) or ht.STATES)
+    payload = res.graph.to_json()
+    payload["structure"] = structure
+    payload["section"] = section.to_dict()
+    if out is not None:
+        from .transition_plot import plot_transition_graph
+
+        (out / "transitions.json").write_text(json.dumps(jsonable(payload), allow_nan=False))
+        payload["figure"] = str(plot_transition_graph(
+            payload, res.shapes, out / "transitions.png",
+            title=f"{structure}, {_section_line(section).split(':', 1)[0].split(None, 1)[1]}, "
+                  f"kappa_n R0 = {load_factor:g}, {elements} elements per rod, h/L = "
+                  f"{thickness:g}"))
+        payload["json_file"] = str(out / "transitions.json")
+    lines = [_section_line(section),
+             f"{structure} at kappa_n R0 = {_fmt(load_factor)}, {elements} elements per rod, "
+             f"contact thickness h/L = {_fmt(thickness)}"]
+    for e in payload["edges"]:
+        lines.append(f"{e['from']:>6} -> {e['to']:<8} {e['stimulus']} = {_fmt(e['threshold'])}"
+                     f" ({e['kind']}); "
+                     + ("no pass-through" if e["physical"] else "RODS PASS THROUGH: not "
+                        "physical as computed"))
+    lines += [f"{e['from']:>6}    none     {e['stimulus']} up to {_fmt(e['stop'])}: "
+              f"{e['message']}" for e in payload["no_transition"]]
+    lines += [f"wrote {payload['figure']}, {payload['json_file']}"] if out is not None else []
+    _emit(payload, as_json, lines)
 
 
 #: Click >= 8.2 raises this usage error for ``rodstab`` without arguments; its message is the

@@ -77,7 +77,7 @@ REGISTRY: tuple[Check, ...] = (
 #: Checks that take longest (seconds on one core), submitted first so two workers finish
 #: together; the others follow in registry order.
 _SLOW_FIRST = ("transition_checks", "postbuckling_checks", "imperfection_checks",
-               "twisted_rod_checks")
+               "twisted_rod_checks", "hexagram_checks")
 #: Environment for the worker processes: one BLAS thread each. Several multithreaded BLAS
 #: pools on 2 cores spin against each other (a dense 300 x 300 eigh took 0.85 s instead of
 #: 0.01 s on a loaded machine).

@@ -18,7 +18,7 @@ import math
 from collections.abc import Iterator
 
 from .. import problems
-from ..numerics import find_roots
+from ..numerics import refine_root
 from ..sections import Section, circle, rectangle
 from .core import Claim, Run, fmt
 from .rules import REPRODUCED, every, holds, methods_agree
@@ -112,9 +112,15 @@ def _threshold(name: str, run: Run) -> Claim:
     By amplitude control and the root finder; confirmed on both sides by the arclength tracer.
     """
     lo, hi = ASPECT_BRACKET  # the PB rows' h/t = 2 is one end: its branch is reused
-    found = find_roots(lambda h: coefficient(name, h).coefficients[1], lo, hi, n_scan=1,
-                       rel_xtol=THRESHOLD_XTOL)
-    roots = [r.x for r in found.roots if r.kind == "sign-change"]
+
+    def b(h: float) -> float:
+        return coefficient(name, h).coefficients[1]
+
+    # Each b(h/t) is a traced branch (~1 s): the bracket's ends decide whether there is a sign
+    # change, and the root finder's refinement alone locates it (no scan, no multiplicity
+    # probes, which cost four more branches each).
+    roots = ([refine_root(b, lo, hi, rel_xtol=THRESHOLD_XTOL)] if (b(lo) > 0) != (b(hi) > 0)
+             else [])
     run.progress()
     if len(roots) != 1:
         return Claim(f"PB-threshold-{name}", "beyond", "-", f"{_NAMES[name]}: where b changes "

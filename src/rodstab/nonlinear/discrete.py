@@ -41,7 +41,7 @@ import scipy.sparse as sp
 
 from ..errors import RodstabInputError, require_finite
 from ..model import NONLINEAR, SUPPORT_KINDS, Assembly, held_frame, kinds_of
-from .jets import Jet, JetMat, rodrigues, rotation_jet, vector_jet
+from .jets import Jet, JetMat, rodrigues, rotation_jet, rotation_vector, vector_jet
 
 #: Stretch/shear stiffness K = PENALTY * max(B1, B2, B3) / l_e^2. The discrete model tends to
 #: the inextensible, unshearable Kirchhoff rod as l_e -> 0 with an error ~ l_e^2 / PENALTY.
@@ -77,6 +77,9 @@ class DiscreteRod:
     joint_rotation: dict = dataclasses.field(default_factory=dict)
     #: values of continuation parameters set on this state (key -> value), see .parameters
     param_values: dict = dataclasses.field(default_factory=dict)
+    #: point moments on joints: joint -> moment (components in the joint's reference frame
+    #: ``R_joint_held``); each adds the work term ``-M . theta`` (:meth:`_moment_work`)
+    joint_moment: dict = dataclasses.field(default_factory=dict)
 
     # ---- degrees of freedom: positions, edge rotations, joint rotations
     @property
@@ -156,6 +159,9 @@ class DiscreteRod:
                   else self.k0_links[0] + mu * self.k0_links[1])
             scatter(self._bend(P, ds, self.edge_B[ee], k0),
                     np.concatenate([self.edge_dofs(ee), self.joint_dofs(jj)], axis=1))
+        loaded = [j for j, m in self.joint_moment.items() if np.any(m)]
+        if loaded:
+            scatter(self._moment_work(np.array(loaded)), self.joint_dofs(np.array(loaded)))
         H = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
                           shape=(self.n_dof, self.n_dof))
         return total, grad, H
@@ -173,6 +179,23 @@ class DiscreteRod:
         if self.edge_tw is not None:
             k0[:, 1] += mu * self.edge_tw[e]  # natural twist about the tangent d2
         return k0
+
+    def _moment_work(self, joints: np.ndarray) -> Jet:
+        """``-M . theta`` of point moments on ``joints`` (variables: the joint's phi 0..2).
+
+        ``theta``: the exact rotation vector of the joint frame from its reference frame
+        ``R_joint_held`` (``P = R_held^T R_J``), components in the reference frame, as ``M``.
+        A moment of fixed components conjugate to the rotation vector is conservative by
+        construction (it has this potential); for a rotation about one fixed axis it is the dead
+        moment ``M theta``.
+        """
+        assert self.R_joint_held is not None  # set by discretise
+        P = rotation_jet(np.swapaxes(self.R_joint_held[joints], 1, 2) @ self.R_joint[joints],
+                         3, 0)
+        with np.errstate(all="ignore"):  # past a half turn: NaN energy, the step is refused
+            theta = rotation_vector(P)
+        M = np.array([self.joint_moment[int(j)] for j in joints], float)
+        return sum((theta[c] * -M[:, c] for c in range(1, 3)), start=theta[0] * -M[:, 0])
 
     @staticmethod
     def _bend(P: JetMat, ds: np.ndarray, B: np.ndarray, k0: np.ndarray) -> Jet:
@@ -236,7 +259,8 @@ class DiscreteRod:
         return dataclasses.replace(self, x=self.x.copy(), R_edge=self.R_edge.copy(),
                                    R_joint=self.R_joint.copy(),
                                    joint_rotation=dict(self.joint_rotation),
-                                   param_values=dict(self.param_values))
+                                   param_values=dict(self.param_values),
+                                   joint_moment=dict(self.joint_moment))
 
     def assign(self, other: DiscreteRod) -> None:
         """Take over ``other``'s state and parameter values in place (undo a failed step)."""
@@ -245,6 +269,7 @@ class DiscreteRod:
         self.load_factor = other.load_factor
         self.joint_rotation = dict(other.joint_rotation)
         self.param_values = dict(other.param_values)
+        self.joint_moment = dict(other.joint_moment)
         self.edge_kn, self.edge_tw, self.k0_links = other.edge_kn, other.edge_tw, other.k0_links
 
     def shear(self) -> np.ndarray:

@@ -149,3 +149,51 @@ def rodrigues(phi: np.ndarray) -> np.ndarray:
     a = np.where(small, 1.0 - th**2 / 6, np.sin(ths) / ths)
     b = np.where(small, 0.5 - th**2 / 24, (1 - np.cos(ths)) / ths**2)
     return np.eye(3) + a * K + b * (K @ K)
+
+
+#: Below this ``u = |c|^2`` (``c`` the Cayley vector, ``tan(theta / 2)``) the series of
+#: :func:`_half_atan_ratio` is used: 10 terms leave an error below ``u^10 / 21`` (< 1e-22).
+_SERIES_U = 1e-2
+_SERIES_TERMS = 10
+
+
+def _half_atan_ratio(u: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``h(u) = 2 atan(sqrt u) / sqrt u`` and its first two derivatives (analytic at ``u = 0``).
+
+    ``theta = h(|c|^2) c`` turns the Cayley vector ``c = tan(theta / 2) axis`` into the rotation
+    vector. Near 0 the series ``2 sum_k (-u)^k / (2k + 1)``, else the closed forms.
+    """
+    u = np.asarray(u, float)
+    small = u < _SERIES_U
+    us = np.where(small, u, 0.0)
+    k = np.arange(_SERIES_TERMS)[:, None]
+    coef = 2.0 * (-1.0) ** k / (2 * k + 1)
+    h_s = np.sum(coef * us ** k, axis=0)
+    d1_s = np.sum((coef * k)[1:] * us ** (k[1:] - 1), axis=0)
+    d2_s = np.sum((coef * k * (k - 1))[2:] * us ** (k[2:] - 2), axis=0)
+    ub = np.where(small, 1.0, u)
+    s = np.sqrt(ub)
+    at = np.arctan(s)
+    h_b = 2.0 * at / s
+    d1_b = 1.0 / (ub * (1.0 + ub)) - at / s**3
+    d2_b = (-(1.0 + 2.0 * ub) / (ub**2 * (1.0 + ub) ** 2) - 0.5 / (ub**2 * (1.0 + ub))
+            + 1.5 * at / ub**2.5)
+    return (np.where(small, h_s, h_b), np.where(small, d1_s, d1_b),
+            np.where(small, d2_s, d2_b))
+
+
+def rotation_vector(P: JetMat) -> list[Jet]:
+    """Rotation vector ``theta axis`` (exact log map) of a rotation-matrix jet, as three jets.
+
+    ``theta = h(|c|^2) c`` with the Cayley vector ``c = vee(P - P^T) / (1 + tr P)`` and
+    ``h(u) = 2 atan(sqrt u) / sqrt u`` (:func:`_half_atan_ratio`): smooth for ``theta < pi``
+    (at a half turn ``1 + tr P = 0``).
+    """
+    den = (P.entry(0, 0) + P.entry(1, 1) + P.entry(2, 2) + 1.0).reciprocal()
+    c = [(P.entry(2, 1) - P.entry(1, 2)) * den, (P.entry(0, 2) - P.entry(2, 0)) * den,
+         (P.entry(1, 0) - P.entry(0, 1)) * den]
+    u = c[0] * c[0] + c[1] * c[1] + c[2] * c[2]
+    h0, h1, h2 = _half_atan_ratio(u.v)
+    h = Jet(h0, h1[:, None] * u.g,
+            h1[:, None, None] * u.H + h2[:, None, None] * np.einsum("ei,ej->eij", u.g, u.g))
+    return [h * ci for ci in c]

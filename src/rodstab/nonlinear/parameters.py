@@ -16,6 +16,24 @@ cost the corrector its quadratic convergence, never its accuracy, because the re
   vector imposed on a clamped end (its frame is ``F = F_held exp(hat r)``). Then
   ``dg/dr_c = H[:, joint] J_r(r) e_c`` exactly, with ``J_r`` the right Jacobian of SO(3) and
   ``H`` the full Hessian (which includes the clamped joint's rotation unknowns).
+* :class:`WeldRotation` ``welds.<i>,<j>.rotation.<axis>``: equal and opposite rotations
+  ``+phi`` and ``-phi`` of welds ``i`` and ``j`` (indices into the assembly's welds) about
+  ``axis`` of each weld's reference frame (its frame when the parameter is prepared on a state):
+  the ring bent by hand as in the experiments. Both weld frames are held (a constraint, like a
+  clamped end); on a free assembly the rigid-motion gauge moves from joint 0 to weld ``i``
+  (its position and frame; weld ``j``'s frame is then the one relative rotation imposed), so
+  the reactions are a pure couple. ``dg/dphi = H[:, i] e_c - H[:, j] e_c`` exactly (the
+  rotation vectors stay along ``e_c``, where the right Jacobian of SO(3) is the identity).
+* :class:`WeldMoment` ``weld.<i>.moment.<axis>``: a point moment ``M`` on weld ``i`` (component
+  ``axis`` of its reference frame), the work term ``-M . theta`` in the energy with ``theta``
+  the exact rotation vector of the weld's frame (:meth:`.DiscreteRod._moment_work`). ``g`` is
+  linear in ``M``: ``dg/dM_c = -d theta_c / d phi`` at the weld, exact from the same jets. On a
+  free assembly the reaction is carried by the gauge joint 0 (held in position and frame), so
+  weld 0 itself cannot be loaded.
+
+Every parameter has ``prepare(rod)``, called once on the start state of a continuation (it
+changes the held unknowns of the weld rotation, and takes the reference frames of a weld
+parameter from the state).
 """
 
 from __future__ import annotations
@@ -28,9 +46,13 @@ import numpy as np
 from ..errors import RodstabInputError
 from ..model import ROTATION_AXES, SUPPORT_KINDS, Assembly
 from .discrete import DiscreteRod, discretise
-from .jets import hat
+from .jets import hat, rotation_jet, rotation_vector
 
 #: Keys of one segment whose values enter the discrete energy affinely.
+#: ``(E, g, H)`` of :meth:`DiscreteRod.energy_terms` at the current state: a caller that has
+#: them passes them to ``dgrad``, which then spends no second evaluation on them.
+Terms = tuple[float, np.ndarray, Any]
+
 SEGMENT_KEYS = ("natural_curvature", "natural_twist")
 
 
@@ -38,6 +60,9 @@ class LoadFactor:
     """The load factor ``mu`` (natural curvatures and twists are ``mu`` times the design's)."""
 
     key = "load_factor"
+
+    def prepare(self, rod: DiscreteRod) -> None:
+        """Nothing to prepare: the load factor needs no held unknowns."""
 
     def get(self, rod: DiscreteRod) -> float:
         """Return ``mu`` of ``rod``."""
@@ -47,10 +72,10 @@ class LoadFactor:
         """Set ``mu`` of ``rod`` to ``value``."""
         rod.load_factor = float(value)
 
-    def dgrad(self, rod: DiscreteRod) -> np.ndarray:
+    def dgrad(self, rod: DiscreteRod, terms: Terms | None = None) -> np.ndarray:
         """``dg/dmu`` (all unknowns), exact: ``g`` is affine in ``mu``."""
         mu = rod.load_factor
-        g0 = rod.energy_terms()[1]
+        g0 = (rod.energy_terms() if terms is None else terms)[1]
         rod.load_factor = mu + 1.0
         g1 = rod.energy_terms()[1]
         rod.load_factor = mu
@@ -92,6 +117,9 @@ class SegmentValue:
             self._cache[value] = (r.edge_kn, r.edge_tw, r.k0_links, value)
         return self._cache[value]
 
+    def prepare(self, rod: DiscreteRod) -> None:
+        """Nothing to prepare: a natural shape needs no held unknowns."""
+
     def get(self, rod: DiscreteRod) -> float:
         """Return the segment's value on ``rod`` (the design's until it was set)."""
         return float(rod.param_values.get(
@@ -113,10 +141,10 @@ class SegmentValue:
                              for c, n_, o in zip(rod.k0_links, new[2], old[2], strict=True))
         rod.param_values[self.key] = float(value)
 
-    def dgrad(self, rod: DiscreteRod) -> np.ndarray:
+    def dgrad(self, rod: DiscreteRod, terms: Terms | None = None) -> np.ndarray:
         """``dg/dp`` (all unknowns), exact: ``g`` is affine in a natural curvature or twist."""
         p = self.get(rod)
-        g0 = rod.energy_terms()[1]
+        g0 = (rod.energy_terms() if terms is None else terms)[1]
         self.set(rod, p + 1.0)
         g1 = rod.energy_terms()[1]
         self.set(rod, p)
@@ -160,6 +188,9 @@ class EndRotation:
         """Design key of the parameter, ``support.<i>.rotation.<axis>``."""
         return f"support.{self.support}.rotation.{self.axis}"
 
+    def prepare(self, rod: DiscreteRod) -> None:
+        """Nothing to prepare: the clamped end is held by :func:`.discretise`."""
+
     def _joint_Q(self, rod: DiscreteRod) -> tuple[int, np.ndarray]:
         name, end, _ = self.assembly.supports[self.support]
         i = [s.name for s in self.assembly.segments].index(name)
@@ -181,15 +212,159 @@ class EndRotation:
         r[self._c] = float(value)
         rod.rotate_joint(j, Q @ r)
 
-    def dgrad(self, rod: DiscreteRod) -> np.ndarray:
+    def dgrad(self, rod: DiscreteRod, terms: Terms | None = None) -> np.ndarray:
         """``dg/dr_c = H[:, joint] J_r(Q r) Q e_c`` (exact)."""
         j, Q, r = self._r(rod)
-        _, _, H = rod.energy_terms()
+        _, _, H = rod.energy_terms() if terms is None else terms
         direction = _right_jacobian(Q @ r) @ Q[:, self._c]
         return np.asarray(H[:, rod.joint_dofs(j)] @ direction).ravel()
 
 
-Parameter = LoadFactor | SegmentValue | EndRotation
+def _weld_index(assembly: Assembly, text: str) -> int:
+    """Parse a weld index ``0..n_welds - 1`` of ``assembly`` (raise naming it otherwise)."""
+    n = len(assembly.welds)
+    if not (text.isascii() and text.isdigit()) or len(text) > 9 or int(text) >= n:
+        raise RodstabInputError(f"weld index {text!r} is not one of 0..{n - 1}"
+                                if n else f"weld index {text!r}: the assembly has no welds")
+    return int(text)
+
+
+def weld_joint(assembly: Assembly, rod: DiscreteRod, weld: int) -> tuple[int, int]:
+    """Return the joint and its node of weld ``weld`` (index into ``assembly.welds``)."""
+    name, end = assembly.welds[weld][0]
+    i = [s.name for s in assembly.segments].index(name)
+    e, j, _, _ = rod.end_links[2 * i + (end == "end")]
+    return int(j), int(rod.edge_nodes[e, 1 if end == "end" else 0])
+
+
+def _take_reference(rod: DiscreteRod, joints: list[int]) -> None:
+    """Make the current frames of ``joints`` their reference frames.
+
+    A new array: copies of the state share the old one.
+    """
+    assert rod.R_joint_held is not None  # set by discretise
+    ref = rod.R_joint_held.copy()
+    for j in joints:
+        ref[j] = rod.R_joint[j]
+        rod.joint_rotation.pop(j, None)
+    rod.R_joint_held = ref
+
+
+@dataclasses.dataclass
+class WeldRotation:
+    """Equal and opposite rotations ``+phi``, ``-phi`` (radians) of two welds (module doc)."""
+
+    assembly: Assembly
+    welds: tuple[int, int]
+    axis: str
+
+    def __post_init__(self) -> None:
+        if self.welds[0] == self.welds[1]:
+            raise RodstabInputError(f"welds {self.welds[0]},{self.welds[1]}: the two welds "
+                                    "turned against each other must differ")
+        if self.axis not in ROTATION_AXES:
+            raise RodstabInputError(f"rotation axis {self.axis!r} is not one of {ROTATION_AXES}")
+        self._c = ROTATION_AXES.index(self.axis)
+
+    @property
+    def key(self) -> str:
+        """Design key of the parameter, ``welds.<i>,<j>.rotation.<axis>``."""
+        return f"welds.{self.welds[0]},{self.welds[1]}.rotation.{self.axis}"
+
+    def _joints(self, rod: DiscreteRod) -> tuple[int, int]:
+        return (weld_joint(self.assembly, rod, self.welds[0])[0],
+                weld_joint(self.assembly, rod, self.welds[1])[0])
+
+    def prepare(self, rod: DiscreteRod) -> None:
+        """Hold both welds' frames at their current ones (``phi = 0``), moving a free gauge.
+
+        On a free assembly (held only by the gauge of :func:`.discretise`: joint 0's position
+        and frame) the gauge becomes weld ``i``'s position and frame.
+        """
+        ji, jj = self._joints(rod)
+        if not self.assembly.supports:
+            rod.fixed_nodes = [weld_joint(self.assembly, rod, self.welds[0])[1]]
+            rod.fixed_joints = []
+        rod.fixed_joints = sorted(set(rod.fixed_joints) | {ji, jj})
+        _take_reference(rod, [ji, jj])
+        rod.param_values[self.key] = 0.0
+
+    def get(self, rod: DiscreteRod) -> float:
+        """Return ``phi`` (radians): weld ``i``'s rotation component about ``axis``."""
+        return float(rod.param_values.get(self.key, 0.0))
+
+    def set(self, rod: DiscreteRod, value: float) -> None:
+        """Turn weld ``i`` by ``+value`` and weld ``j`` by ``-value`` about ``axis``."""
+        ji, jj = self._joints(rod)
+        r = np.zeros(3)
+        r[self._c] = float(value)
+        rod.rotate_joint(ji, r)
+        rod.rotate_joint(jj, -r)
+        rod.param_values[self.key] = float(value)
+
+    def dgrad(self, rod: DiscreteRod, terms: Terms | None = None) -> np.ndarray:
+        """``dg/dphi = H[:, i] e_c - H[:, j] e_c`` (exact, module docstring)."""
+        ji, jj = self._joints(rod)
+        _, _, H = rod.energy_terms() if terms is None else terms
+        return np.asarray(H[:, rod.joint_dofs(ji)[self._c]].toarray().ravel()
+                          - H[:, rod.joint_dofs(jj)[self._c]].toarray().ravel())
+
+
+@dataclasses.dataclass
+class WeldMoment:
+    """Component ``axis`` of a point moment on weld ``weld`` (module docstring)."""
+
+    assembly: Assembly
+    weld: int
+    axis: str
+
+    def __post_init__(self) -> None:
+        if self.axis not in ROTATION_AXES:
+            raise RodstabInputError(f"moment axis {self.axis!r} is not one of {ROTATION_AXES}")
+        self._c = ROTATION_AXES.index(self.axis)
+
+    @property
+    def key(self) -> str:
+        """Design key of the parameter, ``weld.<i>.moment.<axis>``."""
+        return f"weld.{self.weld}.moment.{self.axis}"
+
+    def _joint(self, rod: DiscreteRod) -> int:
+        j = weld_joint(self.assembly, rod, self.weld)[0]
+        if j in rod.fixed_joints:
+            raise RodstabInputError(
+                f"weld {self.weld} is held (the rigid-motion gauge of a free assembly is weld "
+                "0's joint, or a clamp): a moment on it does no work; load another weld")
+        return j
+
+    def prepare(self, rod: DiscreteRod) -> None:
+        """Take the weld's current frame as the reference of its rotation ``theta``."""
+        j = self._joint(rod)
+        if not np.any(rod.joint_moment.get(j, 0.0)):
+            _take_reference(rod, [j])
+
+    def get(self, rod: DiscreteRod) -> float:
+        """Return the moment component ``M_c`` on the weld."""
+        m = rod.joint_moment.get(self._joint(rod))
+        return 0.0 if m is None else float(m[self._c])
+
+    def set(self, rod: DiscreteRod, value: float) -> None:
+        """Set the moment component ``M_c`` on the weld to ``value``."""
+        j = self._joint(rod)
+        m = np.array(rod.joint_moment.get(j, np.zeros(3)), float)
+        m[self._c] = float(value)
+        rod.joint_moment[j] = m
+
+    def dgrad(self, rod: DiscreteRod, terms: Terms | None = None) -> np.ndarray:
+        """``dg/dM_c = -d theta_c / d phi`` on the weld's rotation unknowns (exact)."""
+        j = self._joint(rod)
+        assert rod.R_joint_held is not None  # set by discretise
+        P = rotation_jet((rod.R_joint_held[j].T @ rod.R_joint[j])[None], 3, 0)
+        out = np.zeros(rod.n_dof)
+        out[rod.joint_dofs(j)] = -rotation_vector(P)[self._c].g[0]
+        return out
+
+
+Parameter = LoadFactor | SegmentValue | EndRotation | WeldRotation | WeldMoment
 
 
 def parameter(assembly: Assembly, key: str, elements_per_segment: int) -> Parameter:
@@ -201,7 +376,9 @@ def parameter(assembly: Assembly, key: str, elements_per_segment: int) -> Parame
         The design's assembly.
     key : str
         ``load_factor``, ``segment.<name>.<natural_curvature|natural_twist>`` or
-        ``support.<i>.rotation.<normal|tangent|binormal>``.
+        ``support.<i>.rotation.<normal|tangent|binormal>``,
+        ``welds.<i>,<j>.rotation.<normal|tangent|binormal>`` or
+        ``weld.<i>.moment.<normal|tangent|binormal>`` (``i``, ``j``: weld indices).
     elements_per_segment : int
         Elements per segment of the discrete rod (a segment value rebuilds it).
 
@@ -217,7 +394,9 @@ def parameter(assembly: Assembly, key: str, elements_per_segment: int) -> Parame
     """
     parts = key.split(".")
     forms = (f"load_factor, segment.<name>.<{'|'.join(SEGMENT_KEYS)}> or "
-             f"support.<i>.rotation.<{'|'.join(ROTATION_AXES)}>")
+             f"support.<i>.rotation.<{'|'.join(ROTATION_AXES)}>, "
+             f"welds.<i>,<j>.rotation.<{'|'.join(ROTATION_AXES)}> or "
+             f"weld.<i>.moment.<{'|'.join(ROTATION_AXES)}>")
     try:
         if key == "load_factor":
             return LoadFactor()
@@ -229,6 +408,14 @@ def parameter(assembly: Assembly, key: str, elements_per_segment: int) -> Parame
                 raise RodstabInputError(f"support index {index!r} is not a number "
                                         f"0..{len(assembly.supports) - 1}")
             return EndRotation(assembly, int(index), parts[3])
+        if parts[0] == "welds" and len(parts) == 4 and parts[2] == "rotation":
+            pair = parts[1].split(",")
+            if len(pair) != 2:
+                raise RodstabInputError(f"welds {parts[1]!r} is not two weld indices i,j")
+            return WeldRotation(assembly, (_weld_index(assembly, pair[0]),
+                                           _weld_index(assembly, pair[1])), parts[3])
+        if parts[0] == "weld" and len(parts) == 4 and parts[2] == "moment":
+            return WeldMoment(assembly, _weld_index(assembly, parts[1]), parts[3])
     except RodstabInputError as exc:
         raise RodstabInputError(f"--vary key {key!r}: {exc}") from None
     raise RodstabInputError(f"--vary key {key!r} cannot be continued; use {forms}")

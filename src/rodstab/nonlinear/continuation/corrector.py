@@ -99,14 +99,15 @@ def correct(rod: DiscreteRod, param: Parameter, row_q: np.ndarray, row_p: float,
     sigma, last = 0.0, math.inf
     acc_q = np.array(acc_q, float)
     for _ in range(max_iter + 1):
-        _, g, H = rod.energy_terms()
+        terms = rod.energy_terms()
+        _, g, H = terms
         gf = g[free] if phase is None else g[free] + sigma * phase
         c = float(row_q @ acc_q + row_p * acc_p - target)
         c2 = 0.0 if phase is None else float(phase @ acc_q)
         if (np.max(np.abs(gf)) <= FORCE_RTOL * scale and abs(c) <= ctol and abs(c2) <= ctol
                 and last <= STEP_TOL):
             return sigma
-        gp = param.dgrad(rod)[free]
+        gp = param.dgrad(rod, terms)[free]
         rhs = -np.concatenate([gf, [c]] + ([] if phase is None else [[c2]]))
         sol = solve_bordered(bordered_matrix(H[free][:, free], gp, row_q, row_p, phase), rhs)
         if sol is None:
@@ -140,8 +141,9 @@ def tangent(rod: DiscreteRod, param: Parameter, tq_prev: np.ndarray, tp_prev: fl
     """
     free = rod.free_dofs()
     n = len(free)
-    _, _, H = rod.energy_terms()
-    gp = param.dgrad(rod)[free]
+    terms = rod.energy_terms()
+    H = terms[2]
+    gp = param.dgrad(rod, terms)[free]
     rhs = np.zeros(n + (1 if phase is None else 2))
     rhs[n] = 1.0
     t = solve_bordered(bordered_matrix(H[free][:, free], gp, tq_prev, tp_prev, phase), rhs)

@@ -76,8 +76,9 @@ def continuation(a: Assembly, key: str, start: float, stop: float, n_steps: int,
                  limits: Limits = DEFAULT_LIMITS) -> Path:
     """Follow the equilibrium of ``a`` as the parameter ``key`` goes from ``start`` to ``stop``.
 
-    ``key``: ``load_factor``, ``segment.<name>.natural_curvature`` / ``.natural_twist`` or
-    ``support.<i>.rotation.<normal|tangent|binormal>`` (:func:`..parameters.parameter`). The
+    ``key``: ``load_factor``, ``segment.<name>.natural_curvature`` / ``.natural_twist``,
+    ``support.<i>.rotation.<axis>``, ``welds.<i>,<j>.rotation.<axis>`` or
+    ``weld.<i>.moment.<axis>`` (:func:`..parameters.parameter`). The
     path starts at ``start``, reached from the design's value by Newton in small steps (the
     path, not the end value, decides: an end rotation of 2 pi is not none), steps about
     ``|stop - start| / n_steps`` in the parameter, ends exactly at ``stop`` and reports folds
@@ -128,6 +129,7 @@ def continuation(a: Assembly, key: str, start: float, stop: float, n_steps: int,
                     f"{MAX_NATURAL_TURNING:g}")
     fresh = rod is None
     rod = discretise(a, n) if rod is None else rod
+    param.prepare(rod)  # a weld parameter holds its welds and takes their reference frames
     held_x = rod.x.copy()
     direction = 1.0 if stop > start else -1.0
     h = abs(stop - start) / n_steps

@@ -1,0 +1,445 @@
+"""Transitions under a stimulus: load a stable state until it snaps, see where it goes.
+
+From a stable equilibrium ``A`` the stimulus (any continuation parameter,
+:mod:`.parameters`) is increased by :func:`.continuation.continuation` until the path first loses
+stability (a fold or a branch point, ``stop_at_first``). Just past that threshold the state is
+perturbed along its critical mode and relaxed (:func:`.solve.relax`) to a stable state, the
+stimulus is taken back to its start in small steps (relaxing again if stability is lost on the
+way), the welds are let go (a free ring again: the weld parameters' constraints removed), and
+the state reached ``B`` is identified by its invariants (:func:`invariants`, :func:`identify`).
+
+No contact model exists in rodstab: rods pass through each other freely. Along every sampled
+state (the loading path, the snap -- only its two ends and the straight interpolation of the node
+positions between them, the snap's true path being dynamic -- and the release) the smallest
+distance between judged pairs of rod centreline elements is measured (:func:`pair_distances`)
+and compared with the section's out-of-plane thickness ``h``:
+
+* judged pairs: elements of two rods that share no joint, and elements of one rod at least
+  :data:`SAME_ROD_GAP` elements apart (neighbouring rods meet at their weld by construction);
+* **stacked** pairs: pairs already closer than ``h`` in the start state (the line and the
+  eight have rods lying on top of each other by construction: the planar model puts them on
+  one curve, the real rods are stacked out of plane and touch). They may touch and slide across
+  each other in the plane throughout; for them a **pass-through** is a reversal of their
+  out-of-plane order (the sign of the closest-point separation along the ring's best-fit
+  normal) between two consecutive samples while the pair is closer than ``h`` at both. Their
+  order is the one of the first resolved out-of-plane separation (the planar model has no
+  thickness to say which rod lies on top), so a planar path never passes a stacked pair
+  through;
+* for every other pair a pass-through is the closest-point separation vector reversing
+  (negative dot product) between two consecutive samples while the pair is closer than ``h``
+  at both;
+* **touching** stretches: where a pair that was not stacked comes closer than ``h``.
+
+An edge is reported physical only if no pass-through was found on any sampled stretch; the
+snap's verdict rests on its interpolated proxy and is labelled as such.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Mapping, Sequence
+
+import numpy as np
+
+from ..errors import NotConverged, RodstabInputError
+from ..model import Assembly
+from ..results import Result
+from .continuation import continuation
+from .discrete import DiscreteRod, discretise
+from .parameters import parameter
+from .solve import lowest_modes, newton, relax, zero_eigenvalue_tol
+
+#: Elements of one rod closer than this many elements along it are not judged for contact.
+SAME_ROD_GAP = 3
+#: Separations shorter than this times the rod length are unresolved (no direction).
+RESOLVED = 1e-9
+#: Weld points closer than this times the rod length are one point.
+WELD_POINT_TOL = 0.02
+#: A state matches a reference when its aligned RMS node distance is below this times L.
+MATCH_RMS = 0.05
+#: A state is planar when no node is farther than this times L from its best-fit plane.
+PLANAR_TOL = 1e-3
+#: Past the threshold the stimulus is increased by this fraction of it (at least
+#: :data:`OVERSHOOT_MIN`) before relaxing: the state there has nothing nearby to stay on.
+OVERSHOOT = 0.02
+OVERSHOOT_MIN = 1e-3
+#: Initial push along the critical mode, largest node displacement over the rod length.
+PUSH = 0.01
+#: Steps of the release (the stimulus taken back to its start) and of the snap's proxy.
+RELEASE_STEPS = 12
+SNAP_SAMPLES = 8
+
+
+# ---------------------------------------------------------------------------- contact
+def ring_nodes(rod: DiscreteRod) -> np.ndarray:
+    """Node indices in traversal order, rod by rod, each rod's end node left out ``(N,)``."""
+    order = []
+    n = len(rod.R_edge) // len(rod.assembly.segments)
+    for s in range(len(rod.assembly.segments)):
+        order += [int(rod.edge_nodes[e, 0]) for e in range(s * n, (s + 1) * n)]
+    return np.array(order)
+
+
+def judged_pairs(rod: DiscreteRod) -> np.ndarray:
+    """Pairs ``(a, b)`` of elements judged for contact (module docstring), ``(n_pairs, 2)``."""
+    n_seg = len(rod.assembly.segments)
+    n = len(rod.R_edge) // n_seg
+    joints = [{rod.end_links[2 * s][1], rod.end_links[2 * s + 1][1]} for s in range(n_seg)]
+    a, b = np.triu_indices(len(rod.R_edge), 1)
+    sa, sb = a // n, b // n
+    share = np.array([[bool(joints[i] & joints[j]) for j in range(n_seg)]
+                      for i in range(n_seg)])
+    keep = np.where(sa == sb, (b - a) >= SAME_ROD_GAP, ~share[sa, sb])
+    return np.stack([a[keep], b[keep]], axis=1)
+
+
+def pair_distances(x: np.ndarray, edge_nodes: np.ndarray, pairs: np.ndarray
+                   ) -> tuple[np.ndarray, np.ndarray]:
+    """Closest distance and separation vector (b minus a) of element pairs.
+
+    ``x`` (n_nodes, 3), ``edge_nodes`` (n_edges, 2), ``pairs`` (n_pairs, 2). Returns the
+    distances (n_pairs,) and the vectors between the closest points (n_pairs, 3): the clamped
+    closest points of two segments (Ericson, *Real-Time Collision Detection*, 5.1.9).
+    """
+    p1, q1 = x[edge_nodes[pairs[:, 0], 0]], x[edge_nodes[pairs[:, 0], 1]]
+    p2, q2 = x[edge_nodes[pairs[:, 1], 0]], x[edge_nodes[pairs[:, 1], 1]]
+    d1, d2, r = q1 - p1, q2 - p2, p1 - p2
+    a = np.einsum("ij,ij->i", d1, d1)
+    e = np.einsum("ij,ij->i", d2, d2)
+    f = np.einsum("ij,ij->i", d2, r)
+    c = np.einsum("ij,ij->i", d1, r)
+    b = np.einsum("ij,ij->i", d1, d2)
+    den = a * e - b * b
+    s = np.where(den > 1e-14 * a * e, np.clip((b * f - c * e) / np.where(den > 0, den, 1.0),
+                                               0.0, 1.0), 0.0)
+    t = (b * s + f) / e
+    lo, hi = t < 0, t > 1
+    s = np.where(lo, np.clip(-c / a, 0, 1), np.where(hi, np.clip((b - c) / a, 0, 1), s))
+    t = np.clip(t, 0.0, 1.0)
+    w = (p2 + d2 * t[:, None]) - (p1 + d1 * s[:, None])
+    return np.linalg.norm(w, axis=1), w
+
+
+@dataclasses.dataclass(frozen=True)
+class ContactReport(Result):
+    """Contact along one stretch of a transition (module docstring), lengths over ``h``.
+
+    ``min_distance``: the smallest distance of a non-stacked judged pair over ``h`` (inf if
+    none); ``touching``: ``[value_from, value_to]`` intervals of the stimulus where a
+    non-stacked pair is closer than ``h``; ``pass_through``: a pair reversed its separation
+    while closer than ``h``; ``stacked_pairs``: pairs closer than ``h`` at the start.
+    """
+
+    stretch: str
+    min_distance: float
+    touching: tuple[tuple[float, float], ...]
+    pass_through: bool
+    pass_through_at: float | None
+    stacked_pairs: int
+    samples: int
+
+
+class ContactTracker:
+    """Accumulate contact over sampled states of one rod (module docstring)."""
+
+    def __init__(self, rod: DiscreteRod, thickness: float, start_x: np.ndarray) -> None:
+        self.edges = rod.edge_nodes
+        self.pairs = judged_pairs(rod)
+        self.h = thickness
+        self.L = rod.assembly.total_length / len(rod.assembly.segments)
+        d0, w0 = pair_distances(start_x, self.edges, self.pairs)
+        self.stacked = d0 < thickness
+        self.w = np.zeros_like(w0)
+        self._resolve(start_x, d0, w0)
+        self.d = d0
+
+    def _separation(self, x: np.ndarray, w: np.ndarray) -> np.ndarray:
+        """``w``, with a stacked pair's replaced by its out-of-plane part (module docstring)."""
+        c = x - x.mean(axis=0)
+        normal = np.linalg.svd(c, full_matrices=False)[2][2]
+        out = (w @ normal)[:, None] * normal
+        return np.where(self.stacked[:, None], out, w)
+
+    def _resolve(self, x: np.ndarray, d: np.ndarray, w: np.ndarray) -> np.ndarray:
+        """Update the kept separations; return which pairs were resolved in ``x``."""
+        sep = self._separation(x, w)
+        resolved = np.linalg.norm(sep, axis=1) > RESOLVED * self.L
+        self.w = np.where(resolved[:, None], sep, self.w)
+        return resolved
+
+    def stretch(self, name: str, samples: Sequence[tuple[float, np.ndarray]]) -> ContactReport:
+        """Judge the sampled states ``(value, x)`` of one stretch, in order."""
+        dmin, touching, passed, at = math.inf, [], False, None
+        run: list[float] | None = None
+        for value, x in samples:
+            d, w = pair_distances(x, self.edges, self.pairs)
+            before = self.w.copy()
+            sep = self._separation(x, w)
+            close = (d < self.h) & (self.d < self.h)
+            flipped = close & (np.einsum("ij,ij->i", sep, before) < 0)
+            if np.any(flipped) and not passed:
+                passed, at = True, float(value)
+            self._resolve(x, d, w)
+            self.d = d
+            free = d[~self.stacked]
+            low = float(np.min(free)) / self.h if free.size else math.inf
+            dmin = min(dmin, low)
+            if low < 1.0:
+                run = [float(value), float(value)] if run is None else [run[0], float(value)]
+            elif run is not None:
+                touching.append((run[0], run[1]))
+                run = None
+        if run is not None:
+            touching.append((run[0], run[1]))
+        return ContactReport(name, dmin, tuple(touching), passed, at, int(self.stacked.sum()),
+                             len(samples))
+
+
+# ---------------------------------------------------------------------------- invariants
+@dataclasses.dataclass(frozen=True)
+class Invariants(Result):
+    """Invariants of a ring state, lengths over the rod length ``L``.
+
+    ``distinct_weld_points``: welds counted once within :data:`WELD_POINT_TOL` L;
+    ``turning_number``: the arcs' total signed turning in the best-fit plane over 2 pi (the
+    cusps' reversals not counted; positive about the mean binormal ``d3`` of the elements);
+    ``mean_radius``: mean node distance from the centroid; ``planarity``: largest node distance
+    from the best-fit plane.
+    """
+
+    distinct_weld_points: int
+    turning_number: float
+    mean_radius: float
+    planarity: float
+
+
+def invariants(rod: DiscreteRod) -> Invariants:
+    """Measure the :class:`Invariants` of the state of ``rod``."""
+    L = rod.assembly.total_length / len(rod.assembly.segments)
+    x = rod.x
+    c = x.mean(axis=0)
+    normal = np.linalg.svd(x - c)[2][2]
+    if normal @ rod.R_edge[:, :, 2].mean(axis=0) < 0:
+        normal = -normal
+    welds = []
+    for w in rod.assembly.welds:
+        name, end = w[0]
+        i = [s.name for s in rod.assembly.segments].index(name)
+        e = rod.end_links[2 * i + (end == "end")][0]
+        welds.append(x[rod.edge_nodes[e, 1 if end == "end" else 0]])
+    distinct: list[np.ndarray] = []
+    for p in welds:
+        if not any(float(np.linalg.norm(p - q)) <= WELD_POINT_TOL * L for q in distinct):
+            distinct.append(p)
+    n = len(rod.R_edge) // len(rod.assembly.segments)
+    chord = x[rod.edge_nodes[:, 1]] - x[rod.edge_nodes[:, 0]]
+    chord = chord - np.outer(chord @ normal, normal)
+    turn = 0.0
+    for s in range(len(rod.assembly.segments)):
+        t = chord[s * n:(s + 1) * n]
+        cr = np.cross(t[:-1], t[1:]) @ normal
+        turn += float(np.sum(np.arctan2(cr, np.einsum("ij,ij->i", t[:-1], t[1:]))))
+    # The half-joints turn too: half an element's turning at each end (the arcs are uniform).
+    turn *= n / (n - 1)
+    return Invariants(len(distinct), turn / (2 * math.pi),
+                      float(np.mean(np.linalg.norm(x - c, axis=1))) / L,
+                      float(np.max(np.abs((x - c) @ normal))) / L)
+
+
+def aligned_rms(x: np.ndarray, ref: np.ndarray) -> float:
+    """RMS distance of node sets after the best rigid motion (Kabsch, proper rotations)."""
+    a, b = x - x.mean(axis=0), ref - ref.mean(axis=0)
+    U, _, Vt = np.linalg.svd(a.T @ b)
+    D = np.diag([1.0, 1.0, float(np.sign(np.linalg.det(U @ Vt))) or 1.0])
+    return float(np.sqrt(np.mean(np.sum((a @ U @ D @ Vt - b) ** 2, axis=1))))
+
+
+def ring_rms(rod: DiscreteRod, ref: DiscreteRod) -> float:
+    """Smallest :func:`aligned_rms` over the ring's relabellings (rods shifted, reversed)."""
+    x, y = rod.x[ring_nodes(rod)], ref.x[ring_nodes(ref)]
+    n = len(rod.R_edge) // len(rod.assembly.segments)
+    best = math.inf
+    for xs in (x, np.concatenate([x[:1], x[:0:-1]])):
+        for k in range(len(rod.assembly.segments)):
+            best = min(best, aligned_rms(np.roll(xs, k * n, axis=0), y))
+    return best
+
+
+def identify(rod: DiscreteRod, references: dict[str, DiscreteRod]) -> tuple[str, float]:
+    """Name of the reference state ``rod`` matches and the RMS distance to it (over L).
+
+    A match is an aligned RMS below :data:`MATCH_RMS` (modulo rigid motion and relabelling of
+    the rods); otherwise ``other(w=<weld points>,T=<turning>)`` from :func:`invariants`.
+    """
+    L = rod.assembly.total_length / len(rod.assembly.segments)
+    dist = {name: ring_rms(rod, ref) / L for name, ref in references.items()}
+    name = min(dist, key=lambda k: dist[k])
+    if dist[name] < MATCH_RMS:
+        return name, dist[name]
+    inv = invariants(rod)
+    return (f"other(w={inv.distinct_weld_points},T={inv.turning_number:.2f})", dist[name])
+
+
+# ---------------------------------------------------------------------------- transitions
+@dataclasses.dataclass(frozen=True)
+class Transition(Result):
+    """One loading of state ``source`` in stimulus ``stimulus`` and where it went.
+
+    ``target`` is None when the path stayed stable up to ``stop`` (``threshold`` NaN).
+    ``kind``: the special point's kind; ``under_load``: the state reached just past the
+    threshold; ``target``: the state after the release; ``contact``: one report per stretch.
+    """
+
+    source: str
+    stimulus: str
+    stop: float
+    threshold: float
+    kind: str
+    under_load: str
+    target: str | None
+    target_rms: float
+    target_invariants: Invariants | None
+    contact: tuple[ContactReport, ...]
+    physical: bool
+    converged: bool
+    message: str
+
+
+def _let_go(rod: DiscreteRod, a: Assembly, n: int) -> DiscreteRod:
+    """Return the state of ``rod`` on a fresh discretisation (free gauge, no loads)."""
+    free = discretise(a, n, rod.load_factor)
+    free.x, free.R_edge, free.R_joint = rod.x.copy(), rod.R_edge.copy(), rod.R_joint.copy()
+    return free
+
+
+def transition(a: Assembly, source: str, key: str, stop: float, *, load_factor: float,
+               references: dict[str, DiscreteRod], thickness: float,
+               elements_per_segment: int = 8, n_steps: int = 16) -> Transition:
+    """Load state ``source`` (assembly ``a``) in ``key`` from 0 to ``stop`` (module docstring).
+
+    ``references``: the stable states to identify the target against (discretised alike);
+    ``thickness``: the out-of-plane thickness ``h`` in the length unit of ``a``.
+    """
+    n = elements_per_segment
+    rod = discretise(a, n, load_factor)
+    if not newton(rod)[0]:
+        raise NotConverged(f"state {source!r}: no equilibrium at load factor {load_factor:g}")
+    if lowest_modes(rod, 1)[0][0] <= zero_eigenvalue_tol(rod):
+        raise RodstabInputError(f"state {source!r} is not stable at load factor "
+                                f"{load_factor:g}: choose a load inside its stable interval")
+    param = parameter(a, key, n)
+    is_lf = key == "load_factor"
+    start = load_factor if is_lf else 0.0
+    tracker = ContactTracker(rod, thickness, rod.x.copy())
+    samples: list[tuple[float, np.ndarray]] = []
+    work = rod.copy()
+    param.prepare(work)
+    path = continuation(a, key, start, stop, n_steps, elements_per_segment=n, rod=work,
+                        stop_at_first=True, branch_steps=0,
+                        progress=lambda: samples.append((param.get(work), work.x.copy())))
+    reports = [tracker.stretch("loading", samples)]
+    lost = [(p, s) for p, s in zip(path.special_points, path.states, strict=False)]
+    if not path.special_points or not path.states:
+        return Transition(source, key, stop, math.nan, "", "", None, math.nan, None,
+                          tuple(reports), not reports[0].pass_through, path.converged,
+                          f"stable up to {key} = {path.value[-1]:.6g}"
+                          + ("" if path.converged else " (the path stopped there)"))
+    point, (value, at) = lost[0][0], lost[0][1]
+    direction = math.copysign(1.0, stop - start)
+    past = value + direction * max(OVERSHOOT * abs(value - start), OVERSHOOT_MIN)
+    snapped = at.copy()
+    _, vec = lowest_modes(snapped, 1)
+    dq = np.zeros(snapped.n_dof)
+    dq[snapped.free_dofs()] = vec[:, 0]
+    disp = float(np.max(np.linalg.norm(dq[: 3 * len(snapped.x)].reshape(-1, 3), axis=1)))
+    L = a.total_length / len(a.segments)
+    snapped.apply(dq * (PUSH * L / max(disp, 1e-300)))
+    param.set(snapped, past)
+    ok, _, _ = relax(snapped)
+    stable = ok and lowest_modes(snapped, 1)[0][0] > zero_eigenvalue_tol(snapped)
+    proxy = [(past, (1 - f) * at.x + f * snapped.x) for f in np.linspace(0, 1, SNAP_SAMPLES)]
+    reports.append(tracker.stretch("snap (interpolated proxy)", proxy))
+    under, _ = identify(_let_go(snapped, a, n), references)
+    release: list[tuple[float, np.ndarray]] = []
+    for p in np.linspace(past, start, RELEASE_STEPS + 1)[1:]:
+        param.set(snapped, float(p))
+        ok = relax(snapped)[0] and ok
+        release.append((float(p), snapped.x.copy()))
+    free = _let_go(snapped, a, n)
+    ok = relax(free)[0] and ok
+    release.append((start, free.x.copy()))
+    reports.append(tracker.stretch("release", release))
+    target, rms = identify(free, references)
+    physical = not any(r.pass_through for r in reports)
+    msg = (f"{point['kind']} at {key} = {value:.6g}; snapped to {under} under load"
+           + ("" if stable else " (the relaxed state under load is not stable)"))
+    return Transition(source, key, stop, float(value), point["kind"], under, target, rms,
+                      invariants(free), tuple(reports), physical, bool(ok and path.converged),
+                      msg)
+
+
+@dataclasses.dataclass(frozen=True)
+class TransitionGraph(Result):
+    """Nodes (states) and edges (transitions) of a structure at one load factor."""
+
+    states: tuple[str, ...]
+    edges: tuple[Transition, ...]
+    load_factor: float
+    elements_per_segment: int
+    thickness: float
+    method: str
+
+    def to_json(self) -> dict:
+        """Return the ``rodstab transitions --json`` form: states and edges (from, to, ...)."""
+        return {"states": list(self.states),
+                "edges": [{"from": e.source, "to": e.target, "stimulus": e.stimulus,
+                           "threshold": e.threshold, "kind": e.kind,
+                           "under_load": e.under_load, "physical": e.physical,
+                           "contact": [c.to_dict() for c in e.contact],
+                           "target_invariants": (None if e.target_invariants is None
+                                                 else e.target_invariants.to_dict()),
+                           "target_rms": e.target_rms, "converged": e.converged,
+                           "message": e.message} for e in self.edges if e.target is not None],
+                "no_transition": [{"from": e.source, "stimulus": e.stimulus, "stop": e.stop,
+                                   "message": e.message} for e in self.edges
+                                  if e.target is None],
+                "load_factor": self.load_factor,
+                "elements_per_segment": self.elements_per_segment,
+                "thickness": self.thickness, "method": self.method}
+
+
+def transition_graph(assemblies: dict[str, Assembly],
+                     stimuli: Mapping[str, Sequence[tuple[str, float]]], *, load_factor: float,
+                     thickness: float, elements_per_segment: int = 8,
+                     n_steps: int = 16, all_stimuli: bool = False,
+                     load: Sequence[str] | None = None) -> TransitionGraph:
+    """Transitions out of every state of ``assemblies`` (one discretised ring, many states).
+
+    ``stimuli[state]``: ``(key, stop)`` tried in order until one gives a transition to another
+    state (all of them with ``all_stimuli``); a loading that stays stable is kept as an edge
+    without a target (reported under ``no_transition``). ``load``: the states loaded (default
+    all); every state of ``assemblies`` is a reference for the identification.
+    """
+    refs = {}
+    for name, a in assemblies.items():
+        r = discretise(a, elements_per_segment, load_factor)
+        newton(r)
+        refs[name] = r
+    edges, states = [], list(assemblies)
+    for name in (list(assemblies) if load is None else load):
+        a = assemblies[name]
+        for key, stop in stimuli.get(name, ()):
+            t = transition(a, name, key, stop, load_factor=load_factor, references=refs,
+                           thickness=thickness, elements_per_segment=elements_per_segment,
+                           n_steps=n_steps)
+            edges.append(t)
+            if t.target is not None and t.target not in states:
+                states.append(t.target)
+            if not all_stimuli and t.target is not None and t.target != name:
+                break
+    return TransitionGraph(tuple(states), tuple(edges), load_factor, elements_per_segment,
+                           thickness,
+                           "pseudo-arclength continuation to the first loss of stability, "
+                           "relaxation along the critical mode past it, release of the "
+                           "stimulus, identification by aligned geometry and invariants")

@@ -1,0 +1,204 @@
+"""Stimuli as continuation parameters and transitions between the hexagram's states.
+
+Oracles: finite differences of the exact gradient (dg/dp of the weld stimuli, the moment's
+work term), a closed form (a point moment on a weld of a planar ring turns it by M / k_rot
+with the stiffness from the Hessian -- here the exact linear response, checked by Newton), and
+the identification of a known transition (line -> star when the natural curvature grows past
+the line's upper limit, Lu et al.'s hexagram).
+"""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from rodstab.cli import main
+from rodstab.nonlinear.discrete import discretise
+from rodstab.nonlinear.jets import rotation_jet, rotation_vector
+from rodstab.nonlinear.parameters import WeldMoment, WeldRotation, parameter
+from rodstab.nonlinear.solve import newton
+from rodstab.nonlinear.transitions import invariants, pair_distances
+from rodstab.problems import hexagram as hx
+from rodstab.problems import hexagram_transitions as ht
+from rodstab.sections import rectangle
+
+N = 8
+SECTION = rectangle(aspect=4.0)
+
+
+def _ring(state: str = "star"):
+    a = hx.build(hx.Params(section=SECTION, state=state))
+    rod = discretise(a, N, 2.0)
+    assert newton(rod)[0]
+    return a, rod
+
+
+def _perturbed(rod, seed: int = 0, size: float = 1e-3):
+    rng = np.random.default_rng(seed)
+    dq = np.zeros(rod.n_dof)
+    dq[rod.free_dofs()] = size * rng.standard_normal(len(rod.free_dofs()))
+    rod.apply(dq)
+    return rod
+
+
+@pytest.mark.parametrize("key", ["welds.0,3.rotation.binormal", "welds.1,4.rotation.normal",
+                                 "weld.2.moment.binormal", "weld.4.moment.tangent",
+                                 "load_factor"])
+def test_dgrad_matches_finite_differences(key: str) -> None:
+    """dg/dp of every stimulus equals the central difference of the exact gradient."""
+    a, rod = _ring()
+    p = parameter(a, key, N)
+    p.prepare(rod)
+    p0 = 2.0 if key == "load_factor" else 0.3
+    p.set(rod, p0)
+    _perturbed(rod)
+    free = rod.free_dofs()
+    h = 1e-3 if key == "load_factor" else 1e-6  # g is affine in mu: no truncation error
+    p.set(rod, p0 + h)
+    gp = rod.energy_terms()[1]
+    p.set(rod, p0 - h)
+    gm = rod.energy_terms()[1]
+    p.set(rod, p0)
+    fd = (gp - gm)[free] / (2 * h)
+    assert np.max(np.abs(p.dgrad(rod)[free] - fd)) <= 1e-6 * np.max(np.abs(fd))
+
+
+def test_moment_work_gradient_and_hessian_match_finite_differences() -> None:
+    """The work term -M . theta: gradient and Hessian against differences of the energy."""
+    a, rod = _ring("daisy")
+    p = WeldMoment(a, 3, "binormal")
+    p.prepare(rod)
+    rod.joint_moment[2] = np.array([0.4, -0.7, 1.3])  # weld 2's joint (weld i -> joint i)
+    rod.R_joint[2] = rod.R_joint[2] @ np.linalg.qr(np.eye(3) + 0.3 * np.array(
+        [[0, -1, 0.5], [1, 0, -0.2], [-0.5, 0.2, 0]]))[0]  # a finite rotation from reference
+    def work(r):  # the work term alone (its jet: value, gradient, Hessian in the joint's phi)
+        j = r._moment_work(np.array([2]))
+        return j.v[0], j.g[0], j.H[0]
+
+    def at(phi):  # the work at R_J exp(hat(phi)) (one exponential: the jets' coordinates)
+        r = rod.copy()
+        dq = np.zeros(r.n_dof)
+        dq[r.joint_dofs(2)] = phi
+        r.apply(dq)
+        return work(r)[0]
+
+    _, g, H = work(rod)
+    h, e = 1e-4, np.eye(3)
+    for a in range(3):
+        assert (at(h * e[a]) - at(-h * e[a])) / (2 * h) == pytest.approx(g[a], rel=1e-7)
+        for b in range(3):
+            fd = (at(h * (e[a] + e[b])) - at(h * (e[a] - e[b])) - at(h * (e[b] - e[a]))
+                  + at(-h * (e[a] + e[b]))) / (4 * h * h)
+            assert fd == pytest.approx(H[a, b], rel=1e-5, abs=1e-6)
+    # ... and the assembled energy carries it: gradient of (with - without) the moment.
+    bare = rod.copy()
+    bare.joint_moment = {}
+    dg = rod.energy_terms()[1] - bare.energy_terms()[1]
+    assert np.allclose(dg[rod.joint_dofs(2)], g, rtol=1e-8, atol=1e-9)
+
+
+def test_rotation_vector_is_the_log_map() -> None:
+    """theta = h(|c|^2) c recovers the rotation vector, also near zero (series branch)."""
+    from rodstab.nonlinear.jets import rodrigues
+
+    for th in (np.array([1e-9, 0.0, 0.0]), np.array([0.05, -0.02, 0.01]),
+               np.array([1.0, 2.0, -0.5])):
+        got = np.array([j.v[0] for j in rotation_vector(rotation_jet(rodrigues(th[None]), 3,
+                                                                      0))])
+        assert np.allclose(got, th, rtol=1e-12, atol=1e-18)
+
+
+def test_weld_moment_in_plane_linear_response_is_reciprocal() -> None:
+    """Maxwell-Betti: a small in-plane moment at weld 2 turns weld 4 as much as one at weld 4
+    turns weld 2 (linear response, both through Newton on the full model)."""
+    a, rod = _ring("star")
+    turns = []
+    for load, probe in ((2, 4), (4, 2)):
+        r = rod.copy()
+        p = WeldMoment(a, load, "binormal")
+        p.prepare(r)
+        WeldMoment(a, probe, "binormal").prepare(r)
+        p.set(r, 1e-4)
+        assert newton(r)[0]
+        j = probe  # weld i is joint i in the ring
+        assert r.R_joint_held is not None
+        P = r.R_joint_held[j].T @ r.R_joint[j]
+        turns.append(rotation_vector(rotation_jet(P[None], 3, 0))[2].v[0])
+    assert turns[0] == pytest.approx(turns[1], rel=1e-3)
+
+
+def test_weld_rotation_holds_the_gauge_at_weld_i() -> None:
+    """welds.i,j.rotation: weld i's node and both weld frames are held, joint 0 released."""
+    a, rod = _ring("star")
+    p = WeldRotation(a, (1, 4), "binormal")
+    p.prepare(rod)
+    assert set(rod.fixed_joints) == {1, 4}
+    p.set(rod, 0.2)
+    assert newton(rod)[0]
+    assert p.get(rod) == pytest.approx(0.2)
+
+
+def test_pair_distance_of_crossing_segments() -> None:
+    """Two skew unit segments crossing at right angles 0.3 apart: distance 0.3 along z."""
+    x = np.array([[-0.5, 0, 0], [0.5, 0, 0], [0, -0.5, 0.3], [0, 0.5, 0.3]])
+    d, w = pair_distances(x, np.array([[0, 1], [2, 3]]), np.array([[0, 1]]))
+    assert d[0] == pytest.approx(0.3) and np.allclose(w[0], [0, 0, 0.3])
+
+
+def test_invariants_of_the_basic_states() -> None:
+    """Held states: weld points and turning numbers of rodstab.states (line 2/0 ... eight 1/6)."""
+    expect = {"line": (2, 0.0), "star": (6, 2.0), "daisy": (6, 4.0), "eight": (1, 6.0)}
+    for state, (w, t) in expect.items():
+        inv = invariants(_ring(state)[1])
+        assert inv.distinct_weld_points == w
+        assert inv.turning_number == pytest.approx(t, abs=0.05)
+        assert inv.planarity < 1e-9
+
+
+def test_line_snaps_to_star_as_natural_curvature_grows() -> None:
+    """The line loses stability near its upper limit (kappa_n R0 ~ 2.25, FE 2.248 at h/t 4)
+    and snaps to the star (identified by its aligned geometry)."""
+    res = ht.transitions(SECTION, load_factor=2.0, elements=N, load=("line",),
+                         stimuli={"line": (("load_factor", 4.0),)})
+    (edge,) = res.graph.edges
+    assert edge.target == "star" and edge.target_rms < 0.01
+    assert edge.threshold == pytest.approx(2.25, abs=0.03)
+    assert edge.target_invariants is not None
+    assert edge.target_invariants.distinct_weld_points == 6
+
+
+def test_cli_graph_json_schema(tmp_path, capsys) -> None:
+    """--json: states, edges with from/to/stimulus/threshold/contact; the figure is written."""
+    main(["transitions", "--shape", "rectangle", "--aspect", "4", "--load-factor", "2",
+          "--state", "line", "--stimulus", "line=load_factor:4", "--out",
+          str(tmp_path / "g"), "--json"])
+    data = json.loads(capsys.readouterr().out)
+    assert set(data) >= {"states", "edges", "no_transition"}
+    assert set(data["states"]) >= set(hx.STATES)
+    (edge,) = data["edges"]
+    assert {"from", "to", "stimulus", "threshold", "contact", "physical"} <= set(edge)
+    assert edge["from"] == "line" and edge["stimulus"] == "load_factor"
+    for c in edge["contact"]:
+        assert {"stretch", "min_distance", "touching", "pass_through"} <= set(c)
+    assert (tmp_path / "g" / "transitions.png").stat().st_size > 0
+
+
+@pytest.mark.parametrize(("args", "named"), [
+    (["--state", "square"], "'square'"),
+    (["--stimulus", "star=welds.0,7.rotation.binormal:1"], "'7'"),
+    (["--stimulus", "star=weld.9.moment.binormal:1"], "'9'"),
+    (["--stimulus", "star=welds.0.rotation.binormal:1"], "'0'"),
+    (["--stimulus", "star=twist.everything:1"], "twist.everything"),
+    (["--stimulus", "hexagon=load_factor:3"], "'hexagon'"),
+    (["--stimulus", "star=load_factor:x"], "'x'"),
+    (["--stimulus", "star=welds.0,3.rotation.sideways:1"], "'sideways'"),
+])
+def test_bad_inputs_exit_2_naming_the_value(args, named, capsys) -> None:
+    """Bad states, weld indices and stimulus keys: exit 2, one stderr line naming the value."""
+    with pytest.raises(SystemExit) as exc:
+        main(["transitions", *args])
+    assert exc.value.code == 2
+    err = capsys.readouterr().err
+    assert named in err and len(err.strip().splitlines()) == 1
