@@ -1,78 +1,119 @@
-"""Energy barriers (issue 11, part 4): the string-method core and one model for two states.
+"""Energy barriers (issue 11, part 4): saddle from continuation, path by steepest descent.
 
-The rod string does not yet converge on the six-ring/hexagram pairs (see the module's status
-in the session report); these tests pin the parts that are done.
+The six-sided ring (h/t = 4, 8 el./rod) at kappa_n R0 = 1, the experiment's load (Fig. 10c).
 """
 
 from __future__ import annotations
 
+import json
 import math
 
-import numpy as np
 import pytest
 
 from rodstab.errors import RodstabInputError
-from rodstab.nonlinear import barrier as bm
-from rodstab.nonlinear import discover as dv
-from rodstab.problems.barrier_states import model_load_factor, state_assembly
+from rodstab.nonlinear.barrier import Barrier, barrier_from_bifurcation, monotone_from_saddle
+from rodstab.problems import folded_ring
+from rodstab.problems.barrier_states import one_loop_assembly, state_assembly
 from rodstab.sections import rectangle
 
 R4 = rectangle(aspect=4.0)
+THETA = 2 * math.pi / 3
+N = 8
 
 
-def _tilted_double_well(q: np.ndarray) -> float:
-    """``(x^2 - 1)^2 + 5 (y - 0.3 sin(pi x))^2``: minima (+-1, 0), saddle (0, 0) at energy 1."""
-    return float((q[0] ** 2 - 1) ** 2 + 5 * (q[1] - 0.3 * math.sin(math.pi * q[0])) ** 2)
+@pytest.fixture(scope="module")
+def six_ring() -> Barrier:
+    p = folded_ring.Params(section=R4)
+    return barrier_from_bifurcation(folded_ring.build(p), THETA, upper=8.0, elements_per_segment=N,
+                                    name="folded", named={"one-loop": one_loop_assembly(p)})
 
 
-def _tilted_double_well_grad(q: np.ndarray) -> np.ndarray:
-    r = q[1] - 0.3 * math.sin(math.pi * q[0])
-    return np.array([4 * q[0] * (q[0] ** 2 - 1) - 3 * math.pi * r * math.cos(math.pi * q[0]),
-                     10 * r])
+def test_saddle_has_index_one_and_the_path_converges(six_ring: Barrier) -> None:
+    assert six_ring.saddle_index == 1
+    assert six_ring.converged
+    assert six_ring.load_factor == THETA
 
 
-def test_string_method_finds_the_known_saddle_of_a_double_well() -> None:
-    """The string's highest image is the saddle (0, 0), energy 1, on a curved valley."""
-    space = bm.EuclideanSpace(_tilted_double_well, _tilted_double_well_grad, 0.02, np.ones(2))
-    path = bm.minimum_energy_path(space, np.array([-1.0, 0.0]), np.array([1.0, 0.0]),
-                                  n_images=21, max_iter=2000, tol=1e-4)
-    assert path.converged
-    top = path.images[path.highest]
-    assert np.allclose(top, [0.0, 0.0], atol=1e-6)
-    assert max(path.energies) == pytest.approx(1.0, abs=1e-10)
-    # The images leave the straight chord y = 0 for the curved valley (y = -0.3 at x = -1/2).
-    mid = path.images[5]
-    assert mid[1] < -0.2
+def test_row_T_six_saddle_energy_equals_the_barrier(six_ring: Barrier) -> None:
+    """Cross-check: row T-six reads the barrier off the saddle branch landed on kappa_n R0 = 1.
+
+    Its number (1.12004 B3/L at 8 el.) is computed here the way the check computes it; the
+    folded state's energy is the closed form 6 x 1/2 kappa_n^2 L = 3 theta^2.
+    """
+    from rodstab.checks.beyond_transitions import SADDLE_STEPS, _saddle
+
+    folded = folded_ring.build(folded_ring.Params(section=R4))
+    at1 = _saddle(folded, N, (THETA, 6.0), SADDLE_STEPS, THETA)
+    assert at1.value[-1] == pytest.approx(THETA, abs=1e-9)
+    t_six = at1.energy[-1] - 3 * THETA**2
+    assert six_ring.energy_from == pytest.approx(3 * THETA**2, rel=1e-12)
+    assert six_ring.barrier_forward == pytest.approx(t_six, abs=1e-8)
+    assert six_ring.barrier_forward == pytest.approx(1.12004, abs=1e-5)
 
 
-def _pair(structure: str, pair: tuple[str, str], kappa_R0: float, n: int = 8):
-    mu = model_load_factor(structure, kappa_R0)
-    ra, rb = (dv.common_rod(state_assembly(structure, R4, s), n, mu) for s in pair)
-    bm._rigid_gauge(rb, ra)
-    return ra, rb
+def test_descent_lands_on_the_folded_and_one_loop_states(six_ring: Barrier) -> None:
+    """Independent of the continuation: both descents end on named minima (same_state).
+
+    The one-loop ring at kappa_n R0 = 1 is stress-free (closed form: energy 0; the discrete
+    ring's is O(l_e^2)), so the backward barrier is about the saddle's whole energy.
+    """
+    assert (six_ring.from_state, six_ring.to_state) == ("folded", "one-loop")
+    assert abs(six_ring.energy_to) < 1e-3
+    assert six_ring.barrier_backward == pytest.approx(six_ring.energy_saddle, abs=1e-3)
+    assert six_ring.barrier_backward > six_ring.barrier_forward > 0
 
 
-def test_the_second_state_is_moved_onto_the_first_states_gauge() -> None:
-    ra, rb = _pair("hexagram", ("star", "daisy"), 2.0)
-    assert np.allclose(rb.x[ra.fixed_nodes[0]], ra.x[ra.fixed_nodes[0]])
-    assert np.allclose(rb.R_joint[ra.fixed_joints[0]], ra.R_joint[ra.fixed_joints[0]])
+def test_energy_falls_monotonically_from_the_saddle_on_both_sides(six_ring: Barrier) -> None:
+    e = six_ring.energies
+    k = six_ring.saddle_position
+    assert e[k] == max(e) == six_ring.energy_saddle
+    assert e[0] == pytest.approx(six_ring.energy_from, rel=1e-12)
+    assert e[-1] == pytest.approx(six_ring.energy_to, abs=1e-12)
+    assert 0 < k < len(e) - 1
+    assert monotone_from_saddle(six_ring)
 
 
-def test_an_unstable_state_is_refused_naming_it() -> None:
-    """The eight at kappa_n R0 = 2 on 8 elements per rod has a negative eigenvalue."""
-    _, b_in_a = _pair("hexagram", ("star", "eight"), 2.0)
-    with pytest.raises(RodstabInputError, match="state 'eight' is not stable"):
-        bm._relaxed_state(b_in_a, "eight", 2.0)
+def test_a_load_outside_the_stable_interval_is_refused_naming_it() -> None:
+    """The folded ring loses stability at kappa_n R0 = 2.25 (row T-six): 3 is outside."""
+    folded = folded_ring.build(folded_ring.Params(section=R4))
+    with pytest.raises(RodstabInputError, match="load factor 6.28.*not a stable"):
+        barrier_from_bifurcation(folded, 3 * THETA, upper=8.0)
 
 
-def test_ring_interpolation_ends_are_the_states() -> None:
-    ra, rb = _pair("six-ring", ("folded", "one-loop"), 1.0)
-    for t, ref in ((0.0, ra), (1.0, rb), (1e-9, ra), (1 - 1e-9, rb)):
-        q = bm.ring_interpolate(ra, rb, t)
-        assert np.abs(q.x - ref.x).max() < 1e-7
-        assert q.energy() == pytest.approx(ref.energy(), rel=1e-6, abs=1e-9)
+def test_too_few_elements_are_refused_naming_them() -> None:
+    folded = folded_ring.build(folded_ring.Params(section=R4))
+    with pytest.raises(RodstabInputError, match="elements_per_segment.*got 3"):
+        barrier_from_bifurcation(folded, THETA, upper=8.0, elements_per_segment=3)
 
 
 def test_unknown_state_is_refused_naming_it() -> None:
     with pytest.raises(RodstabInputError, match="'square'"):
         state_assembly("hexagram", R4, "square")
+
+
+def test_cli_barrier_json(six_ring: Barrier, capsys: pytest.CaptureFixture[str]) -> None:
+    """``rodstab barrier --json`` gives the library's barrier (same computation)."""
+    from rodstab.cli import main
+
+    main(["barrier", "--structure", "six-ring", "--shape", "rectangle", "--aspect", "4",
+          "--load-factor", "1", "--elements", "8", "--json"])
+    out = json.loads(capsys.readouterr().out)
+    assert out["saddle_index"] == 1
+    assert (out["from"], out["to"]) == ("folded", "one-loop")
+    assert out["barrier_forward"] == pytest.approx(six_ring.barrier_forward, abs=1e-8)
+    assert out["barrier_backward"] == pytest.approx(six_ring.barrier_backward, abs=1e-6)
+    assert len(out["energies"]) > 2
+
+
+@pytest.mark.parametrize(("args", "named"), [
+    (["--load-factor", "3"], "--load-factor 3.0"),
+    (["--elements", "3"], "--elements must be an integer >= 4, got 3"),
+])
+def test_cli_bad_input_exits_2_naming_the_value(args: list[str], named: str,
+                                                capsys: pytest.CaptureFixture[str]) -> None:
+    from rodstab.cli import main
+
+    with pytest.raises(SystemExit) as exc:
+        main(["barrier", "--shape", "rectangle", "--aspect", "4", *args])
+    assert exc.value.code == 2
+    assert named in capsys.readouterr().err

@@ -2,7 +2,8 @@
 
 Two structures, each a ring of six cusp-welded rods whose states are held geometries of ONE
 assembly (same segments, orientations, welds and natural curvature), so that
-:func:`rodstab.nonlinear.barrier.barrier` can put any two in one discrete model:
+:func:`rodstab.nonlinear.barrier.barrier_from_bifurcation` can name the states its path
+reaches in one discrete model:
 
 * ``hexagram`` (:mod:`.hexagram`): ``line``, ``star``, ``daisy``, ``eight``; load factor
   ``kappa_n R0``, ``R0 = 3 L / (2 pi)``;
