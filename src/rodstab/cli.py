@@ -969,6 +969,49 @@ def transitions(section: Section, structure: str, load_factor: float, elements: 
                            "converge (those edges are not to be trusted)")
 
 
+@cli.command()
+@click.option("--structure", type=click.Choice(["six-ring"]), default="six-ring",
+              show_default=True, help="The structure (its states: folded, one-loop).")
+@click.option("--load-factor", type=float, default=1.0, show_default=True,
+              help="kappa_n R0 (R0 = L / theta, the one-loop radius), where the folded state "
+                   "must be stable.")
+@click.option("--elements", type=int, default=8, show_default=True,
+              help="Elements per rod of the discrete rod (>= 4).")
+@_section_options
+@_json_option
+def barrier(section: Section, structure: str, load_factor: float, elements: int,
+            as_json: bool) -> None:
+    """Energy barrier out of the folded state: saddle by continuation, path by descent.
+
+    The saddle is the subcritical branch from the folded state's bifurcation, traced back to
+    the load; the path is the steepest descent from it on both sides.
+    """
+    from .errors import require_int
+    from .nonlinear.barrier import barrier_from_bifurcation
+    from .problems.barrier_states import model_load_factor, state_assembly
+
+    elements = require_int("--elements", elements, 4)
+    k = require_finite("--load-factor", load_factor)
+    mu = model_load_factor(structure, k)
+    folded, one = (state_assembly(structure, section, s) for s in ("folded", "one-loop"))
+    try:
+        b = barrier_from_bifurcation(folded, mu, upper=model_load_factor(structure, 4.0),
+                                     elements_per_segment=elements, name="folded",
+                                     named={"one-loop": one})
+    except RodstabInputError as exc:
+        raise RodstabInputError(f"--load-factor {k!r}: {exc}") from exc
+    payload = b.to_dict()
+    payload.update(structure=structure, kappa_R0=k, section=section.to_dict())
+    _emit(payload, as_json, [
+        _section_line(section),
+        f"{structure} at kappa_n R0 = {_fmt(k)}, {elements} elements per rod (B3 = 1, L = 1)",
+        f"saddle       index {b.saddle_index}, energy {_fmt(b.energy_saddle)} (branch from "
+        f"kappa_n R0 = {_fmt(b.load_factor_critical / model_load_factor(structure, 1.0))})",
+        f"forward      {b.from_state} -> {b.to_state}: {_fmt(b.barrier_forward)}",
+        f"backward     {b.to_state} -> {b.from_state}: {_fmt(b.barrier_backward)}",
+        f"converged    {b.converged} ({len(b.energies)} path points)"])
+
+
 #: Click >= 8.2 raises this usage error for ``rodstab`` without arguments; its message is the
 #: full help, shown as click shows it (not squeezed onto one line).
 _NoArgsIsHelpError: type[Exception] | None = getattr(click.exceptions, "NoArgsIsHelpError",

@@ -221,7 +221,7 @@ def trace_branch(rod: DiscreteRod, param: Parameter, stable_side: float, ds: flo
     ref = rod.x.copy()
     h = _scale_to_xi(rod, d.mode, ds / length, length)
     sides: dict[float, list] = {}
-    specials, states, ok_all = [], [], True
+    specials, states, ok_all, ends = [], [], True, []
     shapes, shape_values = [rod.x.copy()], [p_c]
     for sign in signs:
         pts = sides.setdefault(sign, [])
@@ -261,11 +261,14 @@ def trace_branch(rod: DiscreteRod, param: Parameter, stable_side: float, ds: flo
                 shape_values.append(param.get(r))
             if left:
                 break
-    return _branch_path(str(param.key), p_c, sides, (0.0, p_c, rod.energy(), lowest(rod)),
-                        stable_side, ok_all,
-                        "pseudo-arclength from the bifurcation along the critical mode"
-                        + (" (double eigenvalue: phase pinned)" if d.phase is not None else ""),
-                        shapes, shape_values, tuple(specials), tuple(states))
+        ends.append((param.get(r), r.copy()))
+    branch = _branch_path(str(param.key), p_c, sides, (0.0, p_c, rod.energy(), lowest(rod)),
+                          stable_side, ok_all,
+                          "pseudo-arclength from the bifurcation along the critical mode"
+                          + (" (double eigenvalue: phase pinned)" if d.phase is not None
+                             else ""),
+                          shapes, shape_values, tuple(specials), tuple(states))
+    return dataclasses.replace(branch, end_states=tuple(ends))
 
 
 def _advance(rod: DiscreteRod, param: Parameter, k: int, target: float, direction: np.ndarray,

@@ -50,8 +50,9 @@ class Path(Result):
     NaN/empty on a primary path; ``special_points`` (dicts: kind, value, bracket, ...) and
     ``branches`` are empty on a branch unless it was traced with special-point detection.
     ``shapes`` (node positions, one side of a branch, at the parameter values
-    ``shape_values``) and ``states`` (``(value, state)`` at losses of stability and folds) are
-    left out of :meth:`to_dict`.
+    ``shape_values``), ``states`` (``(value, state)`` at losses of stability and folds) and
+    ``end_states`` (``(value, state)``: a branch's last point on each side traced, in the order
+    of the sides) are left out of :meth:`to_dict`.
     """
 
     key: str
@@ -71,11 +72,12 @@ class Path(Result):
     shapes: tuple = ()
     shape_values: tuple[float, ...] = ()
     states: tuple = ()
+    end_states: tuple = ()
 
     def to_dict(self) -> dict[str, Any]:
         """JSON form, without the node positions and discrete states."""
         return {f.name: jsonable(getattr(self, f.name)) for f in dataclasses.fields(self)
-                if f.name not in ("shapes", "shape_values", "states")}
+                if f.name not in ("shapes", "shape_values", "states", "end_states")}
 
     @property
     def radius(self) -> tuple[float, ...]:

@@ -1,0 +1,292 @@
+"""Energy barriers between two stable equilibria: the saddle from continuation, the path by descent.
+
+A stable state A at load factor ``mu0`` loses stability at ``mu_c``, the upper end of its stable
+interval. When that bifurcation is subcritical the branch leaving it runs back towards ``mu0`` as
+an unstable equilibrium of Hessian index one -- the saddle (transition state) between A and the
+state the branch connects it to. So:
+
+1. **Saddle.** :func:`~rodstab.nonlinear.continuation.arclength_from_bifurcation` traces the
+   branch from A's first bifurcation above ``mu0``, with the load factor window ``(mu0, upper)``:
+   the tracer lands exactly on ``mu0`` (plain Newton with the load held). The state there is
+   refined by :func:`~rodstab.nonlinear.solve.newton` and its index counted (scaled Hessian
+   eigenvalues below ``-zero_eigenvalue_tol``); it must be exactly one.
+2. **Minimum energy path.** The two steepest-descent curves leaving the saddle along
+   ``+-`` its unstable eigenvector (:func:`~rodstab.nonlinear.solve.lowest_modes`). Each is
+   followed by :func:`descend`: Levenberg-Marquardt steps ``-(H + lam D)^-1 g``
+   (``D = |diag H|``), accepted only when the energy falls by a quarter of the model's
+   prediction -- a preconditioned gradient flow whose metric is the shifted Hessian (plain
+   Jacobi-preconditioned steepest descent crawls: the stretch/shear penalty makes the scaled
+   bending eigenvalues ~1e-8). The energy is recorded after every step, so the path's energies
+   fall monotonically from the saddle on both sides. Each end is Newton-refined, checked to be
+   a minimum, and named by :func:`~rodstab.nonlinear.discover.same_state` against A and the
+   other named states (held states put in the same discrete model by
+   :func:`~rodstab.nonlinear.discover.common_rod`).
+
+``barrier_forward = E_saddle - E_A``, ``barrier_backward = E_saddle - E_B``.
+
+Retired (not kept): a string method between the two minima (E, Ren and Vanden-Eijnden, J. Chem.
+Phys. 126, 164103, 2007) -- on the rod the initial string's images were far from equilibrium
+(frames of the two states differ by up to half a turn) and the descent broke down on non-finite
+energies; and minimum-mode following from the folded six-ring, which wandered in its nearly
+double lowest eigenpair. Both are in the branch's history.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Mapping
+from typing import Any
+
+import numpy as np
+
+from ..errors import RodstabInputError, require_finite, require_int
+from ..model import Assembly
+from ..numerics import jacobi_scaling
+from ..results import Result
+from .discover import Snapshot, common_rod, same_state
+from .discrete import PENALTY, DiscreteRod, discretise
+from .solve import (
+    NEWTON_RTOL,
+    _newton_step,
+    _spd_shift,
+    lowest_modes,
+    newton,
+    zero_eigenvalue_tol,
+)
+
+#: Arclength step of the saddle branch (length units) and most steps (as row T-six).
+SADDLE_DS = 0.25
+SADDLE_STEPS = 50
+#: The saddle state must lie on ``mu0`` to this (the tracer lands exactly on the window edge).
+LOAD_TOL = 1e-9
+#: First step off the saddle along its unstable eigenvector (largest component, length units,
+#: times the mean segment length); halved until the energy is below the saddle's.
+KICK = 1e-3
+#: Most accepted descent steps per side, and Levenberg-Marquardt shifts tried per step.
+DESCENT_MAX_STEPS = 3000
+LM_TRIES = 40
+#: Lowest eigenvalues computed to count the saddle's index.
+INDEX_EIGS = 4
+#: Round-off allowed in "the energy falls monotonically" (relative to max(|E|, B3 / L)).
+MONOTONE_RTOL = 1e-12
+#: Minimum the elements per segment (fewer do not resolve the saddle's shape).
+MIN_ELEMENTS = 4
+
+
+@dataclasses.dataclass(frozen=True)
+class Descent(Result):
+    """One steepest-descent curve from the saddle: energies after each step, its end.
+
+    ``energies`` start at the kicked state (below the saddle) and end at the Newton-refined
+    minimum; ``converged``: the gradient fell below Newton's tolerance and Newton converged;
+    ``lowest_eigenvalue``: scaled, at the end (> 0 for a minimum).
+    """
+
+    energies: tuple[float, ...]
+    steps: int
+    converged: bool
+    residual: float
+    lowest_eigenvalue: float
+
+
+def _residual_scale(rod: DiscreteRod) -> float:
+    """Force scale of the stretch/shear penalty: Newton's residual is relative to it."""
+    return float(PENALTY * np.max(rod.edge_B) / np.min(rod.rest_length))
+
+
+def descend(rod: DiscreteRod, lam0: float, *, max_steps: int = DESCENT_MAX_STEPS) -> Descent:
+    """Follow the energy downhill from ``rod`` (in place) to a minimum, recording the energy.
+
+    Steps ``s = -(H + lam D)^-1 g`` on the free unknowns (``D = |diag H|``, ``lam`` starting at
+    ``lam0``, on the scale of the scaled eigenvalues), accepted when the energy falls by at least
+    a quarter of the quadratic model's prediction; ``lam`` grows by 4 on a rejection (or jumps
+    past the lowest scaled eigenvalue when ``s`` is not a descent direction) and shrinks by 4
+    after a step the model predicted well. Ends with :func:`newton` once the gradient is below
+    its tolerance.
+    """
+    free = rod.free_dofs()
+    tol = NEWTON_RTOL * _residual_scale(rod)
+    floor = zero_eigenvalue_tol(rod)
+    lam = max(lam0, floor)
+    E, g, H = rod.energy_terms()
+    energies, steps = [E], 0
+    while steps < max_steps and float(np.max(np.abs(g[free]))) > tol:
+        gf = g[free]
+        Hf = H[free][:, free].tocsc()
+        Hf = 0.5 * (Hf + Hf.T)
+        d = jacobi_scaling(Hf)
+        dg = 1.0 / d**2
+        for _ in range(LM_TRIES):
+            step = _newton_step(Hf, gf, dg, lam)
+            if step is None or gf @ step >= 0:
+                lam = max(_spd_shift(Hf, d), 4 * lam, floor)
+                continue
+            pred = -(gf @ step + 0.5 * step @ (Hf @ step))
+            trial = rod.copy()
+            dq = np.zeros(rod.n_dof)
+            dq[free] = step
+            trial.apply(dq)
+            Et, gt, Ht = trial.energy_terms()
+            actual = E - Et
+            if actual >= 0.25 * pred > 0:
+                if actual > 0.75 * pred:
+                    lam /= 4
+                rod.assign(trial)
+                E, g, H = Et, gt, Ht
+                energies.append(E)
+                steps += 1
+                break
+            lam = max(4 * lam, floor)
+        else:
+            break  # no step lowers the energy: a minimum to round-off, or a flat stall
+    ok, _, res = newton(rod)
+    energies.append(rod.energy())
+    ev = float(lowest_modes(rod, 1)[0][0])
+    return Descent(tuple(float(e) for e in energies), steps, bool(ok), float(res), ev)
+
+
+@dataclasses.dataclass(frozen=True)
+class Barrier(Result):
+    """Energy barrier between stable state ``from_state`` (A) and ``to_state`` (B).
+
+    ``barrier_forward = E_saddle - E_A``, ``barrier_backward = E_saddle - E_B`` (energy units of
+    the model: B3 / L with B3 = 1, L = 1); ``saddle_index``: negative scaled Hessian eigenvalues
+    at the saddle (1 for a transition state); ``energies``: along the minimum energy path from A
+    through the saddle (``energies[saddle_position]``) to B; ``to_state``: a named state's label,
+    or ``"unnamed"``; ``converged``: saddle on ``load_factor`` and Newton-converged, index 1,
+    both descents converged to minima, one of them A. ``residual``: the saddle's free-gradient
+    max-norm (tolerance ``NEWTON_RTOL`` x the penalty scale).
+    """
+
+    barrier_forward: float
+    barrier_backward: float
+    saddle_index: int
+    energies: tuple[float, ...]
+    saddle_position: int
+    from_state: str
+    to_state: str
+    energy_from: float
+    energy_to: float
+    energy_saddle: float
+    lowest_eigenvalues_saddle: tuple[float, ...]
+    load_factor: float
+    load_factor_critical: float
+    converged: bool
+    residual: float
+    descent_steps: tuple[int, int]
+    elements_per_segment: int
+    n_dof: int
+    method: str
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON form; ``from``/``to`` as well as ``from_state``/``to_state``."""
+        d = super().to_dict()
+        d["from"], d["to"] = self.from_state, self.to_state
+        return d
+
+
+def _held(a: Assembly, n: int, mu: float) -> tuple[DiscreteRod, float]:
+    """Held state ``a`` in the common discrete model at ``mu``, Newton-relaxed; its energy."""
+    rod = common_rod(a, n, mu)
+    if not newton(rod)[0]:
+        return rod, math.nan
+    return rod, rod.energy()
+
+
+def barrier_from_bifurcation(a: Assembly, load_factor: float, *, upper: float,
+                             elements_per_segment: int = 8, name: str = "A",
+                             named: Mapping[str, Assembly] | None = None,
+                             n_steps: int = SADDLE_STEPS) -> Barrier:
+    """Energy barrier out of held state ``a`` at ``load_factor`` (module docstring).
+
+    ``upper``: the bifurcation that ends ``a``'s stable interval is searched in
+    ``(load_factor, upper]``. ``named``: other held states (same structure, rods in the same
+    order) that the far end of the path may be; ``name``: ``a``'s label. Raises
+    :class:`RodstabInputError` naming the value when ``a`` is not stable at ``load_factor``, no
+    bifurcation lies below ``upper``, or its branch does not come back to ``load_factor``
+    (a supercritical bifurcation: no saddle on this branch).
+    """
+    mu0 = require_finite("load_factor", load_factor)
+    upper = require_finite("upper", upper)
+    n = require_int("elements_per_segment", elements_per_segment, MIN_ELEMENTS)
+    if not upper > mu0:
+        raise RodstabInputError(f"upper must exceed load_factor {mu0!r}, got {upper!r}")
+    from .continuation import arclength_from_bifurcation
+
+    rod_a = discretise(a, n, mu0)
+    ok_a = newton(rod_a)[0]
+    if not ok_a or lowest_modes(rod_a, 1)[0][0] < -zero_eigenvalue_tol(rod_a):
+        raise RodstabInputError(f"load factor {mu0!r}: state {name!r} is not a stable "
+                                "equilibrium there (outside its stable interval)")
+    e_a = rod_a.energy()
+    path = arclength_from_bifurcation(a, mu0, upper, elements_per_segment=n, ds=SADDLE_DS,
+                                      n_steps=n_steps, mu_window=(mu0, upper),
+                                      stop_at_special=True, stop_kinds=())
+    mu_end, saddle = path.end_states[0]
+    if abs(mu_end - mu0) > LOAD_TOL:
+        raise RodstabInputError(
+            f"load factor {mu0!r}: the branch from the bifurcation of {name!r} at "
+            f"{path.value_critical:.6g} does not come back to it (it is supercritical, or "
+            f"left the window at {mu_end:.6g}): no saddle on it")
+    ok_s, _, res = newton(saddle)
+    vals, vecs = lowest_modes(saddle, INDEX_EIGS)
+    index = int(np.sum(vals < -zero_eigenvalue_tol(saddle)))
+    e_s = saddle.energy()
+    # The two descents, kicked off the saddle along +-its unstable eigenvector.
+    v = vecs[:, 0] / np.max(np.abs(vecs[:, 0]))
+    kick = KICK * a.total_length / len(a.segments)
+    descents, ends = [], []
+    for sign in (1.0, -1.0):
+        r = saddle.copy()
+        for _ in range(20):
+            r = saddle.copy()
+            dq = np.zeros(r.n_dof)
+            dq[r.free_dofs()] = sign * kick * v
+            r.apply(dq)
+            if r.energy() < e_s:
+                break
+            kick /= 2
+        descents.append(descend(r, -1.1 * float(vals[0])))
+        ends.append(r)
+    # Name each end: A, one of the named states, or unnamed.
+    refs = [(name, Snapshot.of(rod_a), e_a)]
+    for label, asm in (named or {}).items():
+        rod_n, e_n = _held(asm, n, mu0)
+        if math.isfinite(e_n):
+            refs.append((label, Snapshot.of(rod_n), e_n))
+
+    def label_of(r: DiscreteRod) -> str:
+        s, e = Snapshot.of(r), r.energy()
+        return next((lab for lab, snap, e_ref in refs if same_state(r, s, snap, e, e_ref)),
+                    "unnamed")
+
+    labels = [label_of(r) for r in ends]
+    i_a = labels.index(name) if name in labels else 0
+    da, db = descents[i_a], descents[1 - i_a]
+    e_b = db.energies[-1]
+    energies = list(da.energies[::-1]) + [e_s] + list(db.energies)
+    tol_min = zero_eigenvalue_tol(saddle)
+    converged = bool(ok_s and index == 1 and name in labels and da.converged and db.converged
+                     and min(da.lowest_eigenvalue, db.lowest_eigenvalue) > -tol_min)
+    return Barrier(
+        barrier_forward=float(e_s - e_a), barrier_backward=float(e_s - e_b),
+        saddle_index=index, energies=tuple(float(e) for e in energies),
+        saddle_position=len(da.energies), from_state=name, to_state=labels[1 - i_a],
+        energy_from=float(e_a), energy_to=float(e_b), energy_saddle=float(e_s),
+        lowest_eigenvalues_saddle=tuple(float(x) for x in vals), load_factor=mu0,
+        load_factor_critical=float(path.value_critical), converged=converged,
+        residual=float(res), descent_steps=(da.steps, db.steps), elements_per_segment=n,
+        n_dof=len(saddle.free_dofs()),
+        method="saddle = the subcritical branch from A's bifurcation (pseudo-arclength), "
+               "refined by Newton; path = steepest descent from it (Levenberg-Marquardt steps "
+               "in the shifted-Hessian metric, energy decreasing), both ends named by "
+               "same_state")
+
+
+def monotone_from_saddle(b: Barrier) -> bool:
+    """Whether ``b``'s energies fall monotonically from the saddle towards both ends."""
+    e = np.asarray(b.energies)
+    slack = MONOTONE_RTOL * max(float(np.max(np.abs(e))), 1.0)
+    k = b.saddle_position
+    return bool(np.all(np.diff(e[: k + 1]) >= -slack) and np.all(np.diff(e[k:]) <= slack))

@@ -1,0 +1,119 @@
+"""Energy barriers (issue 11, part 4): saddle from continuation, path by steepest descent.
+
+The six-sided ring (h/t = 4, 8 el./rod) at kappa_n R0 = 1, the experiment's load (Fig. 10c).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+
+import pytest
+
+from rodstab.errors import RodstabInputError
+from rodstab.nonlinear.barrier import Barrier, barrier_from_bifurcation, monotone_from_saddle
+from rodstab.problems import folded_ring
+from rodstab.problems.barrier_states import one_loop_assembly, state_assembly
+from rodstab.sections import rectangle
+
+R4 = rectangle(aspect=4.0)
+THETA = 2 * math.pi / 3
+N = 8
+
+
+@pytest.fixture(scope="module")
+def six_ring() -> Barrier:
+    p = folded_ring.Params(section=R4)
+    return barrier_from_bifurcation(folded_ring.build(p), THETA, upper=8.0, elements_per_segment=N,
+                                    name="folded", named={"one-loop": one_loop_assembly(p)})
+
+
+def test_saddle_has_index_one_and_the_path_converges(six_ring: Barrier) -> None:
+    assert six_ring.saddle_index == 1
+    assert six_ring.converged
+    assert six_ring.load_factor == THETA
+
+
+def test_row_T_six_saddle_energy_equals_the_barrier(six_ring: Barrier) -> None:
+    """Cross-check: row T-six reads the barrier off the saddle branch landed on kappa_n R0 = 1.
+
+    Its number (1.12004 B3/L at 8 el.) is computed here the way the check computes it; the
+    folded state's energy is the closed form 6 x 1/2 kappa_n^2 L = 3 theta^2.
+    """
+    from rodstab.checks.beyond_transitions import SADDLE_STEPS, _saddle
+
+    folded = folded_ring.build(folded_ring.Params(section=R4))
+    at1 = _saddle(folded, N, (THETA, 6.0), SADDLE_STEPS, THETA)
+    assert at1.value[-1] == pytest.approx(THETA, abs=1e-9)
+    t_six = at1.energy[-1] - 3 * THETA**2
+    assert six_ring.energy_from == pytest.approx(3 * THETA**2, rel=1e-12)
+    assert six_ring.barrier_forward == pytest.approx(t_six, abs=1e-8)
+    assert six_ring.barrier_forward == pytest.approx(1.12004, abs=1e-5)
+
+
+def test_descent_lands_on_the_folded_and_one_loop_states(six_ring: Barrier) -> None:
+    """Independent of the continuation: both descents end on named minima (same_state).
+
+    The one-loop ring at kappa_n R0 = 1 is stress-free (closed form: energy 0; the discrete
+    ring's is O(l_e^2)), so the backward barrier is about the saddle's whole energy.
+    """
+    assert (six_ring.from_state, six_ring.to_state) == ("folded", "one-loop")
+    assert abs(six_ring.energy_to) < 1e-3
+    assert six_ring.barrier_backward == pytest.approx(six_ring.energy_saddle, abs=1e-3)
+    assert six_ring.barrier_backward > six_ring.barrier_forward > 0
+
+
+def test_energy_falls_monotonically_from_the_saddle_on_both_sides(six_ring: Barrier) -> None:
+    e = six_ring.energies
+    k = six_ring.saddle_position
+    assert e[k] == max(e) == six_ring.energy_saddle
+    assert e[0] == pytest.approx(six_ring.energy_from, rel=1e-12)
+    assert e[-1] == pytest.approx(six_ring.energy_to, abs=1e-12)
+    assert 0 < k < len(e) - 1
+    assert monotone_from_saddle(six_ring)
+
+
+def test_a_load_outside_the_stable_interval_is_refused_naming_it() -> None:
+    """The folded ring loses stability at kappa_n R0 = 2.25 (row T-six): 3 is outside."""
+    folded = folded_ring.build(folded_ring.Params(section=R4))
+    with pytest.raises(RodstabInputError, match="load factor 6.28.*not a stable"):
+        barrier_from_bifurcation(folded, 3 * THETA, upper=8.0)
+
+
+def test_too_few_elements_are_refused_naming_them() -> None:
+    folded = folded_ring.build(folded_ring.Params(section=R4))
+    with pytest.raises(RodstabInputError, match="elements_per_segment.*got 3"):
+        barrier_from_bifurcation(folded, THETA, upper=8.0, elements_per_segment=3)
+
+
+def test_unknown_state_is_refused_naming_it() -> None:
+    with pytest.raises(RodstabInputError, match="'square'"):
+        state_assembly("hexagram", R4, "square")
+
+
+def test_cli_barrier_json(six_ring: Barrier, capsys: pytest.CaptureFixture[str]) -> None:
+    """``rodstab barrier --json`` gives the library's barrier (same computation)."""
+    from rodstab.cli import main
+
+    main(["barrier", "--structure", "six-ring", "--shape", "rectangle", "--aspect", "4",
+          "--load-factor", "1", "--elements", "8", "--json"])
+    out = json.loads(capsys.readouterr().out)
+    assert out["saddle_index"] == 1
+    assert (out["from"], out["to"]) == ("folded", "one-loop")
+    assert out["barrier_forward"] == pytest.approx(six_ring.barrier_forward, abs=1e-8)
+    assert out["barrier_backward"] == pytest.approx(six_ring.barrier_backward, abs=1e-6)
+    assert len(out["energies"]) > 2
+
+
+@pytest.mark.parametrize(("args", "named"), [
+    (["--load-factor", "3"], "--load-factor 3.0"),
+    (["--elements", "3"], "--elements must be an integer >= 4, got 3"),
+])
+def test_cli_bad_input_exits_2_naming_the_value(args: list[str], named: str,
+                                                capsys: pytest.CaptureFixture[str]) -> None:
+    from rodstab.cli import main
+
+    with pytest.raises(SystemExit) as exc:
+        main(["barrier", "--shape", "rectangle", "--aspect", "4", *args])
+    assert exc.value.code == 2
+    assert named in capsys.readouterr().err
