@@ -91,10 +91,21 @@ def test_unknown_state_is_refused_naming_it() -> None:
         state_assembly("hexagram", R4, "square")
 
 
-def test_cli_barrier_json(six_ring: Barrier, capsys: pytest.CaptureFixture[str]) -> None:
-    """``rodstab barrier --json`` gives the library's barrier (same computation)."""
+def test_cli_barrier_json(six_ring: Barrier, capsys: pytest.CaptureFixture[str],
+                          monkeypatch: pytest.MonkeyPatch) -> None:
+    """``rodstab barrier --json`` prints the library's barrier. The library call is replaced by
+    the fixture's result for the same arguments (checked), so the CLI's wiring and JSON are
+    tested without the 8 s computation a second time."""
+    import rodstab.nonlinear.barrier as nb
     from rodstab.cli import main
 
+    seen = {}
+
+    def same(a, mu, **kwargs):
+        seen.update(kwargs, mu=mu, segments=len(a.segments))
+        return six_ring
+
+    monkeypatch.setattr(nb, "barrier_from_bifurcation", same)
     main(["barrier", "--structure", "six-ring", "--shape", "rectangle", "--aspect", "4",
           "--load-factor", "1", "--elements", "8", "--json"])
     out = json.loads(capsys.readouterr().out)
@@ -103,6 +114,7 @@ def test_cli_barrier_json(six_ring: Barrier, capsys: pytest.CaptureFixture[str])
     assert out["barrier_forward"] == pytest.approx(six_ring.barrier_forward, abs=1e-8)
     assert out["barrier_backward"] == pytest.approx(six_ring.barrier_backward, abs=1e-6)
     assert len(out["energies"]) > 2
+    assert seen["elements_per_segment"] == 8 and seen["segments"] == 6
 
 
 @pytest.mark.parametrize(("args", "named"), [
