@@ -34,18 +34,18 @@ def test_saddle_has_index_one_and_the_path_converges(six_ring: Barrier) -> None:
     assert six_ring.load_factor == THETA
 
 
-def test_row_T_six_saddle_energy_equals_the_barrier(six_ring: Barrier) -> None:
+def test_row_T_six_saddle_energy_equals_the_barrier(six_ring: Barrier, reproduction) -> None:
     """Cross-check: row T-six reads the barrier off the saddle branch landed on kappa_n R0 = 1.
 
-    Its number (1.12004 B3/L at 8 el.) is computed here the way the check computes it; the
-    folded state's energy is the closed form 6 x 1/2 kappa_n^2 L = 3 theta^2.
+    Its number at 8 el. (1.12004 B3/L) is taken from the report's run (the session's
+    reproduction, which computes it anyway); the folded state's energy is the closed form
+    6 x 1/2 kappa_n^2 L = 3 theta^2.
     """
-    from rodstab.checks.beyond_transitions import SADDLE_STEPS, _saddle
+    import json
 
-    folded = folded_ring.build(folded_ring.Params(section=R4))
-    at1 = _saddle(folded, N, (THETA, 6.0), SADDLE_STEPS, THETA)
-    assert at1.value[-1] == pytest.approx(THETA, abs=1e-9)
-    t_six = at1.energy[-1] - 3 * THETA**2
+    out, summary = reproduction
+    figures = json.loads((out / "results.json").read_text())["figures"]
+    t_six = figures["beyond"]["six_path"]["barriers_by_mesh"][str(N)]
     assert six_ring.energy_from == pytest.approx(3 * THETA**2, rel=1e-12)
     assert six_ring.barrier_forward == pytest.approx(t_six, abs=1e-8)
     assert six_ring.barrier_forward == pytest.approx(1.12004, abs=1e-5)

@@ -145,7 +145,8 @@ def _six_ring_transition_claim(run: Run) -> Claim:
     run.beyond()["six_path"] = {"kappa_R0": k.tolist(), "energy": en.tolist(),
                                 "radius": list(path.radius[: i + 1]), "theta": theta,
                                 "bistable": [float(one_lo), float(fold_c)],
-                                "barrier_at_1": float(barrier)}
+                                "barrier_at_1": float(barrier),
+                                "barriers_by_mesh": dict(zip(meshes, barriers, strict=True))}
     return Claim(
         "T-six", "beyond", "5", "Six-sided ring (h/t = 4): folded <-> one-loop transition",
         "experiment at kappa_n R0 = 1: both states stable; bending the folded ring's ends makes "
