@@ -42,18 +42,10 @@ import numpy as np
 
 from ..errors import RodstabInputError, require_finite, require_int
 from ..model import Assembly
-from ..numerics import jacobi_scaling
 from ..results import Result
 from .discover import Snapshot, common_rod, same_state
 from .discrete import PENALTY, DiscreteRod, discretise
-from .solve import (
-    NEWTON_RTOL,
-    _newton_step,
-    _spd_shift,
-    lowest_modes,
-    newton,
-    zero_eigenvalue_tol,
-)
+from .solve import NEWTON_RTOL, lm_step, lowest_modes, newton, zero_eigenvalue_tol
 
 #: Arclength step of the saddle branch (length units) and most steps (as row T-six).
 SADDLE_DS = 0.25
@@ -63,9 +55,8 @@ LOAD_TOL = 1e-9
 #: First step off the saddle along its unstable eigenvector (largest component, length units,
 #: times the mean segment length); halved until the energy is below the saddle's.
 KICK = 1e-3
-#: Most accepted descent steps per side, and Levenberg-Marquardt shifts tried per step.
+#: Most accepted descent steps per side (each a :func:`.solve.lm_step`).
 DESCENT_MAX_STEPS = 3000
-LM_TRIES = 40
 #: Lowest eigenvalues computed to count the saddle's index.
 INDEX_EIGS = 4
 #: Round-off allowed in "the energy falls monotonically" (relative to max(|E|, B3 / L)).
@@ -112,34 +103,14 @@ def descend(rod: DiscreteRod, lam0: float, *, max_steps: int = DESCENT_MAX_STEPS
     E, g, H = rod.energy_terms()
     energies, steps = [E], 0
     while steps < max_steps and float(np.max(np.abs(g[free]))) > tol:
-        gf = g[free]
         Hf = H[free][:, free].tocsc()
-        Hf = 0.5 * (Hf + Hf.T)
-        d = jacobi_scaling(Hf)
-        dg = 1.0 / d**2
-        for _ in range(LM_TRIES):
-            step = _newton_step(Hf, gf, dg, lam)
-            if step is None or gf @ step >= 0:
-                lam = max(_spd_shift(Hf, d), 4 * lam, floor)
-                continue
-            pred = -(gf @ step + 0.5 * step @ (Hf @ step))
-            trial = rod.copy()
-            dq = np.zeros(rod.n_dof)
-            dq[free] = step
-            trial.apply(dq)
-            Et, gt, Ht = trial.energy_terms()
-            actual = E - Et
-            if actual >= 0.25 * pred > 0:
-                if actual > 0.75 * pred:
-                    lam /= 4
-                rod.assign(trial)
-                E, g, H = Et, gt, Ht
-                energies.append(E)
-                steps += 1
-                break
-            lam = max(4 * lam, floor)
-        else:
+        terms, lam = lm_step(rod, free, E, g[free], 0.5 * (Hf + Hf.T), lam, floor,
+                             round_off=False, to_newton=False)
+        if terms is None:
             break  # no step lowers the energy: a minimum to round-off, or a flat stall
+        E, g, H = terms
+        energies.append(E)
+        steps += 1
     ok, _, res = newton(rod)
     energies.append(rod.energy())
     ev = float(lowest_modes(rod, 1)[0][0])

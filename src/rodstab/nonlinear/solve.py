@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
@@ -273,6 +274,53 @@ def _spd_shift(Hf: sp.spmatrix, d: np.ndarray) -> float:
     return 2.0 * -lam if lam < 0 else 0.0
 
 
+#: Trial steps of one :func:`lm_step` before it gives up (``lam`` grows 4x per rejection).
+LM_TRIES = 40
+
+
+def lm_step(rod: DiscreteRod, free: np.ndarray, E: float, gf: np.ndarray, Hf: sp.spmatrix,
+            lam: float, lam_floor: float, *, tries: int = LM_TRIES, round_off: bool = True,
+            to_newton: bool = True) -> tuple[tuple[float, np.ndarray, Any] | None, float]:
+    """One accepted Levenberg-Marquardt step ``s = -(H + lam D)^-1 g`` on ``free``, in place.
+
+    ``D = |diag H|`` (Jacobi), so ``lam`` is on the scale of the scaled eigenvalues. A step that
+    is no descent direction sets ``lam`` past the lowest scaled eigenvalue; a step is accepted
+    when the energy falls by a quarter of the quadratic model's prediction (with ``round_off``:
+    or, where energy differences drown in round-off, when the gradient falls), else ``lam``
+    grows 4x. After a step the model predicted well ``lam`` shrinks 4x (to 0 below
+    ``lam_floor`` with ``to_newton``: pure Newton, quadratic convergence). Returns the energy
+    terms ``(E, g, H)`` at the new state and ``lam``, or ``(None, lam)`` after ``tries``
+    rejections (the state is then unchanged). Shared by :func:`newton` and the barrier's
+    steepest descent.
+    """
+    d = jacobi_scaling(Hf)
+    dg = 1.0 / d**2
+    res = float(np.max(np.abs(gf))) if gf.size else 0.0
+    for _ in range(tries):
+        step = _newton_step(Hf, gf, dg, lam)
+        if step is None or gf @ step >= 0:
+            lam = max(_spd_shift(Hf, d), 4 * lam, lam_floor)
+            continue
+        pred = -(gf @ step + 0.5 * step @ (Hf @ step))
+        trial = rod.copy()
+        dq = np.zeros(rod.n_dof)
+        dq[free] = step
+        trial.apply(dq)
+        Et, gt, Ht = trial.energy_terms()
+        actual = E - Et
+        if round_off and abs(actual) <= 1e-12 * max(abs(E), 1.0):
+            ok = np.max(np.abs(gt[free])) < res  # round-off regime: judge by the gradient
+        else:
+            ok = actual >= 0.25 * pred > 0
+        if ok:
+            if actual > 0.75 * pred:
+                lam = 0.0 if to_newton and lam <= lam_floor else lam / 4
+            rod.x, rod.R_edge, rod.R_joint = trial.x, trial.R_edge, trial.R_joint
+            return (Et, gt, Ht), lam
+        lam = max(4 * lam, lam_floor)
+    return None, lam
+
+
 def _newton(rod: DiscreteRod, max_iter: int) -> tuple[bool, int, float]:
     """Run the iteration of :func:`newton`: Newton with a Levenberg-Marquardt safeguard.
 
@@ -300,34 +348,10 @@ def _newton(rod: DiscreteRod, max_iter: int) -> tuple[bool, int, float]:
             return False, max_iter, res
         it += 1
         Hf = H[free][:, free].tocsc()
-        Hf = 0.5 * (Hf + Hf.T)
-        d = jacobi_scaling(Hf)
-        dg = 1.0 / d**2
-        for _ in range(40):
-            step = _newton_step(Hf, gf, dg, lam)
-            if step is None or gf @ step >= 0:
-                lam = max(_spd_shift(Hf, d), 4 * lam, lam_floor)
-                continue
-            pred = -(gf @ step + 0.5 * step @ (Hf @ step))
-            trial = rod.copy()
-            dq = np.zeros(rod.n_dof)
-            dq[free] = step
-            trial.apply(dq)
-            Et, gt, Ht = trial.energy_terms()
-            actual = E - Et
-            if abs(actual) <= 1e-12 * max(abs(E), 1.0):
-                ok = np.max(np.abs(gt[free])) < res  # round-off regime: judge by the gradient
-            else:
-                ok = actual >= 0.25 * pred > 0
-            if ok:
-                if actual > 0.75 * pred:
-                    lam = 0.0 if lam <= lam_floor else lam / 4
-                rod.x, rod.R_edge, rod.R_joint = trial.x, trial.R_edge, trial.R_joint
-                E, g, H = Et, gt, Ht
-                break
-            lam = max(4 * lam, lam_floor)
-        else:
+        terms, lam = lm_step(rod, free, E, gf, 0.5 * (Hf + Hf.T), lam, lam_floor)
+        if terms is None:
             return False, it, res
+        E, g, H = terms
 
 
 def equilibrium(a: Assembly, *, load_factor: float = 1.0, elements_per_segment: int = 32,
