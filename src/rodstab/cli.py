@@ -663,50 +663,84 @@ def folded_ring(section: Section, segments: int, arc_angle: float, limits: Limit
 
 
 @cli.command()
+@click.argument("design_file", required=False, type=click.Path(dir_okay=False))
 @click.option("--segments", type=int, default=6, show_default=True,
-              help="Number n of identical rods welded end to start into a ring.")
+              help="Without DESIGN: number n of identical rods welded end to start into a ring.")
 @click.option("--cusps/--smooth", "cusps", default=True, show_default=True,
-              help="Every weld reverses the tangent (cusp, the hexagram's) or continues it.")
+              help="Without DESIGN: every weld reverses the tangent (cusp, the hexagram's) or "
+                   "continues it.")
 @click.option("--max-turns", type=float, default=1.0, show_default=True,
               help="List the states whose rods turn by at most this many full turns.")
 @click.option("--length", type=float, default=1.0, show_default=True,
-              help="Length L of each rod.")
+              help="Without DESIGN: length L of each rod.")
 @click.option("--natural-curvature", type=float, default=0.0, show_default=True,
-              help="kappa_n (1/length) at which the stored energy is given (B3 = 1).")
+              help="Without DESIGN: kappa_n (1/length) at which the stored energy is given "
+                   "(B3 = 1).")
+@click.option("--load-factor", type=float, default=None,
+              help="With DESIGN: the load factor (scaling the design's natural curvature) at "
+                   "which the energy is given [default: the design's reference_load, else 1].")
 @click.option("--plot", "plot_path", type=click.Path(dir_okay=False), default=None,
               help="Write the planar shapes of the states in a grid (PNG).")
 @_json_option
-def states(segments: int, cusps: bool, max_turns: float, length: float,
-           natural_curvature: float, plot_path: str | None, as_json: bool) -> None:
-    """List the closed planar held states of uniform moment of a ring of n welded rods."""
+def states(design_file: str | None, segments: int, cusps: bool, max_turns: float,
+           length: float, natural_curvature: float, load_factor: float | None,
+           plot_path: str | None, as_json: bool) -> None:
+    """List the closed planar held states of uniform moment of a ring of welded rods.
+
+    From DESIGN (a ring of identical rods, each welded to the next, in any one held state:
+    its held curvatures do not matter, its welds' angles do), or from --segments and
+    --cusps/--smooth.
+    """
     import math
 
-    from .states import closed_states, state_centrelines
+    from .design import load_design
+    from .states import ring_of, state_centrelines, uniform_ring
 
     plot = None if plot_path is None else _image_output("--plot", plot_path)
-    r = closed_states(segments, weld="cusp" if cusps else "smooth", length=length,
-                      natural_curvature=natural_curvature, max_turns=max_turns)
-    rows = [{"label": s.label, "held_curvature": s.held_curvature,
+    if design_file is not None:
+        given = [o for o in ("segments", "cusps", "length", "natural_curvature") if _given(o)]
+        if given:
+            raise RodstabInputError(f"--{given[0].replace('_', '-')} describes a ring without "
+                                    f"DESIGN; {design_file} describes its own ring")
+        a = load_design(design_file).assembly
+        ring = ring_of(a)
+        mu = a.reference_load if load_factor is None else load_factor
+        mu = 1.0 if mu is None else require_finite("--load-factor", mu)
+    else:
+        if load_factor is not None:
+            raise RodstabInputError(f"--load-factor {load_factor!r} scales a DESIGN's natural "
+                                    "curvature; without DESIGN give --natural-curvature")
+        ring = uniform_ring(segments, weld="cusp" if cusps else "smooth", length=length,
+                            natural_curvature=natural_curvature)
+        mu = 1.0
+    r = ring.states(load_factor=mu, max_turns=max_turns)
+    rows: list[dict[str, Any]] = [{"label": s.label, "held_curvature": s.held_curvature,
              "turning_number": s.turning_number, "distinct_weld_points": s.distinct_weld_points,
              "energy": s.energy, "theta_deg": math.degrees(s.theta), "covering": s.covering,
-             "mirror": s.mirror} for s in r.states]
+             "mirror": s.mirror, "stress_free_load": ring.stress_free_load(s.theta)}
+            for s in r.states]
     payload: dict[str, Any] = {"states": rows, "segments": r.segments, "weld": r.weld,
                                "length": r.length, "natural_curvature": r.natural_curvature,
-                               "max_turns": r.max_turns, "method": r.method}
+                               "load_factor": mu, "max_turns": r.max_turns,
+                               "order": [list(o) for o in ring.order], "method": r.method}
+    if design_file is not None:
+        payload["design"] = design_file
     if plot is not None:
         from .plots import plot_ring_states
 
         payload["plot"] = str(plot_ring_states(
-            [state_centrelines(r, s) for s in r.states],
+            [state_centrelines(ring, s.theta) for s in r.states],
             [f"{s.label}: kL = {math.degrees(s.theta):.6g} deg" for s in r.states], plot))
     _emit(payload, as_json, [
         f"ring         {r.segments} rods, {r.weld} welds, |kL| <= {_fmt(r.max_turns)} turns, "
-        f"energy at kappa_n = {_fmt(r.natural_curvature)} (B3 = 1)",
+        f"energy at kappa_n = {_fmt(r.natural_curvature)} (B3 = {_fmt(ring.B3)})",
         f"{'label':>16} {'kL deg':>9} {'k':>10} {'turning':>8} {'welds at':>8} "
-        f"{'covering':>8} {'energy':>10}",
+        f"{'covering':>8} {'energy':>10} {'free at mu':>10}",
     ] + [f"{row['label']:>16} {row['theta_deg']:>9.6g} {row['held_curvature']:>10.6g} "
          f"{row['turning_number']:>8.4g} {row['distinct_weld_points']:>8} "
-         f"{row['covering']:>8} {row['energy']:>10.6g}" for row in rows]
+         f"{row['covering']:>8} {row['energy']:>10.6g} "
+         f"{'-' if row['stress_free_load'] is None else _fmt(row['stress_free_load']):>10}"
+         for row in rows]
       + ([f"wrote {payload['plot']}"] if plot is not None else []))
 
 
