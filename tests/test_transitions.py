@@ -10,6 +10,7 @@ the line's upper limit, Lu et al.'s hexagram).
 from __future__ import annotations
 
 import json
+import math
 
 import numpy as np
 import pytest
@@ -17,11 +18,11 @@ import pytest
 from rodstab.cli import main
 from rodstab.nonlinear.discrete import discretise
 from rodstab.nonlinear.jets import rotation_jet, rotation_vector
-from rodstab.nonlinear.parameters import WeldMoment, WeldRotation, parameter
+from rodstab.nonlinear.parameters import WeldForce, WeldMoment, WeldRotation, parameter
 from rodstab.nonlinear.solve import newton
 from rodstab.nonlinear.transitions import invariants, pair_distances
 from rodstab.problems import hexagram as hx
-from rodstab.problems import hexagram_transitions as ht
+from rodstab.problems import ring_transitions as rt
 from rodstab.sections import rectangle
 
 N = 8
@@ -45,6 +46,7 @@ def _perturbed(rod, seed: int = 0, size: float = 1e-3):
 
 @pytest.mark.parametrize("key", ["welds.0,3.rotation.binormal", "welds.1,4.rotation.normal",
                                  "weld.2.moment.binormal", "weld.4.moment.tangent",
+                                 "weld.3.force.normal", "weld.1.force.binormal",
                                  "load_factor"])
 def test_dgrad_matches_finite_differences(key: str) -> None:
     """dg/dp of every stimulus equals the central difference of the exact gradient."""
@@ -55,7 +57,8 @@ def test_dgrad_matches_finite_differences(key: str) -> None:
     p.set(rod, p0)
     _perturbed(rod)
     free = rod.free_dofs()
-    h = 1e-3 if key == "load_factor" else 1e-6  # g is affine in mu: no truncation error
+    # g is affine in mu and in a force: no truncation error, a large step beats round-off
+    h = 1e-3 if key == "load_factor" or ".force." in key else 1e-6
     p.set(rod, p0 + h)
     gp = rod.energy_terms()[1]
     p.set(rod, p0 - h)
@@ -129,6 +132,41 @@ def test_weld_moment_in_plane_linear_response_is_reciprocal() -> None:
     assert turns[0] == pytest.approx(turns[1], rel=1e-3)
 
 
+def test_weld_force_reciprocity_and_envelope_theorem() -> None:
+    """Two physical laws for the dead force of weld.<i>.force.<axis> (each through Newton on
+    the full model): Maxwell-Betti -- a small in-plane force along weld 2's normal moves weld 4
+    along its normal as much as the same force at weld 4 moves weld 2; and the envelope
+    theorem -- d(potential at equilibrium)/dF = -(displacement along the force), checked by a
+    central difference at a finite force."""
+    a, rod = _ring("star")
+    moved = []
+    for load, probe in ((2, 4), (4, 2)):
+        r = rod.copy()
+        p = WeldForce(a, load, "normal")
+        q = WeldForce(a, probe, "normal")
+        p.prepare(r)
+        q.prepare(r)
+        p.set(r, 1e-4)
+        assert newton(r)[0]
+        _, direction, x_ref = r.node_force[(q._node(r), 0)]
+        moved.append(float(direction @ (r.x[q._node(r)] - x_ref)))
+    assert moved[0] == pytest.approx(moved[1], rel=1e-3)
+    assert abs(moved[0]) > 1e-9  # a response, not two zeros
+    p = WeldForce(a, 3, "normal")
+    r = rod.copy()
+    p.prepare(r)
+
+    def potential(F: float) -> tuple[float, float]:
+        p.set(r, F)
+        assert newton(r)[0]
+        _, direction, x_ref = r.node_force[(p._node(r), 0)]
+        return r.energy(), float(direction @ (r.x[p._node(r)] - x_ref))
+
+    F, h = 0.5, 1e-3
+    (ep, _), (em, _), (_, u) = potential(F + h), potential(F - h), potential(F)
+    assert (ep - em) / (2 * h) == pytest.approx(-u, rel=1e-5)
+
+
 def test_weld_rotation_holds_the_gauge_at_weld_i() -> None:
     """welds.i,j.rotation: weld i's node and both weld frames are held, joint 0 released."""
     a, rod = _ring("star")
@@ -157,29 +195,41 @@ def test_invariants_of_the_basic_states() -> None:
         assert inv.planarity < 1e-9
 
 
-def test_line_snaps_to_star_as_natural_curvature_grows() -> None:
-    """The line loses stability near its upper limit (kappa_n R0 ~ 2.25, FE 2.248 at h/t 4)
-    and snaps to the star (identified by its aligned geometry)."""
-    res = ht.transitions(SECTION, load_factor=2.0, elements=N, load=("line",),
+@pytest.fixture(scope="module")
+def hexagram_line():
+    """The hexagram's line loaded in the natural curvature (kappa_n R0 from 2 to 4), 8 el."""
+    res = rt.transitions(rt.hexagram_ring(SECTION), load_factor=2.0, elements=N, load=("line",),
                          stimuli={"line": (("load_factor", 4.0),)})
     (edge,) = res.graph.edges
+    return edge
+
+
+def test_line_snaps_to_star_as_natural_curvature_grows(hexagram_line) -> None:
+    """The line loses stability near its upper limit (kappa_n R0 ~ 2.25, FE 2.248 at h/t 4)
+    and snaps to the star (identified by its aligned geometry)."""
+    edge = hexagram_line
     assert edge.target == "star" and edge.target_rms < 0.01
     assert edge.threshold == pytest.approx(2.25, abs=0.03)
     assert edge.target_invariants is not None
     assert edge.target_invariants.distinct_weld_points == 6
 
 
-def test_cli_graph_json_schema(tmp_path, capsys) -> None:
-    """--json: states, edges with from/to/stimulus/threshold/contact; the figure is written."""
-    main(["transitions", "--shape", "rectangle", "--aspect", "4", "--load-factor", "2",
-          "--state", "line", "--stimulus", "line=load_factor:4", "--out",
+def test_cli_graph_json_schema_on_a_design(tmp_path, capsys, hexagram_line) -> None:
+    """--json on examples/folded_six_ring.toml: states, edges with from/to/stimulus/threshold/
+    contact; the figure is written. The ring is the hexagram's read from a file (alternately
+    oriented rods, load factor kappa_n L = (2 pi / 3) kappa_n R0): its line snaps to the star at
+    the hexagram's load in its own units."""
+    unit = 2 * math.pi / 3
+    main(["transitions", "examples/folded_six_ring.toml", "--load-factor", repr(2 * unit),
+          "--state", "line", "--stimulus", f"line=load_factor:{4 * unit!r}", "--out",
           str(tmp_path / "g"), "--json"])
     data = json.loads(capsys.readouterr().out)
     assert set(data) >= {"states", "edges", "no_transition"}
     assert set(data["states"]) >= set(hx.STATES)
     (edge,) = data["edges"]
     assert {"from", "to", "stimulus", "threshold", "contact", "physical"} <= set(edge)
-    assert edge["from"] == "line" and edge["stimulus"] == "load_factor"
+    assert edge["from"] == "line" and edge["to"] == "star" and edge["stimulus"] == "load_factor"
+    assert edge["threshold"] / unit == pytest.approx(hexagram_line.threshold, rel=1e-6)
     for c in edge["contact"]:
         assert {"stretch", "min_distance", "touching", "pass_through"} <= set(c)
     assert (tmp_path / "g" / "transitions.png").stat().st_size > 0
@@ -187,6 +237,9 @@ def test_cli_graph_json_schema(tmp_path, capsys) -> None:
 
 @pytest.mark.parametrize(("args", "named"), [
     (["--state", "square"], "'square'"),
+    (["examples/folded_six_ring.toml", "--structure", "hexagram"], "--structure"),
+    (["examples/birod.toml"], "support"),
+    (["--state", "theta=60deg"], "'theta=60deg' has no stimulus"),
     (["--stimulus", "star=welds.0,7.rotation.binormal:1"], "'7'"),
     (["--stimulus", "star=weld.9.moment.binormal:1"], "'9'"),
     (["--stimulus", "star=welds.0.rotation.binormal:1"], "'0'"),

@@ -961,10 +961,12 @@ def _given(option: str) -> bool:
 
 
 @cli.command()
+@click.argument("design_file", required=False, type=click.Path(dir_okay=False))
 @click.option("--structure", type=click.Choice(["hexagram"]), default="hexagram",
-              show_default=True, help="The structure whose states are loaded.")
-@click.option("--load-factor", type=float, default=2.0, show_default=True,
-              help="kappa_n R0, at which every state loaded must be stable.")
+              show_default=True, help="Without DESIGN: the structure whose states are loaded.")
+@click.option("--load-factor", type=float, default=None,
+              help="Load factor at which every state loaded must be stable [default: twice the "
+                   "star's stress-free load: kappa_n R0 = 2 for the hexagram].")
 @click.option("--elements", type=int, default=8, show_default=True,
               help="Elements per rod of the discrete rod.")
 @click.option("--thickness", type=float, default=0.02, show_default=True,
@@ -974,59 +976,73 @@ def _given(option: str) -> bool:
               help="Load STATE in KEY from 0 (load_factor: from --load-factor) to STOP; "
                    "repeatable, replaces that state's defaults. KEY: load_factor, "
                    "welds.<i>,<j>.rotation.<normal|tangent|binormal> (radians), "
-                   "weld.<i>.moment.<normal|tangent|binormal> (B3/L), weld indices 0-5.")
+                   "weld.<i>.moment.<normal|tangent|binormal> (B3/L), "
+                   "weld.<i>.force.<normal|tangent|binormal> (B3/L^2, dead load), weld indices "
+                   "0-5.")
 @click.option("--state", "states_", multiple=True, metavar="STATE",
-              help="Load only these states (repeatable; default: all four).")
+              help="Load only these states (repeatable; labels of `rodstab states`; default: "
+                   "the line, star, daisy and eight the ring has).")
 @click.option("--all", "all_stimuli", is_flag=True,
               help="Try every stimulus of each state, not only up to the first transition.")
 @click.option("--out", "out_dir", type=click.Path(file_okay=False), default=None,
               help="Directory for transitions.json and transitions.png (the graph).")
 @_section_options
 @_json_option
-def transitions(section: Section, structure: str, load_factor: float, elements: int,
+def transitions(design_file: str | None, section: Section, structure: str,
+                load_factor: float | None, elements: int,
                 thickness: float, stimuli: tuple[str, ...], states_: tuple[str, ...],
                 all_stimuli: bool, out_dir: str | None, as_json: bool) -> None:
     """Transitions between states under a stimulus: the transition graph.
 
     Each state is loaded until it first loses stability, relaxed past it, unloaded and
     identified. Rods have no contact: each edge reports the closest approach of rods over h
-    and whether rods would pass through each other (physical: false).
+    and whether rods would pass through each other (physical: false). On DESIGN's ring
+    (identical rods welded in a cycle, `rodstab states DESIGN`) or the hexagram.
     """
     from .errors import require_int
-    from .problems import hexagram_transitions as ht
+    from .problems import ring_transitions as rt
 
     elements = require_int("--elements", elements, 2)
-    load_factor = require_finite("--load-factor", load_factor)
     thickness = require_positive("--thickness", thickness)
+    ring, section, name = _ring_and_section(design_file, structure, 6, section)
+    if load_factor is None:
+        unit = rt.star_load(ring)
+        if unit is None:
+            raise RodstabInputError(f"{name}: the ring has no star to set the default load "
+                                    "factor; give --load-factor")
+        load_factor = 2.0 * unit
+    load_factor = require_finite("--load-factor", load_factor)
+    labels = tuple(st.label for st in ring.states().states)
     for state in states_:
-        if state not in ht.STATES:
-            raise RodstabInputError(f"--state {state!r} is not one of {ht.STATES}")
+        if state not in labels:
+            raise RodstabInputError(f"--state {state!r} is not one of {labels}")
     chosen: dict[str, list[tuple[str, float]]] = {}
     for text in stimuli:
-        state, key, stop = ht.parse_stimulus(text)
+        state, key, stop = rt.parse_stimulus(text, labels)
         chosen.setdefault(state, []).append((key, stop))
-    stim = {s: tuple(chosen.get(s, ht.STIMULI[s])) for s in ht.STIMULI}
+    stim = rt.default_stimuli(ring) | {s: tuple(v) for s, v in chosen.items()}
     out = None if out_dir is None else check_output("--out", out_dir, directory=True)
     with _warnings_as_lines(), warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)
-        res = ht.transitions(section, load_factor=load_factor, elements=elements,
+        res = rt.transitions(ring, load_factor=load_factor, elements=elements,
                              thickness=thickness, stimuli=stim, all_stimuli=all_stimuli,
-                             load=tuple(states_) or ht.STATES)
+                             load=tuple(states_) or None)
     payload = res.graph.to_json()
-    payload["structure"] = structure
+    payload["structure"] = name
     payload["section"] = section.to_dict()
+    load_name = "kappa_n R0" if design_file is None else "load factor"
     if out is not None:
         from .transition_plot import plot_transition_graph
 
         (out / "transitions.json").write_text(json.dumps(jsonable(payload), allow_nan=False))
         payload["figure"] = str(plot_transition_graph(
             payload, res.shapes, out / "transitions.png",
-            title=f"{structure}, {_section_line(section).split(':', 1)[0].split(None, 1)[1]}, "
-                  f"kappa_n R0 = {load_factor:g}, {elements} elements per rod, h/L = "
+            title=f"{name}, {_section_line(section).split(':', 1)[0].split(None, 1)[1]}, "
+                  f"{load_name} = {load_factor:g}, {elements} elements per rod, h/L = "
                   f"{thickness:g}"))
         payload["json_file"] = str(out / "transitions.json")
     lines = [_section_line(section),
-             f"{structure} at kappa_n R0 = {_fmt(load_factor)}, {elements} elements per rod, "
+             f"{name} at {load_name} = {_fmt(load_factor)}, {elements} elements per rod, "
              f"contact thickness h/L = {_fmt(thickness)}"]
     for e in payload["edges"]:
         lines.append(f"{e['from']:>6} -> {e['to']:<8} {e['stimulus']} = {_fmt(e['threshold'])}"

@@ -246,6 +246,18 @@ class Ring:
             ang = math.remainder(ang + theta + alpha, 2 * math.pi)
         return Assembly(segments=tuple(segs), welds=self.welds, reference_load=reference_load)
 
+    def forward(self) -> Ring:
+        """Return this ring with every rod run from its start to its end (same names).
+
+        A backwards rod becomes the same rod described from its other end (its natural
+        curvature along the ring unchanged), so code that walks a ring rod by rod from start to
+        end (contact, transitions) sees the ring as it is traversed.
+        """
+        welds = tuple(((self.order[i][0], "end"), (self.order[(i + 1) % self.segments][0],
+                                                    "start")) for i in range(self.segments))
+        return dataclasses.replace(self, order=tuple((nm, 1) for nm, _ in self.order),
+                                   welds=welds)
+
     def stress_free_load(self, theta: float) -> float | None:
         """Load factor at which the held state ``theta`` is stress-free (``None`` if none)."""
         if self.natural_curvature == 0.0:

@@ -80,6 +80,10 @@ class DiscreteRod:
     #: point moments on joints: joint -> moment (components in the joint's reference frame
     #: ``R_joint_held``); each adds the work term ``-M . theta`` (:meth:`_moment_work`)
     joint_moment: dict = dataclasses.field(default_factory=dict)
+    #: dead point forces on nodes: ``(node, component) -> (F, direction, x_ref)``, the force
+    #: ``F direction`` (lab frame, fixed); each adds the work term ``-F direction . (x - x_ref)``
+    #: (zero at the reference position, so energies stay those of the unloaded state there)
+    node_force: dict = dataclasses.field(default_factory=dict)
 
     # ---- degrees of freedom: positions, edge rotations, joint rotations
     @property
@@ -162,6 +166,10 @@ class DiscreteRod:
         loaded = [j for j, m in self.joint_moment.items() if np.any(m)]
         if loaded:
             scatter(self._moment_work(np.array(loaded)), self.joint_dofs(np.array(loaded)))
+        for (node, _), (F, direction, x_ref) in self.node_force.items():
+            # linear in x: gradient only, no Hessian entry
+            total -= F * float(direction @ (self.x[node] - x_ref))
+            grad[self.node_dofs(node)] -= F * direction
         H = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
                           shape=(self.n_dof, self.n_dof))
         return total, grad, H
@@ -260,7 +268,8 @@ class DiscreteRod:
                                    R_joint=self.R_joint.copy(),
                                    joint_rotation=dict(self.joint_rotation),
                                    param_values=dict(self.param_values),
-                                   joint_moment=dict(self.joint_moment))
+                                   joint_moment=dict(self.joint_moment),
+                                   node_force=dict(self.node_force))
 
     def assign(self, other: DiscreteRod) -> None:
         """Take over ``other``'s state and parameter values in place (undo a failed step)."""
@@ -270,6 +279,7 @@ class DiscreteRod:
         self.joint_rotation = dict(other.joint_rotation)
         self.param_values = dict(other.param_values)
         self.joint_moment = dict(other.joint_moment)
+        self.node_force = dict(other.node_force)
         self.edge_kn, self.edge_tw, self.k0_links = other.edge_kn, other.edge_tw, other.k0_links
 
     def shear(self) -> np.ndarray:

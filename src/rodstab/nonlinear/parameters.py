@@ -30,6 +30,11 @@ cost the corrector its quadratic convergence, never its accuracy, because the re
   linear in ``M``: ``dg/dM_c = -d theta_c / d phi`` at the weld, exact from the same jets. On a
   free assembly the reaction is carried by the gauge joint 0 (held in position and frame), so
   weld 0 itself cannot be loaded.
+* :class:`WeldForce` ``weld.<i>.force.<axis>``: a dead point force ``F`` on weld ``i``'s node,
+  along director ``axis`` of the weld's frame when the parameter is prepared (then fixed in
+  space), the work term ``-F d . (x - x_ref)``. ``g`` is linear in ``F`` and the Hessian does
+  not change: ``dg/dF = -d`` on the node's position unknowns, exact. The reaction is carried by
+  the gauge (weld 0 cannot be loaded), as for the moment.
 
 Every parameter has ``prepare(rod)``, called once on the start state of a continuation (it
 changes the held unknowns of the weld rotation, and takes the reference frames of a weld
@@ -364,7 +369,61 @@ class WeldMoment:
         return out
 
 
-Parameter = LoadFactor | SegmentValue | EndRotation | WeldRotation | WeldMoment
+@dataclasses.dataclass
+class WeldForce:
+    """Component ``axis`` of a dead point force on weld ``weld``'s node (module docstring)."""
+
+    assembly: Assembly
+    weld: int
+    axis: str
+
+    def __post_init__(self) -> None:
+        if self.axis not in ROTATION_AXES:
+            raise RodstabInputError(f"force axis {self.axis!r} is not one of {ROTATION_AXES}")
+        self._c = ROTATION_AXES.index(self.axis)
+
+    @property
+    def key(self) -> str:
+        """Design key of the parameter, ``weld.<i>.force.<axis>``."""
+        return f"weld.{self.weld}.force.{self.axis}"
+
+    def _node(self, rod: DiscreteRod) -> int:
+        j, node = weld_joint(self.assembly, rod, self.weld)
+        if node in rod.fixed_nodes or j in rod.fixed_joints:
+            raise RodstabInputError(
+                f"weld {self.weld} is held (the rigid-motion gauge of a free assembly is weld "
+                "0's joint, or a clamp): a force on it does no work; load another weld")
+        return node
+
+    def prepare(self, rod: DiscreteRod) -> None:
+        """Fix the force's direction (the weld frame's ``axis`` now) and reference position."""
+        node = self._node(rod)
+        if (node, self._c) not in rod.node_force:
+            direction = rod.R_joint[weld_joint(self.assembly, rod, self.weld)[0]][:, self._c]
+            rod.node_force[(node, self._c)] = (0.0, direction.copy(), rod.x[node].copy())
+
+    def get(self, rod: DiscreteRod) -> float:
+        """Return the force ``F`` (along the fixed direction)."""
+        entry = rod.node_force.get((self._node(rod), self._c))
+        return 0.0 if entry is None else float(entry[0])
+
+    def set(self, rod: DiscreteRod, value: float) -> None:
+        """Set the force to ``value`` (prepared first if it was not)."""
+        self.prepare(rod)
+        key = (self._node(rod), self._c)
+        _, direction, x_ref = rod.node_force[key]
+        rod.node_force[key] = (float(value), direction, x_ref)
+
+    def dgrad(self, rod: DiscreteRod, terms: Terms | None = None) -> np.ndarray:
+        """``dg/dF = -d`` on the weld node's position unknowns (exact, module docstring)."""
+        self.prepare(rod)
+        node = self._node(rod)
+        out = np.zeros(rod.n_dof)
+        out[rod.node_dofs(node)] = -rod.node_force[(node, self._c)][1]
+        return out
+
+
+Parameter = LoadFactor | SegmentValue | EndRotation | WeldRotation | WeldMoment | WeldForce
 
 
 def parameter(assembly: Assembly, key: str, elements_per_segment: int) -> Parameter:
@@ -378,7 +437,7 @@ def parameter(assembly: Assembly, key: str, elements_per_segment: int) -> Parame
         ``load_factor``, ``segment.<name>.<natural_curvature|natural_twist>`` or
         ``support.<i>.rotation.<normal|tangent|binormal>``,
         ``welds.<i>,<j>.rotation.<normal|tangent|binormal>`` or
-        ``weld.<i>.moment.<normal|tangent|binormal>`` (``i``, ``j``: weld indices).
+        ``weld.<i>.<moment|force>.<normal|tangent|binormal>`` (``i``, ``j``: weld indices).
     elements_per_segment : int
         Elements per segment of the discrete rod (a segment value rebuilds it).
 
@@ -396,7 +455,7 @@ def parameter(assembly: Assembly, key: str, elements_per_segment: int) -> Parame
     forms = (f"load_factor, segment.<name>.<{'|'.join(SEGMENT_KEYS)}> or "
              f"support.<i>.rotation.<{'|'.join(ROTATION_AXES)}>, "
              f"welds.<i>,<j>.rotation.<{'|'.join(ROTATION_AXES)}> or "
-             f"weld.<i>.moment.<{'|'.join(ROTATION_AXES)}>")
+             f"weld.<i>.<moment|force>.<{'|'.join(ROTATION_AXES)}>")
     try:
         if key == "load_factor":
             return LoadFactor()
@@ -416,6 +475,8 @@ def parameter(assembly: Assembly, key: str, elements_per_segment: int) -> Parame
                                            _weld_index(assembly, pair[1])), parts[3])
         if parts[0] == "weld" and len(parts) == 4 and parts[2] == "moment":
             return WeldMoment(assembly, _weld_index(assembly, parts[1]), parts[3])
+        if parts[0] == "weld" and len(parts) == 4 and parts[2] == "force":
+            return WeldForce(assembly, _weld_index(assembly, parts[1]), parts[3])
     except RodstabInputError as exc:
         raise RodstabInputError(f"--vary key {key!r}: {exc}") from None
     raise RodstabInputError(f"--vary key {key!r} cannot be continued; use {forms}")
