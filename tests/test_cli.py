@@ -365,3 +365,21 @@ def test_cli_internal_value_error_is_not_reported_as_bad_input(run_cli, monkeypa
     with pytest.raises(ValueError, match="infs or NaNs") as info:
         run_cli(["analyze", "examples/birod.toml", "--json"])
     assert type(info.value) is ValueError
+
+
+@pytest.mark.parametrize("argv", [["--help"], ["section", "--json"],
+                                  ["ring", "--loops", "3", "--json"],
+                                  ["michell", "--loops", "2", "--json"]])
+def test_closed_form_commands_import_no_scipy(argv):
+    """Issue 12's start-up target: --help and the closed-form commands (section, ring,
+    michell) import no scipy module (scipy.linalg and scipy.sparse cost ~0.3 s to import)."""
+    import subprocess
+    import sys
+
+    code = ("import sys\nfrom rodstab.cli import main\ntry:\n    main(sys.argv[1:])\n"
+            "except SystemExit:\n    pass\n"
+            "print('SCIPY', sorted(m for m in sys.modules if m.split('.')[0] == 'scipy'))")
+    r = subprocess.run([sys.executable, "-c", code, *argv], capture_output=True, text=True,
+                       timeout=60)
+    line = next(x for x in r.stdout.splitlines() if x.startswith("SCIPY"))
+    assert line == "SCIPY []", line

@@ -460,6 +460,10 @@ class PencilInterval(Result):
     method: str
 
 
+#: Pencils up to this size are reduced in numpy (:func:`pencil_interval`), larger by LAPACK.
+SMALL_PENCIL = 8
+
+
 def pencil_interval(A: np.ndarray, C: np.ndarray, *,
                     multiplicity_rtol: float = MULTIPLICITY_RTOL) -> PencilInterval:
     """Stable interval of the load ``p`` for the symmetric pencil ``K(p) = A - p C``.
@@ -483,11 +487,19 @@ def pencil_interval(A: np.ndarray, C: np.ndarray, *,
     C = np.asarray(C, dtype=float)
     n = A.shape[0]
     try:
-        _sla().cholesky(A, lower=True)
+        if n <= SMALL_PENCIL:
+            # LAPACK sygv's own reduction (Cholesky A = L L^T, eigh of L^-1 C L^-T), in numpy:
+            # the small mode pencils of the analytic modules then import no scipy.linalg
+            L = np.linalg.cholesky(A)
+            Li = np.linalg.inv(L)
+            theta, W = np.linalg.eigh(Li @ C @ Li.T)
+            V = Li.T @ W
+        else:
+            _sla().cholesky(A, lower=True)
+            theta, V = _sla().eigh(C, A)
     except np.linalg.LinAlgError as exc:
         raise RodstabInputError("pencil_interval: A (zero-load second variation) is not "
                                 "positive definite") from exc
-    theta, V = _sla().eigh(C, A)
     cnorm = max(float(np.max(np.abs(theta))), 1e-300)
     tol = MULTIPLICITY_RTOL * cnorm
 

@@ -12,7 +12,6 @@ import dataclasses
 import math
 
 import numpy as np
-import scipy.sparse as sp
 
 from ..errors import RodstabInputError
 from ..limits import DEFAULT as DEFAULT_LIMITS
@@ -20,7 +19,6 @@ from ..limits import Limits, require_linear
 from ..model import Assembly
 from ..numerics import jacobi_scaling, pencil_interval_sparse
 from ..results import Result
-from .assembly import discretise, rigid_modes_left
 
 #: Critical eigenvalues closer than this (relative) are one repeated eigenvalue: symmetric
 #: pairs are split by the discretisation (and the rigid-motion gauge) far below its error.
@@ -143,6 +141,12 @@ def linear_stability(a: Assembly, elements_per_segment: int | dict[str, int] = 1
               else [elements_per_segment] * len(a.segments))
     require_linear(counts, len(a.joints()), f"{elements_per_segment} elements per segment",
                    limits)
+    # deferred: scipy.sparse and scipy.linalg cost ~0.2 s to import, which an analytic
+    # command that only names LinearStability should not pay
+    import scipy.sparse as sp
+
+    from .assembly import discretise, rigid_modes_left
+
     disc = discretise(a, elements_per_segment)
     mu_ref = default_reference_load(a)
     Z = disc.Z
