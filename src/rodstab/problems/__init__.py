@@ -37,34 +37,45 @@ an end rotation).
 
 from __future__ import annotations
 
+import importlib
 import math
+from collections.abc import Iterator, Mapping
 from types import ModuleType
 
-from . import (
-    birod,
-    clamped_arc,
-    folded_ring,
-    hexagram,
-    michell,
-    ring,
-    straightened_rod,
-    twisted_rod,
-    unfolded_ring,
-)
+#: name -> module of the problem (in :mod:`rodstab.problems`).
+_MODULES = {
+    "ring": "ring",
+    "clamped-arc": "clamped_arc",
+    "straightened-rod": "straightened_rod",
+    "michell": "michell",
+    "bi-rod": "birod",
+    "folded-ring": "folded_ring",
+    "unfolded-ring": "unfolded_ring",
+    "twisted-rod": "twisted_rod",
+    "hexagram": "hexagram",
+}
+
+
+class _Registry(Mapping[str, ModuleType]):
+    """The problems by name, each module imported when first asked for.
+
+    A closed-form command (``rodstab ring``) then imports its own problem only, not the linear
+    and nonlinear engines the others pull in (issue 12: start-up).
+    """
+
+    def __getitem__(self, name: str) -> ModuleType:
+        return importlib.import_module(f".{_MODULES[name]}", __name__)
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(_MODULES)
+
+    def __len__(self) -> int:
+        return len(_MODULES)
+
 
 #: name -> problem module (``Params``, ``build``, ``to_paper``, ``DEFAULT_ELEMENTS``,
 #: ``METHODS``, ``AGREE_RTOL``).
-REGISTRY: dict[str, ModuleType] = {
-    "ring": ring,
-    "clamped-arc": clamped_arc,
-    "straightened-rod": straightened_rod,
-    "michell": michell,
-    "bi-rod": birod,
-    "folded-ring": folded_ring,
-    "unfolded-ring": unfolded_ring,
-    "twisted-rod": twisted_rod,
-    "hexagram": hexagram,
-}
+REGISTRY: Mapping[str, ModuleType] = _Registry()
 
 
 def agree(a: float, b: float, rtol: float) -> bool:
@@ -78,5 +89,4 @@ def agree(a: float, b: float, rtol: float) -> bool:
     return abs(a - b) <= rtol * max(abs(a), abs(b), 1.0) if math.isfinite(a - b) else False
 
 
-__all__ = ["REGISTRY", "agree", "birod", "clamped_arc", "folded_ring", "hexagram", "michell",
-           "ring", "straightened_rod", "twisted_rod", "unfolded_ring"]
+__all__ = ["REGISTRY", "agree"]
