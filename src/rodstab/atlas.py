@@ -336,6 +336,28 @@ class RingAtlas(Result):
     load_factor: str
     method: str
 
+    def limit_runs(self, state: str, side: str) -> list[tuple[float, float, str]]:
+        """Return the runs of the grid with one kind of mode at ``state``'s ``side`` limit.
+
+        ``(first value, last value, kind)``, kind e.g. ``"symmetry-breaking pair m=2 (x2)"``
+        (by FE: the multiplicity alone), in grid order.
+        """
+        j = self.states.index(state)
+        runs: list[tuple[float, float, str]] = []
+        for p, row in zip(self.values, self.intervals, strict=True):
+            lim: Limit = getattr(row[j], side)
+            if lim.multiplicity == 0:
+                kind = "none found"
+            elif lim.harmonic is None:
+                kind = f"multiplicity {lim.multiplicity}"
+            else:
+                kind = f"{lim.mode_type} m={lim.harmonic} (x{lim.multiplicity})"
+            if runs and runs[-1][2] == kind:
+                runs[-1] = (runs[-1][0], p, kind)
+            else:
+                runs.append((p, p, kind))
+        return runs
+
     def bands(self) -> dict[str, list[float]]:
         """``{"value": [...], "<state>.lower": [...], "<state>.upper": [...]}`` for a chart."""
         data: dict[str, list[float]] = {"value": list(self.values)}
