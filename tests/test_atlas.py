@@ -220,3 +220,16 @@ def test_cli_atlas_out_not_writable_exits_2(tmp_path, capsys):
     with pytest.raises(SystemExit) as exc:
         main(["atlas", HEXAGRAM, "--vary", "section.aspect=1:2:3", "--out", str(blocker)])
     assert exc.value.code == 2 and str(blocker) in capsys.readouterr().err
+
+
+def test_hexagram_example_is_the_star_of_the_hexagram_module(run_cli):
+    """`rodstab analyze examples/hexagram.toml` (FE, 32 el./rod, reference 1): the star's
+    interval of kappa_n R0 by the Bloch method of problems/hexagram.py, to the FE error at 32
+    elements per rod (~4e-4, the FE_MESHES note there)."""
+    from rodstab.problems import hexagram as hx
+
+    r = run_cli(["analyze", HEXAGRAM, "--json"])
+    assert r.exit_code == 0, r.stderr
+    lo, hi = json.loads(r.stdout)["load_factor_interval"]
+    want = hx.transfer_interval(hx.Params(section=rectangle(aspect=4.0), state="star"))
+    assert (lo, hi) == pytest.approx(want, rel=1e-3, abs=1e-3)
