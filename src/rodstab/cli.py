@@ -1127,7 +1127,8 @@ def atlas_cmd(design_file: str, vary: str, out_dir: str, method: str,
         col = [row[j] for row in at.intervals]
         entry: dict[str, Any] = {"theta_deg": math.degrees(col[0].theta),
                                  "stress_free_load": col[0].stress_free_load,
-                                 "stable_at_stress_free": [c.stable_at_stress_free for c in col]}
+                                 "stable_at_stress_free": [c.stable_at_stress_free for c in col],
+                                 "converged": [c.converged for c in col]}
         for side in ("lower", "upper"):
             lims = [getattr(c, side) for c in col]
             entry[side] = [lim.load_factor for lim in lims]
@@ -1167,6 +1168,13 @@ def atlas_cmd(design_file: str, vary: str, out_dir: str, method: str,
             f"{at.key} in ({_fmt(a)}, {_fmt(b)})" for a, b in c.ranges) or "nowhere in range"))
     lines.append(f"wrote {json_path} and {png}")
     _emit(payload, as_json, lines)
+    bad = [(p, r) for p, row in zip(at.values, at.intervals, strict=True) for r in row
+           if not r.converged]
+    if bad:
+        where = ", ".join(f"{r.label} at {at.key} = {p:g}" for p, r in bad[:5])
+        raise NotConverged(f"the FE eigen solve of {where}: residual "
+                           f"{max(r.residual for _, r in bad):.3g} is above the method's "
+                           "tolerance (those intervals are not to be trusted)")
 
 
 #: Click >= 8.2 raises this usage error for ``rodstab`` without arguments; its message is the
