@@ -12,7 +12,11 @@ from __future__ import annotations
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-EXAMPLES = sorted(p.relative_to(ROOT).as_posix() for p in (ROOT / "examples").glob("*.toml"))
+#: Examples added after 07ed206 (nothing recorded to compare with), each with its own tests:
+#: hexagram.toml in tests/test_atlas.py (and every example in tests/test_design.py).
+NEWER_EXAMPLES = {"examples/hexagram.toml"}
+EXAMPLES = sorted(p.relative_to(ROOT).as_posix() for p in (ROOT / "examples").glob("*.toml")
+                  if p.relative_to(ROOT).as_posix() not in NEWER_EXAMPLES)
 
 _SECTIONS = [[], ["--shape", "rectangle", "--aspect", "4"], ["--shape", "ellipse", "--aspect",
              "2"], ["--shape", "tube", "--aspect", "0.5"], ["--shape", "rectangle", "--aspect",

@@ -113,7 +113,7 @@ def test_cli_prints_the_numbers_of_07ed206(args, run_cli, tmp_path):
 #: Commands added after 07ed206 (nothing recorded to compare with), each with its own tests.
 NEW_COMMANDS = {"states": "tests/test_states.py", "hexagram": "tests/test_hexagram.py",
                 "discover": "tests/test_discover.py", "transitions": "tests/test_transitions.py",
-                "barrier": "tests/test_barrier.py"}
+                "barrier": "tests/test_barrier.py", "atlas": "tests/test_atlas.py"}
 
 
 def test_every_subcommand_but_reproduce_is_compared():

@@ -1102,6 +1102,137 @@ def barrier(section: Section, structure: str, load_factor: float, elements: int,
         f"converged    {b.converged} ({len(b.energies)} path points)"])
 
 
+#: Default N of ``rodstab atlas --vary KEY=START:STOP[:N]``.
+ATLAS_DEFAULT_N = 21
+
+
+@cli.command("atlas")
+@click.argument("design_file", type=click.Path(dir_okay=False))
+@click.option("--vary", required=True,
+              help=f"KEY=START:STOP[:N], N >= 2 values from START to STOP (default "
+                   f"{ATLAS_DEFAULT_N}), e.g. section.aspect=1:6:50; KEY as for sweep "
+                   "(section.<k>, segment.<name>.<k>, ...).")
+@click.option("--out", "out_dir", type=click.Path(file_okay=False), default="atlas",
+              show_default=True, help="Directory for atlas.json and atlas.png.")
+@click.option("--method", type=click.Choice(["transfer", "fe"]), default="transfer",
+              show_default=True,
+              help="Exact rod with a Bloch phase per harmonic (cusp or smooth welds; names "
+                   "the mode at each limit), or the FE engine on the whole ring "
+                   "(Richardson-extrapolated from 32 and 64 elements per rod).")
+@click.option("--state", "state_labels", multiple=True,
+              help="A state label of `rodstab states DESIGN` (repeat for several) [default: "
+                   "every state with kL >= 0; a mirror state's interval is the negated one].")
+@click.option("--max-turns", type=float, default=1.0, show_default=True,
+              help="States with each rod's turning |kL| up to this many full turns.")
+@click.option("--no-progress", is_flag=True, help="Do not draw the progress bar.")
+@_limit_options
+@_json_option
+def atlas_cmd(design_file: str, vary: str, out_dir: str, method: str,
+              state_labels: tuple[str, ...], max_turns: float, no_progress: bool,
+              limits: Limits, as_json: bool) -> None:
+    """Stable bands of a ring's held states against a design parameter (JSON + chart).
+
+    DESIGN is a ring of identical rods, each welded to the next (as for `rodstab states`).
+    For each state: the stable interval of the load factor around its stress-free load, with
+    the mode at each limit (all rods alike, a symmetry-breaking pair or alternating), and the
+    parameter ranges in which k states are mutually stable. The load factor is the design's:
+    the natural curvature is the load factor times each segment's natural_curvature.
+    """
+    import math
+
+    import numpy as np
+    from tqdm import tqdm
+
+    from .atlas import LOAD_FACTOR_UNITS, ring_atlas
+    from .design import load_design, parse_vary
+    from .states import Ring, ring_of
+    from .sweep import design_at
+
+    spec = parse_vary(vary, default_n=ATLAS_DEFAULT_N)
+    if spec.n < 2:
+        raise RodstabInputError(f"--vary {vary!r}: N {spec.n} must be at least 2 (an atlas "
+                                "compares values of the parameter)")
+    if spec.start == spec.stop:
+        raise RodstabInputError(f"--vary {vary!r}: START and STOP are both {spec.start:g}")
+    require_steps(spec.n, f"--vary {vary}", "atlas points", limits)
+    base = load_design(design_file)
+    try:
+        ring_of(base.assembly)
+    except RodstabInputError as exc:
+        raise RodstabInputError(f"{design_file} is not a ring of identical welded rods: "
+                                f"{exc}") from None
+
+    def ring_at(value: float) -> Ring:
+        try:
+            return ring_of(design_at(base, spec.key, value).assembly)
+        except RodstabInputError as exc:
+            msg = str(exc)
+            raise RodstabInputError(msg if msg.startswith("--vary") else
+                                    f"--vary {spec.key} = {value:g}: {msg}") from None
+
+    for value in (spec.start, spec.stop):  # both ends of the range, before the bar
+        ring_at(value)
+    out = check_output("--out", out_dir, directory=True)
+    with tqdm(total=spec.n, desc="rodstab atlas", disable=no_progress, leave=False,
+              delay=0.5) as bar:
+        at = ring_atlas(ring_at, np.linspace(spec.start, spec.stop, spec.n).tolist(),
+                        state_labels or None, key=spec.key, method=method,
+                        max_turns=max_turns, limits=limits, progress=lambda: bar.update(1))
+    states: dict[str, Any] = {}
+    for j, label in enumerate(at.states):
+        col = [row[j] for row in at.intervals]
+        entry: dict[str, Any] = {"theta_deg": math.degrees(col[0].theta),
+                                 "stress_free_load": col[0].stress_free_load,
+                                 "stable_at_stress_free": [c.stable_at_stress_free for c in col],
+                                 "converged": [c.converged for c in col]}
+        for side in ("lower", "upper"):
+            lims = [getattr(c, side) for c in col]
+            entry[side] = [lim.load_factor for lim in lims]
+            entry[f"{side}_multiplicity"] = [lim.multiplicity for lim in lims]
+            entry[f"{side}_harmonic"] = [lim.harmonic for lim in lims]
+            entry[f"{side}_mode"] = [lim.mode_type for lim in lims]
+        states[label] = entry
+    json_path = out / "atlas.json"
+    payload: dict[str, Any] = {
+        "design": design_file, "key": at.key, "values": list(at.values),
+        "load_factor": LOAD_FACTOR_UNITS, "method": at.method, "states": states,
+        "mutually_stable": [[{"states": list(o.members), "load_factor": list(o.load_interval)}
+                             for o in sets] for sets in at.mutual],
+        "coexistence": [{"k": c.k, "ranges": [list(r) for r in c.ranges],
+                         "tolerance": c.tolerance} for c in at.coexistence]}
+    from .plots import plot_stable_bands
+
+    png = plot_stable_bands(at.bands(), at.states, out / "atlas.png", x_key="value",
+                            xlabel=at.key, ylabel="load factor",
+                            title=f"{design_file}: stable bands ({method})")
+    payload["json"], payload["plot"] = str(json_path), str(png)
+    json_path.write_text(json.dumps(jsonable(payload), allow_nan=False, indent=1))
+    width = max(12, *(len(s) for s in at.states))
+    lines = [f"load factor  {LOAD_FACTOR_UNITS}; method {method}",
+             f"{at.key:>12} " + " ".join(f"{s:>{2 * width + 3}}" for s in at.states)]
+    for p, row in zip(at.values, at.intervals, strict=True):
+        lines.append(f"{p:>12.6g} " + " ".join(
+            f"{f'({_fmt(r.lower.load_factor)}, {_fmt(r.upper.load_factor)})':>{2 * width + 3}}"
+            for r in row))
+    for label in at.states:
+        for side in ("lower", "upper"):
+            lines.append(f"{label} {side} limit: " + "; ".join(
+                f"{kind} for {at.key} {_fmt(a)}..{_fmt(b)}"
+                for a, b, kind in at.limit_runs(label, side)))
+    for c in at.coexistence:
+        lines.append(f"{c.k} mutually stable: " + (", ".join(
+            f"{at.key} in ({_fmt(a)}, {_fmt(b)})" for a, b in c.ranges) or "nowhere in range"))
+    lines.append(f"wrote {json_path} and {png}")
+    _emit(payload, as_json, lines)
+    bad = [(p, r) for p, row in zip(at.values, at.intervals, strict=True) for r in row
+           if not r.converged]
+    if bad:
+        where = ", ".join(f"{r.label} at {at.key} = {p:g}" for p, r in bad[:5])
+        raise NotConverged(f"the FE eigen solve of {where}: residual "
+                           f"{max(r.residual for _, r in bad):.3g} is above the method's "
+                           "tolerance (those intervals are not to be trusted)")
+
+
 #: Click >= 8.2 raises this usage error for ``rodstab`` without arguments; its message is the
 #: full help, shown as click shows it (not squeezed onto one line).
 _NoArgsIsHelpError: type[Exception] | None = getattr(click.exceptions, "NoArgsIsHelpError",

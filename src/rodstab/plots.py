@@ -211,31 +211,35 @@ def plot_ring_states(shapes: list[list[np.ndarray]], titles: list[str], path: st
 
 
 def plot_stable_bands(data: dict[str, list[float]], states: tuple[str, ...], path: str | Path,
-                      *, threshold: float | None = None, title: str = "") -> Path:
+                      *, threshold: float | None = None, title: str = "", x_key: str = "aspect",
+                      xlabel: str = "h / t", ylabel: str = "kappa_n R0") -> Path:
     """Draw each state's stable band of the load between ``<state>.lower`` and ``.upper``.
 
-    ``data["aspect"]`` is the abscissa (h/t); the bands are filled, translucent, one colour per
-    state; the band where all are stable together is hatched, and ``threshold`` (if given) is
-    a vertical dotted line.
+    ``data[x_key]`` is the abscissa (default h/t); the bands are filled, translucent, one
+    colour per state; the band where all are stable together is hatched, and ``threshold`` (if
+    given) is a vertical dotted line. An infinite limit (none found) is left out of the band.
     """
-    x = np.asarray(data["aspect"], dtype=float)
+    x = np.asarray(data[x_key], dtype=float)
     fig = Figure(figsize=(6.4, 4.6))
     ax = fig.subplots()
-    cmap = matplotlib.colormaps["tab10"]
+    cmap = matplotlib.colormaps["tab20" if len(states) > 10 else "tab10"]
     for i, state in enumerate(states):
         lo = np.asarray(data[f"{state}.lower"], dtype=float)
         hi = np.asarray(data[f"{state}.upper"], dtype=float)
+        lo, hi = np.where(np.isfinite(lo), lo, np.nan), np.where(np.isfinite(hi), hi, np.nan)
         ax.fill_between(x, lo, hi, color=cmap(i), alpha=0.25, label=state)
         ax.plot(x, lo, color=cmap(i), lw=1)
         ax.plot(x, hi, color=cmap(i), lw=1)
     lows = np.max([data[f"{s}.lower"] for s in states], axis=0)
     highs = np.min([data[f"{s}.upper"] for s in states], axis=0)
-    ax.fill_between(x, lows, highs, where=highs > lows, facecolor="none", hatch="//",
+    ax.fill_between(x, lows, highs,
+                    where=(highs > lows) & np.isfinite(lows) & np.isfinite(highs),
+                    facecolor="none", hatch="//",
                     edgecolor="k", lw=0, label="all stable")
     if threshold is not None:
         ax.axvline(threshold, color="k", ls=":", lw=1, label=f"h/t* = {threshold:.4g}")
-    ax.set_xlabel("h / t")
-    ax.set_ylabel("kappa_n R0")
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
     ax.set_title(title, fontsize=9)
     ax.legend(fontsize=8, loc="upper left")
     ax.grid(alpha=0.3)

@@ -21,16 +21,16 @@ from __future__ import annotations
 import dataclasses
 import math
 
+from .. import atlas as ring_atlas
 from ..errors import RodstabInputError, require_positive
 from ..limits import DEFAULT as DEFAULT_LIMITS
 from ..limits import Limits
 from ..linear.solve import LinearStability
 from ..model import Assembly
-from ..numerics import find_roots
 from ..results import Result
 from ..sections import Section, circle, rectangle
-from ..states import ring_assembly
-from ..transfer import CyclicRingInterval, cyclic_ring_interval
+from ..states import HeldState, Ring, uniform_ring
+from ..transfer import CyclicRingInterval
 from ._common import Method, engine
 
 #: Rods of the hexagram.
@@ -43,14 +43,15 @@ STATES = tuple(STATE_TURNING)
 L_OVER_R0 = 2 * math.pi / 3
 #: Elements per rod of the linear engine for one solve (e.g. ``rodstab hexagram``'s mode).
 DEFAULT_ELEMENTS = 64
-#: Meshes (elements per rod) of the FE method: its limits converge as h^4 (Hermite w, quadratic
-#: omega; measured: the error falls 15-16x per halving from 16 to 96 elements), so the pair is
-#: Richardson-extrapolated with order 4. Measured against the Bloch method at h/t = 4: 3.6e-4
-#: at 32 and 2.1e-5 at 64 elements alone (the eight's limits), 6e-8 after extrapolation from
-#: 48/96; past ~100 elements per rod round-off grows (the engine flags residuals above 1e-6).
-FE_MESHES = (32, 64)
+#: Meshes (elements per rod) of the FE method (:data:`rodstab.atlas.FE_MESHES`): its limits
+#: converge as h^4 (Hermite w, quadratic omega; measured: the error falls 15-16x per halving
+#: from 16 to 96 elements), so the pair is Richardson-extrapolated with order 4. Measured
+#: against the Bloch method at h/t = 4: 3.6e-4 at 32 and 2.1e-5 at 64 elements alone (the
+#: eight's limits), 6e-8 after extrapolation from 48/96; past ~100 elements per rod round-off
+#: grows (the engine flags residuals above 1e-6).
+FE_MESHES = ring_atlas.FE_MESHES
 #: Order of the FE error in the mesh size (above).
-FE_ORDER = 4
+FE_ORDER = ring_atlas.FE_ORDER
 #: Aspect range h/t of the threshold search and of the chart.
 ASPECT_RANGE = (1.0, 6.0)
 #: Scan intervals of the threshold's bracket over :data:`ASPECT_RANGE`.
@@ -86,16 +87,26 @@ class Params:
         return STATE_TURNING[self.state] / L_OVER_R0
 
 
+def ring(section: Section, length: float = 1.0) -> Ring:
+    """Return the six cusp-welded rods of ``section`` (``B3 = 1``, kappa_n = ``mu / R0``)."""
+    return uniform_ring(SEGMENTS, weld="cusp", length=length,
+                        natural_curvature=L_OVER_R0 / length, B1=section.b1, B2=section.b2,
+                        B3=1.0)
+
+
+def _held_state(rg: Ring, state: str) -> HeldState:
+    """Return the ring's held state called ``state`` (:func:`rodstab.atlas.select_states`)."""
+    return ring_atlas.select_states(rg, (state,))[0]
+
+
 def build(params: Params) -> Assembly:
     """Return the ring of six rods in ``params.state`` (natural curvature ``1/R0`` per unit mu).
 
-    Built by :func:`rodstab.states.ring_assembly`, which the model validates (ends meet at the
-    cusps, moments balance); the reference load is the state's stress-free ``mu``.
+    :meth:`rodstab.states.Ring.held` of :func:`ring`, which the model validates (ends meet at
+    the cusps, moments balance); the reference load is the state's stress-free ``mu``.
     """
-    s = params.section
-    return ring_assembly(SEGMENTS, STATE_TURNING[params.state], weld="cusp",
-                         length=params.length, natural_curvature=1.0 / params.R0, B1=s.b1,
-                         B2=s.b2, B3=1.0, reference_load=params.reference_load)
+    return ring(params.section, params.length).held(STATE_TURNING[params.state],
+                                                    reference_load=params.reference_load)
 
 
 def to_paper(mu: float, params: Params) -> dict[str, float]:
@@ -110,19 +121,15 @@ def engine_stability(params: Params, elements: int = DEFAULT_ELEMENTS,
 
 
 def fe_interval(params: Params, limits: Limits = DEFAULT_LIMITS) -> tuple[float, float]:
-    """FE stable interval of ``kappa_n R0``, extrapolated from :data:`FE_MESHES` (order 4)."""
-    coarse, fine = (engine_stability(params, n, limits).load_factor_interval
-                    for n in FE_MESHES)
-    r = (FE_MESHES[1] / FE_MESHES[0]) ** FE_ORDER
-    return tuple(float(f + (f - c) / (r - 1.0)) if math.isfinite(f) else float(f)
-                 for c, f in zip(coarse, fine, strict=True))  # type: ignore[return-value]
+    """FE stable interval of ``kappa_n R0`` (:func:`rodstab.atlas.fe_interval`, order 4)."""
+    rg = ring(params.section, params.length)
+    return ring_atlas.fe_interval(rg, _held_state(rg, params.state), limits).interval
 
 
 def transfer_stability(params: Params) -> CyclicRingInterval:
     """Stable interval of ``kappa_n R0`` by the exact Bloch-reduced arc (second method)."""
-    s = params.section
-    return cyclic_ring_interval(STATE_TURNING[params.state], L_OVER_R0, s.b1, s.b2, SEGMENTS,
-                                "cusp", params.reference_load)
+    return ring_atlas.bloch_interval(ring(params.section, params.length),
+                                     STATE_TURNING[params.state])
 
 
 def transfer_interval(params: Params) -> tuple[float, float]:
@@ -145,28 +152,36 @@ class Atlas(Result):
 
 def atlas(section: Section, method: str = "transfer", limits: Limits = DEFAULT_LIMITS) -> Atlas:
     """Stable intervals of the four states for ``section`` by ``method`` ("transfer" or "fe")."""
-    if method not in ("transfer", "fe"):
+    if method not in ring_atlas.METHODS:
         raise RodstabInputError(f"method must be 'transfer' or 'fe', got {method!r}")
-    out = {}
-    for state in STATES:
-        p = Params(section=section, state=state)
-        out[state] = transfer_interval(p) if method == "transfer" else fe_interval(p, limits)
-    lo = max(v[0] for v in out.values())
-    hi = min(v[1] for v in out.values())
-    return Atlas(states=out, all_four=(lo, hi) if lo < hi else None, method=method)
+    rg = ring(section)
+    out = {s.label: ring_atlas.state_interval(rg, s, method, limits).interval
+           for s in ring_atlas.select_states(rg, STATES)}
+    both = ring_atlas.best_overlap(out, len(out))
+    return Atlas(states=out, all_four=both.load_interval if both.width > 0 else None,
+                 method=method)
 
 
 def overlap_width(atlas_: Atlas) -> float:
     """``min(upper limits) - max(lower limits)``: positive iff all four are mutually stable."""
-    return (min(v[1] for v in atlas_.states.values())
-            - max(v[0] for v in atlas_.states.values()))
+    return ring_atlas.best_overlap(atlas_.states, len(atlas_.states)).width
 
 
 def binding_limits(atlas_: Atlas) -> tuple[str, str]:
     """``("<state>.lower", "<state>.upper")``: the largest lower and the smallest upper limit."""
-    lo = max(atlas_.states, key=lambda s: atlas_.states[s][0])
-    hi = min(atlas_.states, key=lambda s: atlas_.states[s][1])
-    return f"{lo}.lower", f"{hi}.upper"
+    return ring_atlas.best_overlap(atlas_.states, len(atlas_.states)).binding
+
+
+def rectangle_atlas(values: list[float], *, nu: float = 1 / 3, torsion: str = "exact",
+                    method: str = "transfer", ks: tuple[int, ...] | None = None
+                    ) -> ring_atlas.RingAtlas:
+    """:func:`rodstab.atlas.ring_atlas` of the four states over rectangles' h/t ``values``.
+
+    ``ks``: the numbers of mutually stable states whose h/t ranges are solved for (default
+    all; each range end costs a root search).
+    """
+    return ring_atlas.ring_atlas(lambda a: ring(rectangle(aspect=a, nu=nu, torsion=torsion)),
+                                 values, STATES, key="h/t", method=method, ks=ks)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -186,54 +201,53 @@ class Threshold(Result):
     method: str
 
 
+def _grid(lo: float, hi: float, n_points: int) -> list[float]:
+    return [float(lo + (hi - lo) * i / (n_points - 1)) for i in range(n_points)]
+
+
 def threshold(*, nu: float = 1 / 3, torsion: str = "exact", method: str = "transfer",
               aspect_range: tuple[float, float] = ASPECT_RANGE) -> Threshold:
-    """Root of :func:`overlap_width` in h/t for rectangles: the package root finder.
+    """Root of :func:`overlap_width` in h/t for rectangles: the start of the atlas's range.
 
-    ``find_roots`` scans ``aspect_range`` (:data:`THRESHOLD_SCAN` intervals), brackets each sign
-    change and refines it by Brent's method; the threshold is the largest root at which the
-    width turns positive (above it the scan finds no other root: all four stay stable together
-    up to the range's end). Raises :class:`RodstabInputError` naming the range if the width
-    does not turn positive in it.
+    :func:`rectangle_atlas` on :data:`THRESHOLD_SCAN` intervals of ``aspect_range``; its
+    range of four mutually stable states (each end in the grid refined by Brent, the package
+    root finder) must reach the range's end: the threshold is where it begins. Raises
+    :class:`RodstabInputError` naming the range if the four are not all stable together at
+    its end or are so everywhere in it.
     """
-    def width(aspect: float) -> float:
-        sec = rectangle(aspect=aspect, nu=nu, torsion=torsion)
-        return overlap_width(atlas(sec, method))
-
     a, b = aspect_range
-    found = find_roots(width, a, b, n_scan=THRESHOLD_SCAN, rel_xtol=1e-12,
-                       method_name="scan + Brent on the overlap width")
-    if width(b) <= 0 or not found.roots:
+    at = rectangle_atlas(_grid(a, b, THRESHOLD_SCAN + 1), nu=nu, torsion=torsion,
+                         method=method, ks=(len(STATES),))
+    four = at.coexistence[0]
+    last = four.ranges[-1] if four.ranges else None
+    if last is None or last[1] != at.values[-1] or four.brackets[-1][0] is None:
         raise RodstabInputError(f"aspect range {aspect_range}: the four states are not all "
                                 f"stable together at h/t = {b:g}, or no threshold inside it")
-    root = found.roots[-1]
-    at = atlas(rectangle(aspect=root.x, nu=nu, torsion=torsion), method)
-    return Threshold(aspect_threshold=root.x, kappa_R0=max(v[0] for v in at.states.values()),
-                     binding=binding_limits(at), bracket=root.bracket, nu=nu, torsion=torsion,
-                     method=f"{method}: {found.method}")
+    root, bracket = last[0], four.brackets[-1][0]
+    there = atlas(rectangle(aspect=root, nu=nu, torsion=torsion), method)
+    both = ring_atlas.best_overlap(there.states, len(STATES))
+    return Threshold(aspect_threshold=root, kappa_R0=both.load_interval[0],
+                     binding=both.binding, bracket=bracket, nu=nu, torsion=torsion,
+                     method=f"{method}: grid of {THRESHOLD_SCAN} intervals + Brent on the "
+                            "overlap width")
 
 
 def _limits(interval: tuple[float, float], state: str) -> dict[str, float]:
     return {f"{state}.kappa_R0_lower": interval[0], f"{state}.kappa_R0_upper": interval[1]}
 
 
-def _fe(params: Params) -> dict[str, float]:
-    out: dict[str, float] = {}
-    for state in STATES:
-        out |= _limits(fe_interval(dataclasses.replace(params, state=state)), state)
-    return out
-
-
-def _transfer(params: Params) -> dict[str, float]:
-    out: dict[str, float] = {}
-    for state in STATES:
-        out |= _limits(transfer_interval(dataclasses.replace(params, state=state)), state)
-    return out
+def _by(method: str) -> Method:
+    def solve(params: Params) -> dict[str, float]:
+        out: dict[str, float] = {}
+        for state, interval in atlas(params.section, method).states.items():
+            out |= _limits(interval, state)
+        return out
+    return solve
 
 
 #: Methods that solve the hexagram, each returning the stable interval of ``kappa_n R0`` of
 #: all four states (``<state>.kappa_R0_lower`` / ``_upper``) for ``params.section``.
-METHODS: dict[str, Method] = {"transfer": _transfer, "fe": _fe}
+METHODS: dict[str, Method] = {"transfer": _by("transfer"), "fe": _by("fe")}
 #: How closely each pair must agree (relative above 1, absolute below), and why.
 AGREE_RTOL: dict[tuple[str, str], float] = {
     # FE extrapolated from 32/64 elements per rod (order 4): measured <= 2e-7 (circle, h/t 4).
@@ -246,19 +260,13 @@ CHART_POINTS = 26
 
 
 def chart_data(*, nu: float = 1 / 3, torsion: str = "exact", method: str = "transfer",
-               n_points: int = CHART_POINTS) -> dict[str, list[float] | dict[str, list[float]]]:
+               n_points: int = CHART_POINTS) -> dict[str, list[float]]:
     """Stable bands of ``kappa_n R0`` of the four states against h/t (rectangles).
 
     Returns ``{"aspect": [...], "<state>.lower": [...], "<state>.upper": [...]}`` for
-    ``n_points`` aspects evenly spaced over :data:`ASPECT_RANGE`, by ``method`` (:func:`atlas`).
+    ``n_points`` aspects evenly spaced over :data:`ASPECT_RANGE`, by ``method``
+    (:func:`rectangle_atlas`).
     """
-    aspects = [float(a) for a in
-               (ASPECT_RANGE[0] + (ASPECT_RANGE[1] - ASPECT_RANGE[0]) * i / (n_points - 1)
-                for i in range(n_points))]
-    data: dict[str, list[float]] = {"aspect": aspects}
-    for a in aspects:
-        at = atlas(rectangle(aspect=a, nu=nu, torsion=torsion), method)
-        for state, (lo, hi) in at.states.items():
-            data.setdefault(f"{state}.lower", []).append(lo)
-            data.setdefault(f"{state}.upper", []).append(hi)
-    return data  # type: ignore[return-value]
+    bands = rectangle_atlas(_grid(*ASPECT_RANGE, n_points), nu=nu, torsion=torsion,
+                            method=method, ks=()).bands()
+    return {"aspect": bands.pop("value"), **bands}

@@ -1,0 +1,489 @@
+"""Stability atlas of a ring's closed held states against a design parameter (issue 11).
+
+For a ring of ``n`` identical welded rods (:func:`rodstab.states.ring_of`) and each chosen
+closed held state of uniform moment (:meth:`rodstab.states.Ring.states`), the stable interval
+of the load factor around the state's stress-free load, by two independent methods:
+
+* ``transfer`` -- the exact solution of P2 on one rod with the weld's joint map and a Bloch
+  phase per harmonic ``m = 0 .. n/2`` (:func:`rodstab.transfer.cyclic_ring_interval`; cusp
+  or smooth welds only). It names the harmonic of the mode at each limit: ``m = 0`` every rod
+  deforms alike, ``0 < m < n/2`` a symmetry-breaking pair (harmonics ``m`` and ``n - m``
+  together: multiplicity 2), ``m = n/2`` neighbouring rods opposite (``rho = -1``).
+* ``fe`` -- the linear FE engine on the whole ring (:meth:`Ring.held`), Richardson-extrapolated
+  from :data:`FE_MESHES` (order :data:`FE_ORDER`); multiplicities from the finer mesh, no
+  harmonic.
+
+The **load factor** is the design's: the multiplier of its natural curvature (natural
+curvature = load factor x the segments' ``natural_curvature``). A held state of turning
+``theta`` per rod is stress-free at ``theta / (L kappa_n)``; there the second variation is the
+strain energy of the perturbation, zero only on the ring's three rigid out-of-plane motions
+(:data:`RING_RIGID_MOTIONS`), so every state is stable at its stress-free load and both
+methods check it (rigid null space counted by the Bloch matrices; FE: the pencil is positive
+definite there).
+
+Across a parameter (:func:`ring_atlas`): for each value the maximal sets of mutually stable
+states (intervals with a common point, :func:`mutual_sets`), and for each ``k`` the parameter
+ranges in which some ``k`` states are mutually stable: the sign changes on the grid of the
+best ``k``-overlap width (:func:`best_overlap`), each refined by the package's root finder
+(:func:`rodstab.numerics.refine_root`) to :data:`RANGE_RTOL` times the grid spacing.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Callable, Sequence
+
+from .errors import RodstabInputError
+from .limits import DEFAULT as DEFAULT_LIMITS
+from .limits import Limits
+from .linear.solve import linear_stability
+from .numerics import refine_root
+from .results import Result
+from .states import HeldState, Ring, weld_name
+from .transfer import CyclicRingInterval, cyclic_ring_interval
+
+#: Mode types at a limit, by Bloch harmonic ``m`` of an ``n``-rod ring.
+ALL_ALIKE = "all rods alike"
+PAIR = "symmetry-breaking pair"
+ALTERNATING = "alternating"
+#: The two methods of :func:`state_interval`.
+METHODS = ("transfer", "fe")
+#: Meshes (elements per rod) of the FE method and the order of its error: Hermite w and
+#: quadratic omega converge as h^4 (measured on the hexagram, problems/hexagram.py), so the pair
+#: is Richardson-extrapolated with order 4 (agrees with the Bloch method to ~1e-7).
+FE_MESHES = (32, 64)
+FE_ORDER = 4
+#: Null space of a planar ring's out-of-plane problem at a stable load: translation along e3
+#: and rotations about the two in-plane axes.
+RING_RIGID_MOTIONS = 3
+#: Endpoints of the coexistence ranges are refined to this times the grid spacing.
+RANGE_RTOL = 1e-10
+#: What the load factor is, for tables, JSON and help texts.
+LOAD_FACTOR_UNITS = ("the design's load factor: natural curvature = load factor x each "
+                     "segment's natural_curvature")
+
+
+def mode_type(harmonic: int, segments: int) -> str:
+    """Name the Bloch harmonic ``m`` of an ``n``-rod ring's mode (module docstring).
+
+    Returns :data:`ALL_ALIKE` (``m = 0``), :data:`ALTERNATING` (``m = n/2``) or :data:`PAIR`.
+    Raises :class:`RodstabInputError` naming ``harmonic`` outside ``0 .. n/2``.
+    """
+    if not 0 <= harmonic <= segments // 2:
+        raise RodstabInputError(f"harmonic must be in 0..{segments // 2}, got {harmonic!r}")
+    if harmonic == 0:
+        return ALL_ALIKE
+    return ALTERNATING if 2 * harmonic == segments else PAIR
+
+
+@dataclasses.dataclass(frozen=True)
+class Limit(Result):
+    """One end of a stable interval.
+
+    Attributes
+    ----------
+    load_factor : float
+        The load factor (:data:`LOAD_FACTOR_UNITS`) at which the state loses stability;
+        ``-inf``/``+inf`` if the method found no limit on that side.
+    multiplicity : int
+        Dimension of the critical null space (0 when there is no limit).
+    harmonic : int or None
+        Bloch harmonic ``m`` (the pair ``m, n - m``) of the mode; ``None`` by FE.
+    mode_type : str or None
+        :func:`mode_type` of ``harmonic``; ``None`` by FE.
+    """
+
+    load_factor: float
+    multiplicity: int
+    harmonic: int | None
+    mode_type: str | None
+
+
+@dataclasses.dataclass(frozen=True)
+class StateInterval(Result):
+    """Stable interval of the load factor of one held state of a ring.
+
+    ``theta``: each rod's turning (radians); ``stress_free_load``: the reference inside the
+    interval; ``stable_at_stress_free``: the null space there is the rigid motions alone.
+    """
+
+    label: str
+    theta: float
+    stress_free_load: float
+    lower: Limit
+    upper: Limit
+    stable_at_stress_free: bool
+    residual: float
+    converged: bool
+    method: str
+
+    @property
+    def interval(self) -> tuple[float, float]:
+        """``(lower, upper)`` load factors."""
+        return self.lower.load_factor, self.upper.load_factor
+
+
+def stress_free_load(ring: Ring, theta: float) -> float:
+    """Load factor at which the held state ``theta`` is stress-free; raise if there is none."""
+    ref = ring.stress_free_load(theta)
+    if ref is None:
+        raise RodstabInputError("the ring's natural_curvature is 0: no held state is stress-free "
+                                "and the load factor acts on nothing")
+    return ref
+
+
+def bloch_interval(ring: Ring, theta: float) -> CyclicRingInterval:
+    """Stable interval of the load factor of the held state ``theta`` by the Bloch method.
+
+    :func:`rodstab.transfer.cyclic_ring_interval` in the ring's units: arc ``L / R = theta``,
+    load ``L kappa_n = L natural_curvature`` per unit load factor, ``b1 = B1 / B3``,
+    ``b2 = B2 / B3`` (P2 depends on the stiffnesses only through these). Refuses, naming the
+    weld, a ring whose welds are neither cusps nor smooth (the Bloch joint map knows those two).
+    """
+    if ring.weld not in ("cusp", "smooth"):
+        raise RodstabInputError(f"the transfer method needs cusp or smooth welds; this ring's "
+                                f"welds turn the tangent by {weld_name(ring.weld)} (use the "
+                                "fe method)")
+    return cyclic_ring_interval(theta, ring.length * ring.natural_curvature, ring.B1 / ring.B3,
+                                ring.B2 / ring.B3, ring.segments, str(ring.weld),
+                                stress_free_load(ring, theta))
+
+
+def _limit(x: float, multiplicity: int, harmonic: int | None, segments: int) -> Limit:
+    if not math.isfinite(x):
+        return Limit(float(x), 0, None, None)
+    kind = None if harmonic is None else mode_type(harmonic, segments)
+    return Limit(float(x), int(multiplicity), harmonic, kind)
+
+
+def transfer_interval(ring: Ring, state: HeldState) -> StateInterval:
+    """:class:`StateInterval` of ``state`` by :func:`bloch_interval`, harmonics named."""
+    r = bloch_interval(ring, state.theta)
+    n = ring.segments
+    return StateInterval(
+        label=state.label, theta=state.theta, stress_free_load=stress_free_load(ring, state.theta),
+        lower=_limit(r.lo, r.multiplicity_lo, r.harmonic_lo, n),
+        upper=_limit(r.hi, r.multiplicity_hi, r.harmonic_hi, n),
+        stable_at_stress_free=sum(r.rigid_nullity) == RING_RIGID_MOTIONS,
+        residual=r.residual, converged=True, method=r.method)
+
+
+def fe_interval(ring: Ring, state: HeldState, limits: Limits = DEFAULT_LIMITS) -> StateInterval:
+    """:class:`StateInterval` of ``state`` by the FE engine, extrapolated from :data:`FE_MESHES`.
+
+    Raises :class:`RodstabInputError` (from the engine) if the state is not stable at its
+    stress-free load.
+    """
+    ref = stress_free_load(ring, state.theta)
+    a = ring.held(state.theta, reference_load=ref)
+    coarse, fine = (linear_stability(a, n, limits=limits) for n in FE_MESHES)
+    r = (FE_MESHES[1] / FE_MESHES[0]) ** FE_ORDER
+
+    def extrapolate(c: float, f: float) -> float:
+        return float(f + (f - c) / (r - 1.0)) if math.isfinite(f) else float(f)
+
+    lo, hi = (extrapolate(c, f) for c, f in zip(coarse.load_factor_interval,
+                                                 fine.load_factor_interval, strict=True))
+    n = ring.segments
+    return StateInterval(
+        label=state.label, theta=state.theta, stress_free_load=ref,
+        lower=_limit(lo, fine.multiplicity_lo, None, n),
+        upper=_limit(hi, fine.multiplicity, None, n),
+        stable_at_stress_free=bool(lo < ref < hi)
+        and fine.n_rigid_modes == RING_RIGID_MOTIONS,
+        residual=max(coarse.residual, fine.residual),
+        converged=coarse.converged and fine.converged,
+        method=f"FE engine, {FE_MESHES[0]}/{FE_MESHES[1]} el./rod, Richardson order {FE_ORDER}")
+
+
+def state_interval(ring: Ring, state: HeldState, method: str = "transfer",
+                   limits: Limits = DEFAULT_LIMITS) -> StateInterval:
+    """Stable interval of ``state`` of ``ring`` by ``method`` (one of :data:`METHODS`)."""
+    if method == "transfer":
+        return transfer_interval(ring, state)
+    if method == "fe":
+        return fe_interval(ring, state, limits)
+    raise RodstabInputError(f"method must be one of {METHODS}, got {method!r}")
+
+
+def default_states(ring: Ring, max_turns: float = 1.0) -> tuple[str, ...]:
+    """Labels of the states an atlas follows by default: those with ``theta >= 0``.
+
+    A mirror state (``theta < 0``) at load factor ``-mu`` is the state at ``mu`` reflected, so
+    its interval is the negated one and adds nothing (``tests/test_atlas.py`` checks it). Every
+    state is stable at its stress-free load (module docstring); :class:`StateInterval` reports
+    the check.
+    """
+    return tuple(s.label for s in ring.states(max_turns=max_turns).states if s.theta >= 0)
+
+
+def select_states(ring: Ring, labels: Sequence[str], max_turns: float = 1.0
+                  ) -> tuple[HeldState, ...]:
+    """Return the states called ``labels``; raise naming an unknown label and listing the states."""
+    listed = {s.label: s for s in ring.states(max_turns=max_turns).states}
+    for label in labels:
+        if label not in listed:
+            raise RodstabInputError(f"state {label!r} does not exist for this ring of "
+                                    f"{ring.segments} {weld_name(ring.weld)}-welded rods "
+                                    f"(|kL| <= {max_turns:g} turns); the states are "
+                                    f"{list(listed)}")
+    if len(set(labels)) != len(labels):
+        raise RodstabInputError(f"states {list(labels)} name a state twice")
+    return tuple(listed[label] for label in labels)
+
+
+@dataclasses.dataclass(frozen=True)
+class Overlap(Result):
+    """The best set of ``k`` mutually stable states.
+
+    ``width = min(upper) - max(lower)`` over ``members`` (positive iff they are mutually
+    stable), maximal over the sets of ``k`` states; ``binding``: the largest lower and the
+    smallest upper limit of the set, as ``("<state>.lower", "<state>.upper")``.
+    """
+
+    k: int
+    width: float
+    members: tuple[str, ...]
+    load_interval: tuple[float, float]
+    binding: tuple[str, str]
+
+
+def best_overlap(intervals: dict[str, tuple[float, float]], k: int) -> Overlap:
+    """Return the ``k`` intervals with the widest common part (a clique of the interval graph).
+
+    The best set's largest lower limit is some state's lower limit ``lo_i``; given it, the best
+    companions are the ``k - 1`` states with ``lo_j <= lo_i`` and the largest upper limits. So
+    ``O(n^2 log n)`` instead of all subsets. Raises naming ``k`` outside ``1 .. n``.
+    """
+    names = list(intervals)
+    if not 1 <= k <= len(names):
+        raise RodstabInputError(f"k must be in 1..{len(names)}, got {k!r}")
+    best: Overlap | None = None
+    for i, name in enumerate(names):
+        lo_i, hi_i = intervals[name]
+        # ties in the lower limit go to the earlier state (each set is counted once)
+        others = [m for j, m in enumerate(names) if j != i and (
+            intervals[m][0] < lo_i or (intervals[m][0] == lo_i and j < i))]
+        if len(others) < k - 1:
+            continue
+        others.sort(key=lambda m: -intervals[m][1])
+        chosen = others[:k - 1]
+        hi = min([hi_i] + [intervals[m][1] for m in chosen])
+        width = hi - lo_i
+        if best is None or width > best.width:
+            low_end = min([name] + chosen, key=lambda m: intervals[m][1])
+            members = tuple(m for m in names if m == name or m in chosen)
+            best = Overlap(k, float(width), members, (float(lo_i), float(hi)),
+                           (f"{name}.lower", f"{low_end}.upper"))
+    assert best is not None  # the state with the largest lower limit has n - 1 companions
+    return best
+
+
+def mutual_sets(intervals: dict[str, tuple[float, float]]) -> tuple[Overlap, ...]:
+    """Every maximal set of mutually stable states, by increasing common load interval.
+
+    A common point of a set of intervals can be taken as the largest lower limit, so each
+    maximal set is the states stable just above some state's lower limit.
+    """
+    sets: dict[tuple[str, ...], Overlap] = {}
+    for name, (lo, _) in intervals.items():
+        members = tuple(m for m, (a, b) in intervals.items() if a <= lo < b)
+        if not members:
+            continue
+        hi = min(intervals[m][1] for m in members)
+        low_end = min(members, key=lambda m: intervals[m][1])
+        sets.setdefault(members, Overlap(len(members), float(hi - lo), members,
+                                         (float(lo), float(hi)),
+                                         (f"{name}.lower", f"{low_end}.upper")))
+    maximal = [o for o in sets.values()
+               if not any(set(o.members) < set(p.members) for p in sets.values())]
+    return tuple(sorted(maximal, key=lambda o: o.load_interval))
+
+
+@dataclasses.dataclass(frozen=True)
+class CoexistenceRanges(Result):
+    """Parameter ranges in which at least ``k`` of the states are mutually stable.
+
+    ``ranges``: ``(start, end)`` pairs, increasing; an end strictly inside the grid is a root
+    of the best ``k``-overlap width refined to ``tolerance`` in its grid ``brackets`` entry; an
+    end at the grid's end is that grid value (``None`` bracket). A range narrower than one grid
+    spacing, or one the width only touches, can be missed.
+    """
+
+    k: int
+    ranges: tuple[tuple[float, float], ...]
+    brackets: tuple[tuple[tuple[float, float] | None, tuple[float, float] | None], ...]
+    tolerance: float
+
+
+@dataclasses.dataclass(frozen=True)
+class RingAtlas(Result):
+    """Stable intervals of the chosen states of a ring against one design parameter.
+
+    ``intervals[i][j]``: state ``states[j]`` at ``values[i]``; ``mutual[i]``: the maximal sets
+    of mutually stable states at ``values[i]`` (:func:`mutual_sets`); ``coexistence``: the
+    parameter ranges of ``k`` mutually stable states for each ``k`` solved for
+    (:class:`CoexistenceRanges`, increasing ``k``).
+    """
+
+    key: str
+    values: tuple[float, ...]
+    states: tuple[str, ...]
+    intervals: tuple[tuple[StateInterval, ...], ...]
+    mutual: tuple[tuple[Overlap, ...], ...]
+    coexistence: tuple[CoexistenceRanges, ...]
+    load_factor: str
+    method: str
+
+    def limit_runs(self, state: str, side: str) -> list[tuple[float, float, str]]:
+        """Return the runs of the grid with one kind of mode at ``state``'s ``side`` limit.
+
+        ``(first value, last value, kind)``, kind e.g. ``"symmetry-breaking pair m=2 (x2)"``
+        (by FE: the multiplicity alone), in grid order.
+        """
+        j = self.states.index(state)
+        runs: list[tuple[float, float, str]] = []
+        for p, row in zip(self.values, self.intervals, strict=True):
+            lim: Limit = getattr(row[j], side)
+            if lim.multiplicity == 0:
+                kind = "none found"
+            elif lim.harmonic is None:
+                kind = f"multiplicity {lim.multiplicity}"
+            else:
+                kind = f"{lim.mode_type} m={lim.harmonic} (x{lim.multiplicity})"
+            if runs and runs[-1][2] == kind:
+                runs[-1] = (runs[-1][0], p, kind)
+            else:
+                runs.append((p, p, kind))
+        return runs
+
+    def bands(self) -> dict[str, list[float]]:
+        """``{"value": [...], "<state>.lower": [...], "<state>.upper": [...]}`` for a chart."""
+        data: dict[str, list[float]] = {"value": list(self.values)}
+        for j, s in enumerate(self.states):
+            data[f"{s}.lower"] = [row[j].lower.load_factor for row in self.intervals]
+            data[f"{s}.upper"] = [row[j].upper.load_factor for row in self.intervals]
+        return data
+
+
+def _finite_width(w: float) -> float:
+    """Return an overlap width for the root finder: an infinite one as a large finite one."""
+    return w if math.isfinite(w) else math.copysign(1e300, w)
+
+
+def coexistence_ranges(width: Callable[[float], float], values: Sequence[float],
+                       widths: Sequence[float], k: int,
+                       rel_xtol: float = RANGE_RTOL) -> CoexistenceRanges:
+    """Ranges of the parameter where ``width(p) > 0``, from its values ``widths`` on ``values``.
+
+    Each sign change between neighbouring grid values is refined by
+    :func:`rodstab.numerics.refine_root` (Brent) to ``rel_xtol`` times that spacing.
+    """
+    xs = [float(v) for v in values]
+    ws = [_finite_width(float(w)) for w in widths]
+    order = sorted(range(len(xs)), key=lambda i: xs[i])
+    xs, ws = [xs[i] for i in order], [ws[i] for i in order]
+    ranges: list[tuple[float, float]] = []
+    brackets: list[tuple[tuple[float, float] | None, tuple[float, float] | None]] = []
+    start: float | None = xs[0] if ws[0] > 0 else None
+    start_bracket: tuple[float, float] | None = None
+    for i in range(len(xs) - 1):
+        a, b = xs[i], xs[i + 1]
+        if (ws[i] > 0) == (ws[i + 1] > 0):
+            continue
+        if ws[i] == 0.0 or ws[i + 1] == 0.0:
+            root = a if ws[i] == 0.0 else b  # the width vanishes on the grid itself
+        else:
+            root = refine_root(lambda p: _finite_width(width(p)), a, b, rel_xtol=rel_xtol)
+        if ws[i + 1] > 0:
+            start, start_bracket = root, (a, b)
+        else:
+            assert start is not None
+            ranges.append((start, root))
+            brackets.append((start_bracket, (a, b)))
+            start = None
+    if start is not None:
+        ranges.append((start, xs[-1]))
+        brackets.append((start_bracket, None))
+    spacing = min(b - a for a, b in zip(xs, xs[1:], strict=False))
+    return CoexistenceRanges(k, tuple(ranges), tuple(brackets), rel_xtol * spacing)
+
+
+def ring_atlas(ring_at: Callable[[float], Ring], values: Sequence[float],
+               states: Sequence[str] | None = None, *, key: str = "parameter",
+               method: str = "transfer", max_turns: float = 1.0,
+               limits: Limits = DEFAULT_LIMITS, ks: Sequence[int] | None = None,
+               progress: Callable[[], object] | None = None) -> RingAtlas:
+    """Stable intervals of the states of a ring against a parameter, and their coexistence.
+
+    Parameters
+    ----------
+    ring_at : callable
+        The ring at a parameter value (raises :class:`RodstabInputError` naming the value if
+        the design is not a ring there).
+    values : sequence of float
+        At least two distinct parameter values (the grid).
+    states : sequence of str, optional
+        State labels (:meth:`Ring.states`); default :func:`default_states` at ``values[0]``.
+    key : str
+        Name of the parameter (messages, the result).
+    method : {"transfer", "fe"}
+        :func:`state_interval`'s method.
+    max_turns : float
+        The states' largest turning per rod, in full turns.
+    limits : Limits
+        Size limits of the FE engine.
+    ks : sequence of int, optional
+        The numbers ``k`` of mutually stable states whose parameter ranges are solved for
+        (default ``1 .. len(states)``; each range end inside the grid costs a root search).
+    progress : callable, optional
+        Called once per grid value.
+
+    Returns
+    -------
+    RingAtlas
+        Load factors in the design's units (:data:`LOAD_FACTOR_UNITS`); coexistence ranges for
+        each of ``ks``, their ends inside the grid refined by the root finder.
+    """
+    if method not in METHODS:
+        raise RodstabInputError(f"method must be one of {METHODS}, got {method!r}")
+    vals = [float(v) for v in values]
+    if len(vals) < 2 or len(set(vals)) != len(vals):
+        raise RodstabInputError(f"{key}: an atlas needs at least 2 distinct values, got "
+                                f"{len(vals)} ({len(set(vals))} distinct)")
+    labels = tuple(default_states(ring_at(vals[0]), max_turns) if states is None else states)
+    if not labels:
+        raise RodstabInputError("an atlas needs at least one state, got none")
+    select_states(ring_at(vals[0]), labels, max_turns)  # unknown labels fail before solving
+    cache: dict[float, tuple[StateInterval, ...]] = {}
+
+    def solve(p: float) -> tuple[StateInterval, ...]:
+        if p not in cache:
+            ring = ring_at(p)
+            cache[p] = tuple(state_interval(ring, s, method, limits)
+                             for s in select_states(ring, labels, max_turns))
+        return cache[p]
+
+    def as_dict(row: tuple[StateInterval, ...]) -> dict[str, tuple[float, float]]:
+        return {r.label: r.interval for r in row}
+
+    rows = []
+    for p in vals:
+        rows.append(solve(p))
+        if progress is not None:
+            progress()
+    ks = tuple(range(1, len(labels) + 1)) if ks is None else tuple(ks)
+    for k in ks:
+        if not 1 <= k <= len(labels):
+            raise RodstabInputError(f"ks: {k!r} is not in 1..{len(labels)}")
+    coexistence = []
+    for k in ks:
+        def width(p: float, k: int = k) -> float:
+            return best_overlap(as_dict(solve(p)), k).width
+
+        coexistence.append(coexistence_ranges(width, vals, [width(p) for p in vals], k))
+    return RingAtlas(key=key, values=tuple(vals), states=labels, intervals=tuple(rows),
+                     mutual=tuple(mutual_sets(as_dict(r)) for r in rows),
+                     coexistence=tuple(coexistence), load_factor=LOAD_FACTOR_UNITS,
+                     method=rows[0][0].method if rows[0] else method)

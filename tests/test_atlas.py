@@ -1,0 +1,235 @@
+"""The stability atlas of a ring's held states (rodstab.atlas, ``rodstab atlas``).
+
+Oracles: the Bloch transfer method against the FE engine on the whole ring (every limit and
+its multiplicity, 1e-6); the six-sided ring's folded state against the full system of general
+solutions of problems/folded_ring.py (lambda_c = pi / 3) and its one-loop state against
+problems/unfolded_ring.py's own ring (units converted: the design's load factor is kappa_n,
+kappa_n R0 = load factor x 3 / (2 pi)); the hexagram's threshold h/t* = 3.5102 (nu = 1/3,
+tests/test_hexagram.py) as the start of the atlas's four-state range; a brute-force search
+over all subsets for the k-overlap.
+"""
+
+from __future__ import annotations
+
+import itertools
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from rodstab import atlas as A
+from rodstab.cli import main
+from rodstab.design import load_design
+from rodstab.errors import RodstabInputError
+from rodstab.problems import folded_ring, unfolded_ring
+from rodstab.sections import rectangle
+from rodstab.states import ring_of, uniform_ring
+from rodstab.sweep import design_at
+
+EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+HEXAGRAM = str(EXAMPLES / "hexagram.toml")
+SIX_RING = str(EXAMPLES / "folded_six_ring.toml")
+FOUR = ("line", "star", "daisy", "eight")
+
+
+def ring_at(design: str, aspect: float):
+    return ring_of(design_at(load_design(design), "section.aspect", aspect).assembly)
+
+
+@pytest.mark.parametrize("design,aspect,labels", [(HEXAGRAM, 4.0, FOUR),
+                                                  (SIX_RING, 2.5, None)],
+                         ids=["hexagram h/t=4", "six-ring h/t=2.5, every state"])
+def test_transfer_and_fe_agree_on_every_limit_and_multiplicity(design, aspect, labels):
+    """Bloch harmonics vs the FE engine (Richardson 32/64): 1e-6 (relative above 1)."""
+    ring = ring_at(design, aspect)
+    labels = labels or A.default_states(ring)
+    for state in A.select_states(ring, labels):
+        tr, fe = A.transfer_interval(ring, state), A.fe_interval(ring, state)
+        assert tr.stable_at_stress_free and fe.stable_at_stress_free
+        assert tr.lower.load_factor < tr.stress_free_load < tr.upper.load_factor
+        for a, b in ((tr.lower, fe.lower), (tr.upper, fe.upper)):
+            assert abs(a.load_factor - b.load_factor) <= 1e-6 * max(1.0, abs(b.load_factor)), \
+                (state.label, a, b)
+            assert a.multiplicity == b.multiplicity, (state.label, a, b)
+            # a pair of harmonics m, n - m is a two-dimensional null space
+            assert (a.mode_type == A.PAIR) <= (a.multiplicity == 2)
+
+
+def test_six_ring_folded_state_is_the_full_systems_and_section_5s():
+    """The line of the folded six-ring: upper limit = lambda_c sqrt(b1 b2) / L, lambda_c by the
+    full system of general solutions (folded_ring.full_system) and in closed form pi / 3."""
+    sec = rectangle(aspect=4.0)
+    ring = ring_at(SIX_RING, 4.0)
+    line = A.transfer_interval(ring, ring.state("line"))
+    lam = folded_ring.full_system(folded_ring.Params(section=sec)).lambda_c
+    assert line.upper.load_factor == pytest.approx(lam * sec.sqrt_b1b2, rel=1e-8)
+    assert line.upper.load_factor == pytest.approx(math.pi / 3 * sec.sqrt_b1b2, rel=1e-10)
+    assert line.lower.load_factor == pytest.approx(-line.upper.load_factor, rel=1e-10)
+
+
+def test_six_ring_one_loop_state_is_the_unfolded_rings():
+    """The star of the folded design is problems/unfolded_ring.py's one-loop ring: its load
+    factor is kappa_n (L = 1), theirs kappa_n R0 with R0 = L / (2 pi / 3). Their FE at 64
+    elements per arc (h^4 error ~2e-5, problems/hexagram.py FE_MESHES note)."""
+    sec = rectangle(aspect=4.0)
+    star = A.transfer_interval(ring_at(SIX_RING, 4.0), ring_at(SIX_RING, 4.0).state("star"))
+    theirs = unfolded_ring.engine_stability(unfolded_ring.Params(section=sec), 64)
+    R0 = 3 / (2 * math.pi)
+    for ours, their in zip(star.interval, theirs.load_factor_interval, strict=True):
+        assert ours * R0 == pytest.approx(their, rel=1e-4, abs=1e-4)
+    # the same state in the design with R0 = 1 (examples/unfolded_six_ring.toml)
+    unf = ring_of(design_at(load_design(str(EXAMPLES / "unfolded_six_ring.toml")),
+                            "section.aspect", 4.0).assembly)
+    direct = A.transfer_interval(unf, unf.state("star")).interval
+    assert np.allclose(direct, np.array(star.interval) * R0, rtol=1e-9)
+
+
+def test_hexagram_four_state_range_begins_at_the_threshold():
+    """nu = 1/3: all four mutually stable from h/t* = 3.5102 (test_hexagram) to the grid's end;
+    the overlap width changes sign within the stated tolerance of the refined start."""
+    base = load_design(HEXAGRAM)
+
+    def ring(aspect: float):
+        return ring_of(design_at(base, "section.aspect", aspect).assembly)
+
+    at = A.ring_atlas(ring, [1.0, 2.0, 3.0, 4.0, 5.0, 6.0], FOUR, key="section.aspect",
+                      ks=(3, 4))
+    four = at.coexistence[1]
+    assert four.k == 4 and len(four.ranges) == 1
+    start, end = four.ranges[0]
+    assert start == pytest.approx(3.5102, abs=1e-4) and end == 6.0
+    assert four.brackets[0] == ((3.0, 4.0), None)
+    step = 10 * four.tolerance
+
+    def width(aspect: float) -> float:
+        return A.best_overlap({s.label: s.interval for s in
+                               (A.transfer_interval(ring(aspect), st)
+                                for st in A.select_states(ring(aspect), FOUR))}, 4).width
+
+    assert width(start - step) < 0 < width(start + step)
+    # at each grid value: inside a k-range exactly when some k states share a load
+    for k_ranges in at.coexistence:
+        for p, sets in zip(at.values, at.mutual, strict=True):
+            inside = any(a <= p <= b for a, b in k_ranges.ranges)
+            assert inside == (max(o.k for o in sets) >= k_ranges.k), (k_ranges.k, p)
+    # the binding limits at the threshold are the published ones
+    assert A.best_overlap(dict(zip(FOUR, ((s.interval) for s in at.intervals[3]),
+                                   strict=True)), 4).binding == ("eight.lower", "line.upper")
+
+
+def _brute_force(intervals, k):
+    return max(min(intervals[s][1] for s in c) - max(intervals[s][0] for s in c)
+               for c in itertools.combinations(intervals, k))
+
+
+def test_best_overlap_is_the_best_of_all_subsets():
+    rng = np.random.default_rng(7)
+    for _ in range(40):
+        n = int(rng.integers(1, 8))
+        lo = rng.uniform(-3, 3, n).round(1)  # rounded: ties between lower limits occur
+        intervals = {f"s{i}": (float(a), float(a + w)) for i, (a, w) in
+                     enumerate(zip(lo, rng.uniform(0.1, 4, n), strict=True))}
+        for k in range(1, n + 1):
+            best = A.best_overlap(intervals, k)
+            assert best.width == pytest.approx(_brute_force(intervals, k), abs=1e-12)
+            assert len(best.members) == k
+            members = [intervals[m] for m in best.members]
+            assert best.width == pytest.approx(min(b for _, b in members)
+                                               - max(a for a, _ in members), abs=1e-12)
+
+
+def test_mutual_sets_are_the_maximal_cliques():
+    """a (0, 3), b (1, 4), c (2, 5), d (3.5, 6): maximal sets {a, b, c} on (2, 3) and
+    {b, c, d} on (3.5, 4)."""
+    sets = A.mutual_sets({"a": (0.0, 3.0), "b": (1.0, 4.0), "c": (2.0, 5.0),
+                          "d": (3.5, 6.0)})
+    assert [(o.members, o.load_interval) for o in sets] == [
+        (("a", "b", "c"), (2.0, 3.0)), (("b", "c", "d"), (3.5, 4.0))]
+
+
+@pytest.mark.parametrize("m,n,kind", [(0, 6, A.ALL_ALIKE), (1, 6, A.PAIR), (2, 6, A.PAIR),
+                                      (3, 6, A.ALTERNATING), (2, 5, A.PAIR), (0, 1, A.ALL_ALIKE)])
+def test_mode_type_by_harmonic(m, n, kind):
+    assert A.mode_type(m, n) == kind
+
+
+def test_mirror_state_interval_is_the_negated_one():
+    """Why default_states leaves out theta < 0: the reflected state at -mu."""
+    ring = ring_at(HEXAGRAM, 3.0)
+    star = A.transfer_interval(ring, ring.state("star")).interval
+    mirror = A.transfer_interval(ring, ring.state("mirror-star")).interval
+    assert mirror == pytest.approx((-star[1], -star[0]), rel=1e-9)
+    assert "mirror-star" not in A.default_states(ring)
+
+
+@pytest.mark.parametrize("call,name", [
+    (lambda: A.mode_type(4, 6), "4"),
+    (lambda: A.bloch_interval(uniform_ring(6, weld=1.0, natural_curvature=1.0), 0.5),
+     "57.2958deg"),
+    (lambda: A.bloch_interval(uniform_ring(6), 0.5), "natural_curvature"),
+    (lambda: A.select_states(uniform_ring(6, natural_curvature=1.0), ["tulip"]), "tulip"),
+    (lambda: A.ring_atlas(lambda p: uniform_ring(6, natural_curvature=1.0), [1.0]), "1"),
+    (lambda: A.state_interval(uniform_ring(6, natural_curvature=1.0),
+                              uniform_ring(6).state("star"), "guess"), "guess"),
+])
+def test_bad_input_names_the_value(call, name):
+    with pytest.raises(RodstabInputError, match=name):
+        call()
+
+
+def test_cli_atlas_writes_json_and_chart(tmp_path, capsys):
+    out = tmp_path / "atlas"
+    main(["atlas", HEXAGRAM, "--vary", "section.aspect=3:4:3", "--state", "star",
+          "--state", "eight", "--out", str(out), "--json", "--no-progress"])
+    payload = json.loads(capsys.readouterr().out)
+    assert json.loads((out / "atlas.json").read_text()) == payload
+    assert (out / "atlas.png").stat().st_size > 0
+    assert payload["values"] == [3.0, 3.5, 4.0] and list(payload["states"]) == ["star", "eight"]
+    ring = ring_at(HEXAGRAM, 3.5)
+    star = A.transfer_interval(ring, ring.state("star"))
+    assert payload["states"]["star"]["lower"][1] == star.lower.load_factor
+    assert payload["states"]["star"]["upper_mode"] == [A.ALL_ALIKE] * 3
+    assert payload["states"]["eight"]["lower_multiplicity"] == [2, 2, 2]
+    assert "load factor" in payload["load_factor"]
+    assert [c["k"] for c in payload["coexistence"]] == [1, 2]
+
+
+@pytest.mark.parametrize("argv,name", [
+    ([str(EXAMPLES / "clamped_arc.toml"), "--vary", "section.aspect=1:2:3"], "clamped_arc"),
+    ([HEXAGRAM, "--vary", "section.aspect=1:2:3", "--state", "tulip"], "tulip"),
+    ([HEXAGRAM, "--vary", "section.colour=1:2:3"], "colour"),
+    ([HEXAGRAM, "--vary", "section.aspect=1:2:1"], "N 1"),
+    ([HEXAGRAM, "--vary", "section.aspect=2:2:3"], "2"),
+    ([HEXAGRAM, "--vary", "section.aspect=1:2:3", "--method", "guess"], "guess"),
+    ([HEXAGRAM, "--vary", "section.aspect=1:2:3", "--max-turns", "0"], "max_turns"),
+    ([HEXAGRAM, "--vary", "section.aspect=-1:2:3"], "-1"),
+])
+def test_cli_atlas_bad_input_exits_2_naming_the_value(tmp_path, capsys, argv, name):
+    with pytest.raises(SystemExit) as exc:
+        main(["atlas", *argv, "--out", str(tmp_path / "o"), "--no-progress"])
+    assert exc.value.code == 2
+    err = capsys.readouterr()
+    assert err.out == "" and name in err.err and len(err.err.strip().splitlines()) == 1
+
+
+def test_cli_atlas_out_not_writable_exits_2(tmp_path, capsys):
+    blocker = tmp_path / "file"
+    blocker.write_text("x")
+    with pytest.raises(SystemExit) as exc:
+        main(["atlas", HEXAGRAM, "--vary", "section.aspect=1:2:3", "--out", str(blocker)])
+    assert exc.value.code == 2 and str(blocker) in capsys.readouterr().err
+
+
+def test_hexagram_example_is_the_star_of_the_hexagram_module(run_cli):
+    """`rodstab analyze examples/hexagram.toml` (FE, 32 el./rod, reference 1): the star's
+    interval of kappa_n R0 by the Bloch method of problems/hexagram.py, to the FE error at 32
+    elements per rod (~4e-4, the FE_MESHES note there)."""
+    from rodstab.problems import hexagram as hx
+
+    r = run_cli(["analyze", HEXAGRAM, "--json"])
+    assert r.exit_code == 0, r.stderr
+    lo, hi = json.loads(r.stdout)["load_factor_interval"]
+    want = hx.transfer_interval(hx.Params(section=rectangle(aspect=4.0), state="star"))
+    assert (lo, hi) == pytest.approx(want, rel=1e-3, abs=1e-3)
