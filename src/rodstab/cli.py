@@ -434,11 +434,15 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
 @click.option("--restart", is_flag=True,
               help="Start afresh in --out: ignore (and remove) the run saved there.")
 @click.option("--no-progress", is_flag=True, help="Do not draw the progress bar.")
+@click.option("--error-estimate/--no-error-estimate", default=True, show_default=True,
+              help="Continue again on the mesh twice as fine up to the last special point "
+                   "and state each special point's discretisation error (Richardson, order "
+                   "2).")
 @_limit_options
 @_json_option
 def continue_cmd(design_file: str, vary: str, out_dir: str | None, elements: int,
-                 branch_steps: int, restart: bool, no_progress: bool, limits: Limits,
-                 as_json: bool) -> None:
+                 branch_steps: int, restart: bool, no_progress: bool, error_estimate: bool,
+                 limits: Limits, as_json: bool) -> None:
     """Pseudo-arclength continuation in one parameter, with stability along the path.
 
     It finds folds, branch points and the branches leaving them (sub- or supercritical).
@@ -477,6 +481,13 @@ def continue_cmd(design_file: str, vary: str, out_dir: str | None, elements: int
                              branch_steps=branch_steps, reference_segment=d.load_factor_segment,
                              limits=limits, restart=restart)
         specials = [{k: v for k, v in p.items() if k != "branch"} for p in r.special_points]
+        if error_estimate and specials and r.converged:
+            from .nonlinear.continuation import special_point_errors
+
+            for p, err in zip(specials, special_point_errors(
+                    d.assembly, key, start, r, n, elements_per_segment=elements, stop=stop,
+                    limits=limits), strict=True):
+                p.update(err)
         payload = {"key": r.key, "value": list(r.value), "energy": list(r.energy),
                    "lowest_eigenvalue": list(r.lowest_eigenvalue),
                    "stable": [e > 0 for e in r.lowest_eigenvalue], "special_points": specials,
@@ -487,6 +498,7 @@ def continue_cmd(design_file: str, vary: str, out_dir: str | None, elements: int
              f"({r.resumed_steps} resumed), path {'complete' if r.converged else 'STOPPED'}"]
     lines += [f"special      {p['kind']} at {r.key} = {_fmt(p['value'])}"
               + (f"; {p['post_buckling']}" if "post_buckling" in p else "")
+              + _mesh_error_text(p, elements)
               for p in specials] or ["special      none: the path stays "
                                      + ("stable" if r.lowest_eigenvalue[-1] > 0
                                         else "unstable")]
@@ -494,6 +506,18 @@ def continue_cmd(design_file: str, vary: str, out_dir: str | None, elements: int
     if not r.converged:
         raise NotConverged(f"the continuation in {r.key} stopped at {r.value[-1]:.6g} before "
                            f"reaching {stop:.6g} (a step failed or the step budget ran out)")
+
+
+def _mesh_error_text(p: dict[str, Any], elements: int) -> str:
+    """Return the special point's discretisation error as ``continue`` prints it (or "")."""
+    if "elements_fine" not in p:
+        return ""
+    if p.get("error_estimate") is None:
+        return f"\n             mesh error unknown: {p['why']}"
+    rel = p["error_estimate"] / max(abs(p["value_extrapolated"]), 1e-300)
+    return (f"\n             mesh error: {_fmt(p['value_fine'])} at {p['elements_fine']} "
+            f"elements, Richardson {_fmt(p['value_extrapolated'])}: the {elements}-element "
+            f"value is off by {_fmt(p['error_estimate'])} ({100 * rel:.2g} %)")
 
 
 def _continuation_pictures(r: Any, d: Any, out: Path, elements: int,

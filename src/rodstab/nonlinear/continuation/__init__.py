@@ -20,7 +20,7 @@ from .branches import (
     trace_branch,
 )
 from .path import Path, SpecialKind, post_buckling, xi
-from .run import continuation
+from .run import continuation, special_point_errors
 from .studies import (
     ImperfectionSensitivity,
     PrimaryCritical,
@@ -31,4 +31,5 @@ from .studies import (
 __all__ = ["Direction", "ImperfectionSensitivity", "Path", "PrimaryCritical", "SpecialKind",
            "amplitude_branch", "arclength_from_bifurcation", "branch_directions",
            "continuation", "critical_along_primary", "imperfection_sensitivity",
-           "post_buckling", "post_buckling_branch", "trace_branch", "xi"]
+           "post_buckling", "post_buckling_branch", "special_point_errors", "trace_branch",
+           "xi"]
