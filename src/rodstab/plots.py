@@ -20,8 +20,21 @@ from .linear.solve import LinearStability
 from .model import Assembly
 
 
-def plot_mode(assembly: Assembly, result: LinearStability, path: str | Path, *,
-              amplitude: float = 0.15, title: str | None = None) -> Path:
+def _finish(fig: Figure, path: str | Path | None, *, dpi: int, tight: bool = True) -> Any:
+    """Write ``fig`` to ``path`` and return the path; without a path return the figure.
+
+    The figure (matplotlib's object API) shows itself in a notebook cell; a script saves it with
+    ``fig.savefig``.
+    """
+    if path is None:
+        return fig
+    out = Path(path)
+    fig.savefig(out, dpi=dpi, bbox_inches="tight" if tight else None)
+    return out
+
+
+def plot_mode(assembly: Assembly, result: LinearStability, path: str | Path | None = None,
+              *, amplitude: float = 0.15, title: str | None = None) -> Any:
     """Draw the held state (grey, in the plane z = 0) and the critical mode in 3D.
 
     The mode's out-of-plane displacement ``w`` is drawn as ``z`` (scaled so that its largest
@@ -60,14 +73,12 @@ def plot_mode(assembly: Assembly, result: LinearStability, path: str | Path, *,
     ax.set_zlabel("w (mode)")
     sm = ScalarMappable(cmap=cmap, norm=Normalize(-om_max, om_max))
     fig.colorbar(sm, ax=ax, shrink=0.6, label="twist omega (mode)")
-    out = Path(path)
-    fig.savefig(out, dpi=120, bbox_inches="tight")
-    return out
+    return _finish(fig, path, dpi=120)
 
 
-def plot_equilibrium(x: np.ndarray, edge_nodes: np.ndarray, path: str | Path, *,
+def plot_equilibrium(x: np.ndarray, edge_nodes: np.ndarray, path: str | Path | None = None, *,
                      edge_values: np.ndarray | None = None, value_label: str = "moment",
-                     title: str = "equilibrium") -> Path:
+                     title: str = "equilibrium") -> Any:
     """Plot the 3D centreline of an equilibrium, coloured by ``edge_values`` or else by z.
 
     Node positions ``x`` (n, 3), edges ``(i, j)`` pairs; ``edge_values`` e.g. the internal moment
@@ -94,9 +105,7 @@ def plot_equilibrium(x: np.ndarray, edge_nodes: np.ndarray, path: str | Path, *,
     ax.set_xlabel("x")
     ax.set_ylabel("y")
     ax.set_zlabel("z")
-    out = Path(path)
-    fig.savefig(out, dpi=120, bbox_inches="tight")
-    return out
+    return _finish(fig, path, dpi=120)
 
 
 def animate_shapes(frames: list[np.ndarray], edge_nodes: np.ndarray, path: str | Path, *,
@@ -182,8 +191,8 @@ def html_view(shapes: list[np.ndarray], edge_nodes: np.ndarray, path: str | Path
     return p
 
 
-def plot_ring_states(shapes: list[list[np.ndarray]], titles: list[str], path: str | Path, *,
-                     columns: int = 4) -> Path:
+def plot_ring_states(shapes: list[list[np.ndarray]], titles: list[str],
+                     path: str | Path | None = None, *, columns: int = 4) -> Any:
     """Draw closed planar states of a ring in a grid, one panel per state.
 
     ``shapes[i]`` holds the centrelines ``(n_points, 2)`` of state ``i``'s rods (lab frame, as
@@ -205,14 +214,13 @@ def plot_ring_states(shapes: list[list[np.ndarray]], titles: list[str], path: st
         ax.set_yticks([])
         ax.set_title(title, fontsize=8)
     fig.tight_layout()
-    out = Path(path)
-    fig.savefig(out, dpi=110)
-    return out
+    return _finish(fig, path, dpi=110, tight=False)
 
 
-def plot_stable_bands(data: dict[str, list[float]], states: tuple[str, ...], path: str | Path,
-                      *, threshold: float | None = None, title: str = "", x_key: str = "aspect",
-                      xlabel: str = "h / t", ylabel: str = "kappa_n R0") -> Path:
+def plot_stable_bands(data: dict[str, list[float]], states: tuple[str, ...],
+                      path: str | Path | None = None, *, threshold: float | None = None,
+                      title: str = "", x_key: str = "aspect", xlabel: str = "h / t",
+                      ylabel: str = "kappa_n R0") -> Any:
     """Draw each state's stable band of the load between ``<state>.lower`` and ``.upper``.
 
     ``data[x_key]`` is the abscissa (default h/t); the bands are filled, translucent, one
@@ -243,6 +251,4 @@ def plot_stable_bands(data: dict[str, list[float]], states: tuple[str, ...], pat
     ax.set_title(title, fontsize=9)
     ax.legend(fontsize=8, loc="upper left")
     ax.grid(alpha=0.3)
-    out = Path(path)
-    fig.savefig(out, dpi=120, bbox_inches="tight")
-    return out
+    return _finish(fig, path, dpi=120)
