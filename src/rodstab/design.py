@@ -3,11 +3,16 @@
 Format (every key optional unless marked; unknown keys are errors)::
 
     [section]                 # default section of every segment (as the CLI options)
-    shape = "rectangle"       # circle | ellipse | rectangle | tube   (or b1 = .., b2 = ..)
+    shape = "rectangle"       # circle | ellipse | rectangle | tube | polygon  (or b1, b2)
     aspect = 2.0
     nu = 0.3333
     torsion = "exact"
     B3 = 1.0                  # in-plane bending stiffness (sets the units of B1, B2)
+    # shape = "polygon" (implied by polygon = ...): any section, y out of the ring's plane
+    # polygon = [[0, 0], [1, 0], [1, 2], [0, 2]]    # outline, any length unit
+    # holes = [[[0.3, 0.3], [0.7, 0.3], [0.7, 0.6]]]  # optional
+    # mesh_size = 1e-3        # optional: largest triangle area / section area
+    # orientation_deg = 90    # optional: direction of the ring's normal (a principal axis)
 
     [[segment]]               # required, one table per segment, in order
     name = "a"                # required, unique
@@ -44,8 +49,10 @@ number, a float is not an integer, an array is not a table. Ranges: lengths in
 :data:`LENGTH_RANGE`, ``B3`` in :data:`STIFFNESS_RANGE`, ``|curvature|``, ``|natural_curvature|``
 and ``|natural_twist|`` times the length at most :data:`MAX_TURNING`, ``angle_deg`` in
 :data:`ANGLE_RANGE_DEG`, rotations within :data:`MAX_END_ROTATION`, ``nu`` in (-1, 0.5],
-``aspect``, ``b1``, ``b2`` as :mod:`rodstab.sections` accepts them. Messages start with the
-file's name.
+``aspect``, ``b1``, ``b2`` as :mod:`rodstab.sections` accepts them; a polygon's points are
+numbers (``section.polygon[3][1]``) and its geometry is checked by
+:func:`rodstab.sections.polygon_section` (the message names the table, e.g. ``section: holes[0]
+... is not inside the polygon``). Messages start with the file's name.
 """
 
 from __future__ import annotations
@@ -59,10 +66,22 @@ from typing import Any
 
 from .errors import RodstabInputError, require_positive_int
 from .model import MAX_END_ROTATION, ROTATION_AXES, SUPPORTS, Assembly, Segment
-from .sections import ASPECT_RANGE, RATIO_RANGE, SHAPES, TORSION_OPTIONS, make_section
+from .sections import (
+    ASPECT_RANGE,
+    MAX_POLYGON_VERTICES,
+    MESH_SIZE_RANGE,
+    POLYGON,
+    RATIO_RANGE,
+    SHAPES,
+    TORSION_OPTIONS,
+    make_section,
+    polygon_section,
+)
 
 _TOP = {"section", "segment", "weld", "support", "analysis"}
-_SECTION = {"shape", "aspect", "nu", "torsion", "b1", "b2", "B3"}
+#: Keys of a polygon section (shape "polygon", rodstab.sections.polygon_section).
+_POLYGON_KEYS = ("polygon", "holes", "mesh_size", "orientation_deg")
+_SECTION = {"shape", "aspect", "nu", "torsion", "b1", "b2", "B3", *_POLYGON_KEYS}
 _SEGMENT = {"name", "length", "curvature", "natural_curvature", "natural_twist", "start",
             "angle_deg", "cusp", "section"}
 _WELD = {"ends"}
@@ -302,7 +321,18 @@ def _section_table(table: dict[str, Any], where: str) -> dict[str, tuple[Any, st
     for key, value in table.items():
         path = _path(where, key)
         if key == "shape":
-            value = _as_str(value, path, SHAPES)
+            value = _as_str(value, path, (*SHAPES, POLYGON))
+        elif key == "polygon":
+            value = _points(value, path)
+        elif key == "holes":
+            value = [_points(h, _path(path, k)) for k, h in enumerate(_as_list(
+                value, path, "an array of polygons [[[x, y], ...], ...]"))]
+        elif key == "mesh_size":
+            value = _as_number(value, path, lo=MESH_SIZE_RANGE[0], hi=MESH_SIZE_RANGE[1],
+                               why="the largest triangle's area over the section's area")
+        elif key == "orientation_deg":
+            value = _as_number(value, path, lo=ANGLE_RANGE_DEG[0], hi=ANGLE_RANGE_DEG[1],
+                               why="the direction of the ring's normal in the polygon, degrees")
         elif key == "torsion":
             value = _as_str(value, path, TORSION_OPTIONS)
         elif key == "nu":
@@ -320,6 +350,41 @@ def _section_table(table: dict[str, Any], where: str) -> dict[str, tuple[Any, st
     return out
 
 
+def _points(value: Any, path: str) -> list[list[float]]:
+    """Read a polygon ``[[x, y], ...]`` (numbers only; its geometry is checked by sections)."""
+    what = "an array of points [[x, y], ...]"
+    points = _as_list(value, path, what)
+    if len(points) > MAX_POLYGON_VERTICES:
+        raise RodstabInputError(f"{path} has {len(points)} points; at most "
+                                f"{MAX_POLYGON_VERTICES} are accepted")
+    return [[_as_number(v, _path(_path(path, i), j), why="a coordinate of the polygon")
+             for j, v in enumerate(_as_list(p, _path(path, i), "a point [x, y]", length=2))]
+            for i, p in enumerate(points)]
+
+
+def _polygon_stiffness(spec: dict[str, tuple[Any, str]], where: str) -> tuple[float, float,
+                                                                                 float]:
+    """``(B1, B2, B3)`` of a polygon section (:func:`rodstab.sections.polygon_section`)."""
+    if "polygon" not in spec:
+        raise RodstabInputError(f"{spec['shape'][1]} = 'polygon' needs {where}.polygon = "
+                                "[[x, y], ...] (the outline, y out of the plane of the ring)")
+    for key in ("aspect", "torsion"):
+        if key in spec:
+            raise RodstabInputError(f"{spec[key][1]} = {_show(spec[key][0])} has no meaning "
+                                    "for a polygon section (its J is computed by FE)")
+    def val(key: str) -> Any:
+        return spec[key][0] if key in spec else None
+
+    try:
+        sec = polygon_section(val("polygon"), val("holes") or (),
+                              nu=1 / 3 if val("nu") is None else val("nu"),
+                              mesh_size=val("mesh_size"), orientation_deg=val("orientation_deg"))
+    except RodstabInputError as exc:  # the geometry: name the table
+        raise RodstabInputError(f"{where}: {exc}") from None
+    B3 = 1.0 if val("B3") is None else val("B3")
+    return sec.b1 * B3, sec.b2 * B3, B3
+
+
 def _stiffness(spec: dict[str, tuple[Any, str]], where: str) -> tuple[float, float, float]:
     """``(B1, B2, B3)`` of a checked, merged section; combinations checked with their paths."""
     def val(key: str, default: Any = None) -> Any:
@@ -333,7 +398,14 @@ def _stiffness(spec: dict[str, tuple[Any, str]], where: str) -> tuple[float, flo
         given, missing = ("b1", "b2") if b2 is None else ("b2", "b1")
         raise RodstabInputError(f"{path(given)} = {_show(val(given))} is given without "
                                 f"{missing}: give both b1 and b2, or neither")
-    shape = None if b1 is not None else val("shape", "circle")
+    shape = None if b1 is not None else val("shape", POLYGON if "polygon" in spec else "circle")
+    stray = [k for k in _POLYGON_KEYS if k in spec]
+    if shape == POLYGON:
+        return _polygon_stiffness(spec, where)
+    if stray:
+        owner = "b1 and b2, which fix the section" if b1 is not None else f"shape {shape!r}"
+        raise RodstabInputError(f"{path(stray[0])} = {_show(val(stray[0]))} has no meaning for "
+                                f"{owner} (polygon keys need shape = 'polygon')")
     if b1 is not None:
         for key in ("aspect", "torsion"):
             if key in spec and not (key == "torsion" and val(key) == "exact"):
@@ -392,7 +464,8 @@ def _segment(raw: dict[str, Any], where: str, default: dict[str, tuple[Any, str]
     spec = default
     if "section" in raw:
         own = _section_table(_table(raw, "section", where, _SECTION), f"{where}.section")
-        spec = own if ("shape" in own or "b1" in own) else default | own
+        # A new shape, ratios or outline replaces the default section; other keys amend it.
+        spec = own if ("shape" in own or "b1" in own or "polygon" in own) else default | own
     B1, B2, B3 = _stiffness(spec, f"{where}.section")
     values = {}
     for key in ("curvature", "natural_curvature", "natural_twist"):
@@ -562,7 +635,7 @@ def load_design(path: str | Path) -> Design:
 # --------------------------------------------------------------------------- --vary keys
 
 #: Numeric keys of a section table that ``--vary`` may set.
-_VARY_SECTION = ("aspect", "nu", "b1", "b2", "B3")
+_VARY_SECTION = ("aspect", "nu", "b1", "b2", "B3", "mesh_size")
 #: Numeric keys of a segment that ``--vary`` may set.
 _VARY_SEGMENT = ("length", "curvature", "natural_curvature", "natural_twist", "angle_deg")
 #: Keys of [analysis] that ``--vary`` may set (elements: integer values only).
