@@ -578,6 +578,30 @@ def parse_design(data: dict, source: str = "<dict>") -> Design:
     return Design(assembly, elements, lf, source, data)
 
 
+def _read_text(p: Path, what: str, kind: str) -> str:
+    """Return the UTF-8 text of the file ``p`` (at most :data:`MAX_FILE_BYTES`), else raise.
+
+    ``what`` names the file in messages ("design file"); ``kind`` says what it should be.
+    """
+    name = repr(str(p))
+    try:
+        if p.is_dir():
+            raise RodstabInputError(f"{what} {name} is a directory, not a file")
+        with p.open("rb") as fh:
+            raw = fh.read(MAX_FILE_BYTES + 1)
+    except FileNotFoundError:
+        raise RodstabInputError(f"{what} {name} does not exist") from None
+    except OSError as exc:
+        raise RodstabInputError(f"cannot read {what} {name}: {exc.strerror or exc}") from None
+    if len(raw) > MAX_FILE_BYTES:
+        raise RodstabInputError(f"{what} {name} is larger than {MAX_FILE_BYTES} bytes; {kind}")
+    try:
+        return raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise RodstabInputError(f"{what} {name} is not UTF-8 text (byte 0x{raw[exc.start]:02x} "
+                                f"at offset {exc.start}); {kind}") from None
+
+
 def load_design(path: str | Path) -> Design:
     """Read and validate a TOML design file.
 
@@ -601,25 +625,7 @@ def load_design(path: str | Path) -> Design:
 
     p = Path(path)
     name = repr(str(p))
-    try:
-        if p.is_dir():
-            raise RodstabInputError(f"design file {name} is a directory, not a TOML file")
-        with p.open("rb") as fh:
-            raw = fh.read(MAX_FILE_BYTES + 1)
-    except FileNotFoundError:
-        raise RodstabInputError(f"design file {name} does not exist") from None
-    except OSError as exc:
-        raise RodstabInputError(f"cannot read design file {name}: "
-                                f"{exc.strerror or exc}") from None
-    if len(raw) > MAX_FILE_BYTES:
-        raise RodstabInputError(f"design file {name} is larger than {MAX_FILE_BYTES} bytes; "
-                                "a design file is a short TOML text")
-    try:
-        text = raw.decode("utf-8")
-    except UnicodeDecodeError as exc:
-        raise RodstabInputError(f"design file {name} is not UTF-8 text (byte "
-                                f"0x{raw[exc.start]:02x} at offset {exc.start}); a design file "
-                                "is TOML") from None
+    text = _read_text(p, "design file", "a design file is TOML")
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
@@ -630,6 +636,97 @@ def load_design(path: str | Path) -> Design:
     except ValueError as exc:  # e.g. an integer of more than 4300 digits
         raise RodstabInputError(f"design file {name} cannot be read as TOML: {exc}") from None
     return parse_design(data, str(p))
+
+
+def _csv_rings(text: str, name: str) -> list[list[list[float]]]:
+    """Rings of a CSV polygon file: ``x,y`` rows, a blank line between rings."""
+    rings: list[list[list[float]]] = [[]]
+    header_allowed = True
+    for lineno, line in enumerate(text.splitlines(), start=1):
+        row = line.strip()
+        if row.startswith("#"):
+            continue
+        if not row:
+            if rings[-1]:
+                rings.append([])
+            continue
+        cells = [c.strip() for c in row.split(",")]
+        if header_allowed and [c.lower() for c in cells] == ["x", "y"]:
+            header_allowed = False
+            continue
+        header_allowed = False
+        try:
+            x, y = (float(c) for c in cells)
+        except ValueError:
+            raise RodstabInputError(f"polygon file {name} line {lineno}: {_show(row)} is not "
+                                    "two numbers x,y") from None
+        if not (math.isfinite(x) and math.isfinite(y)):
+            raise RodstabInputError(f"polygon file {name} line {lineno}: {_show(row)} is not "
+                                    "finite")
+        rings[-1].append([x, y])
+    return [r for r in rings if r]
+
+
+def load_polygon(path: str | Path) -> tuple[list[list[float]], list[list[list[float]]]]:
+    """Read a polygon file: the outline and the holes of a section.
+
+    Formats (by suffix):
+
+    * ``.json``: ``{"polygon": [[x, y], ...], "holes": [[[x, y], ...], ...]}`` (the keys of a
+      design file's polygon section; ``holes`` optional), or just the outline
+      ``[[x, y], ...]``;
+    * ``.csv``: one point ``x,y`` per line, an optional header line ``x,y``, ``#`` comments;
+      a blank line ends a ring: the first ring is the outline, every further one a hole.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file, UTF-8, at most :data:`MAX_FILE_BYTES`.
+
+    Returns
+    -------
+    outer : list of [x, y]
+        The outline, in the file's length unit.
+    holes : list of lists of [x, y]
+        The holes.
+
+    Raises
+    ------
+    RodstabInputError
+        Naming the file and the key path (JSON) or line (CSV) of a value that is not a
+        number, an unknown key or suffix, or a file that cannot be read. The geometry itself
+        is checked by :func:`rodstab.sections.polygon_section`.
+    """
+    import json
+
+    p = Path(path)
+    name = repr(str(p))
+    suffix = p.suffix.lower()
+    if suffix not in (".json", ".csv"):
+        raise RodstabInputError(f"polygon file {name} must end in .json or .csv (the two "
+                                "formats read), got {suffix or 'no suffix'!r}")
+    text = _read_text(p, "polygon file", f"a polygon file is {suffix[1:].upper()} text")
+    if suffix == ".csv":
+        rings = _csv_rings(text, name)
+        if not rings:
+            raise RodstabInputError(f"polygon file {name} has no points")
+        return rings[0], rings[1:]
+    try:
+        data = json.loads(text)
+    except (json.JSONDecodeError, RecursionError, ValueError) as exc:
+        raise RodstabInputError(f"polygon file {name} is not valid JSON: {exc}") from None
+    try:
+        if isinstance(data, list):
+            return _points(data, "polygon"), []
+        table = _as_table(data, "", {"polygon", "holes"})
+        if "polygon" not in table:
+            raise RodstabInputError("polygon is required (the outline [[x, y], ...])")
+        holes = _as_list(table.get("holes", []), "holes",
+                         "an array of polygons [[[x, y], ...], ...]")
+        return (_points(table["polygon"], "polygon"),
+                [_points(h, f"holes[{k}]") for k, h in enumerate(holes)])
+    except RodstabInputError as exc:
+        raise RodstabInputError(f"polygon file {name}: {exc}") from None
 
 
 # --------------------------------------------------------------------------- --vary keys

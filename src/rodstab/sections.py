@@ -608,9 +608,11 @@ class PolygonSection(Section):
     coupling : float
         |I13| / sqrt(I1 I3) in the frame used (<= :data:`COUPLING_TOL`).
     J_mesh_change : float
-        |J - J4| / J, J4 from a mesh 4 times coarser (in area): an estimate of the FE error
-        of J at that coarser mesh, which bounds the error of J here (measured order of J is 4
-        in the element size, so this mesh's error is about 1/15 of it).
+        |J - J4| / J, J4 from a mesh 4 times coarser (in area, 2 times in size): an error
+        indicator. J converges as (size)^p, so the error here is about J_mesh_change /
+        (2^p - 1): p = 4 for convex polygons (measured, tests/test_polygon_sections.py), so
+        1/15 of it; re-entrant corners (a T, an L) lower p towards 4/3, and then the error
+        here is about as large as J_mesh_change.
     """
 
     outer: Ring
