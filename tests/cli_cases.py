@@ -12,7 +12,10 @@ from __future__ import annotations
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-EXAMPLES = sorted(p.relative_to(ROOT).as_posix() for p in (ROOT / "examples").glob("*.toml"))
+#: Examples added after the recording (07ed206 cannot read them), each with its own tests.
+NEW_EXAMPLES = {"examples/polygon_section.toml": "tests/test_polygon_sections.py"}
+EXAMPLES = sorted(p.relative_to(ROOT).as_posix() for p in (ROOT / "examples").glob("*.toml")
+                  if p.relative_to(ROOT).as_posix() not in NEW_EXAMPLES)
 
 _SECTIONS = [[], ["--shape", "rectangle", "--aspect", "4"], ["--shape", "ellipse", "--aspect",
              "2"], ["--shape", "tube", "--aspect", "0.5"], ["--shape", "rectangle", "--aspect",

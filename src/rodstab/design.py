@@ -366,8 +366,10 @@ def _polygon_stiffness(spec: dict[str, tuple[Any, str]], where: str) -> tuple[fl
                                                                                  float]:
     """``(B1, B2, B3)`` of a polygon section (:func:`rodstab.sections.polygon_section`)."""
     if "polygon" not in spec:
-        raise RodstabInputError(f"{spec['shape'][1]} = 'polygon' needs {where}.polygon = "
-                                "[[x, y], ...] (the outline, y out of the plane of the ring)")
+        shape_path = spec["shape"][1]
+        raise RodstabInputError(f"{shape_path} = 'polygon' needs {shape_path[:-len('shape')]}"
+                                "polygon = [[x, y], ...] (the outline, y out of the plane of "
+                                "the ring)")
     for key in ("aspect", "torsion"):
         if key in spec:
             raise RodstabInputError(f"{spec[key][1]} = {_show(spec[key][0])} has no meaning "

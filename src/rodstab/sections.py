@@ -698,12 +698,14 @@ def _shapely() -> Any:
 
 
 def _check_simple(name: str, ring: Ring, size: float) -> Any:
-    """Shapely polygon of one ring; raise naming ``name`` if it crosses itself or is flat."""
+    """Shapely polygon of one ring; raise naming ``name`` if it is flat or crosses itself."""
     shapely = _shapely()
-    poly = shapely.Polygon(ring)
-    if abs(poly.area) <= _ZERO_AREA * size * size:
+    pts = np.array(ring)
+    # Collinear points first: shapely calls them a self-intersection, which hides the cause.
+    if np.linalg.svd(pts - pts.mean(axis=0), compute_uv=False)[-1] <= _ZERO_AREA * size:
         raise RodstabInputError(f"{name} has zero area (its points are collinear): "
                                 f"{_short([list(p) for p in ring])}")
+    poly = shapely.Polygon(ring)
     if not poly.is_valid:
         why = shapely.validation.explain_validity(poly)
         raise RodstabInputError(f"{name} is not a simple polygon ({why}); its edges must not "
@@ -725,9 +727,9 @@ def _check_polygon(outer: Ring, holes: tuple[Ring, ...]) -> float:
     shell = _check_simple("polygon", outer, size)
     inner = [_check_simple(f"holes[{k}]", h, size) for k, h in enumerate(holes)]
     for k, h in enumerate(inner):
-        if not shell.contains(h):
+        if not shell.contains_properly(h):
             raise RodstabInputError(f"holes[{k}] = {_short([list(p) for p in holes[k]])} is not "
-                                    "inside the polygon")
+                                    "inside the polygon (a hole may not touch the outline)")
         for m in range(k):
             if h.intersects(inner[m]):
                 raise RodstabInputError(f"holes[{k}] and holes[{m}] overlap or touch")
@@ -821,7 +823,8 @@ def _principal(m: _Moments) -> tuple[float, float, bool]:
     The second moment about the coordinate along direction a, int (x cos a + y sin a)^2 dA,
     is stationary where tan 2a = 2 Ixy / (Iyy - Ixx).
     """
-    a = 0.5 * math.degrees(math.atan2(2.0 * m.ixy, m.iyy - m.ixx)) % 180.0
+    # Rounded to 1e-9 degree: a symmetric section's axes print as 90 and 0, not 2.8e-14.
+    a = round(0.5 * math.degrees(math.atan2(2.0 * m.ixy, m.iyy - m.ixx)), 9) % 180.0
     spread = math.hypot(m.iyy - m.ixx, 2.0 * m.ixy)  # = I_max - I_min
     return a, (a + 90.0) % 180.0, spread <= _ISOTROPIC * (m.ixx + m.iyy)
 
