@@ -25,6 +25,7 @@ from rodstab.errors import RodstabInputError
 from rodstab.linear.solve import linear_stability
 from rodstab.sections import (
     POLYGON_MESH_SIZE,
+    composite_section,
     ellipse,
     polygon_mesh,
     polygon_section,
@@ -192,6 +193,92 @@ def test_a_rotated_rectangle_is_the_rectangle_once_its_orientation_is_given():
     assert sq.b2 == pytest.approx(rectangle(aspect=1.0).b2, rel=2e-3)
 
 
+# --- composite sections -----------------------------------------------------------------------
+
+BOTTOM = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]
+TOP = [[0.0, 1.0], [1.0, 1.0], [1.0, 2.0], [0.0, 2.0]]
+
+
+def test_a_bimaterial_strip_bends_as_its_transformed_section():
+    """Two unit squares stacked along y (out of plane), E = 1 below and 3 above: the
+    transformed section (modulus-weighted centroid, parallel-axis theorem) gives
+    B1 = sum E (1/12 + d^2) and B3 = sum E/12 exactly. With equal E and nu the two parts are
+    the 1 x 2 rectangle: b2 within the mesh error of Saint-Venant's value."""
+    E1, E2 = 1.0, 3.0
+    s = composite_section([{"polygon": BOTTOM, "E": E1, "nu": 0.3},
+                           {"polygon": TOP, "E": E2, "nu": 0.3}], mesh_size=0.016)
+    yc = (E1 * 0.5 + E2 * 1.5) / (E1 + E2)
+    B1 = E1 * (1 / 12 + (0.5 - yc) ** 2) + E2 * (1 / 12 + (1.5 - yc) ** 2)
+    B3 = (E1 + E2) / 12
+    assert s.b1 == pytest.approx(B1 / B3, rel=1e-12)
+    assert s.centroid == pytest.approx((0.5, yc), abs=1e-12)
+    assert (s.shape, s.nu, s.area) == ("composite", 0.3, pytest.approx(2.0, rel=1e-12))
+    same = composite_section([{"polygon": BOTTOM, "E": 2.0, "nu": 1 / 3},
+                              {"polygon": TOP, "E": 2.0, "nu": 1 / 3}], mesh_size=0.004)
+    exact = rectangle(aspect=2.0)
+    assert same.b1 == pytest.approx(4.0, rel=1e-12)
+    assert same.b2 == pytest.approx(exact.b2, rel=1e-4)  # 5.6e-5 as one polygon at this mesh
+
+
+def test_a_composite_shaft_twists_with_each_parts_own_shear_modulus():
+    """A core (r < 1/2, nu = 0) bonded in a tube (1/2 < r < 1, nu = 1/2) of the same E: for
+    circular parts GJ = G_core J_core + G_tube J_tube exactly (no warping), so
+    b2 = (J_core/2 + J_tube/3)/I. Drawn as inscribed 34-gons with the element size tied to
+    the edge, as the tube above (2e-4 there). Weighting the warping problem by E instead of
+    G would be 45 % off."""
+    n = 34
+    s = composite_section([{"polygon": _ngon(n, 0.5, 0.5), "E": 1.0, "nu": 0.0},
+                           {"polygon": _ngon(n, 1.0, 1.0), "holes": [_ngon(n, 0.5, 0.5)],
+                            "E": 1.0, "nu": 0.5}], mesh_size=1.6 / n**2)
+    J_core, J_tube, I = math.pi * 0.5**4 / 2, math.pi * (1 - 0.5**4) / 2, math.pi / 4
+    assert s.b2 == pytest.approx((J_core / 2 + J_tube / 3) / I, rel=3e-4)
+    assert s.b1 == pytest.approx(1.0, rel=1e-9)
+    assert s.nu is None
+
+
+@pytest.mark.parametrize(("parts", "match"), [
+    ([{"polygon": BOTTOM, "E": 1.0, "nu": 0.3},
+      {"polygon": [[0.5, 0.5], [1.5, 0.5], [1.5, 1.5], [0.5, 1.5]], "E": 1.0, "nu": 0.3}],
+     r"parts\[1\] and parts\[0\] overlap"),
+    ([{"polygon": BOTTOM, "E": 1.0, "nu": 0.3},
+      {"polygon": [[0, 3], [1, 3], [1, 4], [0, 4]], "E": 1.0, "nu": 0.3}],
+     "do not form one connected section"),
+    ([{"polygon": BOTTOM, "E": 1.0}], r"parts\[0\] .*misses \['nu'\]"),
+    ([{"polygon": BOTTOM, "E": -1.0, "nu": 0.3}], r"parts\[0\].E must be a finite positive"),
+    ([{"polygon": [[0, 0], [1, 1], [1, 0], [0, 1]], "E": 1.0, "nu": 0.3},
+      {"polygon": TOP, "E": 1.0, "nu": 0.3}], r"parts\[0\].polygon is not a simple polygon"),
+    ([{"polygon": BOTTOM, "E": 1.0, "nu": 0.3}, {"polygon": TOP, "E": 1e7, "nu": 0.3}],
+     "more than 1e\\+06 apart"),
+    ([], "parts is empty"),
+])
+def test_bad_composites_are_refused_naming_the_part(parts, match):
+    with pytest.raises(RodstabInputError, match=match):
+        composite_section(parts, mesh_size=0.05)
+
+
+def test_design_and_cli_composites(run_cli, tmp_path):
+    """The bimaterial strip as a design file's parts and as a --polygon JSON file: the same
+    b1 as the library (parts keep their own nu; a section-level nu is refused)."""
+    parts = [{"polygon": BOTTOM, "E": 1.0, "nu": 0.3}, {"polygon": TOP, "E": 3.0, "nu": 0.3}]
+    lib = composite_section(parts, mesh_size=0.016)
+    d = parse_design(_arc({"parts": parts, "mesh_size": 0.016}))
+    seg = d.assembly.segments[0]
+    assert (seg.B1, seg.B2) == (lib.b1, lib.b2)
+    with pytest.raises(RodstabInputError, match=r"section.nu = 0.3 has no meaning for a "
+                                                r"composite"):
+        parse_design(_arc({"parts": parts, "nu": 0.3}))
+    with pytest.raises(RodstabInputError, match=r"section.parts\[1\].E must lie in"):
+        parse_design(_arc({"parts": [parts[0], {**parts[1], "E": 0.0}]}))
+    (tmp_path / "c.json").write_text(json.dumps({"parts": parts}))
+    r = run_cli(["section", "--polygon", str(tmp_path / "c.json"), "--mesh-size", "0.016",
+                 "--json", "--plot", str(tmp_path / "c.png")])
+    assert r.exit_code == 0, r.stderr
+    assert json.loads(r.stdout)["b1"] == lib.b1
+    assert (tmp_path / "c.png").stat().st_size > 0
+    r = run_cli(["section", "--polygon", str(tmp_path / "c.json"), "--nu", "0.2"])
+    assert r.exit_code == 2 and "--nu 0.2 cannot be used with a composite" in r.stderr
+
+
 # --- bad input ------------------------------------------------------------------------------
 
 BAD_POLYGONS = [
@@ -343,7 +430,7 @@ def test_cli_section_polygon_json_and_csv_with_a_hole(run_cli, tmp_path):
     assert p["area"] == pytest.approx(0.75, rel=1e-12)
     assert p["b1"] == pytest.approx(1.0, rel=1e-12)
     assert p["sqrt_b1b2"] == pytest.approx(math.sqrt(p["b1"] * p["b2"]), rel=1e-15)
-    assert len(p["holes"]) == 1
+    assert len(p["parts"]) == 1 and len(p["parts"][0]["holes"]) == 1
 
 
 def test_cli_section_plot_and_its_mesh_data(run_cli, tmp_path):
@@ -357,7 +444,8 @@ def test_cli_section_plot_and_its_mesh_data(run_cli, tmp_path):
     assert "principal at 90 and 0 deg" in r.stdout
     assert (tmp_path / "t.png").stat().st_size > 0
     s = polygon_section(spec["polygon"], mesh_size=0.02)
-    nodes, tri = polygon_mesh(s)
+    nodes, tri, part = polygon_mesh(s)
+    assert set(part.tolist()) == {0}
     assert len(tri) == s.n_elements
     p = nodes[tri]
     areas = 0.5 * np.abs((p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1])

@@ -48,6 +48,7 @@ from .sections import (
     TORSION_OPTIONS,
     PolygonSection,
     Section,
+    composite_section,
     make_section,
     polygon_section,
 )
@@ -87,8 +88,10 @@ def _section_options(f: Callable[..., Any]) -> Callable[..., Any]:
     @click.option("--b2", type=float, default=None, help="B2/B3 directly (with --b1).")
     @click.option("--polygon", "polygon_file", default=None, metavar="FILE",
                   help="Any section: a polygon file (.json {\"polygon\": [[x, y], ...], "
-                       "\"holes\": [...]} or .csv x,y rows, blank line before each hole); "
-                       "y is out of the ring's plane. Needs rodstab[sections].")
+                       "\"holes\": [...]} or {\"parts\": [{\"polygon\", \"holes\", \"E\", "
+                       "\"nu\"}, ...]} of several materials, or .csv x,y rows, blank line "
+                       "before each hole); y is out of the ring's plane. Needs "
+                       "rodstab[sections].")
     @click.option("--mesh-size", type=float, default=None,
                   help=f"With --polygon: largest triangle area / section area "
                        f"[default: {POLYGON_MESH_SIZE:g}].")
@@ -105,10 +108,18 @@ def _section_options(f: Callable[..., Any]) -> Callable[..., Any]:
                 if ctx.get_parameter_source(name) == ParameterSource.COMMANDLINE:
                     raise RodstabInputError(f"--{name} cannot be used with --polygon, which "
                                             "gives the section")
-            outer, holes = load_polygon(polygon_file)
+            spec = load_polygon(polygon_file)
             try:
-                section: Section = polygon_section(outer, holes, nu=nu, mesh_size=mesh_size,
-                                                   orientation_deg=orientation_deg)
+                if "parts" in spec:
+                    if ctx.get_parameter_source("nu") == ParameterSource.COMMANDLINE:
+                        raise RodstabInputError(f"--nu {nu!r} cannot be used with a composite "
+                                                "section: each part has its own nu")
+                    section: Section = composite_section(spec["parts"], mesh_size=mesh_size,
+                                                         orientation_deg=orientation_deg)
+                else:
+                    section = polygon_section(spec["polygon"], spec["holes"], nu=nu,
+                                              mesh_size=mesh_size,
+                                              orientation_deg=orientation_deg)
             except RodstabInputError as exc:
                 raise RodstabInputError(f"--polygon {polygon_file!r}: {exc}") from None
             return f(section=section, **kwargs)
@@ -279,10 +290,10 @@ def section(section: Section, plot_path: str | None, as_json: bool) -> None:
             from .plots import plot_section
             from .sections import polygon_mesh
 
-            nodes, triangles = polygon_mesh(section)
+            nodes, triangles, part = polygon_mesh(section)
             payload["plot"] = str(plot_section(
-                nodes, triangles, section.outer, section.holes, section.centroid,
-                section.principal_deg, section.normal_deg, out))
+                nodes, triangles, part, [(p.outer, p.holes) for p in section.parts],
+                section.centroid, section.principal_deg, section.normal_deg, out))
             lines.append(f"plot         {payload['plot']}")
     _emit(payload, as_json, lines)
 

@@ -13,6 +13,9 @@ Format (every key optional unless marked; unknown keys are errors)::
     # holes = [[[0.3, 0.3], [0.7, 0.3], [0.7, 0.6]]]  # optional
     # mesh_size = 1e-3        # optional: largest triangle area / section area
     # orientation_deg = 90    # optional: direction of the ring's normal (a principal axis)
+    # shape = "composite" (implied by parts = ...): several materials, bonded
+    # parts = [{polygon = [[0, 0], [1, 0], [1, 1], [0, 1]], E = 1.0, nu = 0.3},
+    #          {polygon = [[0, 1], [1, 1], [1, 2], [0, 2]], E = 3.0, nu = 0.45}]
 
     [[segment]]               # required, one table per segment, in order
     name = "a"                # required, unique
@@ -68,19 +71,23 @@ from .errors import RodstabInputError, require_positive_int
 from .model import MAX_END_ROTATION, ROTATION_AXES, SUPPORTS, Assembly, Segment
 from .sections import (
     ASPECT_RANGE,
+    COMPOSITE,
     MAX_POLYGON_VERTICES,
     MESH_SIZE_RANGE,
     POLYGON,
     RATIO_RANGE,
     SHAPES,
     TORSION_OPTIONS,
+    composite_section,
     make_section,
     polygon_section,
 )
 
 _TOP = {"section", "segment", "weld", "support", "analysis"}
 #: Keys of a polygon section (shape "polygon", rodstab.sections.polygon_section).
-_POLYGON_KEYS = ("polygon", "holes", "mesh_size", "orientation_deg")
+_POLYGON_KEYS = ("polygon", "holes", "parts", "mesh_size", "orientation_deg")
+#: Keys of one part of a composite section (``parts = [{...}, ...]``).
+_PART = {"polygon", "holes", "E", "nu"}
 _SECTION = {"shape", "aspect", "nu", "torsion", "b1", "b2", "B3", *_POLYGON_KEYS}
 _SEGMENT = {"name", "length", "curvature", "natural_curvature", "natural_twist", "start",
             "angle_deg", "cusp", "section"}
@@ -321,7 +328,11 @@ def _section_table(table: dict[str, Any], where: str) -> dict[str, tuple[Any, st
     for key, value in table.items():
         path = _path(where, key)
         if key == "shape":
-            value = _as_str(value, path, (*SHAPES, POLYGON))
+            value = _as_str(value, path, (*SHAPES, POLYGON, COMPOSITE))
+        elif key == "parts":
+            value = [_part(part, _path(path, i)) for i, part in enumerate(_as_list(
+                value, path, "an array of parts [{polygon = ..., E = ..., nu = ...}, ...]",
+                min_length=1))]
         elif key == "polygon":
             value = _points(value, path)
         elif key == "holes":
@@ -362,25 +373,49 @@ def _points(value: Any, path: str) -> list[list[float]]:
             for i, p in enumerate(points)]
 
 
-def _polygon_stiffness(spec: dict[str, tuple[Any, str]], where: str) -> tuple[float, float,
-                                                                                 float]:
-    """``(B1, B2, B3)`` of a polygon section (:func:`rodstab.sections.polygon_section`)."""
-    if "polygon" not in spec:
+def _part(value: Any, path: str) -> dict[str, Any]:
+    """Read one part ``{polygon, holes, E, nu}`` of a composite section."""
+    table = _as_table(value, path, _PART)
+    out: dict[str, Any] = {"polygon": _points(_get(table, "polygon", path, _REQUIRED)[0],
+                                              _path(path, "polygon"))}
+    out["holes"] = [_points(h, _path(_path(path, "holes"), k)) for k, h in
+                    enumerate(_list(table, "holes", path, "an array of polygons"))]
+    out["E"] = _number(table, "E", path, lo=STIFFNESS_RANGE[0], hi=STIFFNESS_RANGE[1],
+                       why="Young's modulus of the part, any unit")
+    out["nu"] = _number(table, "nu", path, lo=_NU_RANGE[0], hi=_NU_RANGE[1], lo_open=True,
+                        why="Poisson's ratio")
+    return out
+
+
+def _polygon_stiffness(spec: dict[str, tuple[Any, str]], where: str,
+                       shape: str) -> tuple[float, float, float]:
+    """``(B1, B2, B3)`` of a polygon or composite section (:mod:`rodstab.sections`)."""
+    need = "parts" if shape == COMPOSITE else "polygon"
+    if need not in spec:
         shape_path = spec["shape"][1]
-        raise RodstabInputError(f"{shape_path} = 'polygon' needs {shape_path[:-len('shape')]}"
-                                "polygon = [[x, y], ...] (the outline, y out of the plane of "
-                                "the ring)")
-    for key in ("aspect", "torsion"):
+        raise RodstabInputError(f"{shape_path} = {shape!r} needs {shape_path[:-len('shape')]}"
+                                f"{need} = [...] (the outline, y out of the plane of the ring, "
+                                "or the parts of a composite)")
+    other = ("aspect", "torsion", "polygon", "holes", "nu") if shape == COMPOSITE else \
+        ("aspect", "torsion", "parts")
+    for key in other:
         if key in spec:
             raise RodstabInputError(f"{spec[key][1]} = {_show(spec[key][0])} has no meaning "
-                                    "for a polygon section (its J is computed by FE)")
+                                    f"for a {shape} section (its J is computed by FE; a "
+                                    "composite's parts carry their own polygon and nu)")
+
     def val(key: str) -> Any:
         return spec[key][0] if key in spec else None
 
     try:
-        sec = polygon_section(val("polygon"), val("holes") or (),
-                              nu=1 / 3 if val("nu") is None else val("nu"),
-                              mesh_size=val("mesh_size"), orientation_deg=val("orientation_deg"))
+        if shape == COMPOSITE:
+            sec = composite_section(val("parts"), mesh_size=val("mesh_size"),
+                                    orientation_deg=val("orientation_deg"))
+        else:
+            sec = polygon_section(val("polygon"), val("holes") or (),
+                                  nu=1 / 3 if val("nu") is None else val("nu"),
+                                  mesh_size=val("mesh_size"),
+                                  orientation_deg=val("orientation_deg"))
     except RodstabInputError as exc:  # the geometry: name the table
         raise RodstabInputError(f"{where}: {exc}") from None
     B3 = 1.0 if val("B3") is None else val("B3")
@@ -400,10 +435,11 @@ def _stiffness(spec: dict[str, tuple[Any, str]], where: str) -> tuple[float, flo
         given, missing = ("b1", "b2") if b2 is None else ("b2", "b1")
         raise RodstabInputError(f"{path(given)} = {_show(val(given))} is given without "
                                 f"{missing}: give both b1 and b2, or neither")
-    shape = None if b1 is not None else val("shape", POLYGON if "polygon" in spec else "circle")
+    implied = COMPOSITE if "parts" in spec else POLYGON if "polygon" in spec else "circle"
+    shape = None if b1 is not None else val("shape", implied)
     stray = [k for k in _POLYGON_KEYS if k in spec]
-    if shape == POLYGON:
-        return _polygon_stiffness(spec, where)
+    if shape in (POLYGON, COMPOSITE):
+        return _polygon_stiffness(spec, where, shape)
     if stray:
         owner = "b1 and b2, which fix the section" if b1 is not None else f"shape {shape!r}"
         raise RodstabInputError(f"{path(stray[0])} = {_show(val(stray[0]))} has no meaning for "
@@ -467,7 +503,7 @@ def _segment(raw: dict[str, Any], where: str, default: dict[str, tuple[Any, str]
     if "section" in raw:
         own = _section_table(_table(raw, "section", where, _SECTION), f"{where}.section")
         # A new shape, ratios or outline replaces the default section; other keys amend it.
-        spec = own if ("shape" in own or "b1" in own or "polygon" in own) else default | own
+        spec = own if ({"shape", "b1", "polygon", "parts"} & set(own)) else default | own
     B1, B2, B3 = _stiffness(spec, f"{where}.section")
     values = {}
     for key in ("curvature", "natural_curvature", "natural_twist"):
@@ -669,14 +705,15 @@ def _csv_rings(text: str, name: str) -> list[list[list[float]]]:
     return [r for r in rings if r]
 
 
-def load_polygon(path: str | Path) -> tuple[list[list[float]], list[list[list[float]]]]:
-    """Read a polygon file: the outline and the holes of a section.
+def load_polygon(path: str | Path) -> dict[str, Any]:
+    """Read a polygon file: the outline and the holes of a section, or its parts.
 
     Formats (by suffix):
 
     * ``.json``: ``{"polygon": [[x, y], ...], "holes": [[[x, y], ...], ...]}`` (the keys of a
       design file's polygon section; ``holes`` optional), or just the outline
-      ``[[x, y], ...]``;
+      ``[[x, y], ...]``, or a composite ``{"parts": [{"polygon": ..., "holes": ..., "E": ...,
+      "nu": ...}, ...]}``;
     * ``.csv``: one point ``x,y`` per line, an optional header line ``x,y``, ``#`` comments;
       a blank line ends a ring: the first ring is the outline, every further one a hole.
 
@@ -687,10 +724,9 @@ def load_polygon(path: str | Path) -> tuple[list[list[float]], list[list[list[fl
 
     Returns
     -------
-    outer : list of [x, y]
-        The outline, in the file's length unit.
-    holes : list of lists of [x, y]
-        The holes.
+    dict
+        ``{"polygon": outline, "holes": holes}`` (lists of [x, y], the file's length unit), or
+        ``{"parts": [{"polygon", "holes", "E", "nu"}, ...]}``.
 
     Raises
     ------
@@ -712,21 +748,26 @@ def load_polygon(path: str | Path) -> tuple[list[list[float]], list[list[list[fl
         rings = _csv_rings(text, name)
         if not rings:
             raise RodstabInputError(f"polygon file {name} has no points")
-        return rings[0], rings[1:]
+        return {"polygon": rings[0], "holes": rings[1:]}
     try:
         data = json.loads(text)
     except (json.JSONDecodeError, RecursionError, ValueError) as exc:
         raise RodstabInputError(f"polygon file {name} is not valid JSON: {exc}") from None
     try:
         if isinstance(data, list):
-            return _points(data, "polygon"), []
-        table = _as_table(data, "", {"polygon", "holes"})
+            return {"polygon": _points(data, "polygon"), "holes": []}
+        table = _as_table(data, "", {"polygon", "holes", "parts"})
+        if "parts" in table:
+            if set(table) != {"parts"}:
+                raise RodstabInputError("give either parts (a composite) or polygon and holes")
+            parts = _as_list(table["parts"], "parts", "an array of parts", min_length=1)
+            return {"parts": [_part(p, f"parts[{i}]") for i, p in enumerate(parts)]}
         if "polygon" not in table:
             raise RodstabInputError("polygon is required (the outline [[x, y], ...])")
         holes = _as_list(table.get("holes", []), "holes",
                          "an array of polygons [[[x, y], ...], ...]")
-        return (_points(table["polygon"], "polygon"),
-                [_points(h, f"holes[{k}]") for k, h in enumerate(holes)])
+        return {"polygon": _points(table["polygon"], "polygon"),
+                "holes": [_points(h, f"holes[{k}]") for k, h in enumerate(holes)]}
     except RodstabInputError as exc:
         raise RodstabInputError(f"polygon file {name}: {exc}") from None
 

@@ -244,10 +244,11 @@ def plot_stable_bands(data: dict[str, list[float]], states: tuple[str, ...], pat
     return out
 
 
-def plot_section(nodes: np.ndarray, triangles: np.ndarray, outer: Any, holes: Any,
-                 centroid: tuple[float, float], principal_deg: tuple[float, float],
-                 normal_deg: float, path: str | Path, *, title: str | None = None) -> Path:
-    """Draw a polygon section: its mesh, outline, centroid, principal axes and ring frame.
+def plot_section(nodes: np.ndarray, triangles: np.ndarray, part: np.ndarray,
+                 rings: list[tuple[Any, Any]], centroid: tuple[float, float],
+                 principal_deg: tuple[float, float], normal_deg: float, path: str | Path, *,
+                 title: str | None = None) -> Path:
+    """Draw a polygon section: its mesh, outlines, centroid, principal axes and ring frame.
 
     Parameters
     ----------
@@ -255,8 +256,10 @@ def plot_section(nodes: np.ndarray, triangles: np.ndarray, outer: Any, holes: An
         Mesh node coordinates (x, y), the polygon's length unit.
     triangles : ndarray, shape (n_elements, 3)
         Corner node indices of the triangles.
-    outer, holes : sequences of (x, y)
-        The outline and the holes (drawn closed).
+    part : ndarray, shape (n_elements,)
+        Part (material) index of each triangle; parts are shaded apart when there are several.
+    rings : list of (outer, holes)
+        Each part's outline and holes, sequences of (x, y) (drawn closed).
     centroid : (float, float)
         Where the axes cross.
     principal_deg : (float, float)
@@ -276,10 +279,14 @@ def plot_section(nodes: np.ndarray, triangles: np.ndarray, outer: Any, holes: An
     """
     fig = Figure(figsize=(6, 6))
     ax = fig.add_subplot()
-    ax.triplot(nodes[:, 0], nodes[:, 1], triangles, color="0.75", lw=0.4)
-    for ring in (outer, *holes):
-        xy = np.array([*ring, ring[0]], dtype=float)
-        ax.plot(xy[:, 0], xy[:, 1], color="k", lw=1.2)
+    if len(rings) > 1:
+        ax.tripcolor(nodes[:, 0], nodes[:, 1], triangles, facecolors=part.astype(float),
+                     cmap="Pastel1", alpha=0.8)
+    ax.triplot(nodes[:, 0], nodes[:, 1], triangles, color="0.6", lw=0.4)
+    for outer, holes in rings:
+        for ring in (outer, *holes):
+            xy = np.array([*ring, ring[0]], dtype=float)
+            ax.plot(xy[:, 0], xy[:, 1], color="k", lw=1.2)
     size = float(np.ptp(nodes, axis=0).max())
     cx, cy = centroid
     for k, deg in enumerate(principal_deg):

@@ -33,7 +33,7 @@ from __future__ import annotations
 import dataclasses
 import functools
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from numbers import Real
 from typing import Any
 
@@ -55,9 +55,11 @@ TORSION_OPTIONS = ("exact", "paper")
 SHAPES = ("circle", "ellipse", "rectangle", "tube")
 #: :attr:`Section.shape` of :func:`polygon_section` (and the design files' shape key for it).
 POLYGON = "polygon"
+#: :attr:`Section.shape` of :func:`composite_section` (several materials).
+COMPOSITE = "composite"
 #: Every value of :attr:`Section.shape` (``make_section`` reaches "thin-tube" and "ratios" only
 #: through :func:`thin_tube` and the b1/b2 override; "polygon" is :func:`polygon_section`).
-_ALL_SHAPES = (*SHAPES, "thin-tube", "ratios", POLYGON)
+_ALL_SHAPES = (*SHAPES, "thin-tube", "ratios", POLYGON, COMPOSITE)
 #: Torsion constant of a polygon: Saint-Venant's, by FE of the warping function.
 FE_TORSION = "fe-warping"
 #: Every value of :attr:`Section.torsion`; "given" marks ratios supplied directly.
@@ -578,28 +580,52 @@ Ring = tuple[tuple[float, float], ...]
 
 
 @dataclasses.dataclass(frozen=True)
-class PolygonSection(Section):
-    """A :class:`Section` from a polygon with holes (:func:`polygon_section`).
-
-    ``area``, ``I1``, ``I3``, ``J`` are in the polygon's length unit (``I1`` about e1, the
-    in-plane principal axis through the centroid; ``I3`` about e3). ``aspect`` is None.
+class SectionPart(Result):
+    """One material region of a polygon section: an outline with holes, E and nu.
 
     Attributes
     ----------
     outer : tuple of (x, y)
-        The polygon as given (a repeated closing point and repeated consecutive points
+        The outline as given (a repeated closing point and repeated consecutive points
         removed; same geometry).
     holes : tuple of tuples of (x, y)
-        The holes, likewise.
+        The holes, likewise (a hole may be filled by another part).
+    E : float
+        Young's modulus, any unit (only ratios between parts matter).
+    nu : float
+        Poisson's ratio; G = E / (2 (1 + nu)).
+    """
+
+    outer: Ring
+    holes: tuple[Ring, ...]
+    E: float
+    nu: float
+
+
+@dataclasses.dataclass(frozen=True)
+class PolygonSection(Section):
+    """A :class:`Section` from polygons with holes (polygon_section, composite_section).
+
+    ``area`` is the geometric area; ``I1``, ``I3`` are about the (modulus-weighted) centroid,
+    ``I1`` about e1, the in-plane principal axis, ``I3`` about e3; for a composite they are
+    modulus-weighted and divided by ``parts[0].E``, and ``J`` is the shear-modulus-weighted
+    torsion constant divided by ``parts[0]``'s G, so that ``b1 = I1/I3`` and
+    ``b2 = J/(2 (1 + parts[0].nu) I3)`` hold for every polygon section. Lengths are in the
+    polygon's unit. ``aspect`` is None; ``nu`` is None when the parts' differ.
+
+    Attributes
+    ----------
+    parts : tuple of SectionPart
+        The material regions (one for :func:`polygon_section`, with E = 1).
     mesh_size : float
         Largest triangle area over the section's area.
     n_elements, n_nodes : int
         Six-node triangles and nodes of the mesh.
     centroid : (float, float)
-        Centroid, polygon coordinates.
+        Centroid (modulus-weighted), polygon coordinates.
     principal_deg : (float, float)
         Directions of the principal axes, degrees from +x in [0, 180): of the larger second
-        moment int d^2 dA (d the coordinate along the axis) first.
+        moment int E d^2 dA (d the coordinate along the axis) first.
     normal_deg : float
         Direction of e3 (the ring's normal) used, degrees from +x: 90 (polygon y) unless
         ``orientation_deg`` was given, then the principal direction it named.
@@ -615,8 +641,7 @@ class PolygonSection(Section):
         here is about as large as J_mesh_change.
     """
 
-    outer: Ring
-    holes: tuple[Ring, ...]
+    parts: tuple[SectionPart, ...]
     mesh_size: float
     n_elements: int
     n_nodes: int
@@ -627,20 +652,40 @@ class PolygonSection(Section):
     coupling: float
     J_mesh_change: float
 
+    @property
+    def outer(self) -> Ring:
+        """The outline of the first part (the only one of :func:`polygon_section`)."""
+        return self.parts[0].outer
+
+    @property
+    def holes(self) -> tuple[Ring, ...]:
+        """The holes of the first part (the only one of :func:`polygon_section`)."""
+        return self.parts[0].holes
+
 
 @dataclasses.dataclass(frozen=True)
 class _Moments:
-    """Centroidal second moments and J of one mesh of a normalised polygon."""
+    """Weighted centroidal second moments and J of one mesh of normalised parts.
 
-    area: float
+    Every integral carries the parts' weights w (E, or G for ``J``, over part 0's).
+    """
+
+    area: float  # geometric
     cx: float
     cy: float
-    ixx: float  # int y^2 dA
-    iyy: float  # int x^2 dA
-    ixy: float  # int x y dA
-    J: float
+    ixx: float  # int w y^2 dA
+    iyy: float  # int w x^2 dA
+    ixy: float  # int w x y dA
+    J: float  # torsion constant weighted by the shear moduli
     n_elements: int
     n_nodes: int
+
+
+#: Largest ratio of two parts' moduli E (or G): beyond, the softer part is a hole in all but
+#: name and the weighted FE system loses its digits.
+MODULUS_RATIO_MAX = 1e6
+#: A normalised part: outline, holes, E and G relative to part 0's.
+_Key = tuple[tuple[Ring, tuple[Ring, ...], float, float], ...]
 
 
 def _short(value: Any) -> str:
@@ -713,33 +758,51 @@ def _check_simple(name: str, ring: Ring, size: float) -> Any:
     return poly
 
 
-def _check_polygon(outer: Ring, holes: tuple[Ring, ...]) -> float:
-    """Check that ``outer`` with ``holes`` is one valid region; return its size (extent)."""
-    pts = np.array([p for r in (outer, *holes) for p in r])
-    size = float(np.ptp(np.array(outer), axis=0).max())
+def _check_parts(parts: tuple[SectionPart, ...]) -> float:
+    """Check that the parts form one connected, non-overlapping region; return its size."""
+    outers = np.array([p for part in parts for p in part.outer])
+    size = float(np.ptp(outers, axis=0).max())
     if not (POLYGON_SIZE_RANGE[0] <= size <= POLYGON_SIZE_RANGE[1]):
         raise RodstabInputError(f"the polygon's size (largest extent) must lie in "
                                 f"[{POLYGON_SIZE_RANGE[0]:g}, {POLYGON_SIZE_RANGE[1]:g}] (a "
                                 f"section in its length unit), got {size!r}")
-    if len(pts) > MAX_POLYGON_VERTICES:
-        raise RodstabInputError(f"the polygon and its holes have {len(pts)} points; at most "
+    count = sum(len(r) for part in parts for r in (part.outer, *part.holes))
+    if count > MAX_POLYGON_VERTICES:
+        raise RodstabInputError(f"the polygons and their holes have {count} points; at most "
                                 f"{MAX_POLYGON_VERTICES} are accepted")
-    shell = _check_simple("polygon", outer, size)
-    inner = [_check_simple(f"holes[{k}]", h, size) for k, h in enumerate(holes)]
-    for k, h in enumerate(inner):
-        if not shell.contains_properly(h):
-            raise RodstabInputError(f"holes[{k}] = {_short([list(p) for p in holes[k]])} is not "
-                                    "inside the polygon (a hole may not touch the outline)")
-        for m in range(k):
-            if h.intersects(inner[m]):
-                raise RodstabInputError(f"holes[{k}] and holes[{m}] overlap or touch")
     shapely = _shapely()
-    region = shapely.Polygon(outer, holes)
-    if not region.is_valid:  # e.g. a hole touching the outline along an edge
-        why = shapely.validation.explain_validity(region)
-        raise RodstabInputError(f"the polygon with its holes is not one valid region ({why})")
-    perimeter = shell.length + sum(h.length for h in inner)
-    slender = perimeter**2 / region.area
+    regions: list[Any] = []
+    for i, part in enumerate(parts):
+        # One part: the names of polygon_section ("polygon", "holes[k]"); several: prefixed.
+        pre = f"parts[{i}]." if len(parts) > 1 else ""
+        shell = _check_simple(f"{pre}polygon", part.outer, size)
+        inner = [_check_simple(f"{pre}holes[{k}]", h, size) for k, h in enumerate(part.holes)]
+        for k, h in enumerate(inner):
+            if not shell.contains_properly(h):
+                raise RodstabInputError(
+                    f"{pre}holes[{k}] = {_short([list(p) for p in part.holes[k]])} is not "
+                    "inside the polygon (a hole may not touch the outline)")
+            for m in range(k):
+                if h.intersects(inner[m]):
+                    raise RodstabInputError(f"{pre}holes[{k}] and {pre}holes[{m}] overlap or "
+                                            "touch")
+        region = shapely.Polygon(part.outer, part.holes)
+        if not region.is_valid:  # e.g. a hole touching the outline along an edge
+            why = shapely.validation.explain_validity(region)
+            raise RodstabInputError(f"{pre}polygon with its holes is not one valid region "
+                                    f"({why})")
+        for j, other in enumerate(regions):
+            if region.intersection(other).area > _ZERO_AREA * size * size:
+                raise RodstabInputError(f"parts[{i}] and parts[{j}] overlap (each point of a "
+                                        "section has one material)")
+        regions.append(region)
+    union = shapely.unary_union(regions)
+    if union.geom_type != "Polygon":
+        raise RodstabInputError(f"the parts do not form one connected section ({len(parts)} "
+                                "parts, touching along edges are one piece; a point contact "
+                                "or a gap is not)")
+    perimeter = union.exterior.length + sum(r.length for r in union.interiors)
+    slender = perimeter**2 / union.area
     if slender > MAX_SLENDERNESS:
         raise RodstabInputError(f"the polygon is too slender for a section analysis: "
                                 f"perimeter^2/area = {slender:.3g} > {MAX_SLENDERNESS:g} (a "
@@ -747,14 +810,14 @@ def _check_polygon(outer: Ring, holes: tuple[Ring, ...]) -> float:
     return size
 
 
-def _normalised(outer: Ring, holes: tuple[Ring, ...]) -> tuple[np.ndarray, float, Ring,
-                                                                 tuple[Ring, ...]]:
-    """Centre of the bounding box, size (largest extent), and the rings moved there, scaled 1.
+def _normalised(parts: tuple[SectionPart, ...]) -> tuple[np.ndarray, float, _Key]:
+    """Centre of the bounding box, size (largest extent), and the parts moved there, scaled 1.
 
-    The analysis runs on the normalised polygon: its mesh and results do not depend on the
+    The analysis runs on the normalised parts: its mesh and results do not depend on the
     length unit, and sectionproperties' rounding of vertices to 12 decimals is relative.
+    Moduli are divided by part 0's.
     """
-    pts = np.array(outer)
+    pts = np.array([p for part in parts for p in part.outer])
     span = np.ptp(pts, axis=0)
     size, centre = float(span.max()), pts.min(axis=0) + 0.5 * span
 
@@ -762,31 +825,41 @@ def _normalised(outer: Ring, holes: tuple[Ring, ...]) -> tuple[np.ndarray, float
         return tuple((float((x - centre[0]) / size), float((y - centre[1]) / size))
                      for x, y in r)
 
-    return centre, size, unit(outer), tuple(unit(h) for h in holes)
+    E0, G0 = parts[0].E, parts[0].E / (2.0 * (1.0 + parts[0].nu))
+    key = tuple((unit(p.outer), tuple(unit(h) for h in p.holes), p.E / E0,
+                 p.E / (2.0 * (1.0 + p.nu)) / G0) for p in parts)
+    return centre, size, key
 
 
-def _meshed(outer: Ring, holes: tuple[Ring, ...], mesh_size: float) -> Any:
-    """Mesh a checked polygon: a sectionproperties Geometry, triangles of ``mesh_size`` x area."""
+def _meshed(key: _Key, mesh_size: float, shear: bool) -> Any:
+    """Mesh normalised parts: a sectionproperties geometry, triangles <= ``mesh_size`` x area.
+
+    Its materials' moduli are the parts' E (``shear`` False) or G (True).
+    """
     try:
-        from sectionproperties.pre.geometry import Geometry
+        from sectionproperties.pre.geometry import CompoundGeometry, Geometry
+        from sectionproperties.pre.pre import Material
     except ImportError:
         raise RodstabInputError(_SECTIONS_EXTRA) from None
-    region = _shapely().Polygon(outer, holes)
-    geom = Geometry(geom=region)
-    geom.create_mesh(mesh_sizes=[mesh_size * region.area])
+    shapely = _shapely()
+    geoms = []
+    for i, (outer, holes, E, G) in enumerate(key):
+        # sectionproperties weights every integral, the warping problem included, by its
+        # material's elastic_modulus: G for the torsion constant of mixed Poisson's ratios.
+        mat = Material(name=f"part{i}", elastic_modulus=G if shear else E, poissons_ratio=0.0,
+                       yield_strength=1.0, density=1.0, color="grey")
+        geoms.append(Geometry(geom=shapely.Polygon(outer, holes), material=mat))
+    geom = geoms[0] if len(geoms) == 1 else CompoundGeometry(geoms)
+    area = sum(shapely.Polygon(o, h).area for o, h, _, _ in key)
+    geom.create_mesh(mesh_sizes=[mesh_size * area])
     return geom
 
 
-@functools.lru_cache(maxsize=32)
-def _moments(outer: Ring, holes: tuple[Ring, ...], mesh_size: float) -> _Moments:
-    """FE section analysis of a checked, normalised polygon (size 1): sectionproperties.
-
-    Cached: b2 depends on nu only through G = E/(2(1 + nu)), so a sweep over nu (or one design
-    file with the same polygon in every segment) meshes and solves once.
-    """
+def _analyse(key: _Key, mesh_size: float, shear: bool) -> Any:
+    """Geometric and warping analysis of the mesh of :func:`_meshed` (sectionproperties)."""
     from sectionproperties.analysis.section import Section as SpSection
 
-    geom = _meshed(outer, holes, mesh_size)
+    geom = _meshed(key, mesh_size, shear)
     n_elements = len(geom.mesh["triangles"])
     if n_elements > MAX_MESH_ELEMENTS:
         raise RodstabInputError(f"the polygon's mesh has {n_elements} triangles at mesh_size="
@@ -796,11 +869,27 @@ def _moments(outer: Ring, holes: tuple[Ring, ...], mesh_size: float) -> _Moments
     sec = SpSection(geom)
     sec.calculate_geometric_properties()
     sec.calculate_warping_properties()
-    ixx, iyy, ixy = sec.get_ic()
+    return sec
+
+
+@functools.lru_cache(maxsize=32)
+def _moments(key: _Key, mesh_size: float) -> _Moments:
+    """FE section analysis of checked, normalised parts (size 1): sectionproperties.
+
+    Cached: b2 depends on nu only through G, so a sweep over nu (or one design file with the
+    same polygon in every segment) meshes and solves once per distinct set of G ratios.
+    """
+    sec = _analyse(key, mesh_size, shear=False)
+    ixx, iyy, ixy = sec.get_eic()
     cx, cy = sec.get_c()
+    if all(abs(G / E - 1.0) <= 1e-14 for _, _, E, G in key):
+        # One Poisson's ratio: G / G0 = E / E0, the E-weighted J is the G-weighted one.
+        J = float(sec.get_ej())
+    else:
+        J = float(_analyse(key, mesh_size, shear=True).get_ej())
     return _Moments(area=float(sec.get_area()), cx=float(cx), cy=float(cy), ixx=float(ixx),
-                    iyy=float(iyy), ixy=float(ixy), J=float(sec.get_j()),
-                    n_elements=n_elements, n_nodes=int(sec.num_nodes))
+                    iyy=float(iyy), ixy=float(ixy), J=J,
+                    n_elements=int(len(sec.elements)), n_nodes=int(sec.num_nodes))
 
 
 def _frame_moments(m: _Moments, normal_deg: float) -> tuple[float, float, float]:
@@ -856,6 +945,62 @@ def _normal_direction(m: _Moments, orientation_deg: float | None) -> float:
     return (first, second)[k]
 
 
+def _part(name: str, outer: Any, holes: Any, E: float, nu: float) -> SectionPart:
+    """Check the points of one part (geometry is checked with all parts together)."""
+    ring = _ring(f"{name}polygon", outer)
+    if isinstance(holes, (str, bytes)) or not isinstance(holes, Sequence | np.ndarray):
+        raise RodstabInputError(f"{name}holes must be a list of polygons, got {_short(holes)}")
+    inner = tuple(_ring(f"{name}holes[{k}]", h) for k, h in enumerate(holes))
+    return SectionPart(outer=ring, holes=inner, E=require_positive(f"{name}E", E),
+                       nu=require_poisson(nu))
+
+
+def _polygon_result(shape: str, parts: tuple[SectionPart, ...], mesh_size: float | None,
+                    orientation_deg: float | None) -> PolygonSection:
+    """Analyse checked parts (:func:`polygon_section`, :func:`composite_section`)."""
+    frac = POLYGON_MESH_SIZE if mesh_size is None else require_in_range(
+        "mesh_size", mesh_size, *MESH_SIZE_RANGE,
+        "the largest triangle's area over the section's area")
+    if orientation_deg is not None:
+        orientation_deg = require_in_range("orientation_deg", orientation_deg, -360.0, 360.0,
+                                           "a direction in degrees")
+    _check_parts(parts)
+    centre, size, key = _normalised(parts)
+    m = _moments(key, frac)
+    coarse = _moments(key, 4.0 * frac)
+    normal = _normal_direction(m, orientation_deg)
+    I1n, I3n, I13n = _frame_moments(m, normal)
+    first, second, _ = _principal(m)
+    s2, s4 = size * size, size**4
+    I1, I3, J = I1n * s4, I3n * s4, m.J * s4
+    require_finite("the polygon's I1 (size^4 overflows)", I1)
+    require_positive("the polygon's I3 (size^4 underflows)", I3)
+    nus = {p.nu for p in parts}
+    return PolygonSection(
+        shape=shape,
+        b1=I1n / I3n,
+        # m.J is weighted by G / G0 and I3 by E / E0: b2 = G0 J / (E0 I3).
+        b2=_b2(m.J, I3n, parts[0].nu),
+        nu=parts[0].nu if len(nus) == 1 else None,
+        torsion=FE_TORSION,
+        aspect=None,
+        area=m.area * s2,
+        I1=I1,
+        I3=I3,
+        J=J,
+        parts=parts,
+        mesh_size=frac,
+        n_elements=m.n_elements,
+        n_nodes=m.n_nodes,
+        centroid=(float(centre[0] + m.cx * size), float(centre[1] + m.cy * size)),
+        principal_deg=(first, second),
+        normal_deg=normal,
+        orientation_deg=orientation_deg,
+        coupling=abs(I13n) / math.sqrt(I1n * I3n),
+        J_mesh_change=abs(m.J - coarse.J) / m.J,
+    )
+
+
 def polygon_section(
     outer: Sequence[Sequence[float]],
     holes: Sequence[Sequence[Sequence[float]]] = (),
@@ -869,8 +1014,9 @@ def polygon_section(
     Polygon y is out of the plane of the ring (e3, like h of :func:`rectangle`), x in it
     (e1). Second moments about the centroid are integrated exactly (straight-sided six-node
     triangles); J is Saint-Venant's, from the FE warping function (sectionproperties), with
-    error ~ (element size)^4. The polygon is translated and scaled to size 1 for the analysis,
-    so that the results and the mesh do not depend on the length unit.
+    error ~ (element size)^4 for convex polygons. The polygon is translated and scaled to
+    size 1 for the analysis, so that the results and the mesh do not depend on the length
+    unit.
 
     Parameters
     ----------
@@ -893,7 +1039,7 @@ def polygon_section(
     Returns
     -------
     PolygonSection
-        ``shape="polygon"``, ``torsion="fe-warping"``.
+        ``shape="polygon"``, ``torsion="fe-warping"``, one part with E = 1.
 
     Raises
     ------
@@ -905,53 +1051,73 @@ def polygon_section(
         ``mesh_size`` out of range; or sectionproperties not installed.
     """
     nu = require_poisson(nu)
-    frac = POLYGON_MESH_SIZE if mesh_size is None else require_in_range(
-        "mesh_size", mesh_size, *MESH_SIZE_RANGE,
-        "the largest triangle's area over the section's area")
-    if orientation_deg is not None:
-        orientation_deg = require_in_range("orientation_deg", orientation_deg, -360.0, 360.0,
-                                           "a direction in degrees")
-    ring = _ring("polygon", outer)
-    if isinstance(holes, (str, bytes)) or not isinstance(holes, Sequence | np.ndarray):
-        raise RodstabInputError(f"holes must be a list of polygons, got {_short(holes)}")
-    inner = tuple(_ring(f"holes[{k}]", h) for k, h in enumerate(holes))
-    size = _check_polygon(ring, inner)
-    centre, size, key_outer, key_holes = _normalised(ring, inner)
-    m = _moments(key_outer, key_holes, frac)
-    coarse = _moments(key_outer, key_holes, 4.0 * frac)
-    normal = _normal_direction(m, orientation_deg)
-    I1n, I3n, I13n = _frame_moments(m, normal)
-    first, second, _ = _principal(m)
-    s2, s4 = size * size, size**4
-    I1, I3, J = I1n * s4, I3n * s4, m.J * s4
-    require_finite("the polygon's I1 (size^4 overflows)", I1)
-    require_positive("the polygon's I3 (size^4 underflows)", I3)
-    return PolygonSection(
-        shape=POLYGON,
-        b1=I1n / I3n,
-        b2=_b2(m.J, I3n, nu),
-        nu=nu,
-        torsion=FE_TORSION,
-        aspect=None,
-        area=m.area * s2,
-        I1=I1,
-        I3=I3,
-        J=J,
-        outer=ring,
-        holes=inner,
-        mesh_size=frac,
-        n_elements=m.n_elements,
-        n_nodes=m.n_nodes,
-        centroid=(float(centre[0] + m.cx * size), float(centre[1] + m.cy * size)),
-        principal_deg=(first, second),
-        normal_deg=normal,
-        orientation_deg=orientation_deg,
-        coupling=abs(I13n) / math.sqrt(I1n * I3n),
-        J_mesh_change=abs(m.J - coarse.J) / m.J,
-    )
+    part = _part("", outer, holes, 1.0, nu)
+    return _polygon_result(POLYGON, (part,), mesh_size, orientation_deg)
 
 
-def polygon_mesh(section: PolygonSection) -> tuple[np.ndarray, np.ndarray]:
+def composite_section(
+    parts: Sequence[Mapping[str, Any]],
+    *,
+    mesh_size: float | None = None,
+    orientation_deg: float | None = None,
+) -> PolygonSection:
+    """Section of several materials, each a polygon with holes, bonded along shared edges.
+
+    B1 = sum E I1 and B3 = sum E I3 about the modulus-weighted centroid (principal axes of
+    the modulus-weighted moments), B2 = the torsional rigidity of the warping problem with
+    each part's own G = E/(2 (1 + nu)) (sectionproperties weights its warping analysis by its
+    materials' moduli: it is run with G when the parts' nu differ); b1 = B1/B3, b2 = B2/B3.
+    Axes and orientation as :func:`polygon_section`.
+
+    Parameters
+    ----------
+    parts : sequence of mappings
+        Each ``{"polygon": [[x, y], ...], "holes": [...] (optional), "E": E > 0, "nu": nu}``;
+        parts may share edges (vertices need not match), may fill one another's holes, may
+        not overlap, and together form one connected region. Moduli in any one unit, at most
+        :data:`MODULUS_RATIO_MAX` apart.
+    mesh_size : float, optional
+        As :func:`polygon_section` (of the whole section's area).
+    orientation_deg : float, optional
+        As :func:`polygon_section`.
+
+    Returns
+    -------
+    PolygonSection
+        ``shape="composite"``, ``nu`` None unless all parts have the same.
+
+    Raises
+    ------
+    RodstabInputError
+        As :func:`polygon_section`, naming ``parts[i].polygon`` etc.; also for overlapping or
+        disconnected parts, an unknown or missing key of a part, moduli too far apart.
+    """
+    if isinstance(parts, (str, bytes, Mapping)) or not isinstance(parts, Sequence):
+        raise RodstabInputError(f"parts must be a list of parts {{polygon, holes, E, nu}}, got "
+                                f"{_short(parts)}")
+    if not parts:
+        raise RodstabInputError("parts is empty: give at least one part {polygon, E, nu}")
+    checked = []
+    for i, p in enumerate(parts):
+        if not isinstance(p, Mapping):
+            raise RodstabInputError(f"parts[{i}] must be a mapping {{polygon, holes, E, nu}}, "
+                                    f"got {_short(p)}")
+        unknown = sorted(str(k) for k in set(p) - {"polygon", "holes", "E", "nu"})
+        missing = [k for k in ("polygon", "E", "nu") if k not in p]
+        if unknown or missing:
+            raise RodstabInputError(f"parts[{i}] has unknown key(s) {unknown} or misses "
+                                    f"{missing}; a part has polygon, holes (optional), E, nu")
+        checked.append(_part(f"parts[{i}].", p["polygon"], p.get("holes", ()), p["E"],
+                             p["nu"]))
+    G = [c.E / (2.0 * (1.0 + c.nu)) for c in checked]
+    for name, vals in (("E", [c.E for c in checked]), ("G", G)):
+        if max(vals) > MODULUS_RATIO_MAX * min(vals):
+            raise RodstabInputError(f"the parts' {name} range from {min(vals):g} to "
+                                    f"{max(vals):g}, more than {MODULUS_RATIO_MAX:g} apart")
+    return _polygon_result(COMPOSITE, tuple(checked), mesh_size, orientation_deg)
+
+
+def polygon_mesh(section: PolygonSection) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Return the mesh a :class:`PolygonSection` was analysed on, in polygon coordinates.
 
     Meshed again (Triangle is deterministic and fast; the FE is not repeated).
@@ -962,9 +1128,12 @@ def polygon_mesh(section: PolygonSection) -> tuple[np.ndarray, np.ndarray]:
         Node coordinates (x, y), the polygon's length unit.
     triangles : ndarray, shape (n_elements, 3)
         Corner node indices of each six-node triangle (mid-side nodes omitted).
+    part : ndarray, shape (n_elements,)
+        Index of the part (material) of each triangle.
     """
-    centre, size, outer, holes = _normalised(section.outer, section.holes)
-    geom = _meshed(outer, holes, section.mesh_size)
+    centre, size, key = _normalised(section.parts)
+    geom = _meshed(key, section.mesh_size, shear=False)
     nodes = np.asarray(geom.mesh["vertices"], dtype=float) * size + centre
     tri = np.asarray(geom.mesh["triangles"], dtype=int)[:, :3]
-    return nodes, tri
+    part = np.asarray(geom.mesh["triangle_attributes"], dtype=float).reshape(len(tri), -1)
+    return nodes, tri, part[:, 0].astype(int)
