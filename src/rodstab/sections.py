@@ -26,6 +26,7 @@ out of the plane of the ring** (as h of the rectangle) and x along e1, in the pl
 t x h rectangle is ``[[0, 0], [t, 0], [t, h], [0, h]]``. The theory (paper, Section 2) assumes
 that the principal axes of the section are e1 and e3; a polygon whose principal axes are not x
 and y is refused unless ``orientation_deg`` names the principal axis that is the ring's normal.
+:func:`composite_section` takes several such polygons of different E and nu, bonded.
 """
 
 from __future__ import annotations
@@ -93,7 +94,8 @@ class Section(Result):
     Attributes
     ----------
     shape : str
-        "circle", "ellipse", "rectangle", "tube", "thin-tube", "ratios" or "polygon".
+        "circle", "ellipse", "rectangle", "tube", "thin-tube", "ratios", "polygon" or
+        "composite".
     b1 : float
         B1/B3, out-of-plane over in-plane bending stiffness (= I1/I3).
     b2 : float
