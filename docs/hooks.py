@@ -240,7 +240,7 @@ def build_tutorials(config: MkDocsConfig, files: Files, work: Path) -> list[Path
     for script in scripts:
         source = script.read_text()
         doc = ast.get_docstring(ast.parse(source)) or script.stem
-        title, _, intro = doc.partition("\n")
+        title, intro = _tutorial_title(script), doc.partition("\n")[2]
         t0 = time.perf_counter()
         output, figures = run_tutorial(script, work)
         log.info("tutorial %s: %.2f s", script.name, time.perf_counter() - t0)
@@ -476,11 +476,20 @@ def build_api(config: MkDocsConfig, files: Files) -> list[str]:
 
 # --- hooks ---------------------------------------------------------------------------------
 
-def _generated_nav() -> dict[str, list[str]]:
+def _tutorial_title(script: Path) -> str:
+    """Return the first line of a tutorial's docstring, without its full stop."""
+    doc = ast.get_docstring(ast.parse(script.read_text())) or script.stem
+    return doc.split("\n")[0].rstrip(".")
+
+
+def _generated_nav() -> dict[str, list[dict[str, str]]]:
+    """Each generated section of the nav: its pages, each ``{title: path}``."""
     return {
-        "gallery/index.md": [f"gallery/{p.stem}.md" for p in sorted(EXAMPLES.glob("*.toml"))],
-        "tutorials/index.md": [f"tutorials/{p.stem}.md" for p in sorted(TUTORIALS.glob("*.py"))],
-        "api/index.md": [f"api/{m}.md" for m in public_modules()],
+        "gallery/index.md": [{p.name: f"gallery/{p.stem}.md"}
+                             for p in sorted(EXAMPLES.glob("*.toml"))],
+        "tutorials/index.md": [{_tutorial_title(p): f"tutorials/{p.stem}.md"}
+                               for p in sorted(TUTORIALS.glob("*.py"))],
+        "api/index.md": [{m: f"api/{m}.md"} for m in public_modules()],
     }
 
 
