@@ -27,7 +27,9 @@ from __future__ import annotations
 import ast
 import contextlib
 import dataclasses
+import functools
 import importlib
+import importlib.util
 import inspect
 import io
 import json
@@ -452,6 +454,7 @@ def paper_page(results: Path | None) -> str:
 
 # --- API reference -------------------------------------------------------------------------
 
+@functools.cache
 def public_modules() -> list[str]:
     """Every module of the package whose dotted name has no private part."""
     names = [m.name for m in pkgutil.walk_packages(rodstab.__path__, "rodstab.")]
@@ -555,6 +558,80 @@ def on_page_markdown(markdown: str, page: Page, config: MkDocsConfig, files: Fil
 
     markdown = _CLAIMS_MARK.sub(claims, markdown)
     return _LIVE_BLOCK.sub(live, markdown)
+
+
+def _exists(dotted: str) -> bool:
+    """Return whether ``dotted`` names a module or an attribute of one."""
+    parts = dotted.split(".")
+    for i in range(len(parts), 0, -1):
+        try:
+            obj: Any = importlib.import_module(".".join(parts[:i]))
+        except ImportError:
+            continue
+        for part in parts[i:]:
+            if not hasattr(obj, part):
+                return False
+            obj = getattr(obj, part)
+        return True
+    return False
+
+
+_ROLE = re.compile(r":(?:func|class|mod|data|meth|attr|exc|obj):<code>~?([\w.]+)</code>")
+
+
+def identifier(name: str, module: str) -> str:
+    """Return the full dotted name that ``name`` in a docstring of ``module`` refers to.
+
+    Absolute names stay; ``.rules`` is resolved against the module's package; a bare name is
+    looked up in the module (an object imported there is named where it is defined), else
+    taken as the module's own attribute.
+    """
+    if name.startswith("rodstab."):
+        return name
+    mod = importlib.import_module(module)
+    if name.startswith("."):
+        package = module if hasattr(mod, "__path__") else module.rpartition(".")[0]
+        target = importlib.util.resolve_name(name, package)
+        if _exists(target):
+            return target
+        name = name.lstrip(".")  # Sphinx's ".name": any object of that name
+    obj: Any = mod
+    for part in name.split("."):
+        obj = getattr(obj, part, None)
+    if inspect.ismodule(obj):
+        return obj.__name__
+    home, qualname = getattr(obj, "__module__", None), getattr(obj, "__qualname__", None)
+    if isinstance(home, str) and home.startswith("rodstab") and isinstance(qualname, str):
+        return f"{home}.{qualname}"
+    if obj is not None:
+        return f"{module}.{name}"
+    # Not in this module (e.g. a re-exported function's docstring on its package's page): the
+    # module of the package that defines it, the nearest to this one if several do.
+    first = name.split(".")[0]
+    owners = [m for m in public_modules() if first in vars(importlib.import_module(m))
+              and not inspect.ismodule(getattr(importlib.import_module(m), first))]
+    if not owners:
+        return f"{module}.{name}"
+    near = max(owners, key=lambda m: len(os.path.commonprefix([m.split("."),
+                                                               module.split(".")])))
+    return identifier(name, near)
+
+
+def on_page_content(html: str, page: Page, config: MkDocsConfig, files: Files) -> str:
+    """Turn the docstrings' Sphinx roles (``:func:`name```) into cross-references.
+
+    The API pages render them as a role followed by code; each becomes an optional autorefs
+    link (a name that is not documented stays plain code, without a warning).
+    """
+    if not page.file.src_uri.startswith("api/"):
+        return html
+    module = page.file.src_uri.removeprefix("api/").removesuffix(".md")
+
+    def link(m: re.Match[str]) -> str:
+        return (f'<autoref identifier="{identifier(m.group(1), module)}" optional>'
+                f"<code>{m.group(1)}</code></autoref>")
+
+    return _ROLE.sub(link, html)
 
 
 def on_post_build(config: MkDocsConfig) -> None:
