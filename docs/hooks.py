@@ -576,7 +576,7 @@ def _exists(dotted: str) -> bool:
     return False
 
 
-_ROLE = re.compile(r":(?:func|class|mod|data|meth|attr|exc|obj):<code>~?([\w.]+)</code>")
+_ROLE = re.compile(r":(?:func|class|mod|data|meth|attr|exc|obj):<code>(~?)([\w.]+)</code>")
 
 
 def identifier(name: str, module: str) -> str:
@@ -628,8 +628,10 @@ def on_page_content(html: str, page: Page, config: MkDocsConfig, files: Files) -
     module = page.file.src_uri.removeprefix("api/").removesuffix(".md")
 
     def link(m: re.Match[str]) -> str:
-        return (f'<autoref identifier="{identifier(m.group(1), module)}" optional>'
-                f"<code>{m.group(1)}</code></autoref>")
+        tilde, name = m.groups()  # "~": show the last component only (Sphinx's convention)
+        shown = name.rpartition(".")[2] if tilde else name
+        return (f'<autoref identifier="{identifier(name, module)}" optional>'
+                f"<code>{shown}</code></autoref>")
 
     return _ROLE.sub(link, html)
 

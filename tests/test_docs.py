@@ -113,7 +113,12 @@ def test_api_reference_has_every_public_module(site):
     modules = hooks.public_modules()
     assert "rodstab.linear.solve" in modules and "rodstab.cli" not in modules
     for name in modules:
-        assert f'id="{name}"' in _page(site, f"api/{name}"), name
+        html = _page(site, f"api/{name}")
+        assert f'id="{name}"' in html, name
+        # the docstrings' Sphinx roles became cross-references (or plain code)
+        assert not re.search(r":(func|class|mod|data|meth|attr):<code>", html), name
+    assert 'href="../rodstab.model/#rodstab.model.Assembly"><code>Assembly</code>' in _page(
+        site, "api/rodstab.linear.assembly")  # :class:`~rodstab.model.Assembly`
 
 
 # --- the hook's parts, without a build --------------------------------------------------------
