@@ -208,7 +208,8 @@ def build_gallery(config: MkDocsConfig, files: Files, work: Path) -> list[Path]:
                 files.append(File.generated(config, f"gallery/{name}", content=p.read_bytes()))
         files.append(File.generated(config, f"gallery/{path.stem}.md",
                                     content=gallery_page(path, runs, pictures)))
-        first = header_comment(path.read_text()).split(". ")[0].replace("\n", " ")
+        first = re.split(r"\.\s+(?=[A-Z])", header_comment(path.read_text()))[0]
+        first = first.replace("\n", " ")
         rows.append(f"| [{path.name}]({path.stem}.md) | {_escape(first)} | "
                     + ", ".join(f"`{r.args[0]}`" for r in runs) + " |")
     files.append(File.generated(config, "gallery/index.md", content="\n".join(rows) + "\n"))
