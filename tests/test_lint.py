@@ -1,5 +1,6 @@
 """Style gate: ruff (pyflakes, pycodestyle, import order, bugbear; numpy docstrings on src)
-over src, tests and benchmarks, and mypy over the package, as configured in pyproject.toml.
+over src, tests, benchmarks and docs (the site's hook and tutorials), and mypy over the
+package, as configured in pyproject.toml.
 """
 
 from __future__ import annotations
@@ -19,10 +20,9 @@ ROOT = Path(__file__).resolve().parent.parent
                     subprocess.run([sys.executable, "-m", "ruff", "--version"],
                                    capture_output=True).returncode != 0,
                     reason="ruff is in the test extras; not installed here")
-def test_ruff_is_clean_on_src_tests_and_benchmarks():
-    r = subprocess.run([sys.executable, "-m", "ruff", "check", "src", "tests", "benchmarks"],
-                       cwd=ROOT,
-                       capture_output=True, text=True)
+def test_ruff_is_clean_on_src_tests_benchmarks_and_docs():
+    r = subprocess.run([sys.executable, "-m", "ruff", "check", "src", "tests", "benchmarks",
+                        "docs"], cwd=ROOT, capture_output=True, text=True)
     assert r.returncode == 0, r.stdout + r.stderr
 
 

@@ -1,4 +1,4 @@
-"""Global matrices of P2 for an :class:`~rodstab.linear.model.Assembly` (one assembly path).
+"""Global matrices of P2 for an :class:`~rodstab.model.Assembly` (one assembly path).
 
 Unknowns: at every joint the lab-frame out-of-plane displacement ``w`` and the in-plane
 rotation vector ``(theta_x, theta_y)`` of the cross-section (welds share them: the geometric

@@ -1,0 +1,155 @@
+"""The documentation site (mkdocs.yml, docs/hooks.py) builds with ``--strict`` and holds what
+it promises: a gallery page with its pictures for every example, a page per tutorial, every
+check id on the paper-vs-rodstab page, every command on the CLI page, every public module in
+the API reference. The build runs every example and tutorial, so a broken one fails it.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+import os
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from rodstab import checks
+from rodstab.checks import sec2
+from rodstab.cli import cli
+from rodstab.results import jsonable
+
+pytest.importorskip("mkdocs", reason="the docs extra is not installed (pip install '.[docs]'; "
+                                     "the test extra includes it)")
+
+ROOT = Path(__file__).resolve().parent.parent
+PNG = b"\x89PNG\r\n\x1a\n"
+
+
+def _hooks():
+    """docs/hooks.py as a module (it is a script of the site, not part of the package)."""
+    spec = importlib.util.spec_from_file_location("rodstab_docs_hooks", ROOT / "docs" / "hooks.py")
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module  # dataclasses look their module up while it loads
+    spec.loader.exec_module(module)
+    return module
+
+
+hooks = _hooks()
+
+
+@pytest.fixture(scope="module")
+def site(tmp_path_factory) -> Path:
+    """``mkdocs build --strict`` into a temporary directory, without a results.json."""
+    out = tmp_path_factory.mktemp("site")
+    env = {k: v for k, v in os.environ.items() if k != hooks.RESULTS_ENV}
+    env.update(OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1", NO_MKDOCS_2_WARNING="1")
+    r = subprocess.run([sys.executable, "-m", "mkdocs", "build", "--strict", "-f",
+                        str(ROOT / "mkdocs.yml"), "-d", str(out)],
+                       cwd=ROOT, env=env, capture_output=True, text=True)
+    assert r.returncode == 0, r.stdout[-3000:] + r.stderr[-6000:]
+    return out
+
+
+def _page(site: Path, path: str) -> str:
+    page = site / path / "index.html"
+    assert page.is_file(), f"no page {path}"
+    return page.read_text()
+
+
+def _images(html: str) -> list[str]:
+    return re.findall(r'<img alt="[^"]*" src="([^"]+)"', html)
+
+
+@pytest.mark.parametrize("example", sorted(p.stem for p in (ROOT / "examples").glob("*.toml")))
+def test_every_example_has_a_gallery_page_with_its_picture(site, example):
+    html = _page(site, f"gallery/{example}")
+    assert f"examples/{example}.toml" in html
+    images = _images(html)
+    assert images, f"gallery/{example} shows no picture"
+    for src in images:
+        picture = (site / "gallery" / example / src).resolve()
+        assert picture.read_bytes().startswith(PNG), src
+    assert f'href="{example}/"' in _page(site, "gallery")
+
+
+def test_every_tutorial_page_shows_its_output_and_figures(site):
+    scripts = sorted((ROOT / "docs" / "tutorials").glob("*.py"))
+    assert scripts
+    for script in scripts:
+        html = _page(site, f"tutorials/{script.stem}")
+        assert "What it prints" in html and script.name in html
+        images = _images(html)
+        assert images, f"tutorials/{script.stem} shows no figure"  # each script saves one
+        for src in images:
+            assert (site / "tutorials" / script.stem / src).resolve().read_bytes().startswith(PNG)
+
+
+def test_paper_page_lists_every_check_id(site):
+    html = _page(site, "paper-vs-rodstab")
+    cells = set(re.findall(r"<tr>\s*<td>([^<]+)</td>", html))
+    assert set(checks.expected_statuses()) <= cells
+    assert "rodstab reproduce" in html  # says where the numbers come from
+
+
+def test_theory_pages_hold_their_sections_rows_and_live_output(site):
+    html = _page(site, "theory/section4")
+    assert "<td>4.8</td>" in html and "<td>3.9</td>" not in html
+    text = re.sub(r"<[^>]+>", "", html)  # the console block is highlighted span by span
+    assert "$ rodstab birod" in text and "lam_c = B3 kappa0 L/sqrt(B1 B2)" in text
+    assert "arithmatex" in html  # the equations went through the math extension
+
+
+def test_cli_page_documents_every_command(site):
+    html = _page(site, "cli")
+    for name in cli.commands:
+        assert f"rodstab {name}" in html, name
+    assert "UNSET" not in html  # click's sentinel shown as a default (mkdocs-click's tables)
+
+
+def test_api_reference_has_every_public_module(site):
+    modules = hooks.public_modules()
+    assert "rodstab.linear.solve" in modules and "rodstab.cli" not in modules
+    for name in modules:
+        html = _page(site, f"api/{name}")
+        assert f'id="{name}"' in html, name
+        # the docstrings' Sphinx roles became cross-references (or plain code)
+        assert not re.search(r":(func|class|mod|data|meth|attr):<code>", html), name
+    assert 'href="../rodstab.model/#rodstab.model.Assembly"><code>Assembly</code>' in _page(
+        site, "api/rodstab.linear.assembly")  # :class:`~rodstab.model.Assembly`
+
+
+# --- the hook's parts, without a build --------------------------------------------------------
+
+def test_a_broken_example_fails_the_build(tmp_path):
+    (tmp_path / "broken.toml").write_text("[section]\nshape = 'hexagon'\n")
+    with pytest.raises(hooks.PluginError, match="exited 2"):
+        hooks.run_rodstab(["analyze", "broken.toml"], tmp_path)
+
+
+def test_claim_definitions_find_every_row_of_the_registry():
+    rows = hooks.claim_definitions()
+    assert [r.id for r in rows] == list(checks.expected_statuses())
+    # every id matched a Claim(...) call of its check module: section and claim were read
+    assert all(r.section != hooks._UNKNOWN and r.statement for r in rows)
+    assert {r.section for r in rows} <= {"2", "2.1", "2.2", "3.1", "3.2", "3.3", "4", "5",
+                                         "beyond"}
+    by_id = {r.id: r for r in rows}
+    assert by_id["E3.1-N3"].statement == "3-loop ring interval of M by the engine"
+    assert by_id["PB-threshold-folded"].statement.startswith("folded six-sided ring: where")
+
+
+def test_paper_page_from_a_results_file_shows_computed_rows(tmp_path):
+    """A results.json as ``rodstab reproduce`` writes it, holding Section 2's computed rows."""
+    rows = list(sec2.section2_checks(checks.Run()))
+    path = tmp_path / "results.json"
+    path.write_text(json.dumps(jsonable({"version": "test", "claims": rows})))
+    page = hooks.paper_page(path)
+    for r in rows:
+        assert hooks._escape(r.rodstab) in page
+        assert f"**{r.status}**" in page
+    assert page.count("not in this results.json") == len(checks.expected_statuses()) - len(rows)
+    assert "rodstab test" in page
