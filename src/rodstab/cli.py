@@ -52,6 +52,7 @@ from .sections import (
     make_section,
     polygon_section,
 )
+from .units import Units
 
 #: Exit statuses of the ``rodstab`` command (module docstring, ``rodstab --help``, README).
 EXIT_OK = 0
@@ -424,16 +425,66 @@ def analyze(design_file: str, elements: int | None, plot_path: str | None, limit
 
         payload["plot"] = str(plot_mode(d.assembly, r, plot))
     lo, hi = r.load_factor_interval
-    _emit(payload, as_json, [
+    lines = [
         f"design       {d.source}  ({len(d.assembly.segments)} segments, {r.n_dof} dof)",
         f"stable for   {_fmt(lo)} < load factor < {_fmt(hi)}   (design load factor 1: "
         f"{'stable' if r.stable_at_design else 'NOT stable'})",
         f"critical     {_fmt(hi)} (multiplicity {r.multiplicity}); lam = {_fmt(lam)} "
         f"({payload['paper_load_factor_definition']})",
         f"mode         {payload['mode_family']}" + _one_of(r.multiplicity),
-    ])
+    ]
+    if d.units is not None:
+        from .units import stability_units
+
+        block = stability_units(d.units, d.assembly, r.load_factor_interval)
+        payload["units"] = block
+        lines += _analyze_unit_lines(block, d.units, r.stable_at_design)
+    _emit(payload, as_json, lines)
     _require_converged(r, f"the FE eigen solve at {n} elements per segment (round-off grows "
                           "with the mesh, as h^-4: try fewer elements)")
+
+
+def _units_line(units: Units) -> str:
+    """Return the reference scales of a design with units, as one line."""
+    mat = ("" if units.E is None else
+           f" (E = {units.E / 1e9:.6g} GPa, nu = {_fmt(units.nu or 0.0)})")
+    return (f"units        SI; reference segment {units.segment!r}: L = "
+            f"{units.length_text(units.length)}, B3 = {_fmt(units.stiffness)} N*m^2{mat}")
+
+
+def _arc_text(block: dict[str, Any], prefix: str, units: Units) -> str:
+    """Return natural curvature, radius and psi of ``block`` (``stability_units``) as text."""
+    import math
+
+    k = block[f"{prefix}natural_curvature"]["value"]
+    psi = block[f"{prefix}psi"]["value"]
+    return (f"natural curvature {_fmt(k)} 1/m (radius "
+            f"{units.length_text(block[f'{prefix}natural_radius']['value'])}), psi = L kappa_n/2 "
+            f"= {_fmt(psi)} rad ({math.degrees(psi):.4g} deg)")
+
+
+def _analyze_unit_lines(block: dict[str, Any], units: Units, stable: bool) -> list[str]:
+    """Return the physical lines of ``analyze`` (design with units), ending with the verdict."""
+    moments = block["held_moment"]["value"]
+    lines = [_units_line(units),
+             f"as built     {_arc_text(block, '', units)} (segment {units.segment!r})",
+             f"             stored energy {_fmt(block['stored_energy']['value'])} J; largest "
+             f"held moment |B3 (k - kappa_n)| {_fmt(max(abs(m) for m in moments.values()))} N*m"]
+    if "critical_natural_curvature" in block:
+        lines.append(f"critical     {_arc_text(block, 'critical_', units)}")
+    if "lower_critical_natural_curvature" in block:
+        lines.append(f"lower limit  {_arc_text(block, 'lower_critical_', units)}")
+    v = block["as_built"]
+    if v is None:
+        lines.append("verdict      as built (load factor 1): " + (
+            "STABLE; no natural curvature of the built sign makes it unstable" if stable else
+            "UNSTABLE; its stable load factors all have the other sign"))
+    else:
+        which = "critical" if v["limit"] == "upper" else "lower critical"
+        lines.append(f"verdict      as built (load factor 1): "
+                     f"{'STABLE' if v['stable'] else 'UNSTABLE'}, natural curvature "
+                     f"{100 * v['margin']:.1f} % {v['side']} the {which} one")
+    return lines
 
 
 @cli.command("equilibrium")
