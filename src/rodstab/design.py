@@ -118,7 +118,16 @@ from .sections import (
     rectangle,
     tube,
 )
-from .units import EXAMPLES, SI_UNITS, Units, looks_like_quantity, parse_quantity, parse_unit
+from .units import (
+    EXAMPLES,
+    SI_UNITS,
+    Units,
+    convert,
+    looks_like_quantity,
+    parse_quantity,
+    parse_unit,
+    split_quantity,
+)
 
 _TOP = {"section", "segment", "weld", "support", "analysis", "material"}
 #: Keys of ``[material]`` (a design with units).
@@ -924,6 +933,9 @@ def _parse(data: Any) -> tuple[Assembly, int, str, Units | None]:
                                 f"{_unknown_segment(lf, known)}")
     units = None
     if reader.marker is not None:
+        # Checked in SI first, so that a message about positions is in metres.
+        Assembly(segments=tuple(segments), welds=tuple(welds), supports=tuple(supports),
+                 reference_load=ref, end_rotations=tuple(rotations))
         # Solve in the units of the load-factor segment (rodstab.units: why, and the rule).
         lc, bc = segments[known[lf]].length, segments[known[lf]].B3
         segments = [_scaled(s, lc, bc) for s in segments]
@@ -1127,13 +1139,17 @@ def load_polygon(path: str | Path) -> dict[str, Any]:
 # --------------------------------------------------------------------------- --vary keys
 
 #: Numeric keys of a section table that ``--vary`` may set.
-_VARY_SECTION = ("aspect", "nu", "b1", "b2", "B3", "mesh_size")
+_VARY_SECTION = ("aspect", "nu", "b1", "b2", "B3", "mesh_size", *_DIMENSION_KEYS)
 #: Numeric keys of a segment that ``--vary`` may set.
-_VARY_SEGMENT = ("length", "curvature", "natural_curvature", "natural_twist", "angle_deg")
+_VARY_SEGMENT = ("length", "curvature", "natural_curvature", "natural_radius", "natural_twist",
+                 "angle_deg")
 #: Keys of [analysis] that ``--vary`` may set (elements: integer values only).
 _VARY_ANALYSIS = ("elements", "reference_load")
+#: Keys of [material] that ``--vary`` may set (a design with units).
+_VARY_MATERIAL = ("E", "nu", "G")
 #: The forms of a ``--vary`` key of a sweep, as its error messages list them.
 VARY_FORMS = (f"section.<{'|'.join(_VARY_SECTION)}>, analysis.<{'|'.join(_VARY_ANALYSIS)}>, "
+              f"material.<{'|'.join(_VARY_MATERIAL)}>, "
               f"segment.<name>.<{'|'.join(_VARY_SEGMENT)}>, "
               f"segment.<name>.section.<{'|'.join(_VARY_SECTION)}> or "
               f"support.<i>.rotation.<{'|'.join(ROTATION_AXES)}>")
@@ -1147,7 +1163,7 @@ def _index(text: str, what: str, key: str, count: int) -> int:
     return int(text)
 
 
-def set_design_value(data: dict, key: str, value: float) -> dict:
+def set_design_value(data: dict, key: str, value: float, unit: str | None = None) -> dict:
     """Return a copy of ``data`` with the value at the dotted ``key`` replaced.
 
     Parameters
@@ -1155,12 +1171,15 @@ def set_design_value(data: dict, key: str, value: float) -> dict:
     data : dict
         A parsed design (``Design.raw``); not modified.
     key : str
-        ``section.<k>``, ``analysis.<k>``, ``segment.<name>.<k>`` (a segment by name),
-        ``segment.<name>.section.<k>`` or ``support.<i>.rotation.<axis>`` (``i``: the
-        support's position in the file from 0; axis: normal, tangent or binormal); ``k`` a
-        numeric key (:data:`VARY_FORMS`).
+        ``section.<k>``, ``analysis.<k>``, ``material.<k>``, ``segment.<name>.<k>`` (a
+        segment by name), ``segment.<name>.section.<k>`` or ``support.<i>.rotation.<axis>``
+        (``i``: the support's position in the file from 0; axis: normal, tangent or
+        binormal); ``k`` a numeric key (:data:`VARY_FORMS`).
     value : float
         The new value (``analysis.elements``: an integral value).
+    unit : str, optional
+        The unit of ``value`` (a design with units): the quantity string ``"<value> <unit>"``
+        is written.
 
     Returns
     -------
@@ -1178,8 +1197,10 @@ def set_design_value(data: dict, key: str, value: float) -> dict:
                                 f"got {value!r}")
     out = copy.deepcopy(data)
     parts = key.split(".")
-    if parts[0] in ("section", "analysis") and len(parts) == 2:
-        allowed = _VARY_SECTION if parts[0] == "section" else _VARY_ANALYSIS
+    written: Any = value if unit is None else f"{value!r} {unit}"
+    if parts[0] in ("section", "analysis", "material") and len(parts) == 2:
+        allowed = {"section": _VARY_SECTION, "analysis": _VARY_ANALYSIS,
+                   "material": _VARY_MATERIAL}[parts[0]]
         if parts[1] not in allowed:
             raise RodstabInputError(f"--vary key {key!r}: {parts[1]!r} is not a numeric key of "
                                     f"[{parts[0]}] (allowed: {list(allowed)})")
@@ -1187,11 +1208,15 @@ def set_design_value(data: dict, key: str, value: float) -> dict:
             if value != int(value):
                 raise RodstabInputError(f"--vary key {key!r} takes integer values, "
                                         f"got {value!r}")
-            value = int(value)
+            written = int(value)
+        if parts[0] == "material" and "material" not in out:
+            raise RodstabInputError(f"--vary key {key!r}: the design has no [material]")
         table = out.setdefault(parts[0], {})
         if not isinstance(table, dict):
             raise RodstabInputError(f"--vary key {key!r}: [{parts[0]}] is not a table")
-        table[parts[1]] = value
+        if parts[0] == "material":  # nu and G are alternatives: the varied one replaces
+            table.pop({"nu": "G", "G": "nu"}.get(parts[1], ""), None)
+        table[parts[1]] = written
         return out
     if parts[0] == "segment" and len(parts) in (3, 4):
         segs = out.get("segment", [])
@@ -1206,7 +1231,10 @@ def set_design_value(data: dict, key: str, value: float) -> dict:
             if parts[2] not in _VARY_SEGMENT:
                 raise RodstabInputError(f"--vary key {key!r}: {parts[2]!r} cannot be varied "
                                         f"(a segment's numeric keys: {list(_VARY_SEGMENT)})")
-            named[0][parts[2]] = value
+            named[0][parts[2]] = written
+            # natural_radius and natural_curvature are alternatives: the varied one replaces
+            named[0].pop({"natural_radius": "natural_curvature",
+                          "natural_curvature": "natural_radius"}.get(parts[2], ""), None)
         else:
             if parts[2] != "section" or parts[3] not in _VARY_SECTION:
                 raise RodstabInputError(f"--vary key {key!r} is not segment.<name>.section."
@@ -1215,7 +1243,7 @@ def set_design_value(data: dict, key: str, value: float) -> dict:
             if not isinstance(sec, dict):
                 raise RodstabInputError(f"--vary key {key!r}: segment {parts[1]!r} has a "
                                         "section that is not a table")
-            sec[parts[3]] = value
+            sec[parts[3]] = written
         return out
     if parts[0] == "support" and len(parts) == 4 and parts[2] == "rotation":
         sups = out.get("support", [])
@@ -1228,6 +1256,9 @@ def set_design_value(data: dict, key: str, value: float) -> dict:
             raise RodstabInputError(f"--vary key {key!r}: support[{i}] is not a table")
         rot = sups[i].get("rotation", [0.0, 0.0, 0.0])
         rot = list(rot) if isinstance(rot, list) and len(rot) == 3 else [0.0, 0.0, 0.0]
+        if unit is not None:
+            raise RodstabInputError(f"--vary key {key!r} takes radians (plain numbers), got "
+                                    f"a unit {unit!r}")
         rot[ROTATION_AXES.index(parts[3])] = value
         sups[i]["rotation"] = rot
         return out
@@ -1246,22 +1277,28 @@ class VarySpec:
     start: float
     stop: float
     n: int
+    unit: str | None = None  # START and STOP in this unit ("mm"), or plain numbers
 
 
 #: The grammar of ``--vary``, as its error messages quote it.
 VARY_GRAMMAR = "KEY=START:STOP[:N]"
 
 
-def _vary_number(spec: str, part: str, text: str) -> float:
+def _vary_number(spec: str, part: str, text: str) -> tuple[float, str | None]:
+    """START or STOP: a plain number, or a quantity ``"100 mm"`` (number and unit)."""
     try:
-        value = float(text)
+        value, unit = float(text), None
     except ValueError:
-        raise RodstabInputError(f"--vary {_show(spec)}: {part} {_show(text.strip())} is not a "
-                                f"number (expected {VARY_GRAMMAR})") from None
+        split = split_quantity(text)
+        if split is None:
+            raise RodstabInputError(f"--vary {_show(spec)}: {part} {_show(text.strip())} is "
+                                    "not a number or a quantity such as '100 mm' (expected "
+                                    f"{VARY_GRAMMAR})") from None
+        value, unit = split
     if not math.isfinite(value):
         raise RodstabInputError(f"--vary {_show(spec)}: {part} {_show(text.strip())} is not a "
                                 "finite number")
-    return value
+    return value, unit
 
 
 def parse_vary(spec: str, *, default_n: int) -> VarySpec:
@@ -1301,17 +1338,101 @@ def parse_vary(spec: str, *, default_n: int) -> VarySpec:
     if len(parts) not in (2, 3):
         raise RodstabInputError(f"--vary must be {VARY_GRAMMAR}, got {_show(spec)} "
                                 f"({len(parts)} part(s) after '=')")
-    start = _vary_number(spec, "START", parts[0])
-    stop = _vary_number(spec, "STOP", parts[1])
+    start, unit = _vary_number(spec, "START", parts[0])
+    stop, stop_unit = _vary_number(spec, "STOP", parts[1])
+    if (unit is None) != (stop_unit is None):
+        raise RodstabInputError(f"--vary {_show(spec)}: give START and STOP both with a unit "
+                                "or both as plain numbers")
+    if unit is not None and stop_unit is not None and stop_unit != unit:
+        stop = convert(stop, stop_unit, unit, f"--vary {_show(spec)}: STOP")
     if len(parts) == 2:
-        return VarySpec(key, start, stop, n_default)
+        return VarySpec(key, start, stop, n_default, unit)
     text = parts[2].strip()
     digits = text.lstrip("0")
     if not (text.isascii() and text.isdigit()) or not digits:
         raise RodstabInputError(f"--vary {_show(spec)}: N {_show(text)} must be a positive "
                                 "integer")
     # Past 18 digits N is beyond every step limit; int() of over 4300 digits would raise.
-    return VarySpec(key, start, stop, int(digits) if len(digits) <= 18 else 10**18)
+    return VarySpec(key, start, stop, int(digits) if len(digits) <= 18 else 10**18, unit)
+
+
+def value_kind(key: str) -> str | None:
+    """Return the physical kind of a ``--vary`` key's values, or None if dimensionless.
+
+    Kinds of :data:`rodstab.units.SI_UNITS`: segment lengths and radii, section dimensions
+    ("length"), curvatures and natural twist ("curvature"), ``B3`` ("stiffness"), E and G
+    ("modulus"), end and weld rotations ("angle", plain numbers are radians), a weld's
+    moment and force (continuation keys, "moment", "force"). Ratios, ``angle_deg``, load
+    factors and counts are dimensionless.
+    """
+    parts = key.split(".")
+    last = parts[-1]
+    if "rotation" in parts[:-1] and parts[0] in ("support", "welds"):
+        return "angle"
+    if parts[0] == "weld" and len(parts) == 4:
+        return {"moment": "moment", "force": "force"}.get(parts[2])
+    if parts[0] == "material":
+        return "modulus" if last in ("E", "G") else None
+    if parts[0] == "section" or (parts[0] == "segment" and "section" in parts[2:3]):
+        return "length" if last in _DIMENSION_KEYS else "stiffness" if last == "B3" else None
+    if parts[0] == "segment" and len(parts) == 3:
+        return _SEGMENT_KINDS.get(last)
+    return None
+
+
+def vary_in_units(design: Design, spec: VarySpec) -> VarySpec:
+    """Check the units of a ``--vary`` against ``design``; return it ready to apply.
+
+    A dimensional key (:func:`value_kind`) of a design with units needs START and STOP with a
+    unit of its kind (``segment.a.length=100 mm:200 mm``), kept for
+    :func:`set_design_value`; of a design without units, plain numbers. A dimensionless key
+    takes plain numbers. Angles (rotations) take radians or any angle unit, returned in
+    radians without a unit.
+
+    Raises
+    ------
+    RodstabInputError
+        Naming the ``--vary`` key and the unit, or the missing unit, and why.
+    """
+    kind = value_kind(spec.key)
+    what = f"--vary {spec.key}"
+    if kind == "angle":
+        if spec.unit is None:
+            return spec
+        per = parse_unit(spec.unit, f"{what} (unit of START and STOP)", "angle")
+        return dataclasses.replace(spec, start=spec.start * per, stop=spec.stop * per,
+                                   unit=None)
+    if kind is None:
+        if spec.unit is not None:
+            raise RodstabInputError(f"{what} is a plain number (a ratio, count or load "
+                                    f"factor): give START and STOP without the unit "
+                                    f"{spec.unit!r}")
+        return spec
+    if design.units is None:
+        if spec.unit is not None:
+            raise RodstabInputError(f"{what}: {design.source} has no units (plain numbers); "
+                                    f"give START and STOP without the unit {spec.unit!r}")
+        return spec
+    if spec.unit is None:
+        u = EXAMPLES[kind].split(" ", 1)[1]
+        raise RodstabInputError(f"{what}: {design.source} has units; give START and STOP with a "
+                                f"unit, e.g. '{spec.key}={spec.start:g} {u}:{spec.stop:g} {u}' "
+                                "(plain numbers and quantities cannot be mixed)")
+    parse_unit(spec.unit, f"{what} (unit of START and STOP)", kind)  # the dimension
+    return spec
+
+
+def model_value(design: Design, key: str, value: float, unit: str | None) -> float:
+    """Return a ``--vary`` value of a continuation key in the model's units.
+
+    Without units, ``value``; with a unit (a design with units, :func:`vary_in_units`), the
+    SI value divided by the model unit of the key's kind (:mod:`rodstab.units`).
+    """
+    kind = value_kind(key)
+    if unit is None or kind is None or design.units is None:
+        return value
+    si = value * parse_unit(unit, f"--vary {key}", kind)
+    return si / design.units.si(1.0, kind)
 
 
 #: Fewest elements per segment of the nonlinear rod (``rodstab equilibrium``): a design's

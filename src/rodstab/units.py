@@ -188,16 +188,46 @@ def parse_quantity(text: Any, path: str, kind: str) -> Quantity:
     return Quantity(si=si, magnitude=magnitude, unit=unit, si_per_unit=factor)
 
 
-def looks_like_quantity(value: Any) -> bool:
-    """Whether ``value`` has the form of a quantity: a string, a number, then unit text.
+def split_quantity(value: Any) -> tuple[float, str] | None:
+    """Return ``(number, unit text)`` of a string shaped as a quantity (``"5 mm"``), else None.
 
-    What makes a design one with units (:mod:`rodstab.design`); whether the unit exists and
-    has the right dimension is checked where the value is read (:func:`parse_quantity`).
+    A string, a number, then non-empty unit text. What makes a design one with units
+    (:mod:`rodstab.design`); whether the unit exists and has the right dimension is checked
+    where the value is read (:func:`parse_quantity`).
     """
     if not isinstance(value, str) or len(value) > MAX_QUANTITY_CHARS:
-        return False
+        return None
     match = _QUANTITY.fullmatch(value)
-    return match is not None and bool(match.group(2))
+    if match is None or not match.group(2):
+        return None
+    return float(match.group(1)), match.group(2)
+
+
+def looks_like_quantity(value: Any) -> bool:
+    """Whether ``value`` is shaped as a quantity (:func:`split_quantity`)."""
+    return split_quantity(value) is not None
+
+
+def convert(value: float, unit: str, to_unit: str, what: str) -> float:
+    """Return ``value`` in ``unit`` expressed in ``to_unit`` (``2 m`` -> 2000 for ``mm``).
+
+    Raises
+    ------
+    RodstabInputError
+        Naming ``what`` if either unit is unknown or their dimensions differ.
+    """
+    ureg = _registry()
+    import pint
+
+    try:
+        return float(ureg.Quantity(value, ureg.parse_units(unit)).to(ureg.parse_units(to_unit))
+                     .magnitude)
+    except pint.errors.DimensionalityError:
+        raise RodstabInputError(f"{what}: {unit!r} and {to_unit!r} are not units of the same "
+                                "quantity") from None
+    except Exception as exc:  # pint's parser on user text (see _unit_factor)
+        raise RodstabInputError(f"{what}: cannot read the units {unit!r}, {to_unit!r} "
+                                f"({type(exc).__name__}: {exc})") from None
 
 
 def parse_unit(text: Any, path: str, kind: str) -> float:
@@ -208,7 +238,7 @@ def parse_unit(text: Any, path: str, kind: str) -> float:
     RodstabInputError
         Naming ``path`` and ``text`` if it is not a string, or not a unit of ``kind``.
     """
-    if not isinstance(text, str) or not text.strip() or _QUANTITY.fullmatch(text):
+    if not isinstance(text, str) or not text.strip():
         raise RodstabInputError(f"{path} must be a unit such as "
                                 f"{EXAMPLES[kind].split(' ', 1)[1]!r}, got {text!r}")
     return _unit_factor(text.strip(), path, text, kind)
@@ -419,4 +449,44 @@ def stability_units(units: Units, assembly: Assembly, interval: tuple[float, flo
                                     for s in assembly.segments}, "unit": SI_UNITS["moment"]}
     verdict = as_built(interval, built)
     out["as_built"] = None if verdict is None else verdict.to_dict() | {"side": verdict.side}
+    return out
+
+
+def path_units(units: Units, kind: str | None, values: list[float], energies: list[float],
+               special_values: list[float], natural_curvature: float) -> dict[str, Any]:
+    """Return the physical values of a continuation path (the ``"units"`` block of continue).
+
+    Parameters
+    ----------
+    units : Units
+        The design's scales.
+    kind : str or None
+        The kind of the continuation parameter (:func:`rodstab.design.value_kind`); None for
+        the load factor.
+    values, energies : list of float
+        The path's parameter values and energies (model units).
+    special_values : list of float
+        The parameter values of its special points.
+    natural_curvature : float
+        The reference segment's natural curvature at load factor 1 (model units): with the
+        load factor as parameter, the path's natural curvatures are ``value x`` this.
+
+    Returns
+    -------
+    dict
+        :meth:`Units.reference`, ``value`` and ``special_value`` in SI (``{"value", "unit"}``)
+        when the parameter has a kind, else ``natural_curvature`` and
+        ``special_natural_curvature`` (|kappa_n| of the reference segment, 1/m) along the
+        load factor; ``energy`` (J).
+    """
+    out = units.reference()
+    if kind is not None:
+        out["value"] = units.quantities(values, kind)
+        out["special_value"] = units.quantities(special_values, kind)
+    else:
+        out["natural_curvature"] = units.quantities(
+            [abs(v * natural_curvature) for v in values], "curvature")
+        out["special_natural_curvature"] = units.quantities(
+            [abs(v * natural_curvature) for v in special_values], "curvature")
+    out["energy"] = units.quantities(energies, "energy")
     return out
