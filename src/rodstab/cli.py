@@ -1,7 +1,9 @@
 """The ``rodstab`` command. Holds no mathematics: it parses, calls a solver, prints.
 
 Every analysis subcommand prints a readable table, or with ``--json`` exactly one JSON object on
-stdout (non-dimensional quantities as in the paper; NaN/inf become ``null``).
+stdout (non-dimensional quantities as in the paper; NaN/inf become ``null``). A design file with
+units (:mod:`rodstab.units`) adds a ``"units"`` block of the same results in SI, and the
+physical values to the table.
 
 Exit status (:func:`main`):
 

@@ -1404,9 +1404,9 @@ def vary_in_units(design: Design, spec: VarySpec) -> VarySpec:
                                    unit=None)
     if kind is None:
         if spec.unit is not None:
-            raise RodstabInputError(f"{what} is a plain number (a ratio, count or load "
-                                    f"factor): give START and STOP without the unit "
-                                    f"{spec.unit!r}")
+            raise RodstabInputError(f"{what} takes plain numbers (a ratio, count, load "
+                                    f"factor or angle_deg): give START and STOP without the "
+                                    f"unit {spec.unit!r}")
         return spec
     if design.units is None:
         if spec.unit is not None:

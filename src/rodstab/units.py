@@ -81,6 +81,11 @@ def _registry() -> Any:
     return pint.UnitRegistry()
 
 
+def _a(kind: str) -> str:
+    """Return ``kind`` with its indefinite article ("a length", "an angle")."""
+    return f"{'an' if kind[0] in 'aeiou' else 'a'} {kind}"
+
+
 def _short(text: str) -> str:
     return repr(text if len(text) <= 60 else text[:57] + "...")
 
@@ -116,8 +121,8 @@ def _unit_factor(unit: str, path: str, text: str, kind: str) -> float:
     try:
         parsed = ureg.parse_units(unit) if unit else ureg.dimensionless
     except pint.errors.UndefinedUnitError:
-        raise RodstabInputError(f"{path} = {_short(text)}: unknown unit {_short(unit)} (a "
-                                f"{kind} is expected, e.g. {example!r})") from None
+        raise RodstabInputError(f"{path} = {_short(text)}: unknown unit {_short(unit)} "
+                                f"({_a(kind)} is expected, e.g. {example!r})") from None
     except Exception as exc:
         # pint's parser of the unit text raises what its tokenizer meets (AssertionError,
         # tokenize.TokenError, DefinitionSyntaxError, ...) on text it cannot read: the
@@ -131,7 +136,7 @@ def _unit_factor(unit: str, path: str, text: str, kind: str) -> float:
     except pint.errors.DimensionalityError:
         got = ureg.Quantity(1.0, parsed).dimensionality
         what = "dimensionless" if not got else f"of dimension {got}"
-        raise RodstabInputError(f"{path} = {_short(text)} is {what}, not a {kind} (e.g. "
+        raise RodstabInputError(f"{path} = {_short(text)} is {what}, not {_a(kind)} (e.g. "
                                 f"{example!r})") from None
 
 
@@ -178,7 +183,7 @@ def parse_quantity(text: Any, path: str, kind: str) -> Quantity:
     if not math.isfinite(magnitude):
         raise RodstabInputError(f"{path} = {_short(text)} is not a finite number")
     if not unit and kind != "angle":
-        raise RodstabInputError(f"{path} = {_short(text)} has no unit: a {kind} needs one, "
+        raise RodstabInputError(f"{path} = {_short(text)} has no unit: {_a(kind)} needs one, "
                                 f"e.g. {example!r}")
     factor = _unit_factor(unit, path, text, kind)
     si = magnitude * factor
