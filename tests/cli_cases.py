@@ -13,10 +13,15 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 #: Examples added after the recording (07ed206 cannot read them), each with its own tests:
-#: hexagram.toml in tests/test_atlas.py, polygon_section.toml in tests/test_polygon_sections.py
-#: (and every example in tests/test_design.py).
+#: hexagram.toml in tests/test_atlas.py, polygon_section.toml in tests/test_polygon_sections.py,
+#: the examples in physical units in tests/test_units.py (and every example in
+#: tests/test_design.py).
 NEW_EXAMPLES = {"examples/hexagram.toml": "tests/test_atlas.py",
-                "examples/polygon_section.toml": "tests/test_polygon_sections.py"}
+                "examples/polygon_section.toml": "tests/test_polygon_sections.py",
+                "examples/steel_birod_fig7a.toml": "tests/test_units.py",
+                "examples/steel_birod_fig7b.toml": "tests/test_units.py",
+                "examples/steel_strip_six_ring.toml": "tests/test_units.py",
+                "examples/hexagram_strip.toml": "tests/test_units.py"}
 EXAMPLES = sorted(p.relative_to(ROOT).as_posix() for p in (ROOT / "examples").glob("*.toml")
                   if p.relative_to(ROOT).as_posix() not in NEW_EXAMPLES)
 

@@ -385,6 +385,25 @@ def test_closed_form_commands_import_no_scipy(argv):
     assert line == "SCIPY []", line
 
 
+@pytest.mark.parametrize("argv, imports_pint", [
+    (["--help"], False), (["section", "--json"], False), (["ring", "--loops", "3"], False),
+    (["analyze", "examples/birod.toml", "--elements", "4"], False),
+    (["analyze", "examples/steel_birod_fig7a.toml", "--elements", "4"], True)])
+def test_pint_is_imported_only_for_a_design_with_units(argv, imports_pint):
+    """Issue 13: pint (~0.6 s with its registry) is imported lazily: --help, the closed-form
+    commands and designs of plain numbers never import it; a design with units does."""
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    code = ("import sys\nfrom rodstab.cli import main\ntry:\n    main(sys.argv[1:])\n"
+            "except SystemExit:\n    pass\nprint('PINT', 'pint' in sys.modules)")
+    r = subprocess.run([sys.executable, "-c", code, *argv], capture_output=True, text=True,
+                       timeout=60, cwd=Path(__file__).resolve().parent.parent)
+    line = next(x for x in r.stdout.splitlines() if x.startswith("PINT"))
+    assert line == f"PINT {imports_pint}", r.stdout + r.stderr
+
+
 def test_continue_states_its_mesh_error_and_richardson_reaches_the_closed_form(run_cli):
     """Issue 12: a special point of `continue` carries its discretisation error. Straightened
     clamped rod (circle, nu = 1/3), 16 elements: the branch point is ~1.2 % above (3.9)'s

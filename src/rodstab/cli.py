@@ -1,7 +1,9 @@
 """The ``rodstab`` command. Holds no mathematics: it parses, calls a solver, prints.
 
 Every analysis subcommand prints a readable table, or with ``--json`` exactly one JSON object on
-stdout (non-dimensional quantities as in the paper; NaN/inf become ``null``).
+stdout (non-dimensional quantities as in the paper; NaN/inf become ``null``). A design file with
+units (:mod:`rodstab.units`) adds a ``"units"`` block of the same results in SI, and the
+physical values to the table.
 
 Exit status (:func:`main`):
 
@@ -52,6 +54,7 @@ from .sections import (
     make_section,
     polygon_section,
 )
+from .units import Units
 
 #: Exit statuses of the ``rodstab`` command (module docstring, ``rodstab --help``, README).
 EXIT_OK = 0
@@ -424,16 +427,66 @@ def analyze(design_file: str, elements: int | None, plot_path: str | None, limit
 
         payload["plot"] = str(plot_mode(d.assembly, r, plot))
     lo, hi = r.load_factor_interval
-    _emit(payload, as_json, [
+    lines = [
         f"design       {d.source}  ({len(d.assembly.segments)} segments, {r.n_dof} dof)",
         f"stable for   {_fmt(lo)} < load factor < {_fmt(hi)}   (design load factor 1: "
         f"{'stable' if r.stable_at_design else 'NOT stable'})",
         f"critical     {_fmt(hi)} (multiplicity {r.multiplicity}); lam = {_fmt(lam)} "
         f"({payload['paper_load_factor_definition']})",
         f"mode         {payload['mode_family']}" + _one_of(r.multiplicity),
-    ])
+    ]
+    if d.units is not None:
+        from .units import stability_units
+
+        block = stability_units(d.units, d.assembly, r.load_factor_interval)
+        payload["units"] = block
+        lines += _analyze_unit_lines(block, d.units, r.stable_at_design)
+    _emit(payload, as_json, lines)
     _require_converged(r, f"the FE eigen solve at {n} elements per segment (round-off grows "
                           "with the mesh, as h^-4: try fewer elements)")
+
+
+def _units_line(units: Units) -> str:
+    """Return the reference scales of a design with units, as one line."""
+    mat = ("" if units.E is None else
+           f" (E = {units.E / 1e9:.6g} GPa, nu = {_fmt(units.nu or 0.0)})")
+    return (f"units        SI; reference segment {units.segment!r}: L = "
+            f"{units.length_text(units.length)}, B3 = {_fmt(units.stiffness)} N*m^2{mat}")
+
+
+def _arc_text(block: dict[str, Any], prefix: str, units: Units) -> str:
+    """Return natural curvature, radius and psi of ``block`` (``stability_units``) as text."""
+    import math
+
+    k = block[f"{prefix}natural_curvature"]["value"]
+    psi = block[f"{prefix}psi"]["value"]
+    return (f"natural curvature {_fmt(k)} 1/m (radius "
+            f"{units.length_text(block[f'{prefix}natural_radius']['value'])}), psi = L kappa_n/2 "
+            f"= {_fmt(psi)} rad ({math.degrees(psi):.4g} deg)")
+
+
+def _analyze_unit_lines(block: dict[str, Any], units: Units, stable: bool) -> list[str]:
+    """Return the physical lines of ``analyze`` (design with units), ending with the verdict."""
+    moments = block["held_moment"]["value"]
+    lines = [_units_line(units),
+             f"as built     {_arc_text(block, '', units)} (segment {units.segment!r})",
+             f"             stored energy {_fmt(block['stored_energy']['value'])} J; largest "
+             f"held moment |B3 (k - kappa_n)| {_fmt(max(abs(m) for m in moments.values()))} N*m"]
+    if "critical_natural_curvature" in block:
+        lines.append(f"critical     {_arc_text(block, 'critical_', units)}")
+    if "lower_critical_natural_curvature" in block:
+        lines.append(f"lower limit  {_arc_text(block, 'lower_critical_', units)}")
+    v = block["as_built"]
+    if v is None:
+        lines.append("verdict      as built (load factor 1): " + (
+            "STABLE; no natural curvature of the built sign makes it unstable" if stable else
+            "UNSTABLE; its stable load factors all have the other sign"))
+    else:
+        which = "critical" if v["limit"] == "upper" else "lower critical"
+        lines.append(f"verdict      as built (load factor 1): "
+                     f"{'STABLE' if v['stable'] else 'UNSTABLE'}, natural curvature "
+                     f"{100 * v['margin']:.1f} % {v['side']} the {which} one")
+    return lines
 
 
 @cli.command("equilibrium")
@@ -490,11 +543,30 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
         payload["html"] = str(html_view(
             [rod.x], rod.edge_nodes, html, edge_values=[rod.edge_moments()],
             value_label="|internal moment|", title=f"{d.source}, load factor {load_factor:g}"))
+    energy = f"energy       {_fmt(r.energy)}"
+    unit_lines = []
+    if d.units is not None:
+        u = d.units
+        kappa = abs(u.si(load_factor * d.assembly.segment(u.segment).natural_curvature,
+                         "curvature"))
+        payload["units"] = u.reference() | {
+            "energy": u.quantity(r.energy, "energy"),
+            "natural_curvature": {"value": kappa, "unit": "1/m"},
+            "max_out_of_plane": u.quantity(payload["max_out_of_plane"], "length"),
+            "max_internal_moment": u.quantity(float(np.max(rod.edge_moments(), initial=0.0)),
+                                              "moment")}
+        energy += f" ({_fmt(payload['units']['energy']['value'])} J)"
+        unit_lines = [_units_line(u),
+                      f"physical     natural curvature {_fmt(kappa)} 1/m of segment "
+                      f"{u.segment!r}; largest out-of-plane displacement "
+                      f"{u.length_text(payload['units']['max_out_of_plane']['value'])}, largest "
+                      f"|internal moment| {_fmt(payload['units']['max_internal_moment']['value'])}"
+                      " N*m"]
     _emit(payload, as_json, [
         f"design       {d.source}, load factor {_fmt(load_factor)}, {n} elements/segment",
         f"Newton       {'converged' if ok else 'NOT converged'} in {its} iterations, "
         f"residual {res:.3g}",
-        f"energy       {_fmt(r.energy)}",
+        energy, *unit_lines,
         f"stability    {'stable' if r.stable else 'NOT stable'}; lowest scaled Hessian "
         f"eigenvalues {', '.join(f'{v:.3g}' for v in ev)}",
     ] + ([f"WARNING      largest stretch/shear strain {r.max_strain:.3g}: the supports impose "
@@ -547,7 +619,7 @@ def continue_cmd(design_file: str, vary: str, out_dir: str | None, elements: int
     """
     from tqdm import tqdm
 
-    from .design import load_design, parse_vary
+    from .design import load_design, model_value, parse_vary, value_kind, vary_in_units
     from .errors import require_int
     from .nonlinear.continuation import continuation
     from .nonlinear.continuation.storage import run_lock
@@ -561,6 +633,9 @@ def continue_cmd(design_file: str, vary: str, out_dir: str | None, elements: int
     if restart and out_dir is None:
         raise RodstabInputError("--restart needs --out (there is no saved run without it)")
     d = load_design(design_file)
+    spec = vary_in_units(d, spec)
+    # START and STOP in the model's units (a design with units: from SI, rodstab.units).
+    start, stop = (model_value(d, key, v, spec.unit) for v in (spec.start, spec.stop))
     out = None if out_dir is None else check_output("--out", out_dir, directory=True)
     with _warnings_as_lines(), contextlib.ExitStack() as held:
         if out is not None:
@@ -585,18 +660,36 @@ def continue_cmd(design_file: str, vary: str, out_dir: str | None, elements: int
                    "resumed_steps": r.resumed_steps, "converged": r.converged}
         if out is not None:
             _continuation_pictures(r, d, out, elements, payload)
+    physical = [""] * len(specials)
     lines = [f"design       {d.source}: {len(r.value)} steps in {r.key} "
              f"({r.resumed_steps} resumed), path {'complete' if r.converged else 'STOPPED'}"]
-    lines += [f"special      {p['kind']} at {r.key} = {_fmt(p['value'])}"
+    if d.units is not None:
+        from .units import SI_UNITS, path_units
+
+        kind = value_kind(key)
+        block = path_units(d.units, kind, list(r.value), list(r.energy),
+                           [p["value"] for p in specials],
+                           d.assembly.segment(d.load_factor_segment).natural_curvature)
+        payload["units"] = block
+        lines.append(_units_line(d.units))
+        if kind is not None:
+            physical = [f" ({_fmt(v)} {SI_UNITS[kind]})" for v in block["special_value"]["value"]]
+        else:
+            physical = [f" (natural curvature {_fmt(k)} 1/m)"
+                        for k in block["special_natural_curvature"]["value"]]
+    lines += [f"special      {p['kind']} at {r.key} = {_fmt(p['value'])}{phys}"
               + (f"; {p['post_buckling']}" if "post_buckling" in p else "")
               + _mesh_error_text(p, elements)
-              for p in specials] or ["special      none: the path stays "
-                                     + ("stable" if r.lowest_eigenvalue[-1] > 0
-                                        else "unstable")]
+              for p, phys in zip(specials, physical, strict=True)] or [
+        "special      none: the path stays "
+        + ("stable" if r.lowest_eigenvalue[-1] > 0 else "unstable")]
     _emit(payload, as_json, lines)
     if not r.converged:
+        where = "" if spec.unit is None else \
+            f" (in model units; STOP is {spec.stop:g} {spec.unit} = {stop:.6g})"
         raise NotConverged(f"the continuation in {r.key} stopped at {r.value[-1]:.6g} before "
-                           f"reaching {stop:.6g} (a step failed or the step budget ran out)")
+                           f"reaching {stop:.6g}{where} (a step failed or the step budget ran "
+                           "out)")
 
 
 def _mesh_error_text(p: dict[str, Any], elements: int) -> str:
@@ -659,9 +752,9 @@ def sweep(design_file: str, vary: str, out_dir: str, elements: int | None, no_pr
     import numpy as np
     from tqdm import tqdm
 
-    from .design import load_design, parse_vary
+    from .design import load_design, parse_vary, vary_in_units
     from .report.figures import sweep_plot
-    from .sweep import COLUMNS, SweepRow, design_at
+    from .sweep import COLUMNS, PHYSICAL_COLUMN, SweepRow, design_at
     from .sweep import sweep as run_sweep
 
     spec = parse_vary(vary, default_n=SWEEP_DEFAULT_N)
@@ -670,14 +763,16 @@ def sweep(design_file: str, vary: str, out_dir: str, elements: int | None, no_pr
     if elements is not None:
         require_positive_int("--elements", elements)
     base = load_design(design_file)
+    spec = vary_in_units(base, spec)
     for value in (spec.start, spec.stop):  # both ends of the range, before the bar
-        design_at(base, key, value)
+        design_at(base, key, value, spec.unit)
     out = check_output("--out", out_dir, directory=True)
     csv_path = out / "sweep.csv"
+    physical = [PHYSICAL_COLUMN] if base.units is not None else []
     with csv_path.open("w", newline="") as fh, \
             tqdm(total=spec.n, desc="rodstab sweep", disable=no_progress, leave=False,
                  delay=0.5) as bar:
-        w = csv.DictWriter(fh, fieldnames=[key, *COLUMNS])
+        w = csv.DictWriter(fh, fieldnames=[key, *COLUMNS, *physical])
         w.writeheader()
 
         def write_row(row: SweepRow) -> None:  # each row on disk before the next is solved
@@ -686,14 +781,22 @@ def sweep(design_file: str, vary: str, out_dir: str, elements: int | None, no_pr
 
         result = run_sweep(base, key, np.linspace(spec.start, spec.stop, spec.n),
                            elements=elements, progress=lambda: bar.update(1), on_row=write_row,
-                           limits=limits)
+                           limits=limits, unit=spec.unit)
     rows = result.table()
     png = sweep_plot(rows, key, out)
-    payload = {"key": key, "values": [r[key] for r in rows], "rows": rows, "csv": str(csv_path),
-               "plot": str(png)}
-    _emit(payload, as_json, [f"{key:>24} {'critical':>12} {'lower':>12} mult"] + [
+    payload: dict[str, Any] = {"key": key, "values": [r[key] for r in rows], "rows": rows,
+                               "csv": str(csv_path), "plot": str(png)}
+    head = key if spec.unit is None else f"{key} ({spec.unit})"
+    if base.units is not None:
+        payload["units"] = base.units.reference() | {
+            "values": {"value": payload["values"], "unit": spec.unit},
+            "critical_natural_curvature": {"value": [r[PHYSICAL_COLUMN] for r in rows],
+                                           "unit": "1/m"}}
+    _emit(payload, as_json, [f"{head:>24} {'critical':>12} {'lower':>12} mult"
+                             + (f" {'critical kappa_n 1/m':>20}" if physical else "")] + [
         f"{r[key]:>24.6g} {r['load_factor_critical']:>12.6g} {r['load_factor_lower']:>12.6g} "
-        f"{r['multiplicity']:>4}" for r in rows] + [f"wrote {csv_path} and {png}"])
+        f"{r['multiplicity']:>4}" + (f" {r[PHYSICAL_COLUMN]:>20.6g}" if physical else "")
+        for r in rows] + [f"wrote {csv_path} and {png}"])
     bad = [row for row in result.rows if not row.converged]
     if bad:
         raise NotConverged(f"the FE eigen solve at {key} = "
@@ -817,7 +920,9 @@ def states(design_file: str | None, segments: int, cusps: bool, max_turns: float
         if given:
             raise RodstabInputError(f"--{given[0].replace('_', '-')} describes a ring without "
                                     f"DESIGN; {design_file} describes its own ring")
-        a = load_design(design_file).assembly
+        design = load_design(design_file)
+        a = design.assembly
+        units = design.units
         ring = ring_of(a)
         mu = a.reference_load if load_factor is None else load_factor
         mu = 1.0 if mu is None else require_finite("--load-factor", mu)
@@ -828,6 +933,7 @@ def states(design_file: str | None, segments: int, cusps: bool, max_turns: float
         ring = uniform_ring(segments, weld="cusp" if cusps else "smooth", length=length,
                             natural_curvature=natural_curvature)
         mu = 1.0
+        units = None
     r = ring.states(load_factor=mu, max_turns=max_turns)
     rows: list[dict[str, Any]] = [{"label": s.label, "held_curvature": s.held_curvature,
              "turning_number": s.turning_number, "distinct_weld_points": s.distinct_weld_points,
@@ -840,22 +946,36 @@ def states(design_file: str | None, segments: int, cusps: bool, max_turns: float
                                "order": [list(o) for o in ring.order], "method": r.method}
     if design_file is not None:
         payload["design"] = design_file
+    if units is not None:
+        payload["units"] = units.reference() | {
+            "length": units.quantity(r.length, "length"),
+            "natural_curvature": units.quantity(r.natural_curvature, "curvature"),
+            "held_curvature": units.quantities([row["held_curvature"] for row in rows],
+                                               "curvature"),
+            "energy": units.quantities([row["energy"] for row in rows], "energy")}
     if plot is not None:
         from .plots import plot_ring_states
 
         payload["plot"] = str(plot_ring_states(
             [state_centrelines(ring, s.theta) for s in r.states],
             [f"{s.label}: kL = {math.degrees(s.theta):.6g} deg" for s in r.states], plot))
+    phys = payload.get("units")
     _emit(payload, as_json, [
         f"ring         {r.segments} rods, {r.weld} welds, |kL| <= {_fmt(r.max_turns)} turns, "
         f"energy at kappa_n = {_fmt(r.natural_curvature)} (B3 = {_fmt(ring.B3)})",
+        *([_units_line(units), f"physical     rods {units.length_text(phys['length']['value'])}"
+           f" long, energy at kappa_n = {_fmt(phys['natural_curvature']['value'])} 1/m"]
+          if units is not None and phys is not None else []),
         f"{'label':>16} {'kL deg':>9} {'k':>10} {'turning':>8} {'welds at':>8} "
-        f"{'covering':>8} {'energy':>10} {'free at mu':>10}",
+        f"{'covering':>8} {'energy':>10} {'free at mu':>10}"
+        + (f" {'k 1/m':>10} {'energy J':>10}" if phys is not None else ""),
     ] + [f"{row['label']:>16} {row['theta_deg']:>9.6g} {row['held_curvature']:>10.6g} "
          f"{row['turning_number']:>8.4g} {row['distinct_weld_points']:>8} "
          f"{row['covering']:>8} {row['energy']:>10.6g} "
          f"{'-' if row['stress_free_load'] is None else _fmt(row['stress_free_load']):>10}"
-         for row in rows]
+         + ("" if phys is None else f" {phys['held_curvature']['value'][i]:>10.6g} "
+            f"{phys['energy']['value'][i]:>10.6g}")
+         for i, row in enumerate(rows)]
       + ([f"wrote {payload['plot']}"] if plot is not None else []))
 
 
@@ -948,14 +1068,15 @@ def reproduce(out_dir: str, no_progress: bool, as_json: bool) -> None:
 
 
 def _ring_and_section(design_file: str | None, structure: str, segments: int,
-                      section: Section) -> tuple[Any, Section, str]:
+                      section: Section) -> tuple[Any, Section, str, Any]:
     """Return the ring of a ring command: DESIGN's (:func:`rodstab.states.ring_of`) or built in.
 
     Built-in structures (without DESIGN): ``hexagram`` (six rods of length 1, natural curvature
     ``1/R0`` per unit load, so the load is ``kappa_n R0``, ``R0 = 3 L / 2 pi``) and ``six-ring``
     (``segments`` arcs of radius 1 welded at cusps, the one-loop ring of Section 5, natural
     curvature 1 per unit load: the load is ``kappa_n R0``). With DESIGN, its section and its
-    load factor; ``--structure``, ``--segments`` and the section options are refused.
+    load factor; ``--structure``, ``--segments`` and the section options are refused. The
+    last item is the :class:`~rodstab.design.Design` (None for a built-in structure).
     """
     import math
 
@@ -970,12 +1091,13 @@ def _ring_and_section(design_file: str | None, structure: str, segments: int,
                                     f"{design_file} describes its own ring and section")
         from .design import load_design
 
-        a = load_design(design_file).assembly
+        design = load_design(design_file)
+        a = design.assembly
         ring = ring_of(a)
         seg = a.segments[0]
         from .sections import from_ratios
 
-        return ring, from_ratios(b1=seg.B1 / seg.B3, b2=seg.B2 / seg.B3), design_file
+        return ring, from_ratios(b1=seg.B1 / seg.B3, b2=seg.B2 / seg.B3), design_file, design
     if structure == "hexagram":
         if _given("segments"):
             raise RodstabInputError(f"--segments {segments!r} is for --structure six-ring "
@@ -983,12 +1105,12 @@ def _ring_and_section(design_file: str | None, structure: str, segments: int,
         from .problems import hexagram as hx
 
         return (uniform_ring(hx.SEGMENTS, length=1.0, natural_curvature=hx.L_OVER_R0,
-                             B1=section.b1, B2=section.b2), section, structure)
+                             B1=section.b1, B2=section.b2), section, structure, None)
     n = require_positive_int("--segments", segments)
     if n < 4 or n % 2:
         raise RodstabInputError(f"--segments must be an even number >= 4, got {segments!r}")
     return (uniform_ring(n, length=math.pi - 2 * math.pi / n, natural_curvature=1.0,
-                         B1=section.b1, B2=section.b2), section, structure)
+                         B1=section.b1, B2=section.b2), section, structure, None)
 
 
 @cli.command()
@@ -1039,7 +1161,7 @@ def discover(design_file: str | None, section: Section, structure: str, segments
         raise RodstabInputError(f"--elements must be at least 2, got {elements!r}")
     if isinstance(starts, bool) or starts < 0:
         raise RodstabInputError(f"--starts must be an integer >= 0, got {starts!r}")
-    ring, section, name = _ring_and_section(design_file, structure, segments, section)
+    ring, section, name, design = _ring_and_section(design_file, structure, segments, section)
     n = ring.segments
     require_nonlinear([n_el] * n, n, f"--elements {n_el}", limits)
     require_steps((starts + 4 * n) * RUNS_PER_START, f"--starts {starts}",
@@ -1050,6 +1172,10 @@ def discover(design_file: str | None, section: Section, structure: str, segments
                           directions=tuple(d for _, d in ring.order))
     payload = found.to_dict() | {"structure": name, "segments": n, "start_state": start_state,
                                  "section": section.to_dict()}
+    units = None if design is None else design.units
+    if units is not None:
+        payload["units"] = units.reference() | {
+            "energy": units.quantities([s.energy for s in found.states], "energy")}
     if plot is not None:
         from .plots import plot_ring_states
 
@@ -1063,9 +1189,13 @@ def discover(design_file: str | None, section: Section, structure: str, segments
              f"({found.converged_runs} converged); seeds {', '.join(found.seeds)}",
              f"{'label':>14} {'energy':>10} {'index':>5} {'stable':>6} {'welds':>5} "
              f"{'turning':>8} {'max|z|/L':>9}  found from"]
+    if units is not None:
+        lines.insert(2, _units_line(units))
     lines += [f"{s.label:>14} {s.energy:>10.6g} {s.index:>5} {str(s.stable):>6} "
               f"{s.invariants.distinct_weld_points:>5} {s.invariants.turning_number:>8.4g} "
-              f"{s.invariants.max_out_of_plane:>9.3g}  {s.found_from}" for s in found.states]
+              f"{s.invariants.max_out_of_plane:>9.3g}  {s.found_from}"
+              + ("" if units is None else f"  ({_fmt(units.si(s.energy, 'energy'))} J)")
+              for s in found.states]
     lines += [f"wrote {payload['plot']}"] if plot is not None else []
     _emit(payload, as_json, lines)
 
@@ -1120,7 +1250,7 @@ def transitions(design_file: str | None, section: Section, structure: str,
 
     elements = require_int("--elements", elements, 2)
     thickness = require_positive("--thickness", thickness)
-    ring, section, name = _ring_and_section(design_file, structure, 6, section)
+    ring, section, name, design = _ring_and_section(design_file, structure, 6, section)
     if load_factor is None:
         unit = rt.star_load(ring)
         if unit is None:
@@ -1146,6 +1276,22 @@ def transitions(design_file: str | None, section: Section, structure: str,
     payload = res.graph.to_json()
     payload["structure"] = name
     payload["section"] = section.to_dict()
+    units = None if design is None else design.units
+    physical: dict[tuple[str, str, str], str] = {}
+    if design is not None and units is not None:
+        from .design import value_kind
+
+        kappa = design.assembly.segment(units.segment).natural_curvature
+        thresholds = []
+        for e in payload["edges"]:
+            kind = value_kind(e["stimulus"])
+            q = (units.quantity(e["threshold"], kind) if kind is not None else
+                 units.quantity(abs(e["threshold"] * kappa), "curvature"))
+            thresholds.append({"from": e["from"], "to": e["to"], "stimulus": e["stimulus"],
+                               "quantity": "value" if kind else "natural_curvature", **q})
+            physical[(e["from"], e["to"], e["stimulus"])] = \
+                f" ({'' if kind else 'natural curvature '}{_fmt(q['value'])} {q['unit']})"
+        payload["units"] = units.reference() | {"thresholds": thresholds}
     load_name = "kappa_n R0" if design_file is None else "load factor"
     if out is not None:
         from .transition_plot import plot_transition_graph
@@ -1160,9 +1306,10 @@ def transitions(design_file: str | None, section: Section, structure: str,
     lines = [_section_line(section),
              f"{name} at {load_name} = {_fmt(load_factor)}, {elements} elements per rod, "
              f"contact thickness h/L = {_fmt(thickness)}"]
+    lines += [_units_line(units)] if units is not None else []
     for e in payload["edges"]:
         lines.append(f"{e['from']:>6} -> {e['to']:<8} {e['stimulus']} = {_fmt(e['threshold'])}"
-                     f" ({e['kind']}); "
+                     f"{physical.get((e['from'], e['to'], e['stimulus']), '')} ({e['kind']}); "
                      + ("no pass-through" if e["physical"] else "RODS PASS THROUGH: not "
                         "physical as computed"))
     lines += [f"{e['from']:>6}    none     {e['stimulus']} up to {_fmt(e['stop'])}: "
@@ -1260,7 +1407,7 @@ def atlas_cmd(design_file: str, vary: str, out_dir: str, method: str,
     from tqdm import tqdm
 
     from .atlas import LOAD_FACTOR_UNITS, ring_atlas
-    from .design import load_design, parse_vary
+    from .design import load_design, parse_vary, vary_in_units
     from .states import Ring, ring_of
     from .sweep import design_at
 
@@ -1272,6 +1419,7 @@ def atlas_cmd(design_file: str, vary: str, out_dir: str, method: str,
         raise RodstabInputError(f"--vary {vary!r}: START and STOP are both {spec.start:g}")
     require_steps(spec.n, f"--vary {vary}", "atlas points", limits)
     base = load_design(design_file)
+    spec = vary_in_units(base, spec)
     try:
         ring_of(base.assembly)
     except RodstabInputError as exc:
@@ -1280,7 +1428,7 @@ def atlas_cmd(design_file: str, vary: str, out_dir: str, method: str,
 
     def ring_at(value: float) -> Ring:
         try:
-            return ring_of(design_at(base, spec.key, value).assembly)
+            return ring_of(design_at(base, spec.key, value, spec.unit).assembly)
         except RodstabInputError as exc:
             msg = str(exc)
             raise RodstabInputError(msg if msg.startswith("--vary") else
@@ -1316,6 +1464,11 @@ def atlas_cmd(design_file: str, vary: str, out_dir: str, method: str,
                              for o in sets] for sets in at.mutual],
         "coexistence": [{"k": c.k, "ranges": [list(r) for r in c.ranges],
                          "tolerance": c.tolerance} for c in at.coexistence]}
+    if base.units is not None:
+        # The load factors stay the design's (natural curvatures are load factor x its own);
+        # the varied values are in the unit of --vary.
+        payload["units"] = base.units.reference() | {
+            "values": {"value": list(at.values), "unit": spec.unit}}
     from .plots import plot_stable_bands
 
     png = plot_stable_bands(at.bands(), at.states, out / "atlas.png", x_key="value",

@@ -42,6 +42,37 @@ Format (every key optional unless marked; unknown keys are errors)::
     reference_load = 0.0      # a load factor at which the held state is stable
     load_factor_segment = "a" # report lam = B3 kappa_n L / sqrt(B1 B2) of this segment
 
+Physical units (a *design with units*, :mod:`rodstab.units`): dimensional values may be
+given as quantity strings instead of plain numbers, converted to SI::
+
+    [material]                # required with section dimensions
+    E = "200 GPa"             # Young's modulus
+    nu = 0.3                  # Poisson's ratio in (-1, 0.5]; or G = "76.9 GPa" (not both)
+
+    [section]
+    shape = "rectangle"
+    height = "5 mm"           # h, along e3: out of the ring's plane (rectangle, ellipse axis)
+    thickness = "0.5 mm"      # t, along e1: in the ring's plane (h/t is the aspect)
+    # circle: diameter = "1 mm"; tube: outer_diameter, inner_diameter;
+    # polygon: coordinates as plain numbers in unit = "mm";
+    # or, instead of [material] and dimensions: B3 = "0.06 N*m^2" with shape/aspect or b1, b2
+
+    [[segment]]
+    length = "235.6 mm"
+    natural_radius = "75 mm"  # or natural_curvature = "13.3 1/m" (signed as the curvature)
+    curvature = "0 1/m"       # also start = ["0 mm", "0 mm"], natural_twist = "2 1/m"
+
+A design has units when any of these keys holds a string, or it has ``[material]``, a
+section dimension or ``unit``; then every dimensional key (length, curvature,
+natural_curvature, natural_radius, natural_twist, start, B3, the section dimensions, E, G)
+must be a quantity: a plain number there is refused naming the key (plain numbers keep their
+non-dimensional meaning only in a design without units). Ratios, angles, load factors and
+counts (aspect, nu, b1, b2, angle_deg, rotation, reference_load, elements) are plain numbers
+in both. ``natural_radius`` (1/natural_curvature) is accepted in both kinds of design.
+A design with units is solved in the units of its load-factor segment (its length and B3 are
+1; :mod:`rodstab.units` states the conversion) and :attr:`Design.units` converts results back.
+Not read with units yet: composite sections (``parts``).
+
 Plain data only: parsed with :mod:`tomllib`; nothing is evaluated.
 
 Validation happens once, here, at the boundary: every value is read by one of a small set of
@@ -78,19 +109,46 @@ from .sections import (
     RATIO_RANGE,
     SHAPES,
     TORSION_OPTIONS,
+    Section,
+    circle,
     composite_section,
+    ellipse,
     make_section,
     polygon_section,
+    rectangle,
+    tube,
+)
+from .units import (
+    EXAMPLES,
+    SI_UNITS,
+    Units,
+    convert,
+    looks_like_quantity,
+    parse_quantity,
+    parse_unit,
+    split_quantity,
 )
 
-_TOP = {"section", "segment", "weld", "support", "analysis"}
+_TOP = {"section", "segment", "weld", "support", "analysis", "material"}
+#: Keys of ``[material]`` (a design with units).
+_MATERIAL = {"E", "nu", "G"}
+#: Section dimensions of a design with units, by shape: lengths, ``height`` (h) along e3 out
+#: of the ring's plane, ``thickness`` (t) along e1 in it (as :mod:`rodstab.sections`).
+SECTION_DIMENSIONS = {"circle": ("diameter",), "tube": ("outer_diameter", "inner_diameter"),
+                      "rectangle": ("height", "thickness"), "ellipse": ("height", "thickness")}
+_DIMENSION_KEYS = ("diameter", "outer_diameter", "inner_diameter", "height", "thickness")
+#: Keys of a segment that are lengths or curvatures: quantities in a design with units.
+_SEGMENT_KINDS = {"length": "length", "curvature": "curvature",
+                  "natural_curvature": "curvature", "natural_radius": "length",
+                  "natural_twist": "curvature"}
 #: Keys of a polygon section (shape "polygon", rodstab.sections.polygon_section).
 _POLYGON_KEYS = ("polygon", "holes", "parts", "mesh_size", "orientation_deg")
 #: Keys of one part of a composite section (``parts = [{...}, ...]``).
 _PART = {"polygon", "holes", "E", "nu"}
-_SECTION = {"shape", "aspect", "nu", "torsion", "b1", "b2", "B3", *_POLYGON_KEYS}
-_SEGMENT = {"name", "length", "curvature", "natural_curvature", "natural_twist", "start",
-            "angle_deg", "cusp", "section"}
+_SECTION = {"shape", "aspect", "nu", "torsion", "b1", "b2", "B3", *_POLYGON_KEYS,
+            *_DIMENSION_KEYS, "unit"}
+_SEGMENT = {"name", "length", "curvature", "natural_curvature", "natural_radius",
+            "natural_twist", "start", "angle_deg", "cusp", "section"}
 _WELD = {"ends"}
 _SUPPORT = {"end", "type", "rotation"}
 #: Support type of a ``[[support]]`` table that gives none (a key of ``SUPPORT_KINDS``).
@@ -304,13 +362,18 @@ def _tables(data: Mapping, key: str, allowed: set[str]) -> list[dict[str, Any]]:
 
 @dataclasses.dataclass(frozen=True)
 class Design:
-    """A parsed design: the assembly and the analysis settings."""
+    """A parsed design: the assembly and the analysis settings.
+
+    ``units`` is None for a design of plain numbers; for a design with units it holds the
+    scales that convert the (non-dimensional) assembly's values to SI.
+    """
 
     assembly: Assembly
     elements: int
     load_factor_segment: str
     source: str
     raw: dict
+    units: Units | None = None
 
     def paper_load_factor(self, mu: float) -> float:
         """``lam = B3 kappa_n L / sqrt(B1 B2)`` of ``load_factor_segment`` at load ``mu``."""
@@ -318,7 +381,137 @@ class Design:
         return mu * s.B3 * abs(s.natural_curvature) * s.length / math.sqrt(s.B1 * s.B2)
 
 
-def _section_table(table: dict[str, Any], where: str) -> dict[str, tuple[Any, str]]:
+# --------------------------------------------------------------------------- units
+
+
+@dataclasses.dataclass(frozen=True)
+class _Dim:
+    """A dimensional section value: SI number and the text it was read from (for messages)."""
+
+    si: float
+    text: str
+
+    def __str__(self) -> str:
+        return repr(self.text)
+
+
+def _si(value: Any) -> Any:
+    """Return the SI number of a :class:`_Dim`, any other value as it is."""
+    return value.si if isinstance(value, _Dim) else value
+
+
+def _units_marker(data: Any) -> str | None:
+    """Return the first sign that ``data`` is a design with units (``path = value``), or None.
+
+    A quantity string (a number and unit text, :func:`rodstab.units.looks_like_quantity`) at
+    a dimensional key of a segment or section, a section dimension or ``unit``, or a
+    ``[material]`` table. A string that is no quantity (``'abc'``) is not a sign: it stays
+    the wrong type of a design without units. Only well-formed containers are looked into:
+    the values themselves are checked where they are read.
+    """
+    if not isinstance(data, Mapping):
+        return None
+
+    def in_section(sec: Any, where: str) -> str | None:
+        if not isinstance(sec, Mapping):
+            return None
+        for key in (*_DIMENSION_KEYS, "unit"):
+            if key in sec:
+                return f"{where}.{key} = {_show(sec[key])}"
+        return f"{where}.B3 = {_show(sec['B3'])}" if looks_like_quantity(sec.get("B3")) \
+            else None
+
+    segments = data.get("segment")
+    for i, seg in enumerate(segments if isinstance(segments, list) else []):
+        if not isinstance(seg, Mapping):
+            continue
+        for key in _SEGMENT_KINDS:
+            if looks_like_quantity(seg.get(key)):
+                return f"segment[{i}].{key} = {_show(seg[key])}"
+        start = seg.get("start")
+        if isinstance(start, list) and any(looks_like_quantity(v) for v in start):
+            return f"segment[{i}].start = {_show(start)}"
+    found = in_section(data.get("section"), "section")
+    for i, seg in enumerate(segments if isinstance(segments, list) else []):
+        found = found or (in_section(seg.get("section"), f"segment[{i}].section")
+                          if isinstance(seg, Mapping) else None)
+    if found:
+        return found
+    return "[material]" if "material" in data else None
+
+
+@dataclasses.dataclass(frozen=True)
+class _Material:
+    """``[material]`` in SI: E and G in Pa, nu."""
+
+    E: float
+    nu: float
+    G: float
+
+
+@dataclasses.dataclass
+class _Reader:
+    """Reads the dimensional values of one design: quantities (to SI) or plain numbers.
+
+    ``marker`` is None for a design of plain numbers, else the first quantity found (named in
+    the message that refuses a plain number beside it).
+    """
+
+    marker: str | None
+    material: _Material | None = None
+    length_unit: tuple[str, float] | None = None  # the first segment length's unit, m per unit
+
+    def value(self, value: Any, path: str, kind: str, *, lo: float = -math.inf,
+              hi: float = math.inf, lo_open: bool = False, why: str = "",
+              remember_unit: bool = False) -> float:
+        """Read a dimensional value: a quantity (SI) with units, a plain number without."""
+        if self.marker is None:
+            return _as_number(value, path, lo=lo, hi=hi, lo_open=lo_open, why=why)
+        if isinstance(value, (int, float)) and not isinstance(value, bool):
+            raise RodstabInputError(
+                f"{path} = {_show(value)} is a plain number, but this design has units "
+                f"({self.marker}): write it with a unit, e.g. {EXAMPLES[kind]!r} (plain "
+                "numbers and quantities cannot be mixed in one file)")
+        if not isinstance(value, str):
+            raise RodstabInputError(f"{path} must be a quantity with a unit (e.g. "
+                                    f"{EXAMPLES[kind]!r}), {_got(value)}")
+        q = parse_quantity(value, path, kind)
+        if q.si < lo or q.si > hi or (lo_open and q.si == lo):
+            span = _interval(lo, hi, lo_open, False)
+            raise RodstabInputError(f"{path} = {_show(value)} must lie in {span} "
+                                    f"{SI_UNITS[kind]}{f' ({why})' if why else ''}, got "
+                                    f"{q.si:g} {SI_UNITS[kind]}")
+        if remember_unit and self.length_unit is None:
+            self.length_unit = (q.unit, q.si_per_unit)
+        return q.si
+
+
+def _material(top: Mapping, reader: _Reader) -> _Material | None:
+    """Read ``[material]`` (E, and nu or G); None if the design has none."""
+    if "material" not in top:
+        return None
+    table = _table(top, "material", "", _MATERIAL)
+    E = reader.value(_get(table, "E", "material", _REQUIRED)[0], "material.E", "modulus",
+                     lo=STIFFNESS_RANGE[0], hi=STIFFNESS_RANGE[1], why="Young's modulus")
+    if ("nu" in table) == ("G" in table):
+        raise RodstabInputError("[material] needs exactly one of nu (Poisson's ratio) and G "
+                                f"(the shear modulus) beside E, got {sorted(table)}")
+    if "nu" in table:
+        nu = _as_number(table["nu"], "material.nu", lo=_NU_RANGE[0], hi=_NU_RANGE[1],
+                        lo_open=True, why="Poisson's ratio")
+        return _Material(E=E, nu=nu, G=E / (2.0 * (1.0 + nu)))
+    G = reader.value(table["G"], "material.G", "modulus", lo=STIFFNESS_RANGE[0],
+                     hi=STIFFNESS_RANGE[1], why="the shear modulus")
+    nu = E / (2.0 * G) - 1.0  # isotropy: G = E / (2 (1 + nu))
+    if not (_NU_RANGE[0] < nu <= _NU_RANGE[1]):
+        raise RodstabInputError(f"material.G = {_show(table['G'])} with material.E = "
+                                f"{_show(table['E'])} gives nu = E/(2G) - 1 = {nu:.6g}, "
+                                "outside (-1, 0.5] (Poisson's ratio of an isotropic solid)")
+    return _Material(E=E, nu=nu, G=G)
+
+
+def _section_table(table: dict[str, Any], where: str,
+                   reader: _Reader) -> dict[str, tuple[Any, str]]:
     """Check the types and shape-independent ranges of one section table.
 
     Returns ``{key: (value, path)}`` so that a merged section still names where each value
@@ -329,6 +522,17 @@ def _section_table(table: dict[str, Any], where: str) -> dict[str, tuple[Any, st
         path = _path(where, key)
         if key == "shape":
             value = _as_str(value, path, (*SHAPES, POLYGON, COMPOSITE))
+        elif key == "parts" and reader.marker is not None:
+            raise RodstabInputError(f"{path}: a composite section (parts) is not read with "
+                                    f"units yet ({reader.marker}); give the whole design in "
+                                    "plain numbers")
+        elif key in _DIMENSION_KEYS:
+            inner = key == "inner_diameter"  # 0: a solid tube
+            value = _Dim(reader.value(value, path, "length", lo=0.0 if inner else
+                                      LENGTH_RANGE[0], hi=LENGTH_RANGE[1],
+                                      why="a dimension of the cross-section"), str(value))
+        elif key == "unit":
+            value = parse_unit(value, path, "length")
         elif key == "parts":
             value = [_part(part, _path(path, i)) for i, part in enumerate(_as_list(
                 value, path, "an array of parts [{polygon = ..., E = ..., nu = ...}, ...]",
@@ -353,8 +557,10 @@ def _section_table(table: dict[str, Any], where: str) -> dict[str, tuple[Any, st
             value = _as_number(value, path, lo=RATIO_RANGE[0], hi=RATIO_RANGE[1],
                                why=f"the stiffness ratio {key[0].upper()}{key[1]}/B3")
         elif key == "B3":
-            value = _as_number(value, path, lo=STIFFNESS_RANGE[0], hi=STIFFNESS_RANGE[1],
-                               why="the in-plane bending stiffness, force x length^2")
+            B3 = reader.value(value, path, "stiffness", lo=STIFFNESS_RANGE[0],
+                              hi=STIFFNESS_RANGE[1],
+                              why="the in-plane bending stiffness, force x length^2")
+            value = B3 if reader.marker is None else _Dim(B3, str(value))
         else:  # aspect: its range depends on the shape (_stiffness)
             value = _as_number(value, path)
         out[key] = (value, path)
@@ -418,12 +624,19 @@ def _polygon_stiffness(spec: dict[str, tuple[Any, str]], where: str,
                                   orientation_deg=val("orientation_deg"))
     except RodstabInputError as exc:  # the geometry: name the table
         raise RodstabInputError(f"{where}: {exc}") from None
-    B3 = 1.0 if val("B3") is None else val("B3")
+    B3 = 1.0 if val("B3") is None else _si(val("B3"))
     return sec.b1 * B3, sec.b2 * B3, B3
 
 
-def _stiffness(spec: dict[str, tuple[Any, str]], where: str) -> tuple[float, float, float]:
-    """``(B1, B2, B3)`` of a checked, merged section; combinations checked with their paths."""
+def _stiffness(spec: dict[str, tuple[Any, str]], where: str,
+               reader: _Reader) -> tuple[float, float, float]:
+    """``(B1, B2, B3)`` of a checked, merged section; combinations checked with their paths.
+
+    A design with units gives them in N m^2 (:func:`_stiffness_with_units`).
+    """
+    if reader.marker is not None:
+        return _stiffness_with_units(spec, where, reader)
+
     def val(key: str, default: Any = None) -> Any:
         return spec[key][0] if key in spec else default
 
@@ -459,12 +672,123 @@ def _stiffness(spec: dict[str, tuple[Any, str]], where: str) -> tuple[float, flo
         else:
             _as_number(aspect, path("aspect"), lo=ASPECT_RANGE[0], hi=ASPECT_RANGE[1],
                        why=f"the h/t of a rod's {shape} cross-section")
-    B3 = val("B3", 1.0)
+    B3 = _si(val("B3", 1.0))
     try:
         sec = make_section(shape, aspect=aspect, nu=val("nu", 1 / 3),
                            torsion=val("torsion", "exact"), b1=b1, b2=b2)
     except RodstabInputError as exc:  # a combination not caught above: name the table
         raise RodstabInputError(f"{where}: {exc}") from None
+    return sec.b1 * B3, sec.b2 * B3, B3
+
+
+def _stiffness_with_units(spec: dict[str, tuple[Any, str]], where: str,
+                          reader: _Reader) -> tuple[float, float, float]:
+    """``(B1, B2, B3)`` in N m^2 of a section of a design with units.
+
+    Either ``B3`` with a unit (the ratios from shape/aspect/nu or b1/b2, as without units),
+    or ``[material]`` E and the section's dimensions: ``B3 = E I3`` with ``I3`` of the
+    section in m^4, ``b1``, ``b2`` of its shape with the material's nu.
+    """
+    def val(key: str, default: Any = None) -> Any:
+        return spec[key][0] if key in spec else default
+
+    def path(key: str) -> str:
+        return spec[key][1]
+
+    dims = [k for k in _DIMENSION_KEYS if k in spec]
+    if "B3" in spec:
+        other = path(dims[0]) if dims else path("unit") if "unit" in spec else \
+            "[material]" if reader.material is not None else None
+        if other is not None:
+            raise RodstabInputError(
+                f"{path('B3')} = {_show(val('B3'))} and {other} both give the bending "
+                "stiffness: give B3 with a unit, or [material] E and the section's dimensions")
+        return _stiffness(spec, where, _Reader(marker=None))
+    mat = reader.material
+    if mat is None:
+        raise RodstabInputError(
+            f"{where}: a design with units ({reader.marker}) needs the bending stiffness: "
+            "[material] E (with nu or G) and the section's dimensions (diameter; height and "
+            "thickness; outer_diameter and inner_diameter; or polygon and unit), or B3 with a "
+            f"unit (e.g. {EXAMPLES['stiffness']!r})")
+    for key in ("nu", "b1", "b2", "aspect"):
+        if key in spec:
+            why = ("Poisson's ratio is [material]'s nu (or G)" if key == "nu" else
+                   "with [material], the section's dimensions give the ratios")
+            raise RodstabInputError(f"{path(key)} = {_show(val(key))} cannot be used in a "
+                                    f"design with [material]: {why}")
+    shape = val("shape", POLYGON if "polygon" in spec else "circle")
+    sec: Section
+    if shape == POLYGON:
+        if dims:
+            raise RodstabInputError(f"{path(dims[0])} = {_show(val(dims[0]))} has no meaning "
+                                    "for a polygon section (its outline gives its dimensions)")
+        if "unit" not in spec:
+            raise RodstabInputError(f"{where}: a polygon in a design with units needs "
+                                    f"{where}.unit, the unit of its coordinates (e.g. 'mm')")
+        if "torsion" in spec:
+            raise RodstabInputError(f"{path('torsion')} = {_show(val('torsion'))} has no "
+                                    "meaning for a polygon section (its J is computed by FE)")
+        try:
+            sec = polygon_section(val("polygon"), val("holes") or (), nu=mat.nu,
+                                  mesh_size=val("mesh_size"),
+                                  orientation_deg=val("orientation_deg"))
+        except RodstabInputError as exc:  # the geometry: name the table
+            raise RodstabInputError(f"{where}: {exc}") from None
+        assert sec.I3 is not None
+        I3 = sec.I3 * val("unit") ** 4
+    else:
+        if "unit" in spec:
+            raise RodstabInputError(f"{path('unit')} = {_show(val('unit'))} is the unit of a "
+                                    f"polygon's coordinates; shape {shape!r} takes its "
+                                    "dimensions as quantities")
+        need = SECTION_DIMENSIONS[shape]
+        extra = [k for k in dims if k not in need]
+        if extra:
+            raise RodstabInputError(f"{path(extra[0])} = {_show(val(extra[0]))} has no meaning "
+                                    f"for shape {shape!r} (its dimensions: {', '.join(need)})")
+        missing = [k for k in need if k not in spec]
+        if missing:
+            raise RodstabInputError(
+                f"{where}: shape {shape!r} needs {' and '.join(missing)} in a design with "
+                f"[material] (lengths with a unit, e.g. {EXAMPLES['length']!r}; height is out "
+                "of the ring's plane, thickness in it)")
+        stray = [k for k in _POLYGON_KEYS if k in spec]
+        if stray:
+            raise RodstabInputError(f"{path(stray[0])} = {_show(val(stray[0]))} has no meaning "
+                                    f"for shape {shape!r} (polygon keys need shape = 'polygon')")
+        size = {k: val(k).si for k in need}
+        try:
+            if shape == "circle":
+                sec = circle(radius=size["diameter"] / 2, nu=mat.nu)
+            elif shape == "tube":
+                if size["inner_diameter"] >= size["outer_diameter"]:
+                    raise RodstabInputError(
+                        f"{path('inner_diameter')} = {_show(val('inner_diameter'))} must be "
+                        f"smaller than {path('outer_diameter')} = "
+                        f"{_show(val('outer_diameter'))}")
+                sec = tube(outer_radius=size["outer_diameter"] / 2,
+                           inner_radius=size["inner_diameter"] / 2, nu=mat.nu)
+            else:
+                aspect = size["height"] / size["thickness"]
+                if not ASPECT_RANGE[0] <= aspect <= ASPECT_RANGE[1]:
+                    raise RodstabInputError(
+                        f"{path('height')} = {_show(val('height'))} over {path('thickness')} = "
+                        f"{_show(val('thickness'))} is h/t = {aspect:.6g}, outside "
+                        f"[{ASPECT_RANGE[0]:g}, {ASPECT_RANGE[1]:g}] (the h/t of a rod's "
+                        "cross-section)")
+                build = rectangle if shape == "rectangle" else ellipse
+                sec = build(aspect=aspect, thickness=size["thickness"], nu=mat.nu,
+                            torsion=val("torsion", "exact"))
+        except RodstabInputError as exc:
+            msg = str(exc)
+            raise RodstabInputError(msg if msg.startswith(where) else f"{where}: {msg}") from None
+        assert sec.I3 is not None
+        I3 = sec.I3
+    B3 = mat.E * I3
+    if not STIFFNESS_RANGE[0] <= B3 <= STIFFNESS_RANGE[1]:
+        raise RodstabInputError(f"{where}: B3 = E I3 = {B3:g} N*m^2 is outside "
+                                f"[{STIFFNESS_RANGE[0]:g}, {STIFFNESS_RANGE[1]:g}]")
     return sec.b1 * B3, sec.b2 * B3, B3
 
 
@@ -487,7 +811,7 @@ def _unknown_segment(name: str, known: Mapping[str, int]) -> str:
 
 
 def _segment(raw: dict[str, Any], where: str, default: dict[str, tuple[Any, str]],
-             prev: Segment | None, known: dict[str, int]) -> Segment:
+             prev: Segment | None, known: dict[str, int], reader: _Reader) -> Segment:
     """One ``[[segment]]`` table (checked by :func:`_as_table`) -> :class:`Segment`."""
     name = _str(raw, "name", where)
     if not name.strip() or "." in name:
@@ -496,30 +820,46 @@ def _segment(raw: dict[str, Any], where: str, default: dict[str, tuple[Any, str]
     if name in known:
         raise RodstabInputError(f"{where}.name {_show(name)} is a duplicate segment name "
                                 f"(segment[{known[name]}] has it): names are unique")
-    length = _number(raw, "length", where, lo=LENGTH_RANGE[0], hi=LENGTH_RANGE[1],
-                     why="a rod length in the file's units")
-    assert length is not None
+    length = reader.value(_get(raw, "length", where, _REQUIRED)[0], f"{where}.length",
+                          "length", lo=LENGTH_RANGE[0], hi=LENGTH_RANGE[1],
+                          why="a rod length in the file's units", remember_unit=True)
     spec = default
     if "section" in raw:
-        own = _section_table(_table(raw, "section", where, _SECTION), f"{where}.section")
+        own = _section_table(_table(raw, "section", where, _SECTION), f"{where}.section",
+                             reader)
         # A new shape, ratios or outline replaces the default section; other keys amend it.
         spec = own if ({"shape", "b1", "polygon", "parts"} & set(own)) else default | own
-    B1, B2, B3 = _stiffness(spec, f"{where}.section")
+    B1, B2, B3 = _stiffness(spec, f"{where}.section", reader)
+    if "natural_radius" in raw and "natural_curvature" in raw:
+        raise RodstabInputError(f"{where}: give natural_curvature or natural_radius, not both")
     values = {}
     for key in ("curvature", "natural_curvature", "natural_twist"):
-        v = _number(raw, key, where, 0.0)
-        assert v is not None
+        source = "natural_radius" if key == "natural_curvature" and "natural_radius" in raw \
+            else key
+        if source not in raw:
+            v = 0.0
+        elif source == "natural_radius":
+            r = reader.value(raw[source], f"{where}.{source}", "length",
+                             why="the signed radius of the natural arc, 1/natural_curvature")
+            v = 1.0 / r if r != 0.0 else math.inf
+            if not math.isfinite(v):
+                raise RodstabInputError(f"{where}.natural_radius = {_show(raw[source])} gives "
+                                        "no finite curvature; a naturally straight rod has "
+                                        "natural_curvature = 0")
+        else:
+            v = reader.value(raw[key], f"{where}.{key}", _SEGMENT_KINDS[key])
         if abs(v) * length > MAX_TURNING:
             raise RodstabInputError(
-                f"{where}.{key} = {_show(raw[key])} turns the segment of length {length:g} by "
+                f"{where}.{source} = {_show(raw[source])} turns the segment of length "
+                f"{length:g} by "
                 f"{abs(v) * length:.3g} rad; |{key} x length| must be at most "
                 f"{MAX_TURNING:.6g} ({_TURNING_WHY})")
         values[key] = v
     if "start" in raw:
         xy = _list(raw, "start", where, "an array of two numbers [x, y]", length=2)
         bound = MAX_COORDINATE * LENGTH_RANGE[1]
-        start = tuple(_as_number(v, f"{where}.start[{i}]", lo=-bound, hi=bound,
-                                 why="a coordinate in the file's length unit")
+        start = tuple(reader.value(v, f"{where}.start[{i}]", "length", lo=-bound, hi=bound,
+                                   why="a coordinate in the file's length unit")
                       for i, v in enumerate(xy))
     else:
         start = tuple(float(v) for v in prev.end_point("end")) if prev else (0.0, 0.0)
@@ -542,9 +882,20 @@ def _segment(raw: dict[str, Any], where: str, default: dict[str, tuple[Any, str]
                    natural_twist=values["natural_twist"])
 
 
-def _parse(data: Any) -> tuple[Assembly, int, str]:
+def _scaled(s: Segment, length: float, stiffness: float) -> Segment:
+    """``s`` in units of ``length`` and ``stiffness`` (:mod:`rodstab.units`: the conversion)."""
+    return dataclasses.replace(
+        s, length=s.length / length, curvature=s.curvature * length,
+        natural_curvature=s.natural_curvature * length, natural_twist=s.natural_twist * length,
+        B1=s.B1 / stiffness, B2=s.B2 / stiffness, B3=s.B3 / stiffness,
+        start=(s.start[0] / length, s.start[1] / length))
+
+
+def _parse(data: Any) -> tuple[Assembly, int, str, Units | None]:
     top = _as_table(data, "", _TOP)
-    default = _section_table(_table(top, "section", "", _SECTION), "section")
+    reader = _Reader(marker=_units_marker(top))
+    reader.material = _material(top, reader)
+    default = _section_table(_table(top, "section", "", _SECTION), "section", reader)
     seg_tables = _tables(top, "segment", _SEGMENT)
     if not seg_tables:
         raise RodstabInputError("the design file needs at least one [[segment]] table "
@@ -553,7 +904,7 @@ def _parse(data: Any) -> tuple[Assembly, int, str]:
     segments: list[Segment] = []
     for i, raw in enumerate(seg_tables):
         segments.append(_segment(raw, f"segment[{i}]", default,
-                                 segments[-1] if segments else None, known))
+                                 segments[-1] if segments else None, known, reader))
     welds = []
     for i, w in enumerate(_tables(top, "weld", _WELD)):
         ends = _list(w, "ends", f"weld[{i}]", "an array of two or more ends such as "
@@ -580,9 +931,22 @@ def _parse(data: Any) -> tuple[Assembly, int, str]:
     if lf not in known:
         raise RodstabInputError(f"analysis.load_factor_segment = {_show(lf)}: "
                                 f"{_unknown_segment(lf, known)}")
+    units = None
+    if reader.marker is not None:
+        # Checked in SI first, so that a message about positions is in metres.
+        Assembly(segments=tuple(segments), welds=tuple(welds), supports=tuple(supports),
+                 reference_load=ref, end_rotations=tuple(rotations))
+        # Solve in the units of the load-factor segment (rodstab.units: why, and the rule).
+        lc, bc = segments[known[lf]].length, segments[known[lf]].B3
+        segments = [_scaled(s, lc, bc) for s in segments]
+        unit, per = reader.length_unit or ("m", 1.0)
+        mat = reader.material
+        units = Units(length=lc, stiffness=bc, length_unit=unit, length_unit_m=per,
+                      E=mat.E if mat else None, nu=mat.nu if mat else None,
+                      G=mat.G if mat else None, segment=lf)
     assembly = Assembly(segments=tuple(segments), welds=tuple(welds), supports=tuple(supports),
                         reference_load=ref, end_rotations=tuple(rotations))
-    return assembly, elements, lf
+    return assembly, elements, lf, units
 
 
 def parse_design(data: dict, source: str = "<dict>") -> Design:
@@ -610,10 +974,10 @@ def parse_design(data: dict, source: str = "<dict>") -> Design:
         ``segment[2].natural_curvature``, ``support[0].rotation[1]``) and the value.
     """
     try:
-        assembly, elements, lf = _parse(data)
+        assembly, elements, lf, units = _parse(data)
     except RodstabInputError as exc:
         raise RodstabInputError(f"{source}: {exc}") from None
-    return Design(assembly, elements, lf, source, data)
+    return Design(assembly, elements, lf, source, data, units)
 
 
 def _read_text(p: Path, what: str, kind: str) -> str:
@@ -775,13 +1139,17 @@ def load_polygon(path: str | Path) -> dict[str, Any]:
 # --------------------------------------------------------------------------- --vary keys
 
 #: Numeric keys of a section table that ``--vary`` may set.
-_VARY_SECTION = ("aspect", "nu", "b1", "b2", "B3", "mesh_size")
+_VARY_SECTION = ("aspect", "nu", "b1", "b2", "B3", "mesh_size", *_DIMENSION_KEYS)
 #: Numeric keys of a segment that ``--vary`` may set.
-_VARY_SEGMENT = ("length", "curvature", "natural_curvature", "natural_twist", "angle_deg")
+_VARY_SEGMENT = ("length", "curvature", "natural_curvature", "natural_radius", "natural_twist",
+                 "angle_deg")
 #: Keys of [analysis] that ``--vary`` may set (elements: integer values only).
 _VARY_ANALYSIS = ("elements", "reference_load")
+#: Keys of [material] that ``--vary`` may set (a design with units).
+_VARY_MATERIAL = ("E", "nu", "G")
 #: The forms of a ``--vary`` key of a sweep, as its error messages list them.
 VARY_FORMS = (f"section.<{'|'.join(_VARY_SECTION)}>, analysis.<{'|'.join(_VARY_ANALYSIS)}>, "
+              f"material.<{'|'.join(_VARY_MATERIAL)}>, "
               f"segment.<name>.<{'|'.join(_VARY_SEGMENT)}>, "
               f"segment.<name>.section.<{'|'.join(_VARY_SECTION)}> or "
               f"support.<i>.rotation.<{'|'.join(ROTATION_AXES)}>")
@@ -795,7 +1163,7 @@ def _index(text: str, what: str, key: str, count: int) -> int:
     return int(text)
 
 
-def set_design_value(data: dict, key: str, value: float) -> dict:
+def set_design_value(data: dict, key: str, value: float, unit: str | None = None) -> dict:
     """Return a copy of ``data`` with the value at the dotted ``key`` replaced.
 
     Parameters
@@ -803,12 +1171,15 @@ def set_design_value(data: dict, key: str, value: float) -> dict:
     data : dict
         A parsed design (``Design.raw``); not modified.
     key : str
-        ``section.<k>``, ``analysis.<k>``, ``segment.<name>.<k>`` (a segment by name),
-        ``segment.<name>.section.<k>`` or ``support.<i>.rotation.<axis>`` (``i``: the
-        support's position in the file from 0; axis: normal, tangent or binormal); ``k`` a
-        numeric key (:data:`VARY_FORMS`).
+        ``section.<k>``, ``analysis.<k>``, ``material.<k>``, ``segment.<name>.<k>`` (a
+        segment by name), ``segment.<name>.section.<k>`` or ``support.<i>.rotation.<axis>``
+        (``i``: the support's position in the file from 0; axis: normal, tangent or
+        binormal); ``k`` a numeric key (:data:`VARY_FORMS`).
     value : float
         The new value (``analysis.elements``: an integral value).
+    unit : str, optional
+        The unit of ``value`` (a design with units): the quantity string ``"<value> <unit>"``
+        is written.
 
     Returns
     -------
@@ -826,8 +1197,10 @@ def set_design_value(data: dict, key: str, value: float) -> dict:
                                 f"got {value!r}")
     out = copy.deepcopy(data)
     parts = key.split(".")
-    if parts[0] in ("section", "analysis") and len(parts) == 2:
-        allowed = _VARY_SECTION if parts[0] == "section" else _VARY_ANALYSIS
+    written: Any = value if unit is None else f"{value!r} {unit}"
+    if parts[0] in ("section", "analysis", "material") and len(parts) == 2:
+        allowed = {"section": _VARY_SECTION, "analysis": _VARY_ANALYSIS,
+                   "material": _VARY_MATERIAL}[parts[0]]
         if parts[1] not in allowed:
             raise RodstabInputError(f"--vary key {key!r}: {parts[1]!r} is not a numeric key of "
                                     f"[{parts[0]}] (allowed: {list(allowed)})")
@@ -835,11 +1208,15 @@ def set_design_value(data: dict, key: str, value: float) -> dict:
             if value != int(value):
                 raise RodstabInputError(f"--vary key {key!r} takes integer values, "
                                         f"got {value!r}")
-            value = int(value)
+            written = int(value)
+        if parts[0] == "material" and "material" not in out:
+            raise RodstabInputError(f"--vary key {key!r}: the design has no [material]")
         table = out.setdefault(parts[0], {})
         if not isinstance(table, dict):
             raise RodstabInputError(f"--vary key {key!r}: [{parts[0]}] is not a table")
-        table[parts[1]] = value
+        if parts[0] == "material":  # nu and G are alternatives: the varied one replaces
+            table.pop({"nu": "G", "G": "nu"}.get(parts[1], ""), None)
+        table[parts[1]] = written
         return out
     if parts[0] == "segment" and len(parts) in (3, 4):
         segs = out.get("segment", [])
@@ -854,7 +1231,10 @@ def set_design_value(data: dict, key: str, value: float) -> dict:
             if parts[2] not in _VARY_SEGMENT:
                 raise RodstabInputError(f"--vary key {key!r}: {parts[2]!r} cannot be varied "
                                         f"(a segment's numeric keys: {list(_VARY_SEGMENT)})")
-            named[0][parts[2]] = value
+            named[0][parts[2]] = written
+            # natural_radius and natural_curvature are alternatives: the varied one replaces
+            named[0].pop({"natural_radius": "natural_curvature",
+                          "natural_curvature": "natural_radius"}.get(parts[2], ""), None)
         else:
             if parts[2] != "section" or parts[3] not in _VARY_SECTION:
                 raise RodstabInputError(f"--vary key {key!r} is not segment.<name>.section."
@@ -863,7 +1243,7 @@ def set_design_value(data: dict, key: str, value: float) -> dict:
             if not isinstance(sec, dict):
                 raise RodstabInputError(f"--vary key {key!r}: segment {parts[1]!r} has a "
                                         "section that is not a table")
-            sec[parts[3]] = value
+            sec[parts[3]] = written
         return out
     if parts[0] == "support" and len(parts) == 4 and parts[2] == "rotation":
         sups = out.get("support", [])
@@ -876,6 +1256,9 @@ def set_design_value(data: dict, key: str, value: float) -> dict:
             raise RodstabInputError(f"--vary key {key!r}: support[{i}] is not a table")
         rot = sups[i].get("rotation", [0.0, 0.0, 0.0])
         rot = list(rot) if isinstance(rot, list) and len(rot) == 3 else [0.0, 0.0, 0.0]
+        if unit is not None:
+            raise RodstabInputError(f"--vary key {key!r} takes radians (plain numbers), got "
+                                    f"a unit {unit!r}")
         rot[ROTATION_AXES.index(parts[3])] = value
         sups[i]["rotation"] = rot
         return out
@@ -894,22 +1277,28 @@ class VarySpec:
     start: float
     stop: float
     n: int
+    unit: str | None = None  # START and STOP in this unit ("mm"), or plain numbers
 
 
 #: The grammar of ``--vary``, as its error messages quote it.
 VARY_GRAMMAR = "KEY=START:STOP[:N]"
 
 
-def _vary_number(spec: str, part: str, text: str) -> float:
+def _vary_number(spec: str, part: str, text: str) -> tuple[float, str | None]:
+    """START or STOP: a plain number, or a quantity ``"100 mm"`` (number and unit)."""
     try:
-        value = float(text)
+        value, unit = float(text), None
     except ValueError:
-        raise RodstabInputError(f"--vary {_show(spec)}: {part} {_show(text.strip())} is not a "
-                                f"number (expected {VARY_GRAMMAR})") from None
+        split = split_quantity(text)
+        if split is None:
+            raise RodstabInputError(f"--vary {_show(spec)}: {part} {_show(text.strip())} is "
+                                    "not a number or a quantity such as '100 mm' (expected "
+                                    f"{VARY_GRAMMAR})") from None
+        value, unit = split
     if not math.isfinite(value):
         raise RodstabInputError(f"--vary {_show(spec)}: {part} {_show(text.strip())} is not a "
                                 "finite number")
-    return value
+    return value, unit
 
 
 def parse_vary(spec: str, *, default_n: int) -> VarySpec:
@@ -949,17 +1338,101 @@ def parse_vary(spec: str, *, default_n: int) -> VarySpec:
     if len(parts) not in (2, 3):
         raise RodstabInputError(f"--vary must be {VARY_GRAMMAR}, got {_show(spec)} "
                                 f"({len(parts)} part(s) after '=')")
-    start = _vary_number(spec, "START", parts[0])
-    stop = _vary_number(spec, "STOP", parts[1])
+    start, unit = _vary_number(spec, "START", parts[0])
+    stop, stop_unit = _vary_number(spec, "STOP", parts[1])
+    if (unit is None) != (stop_unit is None):
+        raise RodstabInputError(f"--vary {_show(spec)}: give START and STOP both with a unit "
+                                "or both as plain numbers")
+    if unit is not None and stop_unit is not None and stop_unit != unit:
+        stop = convert(stop, stop_unit, unit, f"--vary {_show(spec)}: STOP")
     if len(parts) == 2:
-        return VarySpec(key, start, stop, n_default)
+        return VarySpec(key, start, stop, n_default, unit)
     text = parts[2].strip()
     digits = text.lstrip("0")
     if not (text.isascii() and text.isdigit()) or not digits:
         raise RodstabInputError(f"--vary {_show(spec)}: N {_show(text)} must be a positive "
                                 "integer")
     # Past 18 digits N is beyond every step limit; int() of over 4300 digits would raise.
-    return VarySpec(key, start, stop, int(digits) if len(digits) <= 18 else 10**18)
+    return VarySpec(key, start, stop, int(digits) if len(digits) <= 18 else 10**18, unit)
+
+
+def value_kind(key: str) -> str | None:
+    """Return the physical kind of a ``--vary`` key's values, or None if dimensionless.
+
+    Kinds of :data:`rodstab.units.SI_UNITS`: segment lengths and radii, section dimensions
+    ("length"), curvatures and natural twist ("curvature"), ``B3`` ("stiffness"), E and G
+    ("modulus"), end and weld rotations ("angle", plain numbers are radians), a weld's
+    moment and force (continuation keys, "moment", "force"). Ratios, ``angle_deg``, load
+    factors and counts are dimensionless.
+    """
+    parts = key.split(".")
+    last = parts[-1]
+    if "rotation" in parts[:-1] and parts[0] in ("support", "welds"):
+        return "angle"
+    if parts[0] == "weld" and len(parts) == 4:
+        return {"moment": "moment", "force": "force"}.get(parts[2])
+    if parts[0] == "material":
+        return "modulus" if last in ("E", "G") else None
+    if parts[0] == "section" or (parts[0] == "segment" and "section" in parts[2:3]):
+        return "length" if last in _DIMENSION_KEYS else "stiffness" if last == "B3" else None
+    if parts[0] == "segment" and len(parts) == 3:
+        return _SEGMENT_KINDS.get(last)
+    return None
+
+
+def vary_in_units(design: Design, spec: VarySpec) -> VarySpec:
+    """Check the units of a ``--vary`` against ``design``; return it ready to apply.
+
+    A dimensional key (:func:`value_kind`) of a design with units needs START and STOP with a
+    unit of its kind (``segment.a.length=100 mm:200 mm``), kept for
+    :func:`set_design_value`; of a design without units, plain numbers. A dimensionless key
+    takes plain numbers. Angles (rotations) take radians or any angle unit, returned in
+    radians without a unit.
+
+    Raises
+    ------
+    RodstabInputError
+        Naming the ``--vary`` key and the unit, or the missing unit, and why.
+    """
+    kind = value_kind(spec.key)
+    what = f"--vary {spec.key}"
+    if kind == "angle":
+        if spec.unit is None:
+            return spec
+        per = parse_unit(spec.unit, f"{what} (unit of START and STOP)", "angle")
+        return dataclasses.replace(spec, start=spec.start * per, stop=spec.stop * per,
+                                   unit=None)
+    if kind is None:
+        if spec.unit is not None:
+            raise RodstabInputError(f"{what} takes plain numbers (a ratio, count, load "
+                                    f"factor or angle_deg): give START and STOP without the "
+                                    f"unit {spec.unit!r}")
+        return spec
+    if design.units is None:
+        if spec.unit is not None:
+            raise RodstabInputError(f"{what}: {design.source} has no units (plain numbers); "
+                                    f"give START and STOP without the unit {spec.unit!r}")
+        return spec
+    if spec.unit is None:
+        u = EXAMPLES[kind].split(" ", 1)[1]
+        raise RodstabInputError(f"{what}: {design.source} has units; give START and STOP with a "
+                                f"unit, e.g. '{spec.key}={spec.start:g} {u}:{spec.stop:g} {u}' "
+                                "(plain numbers and quantities cannot be mixed)")
+    parse_unit(spec.unit, f"{what} (unit of START and STOP)", kind)  # the dimension
+    return spec
+
+
+def model_value(design: Design, key: str, value: float, unit: str | None) -> float:
+    """Return a ``--vary`` value of a continuation key in the model's units.
+
+    Without units, ``value``; with a unit (a design with units, :func:`vary_in_units`), the
+    SI value divided by the model unit of the key's kind (:mod:`rodstab.units`).
+    """
+    kind = value_kind(key)
+    if unit is None or kind is None or design.units is None:
+        return value
+    si = value * parse_unit(unit, f"--vary {key}", kind)
+    return si / design.units.si(1.0, kind)
 
 
 #: Fewest elements per segment of the nonlinear rod (``rodstab equilibrium``): a design's

@@ -215,6 +215,26 @@ class Segment:
         """Held-state position of ``"start"`` or ``"end"``."""
         return self.position(0.0 if end == "start" else self.length)
 
+    def held_moments(self, load_factor: float) -> tuple[float, float]:
+        """Return the internal moments ``(M3, M2)`` of the held state at ``load_factor``.
+
+        ``M3 = B3 (k - mu kappa_n)`` bends the rod in the plane (the paper's uniform moment of
+        Section 5, ``M3 = B3 (kappa_0 - kappa_n)``) and ``M2 = -B2 mu tau_n`` twists it (the
+        held state is untwisted). Units: stiffness / length (N m for B in N m^2, m).
+        """
+        mu = load_factor
+        return (self.B3 * (self.curvature - mu * self.natural_curvature),
+                -self.B2 * mu * self.natural_twist)
+
+    def held_energy(self, load_factor: float) -> float:
+        """Return the elastic energy stored in the held state at ``load_factor``.
+
+        ``L/2 (B3 (k - mu kappa_n)^2 + B2 (mu tau_n)^2)`` (the energy density of (5.1) with no
+        out-of-plane curvature). Units: stiffness / length (J for B in N m^2, L in m).
+        """
+        M3, M2 = self.held_moments(load_factor)
+        return 0.5 * self.length * (M3 * M3 / self.B3 + M2 * M2 / self.B2)
+
 
 @dataclasses.dataclass(frozen=True, kw_only=True)
 class Assembly:

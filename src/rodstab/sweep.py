@@ -23,6 +23,9 @@ from .results import Result
 #: The columns of a sweep's table after the varied key (:meth:`SweepRow.record`).
 COLUMNS = ("load_factor_critical", "load_factor_lower", "multiplicity",
            "paper_load_factor_critical", "residual")
+#: The column of a design with units: |natural curvature| (1/m) of the load-factor segment at
+#: the critical load factor.
+PHYSICAL_COLUMN = "critical_natural_curvature_per_m"
 
 
 @dataclasses.dataclass(frozen=True)
@@ -36,10 +39,19 @@ class SweepRow(Result):
     paper_load_factor_critical: float
     residual: float
     converged: bool
+    #: |natural curvature| (1/m) of the load-factor segment at the critical load factor, for
+    #: a design with units (None without units).
+    critical_natural_curvature: float | None = None
 
     def record(self, key: str) -> dict[str, Any]:
-        """Return the row as the CLI's CSV/JSON record: ``key`` (the value), then COLUMNS."""
-        return {key: self.value} | {c: getattr(self, c) for c in COLUMNS}
+        """Return the row as the CLI's CSV/JSON record: ``key`` (the value), then COLUMNS.
+
+        A design with units adds :data:`PHYSICAL_COLUMN` (1/m).
+        """
+        out = {key: self.value} | {c: getattr(self, c) for c in COLUMNS}
+        if self.critical_natural_curvature is not None:
+            out[PHYSICAL_COLUMN] = self.critical_natural_curvature
+        return out
 
 
 @dataclasses.dataclass(frozen=True)
@@ -65,7 +77,7 @@ class SweepResult(Result):
         return [r.record(self.key) for r in self.rows]
 
 
-def design_at(design: Design, key: str, value: float) -> Design:
+def design_at(design: Design, key: str, value: float, unit: str | None = None) -> Design:
     """Return ``design`` with the design value ``key`` set to ``value``, validated.
 
     Parameters
@@ -76,6 +88,8 @@ def design_at(design: Design, key: str, value: float) -> Design:
         A key of :func:`rodstab.design.set_design_value`.
     value : float
         Its new value.
+    unit : str, optional
+        Its unit (a design with units: :func:`rodstab.design.vary_in_units`).
 
     Returns
     -------
@@ -88,17 +102,18 @@ def design_at(design: Design, key: str, value: float) -> Design:
         If ``key`` names no design value, or the design is invalid at ``value``; the message
         names the key and the value (``--vary KEY = VALUE: ...``).
     """
-    data = set_design_value(design.raw, key, value)
+    data = set_design_value(design.raw, key, value, unit)
     try:
         return parse_design(data, design.source)
     except RodstabInputError as exc:
-        raise RodstabInputError(f"--vary {key} = {value:g}: {exc}") from None
+        shown = f"{value:g}" if unit is None else f"{value:g} {unit}"
+        raise RodstabInputError(f"--vary {key} = {shown}: {exc}") from None
 
 
 def sweep(design: Design, key: str, values: Iterable[float], *, elements: int | None = None,
           progress: Callable[[], Any] | None = None,
           on_row: Callable[[SweepRow], Any] | None = None,
-          limits: Limits = DEFAULT_LIMITS) -> SweepResult:
+          limits: Limits = DEFAULT_LIMITS, unit: str | None = None) -> SweepResult:
     """Linear stability of ``design`` with the design value ``key`` set to each of ``values``.
 
     Parameters
@@ -117,6 +132,8 @@ def sweep(design: Design, key: str, values: Iterable[float], *, elements: int | 
     on_row : callable, optional
         Called with each finished :class:`SweepRow` before the next value is solved (e.g. to
         append it to a file, so that an interrupted sweep keeps its finished rows).
+    unit : str, optional
+        The unit of ``values`` (a design with units, :func:`rodstab.design.vary_in_units`).
 
     Returns
     -------
@@ -138,11 +155,14 @@ def sweep(design: Design, key: str, values: Iterable[float], *, elements: int | 
     require_steps(len(vals), f"{len(vals)} values", "sweep points", limits)
     rows = []
     for v in vals:
-        d = design_at(design, key, v)
+        d = design_at(design, key, v, unit)
         r = linear_stability(d.assembly, d.elements if ne is None else ne, limits=limits)
+        ref = d.assembly.segment(d.load_factor_segment)
+        kc = None if d.units is None else \
+            abs(d.units.si(r.load_factor_critical * ref.natural_curvature, "curvature"))
         rows.append(SweepRow(v, r.load_factor_critical, r.load_factor_interval[0],
                              r.multiplicity, d.paper_load_factor(r.load_factor_critical),
-                             r.residual, r.converged))
+                             r.residual, r.converged, kc))
         if on_row is not None:
             on_row(rows[-1])
         if progress is not None:
