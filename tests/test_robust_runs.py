@@ -26,8 +26,8 @@ import rodstab.nonlinear.continuation
 import rodstab.nonlinear.solve
 import rodstab.report.reproduce
 import rodstab.sweep
+from rodstab import outputs
 from rodstab.errors import NotConverged, RodstabInputError, RodstabWarning
-from rodstab.nonlinear.continuation import storage
 from rodstab.outputs import check_output
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -249,14 +249,14 @@ def test_library_restart_and_no_temporaries_left(tmp_path):
     again = rodstab.nonlinear.continuation.continuation(a, "load_factor", 0, 1, 2, **kw,
                                                         restart=True)
     assert again.resumed_steps == 0 and first.value == pytest.approx(again.value)
-    assert not list(tmp_path.glob(".*.tmp")) and not (tmp_path / storage.LOCK).exists()
+    assert not list(tmp_path.glob(".*.tmp")) and not (tmp_path / outputs.LOCK).exists()
 
 
 # ------------------------------------------------------------------- continue: the lock
 
 def _lock(out: Path, pid: int, host: str | None = None) -> Path:
     out.mkdir(parents=True, exist_ok=True)
-    lock = out / storage.LOCK
+    lock = out / outputs.LOCK
     lock.write_text(json.dumps({"pid": pid, "host": host or socket.gethostname(),
                                 "started": "2024-01-01T00:00:00+00:00"}))
     return lock
@@ -295,36 +295,36 @@ def test_stale_lock_is_taken_over_with_a_warning(run_cli, tmp_path, content, nee
         needle += f" {pid}"
     else:
         out.mkdir()
-        (out / storage.LOCK).write_text("{half a lock")
+        (out / outputs.LOCK).write_text("{half a lock")
     r, p = _run(run_cli, out)
     assert r.exit_code == 0, r.stderr
     lines = r.stderr.splitlines()
     assert len(lines) == 1 and lines[0].startswith("rodstab: warning: "), r.stderr
     assert needle in lines[0] and "--out" in lines[0]
     assert len(p["value"]) == 4
-    assert not (out / storage.LOCK).exists()  # released at the end
+    assert not (out / outputs.LOCK).exists()  # released at the end
 
 
 def test_run_leaves_no_lock_and_lock_is_reentrant(run_cli, tmp_path):
     out = tmp_path / "c"
     assert _run(run_cli, out)[0].exit_code == 0
-    assert not (out / storage.LOCK).exists()
-    with storage.run_lock(out):
-        held = (out / storage.LOCK).read_text()
+    assert not (out / outputs.LOCK).exists()
+    with outputs.run_lock(out):
+        held = (out / outputs.LOCK).read_text()
         assert json.loads(held)["pid"] == os.getpid()
-        with storage.run_lock(out):  # the CLI holds it while continuation() takes it again
-            assert (out / storage.LOCK).read_text() == held
-        assert (out / storage.LOCK).read_text() == held
-    assert not (out / storage.LOCK).exists()
+        with outputs.run_lock(out):  # the CLI holds it while continuation() takes it again
+            assert (out / outputs.LOCK).read_text() == held
+        assert (out / outputs.LOCK).read_text() == held
+    assert not (out / outputs.LOCK).exists()
 
 
 def test_library_run_lock_refuses_a_live_holder(tmp_path):
     _lock(tmp_path, os.getpid())
     with pytest.raises(RodstabInputError, match=f"process {os.getpid()}"), \
-            storage.run_lock(tmp_path):
+            outputs.run_lock(tmp_path):
         pass
     _lock(tmp_path, _dead_pid())
-    with pytest.warns(RodstabWarning, match="stale lock"), storage.run_lock(tmp_path):
+    with pytest.warns(RodstabWarning, match="stale lock"), outputs.run_lock(tmp_path):
         pass
 
 
@@ -335,7 +335,7 @@ def test_concurrent_atomic_writes_do_not_collide(tmp_path):
     def writer(tag: str) -> None:
         try:
             for i in range(200):
-                storage.write_atomic(tmp_path / "primary.csv", f"{tag} {i}\n")
+                outputs.write_atomic(tmp_path / "primary.csv", f"{tag} {i}\n")
         except BaseException as exc:  # pragma: no cover - the failure being tested
             errors.append(exc)
 

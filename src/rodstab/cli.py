@@ -459,7 +459,7 @@ def continue_cmd(design_file: str, vary: str, out_dir: str | None, elements: int
     from .design import load_design, parse_vary
     from .errors import require_int
     from .nonlinear.continuation import continuation
-    from .nonlinear.continuation.storage import run_lock
+    from .outputs import run_lock
 
     spec = parse_vary(vary, default_n=CONTINUE_DEFAULT_N)
     key, start, stop, n = spec.key, spec.start, spec.stop, spec.n
