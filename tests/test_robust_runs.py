@@ -351,11 +351,7 @@ def test_concurrent_atomic_writes_do_not_collide(tmp_path):
 
 # ---------------------------------------------------------------------------- sweeps
 
-@pytest.mark.parametrize("failure, status", [(NotConverged("third point"), 3),
-                                             (KeyboardInterrupt(), 130)],
-                         ids=["not converged", "interrupted"])
-def test_interrupted_sweep_keeps_its_finished_rows(run_cli, tmp_path, monkeypatch, failure,
-                                                   status):
+def _third_solve_raises(monkeypatch, failure: BaseException) -> None:
     calls = []
     solve = rodstab.sweep.linear_stability
 
@@ -365,14 +361,39 @@ def test_interrupted_sweep_keeps_its_finished_rows(run_cli, tmp_path, monkeypatc
             raise failure
         return solve(*args, **kwargs)
     monkeypatch.setattr(rodstab.sweep, "linear_stability", third_fails)
+
+
+def _sweep_rows(out: Path) -> list[dict[str, str]]:
+    with (out / "sweep.csv").open() as fh:
+        return list(csv.DictReader(fh))
+
+
+def test_interrupted_sweep_keeps_its_finished_rows(run_cli, tmp_path, monkeypatch):
+    _third_solve_raises(monkeypatch, KeyboardInterrupt())
     out = tmp_path / "s"
     r = run_cli(["sweep", STRAIGHT, "--vary", "section.nu=0:0.3:5", "--elements", "6",
                  "--no-progress", "--out", str(out)])
-    assert r.exit_code == status, r.stderr
-    with (out / "sweep.csv").open() as fh:
-        rows = list(csv.DictReader(fh))
+    assert r.exit_code == 130, r.stderr
+    rows = _sweep_rows(out)
     assert [float(row["section.nu"]) for row in rows] == pytest.approx([0.0, 0.075])
     assert all(float(row["load_factor_critical"]) > 0 for row in rows)
+
+
+def test_a_point_that_does_not_converge_is_recorded_and_the_sweep_goes_on(run_cli, tmp_path,
+                                                                          monkeypatch):
+    """Issue 13: a failing point records its status and error; the others are solved; exit 3
+    after the table."""
+    _third_solve_raises(monkeypatch, NotConverged("third point"))
+    out = tmp_path / "s"
+    r = run_cli(["sweep", STRAIGHT, "--vary", "section.nu=0:0.3:5", "--elements", "6",
+                 "--no-progress", "--out", str(out)])
+    assert r.exit_code == 3, r.stderr
+    assert "1 of 5 points" in r.stderr and "0.15: third point" in r.stderr
+    assert "not_converged" in r.stdout  # the table was printed first
+    rows = _sweep_rows(out)
+    assert [row["status"] for row in rows] == ["ok", "ok", "not_converged", "ok", "ok"]
+    assert rows[2]["error"] == "third point" and rows[2]["load_factor_critical"] == ""
+    assert all(float(row["load_factor_critical"]) > 0 for i, row in enumerate(rows) if i != 2)
 
 
 def test_finished_sweep_csv_is_the_json_rows(run_cli, tmp_path):
@@ -380,10 +401,9 @@ def test_finished_sweep_csv_is_the_json_rows(run_cli, tmp_path):
     r = run_cli(["sweep", STRAIGHT, "--vary", "section.nu=0:0.3:3", "--elements", "6",
                  "--no-progress", "--json", "--out", str(out)])
     assert r.exit_code == 0, r.stderr
-    with (out / "sweep.csv").open() as fh:
-        rows = list(csv.DictReader(fh))
-    assert [{k: float(v) for k, v in row.items()} for row in rows] == \
-        [{k: float(v) for k, v in row.items()} for row in json.loads(r.stdout)["rows"]]
+    rows = _sweep_rows(out)
+    assert [{k: v if k in ("status", "error") else float(v) for k, v in row.items()}
+            for row in rows] == json.loads(r.stdout)["rows"]
 
 
 def test_check_output_names_a_directory_it_cannot_write(tmp_path, monkeypatch):

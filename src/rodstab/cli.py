@@ -29,7 +29,12 @@ from typing import Any, NoReturn
 import click
 
 from . import __version__
-from .design import CONTINUATION_ELEMENTS, NONLINEAR_MIN_ELEMENTS
+from .design import (
+    CONTINUATION_ELEMENTS,
+    CONTINUE_DEFAULT_N,
+    NONLINEAR_MIN_ELEMENTS,
+    SWEEP_DEFAULT_N,
+)
 from .errors import (
     NotConverged,
     RodstabInputError,
@@ -38,6 +43,7 @@ from .errors import (
     require_positive,
     require_positive_int,
 )
+from .executor import AUTO_MIN_SECONDS
 from .limits import MAX_DOF, MAX_DOF_NONLINEAR, MAX_MEMORY, MAX_STEPS, Limits, require_steps
 from .outputs import check_output
 from .results import jsonable
@@ -47,9 +53,6 @@ from .sections import SHAPES, TORSION_OPTIONS, Section, make_section
 EXIT_OK = 0
 EXIT_BAD_INPUT = 2
 EXIT_NOT_CONVERGED = 3
-#: Default N of ``--vary KEY=START:STOP[:N]``: values of a sweep, steps of a continuation.
-SWEEP_DEFAULT_N = 9
-CONTINUE_DEFAULT_N = 40
 
 
 def _section_options(f: Callable[..., Any]) -> Callable[..., Any]:
@@ -555,22 +558,49 @@ def _continuation_pictures(r: Any, d: Any, out: Path, elements: int,
                    "analysis.<k>, segment.<name>.<k>, segment.<name>.section.<k> or "
                    "support.<i>.rotation.<normal|tangent|binormal>.")
 @click.option("--out", "out_dir", type=click.Path(file_okay=False), default="sweep",
-              show_default=True, help="Directory for sweep.csv and sweep.png.")
+              show_default=True,
+              help="Directory for run.json, sweep.csv (a row per point as it completes) and "
+                   "sweep.png; a rerun of the same sweep into it solves only the missing "
+                   "points.")
 @click.option("--elements", type=int, default=None, help="Elements per segment.")
+@click.option("--workers", type=int, default=None,
+              help="Worker processes of a local dask cluster (0: serial, in this process) "
+                   "[default: one per core if the points would take over "
+                   f"{AUTO_MIN_SECONDS:g} s serially, judged from the first point; else "
+                   "serial].")
+@click.option("--scheduler", default=None,
+              help="Run on an existing dask cluster instead: its scheduler's address, e.g. "
+                   "tcp://HOST:8786 (its workers need the same rodstab).")
+@click.option("--points-per-task", type=int, default=None,
+              help="Points in one dask task [default: about 8 tasks per worker, at most 16 "
+                   "points each].")
+@click.option("--restart", is_flag=True,
+              help="Start afresh in --out: remove the sweep stored there.")
+@click.option("--parquet", is_flag=True,
+              help="Also write sweep.parquet (pyarrow) of the finished table.")
 @click.option("--no-progress", is_flag=True, help="Do not draw the progress bar.")
 @_limit_options
 @_json_option
-def sweep(design_file: str, vary: str, out_dir: str, elements: int | None, no_progress: bool,
-          limits: Limits, as_json: bool) -> None:
-    """Critical load factor of a design while one parameter varies (CSV + plot)."""
-    import csv
+def sweep(design_file: str, vary: str, out_dir: str, elements: int | None,
+          workers: int | None, scheduler: str | None, points_per_task: int | None,
+          restart: bool, parquet: bool, no_progress: bool, limits: Limits,
+          as_json: bool) -> None:
+    """Critical load factor of a design while one parameter varies (CSV + plot).
+
+    The points are independent: they run in this process or on dask.distributed workers
+    (--workers, --scheduler) with the same numbers. A point that fails is recorded in its
+    row (status, error) and the sweep goes on; the table is printed, then the exit status
+    is 2 if a point's design was invalid, 3 if a solve did not converge.
+    """
+    import importlib.util
 
     import numpy as np
     from tqdm import tqdm
 
     from .design import load_design, parse_vary
+    from .executor import check_workers, task_size
     from .report.figures import sweep_plot
-    from .sweep import COLUMNS, SweepRow, design_at
+    from .sweep import CSV_FILE, INVALID, NOT_CONVERGED, design_at, write_parquet
     from .sweep import sweep as run_sweep
 
     spec = parse_vary(vary, default_n=SWEEP_DEFAULT_N)
@@ -578,37 +608,51 @@ def sweep(design_file: str, vary: str, out_dir: str, elements: int | None, no_pr
     require_steps(spec.n, f"--vary {vary}", "sweep points", limits)  # before the values exist
     if elements is not None:
         require_positive_int("--elements", elements)
+    check_workers(workers, scheduler)
+    if points_per_task is not None:
+        task_size(1, 1, points_per_task)
+    if parquet and not all(importlib.util.find_spec(m) for m in ("pandas", "pyarrow")):
+        raise RodstabInputError('--parquet needs pandas and pyarrow: pip install '
+                                '"rodstab[distributed]"')
     base = load_design(design_file)
     for value in (spec.start, spec.stop):  # both ends of the range, before the bar
         design_at(base, key, value)
     out = check_output("--out", out_dir, directory=True)
-    csv_path = out / "sweep.csv"
-    with csv_path.open("w", newline="") as fh, \
-            tqdm(total=spec.n, desc="rodstab sweep", disable=no_progress, leave=False,
-                 delay=0.5) as bar:
-        w = csv.DictWriter(fh, fieldnames=[key, *COLUMNS])
-        w.writeheader()
-
-        def write_row(row: SweepRow) -> None:  # each row on disk before the next is solved
-            w.writerow(row.record(key))
-            fh.flush()
-
+    with _warnings_as_lines(), tqdm(total=spec.n, desc="rodstab sweep", disable=no_progress,
+                                    leave=False, delay=0.5) as bar:
         result = run_sweep(base, key, np.linspace(spec.start, spec.stop, spec.n),
-                           elements=elements, progress=lambda: bar.update(1), on_row=write_row,
-                           limits=limits)
+                           elements=elements, workers=workers, scheduler=scheduler, out=out,
+                           restart=restart, points_per_task=points_per_task,
+                           progress=lambda: bar.update(1), limits=limits, out_option="--out")
     rows = result.table()
+    csv_path = out / CSV_FILE
     png = sweep_plot(rows, key, out)
     payload = {"key": key, "values": [r[key] for r in rows], "rows": rows, "csv": str(csv_path),
-               "plot": str(png)}
+               "plot": str(png), "executor": result.executor, "resumed": result.resumed}
+    written = f"{csv_path} and {png}"
+    if parquet:
+        payload["parquet"] = str(write_parquet(result.frame(), out))
+        written = f"{csv_path}, {payload['parquet']} and {png}"
     _emit(payload, as_json, [f"{key:>24} {'critical':>12} {'lower':>12} mult"] + [
         f"{r[key]:>24.6g} {r['load_factor_critical']:>12.6g} {r['load_factor_lower']:>12.6g} "
-        f"{r['multiplicity']:>4}" for r in rows] + [f"wrote {csv_path} and {png}"])
-    bad = [row for row in result.rows if not row.converged]
+        f"{r['multiplicity']:>4}" + ("" if r["status"] == "ok" else f"  {r['status']}")
+        if r["multiplicity"] is not None else f"{r[key]:>24.6g} {r['status']}: {r['error']}"
+        for r in rows] + [f"ran on       {result.executor}"]
+        + ([f"resumed      {result.resumed} of {len(rows)} points from {csv_path}"]
+           if result.resumed else []) + [f"wrote {written}"])
+    invalid, bad = result.failed(INVALID), result.failed(NOT_CONVERGED)
+    if invalid:
+        raise RodstabInputError(
+            f"--vary {vary}: the design is invalid at {len(invalid)} of {len(rows)} values "
+            f"({', '.join(f'{r.value:g}' for r in invalid[:5])}"
+            f"{', ...' if len(invalid) > 5 else ''}): {invalid[0].error}"
+            + (f"; {len(bad)} more did not converge" if bad else "")
+            + f" (their rows in {csv_path} say why)")
     if bad:
-        raise NotConverged(f"the FE eigen solve at {key} = "
-                           f"{', '.join(f'{row.value:g}' for row in bad)}: residual "
-                           f"{max(row.residual for row in bad):.3g} is above the method's "
-                           "tolerance (those rows are not to be trusted)")
+        raise NotConverged(f"{len(bad)} of {len(rows)} points of the sweep at {key} = "
+                           f"{', '.join(f'{row.value:g}' for row in bad[:5])}"
+                           f"{', ...' if len(bad) > 5 else ''}: {bad[0].error} (those rows are "
+                           "not to be trusted)")
 
 
 @cli.command()
