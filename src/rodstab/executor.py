@@ -122,12 +122,14 @@ class DaskExecutor:
         # pure=False: two equal items (a sweep may repeat a value) are still two tasks, and
         # nothing is hashed to find that out.
         futures = self.client.map(fn, list(items), pure=False)
+        finished = False
         try:
             for future in as_completed(futures):
                 yield future.result()  # a task's exception is raised here, with its traceback
+            finished = True
         finally:
-            # Stopped early (an exception here or in the caller, Ctrl-C): drop the rest.
-            self.client.cancel(futures)
+            if not finished:  # stopped early (an exception here or in the caller, Ctrl-C)
+                self.client.cancel(futures)
 
 
 def task_size(points: int, slots: int, requested: int | None = None) -> int:
@@ -275,10 +277,12 @@ def open_executor(workers: int = 0, scheduler: str | None = None,
             where = f"scheduler {scheduler}"
         else:
             # processes=True: the eigen solves hold the GIL in places, threads would not run
-            # them in parallel; dashboard off: no port to take and no bokeh needed.
+            # them in parallel. dashboard_address ":0": the scheduler's HTTP server (always
+            # started; the dashboard itself only with bokeh) on a free port, not 8787, which
+            # another cluster on the machine may hold.
             cluster = stack.enter_context(LocalCluster(
                 n_workers=workers, threads_per_worker=1, processes=True,
-                dashboard_address=None, env=dict(WORKER_ENV), silence_logs=logging.ERROR))
+                dashboard_address=":0", env=dict(WORKER_ENV), silence_logs=logging.ERROR))
             c = stack.enter_context(Client(cluster))
             where = f"LocalCluster({workers} workers)"
         _check_worker_versions(c, "--scheduler" if scheduler is not None else "--workers")

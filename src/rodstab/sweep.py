@@ -487,8 +487,10 @@ def _run_difference(stored: dict, run: dict) -> str | None:
     sv, nv = stored.get("values"), run["values"]
     if sv != nv:
         if not isinstance(sv, list) or len(sv) != len(nv) or not sv:
-            return (f"its {len(sv) if isinstance(sv, list) else '?'} values of {run['key']} "
-                    f"are not this run's {len(nv)}")
+            def span(v: list) -> str:
+                return f"{len(v)} values" + (f" from {v[0]!r} to {v[-1]!r}" if v else "")
+            return (f"it has {span(sv) if isinstance(sv, list) else 'no values'} of "
+                    f"{run['key']}, this run {span(nv)}")
         i = next(i for i, (a, b) in enumerate(zip(sv, nv, strict=True)) if a != b)
         return f"its value {i} of {run['key']} is {sv[i]!r}, this run's {nv[i]!r}"
     if stored.get("elements") != run["elements"]:
