@@ -7,10 +7,11 @@ Exit status (:func:`main`):
 
 * 0 -- done;
 * 2 -- invalid input (:class:`~rodstab.errors.RodstabInputError` or a usage error): one line
-  on stderr naming the offending option and value, nothing on stdout;
+  on stderr naming the offending option and value, nothing on stdout (except ``sweep``, whose
+  design may be invalid at values inside its range: it prints its table first);
 * 3 -- a solver did not converge (:class:`~rodstab.errors.NotConverged`): one line on stderr
-  saying what did not converge; ``equilibrium`` and ``continue`` print their table or JSON
-  first (with ``converged: false``).
+  saying what did not converge; ``equilibrium``, ``continue`` and ``sweep`` print their table
+  or JSON first (with ``converged: false``, or the point's ``status``).
 
 Any other exception is a bug in rodstab and propagates with its traceback.
 """
@@ -196,8 +197,8 @@ def cli() -> None:
 
     \b
     Exit status: 0 done; 2 invalid input (one line on stderr);
-    3 not converged (one line on stderr; equilibrium and continue print
-    their table or JSON first).
+    3 not converged (one line on stderr; equilibrium, continue and sweep
+    print their table or JSON first).
     """  # noqa: D301 - "\b" is click's no-rewrap marker (a backspace character), not a regex
 
 
