@@ -1,8 +1,11 @@
 """Where independent tasks run: in this process, or on the workers of a dask.distributed cluster.
 
 One abstraction, :class:`Executor`: ``map_unordered(fn, items)`` runs ``fn`` on every item and
-yields the results as they complete. Used by :func:`rodstab.sweep.sweep` (one task = a few
-design points).
+yields the results as they complete. :func:`run_points` is how the commands use it: points
+(independent solves) grouped into tasks, on the executor the options name or the default
+chooses (:func:`auto_workers`), each task's results handed back as it completes. Used by
+:func:`rodstab.sweep.sweep` and :func:`rodstab.atlas.ring_atlas` (one point = one value of
+the varied parameter).
 
 * :class:`SerialExecutor` -- in order, in this process (``--workers 0``);
 * :class:`DaskExecutor` -- ``client.map`` + ``as_completed`` on a ``dask.distributed``
@@ -25,6 +28,7 @@ import contextlib
 import importlib.util
 import math
 import os
+import time
 from collections.abc import Callable, Iterator, Sequence
 from typing import Any, Protocol, TypeVar
 
@@ -47,6 +51,10 @@ MAX_WORKERS_PER_CORE = 4
 #: cluster, ~1 s each worker's first import of rodstab and scipy), so below ~3x that the
 #: cluster cannot pay for itself.
 AUTO_MIN_SECONDS = 6.0
+#: Points solved here, and timed, before the default (``workers=None``) chooses where the rest
+#: run (:func:`auto_workers`): the first also pays first-call costs (imports inside scipy,
+#: ~0.3 s), so the faster of the two is the estimate.
+AUTO_TIMED_POINTS = 2
 #: Tasks per worker thread aimed at when points are grouped into tasks (enough to balance
 #: points of unequal cost across the workers).
 TASKS_PER_THREAD = 8
@@ -305,3 +313,62 @@ def _check_worker_versions(client: Any, option: str) -> None:
         raise RodstabInputError(f"{option}: worker {worker} {what}, this is rodstab "
                                 f"{__version__} ({len(bad)} of {len(found)} workers differ); "
                                 "install the same rodstab on every worker")
+
+
+def run_points(solve: Callable[[list[T]], list[R]], points: Sequence[T],
+               on_results: Callable[[list[R]], object], *, workers: int | None = None,
+               scheduler: str | None = None, client: Any = None,
+               points_per_task: int | None = None) -> str:
+    """Solve ``points`` where the options say, handing back each task's results as it completes.
+
+    Parameters
+    ----------
+    solve : callable
+        ``solve(list of points) -> list of results``, one result per point; a module-level
+        function (or ``functools.partial`` of one) of picklable arguments, so that a dask
+        worker can run it.
+    points : sequence
+        The points (each a picklable value).
+    on_results : callable
+        Called in this process with the results of each task, in completion order.
+    workers, scheduler, client
+        As :func:`open_executor`; all None: the default -- the first
+        :data:`AUTO_TIMED_POINTS` points are solved here and timed, and the rest run on
+        :func:`auto_workers`'s choice.
+    points_per_task : int, optional
+        Points in one task on a cluster (default :func:`task_size`); in this process each
+        point is its own task unless given (its results are handed back at once).
+
+    Returns
+    -------
+    str
+        Where the points ran, as tables and messages state it (the default says why).
+
+    Raises
+    ------
+    RodstabInputError
+        As :func:`check_workers` and :func:`open_executor`, before any point is solved.
+    """
+    check_workers(workers, scheduler, client)
+    if points_per_task is not None:
+        task_size(1, 1, points_per_task)
+    pending, where, why = list(points), "nothing to solve", ""
+    if pending and workers is None and scheduler is None and client is None:
+        timed = []
+        for point in pending[:AUTO_TIMED_POINTS]:
+            t0 = time.perf_counter()
+            results = solve([point])
+            timed.append(time.perf_counter() - t0)
+            on_results(results)
+        pending = pending[AUTO_TIMED_POINTS:]
+        workers, why = auto_workers(min(timed) * len(pending), len(pending))
+        where = "serial"
+    if pending:
+        with open_executor(workers or 0, scheduler, client) as ex:
+            where = ex.description
+            size = (points_per_task or 1) if isinstance(ex, SerialExecutor) else \
+                task_size(len(pending), ex.slots, points_per_task)
+            tasks = [pending[i:i + size] for i in range(0, len(pending), size)]
+            for results in ex.map_unordered(solve, tasks):
+                on_results(results)
+    return where + (f" (default: {why})" if why else "")

@@ -56,14 +56,7 @@ from .design import (
     set_design_value,
 )
 from .errors import NotConverged, RodstabInputError, require_finite, require_positive_int
-from .executor import (
-    Executor,
-    SerialExecutor,
-    auto_workers,
-    check_workers,
-    open_executor,
-    task_size,
-)
+from .executor import check_workers, run_points, task_size
 from .limits import DEFAULT as DEFAULT_LIMITS
 from .limits import Limits, require_steps
 from .linear.solve import linear_stability
@@ -86,9 +79,6 @@ CSV_FILE = "sweep.csv"
 PARQUET_FILE = "sweep.parquet"
 #: Identifies a run.json written by this module (and its layout).
 RUN_FORMAT = "rodstab sweep 1"
-#: Points solved here, and timed, before the default (``workers=None``) chooses where the rest
-#: run (:func:`rodstab.executor.auto_workers`).
-AUTO_TIMED_POINTS = 2
 #: The engine and method of every point, for results and tables.
 METHOD = "linear_stability at each value (FE of P2, eq 2.12)"
 
@@ -287,12 +277,10 @@ def sweep(design: Design, key: str, values: Iterable[float], *, elements: int | 
     workers : int, optional
         Where the points are solved (:mod:`rodstab.executor`): 0 in this process, N >= 1 on a
         local dask cluster of N worker processes. Default (None, if neither ``scheduler`` nor
-        ``client`` is given): the first :data:`AUTO_TIMED_POINTS` points are solved here and
-        timed (the faster of them: the first also pays first-call costs); a local cluster of
-        one worker per core solves the rest if they would take more than
-        :data:`~rodstab.executor.AUTO_MIN_SECONDS` serially
-        (:func:`~rodstab.executor.auto_workers`), else they are solved here too.
-        ``SweepResult.executor`` says which.
+        ``client`` is given): :func:`rodstab.executor.run_points` solves the first points here
+        and times them; a local cluster of one worker per core solves the rest if they would
+        take more than :data:`~rodstab.executor.AUTO_MIN_SECONDS` serially, else they are
+        solved here too. ``SweepResult.executor`` says which.
     scheduler : str, optional
         Address of an existing dask scheduler (``tcp://HOST:8786``) to solve the points on.
     client : distributed.Client, optional
@@ -357,37 +345,13 @@ def sweep(design: Design, key: str, values: Iterable[float], *, elements: int | 
             if progress is not None:
                 progress()
         pending = [(i, v) for i, v in enumerate(vals) if i not in rows]
-        where, why = "nothing left to solve", ""
-        if pending and workers is None and scheduler is None and client is None:
-            # The default's choice needs the time of a point: the first one also pays for
-            # first-call costs (imports inside scipy, ~0.3 s), so the second is the estimate.
-            first, pending = pending[:AUTO_TIMED_POINTS], pending[AUTO_TIMED_POINTS:]
-            for point in first:
-                record(solve([point]))
-            seconds = min(rows[i].seconds for i, _ in first)
-            workers, why = auto_workers(seconds * len(pending), len(pending))
-            where = "serial"
-        if pending:
-            with open_executor(workers or 0, scheduler, client) as ex:
-                where = ex.description
-                for new in ex.map_unordered(solve, _tasks(pending, ex, points_per_task)):
-                    record(new)
+        where = run_points(solve, pending, record, workers=workers, scheduler=scheduler,
+                           client=client, points_per_task=points_per_task)
         if table is not None:
             table.finish([rows[i] for i in range(len(vals))])
     return SweepResult(key, tuple(rows[i] for i in range(len(vals))), ne, METHOD,
-                       where + (f" (default: {why})" if why else ""), resumed)
-
-
-def _tasks(pending: list[tuple[int, float]], ex: Executor,
-           requested: int | None) -> list[list[tuple[int, float]]]:
-    """Group the pending points into tasks.
-
-    One point per task in this process (every row is on disk as soon as it is solved);
-    :func:`~rodstab.executor.task_size` on a cluster.
-    """
-    size = (requested or 1) if isinstance(ex, SerialExecutor) else \
-        task_size(len(pending), ex.slots, requested)
-    return [pending[i:i + size] for i in range(0, len(pending), size)]
+                       "nothing left to solve" if where == "nothing to solve" else where,
+                       resumed)
 
 
 # ----------------------------------------------------------------------- the stored table
