@@ -113,6 +113,28 @@ def test_python_api_returns_a_dataframe_one_row_per_point(client):
     assert df["load_factor_critical"][1] == single.load_factor_critical
 
 
+def test_atlas_grid_on_the_cluster_gives_the_serial_atlas(client):
+    """rodstab atlas uses the same executor, one grid value per point: every interval, mode,
+    mutual set and coexistence range equal to the serial atlas (the ring is built on the
+    workers by a closure, pickled by value)."""
+    from rodstab.atlas import ring_atlas
+    from rodstab.states import ring_of
+    from rodstab.sweep import design_at
+
+    base = load_design(ROOT / "examples" / "hexagram.toml")
+
+    def ring_at(aspect: float):
+        return ring_of(design_at(base, KEY, aspect).assembly)
+
+    grid = [3.0, 3.5, 4.0]
+    serial = ring_atlas(ring_at, grid, ("line", "star"), key=KEY, workers=0)
+    on_dask = ring_atlas(ring_at, grid, ("line", "star"), key=KEY, client=client)
+    assert serial.executor == "serial" and on_dask.executor.startswith("dask client")
+    assert {k: v for k, v in on_dask.to_dict().items() if k != "executor"} == \
+        {k: v for k, v in serial.to_dict().items() if k != "executor"}
+    assert len(on_dask.intervals) == 3 and on_dask.coexistence
+
+
 # ------------------------------------------------------------- kill a running sweep, resume
 
 def test_killed_sweep_on_2_workers_keeps_its_rows_and_a_rerun_resumes(run_cli, tmp_path):

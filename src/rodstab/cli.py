@@ -84,6 +84,24 @@ def _section_options(f: Callable[..., Any]) -> Callable[..., Any]:
     return wrapper
 
 
+def _where_options(f: Callable[..., Any]) -> Callable[..., Any]:
+    """Add ``--workers``, ``--scheduler``, ``--points-per-task``: where independent points run.
+
+    See :func:`rodstab.executor.run_points` (``sweep`` points, ``atlas`` grid values).
+    """
+    f = click.option("--points-per-task", type=int, default=None,
+                     help="Points in one dask task [default: about 8 tasks per worker, at "
+                          "most 16 points each].")(f)
+    f = click.option("--scheduler", default=None,
+                     help="Run on an existing dask cluster instead: its scheduler's address, "
+                          "e.g. tcp://HOST:8786 (its workers need the same rodstab).")(f)
+    return click.option("--workers", type=int, default=None,
+                        help="Worker processes of a local dask cluster (0: serial, in this "
+                             "process) [default: one per core if the points would take over "
+                             f"{AUTO_MIN_SECONDS:g} s serially, judged from the first two; "
+                             "else serial].")(f)
+
+
 _json_option = click.option("--json", "as_json", is_flag=True,
                             help="Print one JSON object instead of a table.")
 
@@ -564,17 +582,7 @@ def _continuation_pictures(r: Any, d: Any, out: Path, elements: int,
                    "sweep.png; a rerun of the same sweep into it solves only the missing "
                    "points.")
 @click.option("--elements", type=int, default=None, help="Elements per segment.")
-@click.option("--workers", type=int, default=None,
-              help="Worker processes of a local dask cluster (0: serial, in this process) "
-                   "[default: one per core if the points would take over "
-                   f"{AUTO_MIN_SECONDS:g} s serially, judged from the first point; else "
-                   "serial].")
-@click.option("--scheduler", default=None,
-              help="Run on an existing dask cluster instead: its scheduler's address, e.g. "
-                   "tcp://HOST:8786 (its workers need the same rodstab).")
-@click.option("--points-per-task", type=int, default=None,
-              help="Points in one dask task [default: about 8 tasks per worker, at most 16 "
-                   "points each].")
+@_where_options
 @click.option("--restart", is_flag=True,
               help="Start afresh in --out: remove the sweep stored there.")
 @click.option("--parquet", is_flag=True,
@@ -1193,11 +1201,13 @@ ATLAS_DEFAULT_N = 21
                    "every state with kL >= 0; a mirror state's interval is the negated one].")
 @click.option("--max-turns", type=float, default=1.0, show_default=True,
               help="States with each rod's turning |kL| up to this many full turns.")
+@_where_options
 @click.option("--no-progress", is_flag=True, help="Do not draw the progress bar.")
 @_limit_options
 @_json_option
 def atlas_cmd(design_file: str, vary: str, out_dir: str, method: str,
-              state_labels: tuple[str, ...], max_turns: float, no_progress: bool,
+              state_labels: tuple[str, ...], max_turns: float, workers: int | None,
+              scheduler: str | None, points_per_task: int | None, no_progress: bool,
               limits: Limits, as_json: bool) -> None:
     """Stable bands of a ring's held states against a design parameter (JSON + chart).
 
@@ -1206,6 +1216,9 @@ def atlas_cmd(design_file: str, vary: str, out_dir: str, method: str,
     the mode at each limit (all rods alike, a symmetry-breaking pair or alternating), and the
     parameter ranges in which k states are mutually stable. The load factor is the design's:
     the natural curvature is the load factor times each segment's natural_curvature.
+
+    The grid values are solved as sweep's points are (--workers, --scheduler); the root
+    refinement of the ranges runs in this process.
     """
     import math
 
@@ -1214,6 +1227,7 @@ def atlas_cmd(design_file: str, vary: str, out_dir: str, method: str,
 
     from .atlas import LOAD_FACTOR_UNITS, ring_atlas
     from .design import load_design, parse_vary
+    from .executor import check_workers, task_size
     from .states import Ring, ring_of
     from .sweep import design_at
 
@@ -1224,6 +1238,9 @@ def atlas_cmd(design_file: str, vary: str, out_dir: str, method: str,
     if spec.start == spec.stop:
         raise RodstabInputError(f"--vary {vary!r}: START and STOP are both {spec.start:g}")
     require_steps(spec.n, f"--vary {vary}", "atlas points", limits)
+    check_workers(workers, scheduler)
+    if points_per_task is not None:
+        task_size(1, 1, points_per_task)
     base = load_design(design_file)
     try:
         ring_of(base.assembly)
@@ -1246,7 +1263,8 @@ def atlas_cmd(design_file: str, vary: str, out_dir: str, method: str,
               delay=0.5) as bar:
         at = ring_atlas(ring_at, np.linspace(spec.start, spec.stop, spec.n).tolist(),
                         state_labels or None, key=spec.key, method=method,
-                        max_turns=max_turns, limits=limits, progress=lambda: bar.update(1))
+                        max_turns=max_turns, limits=limits, progress=lambda: bar.update(1),
+                        workers=workers, scheduler=scheduler, points_per_task=points_per_task)
     states: dict[str, Any] = {}
     for j, label in enumerate(at.states):
         col = [row[j] for row in at.intervals]
@@ -1264,7 +1282,8 @@ def atlas_cmd(design_file: str, vary: str, out_dir: str, method: str,
     json_path = out / "atlas.json"
     payload: dict[str, Any] = {
         "design": design_file, "key": at.key, "values": list(at.values),
-        "load_factor": LOAD_FACTOR_UNITS, "method": at.method, "states": states,
+        "load_factor": LOAD_FACTOR_UNITS, "method": at.method, "executor": at.executor,
+        "states": states,
         "mutually_stable": [[{"states": list(o.members), "load_factor": list(o.load_interval)}
                              for o in sets] for sets in at.mutual],
         "coexistence": [{"k": c.k, "ranges": [list(r) for r in c.ranges],
@@ -1291,7 +1310,7 @@ def atlas_cmd(design_file: str, vary: str, out_dir: str, method: str,
     for c in at.coexistence:
         lines.append(f"{c.k} mutually stable: " + (", ".join(
             f"{at.key} in ({_fmt(a)}, {_fmt(b)})" for a, b in c.ranges) or "nowhere in range"))
-    lines.append(f"wrote {json_path} and {png}")
+    lines += [f"ran on       {at.executor}", f"wrote {json_path} and {png}"]
     _emit(payload, as_json, lines)
     bad = [(p, r) for p, row in zip(at.values, at.intervals, strict=True) for r in row
            if not r.converged]
