@@ -83,6 +83,19 @@ def test_dask_sweep_gives_the_serial_numbers_bit_for_bit(client):
         assert [r.index for r in on_dask.rows] == list(range(5))
         assert all(_same(a, b) for a, b in zip(serial.rows, on_dask.rows, strict=True))
         assert all(r.status == OK for r in on_dask.rows)
+    # --scheduler: the same code on an existing cluster, reached by its address.
+    remote = sweep(d, KEY, values, scheduler=client.scheduler.address)
+    assert remote.executor == f"scheduler {client.scheduler.address}"
+    assert all(_same(a, b) for a, b in zip(serial.rows, remote.rows, strict=True))
+
+
+def test_workers_with_another_rodstab_are_refused(client, monkeypatch):
+    """Numbers from another version of the code would be mixed into the table: refused,
+    naming a worker and both versions."""
+    monkeypatch.setattr(rodstab.executor, "__version__", "9.9.9")
+    with pytest.raises(RodstabInputError, match=r"--scheduler: worker tcp://\S+ has rodstab "
+                                                r"\S+, this is rodstab 9\.9\.9 \(2 of 2"):
+        sweep(load_design(ARC), KEY, [1.0], scheduler=client.scheduler.address)
 
 
 def test_a_failing_point_is_recorded_and_the_sweep_goes_on(client):
