@@ -63,6 +63,7 @@ def test_sweep_default_elements_are_the_designs_and_table_keys_are_the_clis():
     ("section.aspect", [1.0, float("nan")], {}, "nan"),
     ("section.aspect", ["2"], {}, "'2'"),
     ("section.aspect", [1.0], {"elements": 0}, "elements"),
+    ("analysis.elements", [8.5, 9.5], {}, "takes integer values, got 8.5"),  # no value fits
     ("section.aspect", [1.0], {"workers": -1}, "--workers must be an integer from 0"),
     ("section.aspect", [1.0], {"workers": 2.5}, "2.5"),
     ("section.aspect", [1.0], {"workers": 2, "scheduler": "tcp://h:8786"},

@@ -120,8 +120,7 @@ class DaskExecutor:
     def __init__(self, client: Any, description: str) -> None:
         self.client = client
         self.description = description
-        workers = client.scheduler_info()["workers"]
-        self.slots = max(1, sum(int(w.get("nthreads", 1)) for w in workers.values()))
+        self.slots = max(1, sum(client.nthreads().values()))  # threads of all its workers
 
     def map_unordered(self, fn: Callable[[T], R], items: Sequence[T]) -> Iterator[R]:
         """Submit every item (``client.map``) and yield results in completion order."""

@@ -204,6 +204,23 @@ def _one_line(exc: BaseException) -> str:
     return " ".join(str(exc).split()) or type(exc).__name__
 
 
+def _check_key(design: Design, key: str, values: Sequence[float]) -> None:
+    """Raise the error of the first value unless ``key`` takes some value of ``values``.
+
+    An unknown key makes every value fail: refused before anything runs, not recorded as a
+    table of failed points; so is a sweep none of whose values the key can take.
+    """
+    first: RodstabInputError | None = None
+    for v in values:
+        try:
+            set_design_value(design.raw, key, v)
+            return
+        except RodstabInputError as exc:
+            first = first or exc
+    assert first is not None  # values is not empty
+    raise first
+
+
 def solve_point(design: Design, key: str, elements: int | None, limits: Limits, index: int,
                 value: float) -> SweepRow:
     """Solve one point: the design with ``key`` set to ``value``; failures become its status.
@@ -317,7 +334,7 @@ def sweep(design: Design, key: str, values: Iterable[float], *, elements: int | 
         raise RodstabInputError(f"sweep needs one or more values of {key!r}, got none")
     ne = None if elements is None else require_positive_int("elements", elements)
     require_steps(len(vals), f"{len(vals)} values", "sweep points", limits)
-    set_design_value(design.raw, key, vals[0])  # an unknown key fails before anything runs
+    _check_key(design, key, vals)
     check_workers(workers, scheduler, client)
     if points_per_task is not None:
         task_size(1, 1, points_per_task)  # checked before anything runs
@@ -346,11 +363,11 @@ def sweep(design: Design, key: str, values: Iterable[float], *, elements: int | 
                 progress()
         pending = [(i, v) for i, v in enumerate(vals) if i not in rows]
         where = run_points(solve, pending, record, workers=workers, scheduler=scheduler,
-                           client=client, points_per_task=points_per_task)
+                           client=client, points_per_task=points_per_task) if pending \
+            else "nothing left to solve: every point was read from the table"
         if table is not None:
             table.finish([rows[i] for i in range(len(vals))])
-    return SweepResult(key, tuple(rows[i] for i in range(len(vals))), ne, METHOD,
-                       "nothing left to solve" if where == "nothing to solve" else where,
+    return SweepResult(key, tuple(rows[i] for i in range(len(vals))), ne, METHOD, where,
                        resumed)
 
 
