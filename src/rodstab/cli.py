@@ -28,6 +28,7 @@ from pathlib import Path
 from typing import Any, NoReturn
 
 import click
+from click.core import ParameterSource
 
 from . import __version__
 from .design import (
@@ -35,6 +36,7 @@ from .design import (
     CONTINUE_DEFAULT_N,
     NONLINEAR_MIN_ELEMENTS,
     SWEEP_DEFAULT_N,
+    load_polygon,
 )
 from .errors import (
     NotConverged,
@@ -48,7 +50,16 @@ from .executor import AUTO_MIN_SECONDS
 from .limits import MAX_DOF, MAX_DOF_NONLINEAR, MAX_MEMORY, MAX_STEPS, Limits, require_steps
 from .outputs import check_output
 from .results import jsonable
-from .sections import SHAPES, TORSION_OPTIONS, Section, make_section
+from .sections import (
+    POLYGON_MESH_SIZE,
+    SHAPES,
+    TORSION_OPTIONS,
+    PolygonSection,
+    Section,
+    composite_section,
+    make_section,
+    polygon_section,
+)
 
 #: Exit statuses of the ``rodstab`` command (module docstring, ``rodstab --help``, README).
 EXIT_OK = 0
@@ -56,8 +67,17 @@ EXIT_BAD_INPUT = 2
 EXIT_NOT_CONVERGED = 3
 
 
+#: Options of ``_section_options`` that fix a closed-form section, so conflict with --polygon.
+_CLOSED_FORM_OPTIONS = ("shape", "aspect", "torsion", "b1", "b2")
+
+
 def _section_options(f: Callable[..., Any]) -> Callable[..., Any]:
-    """Add the common cross-section options and pass a built :class:`Section` as ``section``."""
+    """Add the common cross-section options and pass a built :class:`Section` as ``section``.
+
+    ``--polygon FILE`` (:func:`~rodstab.design.load_polygon`) builds a
+    :func:`~rodstab.sections.polygon_section` instead, with ``--mesh-size`` and
+    ``--orientation-deg``; it cannot be combined with the options of a closed-form shape.
+    """
 
     @click.option("--shape", type=click.Choice(SHAPES), default="circle", show_default=True,
                   help="Cross-section shape.")
@@ -71,9 +91,48 @@ def _section_options(f: Callable[..., Any]) -> Callable[..., Any]:
     @click.option("--b1", type=float, default=None, help="B1/B3 directly (with --b2; overrides "
                   "--shape).")
     @click.option("--b2", type=float, default=None, help="B2/B3 directly (with --b1).")
+    @click.option("--polygon", "polygon_file", default=None, metavar="FILE",
+                  help="Any section: a polygon file (.json {\"polygon\": [[x, y], ...], "
+                       "\"holes\": [...]} or {\"parts\": [{\"polygon\", \"holes\", \"E\", "
+                       "\"nu\"}, ...]} of several materials, or .csv x,y rows, blank line "
+                       "before each hole); y is out of the ring's plane. Needs "
+                       "rodstab[sections].")
+    @click.option("--mesh-size", type=float, default=None,
+                  help=f"With --polygon: largest triangle area / section area "
+                       f"[default: {POLYGON_MESH_SIZE:g}].")
+    @click.option("--orientation-deg", type=float, default=None,
+                  help="With --polygon: direction of the ring's normal in the polygon, degrees "
+                       "from x (a principal axis; needed when they are not x and y).")
     @functools.wraps(f)
     def wrapper(shape: str, aspect: float | None, nu: float, torsion: str,
-                b1: float | None, b2: float | None, **kwargs: Any) -> Any:
+                b1: float | None, b2: float | None, polygon_file: str | None,
+                mesh_size: float | None, orientation_deg: float | None, **kwargs: Any) -> Any:
+        if polygon_file is not None:
+            ctx = click.get_current_context()
+            for name in _CLOSED_FORM_OPTIONS:
+                if ctx.get_parameter_source(name) == ParameterSource.COMMANDLINE:
+                    raise RodstabInputError(f"--{name} cannot be used with --polygon, which "
+                                            "gives the section")
+            spec = load_polygon(polygon_file)
+            try:
+                if "parts" in spec:
+                    if ctx.get_parameter_source("nu") == ParameterSource.COMMANDLINE:
+                        raise RodstabInputError(f"--nu {nu!r} cannot be used with a composite "
+                                                "section: each part has its own nu")
+                    section: Section = composite_section(spec["parts"], mesh_size=mesh_size,
+                                                         orientation_deg=orientation_deg)
+                else:
+                    section = polygon_section(spec["polygon"], spec["holes"], nu=nu,
+                                              mesh_size=mesh_size,
+                                              orientation_deg=orientation_deg)
+            except RodstabInputError as exc:
+                raise RodstabInputError(f"--polygon {polygon_file!r}: {exc}") from None
+            return f(section=section, **kwargs)
+        for option, value in (("--mesh-size", mesh_size), ("--orientation-deg",
+                                                           orientation_deg)):
+            if value is not None:
+                raise RodstabInputError(f"{option} {value!r} needs --polygon (it describes a "
+                                        "polygon section)")
         section = make_section(shape, aspect=aspect, nu=nu, torsion=torsion, b1=b1, b2=b2)
         out = f(section=section, **kwargs)
         if b1 is not None and b2 is not None and shape != "circle":
@@ -220,13 +279,46 @@ def cli() -> None:
     """  # noqa: D301 - "\b" is click's no-rewrap marker (a backspace character), not a regex
 
 
+def _polygon_lines(s: PolygonSection) -> list[str]:
+    return [f"mesh         {s.n_elements} six-node triangles, mesh_size {_fmt(s.mesh_size)}; "
+            f"J changes by {s.J_mesh_change:.2g} (relative) from a 4x coarser mesh",
+            f"axes         principal at {_fmt(s.principal_deg[0])} and "
+            f"{_fmt(s.principal_deg[1])} deg from x; ring normal e3 at {_fmt(s.normal_deg)} "
+            f"deg; centroid ({_fmt(s.centroid[0])}, {_fmt(s.centroid[1])})",
+            f"geometry     area {_fmt(s.area or 0.0)}, I1 {_fmt(s.I1 or 0.0)}, "
+            f"I3 {_fmt(s.I3 or 0.0)}, J {_fmt(s.J or 0.0)} (the polygon's length unit)"]
+
+
 @cli.command()
 @_section_options
+@click.option("--plot", "plot_path", default=None, metavar="PATH.png",
+              help="With --polygon: draw the mesh, centroid and principal axes.")
 @_json_option
-def section(section: Section, as_json: bool) -> None:
-    """Stiffness ratios b1 = B1/B3, b2 = B2/B3 of a cross-section (Fig. 4, eqs 3.11-3.12)."""
+def section(section: Section, plot_path: str | None, as_json: bool) -> None:
+    """Stiffness ratios b1 = B1/B3, b2 = B2/B3 of a cross-section (Fig. 4, eqs 3.11-3.12).
+
+    Any section with --polygon FILE: second moments exact, Saint-Venant J by FE warping
+    (sectionproperties).
+    """
+    if plot_path is not None:
+        if not isinstance(section, PolygonSection):
+            raise RodstabInputError(f"--plot {plot_path!r} draws a polygon section's mesh; "
+                                    "give --polygon FILE")
+        out = _image_output("--plot", plot_path)
     payload = section.to_dict() | {"sqrt_b1b2": section.sqrt_b1b2}
-    _emit(payload, as_json, [_section_line(section)])
+    lines = [_section_line(section)]
+    if isinstance(section, PolygonSection):
+        lines += _polygon_lines(section)
+        if plot_path is not None:
+            from .plots import plot_section
+            from .sections import polygon_mesh
+
+            nodes, triangles, part = polygon_mesh(section)
+            payload["plot"] = str(plot_section(
+                nodes, triangles, part, [(p.outer, p.holes) for p in section.parts],
+                section.centroid, section.principal_deg, section.normal_deg, out))
+            lines.append(f"plot         {payload['plot']}")
+    _emit(payload, as_json, lines)
 
 
 @cli.command()
@@ -925,9 +1017,10 @@ def _ring_and_section(design_file: str | None, structure: str, segments: int,
 
     if design_file is not None:
         given = [o for o in ("structure", "segments", "shape", "aspect", "nu", "torsion", "b1",
-                             "b2") if _given(o)]
+                             "b2", "polygon_file", "mesh_size", "orientation_deg") if _given(o)]
         if given:
-            raise RodstabInputError(f"--{given[0]} describes a built-in structure; "
+            option = {"polygon_file": "polygon"}.get(given[0], given[0]).replace("_", "-")
+            raise RodstabInputError(f"--{option} describes a built-in structure; "
                                     f"{design_file} describes its own ring and section")
         from .design import load_design
 

@@ -3,11 +3,19 @@
 Format (every key optional unless marked; unknown keys are errors)::
 
     [section]                 # default section of every segment (as the CLI options)
-    shape = "rectangle"       # circle | ellipse | rectangle | tube   (or b1 = .., b2 = ..)
+    shape = "rectangle"       # circle | ellipse | rectangle | tube | polygon  (or b1, b2)
     aspect = 2.0
     nu = 0.3333
     torsion = "exact"
     B3 = 1.0                  # in-plane bending stiffness (sets the units of B1, B2)
+    # shape = "polygon" (implied by polygon = ...): any section, y out of the ring's plane
+    # polygon = [[0, 0], [1, 0], [1, 2], [0, 2]]    # outline, any length unit
+    # holes = [[[0.3, 0.3], [0.7, 0.3], [0.7, 0.6]]]  # optional
+    # mesh_size = 1e-3        # optional: largest triangle area / section area
+    # orientation_deg = 90    # optional: direction of the ring's normal (a principal axis)
+    # shape = "composite" (implied by parts = ...): several materials, bonded
+    # parts = [{polygon = [[0, 0], [1, 0], [1, 1], [0, 1]], E = 1.0, nu = 0.3},
+    #          {polygon = [[0, 1], [1, 1], [1, 2], [0, 2]], E = 3.0, nu = 0.45}]
 
     [[segment]]               # required, one table per segment, in order
     name = "a"                # required, unique
@@ -44,8 +52,10 @@ number, a float is not an integer, an array is not a table. Ranges: lengths in
 :data:`LENGTH_RANGE`, ``B3`` in :data:`STIFFNESS_RANGE`, ``|curvature|``, ``|natural_curvature|``
 and ``|natural_twist|`` times the length at most :data:`MAX_TURNING`, ``angle_deg`` in
 :data:`ANGLE_RANGE_DEG`, rotations within :data:`MAX_END_ROTATION`, ``nu`` in (-1, 0.5],
-``aspect``, ``b1``, ``b2`` as :mod:`rodstab.sections` accepts them. Messages start with the
-file's name.
+``aspect``, ``b1``, ``b2`` as :mod:`rodstab.sections` accepts them; a polygon's points are
+numbers (``section.polygon[3][1]``) and its geometry is checked by
+:func:`rodstab.sections.polygon_section` (the message names the table, e.g. ``section: holes[0]
+... is not inside the polygon``). Messages start with the file's name.
 """
 
 from __future__ import annotations
@@ -59,10 +69,26 @@ from typing import Any
 
 from .errors import RodstabInputError, require_positive_int
 from .model import MAX_END_ROTATION, ROTATION_AXES, SUPPORTS, Assembly, Segment
-from .sections import ASPECT_RANGE, RATIO_RANGE, SHAPES, TORSION_OPTIONS, make_section
+from .sections import (
+    ASPECT_RANGE,
+    COMPOSITE,
+    MAX_POLYGON_VERTICES,
+    MESH_SIZE_RANGE,
+    POLYGON,
+    RATIO_RANGE,
+    SHAPES,
+    TORSION_OPTIONS,
+    composite_section,
+    make_section,
+    polygon_section,
+)
 
 _TOP = {"section", "segment", "weld", "support", "analysis"}
-_SECTION = {"shape", "aspect", "nu", "torsion", "b1", "b2", "B3"}
+#: Keys of a polygon section (shape "polygon", rodstab.sections.polygon_section).
+_POLYGON_KEYS = ("polygon", "holes", "parts", "mesh_size", "orientation_deg")
+#: Keys of one part of a composite section (``parts = [{...}, ...]``).
+_PART = {"polygon", "holes", "E", "nu"}
+_SECTION = {"shape", "aspect", "nu", "torsion", "b1", "b2", "B3", *_POLYGON_KEYS}
 _SEGMENT = {"name", "length", "curvature", "natural_curvature", "natural_twist", "start",
             "angle_deg", "cusp", "section"}
 _WELD = {"ends"}
@@ -302,7 +328,22 @@ def _section_table(table: dict[str, Any], where: str) -> dict[str, tuple[Any, st
     for key, value in table.items():
         path = _path(where, key)
         if key == "shape":
-            value = _as_str(value, path, SHAPES)
+            value = _as_str(value, path, (*SHAPES, POLYGON, COMPOSITE))
+        elif key == "parts":
+            value = [_part(part, _path(path, i)) for i, part in enumerate(_as_list(
+                value, path, "an array of parts [{polygon = ..., E = ..., nu = ...}, ...]",
+                min_length=1))]
+        elif key == "polygon":
+            value = _points(value, path)
+        elif key == "holes":
+            value = [_points(h, _path(path, k)) for k, h in enumerate(_as_list(
+                value, path, "an array of polygons [[[x, y], ...], ...]"))]
+        elif key == "mesh_size":
+            value = _as_number(value, path, lo=MESH_SIZE_RANGE[0], hi=MESH_SIZE_RANGE[1],
+                               why="the largest triangle's area over the section's area")
+        elif key == "orientation_deg":
+            value = _as_number(value, path, lo=ANGLE_RANGE_DEG[0], hi=ANGLE_RANGE_DEG[1],
+                               why="the direction of the ring's normal in the polygon, degrees")
         elif key == "torsion":
             value = _as_str(value, path, TORSION_OPTIONS)
         elif key == "nu":
@@ -320,6 +361,67 @@ def _section_table(table: dict[str, Any], where: str) -> dict[str, tuple[Any, st
     return out
 
 
+def _points(value: Any, path: str) -> list[list[float]]:
+    """Read a polygon ``[[x, y], ...]`` (numbers only; its geometry is checked by sections)."""
+    what = "an array of points [[x, y], ...]"
+    points = _as_list(value, path, what)
+    if len(points) > MAX_POLYGON_VERTICES:
+        raise RodstabInputError(f"{path} has {len(points)} points; at most "
+                                f"{MAX_POLYGON_VERTICES} are accepted")
+    return [[_as_number(v, _path(_path(path, i), j), why="a coordinate of the polygon")
+             for j, v in enumerate(_as_list(p, _path(path, i), "a point [x, y]", length=2))]
+            for i, p in enumerate(points)]
+
+
+def _part(value: Any, path: str) -> dict[str, Any]:
+    """Read one part ``{polygon, holes, E, nu}`` of a composite section."""
+    table = _as_table(value, path, _PART)
+    out: dict[str, Any] = {"polygon": _points(_get(table, "polygon", path, _REQUIRED)[0],
+                                              _path(path, "polygon"))}
+    out["holes"] = [_points(h, _path(_path(path, "holes"), k)) for k, h in
+                    enumerate(_list(table, "holes", path, "an array of polygons"))]
+    out["E"] = _number(table, "E", path, lo=STIFFNESS_RANGE[0], hi=STIFFNESS_RANGE[1],
+                       why="Young's modulus of the part, any unit")
+    out["nu"] = _number(table, "nu", path, lo=_NU_RANGE[0], hi=_NU_RANGE[1], lo_open=True,
+                        why="Poisson's ratio")
+    return out
+
+
+def _polygon_stiffness(spec: dict[str, tuple[Any, str]], where: str,
+                       shape: str) -> tuple[float, float, float]:
+    """``(B1, B2, B3)`` of a polygon or composite section (:mod:`rodstab.sections`)."""
+    need = "parts" if shape == COMPOSITE else "polygon"
+    if need not in spec:
+        shape_path = spec["shape"][1]
+        raise RodstabInputError(f"{shape_path} = {shape!r} needs {shape_path[:-len('shape')]}"
+                                f"{need} = [...] (the outline, y out of the plane of the ring, "
+                                "or the parts of a composite)")
+    other = ("aspect", "torsion", "polygon", "holes", "nu") if shape == COMPOSITE else \
+        ("aspect", "torsion", "parts")
+    for key in other:
+        if key in spec:
+            raise RodstabInputError(f"{spec[key][1]} = {_show(spec[key][0])} has no meaning "
+                                    f"for a {shape} section (its J is computed by FE; a "
+                                    "composite's parts carry their own polygon and nu)")
+
+    def val(key: str) -> Any:
+        return spec[key][0] if key in spec else None
+
+    try:
+        if shape == COMPOSITE:
+            sec = composite_section(val("parts"), mesh_size=val("mesh_size"),
+                                    orientation_deg=val("orientation_deg"))
+        else:
+            sec = polygon_section(val("polygon"), val("holes") or (),
+                                  nu=1 / 3 if val("nu") is None else val("nu"),
+                                  mesh_size=val("mesh_size"),
+                                  orientation_deg=val("orientation_deg"))
+    except RodstabInputError as exc:  # the geometry: name the table
+        raise RodstabInputError(f"{where}: {exc}") from None
+    B3 = 1.0 if val("B3") is None else val("B3")
+    return sec.b1 * B3, sec.b2 * B3, B3
+
+
 def _stiffness(spec: dict[str, tuple[Any, str]], where: str) -> tuple[float, float, float]:
     """``(B1, B2, B3)`` of a checked, merged section; combinations checked with their paths."""
     def val(key: str, default: Any = None) -> Any:
@@ -333,7 +435,15 @@ def _stiffness(spec: dict[str, tuple[Any, str]], where: str) -> tuple[float, flo
         given, missing = ("b1", "b2") if b2 is None else ("b2", "b1")
         raise RodstabInputError(f"{path(given)} = {_show(val(given))} is given without "
                                 f"{missing}: give both b1 and b2, or neither")
-    shape = None if b1 is not None else val("shape", "circle")
+    implied = COMPOSITE if "parts" in spec else POLYGON if "polygon" in spec else "circle"
+    shape = None if b1 is not None else val("shape", implied)
+    stray = [k for k in _POLYGON_KEYS if k in spec]
+    if shape in (POLYGON, COMPOSITE):
+        return _polygon_stiffness(spec, where, shape)
+    if stray:
+        owner = "b1 and b2, which fix the section" if b1 is not None else f"shape {shape!r}"
+        raise RodstabInputError(f"{path(stray[0])} = {_show(val(stray[0]))} has no meaning for "
+                                f"{owner} (polygon keys need shape = 'polygon')")
     if b1 is not None:
         for key in ("aspect", "torsion"):
             if key in spec and not (key == "torsion" and val(key) == "exact"):
@@ -392,7 +502,8 @@ def _segment(raw: dict[str, Any], where: str, default: dict[str, tuple[Any, str]
     spec = default
     if "section" in raw:
         own = _section_table(_table(raw, "section", where, _SECTION), f"{where}.section")
-        spec = own if ("shape" in own or "b1" in own) else default | own
+        # A new shape, ratios or outline replaces the default section; other keys amend it.
+        spec = own if ({"shape", "b1", "polygon", "parts"} & set(own)) else default | own
     B1, B2, B3 = _stiffness(spec, f"{where}.section")
     values = {}
     for key in ("curvature", "natural_curvature", "natural_twist"):
@@ -505,6 +616,30 @@ def parse_design(data: dict, source: str = "<dict>") -> Design:
     return Design(assembly, elements, lf, source, data)
 
 
+def _read_text(p: Path, what: str, kind: str) -> str:
+    """Return the UTF-8 text of the file ``p`` (at most :data:`MAX_FILE_BYTES`), else raise.
+
+    ``what`` names the file in messages ("design file"); ``kind`` says what it should be.
+    """
+    name = repr(str(p))
+    try:
+        if p.is_dir():
+            raise RodstabInputError(f"{what} {name} is a directory, not a file")
+        with p.open("rb") as fh:
+            raw = fh.read(MAX_FILE_BYTES + 1)
+    except FileNotFoundError:
+        raise RodstabInputError(f"{what} {name} does not exist") from None
+    except OSError as exc:
+        raise RodstabInputError(f"cannot read {what} {name}: {exc.strerror or exc}") from None
+    if len(raw) > MAX_FILE_BYTES:
+        raise RodstabInputError(f"{what} {name} is larger than {MAX_FILE_BYTES} bytes; {kind}")
+    try:
+        return raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise RodstabInputError(f"{what} {name} is not UTF-8 text (byte 0x{raw[exc.start]:02x} "
+                                f"at offset {exc.start}); {kind}") from None
+
+
 def load_design(path: str | Path) -> Design:
     """Read and validate a TOML design file.
 
@@ -528,25 +663,7 @@ def load_design(path: str | Path) -> Design:
 
     p = Path(path)
     name = repr(str(p))
-    try:
-        if p.is_dir():
-            raise RodstabInputError(f"design file {name} is a directory, not a TOML file")
-        with p.open("rb") as fh:
-            raw = fh.read(MAX_FILE_BYTES + 1)
-    except FileNotFoundError:
-        raise RodstabInputError(f"design file {name} does not exist") from None
-    except OSError as exc:
-        raise RodstabInputError(f"cannot read design file {name}: "
-                                f"{exc.strerror or exc}") from None
-    if len(raw) > MAX_FILE_BYTES:
-        raise RodstabInputError(f"design file {name} is larger than {MAX_FILE_BYTES} bytes; "
-                                "a design file is a short TOML text")
-    try:
-        text = raw.decode("utf-8")
-    except UnicodeDecodeError as exc:
-        raise RodstabInputError(f"design file {name} is not UTF-8 text (byte "
-                                f"0x{raw[exc.start]:02x} at offset {exc.start}); a design file "
-                                "is TOML") from None
+    text = _read_text(p, "design file", "a design file is TOML")
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
@@ -559,10 +676,106 @@ def load_design(path: str | Path) -> Design:
     return parse_design(data, str(p))
 
 
+def _csv_rings(text: str, name: str) -> list[list[list[float]]]:
+    """Rings of a CSV polygon file: ``x,y`` rows, a blank line between rings."""
+    rings: list[list[list[float]]] = [[]]
+    header_allowed = True
+    for lineno, line in enumerate(text.splitlines(), start=1):
+        row = line.strip()
+        if row.startswith("#"):
+            continue
+        if not row:
+            if rings[-1]:
+                rings.append([])
+            continue
+        cells = [c.strip() for c in row.split(",")]
+        if header_allowed and [c.lower() for c in cells] == ["x", "y"]:
+            header_allowed = False
+            continue
+        header_allowed = False
+        try:
+            x, y = (float(c) for c in cells)
+        except ValueError:
+            raise RodstabInputError(f"polygon file {name} line {lineno}: {_show(row)} is not "
+                                    "two numbers x,y") from None
+        if not (math.isfinite(x) and math.isfinite(y)):
+            raise RodstabInputError(f"polygon file {name} line {lineno}: {_show(row)} is not "
+                                    "finite")
+        rings[-1].append([x, y])
+    return [r for r in rings if r]
+
+
+def load_polygon(path: str | Path) -> dict[str, Any]:
+    """Read a polygon file: the outline and the holes of a section, or its parts.
+
+    Formats (by suffix):
+
+    * ``.json``: ``{"polygon": [[x, y], ...], "holes": [[[x, y], ...], ...]}`` (the keys of a
+      design file's polygon section; ``holes`` optional), or just the outline
+      ``[[x, y], ...]``, or a composite ``{"parts": [{"polygon": ..., "holes": ..., "E": ...,
+      "nu": ...}, ...]}``;
+    * ``.csv``: one point ``x,y`` per line, an optional header line ``x,y``, ``#`` comments;
+      a blank line ends a ring: the first ring is the outline, every further one a hole.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file, UTF-8, at most :data:`MAX_FILE_BYTES`.
+
+    Returns
+    -------
+    dict
+        ``{"polygon": outline, "holes": holes}`` (lists of [x, y], the file's length unit), or
+        ``{"parts": [{"polygon", "holes", "E", "nu"}, ...]}``.
+
+    Raises
+    ------
+    RodstabInputError
+        Naming the file and the key path (JSON) or line (CSV) of a value that is not a
+        number, an unknown key or suffix, or a file that cannot be read. The geometry itself
+        is checked by :func:`rodstab.sections.polygon_section`.
+    """
+    import json
+
+    p = Path(path)
+    name = repr(str(p))
+    suffix = p.suffix.lower()
+    if suffix not in (".json", ".csv"):
+        raise RodstabInputError(f"polygon file {name} must end in .json or .csv (the two "
+                                "formats read), got {suffix or 'no suffix'!r}")
+    text = _read_text(p, "polygon file", f"a polygon file is {suffix[1:].upper()} text")
+    if suffix == ".csv":
+        rings = _csv_rings(text, name)
+        if not rings:
+            raise RodstabInputError(f"polygon file {name} has no points")
+        return {"polygon": rings[0], "holes": rings[1:]}
+    try:
+        data = json.loads(text)
+    except (json.JSONDecodeError, RecursionError, ValueError) as exc:
+        raise RodstabInputError(f"polygon file {name} is not valid JSON: {exc}") from None
+    try:
+        if isinstance(data, list):
+            return {"polygon": _points(data, "polygon"), "holes": []}
+        table = _as_table(data, "", {"polygon", "holes", "parts"})
+        if "parts" in table:
+            if set(table) != {"parts"}:
+                raise RodstabInputError("give either parts (a composite) or polygon and holes")
+            parts = _as_list(table["parts"], "parts", "an array of parts", min_length=1)
+            return {"parts": [_part(p, f"parts[{i}]") for i, p in enumerate(parts)]}
+        if "polygon" not in table:
+            raise RodstabInputError("polygon is required (the outline [[x, y], ...])")
+        holes = _as_list(table.get("holes", []), "holes",
+                         "an array of polygons [[[x, y], ...], ...]")
+        return {"polygon": _points(table["polygon"], "polygon"),
+                "holes": [_points(h, f"holes[{k}]") for k, h in enumerate(holes)]}
+    except RodstabInputError as exc:
+        raise RodstabInputError(f"polygon file {name}: {exc}") from None
+
+
 # --------------------------------------------------------------------------- --vary keys
 
 #: Numeric keys of a section table that ``--vary`` may set.
-_VARY_SECTION = ("aspect", "nu", "b1", "b2", "B3")
+_VARY_SECTION = ("aspect", "nu", "b1", "b2", "B3", "mesh_size")
 #: Numeric keys of a segment that ``--vary`` may set.
 _VARY_SEGMENT = ("length", "curvature", "natural_curvature", "natural_twist", "angle_deg")
 #: Keys of [analysis] that ``--vary`` may set (elements: integer values only).

@@ -252,3 +252,68 @@ def plot_stable_bands(data: dict[str, list[float]], states: tuple[str, ...],
     ax.legend(fontsize=8, loc="upper left")
     ax.grid(alpha=0.3)
     return _finish(fig, path, dpi=120)
+
+
+def plot_section(nodes: np.ndarray, triangles: np.ndarray, part: np.ndarray,
+                 rings: list[tuple[Any, Any]], centroid: tuple[float, float],
+                 principal_deg: tuple[float, float], normal_deg: float,
+                 path: str | Path | None = None, *, title: str | None = None) -> Any:
+    """Draw a polygon section: its mesh, outlines, centroid, principal axes and ring frame.
+
+    Parameters
+    ----------
+    nodes : ndarray, shape (n_nodes, 2)
+        Mesh node coordinates (x, y), the polygon's length unit.
+    triangles : ndarray, shape (n_elements, 3)
+        Corner node indices of the triangles.
+    part : ndarray, shape (n_elements,)
+        Part (material) index of each triangle; parts are shaded apart when there are several.
+    rings : list of (outer, holes)
+        Each part's outline and holes, sequences of (x, y) (drawn closed).
+    centroid : (float, float)
+        Where the axes cross.
+    principal_deg : (float, float)
+        Directions of the principal axes, degrees from +x (dashed lines).
+    normal_deg : float
+        Direction of e3, the ring's normal (arrow "e3"); e1 (in the plane) is at -90 degrees
+        from it.
+    path : str or Path, optional
+        Output file (any matplotlib format); without it the figure is returned.
+    title : str, optional
+        Figure title.
+
+    Returns
+    -------
+    Path or Figure
+        ``path``, or the figure.
+    """
+    fig = Figure(figsize=(6, 6))
+    ax = fig.add_subplot()
+    if len(rings) > 1:
+        ax.tripcolor(nodes[:, 0], nodes[:, 1], triangles, facecolors=part.astype(float),
+                     cmap="Pastel1", alpha=0.8)
+    ax.triplot(nodes[:, 0], nodes[:, 1], triangles, color="0.6", lw=0.4)
+    for outer, holes in rings:
+        for ring in (outer, *holes):
+            xy = np.array([*ring, ring[0]], dtype=float)
+            ax.plot(xy[:, 0], xy[:, 1], color="k", lw=1.2)
+    size = float(np.ptp(nodes, axis=0).max())
+    cx, cy = centroid
+    for k, deg in enumerate(principal_deg):
+        d = np.array([np.cos(np.radians(deg)), np.sin(np.radians(deg))]) * 0.6 * size
+        ax.plot([cx - d[0], cx + d[0]], [cy - d[1], cy + d[1]], ls="--", lw=1,
+                color="tab:blue", label="principal axes" if k == 0 else None)
+    for deg, name, color in ((normal_deg, "e3 (ring normal)", "tab:red"),
+                             (normal_deg - 90.0, "e1 (in plane)", "tab:green")):
+        d = np.array([np.cos(np.radians(deg)), np.sin(np.radians(deg))]) * 0.35 * size
+        ax.annotate("", xy=(cx + d[0], cy + d[1]), xytext=(cx, cy),
+                    arrowprops={"arrowstyle": "->", "color": color, "lw": 1.8})
+        ax.text(cx + 1.15 * d[0], cy + 1.15 * d[1], name, color=color, ha="center",
+                va="center", bbox={"fc": "white", "ec": "none", "alpha": 0.8})
+    ax.plot([cx], [cy], "o", color="tab:red", ms=5, label="centroid")
+    ax.set_aspect("equal")
+    ax.set_xlabel("x")
+    ax.set_ylabel("y")
+    ax.legend(loc="best", fontsize="small")
+    ax.set_title(title or f"section mesh: {len(triangles)} triangles")
+    return _finish(fig, path, dpi=120)
