@@ -34,8 +34,9 @@ def hexagram_atlas(method: str = "transfer") -> RingAtlas:
     def ring(aspect: float) -> Ring:
         return ring_of(design_at(base, "section.aspect", aspect).assembly)
 
+    # workers=0: the serial atlas, as the target was set (the default may start workers).
     return ring_atlas(ring, np.linspace(1.0, 6.0, POINTS).tolist(), STATES,
-                      key="section.aspect", method=method)
+                      key="section.aspect", method=method, workers=0)
 
 
 def main() -> None:

@@ -26,8 +26,8 @@ import rodstab.nonlinear.continuation
 import rodstab.nonlinear.solve
 import rodstab.report.reproduce
 import rodstab.sweep
+from rodstab import outputs
 from rodstab.errors import NotConverged, RodstabInputError, RodstabWarning
-from rodstab.nonlinear.continuation import storage
 from rodstab.outputs import check_output
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -249,14 +249,14 @@ def test_library_restart_and_no_temporaries_left(tmp_path):
     again = rodstab.nonlinear.continuation.continuation(a, "load_factor", 0, 1, 2, **kw,
                                                         restart=True)
     assert again.resumed_steps == 0 and first.value == pytest.approx(again.value)
-    assert not list(tmp_path.glob(".*.tmp")) and not (tmp_path / storage.LOCK).exists()
+    assert not list(tmp_path.glob(".*.tmp")) and not (tmp_path / outputs.LOCK).exists()
 
 
 # ------------------------------------------------------------------- continue: the lock
 
 def _lock(out: Path, pid: int, host: str | None = None) -> Path:
     out.mkdir(parents=True, exist_ok=True)
-    lock = out / storage.LOCK
+    lock = out / outputs.LOCK
     lock.write_text(json.dumps({"pid": pid, "host": host or socket.gethostname(),
                                 "started": "2024-01-01T00:00:00+00:00"}))
     return lock
@@ -295,36 +295,36 @@ def test_stale_lock_is_taken_over_with_a_warning(run_cli, tmp_path, content, nee
         needle += f" {pid}"
     else:
         out.mkdir()
-        (out / storage.LOCK).write_text("{half a lock")
+        (out / outputs.LOCK).write_text("{half a lock")
     r, p = _run(run_cli, out)
     assert r.exit_code == 0, r.stderr
     lines = r.stderr.splitlines()
     assert len(lines) == 1 and lines[0].startswith("rodstab: warning: "), r.stderr
     assert needle in lines[0] and "--out" in lines[0]
     assert len(p["value"]) == 4
-    assert not (out / storage.LOCK).exists()  # released at the end
+    assert not (out / outputs.LOCK).exists()  # released at the end
 
 
 def test_run_leaves_no_lock_and_lock_is_reentrant(run_cli, tmp_path):
     out = tmp_path / "c"
     assert _run(run_cli, out)[0].exit_code == 0
-    assert not (out / storage.LOCK).exists()
-    with storage.run_lock(out):
-        held = (out / storage.LOCK).read_text()
+    assert not (out / outputs.LOCK).exists()
+    with outputs.run_lock(out):
+        held = (out / outputs.LOCK).read_text()
         assert json.loads(held)["pid"] == os.getpid()
-        with storage.run_lock(out):  # the CLI holds it while continuation() takes it again
-            assert (out / storage.LOCK).read_text() == held
-        assert (out / storage.LOCK).read_text() == held
-    assert not (out / storage.LOCK).exists()
+        with outputs.run_lock(out):  # the CLI holds it while continuation() takes it again
+            assert (out / outputs.LOCK).read_text() == held
+        assert (out / outputs.LOCK).read_text() == held
+    assert not (out / outputs.LOCK).exists()
 
 
 def test_library_run_lock_refuses_a_live_holder(tmp_path):
     _lock(tmp_path, os.getpid())
     with pytest.raises(RodstabInputError, match=f"process {os.getpid()}"), \
-            storage.run_lock(tmp_path):
+            outputs.run_lock(tmp_path):
         pass
     _lock(tmp_path, _dead_pid())
-    with pytest.warns(RodstabWarning, match="stale lock"), storage.run_lock(tmp_path):
+    with pytest.warns(RodstabWarning, match="stale lock"), outputs.run_lock(tmp_path):
         pass
 
 
@@ -335,7 +335,7 @@ def test_concurrent_atomic_writes_do_not_collide(tmp_path):
     def writer(tag: str) -> None:
         try:
             for i in range(200):
-                storage.write_atomic(tmp_path / "primary.csv", f"{tag} {i}\n")
+                outputs.write_atomic(tmp_path / "primary.csv", f"{tag} {i}\n")
         except BaseException as exc:  # pragma: no cover - the failure being tested
             errors.append(exc)
 
@@ -351,11 +351,7 @@ def test_concurrent_atomic_writes_do_not_collide(tmp_path):
 
 # ---------------------------------------------------------------------------- sweeps
 
-@pytest.mark.parametrize("failure, status", [(NotConverged("third point"), 3),
-                                             (KeyboardInterrupt(), 130)],
-                         ids=["not converged", "interrupted"])
-def test_interrupted_sweep_keeps_its_finished_rows(run_cli, tmp_path, monkeypatch, failure,
-                                                   status):
+def _third_solve_raises(monkeypatch, failure: BaseException) -> None:
     calls = []
     solve = rodstab.sweep.linear_stability
 
@@ -365,14 +361,39 @@ def test_interrupted_sweep_keeps_its_finished_rows(run_cli, tmp_path, monkeypatc
             raise failure
         return solve(*args, **kwargs)
     monkeypatch.setattr(rodstab.sweep, "linear_stability", third_fails)
+
+
+def _sweep_rows(out: Path) -> list[dict[str, str]]:
+    with (out / "sweep.csv").open() as fh:
+        return list(csv.DictReader(fh))
+
+
+def test_interrupted_sweep_keeps_its_finished_rows(run_cli, tmp_path, monkeypatch):
+    _third_solve_raises(monkeypatch, KeyboardInterrupt())
     out = tmp_path / "s"
     r = run_cli(["sweep", STRAIGHT, "--vary", "section.nu=0:0.3:5", "--elements", "6",
                  "--no-progress", "--out", str(out)])
-    assert r.exit_code == status, r.stderr
-    with (out / "sweep.csv").open() as fh:
-        rows = list(csv.DictReader(fh))
+    assert r.exit_code == 130, r.stderr
+    rows = _sweep_rows(out)
     assert [float(row["section.nu"]) for row in rows] == pytest.approx([0.0, 0.075])
     assert all(float(row["load_factor_critical"]) > 0 for row in rows)
+
+
+def test_a_point_that_does_not_converge_is_recorded_and_the_sweep_goes_on(run_cli, tmp_path,
+                                                                          monkeypatch):
+    """Issue 13: a failing point records its status and error; the others are solved; exit 3
+    after the table."""
+    _third_solve_raises(monkeypatch, NotConverged("third point"))
+    out = tmp_path / "s"
+    r = run_cli(["sweep", STRAIGHT, "--vary", "section.nu=0:0.3:5", "--elements", "6",
+                 "--no-progress", "--out", str(out)])
+    assert r.exit_code == 3, r.stderr
+    assert "1 of 5 points" in r.stderr and "0.15: third point" in r.stderr
+    assert "not_converged" in r.stdout  # the table was printed first
+    rows = _sweep_rows(out)
+    assert [row["status"] for row in rows] == ["ok", "ok", "not_converged", "ok", "ok"]
+    assert rows[2]["error"] == "third point" and rows[2]["load_factor_critical"] == ""
+    assert all(float(row["load_factor_critical"]) > 0 for i, row in enumerate(rows) if i != 2)
 
 
 def test_finished_sweep_csv_is_the_json_rows(run_cli, tmp_path):
@@ -380,10 +401,9 @@ def test_finished_sweep_csv_is_the_json_rows(run_cli, tmp_path):
     r = run_cli(["sweep", STRAIGHT, "--vary", "section.nu=0:0.3:3", "--elements", "6",
                  "--no-progress", "--json", "--out", str(out)])
     assert r.exit_code == 0, r.stderr
-    with (out / "sweep.csv").open() as fh:
-        rows = list(csv.DictReader(fh))
-    assert [{k: float(v) for k, v in row.items()} for row in rows] == \
-        [{k: float(v) for k, v in row.items()} for row in json.loads(r.stdout)["rows"]]
+    rows = _sweep_rows(out)
+    assert [{k: v if k in ("status", "error") else float(v) for k, v in row.items()}
+            for row in rows] == json.loads(r.stdout)["rows"]
 
 
 def test_check_output_names_a_directory_it_cannot_write(tmp_path, monkeypatch):

@@ -13,7 +13,7 @@ import pytest
 from rodstab.design import load_design, parse_design, set_design_value
 from rodstab.errors import RodstabInputError
 from rodstab.linear.solve import linear_stability
-from rodstab.sweep import SweepResult, sweep
+from rodstab.sweep import SweepResult, columns, sweep
 
 ROOT = Path(__file__).resolve().parent.parent
 ARC = ROOT / "examples" / "clamped_arc.toml"
@@ -27,6 +27,8 @@ def test_sweep_rows_match_single_linear_stability_runs():
     r = sweep(d, "segment.arc.length", values, elements=16, progress=lambda: calls.append(1))
     assert isinstance(r, SweepResult) and r.key == "segment.arc.length"
     assert len(calls) == len(values) and r.converged
+    assert r.executor.startswith("serial (default: ")  # 3 cheap points: no cluster started
+    assert [row.index for row in r.rows] == [0, 1, 2] and r.resumed == 0
     for row, v in zip(r.rows, values, strict=True):
         single = parse_design(set_design_value(d.raw, "segment.arc.length", v))
         ls = linear_stability(single.assembly, 16)
@@ -46,8 +48,10 @@ def test_sweep_default_elements_are_the_designs_and_table_keys_are_the_clis():
     assert r.rows[1].load_factor_critical == pytest.approx(single.load_factor_critical,
                                                            rel=1e-12)
     table = r.table()
-    assert list(table[0]) == ["section.aspect", "load_factor_critical", "load_factor_lower",
-                              "multiplicity", "paper_load_factor_critical", "residual"]
+    assert list(table[0]) == list(columns("section.aspect")) == [
+        "index", "section.aspect", "status", "load_factor_critical", "load_factor_lower",
+        "multiplicity", "paper_load_factor_critical", "residual", "seconds", "error"]
+    assert table[0]["status"] == "ok" and table[0]["error"] == ""
     assert r.to_dict()["rows"][0]["value"] == 1.0
     with pytest.raises(dataclasses.FrozenInstanceError):
         r.key = "other"  # type: ignore[misc]
@@ -59,6 +63,13 @@ def test_sweep_default_elements_are_the_designs_and_table_keys_are_the_clis():
     ("section.aspect", [1.0, float("nan")], {}, "nan"),
     ("section.aspect", ["2"], {}, "'2'"),
     ("section.aspect", [1.0], {"elements": 0}, "elements"),
+    ("analysis.elements", [8.5, 9.5], {}, "takes integer values, got 8.5"),  # no value fits
+    ("section.aspect", [1.0], {"workers": -1}, "--workers must be an integer from 0"),
+    ("section.aspect", [1.0], {"workers": 2.5}, "2.5"),
+    ("section.aspect", [1.0], {"workers": 2, "scheduler": "tcp://h:8786"},
+     "--workers and --scheduler both"),
+    ("section.aspect", [1.0], {"scheduler": " "}, "--scheduler must be an address"),
+    ("section.aspect", [1.0], {"points_per_task": 0}, "--points-per-task must be a positive"),
 ])
 def test_sweep_bad_input_raises_naming_it(key, values, kwargs, needle):
     with pytest.raises(RodstabInputError, match=None) as info:

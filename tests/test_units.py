@@ -318,6 +318,13 @@ def test_sweep_in_a_section_dimension_keeps_the_verdict_of_a_circle(run_cli, tmp
     assert u["values"] == {"value": [1.0, 2.0], "unit": "mm"}
     k = 2 * math.pi / (2 * math.sqrt(1.3)) / (2 * (math.pi / 4) * 0.075)
     assert u["critical_natural_curvature"]["value"] == [pytest.approx(k, rel=1e-4)] * 2
+    # the table reads back: a rerun into the same --out resumes every row, equal
+    again = run_cli(["sweep", FIG7A, "--vary", "section.diameter=1 mm:2 mm:2", "--out",
+                     str(tmp_path), "--no-progress", "--elements", "8", "--json"])
+    assert again.exit_code == 0, again.stderr
+    resumed = json.loads(again.stdout)
+    assert resumed["resumed"] == 2
+    assert resumed["units"]["critical_natural_curvature"] == u["critical_natural_curvature"]
 
 
 # --------------------------------------------------------------------------- units blocks

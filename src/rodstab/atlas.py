@@ -31,10 +31,13 @@ best ``k``-overlap width (:func:`best_overlap`), each refined by the package's r
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 from collections.abc import Callable, Sequence
+from typing import Any
 
 from .errors import RodstabInputError
+from .executor import run_points
 from .limits import DEFAULT as DEFAULT_LIMITS
 from .limits import Limits
 from .linear.solve import linear_stability
@@ -335,6 +338,8 @@ class RingAtlas(Result):
     coexistence: tuple[CoexistenceRanges, ...]
     load_factor: str
     method: str
+    #: Where the grid values were solved (:func:`rodstab.executor.run_points`).
+    executor: str = "serial"
 
     def limit_runs(self, state: str, side: str) -> list[tuple[float, float, str]]:
         """Return the runs of the grid with one kind of mode at ``state``'s ``side`` limit.
@@ -414,7 +419,9 @@ def ring_atlas(ring_at: Callable[[float], Ring], values: Sequence[float],
                states: Sequence[str] | None = None, *, key: str = "parameter",
                method: str = "transfer", max_turns: float = 1.0,
                limits: Limits = DEFAULT_LIMITS, ks: Sequence[int] | None = None,
-               progress: Callable[[], object] | None = None) -> RingAtlas:
+               progress: Callable[[], object] | None = None, workers: int | None = None,
+               scheduler: str | None = None, client: Any = None,
+               points_per_task: int | None = None) -> RingAtlas:
     """Stable intervals of the states of a ring against a parameter, and their coexistence.
 
     Parameters
@@ -439,6 +446,13 @@ def ring_atlas(ring_at: Callable[[float], Ring], values: Sequence[float],
         (default ``1 .. len(states)``; each range end inside the grid costs a root search).
     progress : callable, optional
         Called once per grid value.
+    workers, scheduler, client, points_per_task
+        Where the grid values are solved, each value one point
+        (:func:`rodstab.executor.run_points`): 0 in this process, N >= 1 on a local dask
+        cluster of N workers; default (all None) as a sweep's: the first values are solved
+        here and timed, and workers are started only if the rest would take over
+        :data:`~rodstab.executor.AUTO_MIN_SECONDS`. On workers, ``ring_at`` must pickle (a
+        closure does, by value). The root refinement of the coexistence ranges runs here.
 
     Returns
     -------
@@ -457,22 +471,25 @@ def ring_atlas(ring_at: Callable[[float], Ring], values: Sequence[float],
         raise RodstabInputError("an atlas needs at least one state, got none")
     select_states(ring_at(vals[0]), labels, max_turns)  # unknown labels fail before solving
     cache: dict[float, tuple[StateInterval, ...]] = {}
+    at_values = functools.partial(grid_values, ring_at, labels, method, max_turns, limits)
 
     def solve(p: float) -> tuple[StateInterval, ...]:
         if p not in cache:
-            ring = ring_at(p)
-            cache[p] = tuple(state_interval(ring, s, method, limits)
-                             for s in select_states(ring, labels, max_turns))
+            cache[p] = at_values([p])[0][1]
         return cache[p]
 
     def as_dict(row: tuple[StateInterval, ...]) -> dict[str, tuple[float, float]]:
         return {r.label: r.interval for r in row}
 
-    rows = []
-    for p in vals:
-        rows.append(solve(p))
-        if progress is not None:
-            progress()
+    def record(results: list[tuple[float, tuple[StateInterval, ...]]]) -> None:
+        for p, row in results:
+            cache[p] = row
+            if progress is not None:
+                progress()
+
+    where = run_points(at_values, vals, record, workers=workers, scheduler=scheduler,
+                       client=client, points_per_task=points_per_task)
+    rows = [cache[p] for p in vals]
     ks = tuple(range(1, len(labels) + 1)) if ks is None else tuple(ks)
     for k in ks:
         if not 1 <= k <= len(labels):
@@ -486,4 +503,20 @@ def ring_atlas(ring_at: Callable[[float], Ring], values: Sequence[float],
     return RingAtlas(key=key, values=tuple(vals), states=labels, intervals=tuple(rows),
                      mutual=tuple(mutual_sets(as_dict(r)) for r in rows),
                      coexistence=tuple(coexistence), load_factor=LOAD_FACTOR_UNITS,
-                     method=rows[0][0].method if rows[0] else method)
+                     method=rows[0][0].method if rows[0] else method, executor=where)
+
+
+def grid_values(ring_at: Callable[[float], Ring], labels: Sequence[str], method: str,
+                max_turns: float, limits: Limits, values: Sequence[float]
+                ) -> list[tuple[float, tuple[StateInterval, ...]]]:
+    """Solve the states ``labels`` at each of ``values``: one task of :func:`ring_atlas`.
+
+    A module-level function, so that a dask worker can run it
+    (:func:`rodstab.executor.run_points`). Returns ``(value, intervals)`` pairs.
+    """
+    out = []
+    for p in values:
+        ring = ring_at(p)
+        out.append((p, tuple(state_interval(ring, s, method, limits)
+                             for s in select_states(ring, labels, max_turns))))
+    return out

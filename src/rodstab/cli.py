@@ -9,10 +9,11 @@ Exit status (:func:`main`):
 
 * 0 -- done;
 * 2 -- invalid input (:class:`~rodstab.errors.RodstabInputError` or a usage error): one line
-  on stderr naming the offending option and value, nothing on stdout;
+  on stderr naming the offending option and value, nothing on stdout (except ``sweep``, whose
+  design may be invalid at values inside its range: it prints its table first);
 * 3 -- a solver did not converge (:class:`~rodstab.errors.NotConverged`): one line on stderr
-  saying what did not converge; ``equilibrium`` and ``continue`` print their table or JSON
-  first (with ``converged: false``).
+  saying what did not converge; ``equilibrium``, ``continue`` and ``sweep`` print their table
+  or JSON first (with ``converged: false``, or the point's ``status``).
 
 Any other exception is a bug in rodstab and propagates with its traceback.
 """
@@ -32,7 +33,13 @@ import click
 from click.core import ParameterSource
 
 from . import __version__
-from .design import CONTINUATION_ELEMENTS, NONLINEAR_MIN_ELEMENTS, load_polygon
+from .design import (
+    CONTINUATION_ELEMENTS,
+    CONTINUE_DEFAULT_N,
+    NONLINEAR_MIN_ELEMENTS,
+    SWEEP_DEFAULT_N,
+    load_polygon,
+)
 from .errors import (
     NotConverged,
     RodstabInputError,
@@ -41,6 +48,7 @@ from .errors import (
     require_positive,
     require_positive_int,
 )
+from .executor import AUTO_MIN_SECONDS
 from .limits import MAX_DOF, MAX_DOF_NONLINEAR, MAX_MEMORY, MAX_STEPS, Limits, require_steps
 from .outputs import check_output
 from .results import jsonable
@@ -60,9 +68,6 @@ from .units import Units
 EXIT_OK = 0
 EXIT_BAD_INPUT = 2
 EXIT_NOT_CONVERGED = 3
-#: Default N of ``--vary KEY=START:STOP[:N]``: values of a sweep, steps of a continuation.
-SWEEP_DEFAULT_N = 9
-CONTINUE_DEFAULT_N = 40
 
 
 #: Options of ``_section_options`` that fix a closed-form section, so conflict with --polygon.
@@ -139,6 +144,24 @@ def _section_options(f: Callable[..., Any]) -> Callable[..., Any]:
         return out
 
     return wrapper
+
+
+def _where_options(f: Callable[..., Any]) -> Callable[..., Any]:
+    """Add ``--workers``, ``--scheduler``, ``--points-per-task``: where independent points run.
+
+    See :func:`rodstab.executor.run_points` (``sweep`` points, ``atlas`` grid values).
+    """
+    f = click.option("--points-per-task", type=int, default=None,
+                     help="Points in one dask task [default: about 8 tasks per worker, at "
+                          "most 16 points each].")(f)
+    f = click.option("--scheduler", default=None,
+                     help="Run on an existing dask cluster instead: its scheduler's address, "
+                          "e.g. tcp://HOST:8786 (its workers need the same rodstab).")(f)
+    return click.option("--workers", type=int, default=None,
+                        help="Worker processes of a local dask cluster (0: serial, in this "
+                             "process) [default: one per core if the points would take over "
+                             f"{AUTO_MIN_SECONDS:g} s serially, judged from the first two; "
+                             "else serial].")(f)
 
 
 _json_option = click.option("--json", "as_json", is_flag=True,
@@ -254,8 +277,8 @@ def cli() -> None:
 
     \b
     Exit status: 0 done; 2 invalid input (one line on stderr);
-    3 not converged (one line on stderr; equilibrium and continue print
-    their table or JSON first).
+    3 not converged (one line on stderr; equilibrium, continue and sweep
+    print their table or JSON first).
     """  # noqa: D301 - "\b" is click's no-rewrap marker (a backspace character), not a regex
 
 
@@ -622,7 +645,7 @@ def continue_cmd(design_file: str, vary: str, out_dir: str | None, elements: int
     from .design import load_design, model_value, parse_vary, value_kind, vary_in_units
     from .errors import require_int
     from .nonlinear.continuation import continuation
-    from .nonlinear.continuation.storage import run_lock
+    from .outputs import run_lock
 
     spec = parse_vary(vary, default_n=CONTINUE_DEFAULT_N)
     key, start, stop, n = spec.key, spec.start, spec.stop, spec.n
@@ -739,22 +762,39 @@ def _continuation_pictures(r: Any, d: Any, out: Path, elements: int,
                    "analysis.<k>, segment.<name>.<k>, segment.<name>.section.<k> or "
                    "support.<i>.rotation.<normal|tangent|binormal>.")
 @click.option("--out", "out_dir", type=click.Path(file_okay=False), default="sweep",
-              show_default=True, help="Directory for sweep.csv and sweep.png.")
+              show_default=True,
+              help="Directory for run.json, sweep.csv (a row per point as it completes) and "
+                   "sweep.png; a rerun of the same sweep into it solves only the missing "
+                   "points.")
 @click.option("--elements", type=int, default=None, help="Elements per segment.")
+@_where_options
+@click.option("--restart", is_flag=True,
+              help="Start afresh in --out: remove the sweep stored there.")
+@click.option("--parquet", is_flag=True,
+              help="Also write sweep.parquet (pyarrow) of the finished table.")
 @click.option("--no-progress", is_flag=True, help="Do not draw the progress bar.")
 @_limit_options
 @_json_option
-def sweep(design_file: str, vary: str, out_dir: str, elements: int | None, no_progress: bool,
-          limits: Limits, as_json: bool) -> None:
-    """Critical load factor of a design while one parameter varies (CSV + plot)."""
-    import csv
+def sweep(design_file: str, vary: str, out_dir: str, elements: int | None,
+          workers: int | None, scheduler: str | None, points_per_task: int | None,
+          restart: bool, parquet: bool, no_progress: bool, limits: Limits,
+          as_json: bool) -> None:
+    """Critical load factor of a design while one parameter varies (CSV + plot).
+
+    The points are independent: they run in this process or on dask.distributed workers
+    (--workers, --scheduler) with the same numbers. A point that fails is recorded in its
+    row (status, error) and the sweep goes on; the table is printed, then the exit status
+    is 2 if a point's design was invalid, 3 if a solve did not converge.
+    """
+    import importlib.util
 
     import numpy as np
     from tqdm import tqdm
 
     from .design import load_design, parse_vary, vary_in_units
+    from .executor import check_workers, task_size
     from .report.figures import sweep_plot
-    from .sweep import COLUMNS, PHYSICAL_COLUMN, SweepRow, design_at
+    from .sweep import CSV_FILE, INVALID, NOT_CONVERGED, PHYSICAL_COLUMN, design_at, write_parquet
     from .sweep import sweep as run_sweep
 
     spec = parse_vary(vary, default_n=SWEEP_DEFAULT_N)
@@ -762,47 +802,69 @@ def sweep(design_file: str, vary: str, out_dir: str, elements: int | None, no_pr
     require_steps(spec.n, f"--vary {vary}", "sweep points", limits)  # before the values exist
     if elements is not None:
         require_positive_int("--elements", elements)
+    check_workers(workers, scheduler)
+    if points_per_task is not None:
+        task_size(1, 1, points_per_task)
+    if parquet and not all(importlib.util.find_spec(m) for m in ("pandas", "pyarrow")):
+        raise RodstabInputError('--parquet needs pandas and pyarrow: pip install '
+                                '"rodstab[distributed]"')
     base = load_design(design_file)
     spec = vary_in_units(base, spec)
     for value in (spec.start, spec.stop):  # both ends of the range, before the bar
         design_at(base, key, value, spec.unit)
     out = check_output("--out", out_dir, directory=True)
-    csv_path = out / "sweep.csv"
-    physical = [PHYSICAL_COLUMN] if base.units is not None else []
-    with csv_path.open("w", newline="") as fh, \
-            tqdm(total=spec.n, desc="rodstab sweep", disable=no_progress, leave=False,
-                 delay=0.5) as bar:
-        w = csv.DictWriter(fh, fieldnames=[key, *COLUMNS, *physical])
-        w.writeheader()
-
-        def write_row(row: SweepRow) -> None:  # each row on disk before the next is solved
-            w.writerow(row.record(key))
-            fh.flush()
-
+    with _warnings_as_lines(), tqdm(total=spec.n, desc="rodstab sweep", disable=no_progress,
+                                    leave=False, delay=0.5) as bar:
         result = run_sweep(base, key, np.linspace(spec.start, spec.stop, spec.n),
-                           elements=elements, progress=lambda: bar.update(1), on_row=write_row,
-                           limits=limits, unit=spec.unit)
+                           elements=elements, workers=workers, scheduler=scheduler, out=out,
+                           restart=restart, points_per_task=points_per_task,
+                           progress=lambda: bar.update(1), limits=limits, out_option="--out",
+                           unit=spec.unit)
     rows = result.table()
+    csv_path = out / CSV_FILE
     png = sweep_plot(rows, key, out)
-    payload: dict[str, Any] = {"key": key, "values": [r[key] for r in rows], "rows": rows,
-                               "csv": str(csv_path), "plot": str(png)}
+    payload: dict[str, Any] = {
+        "key": key, "values": [r[key] for r in rows], "rows": rows, "csv": str(csv_path),
+        "plot": str(png), "executor": result.executor, "resumed": result.resumed}
+    written = f"{csv_path} and {png}"
+    if parquet:
+        payload["parquet"] = str(write_parquet(result.frame(), out))
+        written = f"{csv_path}, {payload['parquet']} and {png}"
     head = key if spec.unit is None else f"{key} ({spec.unit})"
-    if base.units is not None:
+    physical = result.physical
+    if physical:
+        assert base.units is not None
         payload["units"] = base.units.reference() | {
             "values": {"value": payload["values"], "unit": spec.unit},
             "critical_natural_curvature": {"value": [r[PHYSICAL_COLUMN] for r in rows],
                                            "unit": "1/m"}}
+
+    def kappa(r: dict[str, Any]) -> str:
+        v = r.get(PHYSICAL_COLUMN)
+        return f" {'-' if v is None else format(v, '.6g'):>20}" if physical else ""
+
     _emit(payload, as_json, [f"{head:>24} {'critical':>12} {'lower':>12} mult"
                              + (f" {'critical kappa_n 1/m':>20}" if physical else "")] + [
         f"{r[key]:>24.6g} {r['load_factor_critical']:>12.6g} {r['load_factor_lower']:>12.6g} "
-        f"{r['multiplicity']:>4}" + (f" {r[PHYSICAL_COLUMN]:>20.6g}" if physical else "")
-        for r in rows] + [f"wrote {csv_path} and {png}"])
-    bad = [row for row in result.rows if not row.converged]
+        f"{r['multiplicity']:>4}" + kappa(r)
+        + ("" if r["status"] == "ok" else f"  {r['status']}")
+        if r["multiplicity"] is not None else f"{r[key]:>24.6g} {r['status']}: {r['error']}"
+        for r in rows] + [f"ran on       {result.executor}"]
+        + ([f"resumed      {result.resumed} of {len(rows)} points from {csv_path}"]
+           if result.resumed else []) + [f"wrote {written}"])
+    invalid, bad = result.failed(INVALID), result.failed(NOT_CONVERGED)
+    if invalid:
+        raise RodstabInputError(
+            f"--vary {vary}: the design is invalid at {len(invalid)} of {len(rows)} values "
+            f"({', '.join(f'{r.value:g}' for r in invalid[:5])}"
+            f"{', ...' if len(invalid) > 5 else ''}): {invalid[0].error}"
+            + (f"; {len(bad)} more did not converge" if bad else "")
+            + f" (their rows in {csv_path} say why)")
     if bad:
-        raise NotConverged(f"the FE eigen solve at {key} = "
-                           f"{', '.join(f'{row.value:g}' for row in bad)}: residual "
-                           f"{max(row.residual for row in bad):.3g} is above the method's "
-                           "tolerance (those rows are not to be trusted)")
+        raise NotConverged(f"{len(bad)} of {len(rows)} points of the sweep at {key} = "
+                           f"{', '.join(f'{row.value:g}' for row in bad[:5])}"
+                           f"{', ...' if len(bad) > 5 else ''}: {bad[0].error} (those rows are "
+                           "not to be trusted)")
 
 
 @cli.command()
@@ -1387,11 +1449,13 @@ ATLAS_DEFAULT_N = 21
                    "every state with kL >= 0; a mirror state's interval is the negated one].")
 @click.option("--max-turns", type=float, default=1.0, show_default=True,
               help="States with each rod's turning |kL| up to this many full turns.")
+@_where_options
 @click.option("--no-progress", is_flag=True, help="Do not draw the progress bar.")
 @_limit_options
 @_json_option
 def atlas_cmd(design_file: str, vary: str, out_dir: str, method: str,
-              state_labels: tuple[str, ...], max_turns: float, no_progress: bool,
+              state_labels: tuple[str, ...], max_turns: float, workers: int | None,
+              scheduler: str | None, points_per_task: int | None, no_progress: bool,
               limits: Limits, as_json: bool) -> None:
     """Stable bands of a ring's held states against a design parameter (JSON + chart).
 
@@ -1400,6 +1464,9 @@ def atlas_cmd(design_file: str, vary: str, out_dir: str, method: str,
     the mode at each limit (all rods alike, a symmetry-breaking pair or alternating), and the
     parameter ranges in which k states are mutually stable. The load factor is the design's:
     the natural curvature is the load factor times each segment's natural_curvature.
+
+    The grid values are solved as sweep's points are (--workers, --scheduler); the root
+    refinement of the ranges runs in this process.
     """
     import math
 
@@ -1408,6 +1475,7 @@ def atlas_cmd(design_file: str, vary: str, out_dir: str, method: str,
 
     from .atlas import LOAD_FACTOR_UNITS, ring_atlas
     from .design import load_design, parse_vary, vary_in_units
+    from .executor import check_workers, task_size
     from .states import Ring, ring_of
     from .sweep import design_at
 
@@ -1418,6 +1486,9 @@ def atlas_cmd(design_file: str, vary: str, out_dir: str, method: str,
     if spec.start == spec.stop:
         raise RodstabInputError(f"--vary {vary!r}: START and STOP are both {spec.start:g}")
     require_steps(spec.n, f"--vary {vary}", "atlas points", limits)
+    check_workers(workers, scheduler)
+    if points_per_task is not None:
+        task_size(1, 1, points_per_task)
     base = load_design(design_file)
     spec = vary_in_units(base, spec)
     try:
@@ -1441,7 +1512,8 @@ def atlas_cmd(design_file: str, vary: str, out_dir: str, method: str,
               delay=0.5) as bar:
         at = ring_atlas(ring_at, np.linspace(spec.start, spec.stop, spec.n).tolist(),
                         state_labels or None, key=spec.key, method=method,
-                        max_turns=max_turns, limits=limits, progress=lambda: bar.update(1))
+                        max_turns=max_turns, limits=limits, progress=lambda: bar.update(1),
+                        workers=workers, scheduler=scheduler, points_per_task=points_per_task)
     states: dict[str, Any] = {}
     for j, label in enumerate(at.states):
         col = [row[j] for row in at.intervals]
@@ -1459,7 +1531,8 @@ def atlas_cmd(design_file: str, vary: str, out_dir: str, method: str,
     json_path = out / "atlas.json"
     payload: dict[str, Any] = {
         "design": design_file, "key": at.key, "values": list(at.values),
-        "load_factor": LOAD_FACTOR_UNITS, "method": at.method, "states": states,
+        "load_factor": LOAD_FACTOR_UNITS, "method": at.method, "executor": at.executor,
+        "states": states,
         "mutually_stable": [[{"states": list(o.members), "load_factor": list(o.load_interval)}
                              for o in sets] for sets in at.mutual],
         "coexistence": [{"k": c.k, "ranges": [list(r) for r in c.ranges],
@@ -1491,7 +1564,7 @@ def atlas_cmd(design_file: str, vary: str, out_dir: str, method: str,
     for c in at.coexistence:
         lines.append(f"{c.k} mutually stable: " + (", ".join(
             f"{at.key} in ({_fmt(a)}, {_fmt(b)})" for a, b in c.ranges) or "nowhere in range"))
-    lines.append(f"wrote {json_path} and {png}")
+    lines += [f"ran on       {at.executor}", f"wrote {json_path} and {png}"]
     _emit(payload, as_json, lines)
     bad = [(p, r) for p, row in zip(at.values, at.intervals, strict=True) for r in row
            if not r.converged]

@@ -1282,6 +1282,9 @@ class VarySpec:
 
 #: The grammar of ``--vary``, as its error messages quote it.
 VARY_GRAMMAR = "KEY=START:STOP[:N]"
+#: Default N of ``--vary KEY=START:STOP[:N]``: values of a sweep, steps of a continuation.
+SWEEP_DEFAULT_N = 9
+CONTINUE_DEFAULT_N = 40
 
 
 def _vary_number(spec: str, part: str, text: str) -> tuple[float, str | None]:

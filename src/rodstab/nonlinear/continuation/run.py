@@ -18,6 +18,7 @@ from ...errors import NotConverged, RodstabInputError, require_finite, require_i
 from ...limits import DEFAULT as DEFAULT_LIMITS
 from ...limits import Limits, require_nonlinear, require_steps
 from ...model import MAX_END_ROTATION, Assembly
+from ...outputs import run_lock
 from ..discrete import MAX_NATURAL_TURNING, DiscreteRod, check_mesh, discretise
 from ..parameters import EndRotation, Parameter, SegmentValue, parameter
 from ..solve import newton, settle
@@ -95,8 +96,8 @@ def continuation(a: Assembly, key: str, start: float, stop: float, n_steps: int,
 
     With ``out_dir``: the run is stored after every step (:mod:`.storage`); a rerun with the
     same design and arguments continues from the last completed step, unless ``restart``. The
-    run holds the directory's lock (:func:`.storage.run_lock`: a concurrent run into it raises
-    :class:`~rodstab.errors.RodstabInputError`); a saved state that cannot be used is set
+    run holds the directory's lock (:func:`rodstab.outputs.run_lock`: a concurrent run into it
+    raises :class:`~rodstab.errors.RodstabInputError`); a saved state that cannot be used is set
     aside with a :class:`~rodstab.errors.RodstabWarning` and the run starts afresh. A run past
     ``limits`` (steps, unknowns; :mod:`rodstab.limits`) is refused before it starts.
     """
@@ -150,7 +151,7 @@ def continuation(a: Assembly, key: str, start: float, stop: float, n_steps: int,
     with contextlib.ExitStack() as held:
         if out is not None:
             out.mkdir(parents=True, exist_ok=True)
-            held.enter_context(storage.run_lock(out))
+            held.enter_context(run_lock(out))
             st = None
             if not restart:
                 try:

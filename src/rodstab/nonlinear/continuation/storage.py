@@ -10,37 +10,31 @@ starts afresh (:func:`set_aside`). ``primary.csv``, ``special_points.json`` and
 ``branches.csv`` are rebuilt from the run in memory after each step. Every file is written to a
 uniquely named sibling and renamed over the old one.
 
-``run.lock`` (:func:`run_lock`) holds the process id and host of the run writing into the
-directory: a second run into the same directory is refused (exit 2) while that process lives;
-the lock of a process that is gone (killed) is taken over with a warning.
+``run.lock`` (:func:`rodstab.outputs.run_lock`) holds the process id and host of the run
+writing into the directory: a second run into the same directory is refused (exit 2) while
+that process lives; the lock of a process that is gone (killed) is taken over with a warning.
 """
 
 from __future__ import annotations
 
 import contextlib
-import datetime
 import hashlib
 import json
 import os
-import socket
-import sys
-import tempfile
 import warnings
-from collections.abc import Callable, Iterator
 from pathlib import Path as FsPath
-from typing import IO, Any
+from typing import Any
 
 import numpy as np
 
-from ...errors import RodstabInputError, RodstabWarning
+from ...errors import RodstabWarning
 from ...model import Assembly
+from ...outputs import replace_atomic, write_atomic
 from ..discrete import DiscreteRod
 
 #: Output files of a continuation run (removed when a run starts afresh in the directory).
 OUTPUTS = ("run.json", "state.npz", "primary.csv", "special_points.json", "branches.csv",
            "diagram.png", "branch.gif", "branch.html")
-#: The lock file of the run writing into an output directory (:func:`run_lock`).
-LOCK = "run.lock"
 
 
 #: The arrays of ``state.npz`` (:func:`save_state`).
@@ -63,24 +57,6 @@ def state_hash(rod: DiscreteRod) -> str:
     for arr in (rod.x, rod.R_edge, rod.R_joint, rod.k_held_pairs, rod.k0_links[0]):
         hsh.update(np.ascontiguousarray(arr).tobytes())
     return hsh.hexdigest()[:16]
-
-
-def _replace_atomic(path: FsPath, write: Callable[[IO[bytes]], Any]) -> None:
-    """Write ``path`` through ``write(file)`` into a uniquely named sibling, then rename it."""
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            write(fh)
-        os.replace(tmp, path)
-    except BaseException:
-        with contextlib.suppress(OSError):
-            os.unlink(tmp)
-        raise
-
-
-def write_atomic(path: FsPath, text: str) -> None:
-    """Replace ``path`` by ``text`` atomically (write a uniquely named sibling, then rename)."""
-    _replace_atomic(path, lambda fh: fh.write(text.encode()))
 
 
 def load_state(path: FsPath, rod: DiscreteRod | None = None) -> dict | None:
@@ -179,7 +155,7 @@ def save_state(out: FsPath, rod: DiscreteRod, value: float, tq: np.ndarray, tp: 
         x=rod.x, R_edge=rod.R_edge, R_joint=rod.R_joint, value=value, tq=tq, tp=tp, h=h,
         rows=np.array(rows, dtype=float).reshape(-1, 5),
         text=json.dumps({"meta": meta, "specials": specials}))
-    _replace_atomic(out / "state.npz", lambda fh: np.savez(fh, **arrays))
+    replace_atomic(out / "state.npz", lambda fh: np.savez(fh, **arrays))
 
 
 def export(out: FsPath, rows: list, specials: list) -> None:
@@ -195,116 +171,6 @@ def export(out: FsPath, rows: list, specials: list) -> None:
                        strict=True):
             lines.append(f"{i}," + ",".join(repr(float(v)) for v in row))
     write_atomic(out / "branches.csv", "\n".join(lines) + "\n")
-
-
-#: Output directories (resolved) locked by this process, with their nesting depth: a caller
-#: holding the lock (the CLI) may call :func:`continuation` on the same directory.
-_HELD: dict[str, int] = {}
-
-
-def _alive(pid: int) -> bool:
-    """Return True unless the process ``pid`` on this host is known to be gone."""
-    if pid <= 0:
-        return False
-    if sys.platform == "win32":  # os.kill would terminate it: cannot tell, assume alive
-        return True
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except OSError:  # e.g. EPERM: it exists, owned by someone else
-        return True
-    return True
-
-
-def _read_lock(lock: FsPath) -> dict | None:
-    """Return the holder recorded in ``lock`` (pid, host, started), or None if unreadable."""
-    try:
-        info = json.loads(lock.read_text())
-    except (OSError, ValueError):
-        return None
-    if not isinstance(info, dict) or isinstance(info.get("pid"), bool) \
-            or not isinstance(info.get("pid"), int) or not isinstance(info.get("host"), str):
-        return None
-    return info
-
-
-@contextlib.contextmanager
-def run_lock(out: FsPath, label: str | None = None) -> Iterator[None]:
-    """Hold ``out/run.lock`` while the body runs: one run at a time writes into ``out``.
-
-    Parameters
-    ----------
-    out : Path
-        The output directory (it must exist).
-    label : str, optional
-        How to name the directory in messages (default: its path), e.g. ``--out 'cont'``.
-
-    Raises
-    ------
-    RodstabInputError
-        If another live process (or a process on another host) holds the lock; the message
-        names its process id, host and start time, and the lock file.
-
-    Notes
-    -----
-    The lock file is created with its content in one step (a hard link of a complete unique
-    file), so a concurrent reader never sees it half written. A lock whose process is gone
-    (same host, no such process id) or that is unreadable is taken over with a
-    :class:`~rodstab.errors.RodstabWarning`. Re-entrant within a process.
-    """
-    key = os.path.realpath(out)
-    if _HELD.get(key):
-        _HELD[key] += 1
-        try:
-            yield
-        finally:
-            _HELD[key] -= 1
-        return
-    lock = out / LOCK
-    me = {"pid": os.getpid(), "host": socket.gethostname(),
-          "started": datetime.datetime.now().astimezone().isoformat(timespec="seconds")}
-    text = json.dumps(me)
-    where = label or repr(str(out))
-    for _ in range(3):
-        fd, tmp = tempfile.mkstemp(prefix=f".{LOCK}.", suffix=".tmp", dir=out)
-        try:
-            with os.fdopen(fd, "w") as fh:
-                fh.write(text)
-            try:
-                os.link(tmp, lock)  # created with its content, or not at all
-                break
-            except FileExistsError:
-                pass
-            holder = _read_lock(lock)
-            if holder is not None and (holder["host"] != me["host"] or _alive(holder["pid"])):
-                raise RodstabInputError(
-                    f"{where} is in use by another rodstab run (process {holder['pid']} on "
-                    f"host {holder['host']}, started {holder.get('started', '?')}); wait for "
-                    f"it to finish, or remove {lock} if that process is not rodstab")
-            if not os.path.lexists(lock):
-                continue  # its holder just released it
-            what = ("an unreadable lock" if holder is None else
-                    f"a stale lock of process {holder['pid']} (no longer running)")
-            # Take over: replace it by ours in one rename, then check that ours stayed.
-            os.replace(tmp, lock)
-            if lock.read_text() == text:
-                warnings.warn(f"{where}: took over {what}", RodstabWarning, stacklevel=3)
-                break
-        finally:
-            with contextlib.suppress(OSError):
-                os.unlink(tmp)
-    else:
-        raise RodstabInputError(f"{where}: could not take the lock {lock} (other runs keep "
-                                "taking it)")
-    _HELD[key] = 1
-    try:
-        yield
-    finally:
-        del _HELD[key]
-        with contextlib.suppress(OSError):
-            if lock.read_text() == text:
-                lock.unlink()
 
 
 def remove_temporaries(out: FsPath) -> None:
