@@ -157,6 +157,37 @@ class Barrier(Result):
         return d
 
 
+#: Two discrete models are one when rest lengths and natural curvatures agree to this
+#: (relative to the largest of them).
+MODEL_RTOL = 1e-12
+
+
+def same_model(r1: DiscreteRod, r2: DiscreteRod) -> bool:
+    """Whether ``r1`` and ``r2`` have one energy function (rest lengths, natural curvatures).
+
+    Parameters
+    ----------
+    r1, r2 : DiscreteRod
+        Two discretisations of one assembly's topology at one load factor.
+
+    Returns
+    -------
+    bool
+        Rest lengths and the natural Cayley curvatures of every joint and half-joint agree to
+        :data:`MODEL_RTOL`.
+    """
+    def natural(r: DiscreteRod) -> np.ndarray:
+        pairs = r._k0(r.k_held_pairs, r.bend_pairs[:, 0], r.load_factor)
+        ee = np.array([lk[0] for lk in r.end_links], int)
+        links = (r._k0(r.k_held_links, ee, r.load_factor) if r.k0_links is None
+                 else r.k0_links[0] + r.load_factor * r.k0_links[1])
+        return np.concatenate([pairs.ravel(), links.ravel(), r.rest_length])
+
+    k1, k2 = natural(r1), natural(r2)
+    return bool(k1.shape == k2.shape and np.max(np.abs(k1 - k2))
+                <= MODEL_RTOL * max(float(np.max(np.abs(k1))), 1.0))
+
+
 def _held(a: Assembly, n: int, mu: float) -> tuple[DiscreteRod, float]:
     """Held state ``a`` in the common discrete model at ``mu``, Newton-relaxed; its energy."""
     rod = common_rod(a, n, mu)
@@ -186,6 +217,13 @@ def barrier_from_bifurcation(a: Assembly, load_factor: float, *, upper: float,
     from .continuation import arclength_from_bifurcation
 
     rod_a = discretise(a, n, mu0)
+    if not same_model(rod_a, common_rod(a, n, mu0)):
+        raise RodstabInputError(
+            f"state {name!r} is curved in its held geometry: the continuation's discrete model "
+            "of it (rest lengths = the held arc's chords, natural curvature shifted by the held "
+            "Cayley curvature) is not the common model in which the other states are named, "
+            "so the barrier's two ends would be energies of different models; use the nudged "
+            "elastic band (method 'neb'), which puts every state in the common model")
     ok_a = newton(rod_a)[0]
     if not ok_a or lowest_modes(rod_a, 1)[0][0] < -zero_eigenvalue_tol(rod_a):
         raise RodstabInputError(f"load factor {mu0!r}: state {name!r} is not a stable "
