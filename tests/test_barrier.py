@@ -129,3 +129,85 @@ def test_cli_bad_input_exits_2_naming_the_value(args: list[str], named: str,
         main(["barrier", "--shape", "rectangle", "--aspect", "4", *args])
     assert exc.value.code == 2
     assert named in capsys.readouterr().err
+
+
+def test_a_state_curved_in_its_held_geometry_is_refused_by_the_continuation() -> None:
+    """The hexagram star's held rods are arcs: the continuation's model of it (chords, held
+    Cayley curvature) is not the common model the ends are named in (energies 13.1648 vs
+    13.0226 at 8 el.), so the continuation barrier refuses it rather than mix the two."""
+    star = state_assembly("hexagram", R4, "star")
+    with pytest.raises(RodstabInputError, match="'star' is curved in its held geometry"):
+        barrier_from_bifurcation(star, 1.0, upper=2.0, name="star")
+
+
+def test_the_folded_ring_is_one_model_for_both_discretisations() -> None:
+    """The folded ring's held rods are straight: discretise and common_rod agree exactly."""
+    from rodstab.nonlinear.barrier import same_model
+    from rodstab.nonlinear.discover import common_rod
+    from rodstab.nonlinear.discrete import discretise
+
+    folded = state_assembly("six-ring", R4, "folded")
+    one = state_assembly("six-ring", R4, "one-loop")
+    assert same_model(discretise(folded, N, THETA), common_rod(folded, N, THETA))
+    assert not same_model(discretise(one, N, THETA), common_rod(one, N, THETA))
+
+
+@pytest.fixture(scope="module")
+def ends() -> tuple:
+    """The folded and one-loop six-rings in the common model, Newton-relaxed, one gauge."""
+    from rodstab.nonlinear.discover import common_rod
+    from rodstab.nonlinear.neb import to_gauge
+    from rodstab.nonlinear.solve import newton
+
+    rods = [common_rod(state_assembly("six-ring", R4, s), N, THETA)
+            for s in ("folded", "one-loop")]
+    for r in rods:
+        assert newton(r)[0]
+    to_gauge(rods[1], rods[0])
+    return rods[0], rods[1]
+
+
+def test_to_gauge_is_a_rigid_motion_onto_the_gauge_joint(ends: tuple) -> None:
+    """The energy is invariant under rigid motions (so unchanged); the gauge joint's position
+    and frame, which no free unknown moves, become the other state's."""
+    from rodstab.nonlinear.discover import common_rod
+
+    a, b = ends
+    fresh = common_rod(state_assembly("six-ring", R4, "one-loop"), N, THETA)
+    from rodstab.nonlinear.solve import newton
+
+    newton(fresh)
+    j, nd = a.fixed_joints[0], a.fixed_nodes[0]
+    assert b.energy() == pytest.approx(fresh.energy(), rel=1e-9)
+    assert b.R_joint[j] == pytest.approx(a.R_joint[j], abs=1e-14)
+    assert b.x[nd] == pytest.approx(a.x[nd], abs=1e-14)
+
+
+def test_chart_difference_is_inverted_by_apply(ends: tuple) -> None:
+    """``a.apply(chart_difference(a, b))`` is ``b`` (rotation vectors of R_a^T R_b < pi)."""
+    from rodstab.nonlinear.neb import chart_difference
+
+    a, b = ends
+    r = a.copy()
+    r.apply(chart_difference(a, b))
+    assert r.x == pytest.approx(b.x, abs=1e-12)
+    assert r.R_edge == pytest.approx(b.R_edge, abs=1e-9)
+    assert r.R_joint == pytest.approx(b.R_joint, abs=1e-9)
+
+
+def test_belt_path_joins_the_states_inextensibly_with_finite_energy(ends: tuple) -> None:
+    """The initial band: ends are the two states, every image unstretched and unsheared (the
+    frames' tangents close round the ring), energies finite. The folded ring's frame loop
+    differs from the one-loop's by two full turns (Dirac's belt trick), which the lift closes;
+    with a single geodesic per frame the band's middle image has energy ~7600 (the log's
+    branch jumps between neighbouring frames)."""
+    from rodstab.nonlinear.neb import belt_path
+    from rodstab.nonlinear.solve import max_strain
+
+    a, b = ends
+    band = belt_path(a, b, 5)
+    assert band[0].x == pytest.approx(a.x) and band[-1].R_edge == pytest.approx(b.R_edge)
+    energies = [r.energy() for r in band]
+    assert all(math.isfinite(e) for e in energies)
+    assert max(energies) < 10 * energies[0]
+    assert max(max_strain(r) for r in band) < 1e-9
