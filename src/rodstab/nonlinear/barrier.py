@@ -25,10 +25,18 @@ state the branch connects it to. So:
 ``barrier_forward = E_saddle - E_A``, ``barrier_backward = E_saddle - E_B``.
 
 Retired (not kept): a string method between the two minima (E, Ren and Vanden-Eijnden, J. Chem.
-Phys. 126, 164103, 2007) -- on the rod the initial string's images were far from equilibrium
-(frames of the two states differ by up to half a turn) and the descent broke down on non-finite
-energies; and minimum-mode following from the folded six-ring, which wandered in its nearly
-double lowest eigenpair. Both are in the branch's history.
+Phys. 126, 164103, 2007) -- on the rod the initial string's images were far from equilibrium and
+the descent broke down on non-finite energies; and minimum-mode following from the folded six-ring,
+which wandered in its nearly double lowest eigenpair. Both are in the branch's history. Why the
+linear string failed is now understood (:mod:`.neb`): held states of one ring put the gauge joint
+in different frames (120 degrees apart for the folded and one-loop six-rings), which no free
+unknown can undo, and the frames' loops round the ring differ by two full turns, so no frame-by-
+frame interpolation closes; :mod:`.neb` builds a path that does (the belt trick), but its nudged
+elastic band does not converge yet and is not used here.
+
+A held state curved in its own geometry (the hexagram's) is refused: the continuation
+discretises the held state (:func:`~.discrete.discretise`), whose model is not the common one
+(:func:`same_model`).
 """
 
 from __future__ import annotations

@@ -29,30 +29,28 @@ differ by the in-plane rotations ``R_z(alpha_e)`` the path used is
 
     ``G_e(t) = R_n(e)(pi t) R_m(pi t)``,  ``n(e) = R_z(alpha_e / 2) m``,
 
-``m`` a fixed in-plane axis (the gauge joint's tangent): ``G_e(0) = I`` and
-``G_e(1) = R_n(pi) R_m(pi) = R_z(alpha_e)`` (two half turns about in-plane axes at angle
-``alpha_e / 2`` compose to a turn by ``alpha_e`` about the normal), so every frame goes from
-A's to B's through the third dimension. ``alpha_e`` is lifted continuously along the rods (breadth-first from the gauge
-joint), and ``G`` depends on ``alpha`` only modulo ``4 pi``: a ring whose two frame loops differ
-by two full turns (the folded and one-loop six-rings) closes -- Dirac's belt trick; an odd
-number of turns cannot close and is refused (no continuous path of frames exists). Positions
+``m`` a fixed in-plane axis (the gauge joint's tangent): ``G_e(0) = I`` and ``G_e(1) = R_n(pi)
+R_m(pi) = R_z(alpha_e)`` (two half turns about in-plane axes at angle ``alpha_e / 2`` compose to a
+turn by ``alpha_e`` about the normal), so every frame goes from A's to B's through the third
+dimension. ``alpha_e`` is lifted continuously along the rods (breadth-first from the gauge joint),
+and ``G`` depends on ``alpha`` only modulo ``4 pi``: a ring whose two frame loops differ by two
+full turns (the folded and one-loop six-rings) closes -- Dirac's belt trick; an odd number of turns
+cannot close and is refused (no continuous path of frames exists). Positions
 then follow from the frames by the stretch/shear minimum
 (:func:`~rodstab.nonlinear.discover.restore_positions`, one graph-Laplacian solve), so every
 image is inextensible and unsheared up to the spread closure gap, with finite, moderate energy.
 
-**Optimisation.** Each interior image ``i`` moves by ``s_i = alpha (-P^-1 g + (g . tau^)
-tau^ + spring)``, ``P = H + lam D`` the image's free Hessian made positive definite by the
-smallest Levenberg shift ``lam`` (``D = |diag H|``) for which the symmetric factorisation has
-no negative pivot, ``tau^`` the improved tangent normalised in the ``P`` metric (so the
-perpendicular step is ``P``-orthogonal to the path: Makri et al.), the spring a move along the
-Euclidean unit tangent by half the difference of the chart distances to the neighbours (equal
-spacing). The climbing image (highest energy, switched on after :data:`CLIMB_AFTER`
-iterations) gets ``-P^-1 g + 2 (g . tau^) tau^`` and no spring. Plain steepest descent crawls
-(scaled bending eigenvalues ~1e-8 against the penalty); in the ``P`` metric a step is a Newton
-step perpendicular to the path. Steps are capped (:data:`MAX_STEP_DISPLACEMENT`,
-:data:`MAX_STEP_ROTATION`). Converged when the largest step component (chart units: lengths by
-the rod length ``L``, radians) is below :data:`NEB_STEP_TOL` -- the band is then within about
-that distance of a minimum energy path, close enough for Newton.
+**Optimisation.** Each iteration, every interior image takes one descent step orthogonal to its
+improved tangent ``tau``: the quadratic model ``g . s + 1/2 s^T P s`` minimised on ``tau . s = 0``
+(``P = H + lam D``, the free Hessian made positive definite by the smallest Levenberg shift for
+which the symmetric factorisation has only positive pivots, ``D = |diag H|``), accepted when the
+energy falls by a quarter of the prediction -- the projection in the ``P`` metric of Makri et al.
+Plain steepest descent crawls (scaled bending eigenvalues ~1e-8 against the penalty). Then, along
+the path, a spring move by half the difference of the chart distances to the neighbours (equal
+spacing), or for the climbing image (highest energy, from iteration :data:`CLIMB_AFTER` on) the
+``P``-metric step up the tangent. Steps are capped (:data:`MAX_STEP_DISPLACEMENT`,
+:data:`MAX_STEP_ROTATION`). Converged when no image moves by more than :data:`NEB_STEP_TOL`
+(lengths over the rod length ``L``, radians).
 
 **Saddle.** The climbing image is refined by damped Newton on the gradient
 (:func:`~rodstab.nonlinear.discover.deflated_newton` with nothing deflated, which converges to
