@@ -120,6 +120,10 @@ def test_cli_barrier_json(six_ring: Barrier, capsys: pytest.CaptureFixture[str],
 @pytest.mark.parametrize(("args", "named"), [
     (["--load-factor", "3"], "--load-factor 3.0"),
     (["--elements", "3"], "--elements must be an integer >= 4, got 3"),
+    (["--from", "one-loop", "--to", "one-loop"], "--to 'one-loop' is the --from state"),
+    (["--from", "square"], "--from 'square'"),
+    (["--structure", "hexagram", "--from", "star", "--to", "daisy", "--load-factor", "1.5"],
+     "'star' is curved in its held geometry"),
 ])
 def test_cli_bad_input_exits_2_naming_the_value(args: list[str], named: str,
                                                 capsys: pytest.CaptureFixture[str]) -> None:

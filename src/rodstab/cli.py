@@ -970,8 +970,13 @@ def transitions(section: Section, structure: str, load_factor: float, elements: 
 
 
 @cli.command()
-@click.option("--structure", type=click.Choice(["six-ring"]), default="six-ring",
-              show_default=True, help="The structure (its states: folded, one-loop).")
+@click.option("--structure", type=click.Choice(["six-ring", "hexagram"]), default="six-ring",
+              show_default=True, help="The structure (six-ring: folded, one-loop; hexagram: "
+                                      "line, star, daisy, eight).")
+@click.option("--from", "from_state", default="folded", show_default=True,
+              help="The stable state the barrier is climbed from.")
+@click.option("--to", "to_state", default="one-loop", show_default=True,
+              help="The state the path should reach (named by same_state).")
 @click.option("--load-factor", type=float, default=1.0, show_default=True,
               help="kappa_n R0 (R0 = L / theta, the one-loop radius), where the folded state "
                    "must be stable.")
@@ -979,27 +984,33 @@ def transitions(section: Section, structure: str, load_factor: float, elements: 
               help="Elements per rod of the discrete rod (>= 4).")
 @_section_options
 @_json_option
-def barrier(section: Section, structure: str, load_factor: float, elements: int,
-            as_json: bool) -> None:
-    """Energy barrier out of the folded state: saddle by continuation, path by descent.
+def barrier(section: Section, structure: str, from_state: str, to_state: str,
+            load_factor: float, elements: int, as_json: bool) -> None:
+    """Energy barrier out of a stable state: saddle by continuation, path by descent.
 
-    The saddle is the subcritical branch from the folded state's bifurcation, traced back to
-    the load; the path is the steepest descent from it on both sides.
+    The saddle is the subcritical branch from the --from state's bifurcation, traced back to
+    the load; the path is the steepest descent from it on both sides. A state curved in its
+    held geometry (the hexagram's) is refused (exit 2): see nonlinear/barrier.py.
     """
     from .errors import require_int
     from .nonlinear.barrier import barrier_from_bifurcation
-    from .problems.barrier_states import model_load_factor, state_assembly
+    from .problems.barrier_states import check_state, model_load_factor, state_assembly
 
     elements = require_int("--elements", elements, 4)
     k = require_finite("--load-factor", load_factor)
+    check_state(structure, from_state, "--from")
+    check_state(structure, to_state, "--to")
+    if from_state == to_state:
+        raise RodstabInputError(f"--to {to_state!r} is the --from state: a barrier joins two "
+                                "different states")
     mu = model_load_factor(structure, k)
-    folded, one = (state_assembly(structure, section, s) for s in ("folded", "one-loop"))
+    a, b_asm = (state_assembly(structure, section, s) for s in (from_state, to_state))
     try:
-        b = barrier_from_bifurcation(folded, mu, upper=model_load_factor(structure, 4.0),
-                                     elements_per_segment=elements, name="folded",
-                                     named={"one-loop": one})
+        b = barrier_from_bifurcation(a, mu, upper=model_load_factor(structure, 4.0),
+                                     elements_per_segment=elements, name=from_state,
+                                     named={to_state: b_asm})
     except RodstabInputError as exc:
-        raise RodstabInputError(f"--load-factor {k!r}: {exc}") from exc
+        raise RodstabInputError(f"--load-factor {k!r}, --from {from_state!r}: {exc}") from exc
     payload = b.to_dict()
     payload.update(structure=structure, kappa_R0=k, section=section.to_dict())
     _emit(payload, as_json, [
