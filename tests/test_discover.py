@@ -154,7 +154,29 @@ def test_hexagram_discover_finds_the_four_basic_states_from_the_star(tmp_path, c
     assert (tmp_path / "g.png").exists()
 
 
+def test_discover_reads_the_ring_of_a_design_file(capsys):
+    """examples/folded_six_ring.toml (alternately oriented rods, rodstab states names its
+    one-loop state the star) at kappa_n L = 2 pi / 3 (kappa_n R0 = 1), 8 elements, seeds only:
+    the held straight line is an exact discrete equilibrium of energy 6 x (kappa_n L)^2 / 2; the
+    star (stress-free there) and the daisy are found stable and labelled by their turning
+    numbers along the ring (2 and 4: the backwards rods' turning counted with their sign)."""
+    mu = 2 * math.pi / 3
+    main(["discover", "examples/folded_six_ring.toml", "--load-factor", repr(mu), "--starts",
+          "0", "--elements", "8", "--state", "line", "--json"])
+    out = json.loads(capsys.readouterr().out)
+    by = {s["label"]: s for s in out["states"]}
+    assert {"line", "star", "daisy"} <= set(by)
+    assert all(by[k]["stable"] for k in ("line", "star", "daisy"))
+    assert by["line"]["energy"] == pytest.approx(3 * mu**2, rel=1e-9)
+    assert by["star"]["energy"] < 1e-3 * by["line"]["energy"]
+    assert by["daisy"]["invariants"]["turning_number"] == pytest.approx(4.0, abs=1e-6)
+    assert out["structure"] == "examples/folded_six_ring.toml" and out["segments"] == 6
+
+
 @pytest.mark.parametrize(("args", "name"), [
+    (["examples/folded_six_ring.toml", "--structure", "six-ring"], "--structure"),
+    (["examples/folded_six_ring.toml", "--nu", "0.3"], "--nu"),
+    (["examples/birod.toml"], "support"),
     (["--elements", "1"], "--elements"),
     (["--starts", "-1"], "--starts"),
     (["--load-factor", "nan"], "--load-factor"),

@@ -16,8 +16,10 @@ import numpy as np
 import pytest
 
 from rodstab.cli import main
+from rodstab.design import load_design, parse_design
 from rodstab.errors import RodstabInputError
-from rodstab.states import closed_states, ring_assembly, state_turning
+from rodstab.model import Assembly
+from rodstab.states import closed_states, ring_assembly, ring_of, state_turning, uniform_ring
 
 
 def _order(psi: float, n: int) -> int:
@@ -26,10 +28,11 @@ def _order(psi: float, n: int) -> int:
                 if abs(math.remainder(p * psi, 2 * math.pi)) < 1e-9)
 
 
-def _closed_form(n: int, weld: str, max_turns: float = 1.0) -> list[tuple[float, int, int]]:
+def _closed_form(n: int, weld: str | float, max_turns: float = 1.0
+                 ) -> list[tuple[float, int, int]]:
     """(theta, distinct weld points, covering) of every closed state, by the closure rules."""
     out = []
-    offset = math.pi if weld == "cusp" else 0.0
+    offset = {"cusp": math.pi, "smooth": 0.0}.get(weld, weld)  # type: ignore[arg-type]
     for j in range(-4 * n, 4 * n + 1):
         theta = 2 * math.pi * j / n - offset
         if abs(theta) > 2 * math.pi * max_turns + 1e-9:
@@ -143,3 +146,136 @@ def test_chain_positions_match_the_chord_sum():
     pts = np.cumsum([chord * np.exp(1j * (i * psi + 0.5 * theta)) for i in range(6)])
     got = np.array([complex(*a.segment(str(i + 1)).end_point("end")) for i in range(6)])
     assert np.allclose(got, pts, atol=1e-12)
+
+
+@pytest.mark.parametrize("n,alpha", [(3, math.pi / 3), (5, -1.0), (4, 2.5)])
+def test_welds_at_any_angle_follow_the_closure_rules(n, alpha):
+    """A weld turning the tangent by alpha: theta = 2 pi j / n - alpha, the same rules."""
+    r = uniform_ring(n, weld=alpha).states()
+    got = [(s.theta, s.distinct_weld_points, s.covering) for s in r.states]
+    want = _closed_form(n, alpha)
+    assert len(got) == len(want) > 0
+    for (t1, w1, c1), (t2, w2, c2) in zip(got, want, strict=True):
+        assert t1 == pytest.approx(t2, abs=1e-12) and (w1, c1) == (w2, c2)
+    assert r.weld == f"{math.degrees(alpha):.6g}deg"
+
+
+def _design_geometry(a: Assembly) -> list[tuple]:
+    """Each segment's name, end points, end tangents and natural curvature."""
+    out = []
+    for s in a.segments:
+        out.append((s.name, *s.end_point("start"), *s.end_point("end"), *s.tangent(0.0),
+                    *s.tangent(s.length), s.natural_curvature))
+    return out
+
+
+def test_the_folded_six_ring_design_is_a_ring_of_identical_cusp_welded_rods():
+    """examples/folded_six_ring.toml: alternately oriented rods with natural curvature -1/+1
+    are, along the ring, six identical rods of natural curvature +1 (the ring runs backwards
+    through the rods the file curves negatively) at cusps; held straight (theta = 0) the ring
+    rebuilt from its topology is the design's own geometry, rod by rod."""
+    a = load_design("examples/folded_six_ring.toml").assembly
+    ring = ring_of(a)
+    assert (ring.segments, ring.weld, ring.natural_curvature) == (6, "cusp", 1.0)
+    assert dict(ring.order) == {"s1": -1, "s2": 1, "s3": -1, "s4": 1, "s5": -1, "s6": 1}
+    rebuilt = ring.held(0.0)
+    # the same geometry modulo a rigid motion: turn and shift rod s1 onto the design's
+    mine, theirs = rebuilt.segment("s1"), a.segment("s1")
+    turn = math.atan2(*theirs.tangent(0.0)[::-1]) - math.atan2(*mine.tangent(0.0)[::-1])
+    rot = np.array([[math.cos(turn), -math.sin(turn)], [math.sin(turn), math.cos(turn)]])
+    p0, q0 = mine.end_point("start"), theirs.end_point("start")
+    for m in rebuilt.segments:
+        t = a.segment(m.name)
+        assert m.natural_curvature == t.natural_curvature and m.curvature == t.curvature
+        for end, s in (("start", 0.0), ("end", m.length)):
+            np.testing.assert_allclose(rot @ (m.end_point(end) - p0) + q0, t.end_point(end),
+                                       atol=1e-12)
+            np.testing.assert_allclose(rot @ m.tangent(s), t.tangent(s), atol=1e-12)
+    # the one-loop state (Fig. 10): the star, stress-free at kappa_n L = 2 pi / 3
+    star = ring.state("star")
+    assert ring.stress_free_load(star.theta) == pytest.approx(2 * math.pi / 3)
+
+
+def test_a_hexagram_read_back_is_its_own_ring():
+    a = ring_assembly(6, 2 * math.pi / 3, natural_curvature=0.5, B1=2.0, B2=0.7)
+    ring = ring_of(a)
+    assert ring == uniform_ring(6, weld="cusp", natural_curvature=0.5, B1=2.0, B2=0.7)
+    assert _design_geometry(ring.held(2 * math.pi / 3)) == _design_geometry(a)
+
+
+def _ring_design(theta: float = 2 * math.pi / 3) -> dict:
+    """A design dict of the hexagram held at ``theta`` (rods 1..6 welded end to start, cusps)."""
+    a = ring_assembly(6, theta, natural_curvature=1.0)
+    segs = []
+    for s in a.segments:
+        segs.append({"name": s.name, "length": s.length, "curvature": s.curvature,
+                     "natural_curvature": s.natural_curvature, "start": list(s.start),
+                     "angle_deg": math.degrees(s.angle)})
+    welds = [{"ends": [f"{w[0][0]}.{w[0][1]}", f"{w[1][0]}.{w[1][1]}"]} for w in a.welds]
+    return {"section": {"shape": "circle"}, "segment": segs, "weld": welds}
+
+
+def test_a_star_design_dict_reads_as_the_hexagram():
+    ring = ring_of(parse_design(_ring_design()).assembly)
+    assert (ring.segments, ring.weld, ring.natural_curvature) == (6, "cusp", 1.0)
+
+
+@pytest.mark.parametrize("edit,name", [
+    (lambda d: [d["weld"].pop()] + [g.update(natural_curvature=0.0) for g in d["segment"]],
+     "is not welded"),
+    (lambda d: d["segment"][2].update(section={"shape": "circle", "nu": 0.2}),
+     "segment '3' has B2"),
+    (lambda d: d.update(support=[{"end": "1.start"}]), "no supports"),
+])
+def test_designs_that_are_not_rings_of_identical_rods_are_refused_naming_the_value(edit, name):
+    d = _ring_design(0.0)  # the line: no held moment, so an open chain is a valid design
+    edit(d)
+    with pytest.raises(RodstabInputError, match=name):
+        ring_of(parse_design(d).assembly)
+
+
+def test_welds_turning_the_tangent_differently_are_refused_naming_the_weld():
+    """A right triangle's rods differ in length; a rhombus of straight rods turns its tangent
+    by 60 and 120 degrees at alternate welds: both are refused, naming what differs."""
+    segs = [{"name": "a", "length": 1.0, "curvature": 0.0, "start": [0.0, 0.0], "angle_deg": 0},
+            {"name": "b", "length": 1.0, "curvature": 0.0, "start": [1.0, 0.0], "angle_deg": 90},
+            {"name": "c", "length": math.sqrt(2.0), "curvature": 0.0, "start": [1.0, 1.0],
+             "angle_deg": 225}]
+    welds = [{"ends": ["a.end", "b.start"]}, {"ends": ["b.end", "c.start"]},
+             {"ends": ["c.end", "a.start"]}]
+    a = parse_design({"section": {"shape": "circle"}, "segment": segs, "weld": welds}).assembly
+    with pytest.raises(RodstabInputError, match="length"):
+        ring_of(a)
+    segs = [{"name": "a", "length": 1.0, "curvature": 0.0, "start": [0.0, 0.0], "angle_deg": 0},
+            {"name": "b", "length": 1.0, "curvature": 0.0, "start": [1.0, 0.0], "angle_deg": 60},
+            {"name": "c", "length": 1.0, "curvature": 0.0, "start": [1.5, math.sqrt(3) / 2],
+             "angle_deg": 180},
+            {"name": "d", "length": 1.0, "curvature": 0.0, "start": [0.5, math.sqrt(3) / 2],
+             "angle_deg": 240}]
+    welds = [{"ends": [f"{p}.end", f"{q}.start"]} for p, q in ("ab", "bc", "cd", "da")]
+    a = parse_design({"section": {"shape": "circle"}, "segment": segs, "weld": welds}).assembly
+    with pytest.raises(RodstabInputError, match="turns it by 120 deg, the first by 60 deg"):
+        ring_of(a)
+
+
+def test_cli_states_from_a_design_file(capsys):
+    """The folded six-ring: its one-loop state is the star, free at kappa_n L = 2 pi / 3; the
+    energy at the design's load 1 of the line is 6 x (0 - 1)^2 / 2 = 3."""
+    main(["states", "examples/folded_six_ring.toml", "--json"])
+    out = json.loads(capsys.readouterr().out)
+    rows = {r["label"]: r for r in out["states"]}
+    assert rows["line"]["energy"] == pytest.approx(3.0)
+    assert rows["star"]["stress_free_load"] == pytest.approx(2 * math.pi / 3)
+    assert out["weld"] == "cusp" and out["segments"] == 6
+
+
+@pytest.mark.parametrize("argv,name", [
+    (["examples/folded_six_ring.toml", "--segments", "4"], "--segments"),
+    (["--load-factor", "2"], "--load-factor 2.0"),
+    (["examples/birod.toml"], "support"),
+])
+def test_cli_states_design_misuse_exits_2(capsys, argv, name):
+    with pytest.raises(SystemExit) as exc:
+        main(["states", *argv, "--json"])
+    assert exc.value.code == 2
+    assert name in capsys.readouterr().err

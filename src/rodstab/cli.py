@@ -663,50 +663,84 @@ def folded_ring(section: Section, segments: int, arc_angle: float, limits: Limit
 
 
 @cli.command()
+@click.argument("design_file", required=False, type=click.Path(dir_okay=False))
 @click.option("--segments", type=int, default=6, show_default=True,
-              help="Number n of identical rods welded end to start into a ring.")
+              help="Without DESIGN: number n of identical rods welded end to start into a ring.")
 @click.option("--cusps/--smooth", "cusps", default=True, show_default=True,
-              help="Every weld reverses the tangent (cusp, the hexagram's) or continues it.")
+              help="Without DESIGN: every weld reverses the tangent (cusp, the hexagram's) or "
+                   "continues it.")
 @click.option("--max-turns", type=float, default=1.0, show_default=True,
               help="List the states whose rods turn by at most this many full turns.")
 @click.option("--length", type=float, default=1.0, show_default=True,
-              help="Length L of each rod.")
+              help="Without DESIGN: length L of each rod.")
 @click.option("--natural-curvature", type=float, default=0.0, show_default=True,
-              help="kappa_n (1/length) at which the stored energy is given (B3 = 1).")
+              help="Without DESIGN: kappa_n (1/length) at which the stored energy is given "
+                   "(B3 = 1).")
+@click.option("--load-factor", type=float, default=None,
+              help="With DESIGN: the load factor (scaling the design's natural curvature) at "
+                   "which the energy is given [default: the design's reference_load, else 1].")
 @click.option("--plot", "plot_path", type=click.Path(dir_okay=False), default=None,
               help="Write the planar shapes of the states in a grid (PNG).")
 @_json_option
-def states(segments: int, cusps: bool, max_turns: float, length: float,
-           natural_curvature: float, plot_path: str | None, as_json: bool) -> None:
-    """List the closed planar held states of uniform moment of a ring of n welded rods."""
+def states(design_file: str | None, segments: int, cusps: bool, max_turns: float,
+           length: float, natural_curvature: float, load_factor: float | None,
+           plot_path: str | None, as_json: bool) -> None:
+    """List the closed planar held states of uniform moment of a ring of welded rods.
+
+    From DESIGN (a ring of identical rods, each welded to the next, in any one held state:
+    its held curvatures do not matter, its welds' angles do), or from --segments and
+    --cusps/--smooth.
+    """
     import math
 
-    from .states import closed_states, state_centrelines
+    from .design import load_design
+    from .states import ring_of, state_centrelines, uniform_ring
 
     plot = None if plot_path is None else _image_output("--plot", plot_path)
-    r = closed_states(segments, weld="cusp" if cusps else "smooth", length=length,
-                      natural_curvature=natural_curvature, max_turns=max_turns)
-    rows = [{"label": s.label, "held_curvature": s.held_curvature,
+    if design_file is not None:
+        given = [o for o in ("segments", "cusps", "length", "natural_curvature") if _given(o)]
+        if given:
+            raise RodstabInputError(f"--{given[0].replace('_', '-')} describes a ring without "
+                                    f"DESIGN; {design_file} describes its own ring")
+        a = load_design(design_file).assembly
+        ring = ring_of(a)
+        mu = a.reference_load if load_factor is None else load_factor
+        mu = 1.0 if mu is None else require_finite("--load-factor", mu)
+    else:
+        if load_factor is not None:
+            raise RodstabInputError(f"--load-factor {load_factor!r} scales a DESIGN's natural "
+                                    "curvature; without DESIGN give --natural-curvature")
+        ring = uniform_ring(segments, weld="cusp" if cusps else "smooth", length=length,
+                            natural_curvature=natural_curvature)
+        mu = 1.0
+    r = ring.states(load_factor=mu, max_turns=max_turns)
+    rows: list[dict[str, Any]] = [{"label": s.label, "held_curvature": s.held_curvature,
              "turning_number": s.turning_number, "distinct_weld_points": s.distinct_weld_points,
              "energy": s.energy, "theta_deg": math.degrees(s.theta), "covering": s.covering,
-             "mirror": s.mirror} for s in r.states]
+             "mirror": s.mirror, "stress_free_load": ring.stress_free_load(s.theta)}
+            for s in r.states]
     payload: dict[str, Any] = {"states": rows, "segments": r.segments, "weld": r.weld,
                                "length": r.length, "natural_curvature": r.natural_curvature,
-                               "max_turns": r.max_turns, "method": r.method}
+                               "load_factor": mu, "max_turns": r.max_turns,
+                               "order": [list(o) for o in ring.order], "method": r.method}
+    if design_file is not None:
+        payload["design"] = design_file
     if plot is not None:
         from .plots import plot_ring_states
 
         payload["plot"] = str(plot_ring_states(
-            [state_centrelines(r, s) for s in r.states],
+            [state_centrelines(ring, s.theta) for s in r.states],
             [f"{s.label}: kL = {math.degrees(s.theta):.6g} deg" for s in r.states], plot))
     _emit(payload, as_json, [
         f"ring         {r.segments} rods, {r.weld} welds, |kL| <= {_fmt(r.max_turns)} turns, "
-        f"energy at kappa_n = {_fmt(r.natural_curvature)} (B3 = 1)",
+        f"energy at kappa_n = {_fmt(r.natural_curvature)} (B3 = {_fmt(ring.B3)})",
         f"{'label':>16} {'kL deg':>9} {'k':>10} {'turning':>8} {'welds at':>8} "
-        f"{'covering':>8} {'energy':>10}",
+        f"{'covering':>8} {'energy':>10} {'free at mu':>10}",
     ] + [f"{row['label']:>16} {row['theta_deg']:>9.6g} {row['held_curvature']:>10.6g} "
          f"{row['turning_number']:>8.4g} {row['distinct_weld_points']:>8} "
-         f"{row['covering']:>8} {row['energy']:>10.6g}" for row in rows]
+         f"{row['covering']:>8} {row['energy']:>10.6g} "
+         f"{'-' if row['stress_free_load'] is None else _fmt(row['stress_free_load']):>10}"
+         for row in rows]
       + ([f"wrote {payload['plot']}"] if plot is not None else []))
 
 
@@ -798,19 +832,64 @@ def reproduce(out_dir: str, no_progress: bool, as_json: bool) -> None:
     ])
 
 
+def _ring_and_section(design_file: str | None, structure: str, segments: int,
+                      section: Section) -> tuple[Any, Section, str]:
+    """Return the ring of a ring command: DESIGN's (:func:`rodstab.states.ring_of`) or built in.
+
+    Built-in structures (without DESIGN): ``hexagram`` (six rods of length 1, natural curvature
+    ``1/R0`` per unit load, so the load is ``kappa_n R0``, ``R0 = 3 L / 2 pi``) and ``six-ring``
+    (``segments`` arcs of radius 1 welded at cusps, the one-loop ring of Section 5, natural
+    curvature 1 per unit load: the load is ``kappa_n R0``). With DESIGN, its section and its
+    load factor; ``--structure``, ``--segments`` and the section options are refused.
+    """
+    import math
+
+    from .states import ring_of, uniform_ring
+
+    if design_file is not None:
+        given = [o for o in ("structure", "segments", "shape", "aspect", "nu", "torsion", "b1",
+                             "b2") if _given(o)]
+        if given:
+            raise RodstabInputError(f"--{given[0]} describes a built-in structure; "
+                                    f"{design_file} describes its own ring and section")
+        from .design import load_design
+
+        a = load_design(design_file).assembly
+        ring = ring_of(a)
+        seg = a.segments[0]
+        from .sections import from_ratios
+
+        return ring, from_ratios(b1=seg.B1 / seg.B3, b2=seg.B2 / seg.B3), design_file
+    if structure == "hexagram":
+        if _given("segments"):
+            raise RodstabInputError(f"--segments {segments!r} is for --structure six-ring "
+                                    "(the hexagram has six rods)")
+        from .problems import hexagram as hx
+
+        return (uniform_ring(hx.SEGMENTS, length=1.0, natural_curvature=hx.L_OVER_R0,
+                             B1=section.b1, B2=section.b2), section, structure)
+    n = require_positive_int("--segments", segments)
+    if n < 4 or n % 2:
+        raise RodstabInputError(f"--segments must be an even number >= 4, got {segments!r}")
+    return (uniform_ring(n, length=math.pi - 2 * math.pi / n, natural_curvature=1.0,
+                         B1=section.b1, B2=section.b2), section, structure)
+
+
 @cli.command()
+@click.argument("design_file", required=False, type=click.Path(dir_okay=False))
 @click.option("--structure", type=click.Choice(["hexagram", "six-ring"]), default="hexagram",
               show_default=True,
-              help="hexagram: six rods of length L, load kappa_n R0 (R0 = 3L/2pi); six-ring: "
-                   "the ring of Section 5 (unfolded_ring: --segments arcs of radius 1 welded "
-                   "at cusps), load kappa_n R0.")
+              help="Without DESIGN: hexagram: six rods of length L, load kappa_n R0 (R0 = "
+                   "3L/2pi); six-ring: the ring of Section 5 (unfolded_ring: --segments arcs of "
+                   "radius 1 welded at cusps), load kappa_n R0.")
 @click.option("--segments", type=int, default=6, show_default=True,
               help="Rods of the six-ring (even, >= 4).")
 @click.option("--state", default=None,
               help="Held state the search starts from (a label of `rodstab states`; default "
                    "star).")
 @click.option("--load-factor", type=float, default=2.0, show_default=True,
-              help="kappa_n R0.")
+              help="Without DESIGN kappa_n R0; with DESIGN the multiplier of its natural "
+                   "curvature.")
 @click.option("--starts", type=int, default=8, show_default=True,
               help="Perturbed starts (in +/- pairs) besides the seeds.")
 @click.option("--elements", type=int, default=16, show_default=True,
@@ -825,16 +904,17 @@ def reproduce(out_dir: str, no_progress: bool, as_json: bool) -> None:
 @_section_options
 @_limit_options
 @_json_option
-def discover(section: Section, structure: str, segments: int, state: str | None,
-             load_factor: float, starts: int, elements: int, rng_seed: int, seed_states: bool,
-             plot_path: str | None, limits: Limits, as_json: bool) -> None:
-    """Equilibria nobody named: deflated Newton from seeds and perturbed starts."""
-    import math
+def discover(design_file: str | None, section: Section, structure: str, segments: int,
+             state: str | None, load_factor: float, starts: int, elements: int, rng_seed: int,
+             seed_states: bool, plot_path: str | None, limits: Limits, as_json: bool) -> None:
+    """Equilibria nobody named: deflated Newton from seeds and perturbed starts.
 
+    On DESIGN's ring (identical rods welded in a cycle, `rodstab states DESIGN`) or on a
+    built-in structure.
+    """
     from .limits import require_nonlinear
-    from .nonlinear.discover import RUNS_PER_START, RingSearch, ring_seeds, shape_2d
+    from .nonlinear.discover import RUNS_PER_START, ring_seeds, shape_2d
     from .nonlinear.discover import discover as search
-    from .problems import hexagram as hx
 
     plot = None if plot_path is None else _image_output("--plot", plot_path)
     mu = require_finite("--load-factor", load_factor)
@@ -843,32 +923,26 @@ def discover(section: Section, structure: str, segments: int, state: str | None,
         raise RodstabInputError(f"--elements must be at least 2, got {elements!r}")
     if isinstance(starts, bool) or starts < 0:
         raise RodstabInputError(f"--starts must be an integer >= 0, got {starts!r}")
-    if structure == "hexagram":
-        if _given("segments"):
-            raise RodstabInputError(f"--segments {segments!r} is for --structure six-ring "
-                                    "(the hexagram has six rods)")
-        n, L, kn = hx.SEGMENTS, 1.0, hx.L_OVER_R0
-    else:
-        n = require_positive_int("--segments", segments)
-        if n < 4 or n % 2:
-            raise RodstabInputError(f"--segments must be an even number >= 4, got {segments!r}")
-        L, kn = math.pi - 2 * math.pi / n, 1.0  # the one-loop state's arc on radius R0 = 1
+    ring, section, name = _ring_and_section(design_file, structure, segments, section)
+    n = ring.segments
     require_nonlinear([n_el] * n, n, f"--elements {n_el}", limits)
     require_steps((starts + 4 * n) * RUNS_PER_START, f"--starts {starts}",
                   "deflated Newton runs", limits)
-    ring = RingSearch(n, L, kn, section.b1, section.b2, "star" if state is None else state)
-    rod, seeds, known = ring_seeds(ring, n_el, mu, seed_states)
-    found, snaps = search(rod, seeds, known, starts=starts, seed=rng_seed)
-    payload = found.to_dict() | {"structure": structure, "segments": n,
-                                 "start_state": ring.state, "section": section.to_dict()}
+    start_state = "star" if state is None else state
+    rod, seeds, known = ring_seeds(ring, start_state, n_el, mu, seed_states)
+    found, snaps = search(rod, seeds, known, starts=starts, seed=rng_seed,
+                          directions=tuple(d for _, d in ring.order))
+    payload = found.to_dict() | {"structure": name, "segments": n, "start_state": start_state,
+                                 "section": section.to_dict()}
     if plot is not None:
         from .plots import plot_ring_states
 
         titles = [f"{s.label}: E {s.energy:.4g}, index {s.index}"
                   + ("" if s.invariants.planar else ", 3D") for s in found.states]
         payload["plot"] = str(plot_ring_states([shape_2d(rod, s) for s in snaps], titles, plot))
+    load = "kappa_n R0" if design_file is None else "load factor"
     lines = [_section_line(section),
-             f"{structure}, {n} rods, {n_el} elements each, kappa_n R0 = {_fmt(mu)}: "
+             f"{name}, {n} rods, {n_el} elements each, {load} = {_fmt(mu)}: "
              f"{len(found.states)} distinct equilibria from {found.runs} deflated Newton runs "
              f"({found.converged_runs} converged); seeds {', '.join(found.seeds)}",
              f"{'label':>14} {'energy':>10} {'index':>5} {'stable':>6} {'welds':>5} "

@@ -106,10 +106,44 @@ class RingStates(Result):
     method: str
 
 
-def _require_weld(weld: str) -> str:
-    if weld not in WELDS:
-        raise RodstabInputError(f"weld must be one of {WELDS}, got {weld!r}")
-    return weld
+#: A weld's tangent turn within this (radians) of pi or 0 is a cusp or smooth weld.
+WELD_ANGLE_TOL = 1e-7
+
+Weld = str | float
+
+
+def _require_weld(weld: Weld) -> Weld:
+    """Return ``weld``: ``"cusp"``, ``"smooth"``, or a tangent turn in radians in ``(-pi, pi]``.
+
+    A turn within :data:`WELD_ANGLE_TOL` of ``pi`` or ``0`` is returned as ``"cusp"`` or
+    ``"smooth"`` (one name per weld kind, so labels and the Bloch method recognise it).
+    """
+    if isinstance(weld, str):
+        if weld not in WELDS:
+            raise RodstabInputError(f"weld must be one of {WELDS} or a turn angle in radians, "
+                                    f"got {weld!r}")
+        return weld
+    if isinstance(weld, bool) or not isinstance(weld, (int, float)) or not math.isfinite(weld):
+        raise RodstabInputError(f"weld must be one of {WELDS} or a turn angle in radians, "
+                                f"got {weld!r}")
+    turn = math.remainder(float(weld), 2 * math.pi)
+    if abs(abs(turn) - math.pi) <= WELD_ANGLE_TOL:
+        return "cusp"
+    if abs(turn) <= WELD_ANGLE_TOL:
+        return "smooth"
+    return turn
+
+
+def weld_turn(weld: Weld) -> float:
+    """Turn of the tangent across a weld (radians): ``pi`` (cusp), ``0`` (smooth), or ``weld``."""
+    w = _require_weld(weld)
+    return math.pi if w == "cusp" else 0.0 if w == "smooth" else float(w)
+
+
+def weld_name(weld: Weld) -> str:
+    """``"cusp"``, ``"smooth"`` or the turn in degrees (``"37.5deg"``), for tables and JSON."""
+    w = _require_weld(weld)
+    return w if isinstance(w, str) else f"{math.degrees(w):.6g}deg"
 
 
 def _require_segments(segments: int) -> int:
@@ -119,28 +153,29 @@ def _require_segments(segments: int) -> int:
     return n
 
 
-def step_angle(theta: float, weld: str) -> float:
+def step_angle(theta: float, weld: Weld) -> float:
     """Rotation ``psi`` of the tangent from one rod's start to the next one's (radians).
 
-    ``psi = theta + pi`` across a cusp, ``theta`` across a smooth weld.
+    ``psi = theta + pi`` across a cusp, ``theta`` across a smooth weld, ``theta + alpha``
+    across a weld turning the tangent by ``alpha``.
     """
-    return theta + (math.pi if _require_weld(weld) == "cusp" else 0.0)
+    return theta + weld_turn(weld)
 
 
-def rotation_closing_turnings(segments: int, weld: str, max_turns: float) -> list[float]:
+def rotation_closing_turnings(segments: int, weld: Weld, max_turns: float) -> list[float]:
     """Every ``theta`` in ``[-2 pi max_turns, 2 pi max_turns]`` with ``n psi = 0 (mod 2 pi)``.
 
     ``theta = 2 pi j / n - pi`` (cusps) or ``2 pi j / n`` (smooth), ``j`` integer; increasing.
     """
     n = _require_segments(segments)
-    offset = -math.pi if _require_weld(weld) == "cusp" else 0.0
+    offset = -weld_turn(weld)
     top = 2 * math.pi * max_turns
     j_lo = math.ceil((-top - offset) * n / (2 * math.pi) - 1e-9)
     j_hi = math.floor((top - offset) * n / (2 * math.pi) + 1e-9)
     return [2 * math.pi * j / n + offset for j in range(j_lo, j_hi + 1)]
 
 
-def ring_assembly(segments: int, theta: float, *, weld: str = "cusp", length: float = 1.0,
+def ring_assembly(segments: int, theta: float, *, weld: Weld = "cusp", length: float = 1.0,
                   natural_curvature: float = 0.0, B1: float = 1.0, B2: float = 1.0,
                   B3: float = 1.0, reference_load: float | None = None) -> Assembly:
     """Chain ``segments`` arcs of turning ``theta`` from the origin and weld them into a ring.
@@ -149,27 +184,234 @@ def ring_assembly(segments: int, theta: float, *, weld: str = "cusp", length: fl
     tangent continued (smooth) or reversed (cusp). Every rod has held curvature
     ``theta / length`` and natural curvature ``natural_curvature`` (per unit load factor).
     :func:`rodstab.model.validate` (run by :class:`~rodstab.model.Assembly`) refuses a chain
-    whose last end does not meet the first start, naming the gap.
+    whose last end does not meet the first start, naming the gap. The ring of rods ``"1"`` ..
+    ``"n"`` welded end to start is :meth:`Ring.held` of :func:`uniform_ring`.
     """
+    return uniform_ring(segments, weld=weld, length=length,
+                        natural_curvature=natural_curvature, B1=B1, B2=B2,
+                        B3=B3).held(require_finite("theta", theta), reference_load=reference_load)
+
+
+@dataclasses.dataclass(frozen=True)
+class Ring:
+    """A ring of ``segments`` identical rods, each welded to the next (:func:`ring_of`).
+
+    ``order``: the rods in the order the ring is traversed, each ``(name, direction)`` with
+    direction ``+1`` when the ring runs from the rod's start to its end and ``-1`` when it runs
+    backwards; ``welds[i]`` joins rod ``i``'s outgoing end to rod ``i + 1``'s incoming end (as
+    ``((name, end), (name, end))``). Along the traversal every rod has length ``length``, natural
+    curvature ``natural_curvature`` per unit load factor (signed with the traversal, ``>= 0``
+    for a ring read from a design) and stiffnesses ``B1, B2, B3``; every weld turns the tangent
+    by the same ``weld`` (:func:`weld_turn`). A rod traversed backwards carries the opposite
+    signed curvatures in its own frame, which is how the folded six-ring of Section 5
+    (alternately oriented rods with alternating natural curvature) is a ring of identical rods.
+    """
+
+    segments: int
+    weld: Weld
+    length: float
+    natural_curvature: float
+    B1: float
+    B2: float
+    B3: float
+    order: tuple[tuple[str, int], ...]
+    welds: tuple[tuple[tuple[str, str], tuple[str, str]], ...]
+
+    def held(self, theta: float, *, reference_load: float | None = None) -> Assembly:
+        """Return the ring held with every rod an arc turning by ``theta`` (radians, traversal).
+
+        Rod 1 starts at the origin along ``+x`` (along the traversal); each next rod starts
+        where the previous one ends with the tangent turned by the weld. The segments keep
+        their names and directions (a backwards rod gets start, angle and curvatures of the
+        reversed arc), so the held states of one design are one assembly's states.
+        :func:`rodstab.model.validate` refuses a chain that does not close, naming the gap.
+        """
+        k = theta / self.length
+        alpha = weld_turn(self.weld)
+        segs = []
+        pos, ang = np.zeros(2), 0.0
+        for name, d in self.order:
+            probe = Segment(name=name, length=self.length, curvature=k, natural_curvature=0.0,
+                            B1=self.B1, B2=self.B2, B3=self.B3, start=(float(pos[0]),
+                                                                      float(pos[1])), angle=ang)
+            end = probe.end_point("end")
+            if d > 0:
+                segs.append(dataclasses.replace(probe,
+                                                natural_curvature=self.natural_curvature))
+            else:
+                segs.append(dataclasses.replace(
+                    probe, curvature=-k, natural_curvature=-self.natural_curvature,
+                    start=(float(end[0]), float(end[1])), angle=ang + theta + math.pi))
+            pos = end
+            ang = math.remainder(ang + theta + alpha, 2 * math.pi)
+        return Assembly(segments=tuple(segs), welds=self.welds, reference_load=reference_load)
+
+    def stress_free_load(self, theta: float) -> float | None:
+        """Load factor at which the held state ``theta`` is stress-free (``None`` if none)."""
+        if self.natural_curvature == 0.0:
+            return None
+        return theta / (self.length * self.natural_curvature)
+
+    def states(self, *, load_factor: float = 1.0, max_turns: float = 1.0) -> RingStates:
+        """Return the closed planar held states of uniform moment, energies at a load.
+
+        ``load_factor`` scales :attr:`natural_curvature`; states with
+        ``|theta| <= 2 pi max_turns`` (``0 < max_turns <=`` :data:`MAX_TURNS_LIMIT`) by
+        increasing ``theta``. Raises :class:`RodstabInputError` naming the ring when none
+        closes.
+        """
+        require_finite("load_factor", load_factor)
+        if not (isinstance(max_turns, (int, float)) and 0 < max_turns <= MAX_TURNS_LIMIT):
+            raise RodstabInputError(f"max_turns must be in (0, {MAX_TURNS_LIMIT:g}], got "
+                                    f"{max_turns!r}")
+        n, L = self.segments, self.length
+        kappa = self.natural_curvature * load_factor
+        found = []
+        for theta in rotation_closing_turnings(n, self.weld, max_turns):
+            gap, tangent_gap = _chain_gap(n, theta, self.weld, L)
+            if gap > CLOSURE_TOL or tangent_gap > CLOSURE_TOL:
+                continue  # the chords do not sum to zero: the chain is open
+            a = self.held(theta)  # validate: ends meet, moments balance
+            tol = SAME_POINT_TOL * L
+            k = theta / L
+            found.append(HeldState(
+                label=state_label(n, theta, self.weld), theta=theta, held_curvature=k,
+                turning_number=n * theta / (2 * math.pi),
+                distinct_weld_points=_count_distinct(_weld_points(a), tol),
+                covering=_covering(a, self.order, tol),
+                energy=0.5 * n * self.B3 * (k - kappa) ** 2 * L,
+                mirror=state_label(n, -theta, self.weld), closure_gap=gap))
+        if not found:
+            kind = weld_name(self.weld)
+            raise RodstabInputError(
+                f"segments {n} with {kind} welds: no closed state with |theta| <= "
+                f"{max_turns:g} turns per rod (a ring of {n} {kind}-welded rod"
+                f"{'s' if n > 1 else ''} cannot close{' in this range' if n > 1 else ''})")
+        return RingStates(segments=n, weld=weld_name(self.weld), length=L,
+                          natural_curvature=kappa, max_turns=max_turns, states=tuple(found),
+                          method="rotation closure n psi = 0 mod 2 pi, chains built and "
+                                 "validated")
+
+    def state(self, label: str, max_turns: float = 1.0) -> HeldState:
+        """Return the state called ``label``; raise naming it and listing the states if none."""
+        listed = self.states(max_turns=max_turns).states
+        for st in listed:
+            if st.label == label:
+                return st
+        raise RodstabInputError(f"state {label!r} does not exist for this ring of "
+                                f"{self.segments} {weld_name(self.weld)}-welded rods; the "
+                                f"states are {[st.label for st in listed]}")
+
+
+def uniform_ring(segments: int, *, weld: Weld = "cusp", length: float = 1.0,
+                 natural_curvature: float = 0.0, B1: float = 1.0, B2: float = 1.0,
+                 B3: float = 1.0) -> Ring:
+    """Return the ring of rods ``"1"`` .. ``"n"``, each welded end to start to the next."""
     n = _require_segments(segments)
     require_positive("length", length)
-    require_finite("theta", theta)
-    k = theta / length
-    segs = []
-    pos, ang = (0.0, 0.0), 0.0
-    flip = math.pi if _require_weld(weld) == "cusp" else 0.0
-    for i in range(1, n + 1):
-        s = Segment(name=str(i), length=length, curvature=k, natural_curvature=natural_curvature,
-                    B1=B1, B2=B2, B3=B3, start=pos, angle=ang)
-        segs.append(s)
-        end = s.end_point("end")
-        pos = (float(end[0]), float(end[1]))
-        ang = math.remainder(ang + theta + flip, 2 * math.pi)
-    welds = tuple(((str(i), "end"), (str(i % n + 1), "start")) for i in range(1, n + 1))
-    return Assembly(segments=tuple(segs), welds=welds, reference_load=reference_load)
+    require_finite("natural_curvature", natural_curvature)
+    for key, v in (("B1", B1), ("B2", B2), ("B3", B3)):
+        require_positive(key, v)
+    names = [str(i) for i in range(1, n + 1)]
+    welds = tuple(((names[i], "end"), (names[(i + 1) % n], "start")) for i in range(n))
+    return Ring(segments=n, weld=_require_weld(weld), length=float(length),
+                natural_curvature=float(natural_curvature), B1=float(B1), B2=float(B2),
+                B3=float(B3), order=tuple((nm, 1) for nm in names), welds=welds)
 
 
-def _chain_gap(segments: int, theta: float, weld: str, length: float) -> tuple[float, float]:
+#: Rods of a ring read from a design must agree in length, stiffness and natural curvature to
+#: this relative tolerance.
+SAME_ROD_RTOL = 1e-9
+
+
+def _tangent_angle(seg: Segment, end: str, direction: int) -> float:
+    """Angle of the traversal tangent at ``end`` of ``seg`` (direction ``-1``: reversed)."""
+    t = seg.tangent(0.0 if end == "start" else seg.length) * direction
+    return math.atan2(float(t[1]), float(t[0]))
+
+
+def ring_of(a: Assembly) -> Ring:
+    """Read the ring of a design: identical rods, each welded to the next, all welds alike.
+
+    The assembly must have no supports or imposed end rotations, every weld must join two
+    ends, and following the welds from the first segment must visit every segment once and
+    come back. Along that traversal (turned round if needed so that the natural curvature is
+    ``>= 0``) the rods must have equal length, ``B1``, ``B2``, ``B3`` and natural curvature and
+    no natural twist, and every weld must turn the tangent by the same angle (measured on the
+    design's held geometry; its held curvatures do not matter otherwise). Each violation is a
+    :class:`RodstabInputError` naming the segment or weld and its value.
+    """
+    if a.supports or a.end_rotations:
+        raise RodstabInputError(f"a ring has no supports; the design has {list(a.supports)!r}")
+    for w in a.welds:
+        if len(w) != 2:
+            raise RodstabInputError(f"every weld of a ring joins two ends, got "
+                                    f"{[f'{nm}.{e}' for nm, e in w]}")
+    partner = {}
+    for (n1, e1), (n2, e2) in a.welds:
+        partner[(n1, e1)], partner[(n2, e2)] = (n2, e2), (n1, e1)
+    first = a.segments[0].name
+    order: list[tuple[str, int]] = [(first, 1)]
+    welds = []
+    while True:
+        name, d = order[-1]
+        out_end = "end" if d > 0 else "start"
+        if (name, out_end) not in partner:
+            raise RodstabInputError(f"the ring is open: end {name}.{out_end} is not welded")
+        nxt, in_end = partner[(name, out_end)]
+        welds.append(((name, out_end), (nxt, in_end)))
+        if nxt == first:
+            if in_end != "start":
+                raise RodstabInputError(f"the welds do not form a ring: {name}.{out_end} is "
+                                        f"welded to {nxt}.{in_end}")
+            break
+        if any(nxt == nm for nm, _ in order):
+            raise RodstabInputError(f"the welds do not form a ring: segment {nxt!r} is reached "
+                                    "twice")
+        order.append((nxt, 1 if in_end == "start" else -1))
+    missing = [s.name for s in a.segments if s.name not in dict(order)]
+    if missing:
+        raise RodstabInputError(f"the welds form more than one ring: segments {missing} are not "
+                                f"on the ring through {first!r}")
+    segs = [a.segment(nm) for nm, _ in order]
+    kappa = [d * s.natural_curvature for s, (_, d) in zip(segs, order, strict=True)]
+    if kappa[0] < 0 or (kappa[0] == 0 and order[0][1] * segs[0].curvature < 0):
+        # run the other way round, so the natural curvature (or the held one) is >= 0
+        order = [(nm, -d) for nm, d in reversed(order)]
+        welds = [(w[1], w[0]) for w in reversed(welds)]
+        order = order[-1:] + order[:-1]  # the welds need no turning: they start at rod 1
+        segs = [a.segment(nm) for nm, _ in order]
+        kappa = [d * s.natural_curvature for s, (_, d) in zip(segs, order, strict=True)]
+    ref = segs[0]
+    for s, k in zip(segs, kappa, strict=True):
+        for what, got, want in (("length", s.length, ref.length), ("B1", s.B1, ref.B1),
+                                ("B2", s.B2, ref.B2), ("B3", s.B3, ref.B3),
+                                ("natural curvature along the ring", k, kappa[0])):
+            if abs(got - want) > SAME_ROD_RTOL * max(abs(want), 1.0):
+                raise RodstabInputError(
+                    f"the rods of a ring must be identical: segment {s.name!r} has {what} "
+                    f"{got!r}, segment {ref.name!r} {want!r}")
+        if s.natural_twist != 0.0:
+            raise RodstabInputError(f"segment {s.name!r} has natural_twist {s.natural_twist!r}: "
+                                    "the ring states are planar rods without natural twist")
+    dirs = dict(order)
+    turns = []
+    for (n1, e1), (n2, e2) in welds:
+        t_out = _tangent_angle(a.segment(n1), e1, dirs[n1])
+        t_in = _tangent_angle(a.segment(n2), e2, dirs[n2])
+        turns.append(math.remainder(t_in - t_out, 2 * math.pi))
+    for ((n1, e1), (n2, e2)), t in zip(welds, turns, strict=True):
+        if abs(math.remainder(t - turns[0], 2 * math.pi)) > WELD_ANGLE_TOL:
+            raise RodstabInputError(
+                f"the welds of a ring must all turn the tangent alike: weld {n1}.{e1}-{n2}.{e2}"
+                f" turns it by {math.degrees(t):.6g} deg, the first by "
+                f"{math.degrees(turns[0]):.6g} deg")
+    return Ring(segments=len(order), weld=_require_weld(turns[0]), length=ref.length,
+                natural_curvature=kappa[0], B1=ref.B1, B2=ref.B2, B3=ref.B3,
+                order=tuple(order), welds=tuple(welds))
+
+
+def _chain_gap(segments: int, theta: float, weld: Weld, length: float) -> tuple[float, float]:
     """Position gap (over the total length) and tangent mismatch after chaining the rods."""
     psi = step_angle(theta, weld)
     pos = np.zeros(2)
@@ -195,16 +437,24 @@ def _count_distinct(points: np.ndarray, tol: float) -> int:
     return len(distinct)
 
 
-def _covering(a: Assembly, tol: float) -> int:
-    """Rods whose centreline coincides with rod 1's (same start, same tangent), rod 1 included."""
-    first = a.segments[0]
-    t0 = first.tangent(0.0)
-    return sum(1 for s in a.segments
-               if float(np.linalg.norm(s.end_point("start") - first.end_point("start"))) <= tol
-               and float(np.linalg.norm(s.tangent(0.0) - t0)) <= tol)
+def _covering(a: Assembly, order: tuple[tuple[str, int], ...], tol: float) -> int:
+    """Rods lying on rod 1 traversed alike (same start, same tangent along the ring), itself too.
+
+    Starts and tangents are the traversal's: a rod run backwards starts at its own end.
+    """
+    def start_and_tangent(name: str, d: int) -> tuple[np.ndarray, np.ndarray]:
+        seg = a.segment(name)
+        if d > 0:
+            return seg.end_point("start"), seg.tangent(0.0)
+        return seg.end_point("end"), -seg.tangent(seg.length)
+
+    p0, t0 = start_and_tangent(*order[0])
+    return sum(1 for nm, d in order
+               if float(np.linalg.norm(start_and_tangent(nm, d)[0] - p0)) <= tol
+               and float(np.linalg.norm(start_and_tangent(nm, d)[1] - t0)) <= tol)
 
 
-def state_label(segments: int, theta: float, weld: str) -> str:
+def state_label(segments: int, theta: float, weld: Weld) -> str:
     """Name of the state of turning ``theta`` (see :class:`HeldState`)."""
     n = segments
     theta = 0.0 if abs(theta) <= 1e-12 else theta  # no "-0"
@@ -213,7 +463,7 @@ def state_label(segments: int, theta: float, weld: str) -> str:
     if weld == "smooth":
         j = round(n * theta / (2 * math.pi))
         return f"{prefix}circle-{abs(j)}"
-    if n >= 4 and n % 2 == 0:
+    if weld == "cusp" and n >= 4 and n % 2 == 0:
         named = {"line": 0.0, "star": math.pi - 2 * math.pi / n,
                  "daisy": math.pi + 2 * math.pi / n, "eight": 2 * math.pi}
         for name, value in named.items():
@@ -222,7 +472,7 @@ def state_label(segments: int, theta: float, weld: str) -> str:
     return f"theta={deg:.6g}deg"
 
 
-def closed_states(segments: int, *, weld: str = "cusp", length: float = 1.0,
+def closed_states(segments: int, *, weld: Weld = "cusp", length: float = 1.0,
                   natural_curvature: float = 0.0, B3: float = 1.0,
                   max_turns: float = 1.0) -> RingStates:
     """Enumerate the closed planar held states of uniform moment of a ring (module docstring).
@@ -249,51 +499,16 @@ def closed_states(segments: int, *, weld: str = "cusp", length: float = 1.0,
         The states by increasing ``theta``. Raises :class:`RodstabInputError` naming
         ``segments`` when no state closes in the range (e.g. one rod with a cusp).
     """
-    n = _require_segments(segments)
-    _require_weld(weld)
-    require_positive("length", length)
-    require_finite("natural_curvature", natural_curvature)
-    require_positive("B3", B3)
-    if not (isinstance(max_turns, (int, float)) and 0 < max_turns <= MAX_TURNS_LIMIT):
-        raise RodstabInputError(f"max_turns must be in (0, {MAX_TURNS_LIMIT:g}], got "
-                                f"{max_turns!r}")
-    found = []
-    for theta in rotation_closing_turnings(n, weld, max_turns):
-        gap, tangent_gap = _chain_gap(n, theta, weld, length)
-        if gap > CLOSURE_TOL or tangent_gap > CLOSURE_TOL:
-            continue  # the chords do not sum to zero: the chain is open
-        a = ring_assembly(n, theta, weld=weld, length=length)  # validate: ends meet, balance
-        tol = SAME_POINT_TOL * length
-        k = theta / length
-        found.append(HeldState(
-            label=state_label(n, theta, weld), theta=theta, held_curvature=k,
-            turning_number=n * theta / (2 * math.pi),
-            distinct_weld_points=_count_distinct(_weld_points(a), tol),
-            covering=_covering(a, tol),
-            energy=0.5 * n * B3 * (k - natural_curvature) ** 2 * length,
-            mirror=state_label(n, -theta, weld), closure_gap=gap))
-    if not found:
-        raise RodstabInputError(
-            f"segments {n} with {weld} welds: no closed state with |theta| <= "
-            f"{max_turns:g} turns per rod (a ring of {n} {weld}-welded rod"
-            f"{'s' if n > 1 else ''} cannot close{' in this range' if n > 1 else ''})")
-    return RingStates(segments=n, weld=weld, length=length, natural_curvature=natural_curvature,
-                      max_turns=max_turns, states=tuple(found),
-                      method="rotation closure n psi = 0 mod 2 pi, chains built and validated")
+    return uniform_ring(segments, weld=weld, length=length,
+                        natural_curvature=natural_curvature, B3=B3).states(max_turns=max_turns)
 
 
-def state_turning(segments: int, weld: str, label: str, max_turns: float = 1.0) -> float:
+def state_turning(segments: int, weld: Weld, label: str, max_turns: float = 1.0) -> float:
     """Return ``theta`` of the state called ``label``; raise naming it if there is none."""
-    states = closed_states(segments, weld=weld, max_turns=max_turns).states
-    for s in states:
-        if s.label == label:
-            return s.theta
-    raise RodstabInputError(f"state {label!r} does not exist for {segments} {weld}-welded "
-                            f"rods; the states are {[s.label for s in states]}")
+    return uniform_ring(segments, weld=weld).state(label, max_turns).theta
 
 
-def state_centrelines(ring: RingStates, state: HeldState, n_points: int = 60
-                      ) -> list[np.ndarray]:
-    """Centreline ``(n_points, 2)`` of every rod of ``state`` (held state, lab frame)."""
-    a = ring_assembly(ring.segments, state.theta, weld=ring.weld, length=ring.length)
+def state_centrelines(ring: Ring, theta: float, n_points: int = 60) -> list[np.ndarray]:
+    """Centreline ``(n_points, 2)`` of every rod of the held state ``theta`` (lab frame)."""
+    a = ring.held(theta)
     return [s.position(np.linspace(0.0, s.length, n_points)) for s in a.segments]

@@ -44,6 +44,7 @@ from ..errors import RodstabInputError
 from ..model import Assembly
 from ..numerics import jacobi_scaling
 from ..results import Result
+from ..states import Ring
 from .discrete import PENALTY, DiscreteRod, discretise
 from .solve import NEWTON_RTOL, lowest_eigenvalues, max_strain, zero_eigenvalue_tol
 
@@ -383,8 +384,14 @@ def _plane(rod: DiscreteRod, x: np.ndarray, R: np.ndarray) -> tuple[np.ndarray, 
     return c, n
 
 
-def invariants(rod: DiscreteRod, s: Snapshot) -> Invariants:
-    """Distinct weld points, turning number and planarity of state ``s`` of ``rod``."""
+def invariants(rod: DiscreteRod, s: Snapshot,
+               directions: tuple[int, ...] | None = None) -> Invariants:
+    """Distinct weld points, turning number and planarity of state ``s`` of ``rod``.
+
+    ``directions``: per segment ``+1``/``-1`` when the ring runs through it forwards/backwards
+    (:attr:`rodstab.states.Ring.order`); the turning is summed along the ring. Default all
+    forwards.
+    """
     L = _mean_length(rod)
     c, n = _plane(rod, s.x, s.R_edge)
     out = float(np.max(np.abs((s.x - c) @ n))) / L
@@ -409,7 +416,7 @@ def invariants(rod: DiscreteRod, s: Snapshot) -> Invariants:
         t += [s.R_joint[j] @ Q @ [0.0, 1.0, 0.0] for e, j, Q, end in rod.end_links
               if end == "end" and e == (k + 1) * ne - 1]
         ang = np.unwrap(np.arctan2(np.asarray(t) @ e2, np.asarray(t) @ e1))
-        total += float(ang[-1] - ang[0])
+        total += (1 if directions is None else directions[k]) * float(ang[-1] - ang[0])
     return Invariants(len(welds), total / (2 * math.pi), out, out < PLANAR_TOL)
 
 
@@ -536,7 +543,8 @@ def _perturbed(rod: DiscreteRod, base: Snapshot, amplitude: float, weights: np.n
 
 
 def discover(rod: DiscreteRod, seeds: list[tuple[str, Snapshot]], known: list[KnownState], *,
-             starts: int = 8, seed: int = 0) -> tuple[Discovery, list[Snapshot]]:
+             starts: int = 8, seed: int = 0, directions: tuple[int, ...] | None = None
+             ) -> tuple[Discovery, list[Snapshot]]:
     """Find distinct equilibria of ``rod`` by deflated Newton from seeds and perturbed starts.
 
     1. Every seed state (e.g. a held state) is a start.
@@ -547,7 +555,7 @@ def discover(rod: DiscreteRod, seeds: list[tuple[str, Snapshot]], known: list[Kn
     From each start deflated Newton runs with every solution found so far deflated; after a
     success it runs again from the same start (:data:`RUNS_PER_START` runs at most). Returns
     the deduplicated states by increasing energy and their snapshots. ``rod`` is left in the
-    last state tried.
+    last state tried. ``directions``: as in :func:`invariants` (labels by turning number).
     """
     rng = np.random.default_rng(seed)
     deflated: list[Snapshot] = []
@@ -589,7 +597,7 @@ def discover(rod: DiscreteRod, seeds: list[tuple[str, Snapshot]], known: list[Kn
         ev = lowest_eigenvalues(rod, INDEX_EIGS)
         index = int(np.sum(ev < -tol))
         _, g, _ = rod.energy_terms()
-        inv = invariants(rod, s)
+        inv = invariants(rod, s, directions)
         out.append(FoundState(
             label=_label(inv, known), energy=E, index=index, index_at_least=index == len(ev),
             stable=bool(ev[0] > tol), lowest_eigenvalues=tuple(float(v) for v in ev[:4]),
@@ -606,51 +614,29 @@ def discover(rod: DiscreteRod, seeds: list[tuple[str, Snapshot]], known: list[Kn
 
 
 # ---------------------------------------------------------------------------------------------
-# Rings of cusp-welded rods (the hexagram, the six-sided ring of Section 5)
-@dataclasses.dataclass(frozen=True)
-class RingSearch:
-    """A ring of ``segments`` identical cusp-welded rods to search.
-
-    ``length`` L of a rod, ``natural_curvature`` per unit load factor, stiffnesses ``B1``,
-    ``B2`` (``B3 = 1``), and the held state ``state`` (a label of
-    :func:`rodstab.states.closed_states`) whose geometry is the first seed.
-    """
-
-    segments: int
-    length: float
-    natural_curvature: float
-    B1: float
-    B2: float
-    state: str
-
-
-def ring_seeds(ring: RingSearch, elements_per_segment: int, load_factor: float,
+# Rings of welded rods (the hexagram, the six-sided ring of Section 5, a design's ring)
+def ring_seeds(ring: Ring, state: str, elements_per_segment: int, load_factor: float,
                seed_states: bool) -> tuple[DiscreteRod, list[tuple[str, Snapshot]],
                                            list[KnownState]]:
-    """Return the common rod (built from ``ring.state``), the seeds and the known states.
+    """Return the common rod (built from held state ``state``), the seeds and the known states.
 
-    Seeds: the held geometry of ``ring.state``, and with ``seed_states`` that of every other
-    closed planar held state of uniform moment with ``|k L| <= 2 pi``
-    (:func:`rodstab.states.closed_states`: the basic states, their mirrors and the others), each
-    put into the one common rod. Raises naming ``ring.state`` if it is not a closed state.
+    ``ring``: :func:`rodstab.states.ring_of` of a design, or :func:`rodstab.states.uniform_ring`.
+    Seeds: the held geometry of ``state``, and with ``seed_states`` that of every other closed
+    planar held state of uniform moment with ``|k L| <= 2 pi`` (:meth:`Ring.states`: the basic
+    states, their mirrors and the others), each put into the one common rod. Raises naming
+    ``state`` if it is not a closed state of the ring.
     """
-    from ..states import closed_states, ring_assembly, state_turning
-
-    n = ring.segments
-    theta = state_turning(n, "cusp", ring.state)
-    listed = closed_states(n, weld="cusp", length=ring.length).states
+    theta = ring.state(state).theta
+    listed = ring.states().states
 
     def build(th: float) -> DiscreteRod:
-        a = ring_assembly(n, th, weld="cusp", length=ring.length,
-                          natural_curvature=ring.natural_curvature, B1=ring.B1, B2=ring.B2,
-                          B3=1.0)
-        return common_rod(a, elements_per_segment, load_factor)
+        return common_rod(ring.held(th), elements_per_segment, load_factor)
 
     rod = build(theta)
-    seeds = [(ring.state, Snapshot.of(rod))]
+    seeds = [(state, Snapshot.of(rod))]
     if seed_states:
         for st in listed:
-            if st.label != ring.state:
+            if st.label != state:
                 seeds.append((st.label, Snapshot.of(build(st.theta))))
     known = [KnownState(st.label, st.turning_number, st.distinct_weld_points) for st in listed]
     return rod, seeds, known
