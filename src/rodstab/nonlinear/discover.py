@@ -202,6 +202,14 @@ def _solve(Hf: sp.spmatrix, rhs: np.ndarray, dg: np.ndarray, lam_floor: float) -
     raise FloatingPointError("the Hessian stayed singular under shifts")
 
 
+def chart_size(rod: DiscreteRod, dq: np.ndarray) -> float:
+    """Largest node move (over the mean segment length ``L``) or frame turn (rad) of ``dq``."""
+    nx = 3 * len(rod.x)
+    disp = np.linalg.norm(dq[:nx].reshape(-1, 3), axis=1) / _mean_length(rod)
+    rot = np.linalg.norm(dq[nx:].reshape(-1, 3), axis=1)
+    return float(max(np.max(disp, initial=0.0), np.max(rot, initial=0.0)))
+
+
 def _cap(rod: DiscreteRod, dq: np.ndarray) -> float:
     """Largest factor <= 1 keeping ``dq`` within the step caps."""
     nx = len(rod.x)
@@ -321,6 +329,27 @@ def restore_inextensible(rod: DiscreteRod) -> None:
         rod.x[~held] += z[:nx]
         rod.R_edge = rodrigues(z[nx:].reshape(-1, 3)) @ rod.R_edge  # lab-frame turn
         restore_positions(rod)
+
+
+#: Steps that move nothing by more than this (:func:`chart_size`) are not retracted by
+#: :func:`retract_step`: their closure misfit is below ~1e-8 (second order in the step), while
+#: an equilibrium may carry a shear strain of ~(l_e / L)^2 / PENALTY, which the retraction
+#: would remove -- the last steps of Newton's method then stay plain Newton steps.
+RETRACT_ABOVE = 1e-3
+
+
+def retract_step(rod: DiscreteRod, dq: np.ndarray) -> None:
+    """After ``rod.apply(dq)``: :func:`restore_inextensible` if ``dq`` is a large step.
+
+    Parameters
+    ----------
+    rod : DiscreteRod
+        The state just moved by ``dq`` (changed in place).
+    dq : numpy.ndarray
+        The step, ``(n_dof,)``; large when :func:`chart_size` exceeds :data:`RETRACT_ABOVE`.
+    """
+    if chart_size(rod, dq) > RETRACT_ABOVE:
+        restore_inextensible(rod)
 
 
 def deflated_newton(rod: DiscreteRod, known: list[Snapshot], *,
