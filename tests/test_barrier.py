@@ -1,6 +1,8 @@
-"""Energy barriers (issue 11, part 4): saddle from continuation, path by steepest descent.
+"""Energy barriers (issue 11, part 4): the saddle by continuation and by the string method.
 
 The six-sided ring (h/t = 4, 8 el./rod) at kappa_n R0 = 1, the experiment's load (Fig. 10c).
+The two methods share no code up to their saddles (a branch traced from the folded state's
+bifurcation; a path relaxed between the two states), so the same saddle is a cross-check.
 """
 
 from __future__ import annotations
@@ -8,6 +10,7 @@ from __future__ import annotations
 import json
 import math
 
+import numpy as np
 import pytest
 
 from rodstab.errors import RodstabInputError
@@ -160,7 +163,7 @@ def test_the_folded_ring_is_one_model_for_both_discretisations() -> None:
 def ends() -> tuple:
     """The folded and one-loop six-rings in the common model, Newton-relaxed, one gauge."""
     from rodstab.nonlinear.discover import common_rod
-    from rodstab.nonlinear.neb import to_gauge
+    from rodstab.nonlinear.mep import to_gauge
     from rodstab.nonlinear.solve import newton
 
     rods = [common_rod(state_assembly("six-ring", R4, s), N, THETA)
@@ -189,7 +192,7 @@ def test_to_gauge_is_a_rigid_motion_onto_the_gauge_joint(ends: tuple) -> None:
 
 def test_chart_difference_is_inverted_by_apply(ends: tuple) -> None:
     """``a.apply(chart_difference(a, b))`` is ``b`` (rotation vectors of R_a^T R_b < pi)."""
-    from rodstab.nonlinear.neb import chart_difference
+    from rodstab.nonlinear.mep import chart_difference
 
     a, b = ends
     r = a.copy()
@@ -205,7 +208,7 @@ def test_belt_path_joins_the_states_inextensibly_with_finite_energy(ends: tuple)
     differs from the one-loop's by two full turns (Dirac's belt trick), which the lift closes;
     with a single geodesic per frame the band's middle image has energy ~7600 (the log's
     branch jumps between neighbouring frames)."""
-    from rodstab.nonlinear.neb import belt_path
+    from rodstab.nonlinear.mep import belt_path
     from rodstab.nonlinear.solve import max_strain
 
     a, b = ends
@@ -213,5 +216,107 @@ def test_belt_path_joins_the_states_inextensibly_with_finite_energy(ends: tuple)
     assert band[0].x == pytest.approx(a.x) and band[-1].R_edge == pytest.approx(b.R_edge)
     energies = [r.energy() for r in band]
     assert all(math.isfinite(e) for e in energies)
+    j, nd = a.fixed_joints[0], a.fixed_nodes[0]
+    for r in band:  # one gauge: no rigid motion along the path (module docstring of mep)
+        assert r.R_joint[j] == pytest.approx(a.R_joint[j], abs=1e-12)
+        assert r.x[nd] == pytest.approx(a.x[nd], abs=1e-12)
     assert max(energies) < 10 * energies[0]
     assert max(max_strain(r) for r in band) < 1e-9
+
+
+def test_belt_path_refuses_frame_loops_an_odd_number_of_turns_apart() -> None:
+    """No continuous path of frames joins two loops an odd number of turns apart (pi_1(SO(3))
+    = Z_2). The hexagram's line (turning number 0) and its 60-degree state (turning number 1:
+    six 60-degree arcs) are such a pair; belt_path says so, naming the turns."""
+    from rodstab.nonlinear.discover import common_rod
+    from rodstab.nonlinear.mep import belt_path, to_gauge
+    from rodstab.problems import hexagram as hx
+    from rodstab.states import uniform_ring
+
+    ring = uniform_ring(hx.SEGMENTS, length=1.0, natural_curvature=hx.L_OVER_R0,
+                        B1=R4.b1, B2=R4.b2)
+    line, sixty = (common_rod(ring.held(ring.state(s).theta), N, 1.0)
+                   for s in ("line", "theta=60deg"))
+    to_gauge(sixty, line)
+    with pytest.raises(RodstabInputError, match="differ by -?1 turns"):
+        belt_path(line, sixty, 5)
+
+
+@pytest.fixture(scope="module")
+def string_six() -> tuple:
+    """The string method on the folded/one-loop six-ring (11 images): barrier and path."""
+    from rodstab.nonlinear.mep import string_barrier
+
+    p = folded_ring.Params(section=R4)
+    return string_barrier(folded_ring.build(p), one_loop_assembly(p), THETA,
+                          elements_per_segment=N, images=11, name_a="folded",
+                          name_b="one-loop")
+
+
+def test_string_saddle_is_the_continuation_saddle(six_ring: Barrier, string_six: tuple) -> None:
+    """Two independent methods, one saddle: the string's highest region refined by Newton and
+    the subcritical branch from the folded state's bifurcation land on the same stationary
+    point -- energies equal to the Newton tolerance (the residual 1e-10 x the penalty force
+    scale 1.3e5 moves the energy by far less than 1e-8 relative), index 1 in both."""
+    b, _ = string_six
+    assert b.converged and b.saddle_index == 1 and six_ring.saddle_index == 1
+    assert b.energy_saddle == pytest.approx(six_ring.energy_saddle, rel=1e-8)
+    assert b.barrier_forward == pytest.approx(six_ring.barrier_forward, rel=1e-8)
+    assert b.energy_from == pytest.approx(3 * THETA**2, rel=1e-12)  # closed form (folded)
+
+
+def test_string_saddle_descends_to_both_states(string_six: tuple) -> None:
+    """The steepest descents from the string's saddle (retracted steps) end on the folded and
+    the one-loop ring (same_state), in far fewer steps than the continuation's unretracted
+    descents (458 and 934 in its README run)."""
+    b, _ = string_six
+    assert sorted(b.descent_ends) == ["folded", "one-loop"]
+    assert max(b.descent_steps) < 100
+    assert b.energy_to == pytest.approx(six_ring_one_loop_energy(), abs=1e-12)
+
+
+def six_ring_one_loop_energy() -> float:
+    """The one-loop ring's energy in the common model at 8 el. (Newton from its held state)."""
+    from rodstab.nonlinear.discover import common_rod
+    from rodstab.nonlinear.solve import newton
+
+    r = common_rod(one_loop_assembly(folded_ring.Params(section=R4)), N, THETA)
+    assert newton(r)[0]
+    return r.energy()
+
+
+def test_string_path_runs_from_state_to_state_through_the_saddle(string_six: tuple) -> None:
+    """The path's ends are the two states, its arclength grows from 0 to 1, the saddle is an
+    interior point and every path state is unstretched to the retraction's accuracy."""
+    from rodstab.nonlinear.discover import common_rod
+    from rodstab.nonlinear.solve import max_strain
+
+    b, path = string_six
+    e, s = b.energies, b.path_arclength
+    assert len(path) == len(e) == len(s) == b.images == 11
+    assert e[0] == pytest.approx(b.energy_from, rel=1e-12)
+    assert e[-1] == pytest.approx(b.energy_to, abs=1e-12)
+    assert e[b.saddle_position] == b.energy_saddle
+    assert 0 < b.saddle_position < len(e) - 1
+    assert s[0] == 0.0 and s[-1] == pytest.approx(1.0) and all(np.diff(s) > 0)
+    rod = common_rod(folded_ring.build(folded_ring.Params(section=R4)), N, THETA)
+    for snap in path:
+        snap.put(rod)
+        assert max_strain(rod) < 1e-6
+
+
+def test_reparametrise_spaces_the_images_equally(ends: tuple) -> None:
+    """Piecewise-geodesic reparametrisation evens the string: the new images sit at equal chart
+    arclength along the old string and are then retracted onto the inextensible states, which
+    moves them off it by a little (new segments 0.18 .. 0.21 here, the old 0.12 .. 0.28: the
+    spread falls 5.6x). The ends are kept."""
+    from rodstab.nonlinear.mep import arclength, belt_path, reparametrise
+
+    a, b = ends
+    band = belt_path(a, b, 7)
+    uneven = [band[0], band[1], band[3], band[4], band[5], band[6]]  # a gap of two segments
+    new = reparametrise(uneven, a.free_dofs())
+    before, after = np.diff(arclength(uneven)), np.diff(arclength(new))
+    assert np.ptp(before) > 0.1
+    assert np.ptp(after) < 0.25 * np.ptp(before)
+    assert new[0] is uneven[0] and new[-1] is uneven[-1]
