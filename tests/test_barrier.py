@@ -109,8 +109,8 @@ def test_cli_barrier_json(six_ring: Barrier, capsys: pytest.CaptureFixture[str],
         return six_ring
 
     monkeypatch.setattr(nb, "barrier_from_bifurcation", same)
-    main(["barrier", "--structure", "six-ring", "--shape", "rectangle", "--aspect", "4",
-          "--load-factor", "1", "--elements", "8", "--json"])
+    main(["barrier", "--method", "continuation", "--structure", "six-ring", "--shape",
+          "rectangle", "--aspect", "4", "--load-factor", "1", "--elements", "8", "--json"])
     out = json.loads(capsys.readouterr().out)
     assert out["saddle_index"] == 1
     assert (out["from"], out["to"]) == ("folded", "one-loop")
@@ -125,8 +125,12 @@ def test_cli_barrier_json(six_ring: Barrier, capsys: pytest.CaptureFixture[str],
     (["--elements", "3"], "--elements must be an integer >= 4, got 3"),
     (["--from", "one-loop", "--to", "one-loop"], "--to 'one-loop' is the --from state"),
     (["--from", "square"], "--from 'square'"),
-    (["--structure", "hexagram", "--from", "star", "--to", "daisy", "--load-factor", "1.5"],
-     "'star' is curved in its held geometry"),
+    (["--method", "continuation", "--structure", "hexagram", "--from", "star", "--to",
+      "daisy", "--load-factor", "1.5"], "'star' is curved in its held geometry"),
+    (["--images", "2"], "--images must be an integer >= 3, got 2"),
+    (["--method", "continuation", "--images", "9"], "--images and --animation are options"),
+    (["--animation", "path.png"], "--animation"),
+    (["--structure", "hexagram", "--from", "star", "--to", "square"], "--to 'square'"),
 ])
 def test_cli_bad_input_exits_2_naming_the_value(args: list[str], named: str,
                                                 capsys: pytest.CaptureFixture[str]) -> None:
@@ -320,3 +324,56 @@ def test_reparametrise_spaces_the_images_equally(ends: tuple) -> None:
     assert np.ptp(before) > 0.1
     assert np.ptp(after) < 0.25 * np.ptp(before)
     assert new[0] is uneven[0] and new[-1] is uneven[-1]
+
+
+def test_cli_barrier_string_json_plot_and_animation(string_six: tuple, tmp_path,
+                                                    capsys: pytest.CaptureFixture[str],
+                                                    monkeypatch: pytest.MonkeyPatch) -> None:
+    """``rodstab barrier`` (string, the default) prints the library's barrier and writes the
+    energy plot and the GIF of the path (one frame per path state). The library call is
+    replaced by the fixture's result for the same arguments (checked)."""
+    from PIL import Image
+
+    import rodstab.nonlinear.mep as mep
+    from rodstab.cli import main
+
+    seen = {}
+
+    def same(a, b, mu, **kwargs):
+        seen.update(kwargs, mu=mu, segments=len(a.segments))
+        return string_six
+
+    monkeypatch.setattr(mep, "string_barrier", same)
+    png, gif = tmp_path / "e.png", tmp_path / "p.gif"
+    main(["barrier", "--shape", "rectangle", "--aspect", "4", "--images", "11", "--plot",
+          str(png), "--animation", str(gif), "--json"])
+    out = json.loads(capsys.readouterr().out)
+    b, path = string_six
+    assert (out["method"], out["images"], out["converged"]) == ("string", 11, True)
+    assert out["barrier_forward"] == pytest.approx(b.barrier_forward, abs=1e-12)
+    assert out["saddle_index"] == 1 and (out["from"], out["to"]) == ("folded", "one-loop")
+    assert seen == {"elements_per_segment": 8, "images": 11, "name_a": "folded",
+                    "name_b": "one-loop", "mu": pytest.approx(THETA), "segments": 6}
+    assert png.stat().st_size > 0
+    assert Image.open(gif).n_frames == len(path)
+
+
+def test_cli_barrier_unconverged_exits_3_after_the_output(string_six: tuple,
+                                                          capsys: pytest.CaptureFixture[str],
+                                                          monkeypatch: pytest.MonkeyPatch
+                                                          ) -> None:
+    """A string barrier that did not converge is printed, then exit 3 names why."""
+    import dataclasses
+
+    import rodstab.nonlinear.mep as mep
+    from rodstab.cli import main
+
+    b, path = string_six
+    failed = dataclasses.replace(b, converged=False, saddle_index=2)
+    monkeypatch.setattr(mep, "string_barrier", lambda *a, **k: (failed, path))
+    with pytest.raises(SystemExit) as exc:
+        main(["barrier", "--shape", "rectangle", "--aspect", "4", "--json"])
+    captured = capsys.readouterr()
+    assert exc.value.code == 3
+    assert json.loads(captured.out)["converged"] is False
+    assert "did not converge" in captured.err and "saddle index 2" in captured.err
