@@ -377,3 +377,47 @@ def test_cli_barrier_unconverged_exits_3_after_the_output(string_six: tuple,
     assert exc.value.code == 3
     assert json.loads(captured.out)["converged"] is False
     assert "did not converge" in captured.err and "saddle index 2" in captured.err
+
+
+def test_cli_barrier_reads_the_states_of_a_design_ring(string_six: tuple,
+                                                      capsys: pytest.CaptureFixture[str],
+                                                      monkeypatch: pytest.MonkeyPatch) -> None:
+    """``rodstab barrier DESIGN --from line --to star``: the states are the design ring's held
+    states of those labels (Ring.held; rodstab states names the folded ring's states line and
+    star), at the design's load factor. The library call is replaced (wiring only; the full
+    run gives the built-in six-ring's 1.12004, README)."""
+    import rodstab.nonlinear.mep as mep
+    from rodstab.cli import main
+
+    seen = {}
+
+    def same(a, b, mu, **kwargs):
+        seen.update(kwargs, mu=mu, held=[[s.curvature for s in x.segments] for x in (a, b)])
+        return string_six
+
+    monkeypatch.setattr(mep, "string_barrier", same)
+    main(["barrier", "examples/folded_six_ring.toml", "--from", "line", "--to", "star",
+          "--load-factor", repr(THETA), "--json"])
+    out = json.loads(capsys.readouterr().out)
+    assert out["structure"] == "examples/folded_six_ring.toml"
+    assert (seen["name_a"], seen["name_b"], seen["mu"]) == ("line", "star", THETA)
+    assert seen["held"][0] == [0.0] * 6  # the line: straight rods
+    assert [abs(k) for k in seen["held"][1]] == pytest.approx([THETA] * 6)  # the star's arcs
+
+
+@pytest.mark.parametrize(("args", "named"), [
+    (["examples/folded_six_ring.toml", "--from", "line"], "--from and --to name two states"),
+    (["examples/folded_six_ring.toml", "--from", "line", "--to", "nosuch"], "'nosuch'"),
+    (["examples/folded_six_ring.toml", "--from", "line", "--to", "star", "--method",
+      "continuation"], "--method continuation is for the built-in structures"),
+    (["examples/folded_six_ring.toml", "--from", "line", "--to", "star", "--shape", "circle"],
+     "--shape"),
+])
+def test_cli_barrier_design_bad_input_exits_2(args: list[str], named: str,
+                                              capsys: pytest.CaptureFixture[str]) -> None:
+    from rodstab.cli import main
+
+    with pytest.raises(SystemExit) as exc:
+        main(["barrier", *args])
+    assert exc.value.code == 2
+    assert named in capsys.readouterr().err
