@@ -126,17 +126,26 @@ STEP_FRACTION = 0.5
 REPARAM_RATIO = 1.5
 #: String iterations between two attempts to refine images to the saddle.
 SADDLE_TRY_EVERY = 10
+#: A saddle attempt waits until the string has settled: its highest energy ranged over less
+#: than SETTLE_RTOL times its height above the lower end in the last SETTLE_ITER iterations.
+#: Without this, a saddle found from a string still on its initial path's plateau (daisy ->
+#: eight, 8 el., 17 images: 300 .. 400 B3/L for 30 iterations, then 14.47 from iteration 38)
+#: joins the two states but is not known to be on the minimum energy path.
+SETTLE_RTOL = 0.02
+SETTLE_ITER = 5
 #: Local maxima of the string's energies refined per attempt (highest first).
 SADDLE_CANDIDATES = 3
 #: The string stops (too coarse) when neighbouring images differ by a frame turn or node move
 #: (over L) above this: past ~pi the chart difference takes the other branch of the log and an
 #: interpolated image has neighbouring frames half a turn apart (energies ~1e7 seen at gaps of
 #: 3.1 rad, hexagram star -> daisy with 11 images); more images are needed.
-MAX_GAP = 2.0
+MAX_GAP = 2.5
 #: Newton steps towards the saddle move no node (over L) or frame (rad) by more than this.
 SADDLE_STEP = 0.1
 #: Most Newton steps of one attempt (from the basin: 4 .. 40, measured).
 SADDLE_MAX_ITER = 40
+#: Extra Newton steps past the tolerance, each kept only if it divides the residual by 10.
+POLISH_STEPS = 2
 #: Largest |frame normal . lab z - 1| and out-of-plane node coordinate (times L) of a planar state.
 PLANAR_TOL = 1e-8
 #: Levenberg shifts tried per step (``lam`` grows 4x from the floor; the floor is 1e-11 and the
@@ -385,56 +394,81 @@ def _tangent(band: list[DiscreteRod], i: int, free: np.ndarray, scale: np.ndarra
     return ahead / np.linalg.norm(scale * ahead) + back / np.linalg.norm(scale * back)
 
 
+def _newton_step(r: DiscreteRod, free: np.ndarray, gf: np.ndarray, H: sp.csr_matrix
+                 ) -> np.ndarray | None:
+    """Return ``dq`` of the Newton step ``-H^-1 g`` on ``free``, or None.
+
+    ``H`` is shifted by the smallest ``lam D`` that lets the LU factorisation succeed when it
+    is singular.
+    """
+    Hf = H[free][:, free].tocsc()
+    Hf = 0.5 * (Hf + Hf.T)
+    dg = np.abs(Hf.diagonal())
+    floor = zero_eigenvalue_tol(r)
+    lam = 0.0
+    for _ in range(SHIFT_TRIES):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            try:  # LU with partial pivoting: H is indefinite at a saddle
+                step = -spla.splu((Hf + lam * sp.diags(dg)).tocsc()).solve(gf)
+            except RuntimeError:
+                step = None
+        if step is not None and np.all(np.isfinite(step)):
+            dq = np.zeros(r.n_dof)
+            dq[free] = step
+            return dq
+        lam = max(4 * lam, floor)
+    return None
+
+
 def refine_saddle(r: DiscreteRod, *, max_iter: int = SADDLE_MAX_ITER) -> NewtonRun:
     """Newton's method on the gradient from ``r`` (in place) to the stationary point nearby.
 
-    Steps ``s = -H^-1 g`` on the free unknowns (shifted by the smallest ``lam D`` that makes
-    the factorisation succeed when ``H`` is singular), scaled to move nothing by more than
+    Steps ``s = -H^-1 g`` on the free unknowns, scaled to move nothing by more than
     :data:`SADDLE_STEP`, and retracted onto the inextensible states while larger than
     :data:`~.discover.RETRACT_ABOVE` (:func:`~.discover.retract_step`, module docstring). No
-    merit function: it converges to saddles as well as minima, from their basin.
+    merit function: it converges to saddles as well as minima, from their basin. Once the
+    residual is below the tolerance, up to :data:`POLISH_STEPS` more plain Newton steps are
+    taken while each lowers it: near soft modes the energy error is ~``g^2 / lambda``, 1e-6
+    B3/L at the tolerance (hexagram daisy -> eight, 8 el.: saddle energies 8.7e-7 apart at
+    residuals 5e-6 and 3e-9), and Newton's quadratic convergence removes it in a step or two.
 
     Returns
     -------
     NewtonRun
         ``converged``: the free gradient's max-norm fell below ``NEWTON_RTOL`` times the stiff
-        force scale (as :func:`~.solve.newton`); its iterations and that residual.
+        force scale (as :func:`~.solve.newton`); its iterations and the final residual.
     """
     free = r.free_dofs()
     tol = NEWTON_RTOL * float(PENALTY * np.max(r.edge_B) / np.min(r.rest_length))
-    floor = zero_eigenvalue_tol(r)
     _, g, H = r.energy_terms()
-    res = math.inf
-    for it in range(max_iter + 1):
-        gf = g[free]
-        res = float(np.max(np.abs(gf)))
-        if res <= tol or not math.isfinite(res):
-            return NewtonRun(res <= tol, it, res)
-        if it == max_iter:
+    res = float(np.max(np.abs(g[free])))
+    it = 0
+    while res > tol and math.isfinite(res) and it < max_iter:
+        dq = _newton_step(r, free, g[free], H)
+        if dq is None:
             break
-        Hf = H[free][:, free].tocsc()
-        Hf = 0.5 * (Hf + Hf.T)
-        dg = np.abs(Hf.diagonal())
-        lam, step = 0.0, None
-        for _ in range(SHIFT_TRIES):
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore")
-                try:  # LU with partial pivoting: H is indefinite at a saddle
-                    step = -spla.splu((Hf + lam * sp.diags(dg)).tocsc()).solve(gf)
-                except RuntimeError:
-                    step = None
-            if step is not None and np.all(np.isfinite(step)):
-                break
-            lam = max(4 * lam, floor)
-        if step is None or not np.all(np.isfinite(step)):
-            break
-        dq = np.zeros(r.n_dof)
-        dq[free] = step
         dq *= min(1.0, SADDLE_STEP / max(chart_size(r, dq), 1e-300))
         r.apply(dq)
         retract_step(r, dq)
         _, g, H = r.energy_terms()
-    return NewtonRun(False, max_iter, res)
+        res = float(np.max(np.abs(g[free])))
+        it += 1
+    if not res <= tol:
+        return NewtonRun(False, it, res)
+    for _ in range(POLISH_STEPS):
+        dq = _newton_step(r, free, g[free], H)
+        if dq is None:
+            break
+        trial = r.copy()
+        trial.apply(dq)
+        _, gt, Ht = trial.energy_terms()
+        if not float(np.max(np.abs(gt[free]))) < 0.1 * res:
+            break  # round-off: the residual no longer falls
+        r.x, r.R_edge, r.R_joint = trial.x, trial.R_edge, trial.R_joint
+        g, H, res = gt, Ht, float(np.max(np.abs(gt[free])))
+        it += 1
+    return NewtonRun(True, it, res)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -479,13 +513,13 @@ def relax_string(band: list[DiscreteRod], *, max_iter: int = STRING_MAX_ITER,
 
     The iteration of the module docstring: every interior image takes one perpendicular
     Newton step (:func:`_perpendicular_step`), the string is reparametrised when uneven
-    (:func:`reparametrise`), and every ``try_every`` iterations copies of the interior local
-    maxima of its energies (highest first, at most :data:`SADDLE_CANDIDATES`) are refined by
-    :func:`refine_saddle`. The first that converges with index one and that ``accept`` takes
-    ends the relaxation. A local maximum, not only the highest image: a string between two
-    states may pass other minima (a copy of an end state under the ring's symmetry), and its
-    highest hump need not be the saddle between the ends (hexagram star -> daisy at
-    ``kappa_n R0 = 1.5``, module docstring of :mod:`rodstab.nonlinear.barrier`).
+    (:func:`reparametrise`), and, at least ``try_every`` iterations apart and once the string
+    has settled (:data:`SETTLE_RTOL`), copies of the interior local maxima of its energies
+    (highest first, at most :data:`SADDLE_CANDIDATES`) are refined by :func:`refine_saddle`.
+    The first that converges with index one and that ``accept`` takes ends the relaxation. A
+    local maximum, not only the highest image: a string between two states may pass other
+    minima (a copy of an end state under the ring's symmetry), and its highest hump need not
+    be the saddle between the ends (hexagram star -> daisy, module docstring).
 
     Parameters
     ----------
@@ -514,7 +548,7 @@ def relax_string(band: list[DiscreteRod], *, max_iter: int = STRING_MAX_ITER,
     terms[0], terms[-1] = ends
     tops: list[float] = []
     attempts = reps = 0
-    index, residual, moved, it = -1, math.nan, math.inf, 0
+    index, residual, moved, it, last_try = -1, math.nan, math.inf, 0, 0
 
     def gaps() -> list[float]:
         return [chart_size(band[k], chart_difference(band[k], band[k + 1]))
@@ -548,8 +582,12 @@ def relax_string(band: list[DiscreteRod], *, max_iter: int = STRING_MAX_ITER,
         energies = [t[0] if t is not None else r.energy()
                     for t, r in zip(terms, band, strict=True)]
         tops.append(max(energies[1:-1]))
-        if it % try_every:
+        window = tops[-1 - SETTLE_ITER:]
+        settled = (len(tops) > SETTLE_ITER and max(window) - min(window)
+                   <= SETTLE_RTOL * (tops[-1] - min(energies[0], energies[-1])))
+        if it < last_try + try_every or not settled:
             continue
+        last_try = it
         peaks = [i for i in range(1, n - 1)
                  if energies[i] >= energies[i - 1] and energies[i] >= energies[i + 1]]
         for i in sorted(peaks, key=lambda k: -energies[k])[:SADDLE_CANDIDATES]:
