@@ -1,4 +1,4 @@
-"""Energy barriers between two stable equilibria: the saddle from continuation, the path by descent.
+"""Energy barriers between two stable equilibria: the saddle by continuation, path by descent.
 
 A stable state A at load factor ``mu0`` loses stability at ``mu_c``, the upper end of its stable
 interval. When that bifurcation is subcritical the branch leaving it runs back towards ``mu0`` as
@@ -24,19 +24,24 @@ state the branch connects it to. So:
 
 ``barrier_forward = E_saddle - E_A``, ``barrier_backward = E_saddle - E_B``.
 
-Retired (not kept): a string method between the two minima (E, Ren and Vanden-Eijnden, J. Chem.
-Phys. 126, 164103, 2007) -- on the rod the initial string's images were far from equilibrium and
-the descent broke down on non-finite energies; and minimum-mode following from the folded six-ring,
-which wandered in its nearly double lowest eigenpair. Both are in the branch's history. Why the
-linear string failed is now understood (:mod:`.neb`): held states of one ring put the gauge joint
-in different frames (120 degrees apart for the folded and one-loop six-rings), which no free
-unknown can undo, and the frames' loops round the ring differ by two full turns, so no frame-by-
-frame interpolation closes; :mod:`.neb` builds a path that does (the belt trick), but its nudged
-elastic band does not converge yet and is not used here.
+A second, independent method is the string method (:func:`~.mep.string_barrier`, module
+:mod:`.mep`): a path relaxed between the two minima, its saddle refined by Newton from a local
+maximum of the path's energies, checked by the same descents (:func:`descents_from_saddle`, there
+with retracted steps). It needs no bifurcation and no continuation, names both ends in one
+discrete model and is what ``rodstab barrier`` uses by default; on the folded/one-loop six-ring
+at 8 el./rod the two saddles' energies agree to 3e-13 relative (asserted to 1e-8,
+``tests/test_barrier.py``). Retired (in the
+branch's history): an earlier string method whose initial path interpolated the unknowns
+linearly (non-finite energies: the held states put the gauge joint in frames 120 degrees apart,
+and the frames' loops round the ring differ by whole turns); minimum-mode following from the
+folded six-ring, which wandered in its nearly double lowest eigenpair; and a nudged elastic
+band from the belt path of :mod:`.mep`, whose highest image stalled at ~40 B3/L (its images
+carried the gauge joint's full turn, and its unretracted steps were accepted only below
+~0.03 rad).
 
-A held state curved in its own geometry (the hexagram's) is refused: the continuation
+A held state curved in its own geometry (the hexagram's) is refused here: the continuation
 discretises the held state (:func:`~.discrete.discretise`), whose model is not the common one
-(:func:`same_model`).
+(:func:`same_model`); the string method puts every state in the common model.
 """
 
 from __future__ import annotations
@@ -299,8 +304,9 @@ def barrier_from_bifurcation(a: Assembly, load_factor: float, *, upper: float,
             f"state {name!r} is curved in its held geometry: the continuation's discrete model "
             "of it (rest lengths = the held arc's chords, natural curvature shifted by the held "
             "Cayley curvature) is not the common model in which the other states are named, "
-            "so the barrier's two ends would be energies of different models; use the nudged "
-            "elastic band (method 'neb'), which puts every state in the common model")
+            "so the barrier's two ends would be energies of different models; use the string "
+            "method (rodstab barrier --method string), which puts every state in the common "
+            "model")
     ok_a = newton(rod_a)[0]
     if not ok_a or lowest_modes(rod_a, 1)[0][0] < -zero_eigenvalue_tol(rod_a):
         raise RodstabInputError(f"load factor {mu0!r}: state {name!r} is not a stable "

@@ -1,19 +1,23 @@
 """Minimum energy path between two stable states of one discrete rod: string method, saddle.
 
-The simplified string method of E, Ren and Vanden-Eijnden, J. Chem. Phys. 126, 164103 (2007),
-with the descent of each image restricted to the plane perpendicular to the string (their
-original method, J. Chem. Phys. 2002; the perpendicular step in a Newton metric as in the
-preconditioned NEB of Makri, Ortner and Kermode, J. Chem. Phys. 150, 094109, 2019), and the
-saddle refined from the string's highest image by Newton's method on the gradient.
+The string method of E, Ren and Vanden-Eijnden (J. Chem. Phys. 126, 164103, 2007, the
+simplified method: no springs, reparametrisation to equal arclength; the descent restricted to
+the plane perpendicular to the string as in their original method, Phys. Rev. B 66, 052301,
+2002, with a Newton step on that plane as in the preconditioned NEB of Makri, Ortner and
+Kermode, J. Chem. Phys. 150, 094109, 2019), and the saddle refined from a local maximum of the
+string's energies by Newton's method on the gradient; its index is checked to be one and its
+steepest descents to end on the two states. Entry point: :func:`string_barrier`.
 
 **Chart.** Images live on ``R^(3 N) x SO(3)^M`` (node positions, edge and joint frames). The
 difference of two images is taken in the chart of the first (:func:`chart_difference`:
 ``x_b - x_a`` and the rotation vectors of ``R_a^T R_b``), updates by
 :meth:`~.discrete.DiscreteRod.apply` (``R exp(hat(phi))``), the chart in which
-:meth:`~.discrete.DiscreteRod.energy_terms` gives the exact gradient and Hessian. Lengths in
-chart norms are over the mean rod length ``L`` (radians for frames). All images are in one
-gauge (:func:`to_gauge`): the gauge joint's frame and node are the same in every image, so no
-rigid motion -- a free direction of zero energy -- enters the string.
+:meth:`~.discrete.DiscreteRod.energy_terms` gives the exact gradient and Hessian. Chart sizes
+(:func:`~rodstab.nonlinear.discover.chart_size`) are the largest node move over the mean rod
+length ``L`` or frame turn in radians; arclength is the Euclidean norm of the free unknowns
+with positions over ``L``. All images are in one gauge (:func:`to_gauge`): the gauge joint's
+frame and node are the same in every image, so no rigid motion -- a direction of zero energy --
+enters the string.
 
 **Initial path** (:func:`belt_path`). Linear interpolation of the unknowns fails (compressed
 edges under the stiff stretch/shear penalty, non-finite energies), and so does the geodesic
@@ -32,56 +36,71 @@ dimension. ``alpha_e`` is lifted continuously along the rods (breadth-first from
 and ``G`` depends on ``alpha`` only modulo ``4 pi``: a ring whose two frame loops differ by two
 full turns (the folded and one-loop six-rings) closes -- Dirac's belt trick; an odd number of turns
 cannot close and is refused (no continuous path of frames exists). The gauge joint itself turns
-by ``R_m(2 pi t)``: each image is moved back into A's gauge rigidly (without this the string's
-first images are A itself turned about its own line, a zero-energy detour 18 chart units long at
-8 el./rod, measured). Positions follow from the frames
-(:func:`~rodstab.nonlinear.discover.restore_positions`), so every image is inextensible and
-unsheared, with finite energy (at most 101 B3/L for the six-ring at 8 el./rod).
+by ``R_m(2 pi t)``: each image is moved back into A's gauge rigidly. (Without this the first
+images of the relaxed string were A itself turned about its own line, a detour of zero energy
+18 chart units long, six-ring at 8 el./rod: the band of the retired nudged elastic band had the
+same defect.) Each image is then made inextensible
+(:func:`~rodstab.nonlinear.discover.restore_inextensible`: where the turned frames' tangents do
+not close round the ring, positions alone leave a penalty strain -- 7.5e5 B3/L on the hexagram's
+star -> daisy path -- which least frame turns remove). Highest initial energies: 99 B3/L
+(six-ring), 283 (star -> daisy), against saddles at 14.3 and 7.9.
 
 **String iteration** (:func:`relax_string`). Each interior image takes one step that minimises
 the quadratic model ``g . s + 1/2 s^T H s`` on the plane ``tau . s = 0`` perpendicular to its
-central tangent ``tau`` -- a Newton step on that plane. Where ``H`` is indefinite on the plane
-the Levenberg shift ``H + lam D`` (``D = |diag H|``) is raised until it is positive definite
-there: by the inertia of the bordered matrix, when ``H + lam D`` has at most one negative
-eigenvalue and ``tau . (H + lam D)^-1 tau`` has the sign that makes the projected matrix
-positive definite (``> 0`` with none, ``< 0`` with one), read off the pivots of a symmetric
-factorisation. Only the plane has to be convex, not the path's own direction, where the string
-crosses the barrier: a shift that made all of ``H`` positive definite would damp every bending
-mode (scaled eigenvalues ~1e-8) by the barrier's negative curvature (~1e-5) and the images
-crawl. Every trial state is retracted onto the inextensible states
-(:func:`~rodstab.nonlinear.discover.restore_inextensible`): without it a step of 0.04 rad already
-raises the energy through the penalty's closure strain, which the quadratic model does not see,
-and the string needed 190 iterations instead of 60 (six-ring, 8 el./rod, 11 images). The step
-is accepted when the energy falls by a quarter of the model's prediction, else ``lam`` grows 4x
-(Levenberg-Marquardt, as :func:`~.solve.lm_step`). A step moves no node or frame by more than
-:data:`STEP_FRACTION` of the image's smaller chart gap to its neighbours (images do not pass
-each other). No springs: when the longest chart segment of the string exceeds
-:data:`REPARAM_RATIO` times the shortest, the string is reparametrised to equal arclength
-(:func:`reparametrise`: piecewise geodesic in the chart, then the retraction) -- every iteration
-would be E et al.'s simplified method, but each interpolation raises the images' penalty strain
-and gradient, which the next step spends itself undoing.
+central tangent ``tau``: a Newton step on that plane. Where the model is not convex on the
+plane the Levenberg shift ``H + lam D`` (``D = |diag H|``) is raised until it is; only the plane
+has to be convex, not the string's own direction: ``H + lam D`` may keep one negative eigenvalue
+if ``tau . (H + lam D)^-1 tau < 0`` (the inertia of the bordered matrix), both read off the
+pivots of a symmetric factorisation. (Along the six-ring's string at 8 el./rod the unshifted
+``H`` had no negative eigenvalue at 134 of 360 steps, one at 53, more at 173.) Every trial
+state is retracted onto the inextensible states (:func:`~rodstab.nonlinear.discover.
+retract_step`): a chart step opens the ring's closure at second order, and at 0.1 rad the
+penalty strain that leaves (0.83 B3/L on the six-ring) swamps the predicted change (0.04), so
+unretracted steps were accepted only below ~0.03 rad and a version of this loop without the
+retraction needed 190 iterations where it needs 40. The step is accepted when the energy falls
+by a quarter of the model's prediction, else ``lam`` grows 4x (Levenberg-Marquardt, as
+:func:`~.solve.lm_step`). A step moves nothing by more than :data:`STEP_FRACTION` of the
+image's smaller chart gap to its neighbours (images do not overtake each other). No springs:
+when the longest chart segment of the string exceeds :data:`REPARAM_RATIO` times the shortest,
+the string is reparametrised to equal arclength (:func:`reparametrise`: piecewise geodesic in
+the chart, then the retraction). E et al. reparametrise every iteration; here each
+interpolation raises the images' penalty strain and gradient, which the next step then spends
+itself undoing: in a version without the retraction, from one string the top image's energy
+fell from 17.96 to 16.05 B3/L in 95 iterations so, to 14.52 in 55 when reparametrised only
+when uneven. When neighbouring
+images are more than :data:`MAX_GAP` apart the string stops as too coarse (an interpolation
+near half a turn flips the branch of the log: energies of 1e7 seen).
 
-**Saddle** (:func:`refine_saddle`). Every :data:`SADDLE_TRY_EVERY` iterations the highest
-interior image is refined by Newton's method on the gradient, ``s = -H^-1 g`` (no merit
-function: a saddle is no minimum of the energy, and the gradient-norm merit of
-:func:`~rodstab.nonlinear.discover.deflated_newton` stalls at a non-stationary point, residual
-0.054, from the string's highest image at 8 el./rod), steps capped at :data:`SADDLE_STEP` and
-retracted while larger than :data:`~rodstab.nonlinear.discover.RETRACT_ABOVE` (the last,
-small steps are plain Newton, quadratically convergent: the retraction would remove the
-equilibrium's own shear strain).
+**Saddle** (:func:`refine_saddle`). Once the string has settled (:data:`SETTLE_RTOL`), every
+:data:`SADDLE_TRY_EVERY` iterations copies of the local maxima of its energies are refined by
+Newton's method on the gradient, ``s = -H^-1 g``: no merit function, a saddle being no minimum
+of the energy (the gradient-norm merit of :func:`~rodstab.nonlinear.discover.deflated_newton`
+stalls at a non-stationary point, residual 0.054 B3/L^2, from the six-ring string's highest
+image). Steps are capped at :data:`SADDLE_STEP` and retracted while larger than
+:data:`~rodstab.nonlinear.discover.RETRACT_ABOVE` (the last, small steps are plain Newton,
+quadratically convergent; the retraction would remove an equilibrium's own shear strain).
+Without the retraction the same iteration converged only with steps capped at 0.01 rad.
 Converged at :data:`~rodstab.nonlinear.solve.NEWTON_RTOL` times the stiff force scale, as
-:func:`~rodstab.nonlinear.solve.newton`. A converged Newton run whose index (negative scaled
-eigenvalues, :func:`~rodstab.nonlinear.solve.lowest_modes`) is not one is discarded (the
-six-ring has an index-2 stationary point at 14.6766 B3/L next to the path, where Newton goes
-from a string whose top is still above 14.5) and the string relaxed further.
+:func:`~rodstab.nonlinear.solve.newton`. A stationary point whose index (negative scaled
+eigenvalues, :func:`~rodstab.nonlinear.solve.lowest_modes`) is not one is passed over (the
+six-ring has one of index 2 at 14.6766 B3/L next to the path, where Newton goes from a string
+whose top is still above 14.5), and so is a saddle whose two steepest descents
+(:func:`~.barrier.descents_from_saddle`, retracted: 16 .. 24 steps against 458 .. 934
+unretracted) do not end on the two states (:func:`~rodstab.nonlinear.discover.same_state`,
+modulo the ring's symmetry).
 
-**Convergence.** The string is not iterated until its images stop moving: near a ring state
-of nearly uniform curvature the images drift along soft modes (the nearly free sliding of the
-one-loop ring), by 0.02 .. 0.3 rad per iteration for 150 iterations (six-ring, 8 el./rod, 11
-images, measured), while its energies stay within 0.1 B3/L of the path. It is iterated until its
-highest image is in the Newton basin of an index-1 saddle; that saddle is then checked by the
-steepest descents along ``+-`` its unstable mode (:func:`~.barrier.descend`), which must end on
-the two states (:func:`~rodstab.nonlinear.discover.same_state`).
+**What converges.** Not the images' positions: near a state of nearly uniform curvature they
+drift along soft modes (the nearly free sliding of the one-loop ring), by 0.02 .. 0.5 rad per
+iteration for 150 iterations (six-ring, 8 el./rod, 11 images), while the energy profile stays
+put. The string is relaxed until a local maximum of its energies lies in the Newton basin of
+an index-1 saddle whose descents end on the two states; that saddle (Newton-converged) is the
+result, and its energy is the continuation's to 3e-13 relative (six-ring, 8 el./rod). A string
+may also make a detour: between the hexagram's star and daisy (kappa_n R0 = 1.5, 8 el./rod, 17
+images) it leaves the star, loops over a hump of 19.3 B3/L (near a stationary point at 19.29)
+and comes back to the star itself (image 10, 0.001 B3/L above it, descends to it) before
+crossing the saddle at 7.91 to the daisy; every image before the saddle descends to the star.
+The relaxation does not remove the loop (presumably not a contractible one). The barrier
+reported is the saddle's, which joins the two states; the loop stays in the reported path.
 """
 
 from __future__ import annotations
@@ -517,9 +536,9 @@ def relax_string(band: list[DiscreteRod], *, max_iter: int = STRING_MAX_ITER,
     has settled (:data:`SETTLE_RTOL`), copies of the interior local maxima of its energies
     (highest first, at most :data:`SADDLE_CANDIDATES`) are refined by :func:`refine_saddle`.
     The first that converges with index one and that ``accept`` takes ends the relaxation. A
-    local maximum, not only the highest image: a string between two states may pass other
-    minima (a copy of an end state under the ring's symmetry), and its highest hump need not
-    be the saddle between the ends (hexagram star -> daisy, module docstring).
+    local maximum, not only the highest image: a string between two states may pass an end
+    state again after a loop, and its highest hump need not be the saddle between the ends
+    (hexagram star -> daisy, module docstring).
 
     Parameters
     ----------
