@@ -1070,7 +1070,8 @@ _BARRIER_STATES = {"six-ring": ("folded", "one-loop"), "hexagram": ("line", "sta
 @click.option("--elements", type=int, default=8, show_default=True,
               help="Elements per rod of the discrete rod (>= 4).")
 @click.option("--images", type=int, default=None,
-              help="Images of the string, ends included (>= 3; default 17). String method.")
+              help="Images of the string, ends included (>= 3; default "
+                   "rodstab.nonlinear.mep.STRING_IMAGES, 17). String method.")
 @click.option("--plot", "plot_path", type=click.Path(dir_okay=False), default=None,
               help="Write the energy along the path (saddle marked, barriers annotated).")
 @click.option("--animation", "animation_path", type=click.Path(dir_okay=False), default=None,
@@ -1097,7 +1098,9 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
     k = require_finite("--load-factor", load_factor)
     if method == "continuation" and (images is not None or animation_path is not None):
         raise RodstabInputError("--images and --animation are options of --method string")
-    n_img = 17 if images is None else require_int("--images", images, 3)
+    from .nonlinear.mep import STRING_IMAGES
+
+    n_img = STRING_IMAGES if images is None else require_int("--images", images, 3)
     plot = None if plot_path is None else _image_output("--plot", plot_path)
     gif = None if animation_path is None else check_output("--animation", animation_path,
                                                            directory=False, suffixes={".gif"})

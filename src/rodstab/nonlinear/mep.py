@@ -134,8 +134,9 @@ from .solve import NEWTON_RTOL, lowest_modes, newton, vee_log, zero_eigenvalue_t
 #: Lowest eigenvalues computed to count a stationary point's index.
 INDEX_EIGS = 4
 
-#: Images of the string, ends included.
-STRING_IMAGES = 11
+#: Images of the string, ends included (11 suffice for the six-ring at 8 el./rod; the
+#: hexagram's star -> daisy string becomes too coarse with 11 and converges with 17).
+STRING_IMAGES = 17
 #: Most string iterations (each: one step of every interior image).
 STRING_MAX_ITER = 300
 #: A step moves no node (over L) or frame (rad) by more than this times the image's smaller
@@ -167,8 +168,8 @@ SADDLE_MAX_ITER = 40
 POLISH_STEPS = 2
 #: Largest |frame normal . lab z - 1| and out-of-plane node coordinate (times L) of a planar state.
 PLANAR_TOL = 1e-8
-#: Levenberg shifts tried per step (``lam`` grows 4x from the floor; the floor is 1e-11 and the
-#: largest shift needed ~1, so 20 reach it).
+#: Levenberg shifts tried per step (``lam`` grows 4x from the floor ~1e-11: 20 tries reach
+#: the largest shifts needed, ~1).
 SHIFT_TRIES = 60
 
 
