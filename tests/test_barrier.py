@@ -258,10 +258,11 @@ def string_six() -> tuple:
 
 
 def test_string_saddle_is_the_continuation_saddle(six_ring: Barrier, string_six: tuple) -> None:
-    """Two independent methods, one saddle: the string's highest region refined by Newton and
+    """Two independent methods, one saddle: a local maximum of the string refined by Newton and
     the subcritical branch from the folded state's bifurcation land on the same stationary
-    point -- energies equal to the Newton tolerance (the residual 1e-10 x the penalty force
-    scale 1.3e5 moves the energy by far less than 1e-8 relative), index 1 in both."""
+    point, index 1 in both. Energies measured 3e-13 apart (relative), asserted to 1e-8: a
+    Newton residual at the tolerance (1e-10 x the penalty force scale) can move the energy of a
+    saddle with soft modes by ~1e-7 relative (mep.refine_saddle)."""
     b, _ = string_six
     assert b.converged and b.saddle_index == 1 and six_ring.saddle_index == 1
     assert b.energy_saddle == pytest.approx(six_ring.energy_saddle, rel=1e-8)
@@ -272,14 +273,14 @@ def test_string_saddle_is_the_continuation_saddle(six_ring: Barrier, string_six:
 def test_string_saddle_descends_to_both_states(string_six: tuple) -> None:
     """The steepest descents from the string's saddle (retracted steps) end on the folded and
     the one-loop ring (same_state), in far fewer steps than the continuation's unretracted
-    descents (458 and 934 in its README run)."""
+    descents (458 and 934, measured at 8 el.)."""
     b, _ = string_six
     assert sorted(b.descent_ends) == ["folded", "one-loop"]
     assert max(b.descent_steps) < 100
-    assert b.energy_to == pytest.approx(six_ring_one_loop_energy(), abs=1e-12)
+    assert b.energy_to == pytest.approx(_one_loop_energy(), abs=1e-12)
 
 
-def six_ring_one_loop_energy() -> float:
+def _one_loop_energy() -> float:
     """The one-loop ring's energy in the common model at 8 el. (Newton from its held state)."""
     from rodstab.nonlinear.discover import common_rod
     from rodstab.nonlinear.solve import newton
