@@ -1,6 +1,8 @@
-"""Energy barriers (issue 11, part 4): saddle from continuation, path by steepest descent.
+"""Energy barriers (issue 11, part 4): the saddle by continuation and by the string method.
 
 The six-sided ring (h/t = 4, 8 el./rod) at kappa_n R0 = 1, the experiment's load (Fig. 10c).
+The two methods share no code up to their saddles (a branch traced from the folded state's
+bifurcation; a path relaxed between the two states), so the same saddle is a cross-check.
 """
 
 from __future__ import annotations
@@ -8,6 +10,7 @@ from __future__ import annotations
 import json
 import math
 
+import numpy as np
 import pytest
 
 from rodstab.errors import RodstabInputError
@@ -106,8 +109,8 @@ def test_cli_barrier_json(six_ring: Barrier, capsys: pytest.CaptureFixture[str],
         return six_ring
 
     monkeypatch.setattr(nb, "barrier_from_bifurcation", same)
-    main(["barrier", "--structure", "six-ring", "--shape", "rectangle", "--aspect", "4",
-          "--load-factor", "1", "--elements", "8", "--json"])
+    main(["barrier", "--method", "continuation", "--structure", "six-ring", "--shape",
+          "rectangle", "--aspect", "4", "--load-factor", "1", "--elements", "8", "--json"])
     out = json.loads(capsys.readouterr().out)
     assert out["saddle_index"] == 1
     assert (out["from"], out["to"]) == ("folded", "one-loop")
@@ -120,6 +123,14 @@ def test_cli_barrier_json(six_ring: Barrier, capsys: pytest.CaptureFixture[str],
 @pytest.mark.parametrize(("args", "named"), [
     (["--load-factor", "3"], "--load-factor 3.0"),
     (["--elements", "3"], "--elements must be an integer >= 4, got 3"),
+    (["--from", "one-loop", "--to", "one-loop"], "--to 'one-loop' is the --from state"),
+    (["--from", "square"], "--from 'square'"),
+    (["--method", "continuation", "--structure", "hexagram", "--from", "star", "--to",
+      "daisy", "--load-factor", "1.5"], "'star' is curved in its held geometry"),
+    (["--images", "2"], "--images must be an integer >= 3, got 2"),
+    (["--method", "continuation", "--images", "9"], "--images and --animation are options"),
+    (["--animation", "path.png"], "--animation"),
+    (["--structure", "hexagram", "--from", "star", "--to", "square"], "--to 'square'"),
 ])
 def test_cli_bad_input_exits_2_naming_the_value(args: list[str], named: str,
                                                 capsys: pytest.CaptureFixture[str]) -> None:
@@ -127,5 +138,287 @@ def test_cli_bad_input_exits_2_naming_the_value(args: list[str], named: str,
 
     with pytest.raises(SystemExit) as exc:
         main(["barrier", "--shape", "rectangle", "--aspect", "4", *args])
+    assert exc.value.code == 2
+    assert named in capsys.readouterr().err
+
+
+def test_a_state_curved_in_its_held_geometry_is_refused_by_the_continuation() -> None:
+    """The hexagram star's held rods are arcs: the continuation's model of it (chords, held
+    Cayley curvature) is not the common model the ends are named in (energies 13.1648 vs
+    13.0226 at 8 el.), so the continuation barrier refuses it rather than mix the two."""
+    star = state_assembly("hexagram", R4, "star")
+    with pytest.raises(RodstabInputError, match="'star' is curved in its held geometry"):
+        barrier_from_bifurcation(star, 1.0, upper=2.0, name="star")
+
+
+def test_the_folded_ring_is_one_model_for_both_discretisations() -> None:
+    """The folded ring's held rods are straight: discretise and common_rod agree exactly."""
+    from rodstab.nonlinear.barrier import same_model
+    from rodstab.nonlinear.discover import common_rod
+    from rodstab.nonlinear.discrete import discretise
+
+    folded = state_assembly("six-ring", R4, "folded")
+    one = state_assembly("six-ring", R4, "one-loop")
+    assert same_model(discretise(folded, N, THETA), common_rod(folded, N, THETA))
+    assert not same_model(discretise(one, N, THETA), common_rod(one, N, THETA))
+
+
+@pytest.fixture(scope="module")
+def ends() -> tuple:
+    """The folded and one-loop six-rings in the common model, Newton-relaxed, one gauge."""
+    from rodstab.nonlinear.discover import common_rod
+    from rodstab.nonlinear.mep import to_gauge
+    from rodstab.nonlinear.solve import newton
+
+    rods = [common_rod(state_assembly("six-ring", R4, s), N, THETA)
+            for s in ("folded", "one-loop")]
+    for r in rods:
+        assert newton(r)[0]
+    to_gauge(rods[1], rods[0])
+    return rods[0], rods[1]
+
+
+def test_to_gauge_is_a_rigid_motion_onto_the_gauge_joint(ends: tuple) -> None:
+    """The energy is invariant under rigid motions (so unchanged); the gauge joint's position
+    and frame, which no free unknown moves, become the other state's."""
+    from rodstab.nonlinear.discover import common_rod
+
+    a, b = ends
+    fresh = common_rod(state_assembly("six-ring", R4, "one-loop"), N, THETA)
+    from rodstab.nonlinear.solve import newton
+
+    newton(fresh)
+    j, nd = a.fixed_joints[0], a.fixed_nodes[0]
+    assert b.energy() == pytest.approx(fresh.energy(), rel=1e-9)
+    assert b.R_joint[j] == pytest.approx(a.R_joint[j], abs=1e-14)
+    assert b.x[nd] == pytest.approx(a.x[nd], abs=1e-14)
+
+
+def test_chart_difference_is_inverted_by_apply(ends: tuple) -> None:
+    """``a.apply(chart_difference(a, b))`` is ``b`` (rotation vectors of R_a^T R_b < pi)."""
+    from rodstab.nonlinear.mep import chart_difference
+
+    a, b = ends
+    r = a.copy()
+    r.apply(chart_difference(a, b))
+    assert r.x == pytest.approx(b.x, abs=1e-12)
+    assert r.R_edge == pytest.approx(b.R_edge, abs=1e-9)
+    assert r.R_joint == pytest.approx(b.R_joint, abs=1e-9)
+
+
+def test_belt_path_joins_the_states_inextensibly_with_finite_energy(ends: tuple) -> None:
+    """The initial band: ends are the two states, every image unstretched and unsheared (the
+    frames' tangents close round the ring), energies finite. The folded ring's frame loop
+    differs from the one-loop's by two full turns (Dirac's belt trick), which the lift closes;
+    with a single geodesic per frame the band's middle image has energy ~7600 (the log's
+    branch jumps between neighbouring frames)."""
+    from rodstab.nonlinear.mep import belt_path
+    from rodstab.nonlinear.solve import max_strain
+
+    a, b = ends
+    band = belt_path(a, b, 5)
+    assert band[0].x == pytest.approx(a.x) and band[-1].R_edge == pytest.approx(b.R_edge)
+    energies = [r.energy() for r in band]
+    assert all(math.isfinite(e) for e in energies)
+    j, nd = a.fixed_joints[0], a.fixed_nodes[0]
+    for r in band:  # one gauge: no rigid motion along the path (module docstring of mep)
+        assert r.R_joint[j] == pytest.approx(a.R_joint[j], abs=1e-12)
+        assert r.x[nd] == pytest.approx(a.x[nd], abs=1e-12)
+    assert max(energies) < 10 * energies[0]
+    assert max(max_strain(r) for r in band) < 1e-9
+
+
+def test_belt_path_refuses_frame_loops_an_odd_number_of_turns_apart() -> None:
+    """No continuous path of frames joins two loops an odd number of turns apart (pi_1(SO(3))
+    = Z_2). The hexagram's line (turning number 0) and its 60-degree state (turning number 1:
+    six 60-degree arcs) are such a pair; belt_path says so, naming the turns."""
+    from rodstab.nonlinear.discover import common_rod
+    from rodstab.nonlinear.mep import belt_path, to_gauge
+    from rodstab.problems import hexagram as hx
+    from rodstab.states import uniform_ring
+
+    ring = uniform_ring(hx.SEGMENTS, length=1.0, natural_curvature=hx.L_OVER_R0,
+                        B1=R4.b1, B2=R4.b2)
+    line, sixty = (common_rod(ring.held(ring.state(s).theta), N, 1.0)
+                   for s in ("line", "theta=60deg"))
+    to_gauge(sixty, line)
+    with pytest.raises(RodstabInputError, match="differ by -?1 turns"):
+        belt_path(line, sixty, 5)
+
+
+@pytest.fixture(scope="module")
+def string_six() -> tuple:
+    """The string method on the folded/one-loop six-ring (11 images): barrier and path."""
+    from rodstab.nonlinear.mep import string_barrier
+
+    p = folded_ring.Params(section=R4)
+    return string_barrier(folded_ring.build(p), one_loop_assembly(p), THETA,
+                          elements_per_segment=N, images=11, name_a="folded",
+                          name_b="one-loop")
+
+
+def test_string_saddle_is_the_continuation_saddle(six_ring: Barrier, string_six: tuple) -> None:
+    """Two independent methods, one saddle: a local maximum of the string refined by Newton and
+    the subcritical branch from the folded state's bifurcation land on the same stationary
+    point, index 1 in both. Energies measured 3e-13 apart (relative), asserted to 1e-8: a
+    Newton residual at the tolerance (1e-10 x the penalty force scale) can move the energy of a
+    saddle with soft modes by ~1e-7 relative (mep.refine_saddle)."""
+    b, _ = string_six
+    assert b.converged and b.saddle_index == 1 and six_ring.saddle_index == 1
+    assert b.energy_saddle == pytest.approx(six_ring.energy_saddle, rel=1e-8)
+    assert b.barrier_forward == pytest.approx(six_ring.barrier_forward, rel=1e-8)
+    assert b.energy_from == pytest.approx(3 * THETA**2, rel=1e-12)  # closed form (folded)
+
+
+def test_string_saddle_descends_to_both_states(string_six: tuple) -> None:
+    """The steepest descents from the string's saddle (retracted steps) end on the folded and
+    the one-loop ring (same_state), in far fewer steps than the continuation's unretracted
+    descents (458 and 934, measured at 8 el.)."""
+    b, _ = string_six
+    assert sorted(b.descent_ends) == ["folded", "one-loop"]
+    assert max(b.descent_steps) < 100
+    assert b.energy_to == pytest.approx(_one_loop_energy(), abs=1e-12)
+
+
+def _one_loop_energy() -> float:
+    """The one-loop ring's energy in the common model at 8 el. (Newton from its held state)."""
+    from rodstab.nonlinear.discover import common_rod
+    from rodstab.nonlinear.solve import newton
+
+    r = common_rod(one_loop_assembly(folded_ring.Params(section=R4)), N, THETA)
+    assert newton(r)[0]
+    return r.energy()
+
+
+def test_string_path_runs_from_state_to_state_through_the_saddle(string_six: tuple) -> None:
+    """The path's ends are the two states, its arclength grows from 0 to 1, the saddle is an
+    interior point and every path state is unstretched to the retraction's accuracy."""
+    from rodstab.nonlinear.discover import common_rod
+    from rodstab.nonlinear.solve import max_strain
+
+    b, path = string_six
+    e, s = b.energies, b.path_arclength
+    assert len(path) == len(e) == len(s) == b.images == 11
+    assert e[0] == pytest.approx(b.energy_from, rel=1e-12)
+    assert e[-1] == pytest.approx(b.energy_to, abs=1e-12)
+    assert e[b.saddle_position] == b.energy_saddle
+    assert 0 < b.saddle_position < len(e) - 1
+    assert s[0] == 0.0 and s[-1] == pytest.approx(1.0) and all(np.diff(s) > 0)
+    rod = common_rod(folded_ring.build(folded_ring.Params(section=R4)), N, THETA)
+    for snap in path:
+        snap.put(rod)
+        assert max_strain(rod) < 1e-6
+
+
+def test_reparametrise_spaces_the_images_equally(ends: tuple) -> None:
+    """Piecewise-geodesic reparametrisation evens the string: the new images sit at equal chart
+    arclength along the old string and are then retracted onto the inextensible states, which
+    moves them off it by a little (new segments 0.18 .. 0.21 here, the old 0.12 .. 0.28: the
+    spread falls 5.6x). The ends are kept."""
+    from rodstab.nonlinear.mep import arclength, belt_path, reparametrise
+
+    a, b = ends
+    band = belt_path(a, b, 7)
+    uneven = [band[0], band[1], band[3], band[4], band[5], band[6]]  # a gap of two segments
+    new = reparametrise(uneven, a.free_dofs())
+    before, after = np.diff(arclength(uneven)), np.diff(arclength(new))
+    assert np.ptp(before) > 0.1
+    assert np.ptp(after) < 0.25 * np.ptp(before)
+    assert new[0] is uneven[0] and new[-1] is uneven[-1]
+
+
+def test_cli_barrier_string_json_plot_and_animation(string_six: tuple, tmp_path,
+                                                    capsys: pytest.CaptureFixture[str],
+                                                    monkeypatch: pytest.MonkeyPatch) -> None:
+    """``rodstab barrier`` (string, the default) prints the library's barrier and writes the
+    energy plot and the GIF of the path (one frame per path state). The library call is
+    replaced by the fixture's result for the same arguments (checked)."""
+    from PIL import Image
+
+    import rodstab.nonlinear.mep as mep
+    from rodstab.cli import main
+
+    seen = {}
+
+    def same(a, b, mu, **kwargs):
+        seen.update(kwargs, mu=mu, segments=len(a.segments))
+        return string_six
+
+    monkeypatch.setattr(mep, "string_barrier", same)
+    png, gif = tmp_path / "e.png", tmp_path / "p.gif"
+    main(["barrier", "--shape", "rectangle", "--aspect", "4", "--images", "11", "--plot",
+          str(png), "--animation", str(gif), "--json"])
+    out = json.loads(capsys.readouterr().out)
+    b, path = string_six
+    assert (out["method"], out["images"], out["converged"]) == ("string", 11, True)
+    assert out["barrier_forward"] == pytest.approx(b.barrier_forward, abs=1e-12)
+    assert out["saddle_index"] == 1 and (out["from"], out["to"]) == ("folded", "one-loop")
+    assert seen == {"elements_per_segment": 8, "images": 11, "name_a": "folded",
+                    "name_b": "one-loop", "mu": pytest.approx(THETA), "segments": 6}
+    assert png.stat().st_size > 0
+    assert Image.open(gif).n_frames == len(path)
+
+
+def test_cli_barrier_unconverged_exits_3_after_the_output(string_six: tuple,
+                                                          capsys: pytest.CaptureFixture[str],
+                                                          monkeypatch: pytest.MonkeyPatch
+                                                          ) -> None:
+    """A string barrier that did not converge is printed, then exit 3 names why."""
+    import dataclasses
+
+    import rodstab.nonlinear.mep as mep
+    from rodstab.cli import main
+
+    b, path = string_six
+    failed = dataclasses.replace(b, converged=False, saddle_index=2)
+    monkeypatch.setattr(mep, "string_barrier", lambda *a, **k: (failed, path))
+    with pytest.raises(SystemExit) as exc:
+        main(["barrier", "--shape", "rectangle", "--aspect", "4", "--json"])
+    captured = capsys.readouterr()
+    assert exc.value.code == 3
+    assert json.loads(captured.out)["converged"] is False
+    assert "did not converge" in captured.err and "saddle index 2" in captured.err
+
+
+def test_cli_barrier_reads_the_states_of_a_design_ring(string_six: tuple,
+                                                      capsys: pytest.CaptureFixture[str],
+                                                      monkeypatch: pytest.MonkeyPatch) -> None:
+    """``rodstab barrier DESIGN --from line --to star``: the states are the design ring's held
+    states of those labels (Ring.held; rodstab states names the folded ring's states line and
+    star), at the design's load factor. The library call is replaced (wiring only; the full
+    run gives the built-in six-ring's 1.12004, README)."""
+    import rodstab.nonlinear.mep as mep
+    from rodstab.cli import main
+
+    seen = {}
+
+    def same(a, b, mu, **kwargs):
+        seen.update(kwargs, mu=mu, held=[[s.curvature for s in x.segments] for x in (a, b)])
+        return string_six
+
+    monkeypatch.setattr(mep, "string_barrier", same)
+    main(["barrier", "examples/folded_six_ring.toml", "--from", "line", "--to", "star",
+          "--load-factor", repr(THETA), "--json"])
+    out = json.loads(capsys.readouterr().out)
+    assert out["structure"] == "examples/folded_six_ring.toml"
+    assert (seen["name_a"], seen["name_b"], seen["mu"]) == ("line", "star", THETA)
+    assert seen["held"][0] == [0.0] * 6  # the line: straight rods
+    assert [abs(k) for k in seen["held"][1]] == pytest.approx([THETA] * 6)  # the star's arcs
+
+
+@pytest.mark.parametrize(("args", "named"), [
+    (["examples/folded_six_ring.toml", "--from", "line"], "--from and --to name two states"),
+    (["examples/folded_six_ring.toml", "--from", "line", "--to", "nosuch"], "'nosuch'"),
+    (["examples/folded_six_ring.toml", "--from", "line", "--to", "star", "--method",
+      "continuation"], "--method continuation is for the built-in structures"),
+    (["examples/folded_six_ring.toml", "--from", "line", "--to", "star", "--shape", "circle"],
+     "--shape"),
+])
+def test_cli_barrier_design_bad_input_exits_2(args: list[str], named: str,
+                                              capsys: pytest.CaptureFixture[str]) -> None:
+    from rodstab.cli import main
+
+    with pytest.raises(SystemExit) as exc:
+        main(["barrier", *args])
     assert exc.value.code == 2
     assert named in capsys.readouterr().err

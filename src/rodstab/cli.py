@@ -1384,47 +1384,165 @@ def transitions(design_file: str | None, section: Section, structure: str,
                            "converge (those edges are not to be trusted)")
 
 
+#: Default ``--from`` / ``--to`` of ``rodstab barrier`` per built-in structure.
+_BARRIER_STATES = {"six-ring": ("folded", "one-loop"), "hexagram": ("line", "star")}
+
+
 @cli.command()
-@click.option("--structure", type=click.Choice(["six-ring"]), default="six-ring",
-              show_default=True, help="The structure (its states: folded, one-loop).")
+@click.argument("design_file", required=False, type=click.Path(dir_okay=False))
+@click.option("--method", type=click.Choice(["string", "continuation"]), default="string",
+              show_default=True,
+              help="string: minimum energy path between the two states, saddle refined from "
+                   "it; continuation: saddle from the --from state's bifurcation (built-in, "
+                   "straight held states only).")
+@click.option("--structure", type=click.Choice(["six-ring", "hexagram"]), default="six-ring",
+              show_default=True, help="Without DESIGN: the structure (six-ring: folded, "
+                                      "one-loop; hexagram: line, star, daisy, eight).")
+@click.option("--from", "from_state", default=None,
+              help="The stable state the barrier is climbed from (default: folded for the "
+                   "six-ring, line for the hexagram; with DESIGN a label of `rodstab states "
+                   "DESIGN`, required).")
+@click.option("--to", "to_state", default=None,
+              help="The other state (default: one-loop, star; with DESIGN required).")
 @click.option("--load-factor", type=float, default=1.0, show_default=True,
-              help="kappa_n R0 (R0 = L / theta, the one-loop radius), where the folded state "
-                   "must be stable.")
+              help="Without DESIGN kappa_n R0 (six-ring: R0 = L / theta, the one-loop radius; "
+                   "hexagram: R0 = 3L/2pi); with DESIGN the multiplier of its natural "
+                   "curvature. Both states must be stable there.")
 @click.option("--elements", type=int, default=8, show_default=True,
               help="Elements per rod of the discrete rod (>= 4).")
+@click.option("--images", type=int, default=None,
+              help="Images of the string, ends included (>= 3; default "
+                   "rodstab.nonlinear.mep.STRING_IMAGES, 17). String method.")
+@click.option("--plot", "plot_path", type=click.Path(dir_okay=False), default=None,
+              help="Write the energy along the path (saddle marked, barriers annotated).")
+@click.option("--animation", "animation_path", type=click.Path(dir_okay=False), default=None,
+              help="Write a GIF of the path's states (.gif). String method.")
 @_section_options
 @_json_option
-def barrier(section: Section, structure: str, load_factor: float, elements: int,
+def barrier(design_file: str | None, section: Section, method: str, structure: str,
+            from_state: str | None, to_state: str | None, load_factor: float, elements: int,
+            images: int | None, plot_path: str | None, animation_path: str | None,
             as_json: bool) -> None:
-    """Energy barrier out of the folded state: saddle by continuation, path by descent.
+    """Energy barrier between two stable states of a ring: the saddle and the path through it.
 
-    The saddle is the subcritical branch from the folded state's bifurcation, traced back to
-    the load; the path is the steepest descent from it on both sides.
+    string (default): the minimum energy path between the two states by the string method
+    (images relaxed from a path that turns the frames through 3D), the saddle refined from it
+    by Newton, index 1, and checked by the steepest descents from it, which must end on the two
+    states. continuation: the saddle is the subcritical branch from the --from state's
+    bifurcation, traced back to the load; the path is the steepest descent from it on both
+    sides; a state curved in its held geometry (the hexagram's) is refused (exit 2). An
+    unconverged barrier exits 3 after the output.
     """
     from .errors import require_int
-    from .nonlinear.barrier import barrier_from_bifurcation
-    from .problems.barrier_states import model_load_factor, state_assembly
 
     elements = require_int("--elements", elements, 4)
     k = require_finite("--load-factor", load_factor)
-    mu = model_load_factor(structure, k)
-    folded, one = (state_assembly(structure, section, s) for s in ("folded", "one-loop"))
+    if method == "continuation" and (images is not None or animation_path is not None):
+        raise RodstabInputError("--images and --animation are options of --method string")
+    from .nonlinear.mep import STRING_IMAGES
+
+    n_img = STRING_IMAGES if images is None else require_int("--images", images, 3)
+    plot = None if plot_path is None else _image_output("--plot", plot_path)
+    gif = None if animation_path is None else check_output("--animation", animation_path,
+                                                           directory=False, suffixes={".gif"})
+    if design_file is not None:
+        if method == "continuation":
+            raise RodstabInputError("--method continuation is for the built-in structures "
+                                    "(it needs their load range); use --method string with "
+                                    f"{design_file}")
+        if from_state is None or to_state is None:
+            raise RodstabInputError(f"--from and --to name two states of {design_file} (see "
+                                    "`rodstab states DESIGN`)")
+        ring, section, name, design = _ring_and_section(design_file, structure, 6, section)
+        a, b_asm = (ring.held(ring.state(s).theta) for s in (from_state, to_state))
+        mu = k
+    else:
+        from .problems.barrier_states import check_state, model_load_factor, state_assembly
+
+        name = structure
+        from_state = from_state or _BARRIER_STATES[structure][0]
+        to_state = to_state or _BARRIER_STATES[structure][1]
+        check_state(structure, from_state, "--from")
+        check_state(structure, to_state, "--to")
+        a, b_asm = (state_assembly(structure, section, s) for s in (from_state, to_state))
+        mu = model_load_factor(structure, k)
+    if from_state == to_state:
+        raise RodstabInputError(f"--to {to_state!r} is the --from state: a barrier joins two "
+                                "different states")
+    path: list[Any] = []
     try:
-        b = barrier_from_bifurcation(folded, mu, upper=model_load_factor(structure, 4.0),
-                                     elements_per_segment=elements, name="folded",
-                                     named={"one-loop": one})
+        if method == "string":
+            from .nonlinear.mep import string_barrier
+
+            b, path = string_barrier(a, b_asm, mu, elements_per_segment=elements,
+                                     images=n_img, name_a=from_state, name_b=to_state)
+        else:
+            from .nonlinear.barrier import barrier_from_bifurcation
+
+            b = barrier_from_bifurcation(a, mu, upper=model_load_factor(structure, 4.0),
+                                         elements_per_segment=elements, name=from_state,
+                                         named={to_state: b_asm})
     except RodstabInputError as exc:
-        raise RodstabInputError(f"--load-factor {k!r}: {exc}") from exc
+        raise RodstabInputError(f"--load-factor {k!r}, --from {from_state!r}: {exc}") from exc
     payload = b.to_dict()
-    payload.update(structure=structure, kappa_R0=k, section=section.to_dict())
-    _emit(payload, as_json, [
-        _section_line(section),
-        f"{structure} at kappa_n R0 = {_fmt(k)}, {elements} elements per rod (B3 = 1, L = 1)",
-        f"saddle       index {b.saddle_index}, energy {_fmt(b.energy_saddle)} (branch from "
-        f"kappa_n R0 = {_fmt(b.load_factor_critical / model_load_factor(structure, 1.0))})",
-        f"forward      {b.from_state} -> {b.to_state}: {_fmt(b.barrier_forward)}",
-        f"backward     {b.to_state} -> {b.from_state}: {_fmt(b.barrier_backward)}",
-        f"converged    {b.converged} ({len(b.energies)} path points)"])
+    payload.update(structure=name, kappa_R0=k, section=section.to_dict(), method=method)
+    if method == "string":
+        payload.update(images=b.images)
+    units = None if design_file is None else design.units
+    if units is not None:
+        payload["units"] = units.reference() | {
+            key: units.quantity(getattr(b, key), "energy")
+            for key in ("barrier_forward", "barrier_backward", "energy_from", "energy_to",
+                        "energy_saddle")} | {"energies": units.quantities(list(b.energies),
+                                                                        "energy")}
+    lines = [_section_line(section),
+             f"{name} at {'kappa_n R0' if design_file is None else 'load factor'} = {_fmt(k)}, "
+             f"{elements} elements per rod (B3 = 1, L = 1), method {method}"]
+    if units is not None:
+        lines.insert(1, _units_line(units))
+    run: Any = b.string_run
+    if method == "string":
+        lines.append(f"string       {b.images} images, {b.iterations} iterations; saddle from "
+                     f"image {b.saddle_position} of the path")
+    else:
+        lines.append(f"branch       from kappa_n R0 = "
+                     f"{_fmt(b.load_factor_critical / model_load_factor(structure, 1.0))}")
+    lines += [
+        f"saddle       index {b.saddle_index}, energy {_fmt(b.energy_saddle)}, descents end on "
+        f"{', '.join(b.descent_ends) or 'not run'}",
+        f"forward      {b.from_state} -> {b.to_state}: {_fmt(b.barrier_forward)}"
+        + ("" if units is None else f" ({_fmt(units.si(b.barrier_forward, 'energy'))} J)"),
+        f"backward     {b.to_state} -> {b.from_state}: {_fmt(b.barrier_backward)}"
+        + ("" if units is None else f" ({_fmt(units.si(b.barrier_backward, 'energy'))} J)"),
+        f"converged    {b.converged} ({len(b.energies)} path points)"]
+    if plot is not None:
+        from .plots import plot_barrier_path
+
+        payload["plot"] = str(plot_barrier_path(
+            b.path_arclength, b.energies, b.saddle_position, plot,
+            labels=(b.from_state, b.to_state),
+            title=f"{name}, kappa_n R0 = {_fmt(k)}, {elements} el./rod, {method}"))
+        lines.append(f"wrote {payload['plot']}")
+    if gif is not None:
+        from .nonlinear.discover import common_rod
+        from .plots import animate_shapes
+
+        edges = common_rod(a, elements, mu).edge_nodes
+        payload["animation"] = str(animate_shapes(
+            [snap.x for snap in path], edges, gif,
+            labels=[f"s = {s:.2f}, E = {e:.5g}"
+                    for s, e in zip(b.path_arclength, b.energies, strict=True)]))
+        lines.append(f"wrote {payload['animation']}")
+    _emit(payload, as_json, lines)
+    if not b.converged:
+        why = ""
+        if run is not None and run.too_coarse:
+            why = (f": neighbouring images are {_fmt(run.largest_gap)} rad apart, more "
+                   "--images are needed")
+        raise NotConverged(f"the barrier {b.from_state} -> {b.to_state} did not converge"
+                           f"{why} (residual {b.residual:.3g}, saddle index "
+                           f"{b.saddle_index}, descents end on "
+                           f"{', '.join(b.descent_ends) or 'not run'})")
 
 
 #: Default N of ``rodstab atlas --vary KEY=START:STOP[:N]``.

@@ -1,4 +1,4 @@
-"""Energy barriers between two stable equilibria: the saddle from continuation, the path by descent.
+"""Energy barriers between two stable equilibria: the saddle by continuation, path by descent.
 
 A stable state A at load factor ``mu0`` loses stability at ``mu_c``, the upper end of its stable
 interval. When that bifurcation is subcritical the branch leaving it runs back towards ``mu0`` as
@@ -24,11 +24,24 @@ state the branch connects it to. So:
 
 ``barrier_forward = E_saddle - E_A``, ``barrier_backward = E_saddle - E_B``.
 
-Retired (not kept): a string method between the two minima (E, Ren and Vanden-Eijnden, J. Chem.
-Phys. 126, 164103, 2007) -- on the rod the initial string's images were far from equilibrium
-(frames of the two states differ by up to half a turn) and the descent broke down on non-finite
-energies; and minimum-mode following from the folded six-ring, which wandered in its nearly
-double lowest eigenpair. Both are in the branch's history.
+A second, independent method is the string method (:func:`~.mep.string_barrier`, module
+:mod:`.mep`): a path relaxed between the two minima, its saddle refined by Newton from a local
+maximum of the path's energies, checked by the same descents (:func:`descents_from_saddle`, there
+with retracted steps). It needs no bifurcation and no continuation, names both ends in one
+discrete model and is what ``rodstab barrier`` uses by default; on the folded/one-loop six-ring
+at 8 el./rod the two saddles' energies agree to 3e-13 relative (asserted to 1e-8,
+``tests/test_barrier.py``). Retired (in the
+branch's history): an earlier string method whose initial path interpolated the unknowns
+linearly (non-finite energies: the held states put the gauge joint in frames 120 degrees apart,
+and the frames' loops round the ring differ by whole turns); minimum-mode following from the
+folded six-ring, which wandered in its nearly double lowest eigenpair; and a nudged elastic
+band from the belt path of :mod:`.mep`, whose highest image stalled at ~40 B3/L (its images
+carried the gauge joint's full turn, and its unretracted steps were accepted only below
+~0.03 rad).
+
+A held state curved in its own geometry (the hexagram's) is refused here: the continuation
+discretises the held state (:func:`~.discrete.discretise`), whose model is not the common one
+(:func:`same_model`); the string method puts every state in the common model.
 """
 
 from __future__ import annotations
@@ -43,7 +56,7 @@ import numpy as np
 from ..errors import RodstabInputError, require_finite, require_int
 from ..model import Assembly
 from ..results import Result
-from .discover import Snapshot, common_rod, same_state
+from .discover import Snapshot, common_rod, retract_step, same_state
 from .discrete import PENALTY, DiscreteRod, discretise
 from .solve import NEWTON_RTOL, lm_step, lowest_modes, newton, zero_eigenvalue_tol
 
@@ -86,7 +99,8 @@ def _residual_scale(rod: DiscreteRod) -> float:
     return float(PENALTY * np.max(rod.edge_B) / np.min(rod.rest_length))
 
 
-def descend(rod: DiscreteRod, lam0: float, *, max_steps: int = DESCENT_MAX_STEPS) -> Descent:
+def descend(rod: DiscreteRod, lam0: float, *, max_steps: int = DESCENT_MAX_STEPS,
+            retract: bool = False) -> Descent:
     """Follow the energy downhill from ``rod`` (in place) to a minimum, recording the energy.
 
     Steps ``s = -(H + lam D)^-1 g`` on the free unknowns (``D = |diag H|``, ``lam`` starting at
@@ -94,7 +108,8 @@ def descend(rod: DiscreteRod, lam0: float, *, max_steps: int = DESCENT_MAX_STEPS
     a quarter of the quadratic model's prediction; ``lam`` grows by 4 on a rejection (or jumps
     past the lowest scaled eigenvalue when ``s`` is not a descent direction) and shrinks by 4
     after a step the model predicted well. Ends with :func:`newton` once the gradient is below
-    its tolerance.
+    its tolerance. ``retract``: large trial steps are retracted onto the inextensible states
+    (:func:`~.discover.retract_step`), which lets them be larger (module :mod:`.mep`).
     """
     free = rod.free_dofs()
     tol = NEWTON_RTOL * _residual_scale(rod)
@@ -105,7 +120,8 @@ def descend(rod: DiscreteRod, lam0: float, *, max_steps: int = DESCENT_MAX_STEPS
     while steps < max_steps and float(np.max(np.abs(g[free]))) > tol:
         Hf = H[free][:, free].tocsc()
         terms, lam = lm_step(rod, free, E, g[free], 0.5 * (Hf + Hf.T), lam, floor,
-                             round_off=False, to_newton=False)
+                             round_off=False, to_newton=False,
+                             retract=retract_step if retract else None)
         if terms is None:
             break  # no step lowers the energy: a minimum to round-off, or a flat stall
         E, g, H = terms
@@ -121,13 +137,21 @@ def descend(rod: DiscreteRod, lam0: float, *, max_steps: int = DESCENT_MAX_STEPS
 class Barrier(Result):
     """Energy barrier between stable state ``from_state`` (A) and ``to_state`` (B).
 
+    Two methods fill it: the continuation (:func:`barrier_from_bifurcation`) and the string
+    (:func:`~.mep.string_barrier`), ``method`` says which.
+
     ``barrier_forward = E_saddle - E_A``, ``barrier_backward = E_saddle - E_B`` (energy units of
     the model: B3 / L with B3 = 1, L = 1); ``saddle_index``: negative scaled Hessian eigenvalues
-    at the saddle (1 for a transition state); ``energies``: along the minimum energy path from A
-    through the saddle (``energies[saddle_position]``) to B; ``to_state``: a named state's label,
-    or ``"unnamed"``; ``converged``: saddle on ``load_factor`` and Newton-converged, index 1,
-    both descents converged to minima, one of them A. ``residual``: the saddle's free-gradient
-    max-norm (tolerance ``NEWTON_RTOL`` x the penalty scale).
+    at the saddle (1 for a transition state); ``energies``: along the path from A through the
+    saddle (``energies[saddle_position]``) to B -- the two steepest descents (continuation), or
+    the string's images with its highest image replaced by the saddle refined from it (string,
+    at ``path_arclength``: chart arclength normalised to 1); ``to_state``: a named state's label,
+    or ``"unnamed"``; ``converged``: saddle Newton-converged (on ``load_factor``), index 1, both
+    descents converged to minima: A and the other named state (``descent_ends``).
+    ``residual``: the saddle's free-gradient max-norm (tolerance ``NEWTON_RTOL`` x the penalty
+    scale). ``load_factor_critical``: the bifurcation the continuation's branch leaves (NaN for
+    the string). ``images``, ``iterations``: the string's (0 for the continuation);
+    ``string_run``: its :class:`~.mep.StringRun` (``None`` for the continuation).
     """
 
     barrier_forward: float
@@ -149,12 +173,101 @@ class Barrier(Result):
     elements_per_segment: int
     n_dof: int
     method: str
+    descent_ends: tuple[str, ...] = ()
+    images: int = 0
+    iterations: int = 0
+    path_arclength: tuple[float, ...] = ()
+    string_run: Result | None = None
 
     def to_dict(self) -> dict[str, Any]:
         """JSON form; ``from``/``to`` as well as ``from_state``/``to_state``."""
         d = super().to_dict()
         d["from"], d["to"] = self.from_state, self.to_state
         return d
+
+
+def descents_from_saddle(saddle: DiscreteRod, vals: np.ndarray, vecs: np.ndarray, *,
+                         retract: bool = False) -> tuple[list[Descent], list[DiscreteRod]]:
+    """Follow the two steepest descents from ``saddle`` along ``+-`` its unstable eigenvector.
+
+    Each starts from the saddle kicked by :data:`KICK` (largest component, times the mean
+    segment length) along ``+-vecs[:, 0]``, halved until the energy is below the saddle's, and
+    is followed by :func:`descend` (``lam0 = -1.1 vals[0]``, past the negative eigenvalue).
+
+    Parameters
+    ----------
+    saddle : DiscreteRod
+        The saddle (not changed).
+    vals, vecs : numpy.ndarray
+        Its lowest scaled eigenvalues and eigenvectors (free unknowns), as
+        :func:`~.solve.lowest_modes` returns them; the first is the unstable one.
+    retract : bool
+        Passed to :func:`descend`.
+
+    Returns
+    -------
+    tuple
+        The two :class:`Descent` records (``+`` side first) and the two end states.
+    """
+    e_s = saddle.energy()
+    v = vecs[:, 0] / np.max(np.abs(vecs[:, 0]))
+    kick = KICK * saddle.assembly.total_length / len(saddle.assembly.segments)
+    descents, ends = [], []
+    for sign in (1.0, -1.0):
+        r = saddle.copy()
+        for _ in range(20):
+            r = saddle.copy()
+            dq = np.zeros(r.n_dof)
+            dq[r.free_dofs()] = sign * kick * v
+            r.apply(dq)
+            if r.energy() < e_s:
+                break
+            kick /= 2
+        descents.append(descend(r, -1.1 * float(vals[0]), retract=retract))
+        ends.append(r)
+    return descents, ends
+
+
+def state_label(r: DiscreteRod, refs: list[tuple[str, Snapshot, float]]) -> str:
+    """Return the label of the first reference state that ``r`` is, or ``"unnamed"``.
+
+    ``refs``: ``(label, snapshot, energy)`` triples; one state modulo rigid motion, reflection
+    and relabelling (:func:`~.discover.same_state`).
+    """
+    s, e = Snapshot.of(r), r.energy()
+    return next((lab for lab, snap, e_ref in refs if same_state(r, s, snap, e, e_ref)),
+                "unnamed")
+
+
+#: Two discrete models are one when rest lengths and natural curvatures agree to this
+#: (relative to the largest of them).
+MODEL_RTOL = 1e-12
+
+
+def same_model(r1: DiscreteRod, r2: DiscreteRod) -> bool:
+    """Whether ``r1`` and ``r2`` have one energy function (rest lengths, natural curvatures).
+
+    Parameters
+    ----------
+    r1, r2 : DiscreteRod
+        Two discretisations of one assembly's topology at one load factor.
+
+    Returns
+    -------
+    bool
+        Rest lengths and the natural Cayley curvatures of every joint and half-joint agree to
+        :data:`MODEL_RTOL`.
+    """
+    def natural(r: DiscreteRod) -> np.ndarray:
+        pairs = r._k0(r.k_held_pairs, r.bend_pairs[:, 0], r.load_factor)
+        ee = np.array([lk[0] for lk in r.end_links], int)
+        links = (r._k0(r.k_held_links, ee, r.load_factor) if r.k0_links is None
+                 else r.k0_links[0] + r.load_factor * r.k0_links[1])
+        return np.concatenate([pairs.ravel(), links.ravel(), r.rest_length])
+
+    k1, k2 = natural(r1), natural(r2)
+    return bool(k1.shape == k2.shape and np.max(np.abs(k1 - k2))
+                <= MODEL_RTOL * max(float(np.max(np.abs(k1))), 1.0))
 
 
 def _held(a: Assembly, n: int, mu: float) -> tuple[DiscreteRod, float]:
@@ -186,6 +299,14 @@ def barrier_from_bifurcation(a: Assembly, load_factor: float, *, upper: float,
     from .continuation import arclength_from_bifurcation
 
     rod_a = discretise(a, n, mu0)
+    if not same_model(rod_a, common_rod(a, n, mu0)):
+        raise RodstabInputError(
+            f"state {name!r} is curved in its held geometry: the continuation's discrete model "
+            "of it (rest lengths = the held arc's chords, natural curvature shifted by the held "
+            "Cayley curvature) is not the common model in which the other states are named, "
+            "so the barrier's two ends would be energies of different models; use the string "
+            "method (rodstab barrier --method string), which puts every state in the common "
+            "model")
     ok_a = newton(rod_a)[0]
     if not ok_a or lowest_modes(rod_a, 1)[0][0] < -zero_eigenvalue_tol(rod_a):
         raise RodstabInputError(f"load factor {mu0!r}: state {name!r} is not a stable "
@@ -204,35 +325,14 @@ def barrier_from_bifurcation(a: Assembly, load_factor: float, *, upper: float,
     vals, vecs = lowest_modes(saddle, INDEX_EIGS)
     index = int(np.sum(vals < -zero_eigenvalue_tol(saddle)))
     e_s = saddle.energy()
-    # The two descents, kicked off the saddle along +-its unstable eigenvector.
-    v = vecs[:, 0] / np.max(np.abs(vecs[:, 0]))
-    kick = KICK * a.total_length / len(a.segments)
-    descents, ends = [], []
-    for sign in (1.0, -1.0):
-        r = saddle.copy()
-        for _ in range(20):
-            r = saddle.copy()
-            dq = np.zeros(r.n_dof)
-            dq[r.free_dofs()] = sign * kick * v
-            r.apply(dq)
-            if r.energy() < e_s:
-                break
-            kick /= 2
-        descents.append(descend(r, -1.1 * float(vals[0])))
-        ends.append(r)
+    descents, ends = descents_from_saddle(saddle, vals, vecs)
     # Name each end: A, one of the named states, or unnamed.
     refs = [(name, Snapshot.of(rod_a), e_a)]
     for label, asm in (named or {}).items():
         rod_n, e_n = _held(asm, n, mu0)
         if math.isfinite(e_n):
             refs.append((label, Snapshot.of(rod_n), e_n))
-
-    def label_of(r: DiscreteRod) -> str:
-        s, e = Snapshot.of(r), r.energy()
-        return next((lab for lab, snap, e_ref in refs if same_state(r, s, snap, e, e_ref)),
-                    "unnamed")
-
-    labels = [label_of(r) for r in ends]
+    labels = [state_label(r, refs) for r in ends]
     i_a = labels.index(name) if name in labels else 0
     da, db = descents[i_a], descents[1 - i_a]
     e_b = db.energies[-1]
@@ -248,7 +348,7 @@ def barrier_from_bifurcation(a: Assembly, load_factor: float, *, upper: float,
         lowest_eigenvalues_saddle=tuple(float(x) for x in vals), load_factor=mu0,
         load_factor_critical=float(path.value_critical), converged=converged,
         residual=float(res), descent_steps=(da.steps, db.steps), elements_per_segment=n,
-        n_dof=len(saddle.free_dofs()),
+        n_dof=len(saddle.free_dofs()), descent_ends=tuple(labels),
         method="saddle = the subcritical branch from A's bifurcation (pseudo-arclength), "
                "refined by Newton; path = steepest descent from it (Levenberg-Marquardt steps "
                "in the shifted-Hessian metric, energy decreasing), both ends named by "

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -280,7 +281,9 @@ LM_TRIES = 40
 
 def lm_step(rod: DiscreteRod, free: np.ndarray, E: float, gf: np.ndarray, Hf: sp.spmatrix,
             lam: float, lam_floor: float, *, tries: int = LM_TRIES, round_off: bool = True,
-            to_newton: bool = True) -> tuple[tuple[float, np.ndarray, Any] | None, float]:
+            to_newton: bool = True,
+            retract: Callable[[DiscreteRod, np.ndarray], None] | None = None
+            ) -> tuple[tuple[float, np.ndarray, Any] | None, float]:
     """One accepted Levenberg-Marquardt step ``s = -(H + lam D)^-1 g`` on ``free``, in place.
 
     ``D = |diag H|`` (Jacobi), so ``lam`` is on the scale of the scaled eigenvalues. A step that
@@ -290,8 +293,11 @@ def lm_step(rod: DiscreteRod, free: np.ndarray, E: float, gf: np.ndarray, Hf: sp
     grows 4x. After a step the model predicted well ``lam`` shrinks 4x (to 0 below
     ``lam_floor`` with ``to_newton``: pure Newton, quadratic convergence). Returns the energy
     terms ``(E, g, H)`` at the new state and ``lam``, or ``(None, lam)`` after ``tries``
-    rejections (the state is then unchanged). Shared by :func:`newton` and the barrier's
-    steepest descent.
+    rejections (the state is then unchanged). ``retract(trial, dq)``: applied to each trial
+    state after the step ``dq``, before its energy is evaluated (e.g.
+    :func:`.discover.retract_step`, which removes the closure strain of the stiff penalty that
+    a large step leaves; the prediction stays the model's). Shared by
+    :func:`newton` and the barrier's steepest descent.
     """
     d = jacobi_scaling(Hf)
     dg = 1.0 / d**2
@@ -306,6 +312,8 @@ def lm_step(rod: DiscreteRod, free: np.ndarray, E: float, gf: np.ndarray, Hf: sp
         dq = np.zeros(rod.n_dof)
         dq[free] = step
         trial.apply(dq)
+        if retract is not None:
+            retract(trial, dq)
         Et, gt, Ht = trial.energy_terms()
         actual = E - Et
         if round_off and abs(actual) <= 1e-12 * max(abs(E), 1.0):

@@ -1,0 +1,726 @@
+"""Minimum energy path between two stable states of one discrete rod: string method, saddle.
+
+The string method of E, Ren and Vanden-Eijnden (J. Chem. Phys. 126, 164103, 2007, the
+simplified method: no springs, reparametrisation to equal arclength; the descent restricted to
+the plane perpendicular to the string as in their original method, Phys. Rev. B 66, 052301,
+2002, with a Newton step on that plane as in the preconditioned NEB of Makri, Ortner and
+Kermode, J. Chem. Phys. 150, 094109, 2019), and the saddle refined from a local maximum of the
+string's energies by Newton's method on the gradient; its index is checked to be one and its
+steepest descents to end on the two states. Entry point: :func:`string_barrier`.
+
+**Chart.** Images live on ``R^(3 N) x SO(3)^M`` (node positions, edge and joint frames). The
+difference of two images is taken in the chart of the first (:func:`chart_difference`:
+``x_b - x_a`` and the rotation vectors of ``R_a^T R_b``), updates by
+:meth:`~.discrete.DiscreteRod.apply` (``R exp(hat(phi))``), the chart in which
+:meth:`~.discrete.DiscreteRod.energy_terms` gives the exact gradient and Hessian. Chart sizes
+(:func:`~rodstab.nonlinear.discover.chart_size`) are the largest node move over the mean rod
+length ``L`` or frame turn in radians; arclength is the Euclidean norm of the free unknowns
+with positions over ``L``. All images are in one gauge (:func:`to_gauge`): the gauge joint's
+frame and node are the same in every image, so no rigid motion -- a direction of zero energy --
+enters the string.
+
+**Initial path** (:func:`belt_path`). Linear interpolation of the unknowns fails (compressed
+edges under the stiff stretch/shear penalty, non-finite energies), and so does the geodesic
+``R_a exp(t log(R_a^T R_b))`` frame by frame: the frames of the two states differ by rotations
+up to a half turn about the plane's normal, the branch of the log jumps between neighbouring
+frames, and the planar interpolant cannot close (the states' frame loops differ by whole turns).
+For two planar states whose frames differ by the in-plane rotations ``R_z(alpha_e)`` the path
+used is
+
+    ``G_e(t) = R_n(e)(pi t) R_m(pi t)``,  ``n(e) = R_z(alpha_e / 2) m``,
+
+``m`` a fixed in-plane axis (the gauge joint's tangent): ``G_e(0) = I`` and ``G_e(1) = R_n(pi)
+R_m(pi) = R_z(alpha_e)`` (two half turns about in-plane axes at angle ``alpha_e / 2`` compose to a
+turn by ``alpha_e`` about the normal), so every frame goes from A's to B's through the third
+dimension. ``alpha_e`` is lifted continuously along the rods (breadth-first from the gauge joint),
+and ``G`` depends on ``alpha`` only modulo ``4 pi``: a ring whose two frame loops differ by two
+full turns (the folded and one-loop six-rings) closes -- Dirac's belt trick; an odd number of turns
+cannot close and is refused (no continuous path of frames exists). The gauge joint itself turns
+by ``R_m(2 pi t)``: each image is moved back into A's gauge rigidly. (Without this the first
+images of the relaxed string were A itself turned about its own line, a detour of zero energy
+18 chart units long, six-ring at 8 el./rod: the band of the retired nudged elastic band had the
+same defect.) Each image is then made inextensible
+(:func:`~rodstab.nonlinear.discover.restore_inextensible`: where the turned frames' tangents do
+not close round the ring, positions alone leave a penalty strain -- 7.5e5 B3/L on the hexagram's
+star -> daisy path -- which least frame turns remove). Highest initial energies: 99 B3/L
+(six-ring), 283 (star -> daisy), against saddles at 14.3 and 7.9.
+
+**String iteration** (:func:`relax_string`). Each interior image takes one step that minimises
+the quadratic model ``g . s + 1/2 s^T H s`` on the plane ``tau . s = 0`` perpendicular to its
+central tangent ``tau``: a Newton step on that plane. Where the model is not convex on the
+plane the Levenberg shift ``H + lam D`` (``D = |diag H|``) is raised until it is; only the plane
+has to be convex, not the string's own direction: ``H + lam D`` may keep one negative eigenvalue
+if ``tau . (H + lam D)^-1 tau < 0`` (the inertia of the bordered matrix), both read off the
+pivots of a symmetric factorisation. (Along the six-ring's string at 8 el./rod the unshifted
+``H`` had no negative eigenvalue at 134 of 360 steps, one at 53, more at 173.) Every trial
+state is retracted onto the inextensible states (:func:`~rodstab.nonlinear.discover.
+retract_step`): a chart step opens the ring's closure at second order, and at 0.1 rad the
+penalty strain that leaves (0.83 B3/L on the six-ring) swamps the predicted change (0.04), so
+unretracted steps were accepted only below ~0.03 rad and a version of this loop without the
+retraction needed 190 iterations where it needs 40. The step is accepted when the energy falls
+by a quarter of the model's prediction, else ``lam`` grows 4x (Levenberg-Marquardt, as
+:func:`~.solve.lm_step`). A step moves nothing by more than :data:`STEP_FRACTION` of the
+image's smaller chart gap to its neighbours (images do not overtake each other). No springs:
+when the longest chart segment of the string exceeds :data:`REPARAM_RATIO` times the shortest,
+the string is reparametrised to equal arclength (:func:`reparametrise`: piecewise geodesic in
+the chart, then the retraction). E et al. reparametrise every iteration; here each
+interpolation raises the images' penalty strain and gradient, which the next step then spends
+itself undoing: in a version without the retraction, from one string the top image's energy
+fell from 17.96 to 16.05 B3/L in 95 iterations so, to 14.52 in 55 when reparametrised only
+when uneven. When neighbouring
+images are more than :data:`MAX_GAP` apart the string stops as too coarse (an interpolation
+near half a turn flips the branch of the log: energies of 1e7 seen).
+
+**Saddle** (:func:`refine_saddle`). Once the string has settled (:data:`SETTLE_RTOL`), every
+:data:`SADDLE_TRY_EVERY` iterations copies of the local maxima of its energies are refined by
+Newton's method on the gradient, ``s = -H^-1 g``: no merit function, a saddle being no minimum
+of the energy (the gradient-norm merit of :func:`~rodstab.nonlinear.discover.deflated_newton`
+stalls at a non-stationary point, residual 0.054 B3/L^2, from the six-ring string's highest
+image). Steps are capped at :data:`SADDLE_STEP` and retracted while larger than
+:data:`~rodstab.nonlinear.discover.RETRACT_ABOVE` (the last, small steps are plain Newton,
+quadratically convergent; the retraction would remove an equilibrium's own shear strain).
+Without the retraction the same iteration converged only with steps capped at 0.01 rad.
+Converged at :data:`~rodstab.nonlinear.solve.NEWTON_RTOL` times the stiff force scale, as
+:func:`~rodstab.nonlinear.solve.newton`. A stationary point whose index (negative scaled
+eigenvalues, :func:`~rodstab.nonlinear.solve.lowest_modes`) is not one is passed over (the
+six-ring has one of index 2 at 14.6766 B3/L next to the path, where Newton goes from a string
+whose top is still above 14.5), and so is a saddle whose two steepest descents
+(:func:`~.barrier.descents_from_saddle`, retracted: 16 .. 24 steps against 458 .. 934
+unretracted) do not end on the two states (:func:`~rodstab.nonlinear.discover.same_state`,
+modulo the ring's symmetry).
+
+**What converges.** Not the images' positions: near a state of nearly uniform curvature they
+drift along soft modes (the nearly free sliding of the one-loop ring), by 0.02 .. 0.5 rad per
+iteration for 150 iterations (six-ring, 8 el./rod, 11 images), while the energy profile stays
+put. The string is relaxed until a local maximum of its energies lies in the Newton basin of
+an index-1 saddle whose descents end on the two states; that saddle (Newton-converged) is the
+result, and its energy is the continuation's to 3e-13 relative (six-ring, 8 el./rod). A string
+may also make a detour: between the hexagram's star and daisy (kappa_n R0 = 1.5, 8 el./rod, 17
+images) it leaves the star, loops over a hump of 19.3 B3/L (near a stationary point at 19.29)
+and comes back to the star itself (image 10, 0.001 B3/L above it, descends to it) before
+crossing the saddle at 7.91 to the daisy; every image before the saddle descends to the star.
+The relaxation does not remove the loop (presumably not a contractible one). The barrier
+reported is the saddle's, which joins the two states; the loop stays in the reported path.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import warnings
+from collections.abc import Callable
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from ..errors import RodstabInputError, require_finite, require_int
+from ..model import Assembly
+from ..numerics import jacobi_scaling
+from ..results import Result
+from .barrier import MIN_ELEMENTS, Barrier, descents_from_saddle, same_model, state_label
+from .discover import (
+    NewtonRun,
+    Snapshot,
+    chart_size,
+    common_rod,
+    restore_inextensible,
+    retract_step,
+)
+from .discrete import PENALTY, DiscreteRod
+from .jets import rodrigues
+from .solve import NEWTON_RTOL, lowest_modes, newton, vee_log, zero_eigenvalue_tol
+
+#: Lowest eigenvalues computed to count a stationary point's index.
+INDEX_EIGS = 4
+
+#: Images of the string, ends included (11 suffice for the six-ring at 8 el./rod; the
+#: hexagram's star -> daisy string becomes too coarse with 11 and converges with 17).
+STRING_IMAGES = 17
+#: Most string iterations (each: one step of every interior image).
+STRING_MAX_ITER = 300
+#: A step moves no node (over L) or frame (rad) by more than this times the image's smaller
+#: chart gap to its neighbours.
+STEP_FRACTION = 0.5
+#: Reparametrise when the longest chart segment of the string exceeds this times the shortest.
+REPARAM_RATIO = 1.5
+#: String iterations between two attempts to refine images to the saddle.
+SADDLE_TRY_EVERY = 10
+#: A saddle attempt waits until the string has settled: its highest energy ranged over less
+#: than SETTLE_RTOL times its height above the lower end in the last SETTLE_ITER iterations.
+#: Without this, a saddle found from a string still on its initial path's plateau (daisy ->
+#: eight, 8 el., 17 images: 300 .. 400 B3/L for 30 iterations, then 14.47 from iteration 38)
+#: joins the two states but is not known to be on the minimum energy path.
+SETTLE_RTOL = 0.02
+SETTLE_ITER = 5
+#: Local maxima of the string's energies refined per attempt (highest first).
+SADDLE_CANDIDATES = 3
+#: The string stops (too coarse) when neighbouring images differ by a frame turn or node move
+#: (over L) above this: past ~pi the chart difference takes the other branch of the log and an
+#: interpolated image has neighbouring frames half a turn apart (energies ~1e7 seen at gaps of
+#: 3.1 rad, hexagram star -> daisy with 11 images); more images are needed.
+MAX_GAP = 2.5
+#: Newton steps towards the saddle move no node (over L) or frame (rad) by more than this.
+SADDLE_STEP = 0.1
+#: Most Newton steps of one attempt (from the basin: 4 .. 40, measured).
+SADDLE_MAX_ITER = 40
+#: Extra Newton steps past the tolerance, each kept only if it divides the residual by 10.
+POLISH_STEPS = 2
+#: Largest |frame normal . lab z - 1| and out-of-plane node coordinate (times L) of a planar state.
+PLANAR_TOL = 1e-8
+#: Levenberg shifts tried per step (``lam`` grows 4x from the floor ~1e-11: 20 tries reach
+#: the largest shifts needed, ~1).
+SHIFT_TRIES = 60
+
+
+def chart_difference(a: DiscreteRod, b: DiscreteRod | Snapshot) -> np.ndarray:
+    """State ``b`` minus state ``a`` in ``a``'s chart, ``(n_dof,)``.
+
+    Nodes ``x_b - x_a``; frames the rotation vectors of ``R_a^T R_b`` (body frame of ``a``),
+    so that ``a.apply(chart_difference(a, b))`` reproduces ``b`` (rotations below a half turn).
+    """
+    phi_e = vee_log(np.swapaxes(a.R_edge, 1, 2) @ b.R_edge)
+    phi_j = vee_log(np.swapaxes(a.R_joint, 1, 2) @ b.R_joint)
+    return np.concatenate([(b.x - a.x).ravel(), phi_e.ravel(), phi_j.ravel()])
+
+
+def to_gauge(b: DiscreteRod, a: DiscreteRod) -> None:
+    """Move ``b`` rigidly (in place) so that its gauge joint sits where ``a``'s does.
+
+    Held states of one ring built from different assemblies place the gauge joint (held
+    position and frame, :func:`~.discrete.discretise`) differently; a path between them must
+    start and end in one gauge, which no free unknown can change.
+    """
+    j, nd = a.fixed_joints[0], a.fixed_nodes[0]
+    Rg = a.R_joint[j] @ b.R_joint[j].T
+    b.x = (b.x - b.x[nd]) @ Rg.T + a.x[nd]
+    b.R_edge = Rg @ b.R_edge
+    b.R_joint = Rg @ b.R_joint
+    if a.R_joint_held is not None:
+        b.R_joint_held = a.R_joint_held.copy()
+
+
+def _frames(r: DiscreteRod | Snapshot) -> np.ndarray:
+    return np.concatenate([r.R_edge, r.R_joint])
+
+
+def _lifted_angles(a: DiscreteRod, alpha: np.ndarray) -> np.ndarray:
+    """Lift the in-plane rotation angles ``alpha`` (per frame) continuously along the rods.
+
+    Breadth-first from the gauge joint over neighbouring frames (consecutive edges, end edge
+    and joint); raises when the lift closes with an odd number of turns (module docstring).
+    """
+    ne = len(a.R_edge)
+    adj: dict[int, list[int]] = {i: [] for i in range(len(alpha))}
+    for p, q in a.bend_pairs:
+        adj[int(p)].append(int(q))
+        adj[int(q)].append(int(p))
+    for e, j, _, _ in a.end_links:
+        adj[int(e)].append(ne + int(j))
+        adj[ne + int(j)].append(int(e))
+    start = ne + a.fixed_joints[0]
+    lift = {start: float(alpha[start])}
+    order = [start]
+    for u in order:
+        for v in adj[u]:
+            val = alpha[v] + 2 * math.pi * round((lift[u] - alpha[v]) / (2 * math.pi))
+            if v not in lift:
+                lift[v] = float(val)
+                order.append(v)
+            elif abs(lift[v] - val) % (4 * math.pi) > 1.0:
+                turns = (lift[v] - val) / (2 * math.pi)
+                raise RodstabInputError(
+                    f"the two states' frames differ by {turns:.3g} turns round the ring: no "
+                    "continuous path of frames joins them (an odd number of turns)")
+    return np.array([lift[i] for i in range(len(alpha))])
+
+
+def belt_path(a: DiscreteRod, b: DiscreteRod, n_images: int) -> list[DiscreteRod]:
+    """Return the initial string of ``n_images`` states from ``a`` to ``b``, ends included.
+
+    The belt path of the module docstring, every image in ``a``'s gauge.
+
+    Parameters
+    ----------
+    a, b : DiscreteRod
+        Planar states (in the plane of ``a``'s gauge joint) of one model in one gauge
+        (:func:`to_gauge`); raises :class:`RodstabInputError` otherwise, or when their frame
+        loops differ by an odd number of turns.
+    n_images : int
+        Images, ends included (copies of ``a`` and ``b``).
+
+    Returns
+    -------
+    list of DiscreteRod
+        The images at ``t = k / (n_images - 1)``.
+    """
+    nrm = a.R_joint[a.fixed_joints[0]][:, 2]
+    Fa, Fb = _frames(a), _frames(b)
+    for r, F in ((a, Fa), (b, Fb)):
+        off = float(np.max(np.abs((r.x - r.x[r.fixed_nodes[0]]) @ nrm)))
+        if np.max(np.abs(F[:, :, 2] @ nrm - 1.0)) > PLANAR_TOL or off > PLANAR_TOL:
+            raise RodstabInputError("the band's initial path is built for planar end states; "
+                                    f"a state leaves the plane by {off:.3g} L")
+    # Lab rotation A -> B of every frame: a rotation about the normal by alpha.
+    Dl = Fb @ np.swapaxes(Fa, 1, 2)
+    u = a.R_joint[a.fixed_joints[0]][:, 0]
+    v = np.cross(nrm, u)
+    alpha = np.arctan2(np.einsum("i,fij,j->f", v, Dl, u), np.einsum("i,fij,j->f", u, Dl, u))
+    alpha = _lifted_angles(a, alpha)
+    m = a.R_joint[a.fixed_joints[0]][:, 1]  # in-plane axis: the gauge joint's tangent
+    n = np.cos(alpha / 2)[:, None] * m + np.sin(alpha / 2)[:, None] * np.cross(nrm, m)
+    ne = len(a.R_edge)
+    band = []
+    for t in np.linspace(0.0, 1.0, n_images):
+        r = a.copy()
+        F = rodrigues(math.pi * t * n) @ rodrigues(np.tile(math.pi * t * m, (len(n), 1))) @ Fa
+        r.R_edge, r.R_joint = F[:ne], F[ne:]
+        r.x = (1 - t) * a.x + t * b.x
+        restore_inextensible(r)
+        to_gauge(r, a)  # G turns the gauge joint by R_m(2 pi t): undo it rigidly
+        band.append(r)
+    band[0], band[-1] = a.copy(), b.copy()
+    return band
+
+
+
+
+def _chart_scale(r: DiscreteRod) -> np.ndarray:
+    """Per-unknown scale of chart norms, ``(n_dof,)``: ``1 / L`` for positions, 1 for frames."""
+    scale = np.ones(r.n_dof)
+    scale[: 3 * len(r.x)] = len(r.assembly.segments) / r.assembly.total_length
+    return scale
+
+
+def _factor(d: np.ndarray, A: sp.csc_matrix, lam: float
+            ) -> tuple[Callable[[np.ndarray], np.ndarray] | None, int]:
+    """Solve with ``H + lam D`` from the symmetric factorisation of ``A + lam I`` (``A = d H d``).
+
+    Returns the solve and the number of negative pivots -- the negative eigenvalues of
+    ``H + lam D`` (Sylvester) when no off-diagonal pivoting happened -- or ``(None, 0)`` when
+    the factorisation failed or pivoted off the diagonal (inertia unknown).
+    """
+    M = (A + lam * sp.identity(A.shape[0], format="csc")).tocsc() if lam else A
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        try:
+            lu = spla.splu(M, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+                           options={"SymmetricMode": True})
+        except RuntimeError:
+            return None, 0
+    piv = lu.U.diagonal()
+    if not np.array_equal(lu.perm_r, lu.perm_c) or not np.all(np.isfinite(piv)) \
+            or np.any(piv == 0):
+        return None, 0
+
+    def solve(r: np.ndarray) -> np.ndarray:
+        return d * lu.solve(d * r)
+
+    return solve, int(np.sum(piv < 0))
+
+
+def _perpendicular_step(r: DiscreteRod, free: np.ndarray, E: float, gf: np.ndarray,
+                        Hf: sp.csc_matrix, tau: np.ndarray, lam: float, floor: float,
+                        cap: float) -> tuple[tuple[float, np.ndarray, sp.csr_matrix] | None,
+                                             float]:
+    """One accepted Newton step of ``r`` (in place) on the plane ``tau . s = 0``.
+
+    The minimiser ``s = -P^-1 g + mu P^-1 tau``, ``mu = (tau . P^-1 g) / (tau . P^-1 tau)``, of
+    the model ``g . s + 1/2 s^T H s`` on the plane, ``P = H + lam D`` with ``lam`` (from the
+    given one) the smallest 4x step up for which ``P`` is positive definite on the plane
+    (module docstring). The step is scaled to move nothing by more than ``cap``
+    (:func:`chart_size`), retracted (:func:`~.discover.restore_inextensible`) and accepted
+    when the energy falls by a quarter of the model's prediction; else ``lam`` grows 4x.
+
+    Returns the energy terms ``(E, g, H)`` of the new state and the ``lam`` to start the next
+    step from (4x smaller after a well predicted step), or ``(None, lam)`` when no step was
+    taken (nothing left to gain on the plane, or no acceptable step in ``SHIFT_TRIES``).
+    """
+    d = jacobi_scaling(Hf)
+    A = (sp.diags(d) @ Hf @ sp.diags(d)).tocsc()
+    for _ in range(SHIFT_TRIES):
+        solve, neg = _factor(d, A, lam)
+        if solve is None or neg > 1:
+            lam = max(4 * lam, floor)
+            continue
+        pt = solve(tau)
+        tpt = float(tau @ pt)
+        if (neg == 0) != (tpt > 0):  # the projected model is not convex: shift further
+            lam = max(4 * lam, floor)
+            continue
+        pg = solve(gf)
+        s = -pg + float(tau @ pg) / tpt * pt
+        dq = np.zeros(r.n_dof)
+        dq[free] = s
+        c = min(1.0, cap / max(chart_size(r, dq), 1e-300))
+        s, dq = c * s, c * dq
+        pred = -float(gf @ s + 0.5 * s @ (Hf @ s))
+        if pred <= 1e-14 * max(abs(E), 1.0):
+            return None, lam  # nothing left to gain on the plane
+        trial = r.copy()
+        trial.apply(dq)
+        retract_step(trial, dq)
+        terms = trial.energy_terms()
+        actual = E - terms[0]
+        if actual >= 0.25 * pred:
+            r.x, r.R_edge, r.R_joint = trial.x, trial.R_edge, trial.R_joint
+            return terms, (lam / 4 if actual > 0.75 * pred else lam)
+        lam = max(4 * lam, floor)
+    return None, lam
+
+
+def reparametrise(band: list[DiscreteRod], free: np.ndarray) -> list[DiscreteRod]:
+    """Return the string through ``band`` with its interior images at equal chart arclength.
+
+    Arclength: the Euclidean chart norm (positions over ``L``, radians) of the free parts of
+    consecutive differences. A new image at arclength ``s`` between images ``k`` and ``k + 1``
+    is ``band[k]`` moved by the fraction of :func:`chart_difference` ``(band[k], band[k + 1])``
+    (piecewise geodesic), then retracted (:func:`~.discover.restore_inextensible`). The ends
+    are kept (the same objects).
+    """
+    scale = _chart_scale(band[0])
+    mask = np.zeros(band[0].n_dof)
+    mask[free] = 1.0
+    diffs = [mask * chart_difference(band[k], band[k + 1]) for k in range(len(band) - 1)]
+    seg = np.array([np.linalg.norm(scale * dk) for dk in diffs])
+    s = np.concatenate([[0.0], np.cumsum(seg)])
+    out = [band[0]]
+    for target in np.linspace(0.0, s[-1], len(band))[1:-1]:
+        k = min(int(np.searchsorted(s, target, side="right")) - 1, len(seg) - 1)
+        r = band[k].copy()
+        dq = (target - s[k]) / seg[k] * diffs[k]
+        r.apply(dq)
+        retract_step(r, dq)
+        out.append(r)
+    out.append(band[-1])
+    return out
+
+
+def arclength(band: list[DiscreteRod]) -> np.ndarray:
+    """Cumulative chart arclength of ``band`` at its images, normalised to end at 1."""
+    free = band[0].free_dofs()
+    scale = _chart_scale(band[0])[free]
+    seg = [float(np.linalg.norm(scale * chart_difference(band[k], band[k + 1])[free]))
+           for k in range(len(band) - 1)]
+    s = np.concatenate([[0.0], np.cumsum(seg)])
+    return s / s[-1]
+
+
+def _tangent(band: list[DiscreteRod], i: int, free: np.ndarray, scale: np.ndarray
+             ) -> np.ndarray:
+    """Central unit tangent of the string at interior image ``i`` (its chart, free unknowns)."""
+    ahead = chart_difference(band[i], band[i + 1])[free]
+    back = -chart_difference(band[i], band[i - 1])[free]
+    return ahead / np.linalg.norm(scale * ahead) + back / np.linalg.norm(scale * back)
+
+
+def _newton_step(r: DiscreteRod, free: np.ndarray, gf: np.ndarray, H: sp.csr_matrix
+                 ) -> np.ndarray | None:
+    """Return ``dq`` of the Newton step ``-H^-1 g`` on ``free``, or None.
+
+    ``H`` is shifted by the smallest ``lam D`` that lets the LU factorisation succeed when it
+    is singular.
+    """
+    Hf = H[free][:, free].tocsc()
+    Hf = 0.5 * (Hf + Hf.T)
+    dg = np.abs(Hf.diagonal())
+    floor = zero_eigenvalue_tol(r)
+    lam = 0.0
+    for _ in range(SHIFT_TRIES):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            try:  # LU with partial pivoting: H is indefinite at a saddle
+                step = -spla.splu((Hf + lam * sp.diags(dg)).tocsc()).solve(gf)
+            except RuntimeError:
+                step = None
+        if step is not None and np.all(np.isfinite(step)):
+            dq = np.zeros(r.n_dof)
+            dq[free] = step
+            return dq
+        lam = max(4 * lam, floor)
+    return None
+
+
+def refine_saddle(r: DiscreteRod, *, max_iter: int = SADDLE_MAX_ITER) -> NewtonRun:
+    """Newton's method on the gradient from ``r`` (in place) to the stationary point nearby.
+
+    Steps ``s = -H^-1 g`` on the free unknowns, scaled to move nothing by more than
+    :data:`SADDLE_STEP`, and retracted onto the inextensible states while larger than
+    :data:`~.discover.RETRACT_ABOVE` (:func:`~.discover.retract_step`, module docstring). No
+    merit function: it converges to saddles as well as minima, from their basin. Once the
+    residual is below the tolerance, up to :data:`POLISH_STEPS` more plain Newton steps are
+    taken while each lowers it: near soft modes the energy error is ~``g^2 / lambda``, 1e-6
+    B3/L at the tolerance (hexagram daisy -> eight, 8 el.: saddle energies 8.7e-7 apart at
+    residuals 5e-6 and 3e-9), and Newton's quadratic convergence removes it in a step or two.
+
+    Returns
+    -------
+    NewtonRun
+        ``converged``: the free gradient's max-norm fell below ``NEWTON_RTOL`` times the stiff
+        force scale (as :func:`~.solve.newton`); its iterations and the final residual.
+    """
+    free = r.free_dofs()
+    tol = NEWTON_RTOL * float(PENALTY * np.max(r.edge_B) / np.min(r.rest_length))
+    _, g, H = r.energy_terms()
+    res = float(np.max(np.abs(g[free])))
+    it = 0
+    while res > tol and math.isfinite(res) and it < max_iter:
+        dq = _newton_step(r, free, g[free], H)
+        if dq is None:
+            break
+        dq *= min(1.0, SADDLE_STEP / max(chart_size(r, dq), 1e-300))
+        r.apply(dq)
+        retract_step(r, dq)
+        _, g, H = r.energy_terms()
+        res = float(np.max(np.abs(g[free])))
+        it += 1
+    if not res <= tol:
+        return NewtonRun(False, it, res)
+    for _ in range(POLISH_STEPS):
+        dq = _newton_step(r, free, g[free], H)
+        if dq is None:
+            break
+        trial = r.copy()
+        trial.apply(dq)
+        _, gt, Ht = trial.energy_terms()
+        if not float(np.max(np.abs(gt[free]))) < 0.1 * res:
+            break  # round-off: the residual no longer falls
+        r.x, r.R_edge, r.R_joint = trial.x, trial.R_edge, trial.R_joint
+        g, H, res = gt, Ht, float(np.max(np.abs(gt[free])))
+        it += 1
+    return NewtonRun(True, it, res)
+
+
+@dataclasses.dataclass(frozen=True)
+class StringRun(Result):
+    """The string's relaxation and the saddle refined from one of its images.
+
+    ``converged``: Newton from a local maximum of the string's energies converged to a
+    stationary point of index one that the caller accepted; ``iterations``: string iterations
+    done; ``displacement``: largest chart move of an image in the last iteration (over ``L``,
+    rad); ``largest_gap``: largest chart gap (:func:`~.discover.chart_size`) between
+    neighbouring images at the end; ``too_coarse``: stopped because a gap exceeded
+    :data:`MAX_GAP`; ``top_energies``: the highest interior image's energy after each iteration;
+    ``saddle_image``: the image the saddle was refined from (-1: none); ``saddle_index``,
+    ``residual``: of the last converged Newton run (-1, NaN if none); ``attempts``: Newton runs;
+    ``reparametrisations``: times the string was reparametrised.
+    """
+
+    converged: bool
+    iterations: int
+    displacement: float
+    largest_gap: float
+    too_coarse: bool
+    top_energies: tuple[float, ...]
+    saddle_image: int
+    saddle_index: int
+    residual: float
+    attempts: int
+    reparametrisations: int
+
+
+def _index(r: DiscreteRod) -> tuple[int, np.ndarray, np.ndarray]:
+    """Hessian index of ``r`` (scaled eigenvalues below ``-zero_eigenvalue_tol``), lowest pairs."""
+    vals, vecs = lowest_modes(r, INDEX_EIGS)
+    return int(np.sum(vals < -zero_eigenvalue_tol(r))), vals, vecs
+
+
+def relax_string(band: list[DiscreteRod], *, max_iter: int = STRING_MAX_ITER,
+                 try_every: int = SADDLE_TRY_EVERY,
+                 accept: Callable[[DiscreteRod], bool] | None = None
+                 ) -> tuple[list[DiscreteRod], DiscreteRod | None, StringRun]:
+    """Relax the string ``band`` until one of its images refines to an accepted index-1 saddle.
+
+    The iteration of the module docstring: every interior image takes one perpendicular
+    Newton step (:func:`_perpendicular_step`), the string is reparametrised when uneven
+    (:func:`reparametrise`), and, at least ``try_every`` iterations apart and once the string
+    has settled (:data:`SETTLE_RTOL`), copies of the interior local maxima of its energies
+    (highest first, at most :data:`SADDLE_CANDIDATES`) are refined by :func:`refine_saddle`.
+    The first that converges with index one and that ``accept`` takes ends the relaxation. A
+    local maximum, not only the highest image: a string between two states may pass an end
+    state again after a loop, and its highest hump need not be the saddle between the ends
+    (hexagram star -> daisy, module docstring).
+
+    Parameters
+    ----------
+    band : list of DiscreteRod
+        The string, ends (kept fixed) included, all in one gauge; at least three images.
+    max_iter, try_every : int
+        Most iterations; iterations between saddle attempts.
+    accept : callable, optional
+        Takes an index-1 saddle, returns whether it is the one sought (e.g. its descents end
+        on the two states); by default every index-1 saddle is.
+
+    Returns
+    -------
+    tuple
+        The relaxed string (new list; the ends are the given objects), the saddle (``None``
+        if none was found) and the :class:`StringRun`.
+    """
+    band = list(band)
+    n = len(band)
+    free = band[0].free_dofs()
+    floor = zero_eigenvalue_tol(band[0])
+    scale = _chart_scale(band[0])[free]
+    lams = [floor] * n
+    terms: list[tuple[float, np.ndarray, sp.csr_matrix] | None] = [None] * n
+    ends = [band[0].energy_terms(), band[-1].energy_terms()]
+    terms[0], terms[-1] = ends
+    tops: list[float] = []
+    attempts = reps = 0
+    index, residual, moved, it, last_try = -1, math.nan, math.inf, 0, 0
+
+    def gaps() -> list[float]:
+        return [chart_size(band[k], chart_difference(band[k], band[k + 1]))
+                for k in range(n - 1)]
+
+    def run(converged: bool, saddle_image: int, too_coarse: bool = False) -> StringRun:
+        return StringRun(converged, it, moved, max(gaps()), too_coarse, tuple(tops),
+                         saddle_image, index, residual, attempts, reps)
+
+    for it in range(1, max_iter + 1):
+        old = [r.copy() for r in band]
+        gap = gaps()
+        if max(gap) > MAX_GAP:
+            return band, None, run(False, -1, too_coarse=True)
+        for i in range(1, n - 1):
+            r = band[i]
+            E, g, H = terms[i] or r.energy_terms()
+            Hf = H[free][:, free].tocsc()
+            new, lams[i] = _perpendicular_step(
+                r, free, E, g[free], 0.5 * (Hf + Hf.T), _tangent(old, i, free, scale),
+                max(lams[i], floor), floor, STEP_FRACTION * min(gap[i - 1], gap[i]))
+            terms[i] = new or (E, g, H)
+        seg = [float(np.linalg.norm(scale * chart_difference(band[k], band[k + 1])[free]))
+               for k in range(n - 1)]
+        if max(seg) > REPARAM_RATIO * min(seg):
+            band = reparametrise(band, free)
+            terms = [ends[0]] + [None] * (n - 2) + [ends[1]]
+            reps += 1
+        moved = max(chart_size(old[i], chart_difference(old[i], band[i]))
+                    for i in range(1, n - 1))
+        energies = [t[0] if t is not None else r.energy()
+                    for t, r in zip(terms, band, strict=True)]
+        tops.append(max(energies[1:-1]))
+        window = tops[-1 - SETTLE_ITER:]
+        settled = (len(tops) > SETTLE_ITER and max(window) - min(window)
+                   <= SETTLE_RTOL * (tops[-1] - min(energies[0], energies[-1])))
+        if it < last_try + try_every or not settled:
+            continue
+        last_try = it
+        peaks = [i for i in range(1, n - 1)
+                 if energies[i] >= energies[i - 1] and energies[i] >= energies[i + 1]]
+        for i in sorted(peaks, key=lambda k: -energies[k])[:SADDLE_CANDIDATES]:
+            attempts += 1
+            saddle = band[i].copy()
+            newton_run = refine_saddle(saddle)
+            if not newton_run.converged:
+                continue
+            index, residual = _index(saddle)[0], newton_run.residual
+            if index == 1 and (accept is None or accept(saddle)):
+                return band, saddle, run(True, i)
+    return band, None, run(False, -1)
+
+
+def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
+                   elements_per_segment: int = 8, images: int = STRING_IMAGES,
+                   name_a: str = "A", name_b: str = "B", max_iter: int = STRING_MAX_ITER
+                   ) -> tuple[Barrier, list[Snapshot]]:
+    """Energy barrier between held states ``a`` and ``b`` of one ring by the string method.
+
+    Both are put in one discrete model (:func:`~.discover.common_rod`) at ``load_factor`` and
+    relaxed by Newton; ``b`` is moved into ``a``'s gauge (:func:`to_gauge`); the string runs
+    from the belt path (:func:`belt_path`) until its highest image refines to an index-1 saddle
+    (:func:`relax_string`); the two steepest descents from that saddle
+    (:func:`~.barrier.descents_from_saddle`, retracted steps) must end on ``a`` and ``b``
+    (:func:`~.discover.same_state`).
+
+    Parameters
+    ----------
+    a, b : Assembly
+        Held states of one ring (same segments in the same order and orientation).
+    load_factor : float
+        The model's load factor, at which both must be stable.
+    elements_per_segment : int
+        Elements per rod (>= :data:`~.barrier.MIN_ELEMENTS`).
+    images : int
+        Images of the string, ends included (>= 3).
+    name_a, name_b : str
+        Labels of ``a`` and ``b``.
+    max_iter : int
+        Most string iterations.
+
+    Returns
+    -------
+    tuple
+        The :class:`~.barrier.Barrier` (``converged`` false when no index-1 saddle was found or
+        its descents do not end on the two states; the barriers are then those of the highest
+        image) and the path's states (string images, the highest replaced by the saddle).
+
+    Raises
+    ------
+    RodstabInputError
+        Naming the value: a bad number, two states of different models, a state not stable at
+        ``load_factor``, a non-planar state, or frame loops an odd number of turns apart.
+    """
+    mu = require_finite("load_factor", load_factor)
+    n = require_int("elements_per_segment", elements_per_segment, MIN_ELEMENTS)
+    n_img = require_int("images", images, 3)
+    max_iter = require_int("max_iter", max_iter, 1)
+    rod_a, rod_b = common_rod(a, n, mu), common_rod(b, n, mu)
+    if not same_model(rod_a, rod_b):
+        raise RodstabInputError(f"states {name_a!r} and {name_b!r} are not states of one "
+                                "discrete model (rest lengths or natural curvatures differ)")
+    for r, label in ((rod_a, name_a), (rod_b, name_b)):
+        if not newton(r)[0] or lowest_modes(r, 1)[0][0] < -zero_eigenvalue_tol(r):
+            raise RodstabInputError(f"load factor {mu!r}: state {label!r} is not a stable "
+                                    "equilibrium there (outside its stable interval)")
+    to_gauge(rod_b, rod_a)
+    e_a, e_b = rod_a.energy(), rod_b.energy()
+    refs = [(name_a, Snapshot.of(rod_a), e_a), (name_b, Snapshot.of(rod_b), e_b)]
+    found: dict[str, tuple] = {}
+
+    def joins_the_states(saddle: DiscreteRod) -> bool:
+        # The saddle sought is the one whose two descents end on a and b (modulo the ring's
+        # symmetry); another index-1 saddle of the string joins other states.
+        index, vals, vecs = _index(saddle)
+        descents, tips = descents_from_saddle(saddle, vals, vecs, retract=True)
+        labels = tuple(state_label(r, refs) for r in tips)
+        tol = zero_eigenvalue_tol(saddle)
+        ok = (all(d.converged and d.lowest_eigenvalue > -tol for d in descents)
+              and sorted(labels) == sorted((name_a, name_b)))
+        found["last"] = (vals, labels, (descents[0].steps, descents[1].steps))
+        return ok
+
+    band, saddle, run = relax_string(belt_path(rod_a, rod_b, n_img), max_iter=max_iter,
+                                     accept=joins_the_states)
+    if saddle is None:
+        energies = [r.energy() for r in band]
+        top = 1 + int(np.argmax(energies[1:-1]))
+        saddle = band[top]
+        vals = lowest_modes(saddle, INDEX_EIGS)[0]
+        index = int(np.sum(vals < -zero_eigenvalue_tol(saddle)))
+        residual = float(np.max(np.abs(saddle.energy_terms()[1][saddle.free_dofs()])))
+        labels: tuple[str, ...] = ()
+        steps = (0, 0)
+    else:
+        top, index, residual = run.saddle_image, run.saddle_index, run.residual
+        vals, labels, steps = found["last"]
+    path = band[:top] + [saddle] + band[top + 1:]
+    energies = [r.energy() for r in path]
+    e_s = energies[top]
+    return Barrier(
+        barrier_forward=float(e_s - e_a), barrier_backward=float(e_s - e_b),
+        saddle_index=index, energies=tuple(float(e) for e in energies), saddle_position=top,
+        from_state=name_a, to_state=name_b, energy_from=float(e_a), energy_to=float(e_b),
+        energy_saddle=float(e_s), lowest_eigenvalues_saddle=tuple(float(x) for x in vals),
+        load_factor=mu, load_factor_critical=math.nan,
+        converged=run.converged, residual=residual,
+        descent_steps=steps, elements_per_segment=n, n_dof=len(saddle.free_dofs()),
+        method="string: belt path, perpendicular Newton steps retracted onto the inextensible "
+               "states, reparametrised to equal chart arclength; saddle = Newton from a local "
+               "maximum of its energies, index 1, whose steepest descents end on the two "
+               "states (same_state)",
+        descent_ends=labels, images=n_img, iterations=run.iterations,
+        path_arclength=tuple(float(x) for x in arclength(path)), string_run=run), \
+        [Snapshot.of(r) for r in path]
