@@ -41,9 +41,9 @@ GHOST_FACE = (0.55, 0.55, 0.55, 0.13)
 GHOST_EDGE = (0.45, 0.45, 0.45, 0.25)
 #: Width of the segment-coloured outlines of the faces (points).
 OUTLINE_WIDTH = 0.45
-#: Distance of the HTML view's camera from the centre, in units of the box's largest side
-#: (plotly's default eye is 2.2 from the centre).
-EYE_DISTANCE = 1.3
+#: Distance of the HTML view's camera from the centre, in half-diagonals of the drawn box
+#: (the radius of a sphere around it): the whole assembly in view from any azimuth.
+EYE_DISTANCE = 2.4
 #: At most this many segments get a legend entry (a larger assembly is told apart by colour).
 LEGEND_MAX = 12
 
@@ -134,6 +134,8 @@ def _axes_3d(fig: Figure, points: np.ndarray) -> Any:
     ax.set_xlabel("x")
     ax.set_ylabel("y")
     ax.set_zlabel("z")
+    for axis in (ax.xaxis, ax.yaxis, ax.zaxis):
+        axis.set_major_locator(MaxNLocator(nbins=5))  # the short (z) axis had ten
     ax.tick_params(labelsize=7)
     return ax
 
@@ -467,14 +469,14 @@ def html_view(shapes: Sequence[np.ndarray], frames: Sequence[np.ndarray], layout
     allp = np.vstack([f.reshape(-1, 3) for f in faces])
     centre, sides = ribbons.view_box(allp)
     elev, azim = ribbons.camera(allp)
-    eye = EYE_DISTANCE * _light(elev, azim)
+    ratio = sides / float(np.max(sides))
+    eye = EYE_DISTANCE * 0.5 * float(np.linalg.norm(ratio)) * _light(elev, azim)
     fig = go.Figure(data=traces(0),
                     frames=[go.Frame(data=traces(i), name=str(i)) for i in range(len(shapes))])
     # Equal axes: the box's sides in proportion to the ranges (what aspectmode "data" does),
     # given explicitly so that the largest side is 1 and the camera's distance (in those
     # units) frames the whole assembly; "data" normalises the box by another rule and the
     # same eye then zooms in on a long, flat assembly.
-    ratio = sides / float(np.max(sides))
     scene = dict(aspectmode="manual",
                  aspectratio=dict(x=ratio[0], y=ratio[1], z=ratio[2]),
                  # Perspective: plotly's orthographic view zooms by the box's size, not
