@@ -273,3 +273,16 @@ def test_plot_mode_writes_its_file_and_sweep_plot_too(tmp_path):
     rows = [{"k": 1.0, "load_factor_critical": 2.0, "load_factor_lower": -1.0},
             {"k": 2.0, "load_factor_critical": 3.0, "load_factor_lower": -2.0}]
     assert sweep_plot(rows, "k", tmp_path).stat().st_size > 0
+
+
+def test_cli_equilibrium_render_takes_colour_twist_and_refuses_an_unknown_colour(run_cli, tmp_path):
+    """equilibrium --render --colour twist writes its picture;
+    --colour with another name is a usage error (exit 2) naming the choices."""
+    r = run_cli(["equilibrium", "examples/birod.toml", "--elements", "4", "--render",
+                 str(tmp_path / "eq.png"), "--colour", "twist", "--json"])
+    assert r.exit_code == 0, r.stderr
+    assert (tmp_path / "eq.png").stat().st_size > 0
+    r = run_cli(["equilibrium", "examples/birod.toml", "--elements", "4", "--render",
+                 str(tmp_path / "eq2.png"), "--colour", "stress"])
+    assert r.exit_code == 2 and "moment" in r.stderr and "twist" in r.stderr
+    assert not (tmp_path / "eq2.png").exists()
