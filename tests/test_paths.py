@@ -316,7 +316,8 @@ def test_interactive_html_views_are_written(run_cli, tmp_path):
                  str(tmp_path / "eq.html"), "--json"])
     assert r.exit_code == 0, r.stderr
     text = (tmp_path / "eq.html").read_text()
-    assert "plotly" in text.lower() and "scatter3d" in text
+    assert "plotly" in text.lower() and "scatter3d" in text  # the segments' outlines
+    assert '"intensitymode":"cell"' in text  # the rods' boxes, coloured per face
     r = run_cli(["continue", "examples/twisted_rod.toml", "--vary",
                  "support.1.rotation.tangent=0:13:13", "--elements", "8", "--branch-steps", "3",
                  "--out", str(tmp_path / "c"), "--no-progress", "--json"])

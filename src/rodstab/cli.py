@@ -166,6 +166,13 @@ def _where_options(f: Callable[..., Any]) -> Callable[..., Any]:
 
 _json_option = click.option("--json", "as_json", is_flag=True,
                             help="Print one JSON object instead of a table.")
+#: What the pictures of nonlinear states colour each edge by (``--colour``): name -> (label,
+#: signed). The values come from :class:`~rodstab.nonlinear.discrete.DiscreteRod`.
+COLOUR_BY = {"moment": ("|internal moment|", False), "twist": ("twist rate (rad/length)", True)}
+_colour_option = click.option(
+    "--colour", "colour", type=click.Choice(tuple(COLOUR_BY)), default="moment",
+    show_default=True, help="Colour the rods' pictures by the internal moment's magnitude or "
+                            "by the rate of twist (signed: opposite twists in opposite colours).")
 
 
 def _limit_options(f: Callable[..., Any]) -> Callable[..., Any]:
@@ -526,11 +533,12 @@ def _analyze_unit_lines(block: dict[str, Any], units: Units, stable: bool) -> li
               help="Write a 3D picture of the equilibrium (PNG).")
 @click.option("--html", "html_path", type=click.Path(dir_okay=False), default=None,
               help="Write an interactive 3D view (HTML; needs plotly: rodstab[viz]).")
+@_colour_option
 @_limit_options
 @_json_option
 def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, perturb: float,
-                    render_path: str | None, html_path: str | None, limits: Limits,
-                    as_json: bool) -> None:
+                    render_path: str | None, html_path: str | None, colour: str,
+                    limits: Limits, as_json: bool) -> None:
     """Nonlinear equilibrium (Newton) of a design and its Hessian stability.
 
     If Newton does not converge, the table (or JSON, converged: false) is still printed and
@@ -554,18 +562,25 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
     ev = r.lowest_eigenvalues
     payload = r.to_dict() | {"design": d.source, "elements_per_segment": n,
                              "max_out_of_plane": float(np.max(np.abs(rod.x[:, 2])))}
+    if render is not None or html is not None:
+        from .ribbons import RodLayout
+
+        layout = RodLayout.from_rod(rod)
+        label, signed = COLOUR_BY[colour]
+        values = rod.edge_moments() if colour == "moment" else rod.edge_twist()
+        title = f"{d.source}, load factor {load_factor:g}"
     if render is not None:
         from .plots import plot_equilibrium
 
         payload["render"] = str(plot_equilibrium(
-            rod.x, rod.edge_nodes, render, edge_values=rod.edge_moments(),
-            value_label="|internal moment|", title=f"{d.source}, load factor {load_factor:g}"))
+            rod.x, rod.R_edge, layout, render, edge_values=values, value_label=label,
+            diverging=signed, title=title))
     if html is not None:
         from .plots import html_view
 
         payload["html"] = str(html_view(
-            [rod.x], rod.edge_nodes, html, edge_values=[rod.edge_moments()],
-            value_label="|internal moment|", title=f"{d.source}, load factor {load_factor:g}"))
+            [rod.x], [rod.R_edge], layout, html, edge_values=[values], value_label=label,
+            diverging=signed, title=title))
     energy = f"energy       {_fmt(r.energy)}"
     unit_lines = []
     if d.units is not None:
@@ -624,11 +639,12 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
               help="Continue again on the mesh twice as fine up to the last special point "
                    "and state each special point's discretisation error (Richardson, order "
                    "2).")
+@_colour_option
 @_limit_options
 @_json_option
 def continue_cmd(design_file: str, vary: str, out_dir: str | None, elements: int,
                  branch_steps: int, restart: bool, no_progress: bool, error_estimate: bool,
-                 limits: Limits, as_json: bool) -> None:
+                 colour: str, limits: Limits, as_json: bool) -> None:
     """Pseudo-arclength continuation in one parameter, with stability along the path.
 
     It finds folds, branch points and the branches leaving them (sub- or supercritical).
@@ -682,7 +698,7 @@ def continue_cmd(design_file: str, vary: str, out_dir: str | None, elements: int
                    "stable": [e > 0 for e in r.lowest_eigenvalue], "special_points": specials,
                    "resumed_steps": r.resumed_steps, "converged": r.converged}
         if out is not None:
-            _continuation_pictures(r, d, out, elements, payload)
+            _continuation_pictures(r, d, out, elements, payload, colour=colour)
     physical = [""] * len(specials)
     lines = [f"design       {d.source}: {len(r.value)} steps in {r.key} "
              f"({r.resumed_steps} resumed), path {'complete' if r.converged else 'STOPPED'}"]
@@ -728,28 +744,39 @@ def _mesh_error_text(p: dict[str, Any], elements: int) -> str:
 
 
 def _continuation_pictures(r: Any, d: Any, out: Path, elements: int,
-                           payload: dict[str, Any]) -> None:
-    """Write diagram.png, and branch.gif and branch.html of the first branch, into ``out``."""
+                           payload: dict[str, Any], *, colour: str = "moment") -> None:
+    """Write diagram.png, and branch.gif and branch.html of the first branch, into ``out``.
+
+    The branch's states are drawn with their edge frames, coloured by ``colour`` (a key of
+    :data:`COLOUR_BY`).
+    """
     from .report.figures import continuation_plot
 
     payload["diagram"] = str(continuation_plot(r, out))
     if r.branches and r.branches[0].shapes:
         from .nonlinear.discrete import discretise
         from .plots import animate_shapes
+        from .ribbons import RodLayout
 
         first = r.branches[0]
-        edges = discretise(d.assembly, elements).edge_nodes
+        rod = discretise(d.assembly, elements)
+        layout = RodLayout.from_rod(rod)
+        label, signed = COLOUR_BY[colour]
+        values = (list(first.shape_moments) if colour == "moment"
+                  else [rod.edge_twist(R) for R in first.frames])
+        title = f"{d.source}: branch from {r.key} = {first.value_critical:.6g}"
         gif = out / "branch.gif"
-        animate_shapes(list(first.shapes), edges, gif,
-                       labels=[f"{r.key} = {v:.6g}" for v in first.shape_values])
+        animate_shapes(list(first.shapes), list(first.frames), layout, gif,
+                       edge_values=values, value_label=label, diverging=signed,
+                       labels=[f"{r.key} = {v:.6g}" for v in first.shape_values], title=title)
         payload["animation"] = str(gif)
         try:
             from .plots import html_view
 
             payload["interactive"] = str(html_view(
-                list(first.shapes), edges, out / "branch.html",
-                labels=[f"{v:.6g}" for v in first.shape_values],
-                title=f"{d.source}: branch from {r.key} = {first.value_critical:.6g}"))
+                list(first.shapes), list(first.frames), layout, out / "branch.html",
+                labels=[f"{v:.6g}" for v in first.shape_values], edge_values=values,
+                value_label=label, diverging=signed, title=title))
         except RodstabInputError:
             pass  # plotly not installed: the GIF is the picture (see --help)
 

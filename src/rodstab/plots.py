@@ -3,21 +3,49 @@
 Figures are built with matplotlib's object API (:class:`matplotlib.figure.Figure`), not pyplot:
 importing or using this module never selects a backend or touches pyplot's global state, and
 writing a file needs no display.
+
+Rods are drawn as boxes of their section's proportions along their material frames
+(:mod:`rodstab.ribbons`), so that a twist shows as the ribbon turning; each segment is outlined
+in its own colour (welded and stacked rods are told apart), the faces are coloured by a value
+per edge, the axes are equal and the camera sees the ring's plane obliquely.
 """
 
 from __future__ import annotations
 
+import math
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
 import matplotlib
 import numpy as np
 from matplotlib.cm import ScalarMappable
-from matplotlib.colors import Normalize
+from matplotlib.colors import Colormap, Normalize, to_hex
 from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
+from matplotlib.ticker import MaxNLocator
 
-from .linear.solve import LinearStability
+from . import ribbons
+from .linear.solve import LinearStability, SegmentMode
 from .model import Assembly
+from .ribbons import RodLayout
+
+#: Brightness of a face seen edge-on, relative to one facing the camera (a headlight): the
+#: faces' shading is what makes a box read as a box.
+SHADE_MIN = 0.55
+#: Colour of the narrow faces of a box (the wide ones carry the value's colour): a turning box
+#: shows its material frame as the coloured faces turning.
+NEUTRAL_FACE = (0.86, 0.86, 0.86, 1.0)
+#: The held state under a mode: a light ghost.
+GHOST_FACE = (0.55, 0.55, 0.55, 0.13)
+GHOST_EDGE = (0.45, 0.45, 0.45, 0.25)
+#: Width of the segment-coloured outlines of the faces (points).
+OUTLINE_WIDTH = 0.45
+#: Distance of the HTML view's camera from the centre, in half-diagonals of the drawn box
+#: (the radius of a sphere around it): the whole assembly in view from any azimuth.
+EYE_DISTANCE = 2.4
+#: At most this many segments get a legend entry (a larger assembly is told apart by colour).
+LEGEND_MAX = 12
 
 
 def _finish(fig: Figure, path: str | Path | None, *, dpi: int, tight: bool = True) -> Any:
@@ -33,117 +61,363 @@ def _finish(fig: Figure, path: str | Path | None, *, dpi: int, tight: bool = Tru
     return out
 
 
-def plot_mode(assembly: Assembly, result: LinearStability, path: str | Path | None = None,
-              *, amplitude: float = 0.15, title: str | None = None) -> Any:
-    """Draw the held state (grey, in the plane z = 0) and the critical mode in 3D.
+def segment_colours(n: int) -> list[tuple[float, float, float, float]]:
+    """Return one distinct RGBA colour per segment (tab10, tab20 beyond ten, then repeated)."""
+    cmap = matplotlib.colormaps["tab10" if n <= 10 else "tab20"]
+    return [tuple(float(c) for c in cmap(i % cmap.N)) for i in range(n)]  # type: ignore[misc]
 
-    The mode's out-of-plane displacement ``w`` is drawn as ``z`` (scaled so that its largest
-    value is ``amplitude`` times the assembly's size), coloured by the twist ``omega``.
-    Segments that coincide in the held state are drawn side by side (shifted in the plane).
+
+def _norm(values: Sequence[np.ndarray], diverging: bool) -> Normalize:
+    """One colour scale for all states: symmetric about 0 for a signed (diverging) value."""
+    allv = np.concatenate([np.ravel(v) for v in values]) if len(values) else np.zeros(1)
+    if diverging:
+        m = float(np.max(np.abs(allv), initial=0.0)) or 1.0
+        return Normalize(-m, m)
+    lo, hi = float(np.min(allv)), float(np.max(allv))
+    return Normalize(lo, hi if hi > lo else lo + 1.0)
+
+
+def _light(elev: float, azim: float) -> np.ndarray:
+    """Return the unit vector towards the camera (matplotlib's elevation, azimuth; degrees)."""
+    e, a = math.radians(elev), math.radians(azim)
+    return np.array([math.cos(e) * math.cos(a), math.cos(e) * math.sin(a), math.sin(e)])
+
+
+def _wide_faces(layout: RodLayout) -> np.ndarray:
+    """Mask ``(n_edges, 4)`` of the wide faces of each box (the ribbon's when ``h >= t``)."""
+    ribbon = (layout.aspect >= 1.0)[:, None]
+    return np.where(ribbon, [True, True, False, False], [False, False, True, True])
+
+
+def _face_colours(layout: RodLayout, frames: np.ndarray, values: np.ndarray, cmap: Colormap,
+                  norm: Normalize, light: np.ndarray,
+                  seg_rgba: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Face and outline colours ``(n_edges * 4, 4)`` of the boxes of :func:`ribbons.box_faces`.
+
+    The wide faces take ``cmap(norm(value))`` of their edge, the narrow ones
+    :data:`NEUTRAL_FACE`; each is shaded by how squarely it faces ``light``; the outlines take
+    their segment's colour.
     """
-    pts = np.vstack([s.position(np.linspace(0, s.length, 50)) for s in assembly.segments])
-    size = float(np.ptp(pts, axis=0).max()) or 1.0
-    fig = Figure(figsize=(7, 5))
-    ax = fig.add_subplot(projection="3d")
-    om_max = max((float(np.max(np.abs(m.omega))) for m in result.mode), default=1.0) or 1.0
-    cmap = matplotlib.colormaps["coolwarm"]
-    for seg in assembly.segments:
-        xy = seg.position(np.linspace(0, seg.length, 60))
-        ax.plot(xy[:, 0], xy[:, 1], 0 * xy[:, 0], color="0.7", lw=1)
-    drawn: list[np.ndarray] = []
-    for m in result.mode:
-        seg = assembly.segment(m.name)
-        xy = seg.position(m.s * seg.length)
-        # Stacked segments (bi-rod, folded rings) coincide in the plane: shift each one that
-        # lies on an earlier one sideways so that every segment's mode is visible.
-        k = sum(1 for d in drawn if np.min(np.linalg.norm(d - xy[len(xy) // 2], axis=1))
-                < 1e-9 * size)
-        drawn.append(xy.copy())
-        if k:
-            t = seg.tangent(m.s * seg.length)
-            xy = xy + 0.04 * size * k * np.stack([-t[:, 1], t[:, 0]], axis=1)
-        z = amplitude * size * m.w
-        colors = cmap(0.5 + 0.5 * m.omega / om_max)
-        for i in range(len(z) - 1):
-            ax.plot(xy[i:i + 2, 0], xy[i:i + 2, 1], z[i:i + 2], color=colors[i], lw=2.5)
-    lam = result.load_factor_critical
-    ax.set_title(title or f"critical mode, load factor {lam:.6g} (x{result.multiplicity})")
-    ax.set_xlabel("x")
-    ax.set_ylabel("y")
-    ax.set_zlabel("w (mode)")
-    sm = ScalarMappable(cmap=cmap, norm=Normalize(-om_max, om_max))
-    fig.colorbar(sm, ax=ax, shrink=0.6, label="twist omega (mode)")
-    return _finish(fig, path, dpi=120)
+    rgba = np.where(_wide_faces(layout)[:, :, None], cmap(norm(values))[:, None, :],
+                    np.asarray(NEUTRAL_FACE)[None, None, :])
+    facing = np.abs(ribbons.face_normals(frames) @ light)
+    rgba[..., :3] *= (SHADE_MIN + (1.0 - SHADE_MIN) * facing)[..., None]
+    edge = np.repeat(seg_rgba[layout.edge_segment], 4, axis=0)
+    return rgba.reshape(-1, 4), edge
 
 
-def plot_equilibrium(x: np.ndarray, edge_nodes: np.ndarray, path: str | Path | None = None, *,
-                     edge_values: np.ndarray | None = None, value_label: str = "moment",
-                     title: str = "equilibrium") -> Any:
-    """Plot the 3D centreline of an equilibrium, coloured by ``edge_values`` or else by z.
+def _box_states(shapes: Sequence[np.ndarray], frames: Sequence[np.ndarray], layout: RodLayout,
+                width: float | None) -> tuple[list[np.ndarray], bool]:
+    """Faces ``(n_edges, 4, 4, 3)`` of every state, stacked segments one above the other.
 
-    Node positions ``x`` (n, 3), edges ``(i, j)`` pairs; ``edge_values`` e.g. the internal moment
-    per edge.
+    The stacks, the width (default from all states' extent) and so the shifts are decided once,
+    on the first state, so that an animation does not jump.
     """
-    fig = Figure(figsize=(7, 5))
+    w = ribbons.default_width(np.vstack(shapes), width)
+    h, t = ribbons.section_sizes(layout.aspect, w)
+    level = ribbons.stack_levels(shapes[0], layout, w)
+    shift = ribbons.stack_offsets(layout, level, ribbons.stack_gap(h, w))[:, None, None, :]
+    out = [ribbons.box_faces(x, layout.edge_nodes, R, h, t) + shift
+           for x, R in zip(shapes, frames, strict=True)]
+    return out, bool(level.any())
+
+
+def _axes_3d(fig: Figure, points: np.ndarray) -> Any:
+    """Add 3D axes at equal scale around ``points``, orthographic, the camera fitted to them."""
     ax = fig.add_subplot(projection="3d")
-    z = x[:, 2]
-    vals = (np.asarray(edge_values) if edge_values is not None
-            else np.array([0.5 * (z[i] + z[j]) for i, j in edge_nodes]))
-    lo, hi = float(np.min(vals)), float(np.max(vals))
-    hi = hi if hi > lo else lo + 1.0
-    cmap = matplotlib.colormaps["viridis"]
-    for (i, j), v in zip(edge_nodes, vals, strict=True):
-        ax.plot(x[[i, j], 0], x[[i, j], 1], x[[i, j], 2], color=cmap((v - lo) / (hi - lo)),
-                lw=3)
-    sm = ScalarMappable(cmap=cmap, norm=Normalize(lo, hi))
-    fig.colorbar(sm, ax=ax, shrink=0.6, label=value_label if edge_values is not None else "z")
-    span = float(np.ptp(x, axis=0).max()) or 1.0
-    mid = x.mean(axis=0)
-    for setter, c in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), mid, strict=True):
-        setter(c - span / 2, c + span / 2)
-    ax.set_title(title)
+    ax.set_proj_type("ortho")
+    centre, sides = ribbons.view_box(points)
+    for setter, c, d in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), centre, sides, strict=True):
+        setter(c - d / 2, c + d / 2)
+    ax.set_box_aspect(tuple(sides), zoom=1.1)
+    ax.view_init(*ribbons.camera(points))
     ax.set_xlabel("x")
     ax.set_ylabel("y")
     ax.set_zlabel("z")
+    for axis in (ax.xaxis, ax.yaxis, ax.zaxis):
+        axis.set_major_locator(MaxNLocator(nbins=5))  # the short (z) axis had ten
+    ax.tick_params(labelsize=7)
+    return ax
+
+
+def _legend(ax: Any, names: Sequence[str], seg_rgba: np.ndarray) -> None:
+    """Add a legend of the segments' outline colours (up to :data:`LEGEND_MAX` segments)."""
+    if 1 < len(names) <= LEGEND_MAX:
+        # Outside the axes, right (the colour bar is below): inside, it hides rods.
+        ax.figure.legend(handles=[Line2D([], [], color=c, lw=3, label=n)
+                                  for n, c in zip(names, seg_rgba, strict=True)],
+                         loc="outside right upper", fontsize=7, title="segments",
+                         title_fontsize=7)
+
+
+def _colour_bar(fig: Figure, ax: Any, cmap: Colormap, norm: Normalize, label: str) -> None:
+    """Add a horizontal colour bar under the axes (a vertical one covers the z labels)."""
+    bar = fig.colorbar(ScalarMappable(cmap=cmap, norm=norm), ax=ax, orientation="horizontal",
+                       shrink=0.55, aspect=35, pad=0.02, label=label)
+    # Values that vary little about a large mean (the moment along a branch) are written in
+    # full, not as an offset the eye misses.
+    bar.formatter.set_useOffset(False)  # type: ignore[attr-defined]
+    bar.locator = MaxNLocator(nbins=5)  # written in full, fewer of them fit
+    bar.update_ticks()
+
+
+def _stacked_note(stacked: bool) -> str:
+    return "\n(stacked rods drawn one above the other)" if stacked else ""
+
+
+def plot_mode(assembly: Assembly, result: LinearStability, path: str | Path | None = None,
+              *, amplitude: float = 0.25, width: float | None = None,
+              title: str | None = None) -> Any:
+    """Draw the critical mode over the held state, rods as boxes of their sections.
+
+    The held state is a light ghost; over it the held state moved by the mode
+    (:func:`rodstab.ribbons.mode_drawing`): ``w`` along e3 and the twist ``omega`` turning the
+    section about the tangent, with one multiplier (:func:`rodstab.ribbons.mode_scale`: the
+    largest displacement ``amplitude`` times the assembly's size, no section turned by more
+    than :data:`rodstab.ribbons.MODE_MAX_TURN`). Faces are coloured by the drawn turn, so
+    opposite twists show in opposite colours; outlines in each segment's colour.
+
+    Parameters
+    ----------
+    assembly : Assembly
+        The held state.
+    result : LinearStability
+        Its critical mode (``result.mode``).
+    path : str or Path, optional
+        Output file (any matplotlib format); without it the figure is returned.
+    amplitude : float
+        Largest drawn displacement over the assembly's size.
+    width : float, optional
+        Drawn size of the sections' larger side (default
+        :data:`rodstab.ribbons.RIBBON_FRACTION` of the assembly's size).
+    title : str, optional
+        Figure title (default: the critical load factor and what is drawn).
+
+    Returns
+    -------
+    Path or Figure
+        ``path``, or the figure.
+    """
+    mode = result.mode or tuple(SegmentMode(s.name, np.linspace(0.0, 1.0, 17), np.zeros(17),
+                                            np.zeros(17)) for s in assembly.segments)
+    held = ribbons.mode_drawing(assembly, mode, 0.0).held[0]
+    size = float(np.ptp(held, axis=0).max()) or 1.0
+    scale = ribbons.mode_scale(mode, amplitude * size)
+    md = ribbons.mode_drawing(assembly, mode, scale)
+    (ghost, moved), stacked = _box_states([md.held[0], md.moved[0]],
+                                          [md.held[1], md.moved[1]], md.layout, width)
+    fig = Figure(figsize=(7.5, 5.5), layout="constrained")
+    ax = _axes_3d(fig, np.vstack([ghost.reshape(-1, 3), moved.reshape(-1, 3)]))
+    seg_rgba = np.array(segment_colours(len(md.layout.segment_names)))
+    cmap = matplotlib.colormaps["coolwarm"]
+    turn = np.degrees(md.turn)
+    norm = _norm([turn], diverging=True)
+    rgba, edge = _face_colours(md.layout, md.moved[1], turn, cmap, norm, _light(ax.elev, ax.azim),
+                               seg_rgba)
+    ghost_rgba = np.tile(GHOST_FACE, (len(rgba), 1))
+    coll = _poly3d(np.concatenate([ghost.reshape(-1, 4, 3), moved.reshape(-1, 4, 3)]),
+                   np.concatenate([ghost_rgba, rgba]),
+                   np.concatenate([np.tile(GHOST_EDGE, (len(edge), 1)), edge]))
+    ax.add_collection3d(coll)
+    _legend(ax, md.layout.segment_names, seg_rgba)
+    w_max = scale * max(float(np.max(np.abs(m.w))) for m in mode)
+    lam = result.load_factor_critical
+    ax.set_title(title or f"critical mode, load factor {lam:.6g} (x{result.multiplicity}); "
+                 f"drawn: largest w {w_max:.3g}, largest turn "
+                 f"{float(np.max(np.abs(turn), initial=0.0)):.3g} deg"
+                 + _stacked_note(stacked), fontsize=9)
+    _colour_bar(fig, ax, cmap, norm, "section turn omega in the mode (deg, as drawn)")
     return _finish(fig, path, dpi=120)
 
 
-def animate_shapes(frames: list[np.ndarray], edge_nodes: np.ndarray, path: str | Path, *,
-                   labels: list[str] | None = None, fps: int = 6) -> Path:
-    """GIF of a sequence of centrelines (each (n, 3)), e.g. along a continuation path."""
-    from matplotlib.animation import FuncAnimation, PillowWriter
+def _poly3d(faces: np.ndarray, rgba: np.ndarray, edge: np.ndarray) -> Any:
+    """Return one collection of all faces (matplotlib sorts depth only within one)."""
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # type: ignore[import-untyped]
 
-    allx = np.vstack(frames)
-    span = float(np.ptp(allx, axis=0).max()) or 1.0
-    mid = allx.mean(axis=0)
-    fig = Figure(figsize=(6, 4.5))
-    ax = fig.add_subplot(projection="3d")
+    return Poly3DCollection(faces, facecolors=rgba, edgecolors=edge, linewidths=OUTLINE_WIDTH)
 
-    def draw(k: int):
-        ax.cla()
-        x = frames[k]
-        for i, j in edge_nodes:
-            ax.plot(x[[i, j], 0], x[[i, j], 1], x[[i, j], 2], color="C0", lw=2.5)
-        for setter, c in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), mid, strict=True):
-            setter(c - span / 2, c + span / 2)
-        ax.set_title(labels[k] if labels else f"frame {k}")
-        return []
 
-    anim = FuncAnimation(fig, draw, frames=len(frames), blit=False)
+def _z_values(shapes: Sequence[np.ndarray], layout: RodLayout) -> list[np.ndarray]:
+    """Height of each edge's midpoint, the colour when no value is given."""
+    en = layout.edge_nodes
+    return [0.5 * (x[en[:, 0], 2] + x[en[:, 1], 2]) for x in shapes]
+
+
+def plot_equilibrium(x: np.ndarray, frames: np.ndarray, layout: RodLayout,
+                     path: str | Path | None = None, *, edge_values: np.ndarray | None = None,
+                     value_label: str = "|internal moment|", diverging: bool = False,
+                     width: float | None = None, title: str = "equilibrium") -> Any:
+    """Draw an equilibrium of a discrete rod, rods as boxes along their material frames.
+
+    Parameters
+    ----------
+    x : ndarray, shape (n_nodes, 3)
+        Node positions (lab frame).
+    frames : ndarray, shape (n_edges, 3, 3)
+        Edge frames, columns ``d1``, ``d2`` (tangent), ``d3`` (the section's ``h``).
+    layout : RodLayout
+        Edges, their segments and section proportions
+        (:meth:`rodstab.ribbons.RodLayout.from_rod`).
+    path : str or Path, optional
+        Output file; without it the figure is returned.
+    edge_values : ndarray, shape (n_edges,), optional
+        The colour of each edge (e.g. the internal moment); default the edge's height z.
+    value_label : str
+        Colour bar label of ``edge_values``.
+    diverging : bool
+        A signed value (e.g. the twist): a colour scale symmetric about 0.
+    width : float, optional
+        Drawn size of the sections' larger side (default
+        :data:`rodstab.ribbons.RIBBON_FRACTION` of the assembly's size).
+    title : str
+        Figure title.
+
+    Returns
+    -------
+    Path or Figure
+        ``path``, or the figure.
+    """
+    values = (np.asarray(edge_values, dtype=float) if edge_values is not None
+              else _z_values([x], layout)[0])
+    (faces,), stacked = _box_states([x], [frames], layout, width)
+    fig = Figure(figsize=(7.5, 5.5), layout="constrained")
+    ax = _axes_3d(fig, faces.reshape(-1, 3))
+    seg_rgba = np.array(segment_colours(len(layout.segment_names)))
+    cmap = matplotlib.colormaps["coolwarm" if diverging else "viridis"]
+    norm = _norm([values], diverging)
+    rgba, edge = _face_colours(layout, frames, values, cmap, norm, _light(ax.elev, ax.azim),
+                               seg_rgba)
+    ax.add_collection3d(_poly3d(faces.reshape(-1, 4, 3), rgba, edge))
+    _legend(ax, layout.segment_names, seg_rgba)
+    ax.set_title(title + _stacked_note(stacked), fontsize=9)
+    _colour_bar(fig, ax, cmap, norm, value_label if edge_values is not None else "z")
+    return _finish(fig, path, dpi=120)
+
+
+def animate_shapes(shapes: Sequence[np.ndarray], frames: Sequence[np.ndarray],
+                   layout: RodLayout, path: str | Path, *,
+                   edge_values: Sequence[np.ndarray] | None = None, value_label: str = "",
+                   diverging: bool = False, labels: Sequence[str] | None = None, fps: int = 6,
+                   width: float | None = None, title: str = "") -> Path:
+    """Write a GIF of a sequence of states (e.g. along a continuation path), one per frame.
+
+    The axes, the camera, the colour scale and the stacking of coinciding segments are fixed
+    over all states, so that the frames compare. Each frame only moves the faces of one
+    collection and redraws (no axes rebuilt), and the frames go to Pillow directly.
+
+    Parameters
+    ----------
+    shapes : sequence of ndarray, each (n_nodes, 3)
+        Node positions per state.
+    frames : sequence of ndarray, each (n_edges, 3, 3)
+        Edge frames per state (columns ``d1``, ``d2``, ``d3``).
+    layout : RodLayout
+        Edges, segments, section proportions.
+    path : str or Path
+        The GIF file.
+    edge_values : sequence of ndarray, each (n_edges,), optional
+        Colour per edge and state; default the edges' height z.
+    value_label : str
+        Colour bar label.
+    diverging : bool
+        Signed values: a colour scale symmetric about 0.
+    labels : sequence of str, optional
+        Caption of each frame (default ``frame k``).
+    fps : int
+        Frames per second.
+    width : float, optional
+        Drawn size of the sections' larger side.
+    title : str
+        Figure title above the captions.
+
+    Returns
+    -------
+    Path
+        ``path``.
+    """
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from PIL import Image
+
+    values = (list(edge_values) if edge_values is not None else _z_values(shapes, layout))
+    faces, stacked = _box_states(shapes, frames, layout, width)
+    fig = Figure(figsize=(6.4, 4.8), layout="constrained")
+    canvas = FigureCanvasAgg(fig)
+    ax = _axes_3d(fig, np.vstack([f.reshape(-1, 3) for f in faces]))
+    seg_rgba = np.array(segment_colours(len(layout.segment_names)))
+    cmap = matplotlib.colormaps["coolwarm" if diverging else "viridis"]
+    norm = _norm(values, diverging)
+    light = _light(ax.elev, ax.azim)
+    coll = _poly3d(faces[0].reshape(-1, 4, 3), *_face_colours(layout, frames[0], values[0], cmap,
+                                                               norm, light, seg_rgba))
+    ax.add_collection3d(coll)
+    _legend(ax, layout.segment_names, seg_rgba)
+    _colour_bar(fig, ax, cmap, norm, value_label if edge_values is not None else "z")
+    head = title + _stacked_note(stacked)
+    images = []
+    for k, (f, R, v) in enumerate(zip(faces, frames, values, strict=True)):
+        rgba, edge = _face_colours(layout, R, v, cmap, norm, light, seg_rgba)
+        coll.set_verts(f.reshape(-1, 4, 3))
+        coll.set_facecolor(rgba)
+        coll.set_edgecolor(edge)
+        ax.set_title("\n".join(filter(None, [head, labels[k] if labels else f"frame {k}"])),
+                     fontsize=9)
+        canvas.draw()
+        if k == 0:
+            # The layout is fixed by the first frame (same texts' sizes after it): laying
+            # out every frame again would double the GIF's time.
+            fig.set_layout_engine("none")
+        images.append(Image.frombuffer("RGBA", canvas.get_width_height(),
+                                       canvas.buffer_rgba()).convert("RGB"))
     out = Path(path)
-    anim.save(out, writer=PillowWriter(fps=fps))
+    images[0].save(out, format="GIF", save_all=True, append_images=images[1:],
+                   duration=int(1000 / fps), loop=0)
     return out
 
 
-def html_view(shapes: list[np.ndarray], edge_nodes: np.ndarray, path: str | Path, *,
-              labels: list[str] | None = None, edge_values: list[np.ndarray] | None = None,
-              value_label: str = "", title: str = "") -> Path:
+def html_view(shapes: Sequence[np.ndarray], frames: Sequence[np.ndarray], layout: RodLayout,
+              path: str | Path, *, labels: Sequence[str] | None = None,
+              edge_values: Sequence[np.ndarray] | None = None, value_label: str = "",
+              diverging: bool = False, title: str = "", width: float | None = None) -> Path:
     """Write an interactive 3D view (self-contained HTML, plotly).
 
-    Rotate and zoom, and, for several shapes (a continuation path), a slider and a play button.
-    Edges are coloured by ``edge_values`` (one array per shape) when given.
+    Rods are boxes of their sections along their material frames (``Mesh3d``; the wide faces
+    coloured by ``edge_values`` through plotly's intensity, the narrow ones grey), each
+    segment outlined in its own colour (a legend entry per segment, click to hide it). Equal
+    axes (``aspectmode="data"`` on ranges fixed over all states), the camera as in the
+    matplotlib pictures. For several states (a continuation path): a slider and a play button.
 
-    Needs the optional plotly package (``pip install "rodstab[viz]"``); raises naming it.
+    Parameters
+    ----------
+    shapes : sequence of ndarray, each (n_nodes, 3)
+        Node positions per state.
+    frames : sequence of ndarray, each (n_edges, 3, 3)
+        Edge frames per state.
+    layout : RodLayout
+        Edges, segments, section proportions.
+    path : str or Path
+        The HTML file.
+    labels : sequence of str, optional
+        Slider label of each state.
+    edge_values : sequence of ndarray, each (n_edges,), optional
+        Colour per edge and state; default the edges' height z.
+    value_label : str
+        Colour bar title.
+    diverging : bool
+        Signed values: a colour scale symmetric about 0.
+    title : str
+        Page title.
+    width : float, optional
+        Drawn size of the sections' larger side.
+
+    Returns
+    -------
+    Path
+        ``path``.
+
+    Raises
+    ------
+    RodstabInputError
+        If plotly is not installed (``pip install "rodstab[viz]"``).
     """
     try:
         import plotly.graph_objects as go
@@ -152,40 +426,78 @@ def html_view(shapes: list[np.ndarray], edge_nodes: np.ndarray, path: str | Path
 
         raise RodstabInputError("an interactive HTML view needs plotly: "
                                 'pip install "rodstab[viz]"') from exc
-    labels = labels or [f"shape {i}" for i in range(len(shapes))]
-    all_pts = np.vstack(shapes)
-    lo, hi = all_pts.min(axis=0), all_pts.max(axis=0)
-    half = 0.5 * float(np.max(hi - lo)) or 1.0
-    mid = 0.5 * (lo + hi)
-    vmax = max((float(np.max(v)) for v in edge_values), default=1.0) if edge_values else 1.0
+    labels = list(labels) if labels else [f"shape {i}" for i in range(len(shapes))]
+    values = (list(edge_values) if edge_values is not None else _z_values(shapes, layout))
+    faces, stacked = _box_states(shapes, frames, layout, width)
+    norm = _norm(values, diverging)
+    wide = _wide_faces(layout)
+    seg_hex = [to_hex(c) for c in segment_colours(len(layout.segment_names))]
 
-    def trace(i: int):
-        x = shapes[i]
-        # One polyline with a break (None) after every edge, so that welds and stacked
-        # segments are drawn exactly as they are connected.
-        seg = np.full((len(edge_nodes), 3, 3), np.nan)
-        seg[:, 0] = x[edge_nodes[:, 0]]
-        seg[:, 1] = x[edge_nodes[:, 1]]
-        pts = seg.reshape(-1, 3)
-        line: dict[str, Any] = dict(width=6)
-        if edge_values is not None:
-            line |= dict(color=np.repeat(edge_values[i], 3), colorscale="Viridis", cmin=0.0,
-                         cmax=vmax, colorbar=dict(title=value_label))
-        return go.Scatter3d(x=pts[:, 0], y=pts[:, 1], z=pts[:, 2], mode="lines", line=line,
-                            hoverinfo="skip", connectgaps=False)
+    def quads(f: np.ndarray, mask: np.ndarray) -> dict[str, Any]:
+        q = f[mask]  # (m, 4, 3)
+        base = 4 * np.arange(len(q))
+        v = q.reshape(-1, 3)
+        return dict(x=v[:, 0], y=v[:, 1], z=v[:, 2],
+                    i=np.concatenate([base, base]), j=np.concatenate([base + 1, base + 2]),
+                    k=np.concatenate([base + 2, base + 3]))
 
-    fig = go.Figure(data=[trace(0)],
-                    frames=[go.Frame(data=[trace(i)], name=str(i)) for i in range(len(shapes))])
-    scene = dict(aspectmode="cube", **{f"{ax}axis": dict(range=[mid[k] - half, mid[k] + half])
-                                       for k, ax in enumerate("xyz")})
-    layout: dict[str, Any] = dict(title=title, scene=scene, margin=dict(l=0, r=0, t=40, b=0))
+    def traces(n: int) -> list[Any]:
+        f, v = faces[n], values[n]
+        cell = np.broadcast_to(v[:, None], wide.shape)[wide]
+        coloured = go.Mesh3d(**quads(f, wide), intensity=np.concatenate([cell, cell]),
+                             intensitymode="cell", cmin=norm.vmin, cmax=norm.vmax,
+                             colorscale="RdBu_r" if diverging else "Viridis",
+                             colorbar=dict(title=dict(text=value_label if edge_values
+                                                      is not None else "z")),
+                             flatshading=True, name="sections", showlegend=False,
+                             hoverinfo="skip")
+        narrow = go.Mesh3d(**quads(f, ~wide), color="rgb(220,220,220)", flatshading=True,
+                           showlegend=False, hoverinfo="skip")
+        lines = []
+        for s, name in enumerate(layout.segment_names):
+            # The box's four long edges: both long sides of its +d1 and -d1 faces, each a
+            # two-point line ended by a gap (NaN) so that edges are not joined across welds.
+            e = f[layout.edge_segment == s][:, :2]  # (m, 2 faces, 4 corners, 3)
+            long = np.concatenate([e[:, :, [0, 1]], e[:, :, [3, 2]]], axis=1)  # (m, 4, 2, 3)
+            gap = np.full(long.shape[:2] + (1, 3), np.nan)
+            p = np.concatenate([long, gap], axis=2).reshape(-1, 3)
+            lines.append(go.Scatter3d(x=p[:, 0], y=p[:, 1], z=p[:, 2], mode="lines",
+                                      line=dict(color=seg_hex[s], width=3), name=name,
+                                      connectgaps=False, hoverinfo="name"))
+        return [coloured, narrow, *lines]
+
+    allp = np.vstack([f.reshape(-1, 3) for f in faces])
+    centre, sides = ribbons.view_box(allp)
+    elev, azim = ribbons.camera(allp)
+    ratio = sides / float(np.max(sides))
+    eye = EYE_DISTANCE * 0.5 * float(np.linalg.norm(ratio)) * _light(elev, azim)
+    fig = go.Figure(data=traces(0),
+                    frames=[go.Frame(data=traces(i), name=str(i)) for i in range(len(shapes))])
+    # Equal axes: the box's sides in proportion to the ranges (what aspectmode "data" does),
+    # given explicitly so that the largest side is 1 and the camera's distance (in those
+    # units) frames the whole assembly; "data" normalises the box by another rule and the
+    # same eye then zooms in on a long, flat assembly.
+    scene = dict(aspectmode="manual",
+                 aspectratio=dict(x=ratio[0], y=ratio[1], z=ratio[2]),
+                 # Perspective: plotly's orthographic view zooms by the box's size, not
+                 # by the eye's distance, so that the camera would not frame it.
+                 camera=dict(eye=dict(x=eye[0], y=eye[1], z=eye[2])),
+                 **{f"{ax}axis": dict(range=[centre[k] - sides[k] / 2, centre[k] + sides[k] / 2])
+                    for k, ax in enumerate("xyz")})
+    layout_: dict[str, Any] = dict(title=title + (" (stacked rods drawn one above the other)"
+                                                  if stacked else ""),
+                                   title_font_size=14,
+                                   scene=scene, margin=dict(l=0, r=0, t=40, b=0),
+                                   # left, under the play button: the colour bar is right
+                                   legend=dict(title=dict(text="segments"), x=0.01, y=0.9,
+                                               xanchor="left", yanchor="top"))
     if len(shapes) > 1:
-        layout["sliders"] = [dict(steps=[dict(method="animate", label=labels[i],
-                                              args=[[str(i)], dict(mode="immediate")])
-                                         for i in range(len(shapes))])]
-        layout["updatemenus"] = [dict(type="buttons", buttons=[dict(
+        layout_["sliders"] = [dict(steps=[dict(method="animate", label=labels[i],
+                                               args=[[str(i)], dict(mode="immediate")])
+                                          for i in range(len(shapes))])]
+        layout_["updatemenus"] = [dict(type="buttons", buttons=[dict(
             label="play", method="animate", args=[None, dict(frame=dict(duration=200))])])]
-    fig.update_layout(**layout)
+    fig.update_layout(**layout_)
     p = Path(path)
     fig.write_html(p, include_plotlyjs=True, full_html=True)
     return p

@@ -257,6 +257,36 @@ class DiscreteRod:
                 np.add.at(cnt, idx, 1.0)
         return mom / np.maximum(cnt, 1.0)
 
+    def edge_twist(self, R_edge: np.ndarray | None = None) -> np.ndarray:
+        """Return the rate of twist per edge (n_edges,), radians per length.
+
+        The component about the tangent ``d2`` of the Cayley curvature between consecutive
+        frames (the measure of the energy), averaged over the joints on either side of the
+        edge like :meth:`edge_moments`. ``R_edge`` (n_edges, 3, 3): other frames of this rod
+        (e.g. a stored state of a continuation path); default the current ones. The held state
+        is untwisted, so this is the twist the loads put in (a natural twist included).
+        """
+        R = self.R_edge if R_edge is None else np.asarray(R_edge, dtype=float)
+        tw = np.zeros(len(R))
+        cnt = np.zeros(len(R))
+        if len(self.bend_pairs):
+            a, b = self.bend_pairs[:, 0], self.bend_pairs[:, 1]
+            k = _cayley(np.swapaxes(R[a], 1, 2) @ R[b],
+                        0.5 * (self.rest_length[a] + self.rest_length[b]))
+            for idx in (a, b):
+                np.add.at(tw, idx, k[:, 1])
+                np.add.at(cnt, idx, 1.0)
+        return tw / np.maximum(cnt, 1.0)
+
+    @property
+    def edge_segment(self) -> np.ndarray:
+        """Index in ``assembly.segments`` of each edge's segment (n_edges,).
+
+        :func:`discretise` lays out each segment's edges in turn, the same number for each.
+        """
+        n_seg = len(self.assembly.segments)
+        return np.repeat(np.arange(n_seg), len(self.R_edge) // n_seg)
+
     def energy(self) -> float:
         """Energy only (for line searches)."""
         return self.energy_terms()[0]

@@ -155,8 +155,29 @@ def branch_directions(rod: DiscreteRod, param: Parameter, stable_side: float,
     return [Direction(*pair(phi), curv) for phi, curv in dirs]
 
 
+class _Snapshots:
+    """The states of one side of a branch kept for the pictures.
+
+    They become :class:`.path.Path`'s ``shapes``, ``shape_values``, ``frames`` and
+    ``shape_moments``.
+    """
+
+    def __init__(self) -> None:
+        self.shapes: list[np.ndarray] = []
+        self.values: list[float] = []
+        self.frames: list[np.ndarray] = []
+        self.moments: list[np.ndarray] = []
+
+    def add(self, rod: DiscreteRod, value: float) -> None:
+        """Keep ``rod``'s node positions, edge frames and internal moments at ``value``."""
+        self.shapes.append(rod.x.copy())
+        self.values.append(value)
+        self.frames.append(rod.R_edge.copy())
+        self.moments.append(rod.edge_moments())
+
+
 def _branch_path(key: str, p_c: float, sides: dict, start: tuple, stable_side: float,
-                 converged: bool, method: str, shapes: list, shape_values: list,
+                 converged: bool, method: str, shots: _Snapshots,
                  specials: tuple = (), states: tuple = ()) -> Path:
     """Return a branch in path order: the negative side reversed, the bifurcation, the positive."""
     pts = sides.get(-1.0, [])[::-1] + [start] + sides.get(1.0, [])
@@ -171,7 +192,8 @@ def _branch_path(key: str, p_c: float, sides: dict, start: tuple, stable_side: f
     return Path(key, tuple(V), tuple(q[2] for q in pts), tuple(q[3] for q in pts), tuple(X),
                 "xi: largest out-of-plane node displacement (free rigid motion removed) / L, "
                 "signed along the critical mode", converged, method, p_c, (a, b), verdict,
-                specials, (), 0, tuple(shapes), tuple(shape_values), states)
+                specials, (), 0, tuple(shots.shapes), tuple(shots.values), states,
+                frames=tuple(shots.frames), shape_moments=tuple(shots.moments))
 
 
 def _land(rod: DiscreteRod, param: Parameter, value: float, phase: np.ndarray | None
@@ -222,7 +244,8 @@ def trace_branch(rod: DiscreteRod, param: Parameter, stable_side: float, ds: flo
     h = _scale_to_xi(rod, d.mode, ds / length, length)
     sides: dict[float, list] = {}
     specials, states, ok_all, ends = [], [], True, []
-    shapes, shape_values = [rod.x.copy()], [p_c]
+    shots = _Snapshots()
+    shots.add(rod, p_c)
     for sign in signs:
         pts = sides.setdefault(sign, [])
         r = rod.copy()
@@ -251,14 +274,12 @@ def trace_branch(rod: DiscreteRod, param: Parameter, stable_side: float, ds: flo
                 if SpecialKind(point["kind"]) in stop_kinds:
                     pts.append((xi(r, r.x, ref, mode_w, length), param.get(r), r.energy(), e1))
                     if sign > 0:
-                        shapes.append(r.x.copy())
-                        shape_values.append(param.get(r))
+                        shots.add(r, param.get(r))
                     break
             e_prev = e1
             pts.append((xi(r, r.x, ref, mode_w, length), param.get(r), r.energy(), e1))
             if sign > 0:
-                shapes.append(r.x.copy())
-                shape_values.append(param.get(r))
+                shots.add(r, param.get(r))
             if left:
                 break
         ends.append((param.get(r), r.copy()))
@@ -267,7 +288,7 @@ def trace_branch(rod: DiscreteRod, param: Parameter, stable_side: float, ds: flo
                           "pseudo-arclength from the bifurcation along the critical mode"
                           + (" (double eigenvalue: phase pinned)" if d.phase is not None
                              else ""),
-                          shapes, shape_values, tuple(specials), tuple(states))
+                          shots, tuple(specials), tuple(states))
     return dataclasses.replace(branch, end_states=tuple(ends))
 
 
@@ -318,7 +339,8 @@ def amplitude_branch(rod: DiscreteRod, param: Parameter, stable_side: float,
     ref = rod.x.copy()
     sides: dict[float, list] = {}
     ok_all = True
-    shapes, shape_values = [rod.x.copy()], [p_c]
+    shots = _Snapshots()
+    shots.add(rod, p_c)
     for sign in (1.0, -1.0):
         pts = sides.setdefault(sign, [])
         r = rod.copy()
@@ -329,12 +351,10 @@ def amplitude_branch(rod: DiscreteRod, param: Parameter, stable_side: float,
                 break
             pts.append((xi(r, r.x, ref, mode_w, length), param.get(r), r.energy(), lowest(r)))
             if sign > 0:
-                shapes.append(r.x.copy())
-                shape_values.append(param.get(r))
+                shots.add(r, param.get(r))
     return _branch_path(str(param.key), p_c, sides, (0.0, p_c, rod.energy(), lowest(rod)),
                         stable_side, ok_all,
-                        "amplitude-controlled bordered Newton from the critical mode", shapes,
-                        shape_values)
+                        "amplitude-controlled bordered Newton from the critical mode", shots)
 
 
 def _bifurcation(a: Assembly, lo: float, hi: float, n: int) -> tuple[DiscreteRod, float]:
