@@ -286,3 +286,17 @@ def test_cli_equilibrium_render_takes_colour_twist_and_refuses_an_unknown_colour
                  str(tmp_path / "eq2.png"), "--colour", "stress"])
     assert r.exit_code == 2 and "moment" in r.stderr and "twist" in r.stderr
     assert not (tmp_path / "eq2.png").exists()
+
+
+def test_stack_shift_fades_as_stacked_rods_come_apart():
+    """Two coinciding straight rods: full stack shift (weight 1); 10 lengths apart in their
+    plane: none (0); halfway through the fade distance: half (0.5)."""
+    en = np.array([[0, 1], [1, 2], [3, 4], [4, 5]])
+    layout = RodLayout(en, np.array([0, 0, 1, 1]), ("a", "b"), np.ones(4))
+    line = np.array([[0.0, 0, 0], [0.5, 0, 0], [1.0, 0, 0]])
+    w = 0.05
+    near = ribbons.STACK_TOL * w
+    for dy, want in ((0.0, 1.0), (10.0, 0.0),
+                     (near * (1 + 0.5 * (ribbons.STACK_FADE - 1)), 0.5)):
+        x = np.vstack([line, line + [0.0, dy, 0.0]])
+        assert ribbons.stack_weights(x, layout, w) == pytest.approx([want, want])

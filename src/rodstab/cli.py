@@ -1553,12 +1553,16 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
     if gif is not None:
         from .nonlinear.discover import common_rod
         from .plots import animate_shapes
+        from .ribbons import RodLayout
 
-        edges = common_rod(a, elements, mu).edge_nodes
+        rod = common_rod(a, elements, mu)
         payload["animation"] = str(animate_shapes(
-            [snap.x for snap in path], edges, gif,
+            [snap.x for snap in path], [snap.R_edge for snap in path], RodLayout.from_rod(rod),
+            gif, edge_values=[rod.edge_twist(snap.R_edge) for snap in path],
+            value_label="rate of twist (rad / length)", diverging=True,
             labels=[f"s = {s:.2f}, E = {e:.5g}"
-                    for s, e in zip(b.path_arclength, b.energies, strict=True)]))
+                    for s, e in zip(b.path_arclength, b.energies, strict=True)],
+            title=f"{name}: {from_state} -> {to_state}, minimum energy path"))
         lines.append(f"wrote {payload['animation']}")
     _emit(payload, as_json, lines)
     if not b.converged:

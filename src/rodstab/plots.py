@@ -111,14 +111,18 @@ def _box_states(shapes: Sequence[np.ndarray], frames: Sequence[np.ndarray], layo
     """Faces ``(n_edges, 4, 4, 3)`` of every state, stacked segments one above the other.
 
     The stacks, the width (default from all states' extent) and so the shifts are decided once,
-    on the first state, so that an animation does not jump.
+    on the first state, so that an animation does not jump; in each state a segment's shift is
+    scaled by how fully it still lies on another one (:func:`.ribbons.stack_weights`), so that
+    rods that come apart are drawn where they are.
     """
     w = ribbons.default_width(np.vstack(shapes), width)
     h, t = ribbons.section_sizes(layout.aspect, w)
     level = ribbons.stack_levels(shapes[0], layout, w)
     shift = ribbons.stack_offsets(layout, level, ribbons.stack_gap(h, w))[:, None, None, :]
-    out = [ribbons.box_faces(x, layout.edge_nodes, R, h, t) + shift
-           for x, R in zip(shapes, frames, strict=True)]
+    out = []
+    for x, R in zip(shapes, frames, strict=True):
+        weight = ribbons.stack_weights(x, layout, w)[layout.edge_segment][:, None, None, None]
+        out.append(ribbons.box_faces(x, layout.edge_nodes, R, h, t) + weight * shift)
     return out, bool(level.any())
 
 

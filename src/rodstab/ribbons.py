@@ -41,6 +41,9 @@ STACK_TOL = 0.5
 #: Clearance between stacked segments drawn one above the other, as a fraction of ``width``
 #: (on top of the section's drawn height).
 STACK_CLEARANCE = 0.6
+#: A stacked segment's shift fades out between STACK_TOL and this times STACK_TOL times the
+#: width away from every other segment (:func:`stack_weights`).
+STACK_FADE = 4.0
 #: Elevation (degrees) of the camera above the ring's plane: the plane seen obliquely.
 CAMERA_ELEVATION = 35.0
 #: Angle (degrees) between the view direction, projected on the plane, and the assembly's
@@ -202,6 +205,28 @@ def stack_levels(x: np.ndarray, layout: RodLayout, width: float) -> np.ndarray:
             if len(other) and np.linalg.norm(other - probe, axis=1).min() < STACK_TOL * width:
                 level[s] += 1
     return level
+
+
+def stack_weights(x: np.ndarray, layout: RodLayout, width: float) -> np.ndarray:
+    """Return per segment how fully its stack shift applies in state ``x``, in ``[0, 1]``.
+
+    1 while the segment's middle edge still lies on another segment (within
+    :data:`STACK_TOL` ``* width``), falling linearly to 0 when it is :data:`STACK_FADE` times
+    that far from every other segment: along an animation in which stacked rods come apart
+    (the folded ring unfolding), the drawn shift fades out instead of tearing the welds apart.
+    """
+    en, seg = layout.edge_nodes, layout.edge_segment
+    mids = 0.5 * (x[en[:, 0]] + x[en[:, 1]])
+    out = np.zeros(len(layout.segment_names))
+    near = STACK_TOL * width
+    for s in range(len(out)):
+        idx = np.flatnonzero(seg == s)
+        others = mids[seg != s]
+        if not len(idx) or not len(others):
+            continue
+        d = float(np.linalg.norm(others - mids[idx[len(idx) // 2]], axis=1).min())
+        out[s] = float(np.clip(1.0 - (d - near) / ((STACK_FADE - 1.0) * near), 0.0, 1.0))
+    return out
 
 
 def stack_offsets(layout: RodLayout, level: np.ndarray, gap: float) -> np.ndarray:
