@@ -53,13 +53,13 @@ has to be convex, not the string's own direction: ``H + lam D`` may keep one neg
 if ``tau . (H + lam D)^-1 tau < 0`` (the inertia of the bordered matrix), both read off the
 pivots of a symmetric factorisation. (Along the six-ring's string at 8 el./rod the unshifted
 ``H`` had no negative eigenvalue at 134 of 360 steps, one at 53, more at 173.) Every trial
-state is retracted onto the inextensible states
-(:func:`~rodstab.nonlinear.discover.retract_step`): a chart step opens the ring's closure at
-second order, and at 0.1 rad the penalty strain that leaves (0.83 B3/L on the six-ring) swamps
-the predicted change (0.04), so unretracted steps were accepted only below ~0.03 rad and a
-version of this loop without the retraction needed 190 iterations where it needs 40. The step is accepted when the energy falls
-by a quarter of the model's prediction, else ``lam`` grows 4x (Levenberg-Marquardt, as
-:func:`~.solve.lm_step`). A step moves nothing by more than :data:`STEP_FRACTION` of the
+state is retracted onto the inextensible states (:func:`~rodstab.nonlinear.discover.retract_step`):
+a chart step opens the ring's closure at second order, and at 0.1 rad the penalty strain that leaves
+(0.83 B3/L on the six-ring) swamps the predicted change (0.04), so unretracted steps were accepted
+only below ~0.03 rad and a version of this loop without the retraction needed 190 iterations where
+it needs 40. The step is accepted when the energy falls by a quarter of the model's prediction, else
+``lam`` grows 4x (Levenberg-Marquardt, as :func:`~.solve.lm_step`). A step moves nothing by more
+than :data:`STEP_FRACTION` of the
 image's smaller chart gap to its neighbours (images do not overtake each other). No springs:
 when the longest chart segment of the string exceeds :data:`REPARAM_RATIO` times the shortest,
 the string is reparametrised to equal arclength (:func:`reparametrise`: piecewise geodesic in
