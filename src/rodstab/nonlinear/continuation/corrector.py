@@ -19,7 +19,9 @@ Converged when the free gradient is below ``FORCE_RTOL`` of the stiff (stretch/s
 scale, the constraint holds, and the last Newton update is below ``STEP_TOL`` (length unit, and
 relative to ``max(1, |p|)`` for ``p``). The update test matters: the force test alone stops
 while ``p`` is still wrong by ~1e-6, which is the size of ``p - p_c`` on a branch at
-amplitude 1e-3 and flips a fitted post-buckling coefficient (issue 9).
+amplitude 1e-3 and flips a fitted post-buckling coefficient (issue 9). Failed after
+``MAX_ITER`` iterations, or as soon as an update leaves a free gradient above
+``DIVERGED_RTOL`` of that scale.
 """
 
 from __future__ import annotations
@@ -45,6 +47,13 @@ CONSTRAINT_RTOL = 1e-10
 PHASE_RTOL = 1e-8
 #: Corrector iterations before a step is declared failed (and halved).
 MAX_ITER = 25
+#: After a Newton update, a free gradient above this times the stiff force scale (stretch and
+#: shear strains of order one, where an equilibrium has ~1/PENALTY) means the iteration has
+#: left the path: the step fails at once instead of after MAX_ITER iterations. Measured over
+#: every corrector call of ``rodstab reproduce`` (2249): the converged ones stayed below 0.23
+#: after their first update, and all 149 that exceeded 1 went on to fail after MAX_ITER (29 %
+#: of all the Newton iterations, 64 % of the transition checks').
+DIVERGED_RTOL = 1.0
 
 
 def force_scale(rod: DiscreteRod) -> float:
@@ -98,10 +107,12 @@ def correct(rod: DiscreteRod, param: Parameter, row_q: np.ndarray, row_p: float,
     ctol = CONSTRAINT_RTOL * max(abs(target), 1e-12)
     sigma, last = 0.0, math.inf
     acc_q = np.array(acc_q, float)
-    for _ in range(max_iter + 1):
+    for it in range(max_iter + 1):
         terms = rod.energy_terms()
         _, g, H = terms
         gf = g[free] if phase is None else g[free] + sigma * phase
+        if it > 0 and np.max(np.abs(gf)) > DIVERGED_RTOL * scale:
+            return None
         c = float(row_q @ acc_q + row_p * acc_p - target)
         c2 = 0.0 if phase is None else float(phase @ acc_q)
         if (np.max(np.abs(gf)) <= FORCE_RTOL * scale and abs(c) <= ctol and abs(c2) <= ctol
