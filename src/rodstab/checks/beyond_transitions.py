@@ -87,13 +87,14 @@ def _saddle(folded: Assembly, n: int, window: tuple[float, float], n_steps: int,
     """Trace the saddle branch of the folded six-ring at ``n`` el./segment.
 
     The branch leaves the double bifurcation along its most dangerous direction and is traced while
-    the load factor stays in ``window``.
+    the load factor stays in ``window``; a point is landed on ``theta`` (kappa_n R0 = 1) as the
+    branch passes it.
     """
     from ..nonlinear.continuation import arclength_from_bifurcation
 
     return arclength_from_bifurcation(folded, 1.0, 8.0, elements_per_segment=n, ds=0.25,
                                       n_steps=n_steps, mu_window=window,
-                                      stop_at_special=True, stop_kinds=())
+                                      stop_at_special=True, stop_kinds=(), land_at=(theta,))
 
 
 def _richardson(coarse: float, fine: float, n0: int, n1: int) -> float:
@@ -130,9 +131,10 @@ def _six_ring_transition_claim(run: Run) -> Claim:
         folds = [sp["value"] for sp in path.special_points if sp["kind"] in turns]
         ends.append(min(folds) / theta if folds else math.nan)
         paths.append(path)
-        at1 = _saddle(folded, n, (theta, 6.0), SADDLE_STEPS, theta)
-        barriers.append(at1.energy[-1] - 3 * theta**2 if abs(at1.value[-1] - theta) < 1e-9
-                        else math.nan)
+        # The barrier: the saddle's energy where the branch first passes kappa_n R0 = 1, less
+        # the folded state's closed form.
+        at1 = [state for value, state in path.landed if value == theta]
+        barriers.append(at1[0].energy() - 3 * theta**2 if at1 else math.nan)
         run.progress()
     end = _richardson(ends[0], ends[1], *meshes)
     barrier = _richardson(barriers[0], barriers[1], *meshes)

@@ -202,7 +202,8 @@ def trace_branch(rod: DiscreteRod, param: Parameter, stable_side: float, ds: flo
                  n_steps: int, *, length: float, signs: tuple[float, ...] = (1.0, -1.0),
                  direction: Direction | None = None, stop_at_special: bool = False,
                  stop_kinds: tuple[SpecialKind, ...] = tuple(SpecialKind),
-                 window: tuple[float, float] | None = None, first_step: float = 1.0) -> Path:
+                 window: tuple[float, float] | None = None, first_step: float = 1.0,
+                 land_at: tuple[float, ...] = ()) -> Path:
     """Trace the branch leaving the bifurcation ``rod`` by pseudo-arclength.
 
     ``n_steps`` steps each way (``signs``), about ``ds`` (length unit) of amplitude per step, up to
@@ -213,7 +214,9 @@ def trace_branch(rod: DiscreteRod, param: Parameter, stable_side: float, ds: flo
     in ``states``) and a side stops at the first one of a kind in ``stop_kinds``; ``window``: a
     side stops once the parameter leaves it, on a point landed exactly on its edge.
     ``first_step``: the first step as a fraction of ``ds`` (steps then grow by 1.5), so that a
-    coarse branch still has points at small amplitude for the post-buckling fit.
+    coarse branch still has points at small amplitude for the post-buckling fit. ``land_at``:
+    parameter values on which a point is landed exactly (as on a window's edge) each time the
+    path crosses them, kept in ``landed``; the path itself goes on from its own point.
     """
     p_c = param.get(rod)
     d = direction or branch_directions(rod, param, stable_side, length)[0]
@@ -221,7 +224,7 @@ def trace_branch(rod: DiscreteRod, param: Parameter, stable_side: float, ds: flo
     ref = rod.x.copy()
     h = _scale_to_xi(rod, d.mode, ds / length, length)
     sides: dict[float, list] = {}
-    specials, states, ok_all, ends = [], [], True, []
+    specials, states, ok_all, ends, crossings = [], [], True, [], []
     shapes, shape_values = [rod.x.copy()], [p_c]
     for sign in signs:
         pts = sides.setdefault(sign, [])
@@ -233,7 +236,13 @@ def trace_branch(rod: DiscreteRod, param: Parameter, stable_side: float, ds: flo
             if not path.step():
                 ok_all = False
                 break
-            left = window is not None and not window[0] <= param.get(r) <= window[1]
+            p_prev, p_now = param.get(prev), param.get(r)
+            for value in land_at:
+                if (p_prev >= value) != (p_now >= value):
+                    landing = _land(prev, param, value, d.phase)
+                    if landing is not None:
+                        crossings.append((value, landing))
+            left = window is not None and not window[0] <= p_now <= window[1]
             if left:
                 # Land exactly on the window's edge: the corrector with the parameter held
                 # (row (0, 1)) from the last point inside -- plain Newton, which stays on a
@@ -268,7 +277,7 @@ def trace_branch(rod: DiscreteRod, param: Parameter, stable_side: float, ds: flo
                           + (" (double eigenvalue: phase pinned)" if d.phase is not None
                              else ""),
                           shapes, shape_values, tuple(specials), tuple(states))
-    return dataclasses.replace(branch, end_states=tuple(ends))
+    return dataclasses.replace(branch, end_states=tuple(ends), landed=tuple(crossings))
 
 
 def _advance(rod: DiscreteRod, param: Parameter, k: int, target: float, direction: np.ndarray,
@@ -367,13 +376,15 @@ def arclength_from_bifurcation(a: Assembly, lo: float, hi: float, *,
                                n_steps: int = 60, mu_window: tuple[float, float] | None = None,
                                both_sides: bool = False, stop_at_special: bool = False,
                                stop_kinds: tuple[SpecialKind, ...] = tuple(SpecialKind),
-                               reference_segment: str | None = None) -> Path:
+                               reference_segment: str | None = None,
+                               land_at: tuple[float, ...] = ()) -> Path:
     """Branch from the first bifurcation of the held state by pseudo-arclength.
 
     The first bifurcation in the load factor in ``(lo, hi]``, traced by :func:`trace_branch`, one
     side (the mode's sign) unless ``both_sides``; stops after ``n_steps``, when the load leaves
     ``mu_window`` or, with ``stop_at_special``, at the first special point of a kind in
-    ``stop_kinds`` (located).
+    ``stop_kinds`` (located). Points landed exactly on the loads ``land_at`` as the path
+    crosses them are in the path's ``landed``.
     """
     lo, hi = require_finite("lo", lo), require_finite("hi", hi)
     if not lo < hi:
@@ -386,4 +397,4 @@ def arclength_from_bifurcation(a: Assembly, lo: float, hi: float, *,
                         length=reference_length(a, reference_segment),
                         signs=(1.0, -1.0) if both_sides else (1.0,),
                         stop_at_special=stop_at_special, stop_kinds=stop_kinds,
-                        window=mu_window)
+                        window=mu_window, land_at=land_at)

@@ -52,7 +52,8 @@ class Path(Result):
     ``shapes`` (node positions, one side of a branch, at the parameter values
     ``shape_values``), ``states`` (``(value, state)`` at losses of stability and folds) and
     ``end_states`` (``(value, state)``: a branch's last point on each side traced, in the order
-    of the sides) are left out of :meth:`to_dict`.
+    of the sides) and ``landed`` (``(value, state)`` landed exactly on values the branch
+    crossed, see :func:`.branches.trace_branch`) are left out of :meth:`to_dict`.
     """
 
     key: str
@@ -73,11 +74,12 @@ class Path(Result):
     shape_values: tuple[float, ...] = ()
     states: tuple = ()
     end_states: tuple = ()
+    landed: tuple = ()
 
     def to_dict(self) -> dict[str, Any]:
         """JSON form, without the node positions and discrete states."""
         return {f.name: jsonable(getattr(self, f.name)) for f in dataclasses.fields(self)
-                if f.name not in ("shapes", "shape_values", "states", "end_states")}
+                if f.name not in ("shapes", "shape_values", "states", "end_states", "landed")}
 
     @property
     def radius(self) -> tuple[float, ...]:
