@@ -24,9 +24,9 @@ MONOTONE_TOL = 1e-9
 #: Where the six-sided ring's saddle branch turns on the one-loop state (Richardson of 8 and
 #: 12 el./segment) vs the linear engine's one-loop limit; observed 6e-4.
 MEETING_RTOL = 5e-3
-#: Arclength steps (ds = 0.25) that take the saddle path past its turning point (8 and 12
-#: el./segment need about 40).
-SADDLE_STEPS = 50
+#: Most arclength steps (ds = 0.25) of the saddle path, which stops at its turning point (8 and
+#: 12 el./segment reach it after 40 to 55 steps, depending on where step halvings fall).
+SADDLE_STEPS = 80
 
 
 def transition_checks(run: Run) -> Iterator[Claim]:
@@ -42,10 +42,13 @@ def _ring_transition_claim(run: Run) -> Claim:
     c = circle()
     ring1 = ring.build(ring.Params(section=c, loops=1))
     ends = []
-    turns = (SpecialKind.BRANCH_TURNED.value, SpecialKind.FOLD.value)
+    turn_kinds = (SpecialKind.BRANCH_TURNED, SpecialKind.FOLD)
+    turns = tuple(k.value for k in turn_kinds)
     for n, steps in ((36, 45), (48, 52)):
+        # Stops where it turns (26 and 33 steps); the steps are a cap.
         path = arclength_from_bifurcation(ring1, 1.05, 3.0, elements_per_segment=n, ds=0.25,
-                                          n_steps=steps, stop_at_special=True, stop_kinds=())
+                                          n_steps=steps, stop_at_special=True,
+                                          stop_kinds=turn_kinds)
         rad = np.array(path.radius)
         i = int(np.argmin(rad))
         # The 3-loop ring is where the path turns (into the mirror image): located there, not
@@ -87,14 +90,15 @@ def _saddle(folded: Assembly, n: int, window: tuple[float, float], n_steps: int,
     """Trace the saddle branch of the folded six-ring at ``n`` el./segment.
 
     The branch leaves the double bifurcation along its most dangerous direction and is traced while
-    the load factor stays in ``window``; a point is landed on ``theta`` (kappa_n R0 = 1) as the
-    branch passes it.
+    the load factor stays in ``window``, up to its first turning point; a point is landed on
+    ``theta`` (kappa_n R0 = 1) as the branch passes it.
     """
-    from ..nonlinear.continuation import arclength_from_bifurcation
+    from ..nonlinear.continuation import SpecialKind, arclength_from_bifurcation
 
     return arclength_from_bifurcation(folded, 1.0, 8.0, elements_per_segment=n, ds=0.25,
-                                      n_steps=n_steps, mu_window=window,
-                                      stop_at_special=True, stop_kinds=(), land_at=(theta,))
+                                      n_steps=n_steps, mu_window=window, stop_at_special=True,
+                                      stop_kinds=(SpecialKind.FOLD, SpecialKind.BRANCH_TURNED),
+                                      land_at=(theta,))
 
 
 def _richardson(coarse: float, fine: float, n0: int, n1: int) -> float:
