@@ -81,14 +81,34 @@ def solve_bordered(M: sp.spmatrix, rhs: np.ndarray) -> np.ndarray | None:
 
 def bordered_matrix(H: sp.spmatrix, gp: np.ndarray, row_q: np.ndarray, row_p: float,
                     z: np.ndarray | None) -> sp.spmatrix:
-    """``[[H, g_p, z], [r_q^T, r_p, 0], [z^T, 0, 0]]`` (the last row/column only with ``z``)."""
-    col = sp.csr_matrix(gp[:, None])
-    row = sp.csr_matrix(row_q[None, :])
-    if z is None:
-        return sp.bmat([[H, col], [row, sp.csr_matrix([[row_p]])]], format="csc")
-    zc = sp.csr_matrix(z[:, None])
-    return sp.bmat([[H, col, zc], [row, sp.csr_matrix([[row_p]]), None],
-                    [zc.T, None, sp.csr_matrix((1, 1))]], format="csc")
+    """``[[H, g_p, z], [r_q^T, r_p, 0], [z^T, 0, 0]]`` (the last row/column only with ``z``).
+
+    Assembled from coordinate lists in one conversion (scipy's ``bmat`` of the same blocks
+    gives the same matrix, entry order included, at four times the cost: a third of a
+    corrector iteration on the small systems of the report).
+    """
+    n = H.shape[0]
+    m = n + (1 if z is None else 2)
+    Hc = H.tocoo()
+    rows, cols, vals = [Hc.row], [Hc.col], [Hc.data]
+
+    def add(r: np.ndarray | int, c: np.ndarray | int, v: np.ndarray) -> None:
+        keep = v != 0  # only the nonzeros, as a sparse block of them would hold
+        rows.append(np.broadcast_to(r, v.shape)[keep])
+        cols.append(np.broadcast_to(c, v.shape)[keep])
+        vals.append(v[keep])
+
+    # Block order of bmat: row by row of blocks, each block's entries in its own order.
+    every = np.arange(n)
+    add(every, n, gp)
+    if z is not None:
+        add(every, n + 1, z)
+    add(n, every, row_q)
+    add(n, n, np.array([row_p], float))
+    if z is not None:
+        add(n + 1, every, z)
+    return sp.coo_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                         shape=(m, m)).tocsc()
 
 
 def correct(rod: DiscreteRod, param: Parameter, row_q: np.ndarray, row_p: float,
