@@ -137,13 +137,15 @@ def sliding_mode(rod: DiscreteRod) -> np.ndarray | None:
 ALIGN_SHEAR = 1e-2
 
 
-def lowest_modes(rod: DiscreteRod, k: int = 4) -> tuple[np.ndarray, np.ndarray]:
+def lowest_modes(rod: DiscreteRod, k: int = 4, hessian: sp.spmatrix | None = None
+                 ) -> tuple[np.ndarray, np.ndarray]:
     """Return the lowest ``k`` eigenpairs of the Jacobi-scaled free Hessian.
 
     Vectors are mapped back to the free unknowns (``D v``), one column each. For a uniform closed
     ring the eigenpair that is the material-sliding zero mode (:func:`sliding_mode`) is left out.
+    ``hessian``: the full Hessian at ``rod``'s state when the caller has it (not formed again).
     """
-    _, _, H = rod.energy_terms()
+    H = rod.energy_terms()[2] if hessian is None else hessian
     free = rod.free_dofs()
     Hf = H[free][:, free].tocsc()
     Hf = 0.5 * (Hf + Hf.T)

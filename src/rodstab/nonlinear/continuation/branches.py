@@ -38,7 +38,7 @@ from ...numerics import find_roots
 from ..discrete import DiscreteRod, discretise
 from ..parameters import LoadFactor, Parameter
 from ..solve import critical_load_factor, lowest_modes
-from .corrector import Stepper, correct, pinned_equilibrium
+from .corrector import Corrected, Stepper, correct, pinned_equilibrium
 from .path import Path, SpecialKind, mode_out_of_plane, post_buckling, reference_length, xi
 from .special import crossed, locate, lowest
 
@@ -189,9 +189,9 @@ def _land(rod: DiscreteRod, param: Parameter, value: float, phase: np.ndarray | 
         for k in range(1, m + 1):
             p_prev, p_next = param.get(trial), p0 + (value - p0) * k / m
             param.set(trial, p_next)
-            sigma = correct(trial, param, zero, 1.0, p_next - p_prev, acc_q=zero,
-                            acc_p=p_next - p_prev, phase=phase)
-            if not pinned_equilibrium(trial, sigma, phase):
+            result = correct(trial, param, zero, 1.0, p_next - p_prev, acc_q=zero,
+                             acc_p=p_next - p_prev, phase=phase)
+            if not pinned_equilibrium(trial, result, phase):
                 break
         else:
             return trial
@@ -251,7 +251,8 @@ def trace_branch(rod: DiscreteRod, param: Parameter, stable_side: float, ds: flo
                 landed = _land(prev, param, edge, d.phase)
                 if landed is not None:
                     r.assign(landed)
-            e1 = lowest(r)
+            # The stepper's Hessian is the point's unless it was landed on the window's edge.
+            e1 = lowest(r, None if left or path.terms is None else path.terms[2])
             if stop_at_special and e_prev is not None and crossed(e_prev, e1, prev_tp, path.tp):
                 point, at = locate(r, param, prev, prev_tq, prev_tp, path.last_h, e_prev, e1,
                                    path.tp, phase=d.phase)
@@ -281,11 +282,12 @@ def trace_branch(rod: DiscreteRod, param: Parameter, stable_side: float, ds: flo
 
 
 def _advance(rod: DiscreteRod, param: Parameter, k: int, target: float, direction: np.ndarray,
-             phase: np.ndarray | None, depth: int = 0) -> bool:
+             phase: np.ndarray | None, depth: int = 0) -> Corrected | None:
     """Move the branch to amplitude ``target`` of free unknown ``k``.
 
     Predictor along ``direction``, the amplitude row in :func:`.corrector.correct`; on failure
-    restore the state and take two half steps (at most 5 halvings).
+    restore the state and take two half steps (at most 5 halvings). Returns the corrector's
+    result at the point reached, or None.
     """
     free = rod.free_dofs()
     saved = rod.copy()
@@ -295,16 +297,17 @@ def _advance(rod: DiscreteRod, param: Parameter, k: int, target: float, directio
     rod.apply(dq)
     ek = np.zeros(len(free))
     ek[k] = 1.0
-    sigma = correct(rod, param, ek, 0.0, target - cur, acc_q=direction * (target - cur),
-                    acc_p=0.0, phase=phase)
-    if pinned_equilibrium(rod, sigma, phase):
-        return True
+    result = correct(rod, param, ek, 0.0, target - cur, acc_q=direction * (target - cur),
+                     acc_p=0.0, phase=phase)
+    if result is not None and pinned_equilibrium(rod, result, phase):
+        return result
     rod.assign(saved)
     if depth >= 5:
-        return False
+        return None
     mid = 0.5 * (cur + target)
-    return (_advance(rod, param, k, mid, direction, phase, depth + 1)
-            and _advance(rod, param, k, target, direction, phase, depth + 1))
+    if _advance(rod, param, k, mid, direction, phase, depth + 1) is None:
+        return None
+    return _advance(rod, param, k, target, direction, phase, depth + 1)
 
 
 def amplitude_branch(rod: DiscreteRod, param: Parameter, stable_side: float,
@@ -333,10 +336,12 @@ def amplitude_branch(rod: DiscreteRod, param: Parameter, stable_side: float,
         r = rod.copy()
         base = r.x.reshape(-1)[free[k]]
         for target in xis:
-            if not _advance(r, param, k, base + sign * target * per_xi, unit, d.phase):
+            reached = _advance(r, param, k, base + sign * target * per_xi, unit, d.phase)
+            if reached is None:
                 ok_all = False
                 break
-            pts.append((xi(r, r.x, ref, mode_w, length), param.get(r), r.energy(), lowest(r)))
+            pts.append((xi(r, r.x, ref, mode_w, length), param.get(r), r.energy(),
+                        lowest(r, reached.terms[2])))
             if sign > 0:
                 shapes.append(r.x.copy())
                 shape_values.append(param.get(r))

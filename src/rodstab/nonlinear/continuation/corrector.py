@@ -28,13 +28,14 @@ from __future__ import annotations
 
 import math
 import warnings
+from typing import NamedTuple
 
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from ..discrete import PENALTY, DiscreteRod
-from ..parameters import Parameter
+from ..parameters import Parameter, Terms
 from ..solve import sliding_mode, vee_log
 
 #: Free-gradient tolerance, relative to PENALTY max|B| / min l_e (the stiffest forces).
@@ -111,15 +112,25 @@ def bordered_matrix(H: sp.spmatrix, gp: np.ndarray, row_q: np.ndarray, row_p: fl
                          shape=(m, m)).tocsc()
 
 
+class Corrected(NamedTuple):
+    """A converged :func:`correct`: the phase multiplier and the energy terms at the point."""
+
+    sigma: float
+    #: ``(E, g, H)`` of the converged state, which the corrector formed for its last test:
+    #: the tangent and the stability there need not form them again.
+    terms: Terms
+
+
 def correct(rod: DiscreteRod, param: Parameter, row_q: np.ndarray, row_p: float,
             target: float, *, acc_q: np.ndarray, acc_p: float, phase: np.ndarray | None = None,
-            max_iter: int = MAX_ITER) -> float | None:
+            max_iter: int = MAX_ITER) -> Corrected | None:
     """Newton on ``g(q, p) = 0`` and ``r_q . acc_q + r_p . acc_p = target`` (in place).
 
     ``acc_q``, ``acc_p``: the increment already accumulated since the start of the step (the
     predictor's). Returns the phase multiplier ``sigma`` (0 without ``phase``) of the converged
-    point (module docstring), or None; on failure the state is left where the iteration
-    stopped (the caller restores it). :func:`pinned_equilibrium` says whether ``sigma`` is 0.
+    point (module docstring) with the energy terms there, or None; on failure the state is left
+    where the iteration stopped (the caller restores it). :func:`pinned_equilibrium` says
+    whether ``sigma`` is 0.
     """
     free = rod.free_dofs()
     n = len(free)
@@ -137,7 +148,7 @@ def correct(rod: DiscreteRod, param: Parameter, row_q: np.ndarray, row_p: float,
         c2 = 0.0 if phase is None else float(phase @ acc_q)
         if (np.max(np.abs(gf)) <= FORCE_RTOL * scale and abs(c) <= ctol and abs(c2) <= ctol
                 and last <= STEP_TOL):
-            return sigma
+            return Corrected(sigma, terms)
         gp = param.dgrad(rod, terms)[free]
         rhs = -np.concatenate([gf, [c]] + ([] if phase is None else [[c2]]))
         sol = solve_bordered(bordered_matrix(H[free][:, free], gp, row_q, row_p, phase), rhs)
@@ -156,23 +167,26 @@ def correct(rod: DiscreteRod, param: Parameter, row_q: np.ndarray, row_p: float,
     return None
 
 
-def pinned_equilibrium(rod: DiscreteRod, sigma: float | None, phase: np.ndarray | None) -> bool:
+def pinned_equilibrium(rod: DiscreteRod, result: Corrected | None,
+                       phase: np.ndarray | None) -> bool:
     """Return whether :func:`correct` converged to a true equilibrium (``sigma`` ~ 0)."""
-    if sigma is None:
+    if result is None:
         return False
-    return phase is None or abs(sigma) * float(np.max(np.abs(phase))) <= PHASE_RTOL * \
+    return phase is None or abs(result.sigma) * float(np.max(np.abs(phase))) <= PHASE_RTOL * \
         force_scale(rod)
 
 
 def tangent(rod: DiscreteRod, param: Parameter, tq_prev: np.ndarray, tp_prev: float,
-            phase: np.ndarray | None = None) -> tuple[np.ndarray, float]:
+            phase: np.ndarray | None = None, terms: Terms | None = None
+            ) -> tuple[np.ndarray, float]:
     """Return the unit tangent of the path: ``[H dg/dp; t_prev^T] t = [0; 1]``, normalised.
 
-    Oriented along the previous tangent (kept if the solve fails).
+    Oriented along the previous tangent (kept if the solve fails). ``terms``: the energy terms
+    at ``rod``'s state when the caller has them.
     """
     free = rod.free_dofs()
     n = len(free)
-    terms = rod.energy_terms()
+    terms = rod.energy_terms() if terms is None else terms
     H = terms[2]
     gp = param.dgrad(rod, terms)[free]
     rhs = np.zeros(n + (1 if phase is None else 2))
@@ -202,6 +216,8 @@ class Stepper:
     farther than ``2 h`` from the step's start (it jumped to another branch), and grows by 1.5
     after a success up to ``h_max``. On a non-circular state of a uniform closed ring the
     material-sliding family is pinned by its own mode; otherwise by ``phase`` if given.
+    ``terms``: the energy terms at the state of the last accepted step (None before one; no
+    longer the rod's once the caller moves it).
     """
 
     def __init__(self, rod: DiscreteRod, param: Parameter, tq: np.ndarray, tp: float,
@@ -213,6 +229,7 @@ class Stepper:
         self.h_min = 1e-4 * h
         self.h_max = h if h_max is None else h_max
         self.last_h = h
+        self.terms: Terms | None = None
 
     def _phase(self) -> np.ndarray | None:
         z = sliding_mode(self.rod)
@@ -229,11 +246,13 @@ class Stepper:
             dq[free] = self.h * self.tq
             rod.apply(dq)
             self.param.set(rod, p0 + self.h * self.tp)
-            sigma = correct(rod, self.param, self.tq, self.tp, self.h, acc_q=self.h * self.tq,
-                            acc_p=self.h * self.tp, phase=phase)
-            if pinned_equilibrium(rod, sigma, phase) \
+            result = correct(rod, self.param, self.tq, self.tp, self.h, acc_q=self.h * self.tq,
+                             acc_p=self.h * self.tp, phase=phase)
+            if result is not None and pinned_equilibrium(rod, result, phase) \
                     and distance(rod, saved, self.param.get(rod) - p0) <= 2 * self.h:
-                self.tq, self.tp = tangent(rod, self.param, self.tq, self.tp, phase)
+                self.terms = result.terms
+                self.tq, self.tp = tangent(rod, self.param, self.tq, self.tp, phase,
+                                           result.terms)
                 self.last_h = self.h
                 self.h = min(1.5 * self.h, self.h_max)
                 return True
