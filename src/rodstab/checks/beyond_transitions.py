@@ -16,8 +16,10 @@ from ..sections import circle, rectangle
 from .core import Claim, Run, fmt
 from .rules import NONLINEAR_RTOL, REPRODUCED, RICHARDSON_RTOL, every, holds, methods_agree
 
-#: What the project claims for each row of :func:`transition_checks`.
-EXPECTED = {"T-ring": REPRODUCED, "T-six": REPRODUCED}
+#: What the project claims for the row of :func:`ring_transition_checks` and of
+#: :func:`six_ring_transition_checks` (independent: they run in parallel).
+EXPECTED_RING = {"T-ring": REPRODUCED}
+EXPECTED_SIX = {"T-six": REPRODUCED}
 
 #: Round-off allowance in "the natural curvature rises monotonically along the path".
 MONOTONE_TOL = 1e-9
@@ -29,9 +31,13 @@ MEETING_RTOL = 5e-3
 SADDLE_STEPS = 80
 
 
-def transition_checks(run: Run) -> Iterator[Claim]:
-    """Rows T-ring and T-six."""
+def ring_transition_checks(run: Run) -> Iterator[Claim]:
+    """Row T-ring."""
     yield _ring_transition_claim(run)
+
+
+def six_ring_transition_checks(run: Run) -> Iterator[Claim]:
+    """Row T-six."""
     yield _six_ring_transition_claim(run)
 
 
