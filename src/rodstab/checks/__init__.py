@@ -75,10 +75,10 @@ REGISTRY: tuple[Check, ...] = (
     Check(sec4.birod_checks, sec4.EXPECTED, 0.3),
     Check(sec5.folded_ring_checks, sec5.EXPECTED, 1.0),
     Check(beyond_critical.critical_checks, beyond_critical.EXPECTED, 0.2),
-    Check(_PB.straightened_checks, _PB.expected(_PB.straightened_checks), 2.5),
-    Check(_PB.birod_checks, _PB.expected(_PB.birod_checks), 2.5),
-    Check(_PB.folded_checks, _PB.expected(_PB.folded_checks), 3.0),
-    Check(_PB.folded_threshold_checks, _PB.expected(_PB.folded_threshold_checks), 5.5),
+    Check(_PB.straightened_postbuckling_checks, _PB.EXPECTED_STRAIGHTENED, 2.5),
+    Check(_PB.birod_postbuckling_checks, _PB.EXPECTED_BIROD, 2.5),
+    Check(_PB.folded_postbuckling_checks, _PB.EXPECTED_FOLDED, 3.0),
+    Check(_PB.folded_threshold_checks, _PB.EXPECTED_FOLDED_THRESHOLD, 5.5),
     Check(beyond_imperfections.imperfection_checks, beyond_imperfections.EXPECTED, 6.2),
     Check(beyond_twisted.twisted_rod_checks, beyond_twisted.EXPECTED, 4.7),
     Check(beyond_transitions.ring_transition_checks, beyond_transitions.EXPECTED_RING, 4.0),
@@ -93,10 +93,14 @@ REGISTRY: tuple[Check, ...] = (
 _WORKER_ENV = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
 
 
-def _run_check(i: int) -> tuple[list[Claim], dict]:
-    """Worker: the rows and figure data of ``REGISTRY[i]`` (a fresh :class:`Run`)."""
+def _run_check(i: int) -> tuple[list[Claim], dict, float]:
+    """Worker: the rows, figure data and CPU seconds of ``REGISTRY[i]`` (a fresh :class:`Run`)."""
+    import time
+
     run = Run()
-    return list(REGISTRY[i].produce(run)), run.figures
+    t0 = time.process_time()
+    rows = list(REGISTRY[i].produce(run))
+    return rows, run.figures, time.process_time() - t0
 
 
 def _merge(into: dict, figures: dict) -> None:
@@ -118,16 +122,19 @@ def evaluate(run: Run | None = None, *, workers: int | None = None) -> list[Clai
     The checks are independent: with ``workers`` > 1 (default: the number of CPUs, at most the
     number of checks) they run in that many processes, submitted longest first (``seconds``: the
     two workers then finish together); figure data are merged into ``run.figures``;
-    ``run.progress`` ticks once per finished check.
+    ``run.progress`` ticks once per finished check; ``run.cpu_seconds`` records each check's.
     """
     import os
+    import time
 
     run = Run() if run is None else run
     n = min(len(REGISTRY), os.cpu_count() or 1) if workers is None else workers
     if n <= 1:
         rows: list[Claim] = []
         for check in REGISTRY:
+            t0 = time.process_time()
             rows += check.produce(run)
+            run.cpu_seconds[check.produce.__name__] = time.process_time() - t0
             run.progress()
         return rows
     import multiprocessing
@@ -153,6 +160,7 @@ def evaluate(run: Run | None = None, *, workers: int | None = None) -> list[Clai
     for i in range(len(REGISTRY)):
         rows += results[i][0]
         _merge(run.figures, results[i][1])
+        run.cpu_seconds[REGISTRY[i].produce.__name__] = results[i][2]
     return rows
 
 
