@@ -258,16 +258,11 @@ class DiscreteRod:
         start = np.array([lk[3] == "start" for lk in self.end_links])
         Re = rotation_jet(self.R_edge[ee], 6, 0, order)
         RJQ = rotation_jet(self.R_joint[jj], 6, 3, order).times(Q)
-        P_end, P_start = Re.T @ RJQ, RJQ.T @ Re
-
-        def pick(at_start: np.ndarray | None, at_end: np.ndarray | None) -> np.ndarray | None:
-            if at_start is None or at_end is None:
-                return None
-            return np.where(start.reshape((-1,) + (1,) * (at_start.ndim - 1)), at_start, at_end)
-
-        v = pick(P_start.v, P_end.v)
-        assert v is not None  # values are always formed
-        return ee, jj, JetMat(v, pick(P_start.g, P_end.g), pick(P_start.H, P_end.H))
+        # Each link's product in its own order only (forming both and picking one per link
+        # doubled the cost of the links).
+        at_start = RJQ.take(start).T @ Re.take(start)
+        at_end = Re.take(~start).T @ RJQ.take(~start)
+        return ee, jj, JetMat.merge(start, at_start, at_end)
 
     def edge_moments(self) -> np.ndarray:
         """Return the magnitude of the internal moment ``|B (k - k0)|`` per edge (n_edges,).

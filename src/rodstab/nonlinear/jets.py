@@ -124,6 +124,28 @@ class JetMat:
                       None if self.g is None else np.einsum("eijn,ejk->eikn", self.g, Q),
                       None if self.H is None else np.einsum("eijnm,ejk->eiknm", self.H, Q))
 
+    def take(self, mask: np.ndarray) -> JetMat:
+        """Return the elements selected by the boolean ``mask`` (E,)."""
+        return JetMat(self.v[mask], None if self.g is None else self.g[mask],
+                      None if self.H is None else self.H[mask])
+
+    @staticmethod
+    def merge(mask: np.ndarray, where: JetMat, elsewhere: JetMat) -> JetMat:
+        """Elements of ``where`` at the True entries of ``mask``, of ``elsewhere`` at the others.
+
+        The inverse of :meth:`take`: ``where = m.take(mask)``, ``elsewhere = m.take(~mask)``.
+        """
+        def fill(a: np.ndarray | None, b: np.ndarray | None) -> np.ndarray | None:
+            if a is None or b is None:
+                return None
+            out = np.empty((len(mask),) + a.shape[1:])
+            out[mask], out[~mask] = a, b
+            return out
+
+        v = fill(where.v, elsewhere.v)
+        assert v is not None  # values are always formed
+        return JetMat(v, fill(where.g, elsewhere.g), fill(where.H, elsewhere.H))
+
     def apply(self, x: list[Jet]) -> list[Jet]:
         """Matrix times a 3-vector of jets."""
         return [sum((self.entry(i, j) * x[j] for j in range(3)), start=_zero_like(x[0]))
@@ -139,6 +161,12 @@ _HAT = np.zeros((3, 3, 3))  # _HAT[k] = hat(e_k), hat(a) b = a x b
 _HAT[0, 2, 1], _HAT[0, 1, 2] = 1.0, -1.0
 _HAT[1, 0, 2], _HAT[1, 2, 0] = 1.0, -1.0
 _HAT[2, 1, 0], _HAT[2, 0, 1] = 1.0, -1.0
+
+
+#: ``_SYM[k, m] = (hat(e_k) hat(e_m) + hat(e_m) hat(e_k)) / 2``: the second derivatives of
+#: ``exp(hat(phi))`` at 0.
+_SYM = np.array([[0.5 * (_HAT[k] @ _HAT[m] + _HAT[m] @ _HAT[k]) for m in range(3)]
+                 for k in range(3)])
 
 
 def hat(a: np.ndarray) -> np.ndarray:
@@ -159,9 +187,8 @@ def rotation_jet(R: np.ndarray, n: int, offset: int, order: int = 2) -> JetMat:
         if g is not None:
             g[..., offset + k] = R @ _HAT[k]
         if H is not None:
-            for m in range(3):
-                H[..., offset + k, offset + m] = R @ (0.5 * (_HAT[k] @ _HAT[m]
-                                                             + _HAT[m] @ _HAT[k]))
+            for m in range(k, 3):  # the second derivatives are symmetric in (k, m)
+                H[..., offset + k, offset + m] = H[..., offset + m, offset + k] = R @ _SYM[k, m]
     return JetMat(R.copy(), g, H)
 
 
