@@ -351,16 +351,19 @@ def matrix_roots(
     # large, yet still sees a root at which every singular value vanishes together (A = (x-1) I).
     s_ref = float(np.median([sv[0] for sv in svals])) or 1.0
 
+    def _ratio(s: np.ndarray) -> float:
+        if r == 0:
+            return float(s[-1] / max(s[0], s_ref))
+        return float(s[-1 - r] / (1.0 + s[0]))
+
     def _measure(A: np.ndarray) -> tuple[float, np.ndarray]:
         s = np.linalg.svd(A, compute_uv=False)
-        if r == 0:
-            return float(s[-1] / max(s[0], s_ref)), s
-        return float(s[-1 - r] / (1.0 + s[0])), s
+        return _ratio(s), s
 
     def g(x: float) -> float:
         return _measure(matrix(float(x)))[0]
 
-    gs = np.array([g(float(x)) for x in xs])
+    gs = np.array([_ratio(sv) for sv in svals])  # the scan's singular values, not again
     smax_grid = np.array([sv[0] for sv in svals])
     xtol = XTOL * (hi - lo)
 

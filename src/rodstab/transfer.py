@@ -423,7 +423,12 @@ def _bloch(G: np.ndarray, right: np.ndarray, harmonic: int, segments: int) -> np
     phase = 2 * math.pi * harmonic / segments
     re = math.cos(phase) * G - right
     im = math.sin(phase) * G
-    return np.block([[re, -im], [im, re]])
+    n = G.shape[0]
+    out = np.empty((2 * n, 2 * n))  # [[re, -im], [im, re]], filled directly (np.block: 5x slower)
+    out[:n, :n] = out[n:, n:] = re
+    out[:n, n:] = -im
+    out[n:, :n] = im
+    return out
 
 
 def cyclic_ring_matrix(L_kappa: float, L_over_R: float, b1: float, b2: float, harmonic: int,

@@ -49,79 +49,98 @@ __all__ = ["REGISTRY", "Check", "Claim", "DIFFERS", "REPRODUCED", "Run", "STATUS
 
 @dataclasses.dataclass(frozen=True)
 class Check:
-    """One entry of the registry: a check function and the status claimed for each of its rows."""
+    """One entry of the registry: a check function and the status claimed for each of its rows.
+
+    ``seconds``: its CPU time on one core as measured (``benchmarks/bench_reproduce.py``), which
+    only orders the parallel run (longest first).
+    """
 
     produce: Callable[[Run], Iterator[Claim]]
     expected: Mapping[str, str]
+    seconds: float
 
 
-#: The check functions in report order, each with the statuses the project claims.
+_PB = beyond_postbuckling
+
+#: The check functions in report order, each with the statuses the project claims. A check is
+#: one independent computation (the post-buckling and transition rows are split into several),
+#: so that the parallel run can balance them.
 REGISTRY: tuple[Check, ...] = (
-    Check(sec2.section2_checks, sec2.EXPECTED),
-    Check(sec3_1.ring_checks, sec3_1.EXPECTED),
-    Check(sec3_2.arc_checks, sec3_2.EXPECTED),
-    Check(sec3_2_stiffness.stiffness_checks, sec3_2_stiffness.EXPECTED),
-    Check(sec3_3.michell_checks, sec3_3.EXPECTED),
-    Check(engine.engine_checks, engine.EXPECTED),
-    Check(sec4.birod_checks, sec4.EXPECTED),
-    Check(sec5.folded_ring_checks, sec5.EXPECTED),
-    Check(beyond_critical.critical_checks, beyond_critical.EXPECTED),
-    Check(beyond_postbuckling.postbuckling_checks, beyond_postbuckling.EXPECTED),
-    Check(beyond_imperfections.imperfection_checks, beyond_imperfections.EXPECTED),
-    Check(beyond_twisted.twisted_rod_checks, beyond_twisted.EXPECTED),
-    Check(beyond_transitions.transition_checks, beyond_transitions.EXPECTED),
-    Check(beyond_hexagram.hexagram_checks, beyond_hexagram.EXPECTED),
+    Check(sec2.section2_checks, sec2.EXPECTED, 0.03),
+    Check(sec3_1.ring_checks, sec3_1.EXPECTED, 0.3),
+    Check(sec3_2.arc_checks, sec3_2.EXPECTED, 1.6),
+    Check(sec3_2_stiffness.stiffness_checks, sec3_2_stiffness.EXPECTED, 0.05),
+    Check(sec3_3.michell_checks, sec3_3.EXPECTED, 1.4),
+    Check(engine.engine_checks, engine.EXPECTED, 0.06),
+    Check(sec4.birod_checks, sec4.EXPECTED, 0.1),
+    Check(sec5.folded_ring_checks, sec5.EXPECTED, 0.5),
+    Check(beyond_critical.critical_checks, beyond_critical.EXPECTED, 0.1),
+    Check(_PB.straightened_postbuckling_checks, _PB.EXPECTED_STRAIGHTENED, 2.1),
+    Check(_PB.birod_postbuckling_checks, _PB.EXPECTED_BIROD, 2.1),
+    Check(_PB.folded_postbuckling_checks, _PB.EXPECTED_FOLDED, 2.6),
+    Check(_PB.folded_threshold_checks, _PB.EXPECTED_FOLDED_THRESHOLD, 4.9),
+    Check(beyond_imperfections.imperfection_checks, beyond_imperfections.EXPECTED, 4.7),
+    Check(beyond_twisted.twisted_rod_checks, beyond_twisted.EXPECTED, 3.8),
+    Check(beyond_transitions.ring_transition_checks, beyond_transitions.EXPECTED_RING, 3.0),
+    Check(beyond_transitions.six_ring_transition_checks, beyond_transitions.EXPECTED_SIX, 5.7),
+    Check(beyond_hexagram.hexagram_checks, beyond_hexagram.EXPECTED, 3.1),
 )
 
 
-#: Checks that take longest (seconds on one core), submitted first so two workers finish
-#: together; the others follow in registry order.
-_SLOW_FIRST = ("transition_checks", "postbuckling_checks", "imperfection_checks",
-               "twisted_rod_checks", "hexagram_checks")
 #: Environment for the worker processes: one BLAS thread each. Several multithreaded BLAS
 #: pools on 2 cores spin against each other (a dense 300 x 300 eigh took 0.85 s instead of
 #: 0.01 s on a loaded machine).
 _WORKER_ENV = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
 
 
-def _run_check(i: int) -> tuple[list[Claim], dict]:
-    """Worker: the rows and figure data of ``REGISTRY[i]`` (a fresh :class:`Run`)."""
+def _run_check(i: int) -> tuple[list[Claim], dict, float]:
+    """Worker: the rows, figure data and CPU seconds of ``REGISTRY[i]`` (a fresh :class:`Run`)."""
+    import time
+
     run = Run()
-    return list(REGISTRY[i].produce(run)), run.figures
+    t0 = time.process_time()
+    rows = list(REGISTRY[i].produce(run))
+    return rows, run.figures, time.process_time() - t0
 
 
-def _merge(run: Run, figures: dict) -> None:
+def _merge(into: dict, figures: dict) -> None:
+    """Merge a worker's figure data into ``into``, dictionaries key by key at every depth.
+
+    (Several checks fill one dictionary: the post-buckling checks each add their structure to
+    ``beyond.branches``.)
+    """
     for key, value in figures.items():
-        if isinstance(value, dict) and isinstance(run.figures.get(key), dict):
-            run.figures[key].update(value)
+        if isinstance(value, dict) and isinstance(into.get(key), dict):
+            _merge(into[key], value)
         else:
-            run.figures[key] = value
+            into[key] = value
 
 
 def evaluate(run: Run | None = None, *, workers: int | None = None) -> list[Claim]:
     """Run every check of :data:`REGISTRY`; return the rows (computed statuses) in registry order.
 
     The checks are independent: with ``workers`` > 1 (default: the number of CPUs, at most the
-    number of checks) they run in that many processes; figure data are merged into ``run.figures``;
-    ``run.progress`` ticks once per finished check.
+    number of checks) they run in that many processes, submitted longest first (``seconds``: the
+    two workers then finish together); figure data are merged into ``run.figures``;
+    ``run.progress`` ticks once per finished check; ``run.cpu_seconds`` records each check's.
     """
     import os
+    import time
 
     run = Run() if run is None else run
     n = min(len(REGISTRY), os.cpu_count() or 1) if workers is None else workers
     if n <= 1:
         rows: list[Claim] = []
         for check in REGISTRY:
+            t0 = time.process_time()
             rows += check.produce(run)
+            run.cpu_seconds[check.produce.__name__] = time.process_time() - t0
             run.progress()
         return rows
     import multiprocessing
     from concurrent.futures import ProcessPoolExecutor
 
-    names = [c.produce.__name__ for c in REGISTRY]
-    order = sorted(range(len(REGISTRY)), key=lambda i: (names[i] not in _SLOW_FIRST,
-                                                          _SLOW_FIRST.index(names[i])
-                                                          if names[i] in _SLOW_FIRST else i))
+    order = sorted(range(len(REGISTRY)), key=lambda i: -REGISTRY[i].seconds)
     saved = {k: os.environ.get(k) for k in _WORKER_ENV}
     os.environ.update(_WORKER_ENV)
     try:
@@ -140,7 +159,8 @@ def evaluate(run: Run | None = None, *, workers: int | None = None) -> list[Clai
     rows = []
     for i in range(len(REGISTRY)):
         rows += results[i][0]
-        _merge(run, results[i][1])
+        _merge(run.figures, results[i][1])
+        run.cpu_seconds[REGISTRY[i].produce.__name__] = results[i][2]
     return rows
 
 

@@ -41,10 +41,12 @@ class Run:
     ``progress`` is called after each expensive step (a progress bar's tick). ``figures`` collects
     figure data that checks compute anyway (``"fig3"``; ``"beyond"``: branches, imperfections,
     paths), so that the report draws the figures without computing them again.
+    ``cpu_seconds``: check function name -> CPU seconds it took (filled by ``evaluate``).
     """
 
     progress: Callable[[], None] = _no_progress
     figures: dict = dataclasses.field(default_factory=dict)
+    cpu_seconds: dict[str, float] = dataclasses.field(default_factory=dict)
 
     def beyond(self) -> dict:
         """Return the ``"beyond"`` figure data, created empty on first use."""

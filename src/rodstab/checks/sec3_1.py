@@ -123,6 +123,7 @@ def ring_checks(run: Run) -> Iterator[Claim]:
                 holds(k3[0] - k1[1] > 0 and gap_t > 0))
     yield from _overlap_claims(run)
     yield _spurious_root_claim(b1, b2, t1[2])
+    run.figures["rings"] = rings_data()  # the report's N-loop figure, computed in parallel
 
 
 def _overlap_claims(run: Run) -> Iterator[Claim]:

@@ -108,6 +108,8 @@ def stiffness_checks(run: Run) -> Iterator[Claim]:
                 f"{fmt(closed)} (r/L = 0.01)", fmt(ratio),
                 "derived from P_cr = 4 pi^2 B/L^2, P^2 L/(2EA) and B3 (L kappa)^2/(2L)",
                 "first principles", methods_agree(ratio, closed, ROUNDOFF_RTOL))
+    # The report's Figs. 4 and 5, computed where the section's checks run (in parallel).
+    run.figures["fig4"], run.figures["fig5"] = fig4_data(), fig5_data()
 
 
 def fig4_data(n: int = 120) -> dict:

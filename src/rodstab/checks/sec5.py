@@ -99,6 +99,7 @@ def folded_ring_checks(run: Run) -> Iterator[Claim]:
         holds(lo < 1.0 < hi),
         "New result: the stress-free one-loop state (kappa_n R0 = 1) is stable, with margins "
         f"{fmt(1 - lo, 3)} below and {fmt(hi - 1, 3)} above.")
+    run.figures["fig9"] = fig9_data()  # the report's Fig. 9, computed in parallel
 
 
 def fig9_data() -> dict:

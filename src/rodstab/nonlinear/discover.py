@@ -703,7 +703,7 @@ def discover(rod: DiscreteRod, seeds: list[tuple[str, Snapshot]], known: list[Kn
         s.put(rod)
         ev = lowest_eigenvalues(rod, INDEX_EIGS)
         index = int(np.sum(ev < -tol))
-        _, g, _ = rod.energy_terms()
+        g = rod.gradient()
         inv = invariants(rod, s, directions)
         out.append(FoundState(
             label=_label(inv, known), energy=E, index=index, index_at_least=index == len(ev),

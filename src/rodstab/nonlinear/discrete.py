@@ -117,47 +117,70 @@ class DiscreteRod:
     # ---- energy
     def energy_terms(self, *, links: bool = True) -> tuple[float, np.ndarray, sp.csr_matrix]:
         """Energy, exact gradient (n_dof,) and exact sparse Hessian at the current state."""
+        E, g, H = self._evaluate(2, links)
+        assert g is not None and H is not None  # order 2
+        return E, g, H
+
+    def gradient(self, *, links: bool = True) -> np.ndarray:
+        """Exact gradient (n_dof,) at the current state, without the Hessian (a third the cost).
+
+        The same to the last bit as :meth:`energy_terms`' gradient.
+        """
+        g = self._evaluate(1, links)[1]
+        assert g is not None  # order 1
+        return g
+
+    def energy(self) -> float:
+        """Energy only (for line searches, path points): no derivatives are formed."""
+        return self._evaluate(0, True)[0]
+
+    def _evaluate(self, order: int, links: bool
+                  ) -> tuple[float, np.ndarray | None, sp.csr_matrix | None]:
+        """Energy and its derivatives up to ``order`` (0, 1, 2); None for those not formed."""
         rows, cols, vals = [], [], []
-        grad = np.zeros(self.n_dof)
+        grad = np.zeros(self.n_dof) if order >= 1 else None
         total = 0.0
 
         def scatter(jet: Jet, dofs: np.ndarray) -> None:
             nonlocal total
             total += float(jet.v.sum())
-            np.add.at(grad, dofs, jet.g)
-            r = np.repeat(dofs[:, :, None], dofs.shape[1], axis=2)
-            c = np.repeat(dofs[:, None, :], dofs.shape[1], axis=1)
-            rows.append(r.ravel())
-            cols.append(c.ravel())
-            vals.append(jet.H.ravel())
+            if grad is not None and jet.g is not None:
+                np.add.at(grad, dofs, jet.g)
+            if jet.H is not None:
+                r = np.repeat(dofs[:, :, None], dofs.shape[1], axis=2)
+                c = np.repeat(dofs[:, None, :], dofs.shape[1], axis=1)
+                rows.append(r.ravel())
+                cols.append(c.ravel())
+                vals.append(jet.H.ravel())
 
         mu = self.load_factor
         # Stretch and shear of every edge: variables (x_i, x_j, phi_e).
         e = np.arange(len(self.R_edge))
         i, j = self.edge_nodes[:, 0], self.edge_nodes[:, 1]
-        xi = vector_jet(self.x[i], 9, 0)
-        xj = vector_jet(self.x[j], 9, 3)
-        R = rotation_jet(self.R_edge, 9, 6)
+        xi = vector_jet(self.x[i], 9, 0, order)
+        xj = vector_jet(self.x[j], 9, 3, order)
+        R = rotation_jet(self.R_edge, 9, 6, order)
         le = self.rest_length
         d = [(xj[k] - xi[k]) * (1.0 / le) for k in range(3)]
         eps = R.T.apply(d)
         K = PENALTY * self.edge_B.max(axis=1) / le**2
-        en = sum(((eps[k] - _T0[k]) * (eps[k] - _T0[k]) for k in range(3)),
-                 start=Jet(np.zeros(len(e)), np.zeros((len(e), 9)), np.zeros((len(e), 9, 9))))
+        zero = Jet(np.zeros(len(e)), np.zeros((len(e), 9)) if order >= 1 else None,
+                   np.zeros((len(e), 9, 9)) if order >= 2 else None)
+        en = sum(((eps[k] - _T0[k]) * (eps[k] - _T0[k]) for k in range(3)), start=zero)
         scatter(en * (0.5 * K * le), np.concatenate([self.node_dofs(i), self.node_dofs(j),
                                                       self.edge_dofs(e)], axis=1))
         # Bending between consecutive edges of a segment: variables (phi_a, phi_b).
         if len(self.bend_pairs):
             a, b = self.bend_pairs[:, 0], self.bend_pairs[:, 1]
-            Ra = rotation_jet(self.R_edge[a], 6, 0)
-            Rb = rotation_jet(self.R_edge[b], 6, 3)
+            Ra = rotation_jet(self.R_edge[a], 6, 0, order)
+            Rb = rotation_jet(self.R_edge[b], 6, 3, order)
             ds = 0.5 * (le[a] + le[b])
             scatter(self._bend(Ra.T @ Rb, ds, self.edge_B[a],
                                self._k0(self.k_held_pairs, a, mu)),
                     np.concatenate([self.edge_dofs(a), self.edge_dofs(b)], axis=1))
         # Half-joints between an end edge and its joint frame.
         if self.end_links and links:
-            ee, jj, P = self.link_rotations()
+            ee, jj, P = self.link_rotations(order)
             ds = 0.5 * le[ee]
             k0 = (self._k0(self.k_held_links, ee, mu) if self.k0_links is None
                   else self.k0_links[0] + mu * self.k0_links[1])
@@ -165,13 +188,17 @@ class DiscreteRod:
                     np.concatenate([self.edge_dofs(ee), self.joint_dofs(jj)], axis=1))
         loaded = [j for j, m in self.joint_moment.items() if np.any(m)]
         if loaded:
-            scatter(self._moment_work(np.array(loaded)), self.joint_dofs(np.array(loaded)))
+            scatter(self._moment_work(np.array(loaded), order), self.joint_dofs(np.array(loaded)))
         for (node, _), (F, direction, x_ref) in self.node_force.items():
             # linear in x: gradient only, no Hessian entry
             total -= F * float(direction @ (self.x[node] - x_ref))
-            grad[self.node_dofs(node)] -= F * direction
-        H = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
-                          shape=(self.n_dof, self.n_dof))
+            if grad is not None:
+                grad[self.node_dofs(node)] -= F * direction
+        H = None
+        if order >= 2:
+            H = sp.csr_matrix((np.concatenate(vals),
+                               (np.concatenate(rows), np.concatenate(cols))),
+                              shape=(self.n_dof, self.n_dof))
         return total, grad, H
 
     def _k0(self, k_held: np.ndarray | None, e: np.ndarray, mu: float) -> np.ndarray:
@@ -188,7 +215,7 @@ class DiscreteRod:
             k0[:, 1] += mu * self.edge_tw[e]  # natural twist about the tangent d2
         return k0
 
-    def _moment_work(self, joints: np.ndarray) -> Jet:
+    def _moment_work(self, joints: np.ndarray, order: int = 2) -> Jet:
         """``-M . theta`` of point moments on ``joints`` (variables: the joint's phi 0..2).
 
         ``theta``: the exact rotation vector of the joint frame from its reference frame
@@ -199,7 +226,7 @@ class DiscreteRod:
         """
         assert self.R_joint_held is not None  # set by discretise
         P = rotation_jet(np.swapaxes(self.R_joint_held[joints], 1, 2) @ self.R_joint[joints],
-                         3, 0)
+                         3, 0, order)
         with np.errstate(all="ignore"):  # past a half turn: NaN energy, the step is refused
             theta = rotation_vector(P)
         M = np.array([self.joint_moment[int(j)] for j in joints], float)
@@ -219,25 +246,23 @@ class DiscreteRod:
         assert out is not None  # three components summed
         return out
 
-    def link_rotations(self) -> tuple[np.ndarray, np.ndarray, JetMat]:
+    def link_rotations(self, order: int = 2) -> tuple[np.ndarray, np.ndarray, JetMat]:
         """Return the edges, joints and relative-rotation jets ``P`` of the half-joints.
 
         Vars: phi_edge 0..2, phi_joint 3..5. ``P`` is ``R_e^T R_J Q`` at a segment end,
-        ``(R_J Q)^T R_e`` at a start.
+        ``(R_J Q)^T R_e`` at a start; derivatives up to ``order``.
         """
         ee = np.array([lk[0] for lk in self.end_links])
         jj = np.array([lk[1] for lk in self.end_links])
         Q = np.array([lk[2] for lk in self.end_links])
         start = np.array([lk[3] == "start" for lk in self.end_links])
-        Re = rotation_jet(self.R_edge[ee], 6, 0)
-        RJ = rotation_jet(self.R_joint[jj], 6, 3)
-        RJQ = JetMat(np.einsum("eij,ejk->eik", RJ.v, Q), np.einsum("eijn,ejk->eikn", RJ.g, Q),
-                     np.einsum("eijnm,ejk->eiknm", RJ.H, Q))
-        P_end, P_start = Re.T @ RJQ, RJQ.T @ Re
-        P = JetMat(np.where(start[:, None, None], P_start.v, P_end.v),
-                   np.where(start[:, None, None, None], P_start.g, P_end.g),
-                   np.where(start[:, None, None, None, None], P_start.H, P_end.H))
-        return ee, jj, P
+        Re = rotation_jet(self.R_edge[ee], 6, 0, order)
+        RJQ = rotation_jet(self.R_joint[jj], 6, 3, order).times(Q)
+        # Each link's product in its own order only (forming both and picking one per link
+        # doubled the cost of the links).
+        at_start = RJQ.take(start).T @ Re.take(start)
+        at_end = Re.take(~start).T @ RJQ.take(~start)
+        return ee, jj, JetMat.merge(start, at_start, at_end)
 
     def edge_moments(self) -> np.ndarray:
         """Return the magnitude of the internal moment ``|B (k - k0)|`` per edge (n_edges,).
@@ -286,10 +311,6 @@ class DiscreteRod:
         """
         n_seg = len(self.assembly.segments)
         return np.repeat(np.arange(n_seg), len(self.R_edge) // n_seg)
-
-    def energy(self) -> float:
-        """Energy only (for line searches)."""
-        return self.energy_terms()[0]
 
     # ---- updates
     def copy(self) -> DiscreteRod:
@@ -508,7 +529,7 @@ def _balanced_link_curvatures(rod: DiscreteRod) -> tuple[np.ndarray, np.ndarray]
     saved = rod.load_factor
     for mu in (0.0, 1.0):
         rod.load_factor = mu
-        f = rod.energy_terms(links=False)[1][rod.edge_dofs(ee)]  # (n_links, 3)
+        f = rod.gradient(links=False)[rod.edge_dofs(ee)]  # (n_links, 3)
         # f + J^T B ds (k - k0) = 0  ->  k0 = k + (J^T B ds)^-1 f (J invertible near P = I).
         out.append(kval + np.linalg.solve(JtB, f[..., None])[..., 0])
     rod.load_factor = saved

@@ -5,6 +5,11 @@ A :class:`Jet` holds, for ``E`` elements and ``n`` local variables, ``v`` (E,), 
 products and quotients follow the chain rule exactly, so element energies built from them have
 exact (not finite-difference) gradients and Hessians. Matrices of jets are :class:`JetMat`
 (``v`` (E, 3, 3), ``g`` (E, 3, 3, n), ``H`` (E, 3, 3, n, n)).
+
+A jet of lower order carries ``H = None`` (value and gradient) or also ``g = None`` (value
+only), and every operation then skips the missing derivatives: an energy without its Hessian
+costs a third of one with it. Each derivative present is computed by the same arithmetic at any
+order, so it is the same to the last bit.
 """
 
 from __future__ import annotations
@@ -14,23 +19,29 @@ import dataclasses
 import numpy as np
 
 
+def _sum(a: np.ndarray | None, b: np.ndarray | None) -> np.ndarray | None:
+    """Add two derivatives of one order (None when either is absent)."""
+    return None if a is None or b is None else a + b
+
+
 @dataclasses.dataclass
 class Jet:
-    """Scalar jet (value, gradient, Hessian), vectorised over elements."""
+    """Scalar jet (value, gradient, Hessian), vectorised over elements; see the module doc."""
 
     v: np.ndarray
-    g: np.ndarray
-    H: np.ndarray
+    g: np.ndarray | None
+    H: np.ndarray | None
 
     def __add__(self, o: Jet | float) -> Jet:
         if isinstance(o, Jet):
-            return Jet(self.v + o.v, self.g + o.g, self.H + o.H)
+            return Jet(self.v + o.v, _sum(self.g, o.g), _sum(self.H, o.H))
         return Jet(self.v + o, self.g, self.H)
 
     __radd__ = __add__
 
     def __neg__(self) -> Jet:
-        return Jet(-self.v, -self.g, -self.H)
+        return Jet(-self.v, None if self.g is None else -self.g,
+                   None if self.H is None else -self.H)
 
     def __sub__(self, o: Jet | float) -> Jet:
         return self + (-o)
@@ -40,23 +51,33 @@ class Jet:
 
     def __mul__(self, o: Jet | float | np.ndarray) -> Jet:
         if isinstance(o, Jet):
-            outer = np.einsum("ei,ej->eij", self.g, o.g)
-            return Jet(self.v * o.v, self.v[:, None] * o.g + o.v[:, None] * self.g,
-                       self.v[:, None, None] * o.H + o.v[:, None, None] * self.H
-                       + outer + np.swapaxes(outer, 1, 2))
+            g = H = None
+            if self.g is not None and o.g is not None:
+                g = self.v[:, None] * o.g + o.v[:, None] * self.g
+                if self.H is not None and o.H is not None:
+                    outer = np.einsum("ei,ej->eij", self.g, o.g)
+                    H = (self.v[:, None, None] * o.H + o.v[:, None, None] * self.H
+                         + outer + np.swapaxes(outer, 1, 2))
+            return Jet(self.v * o.v, g, H)
         o = np.asarray(o, dtype=float)
         if o.ndim == 1:
-            return Jet(self.v * o, self.g * o[:, None], self.H * o[:, None, None])
-        return Jet(self.v * o, self.g * o, self.H * o)
+            return Jet(self.v * o, None if self.g is None else self.g * o[:, None],
+                       None if self.H is None else self.H * o[:, None, None])
+        return Jet(self.v * o, None if self.g is None else self.g * o,
+                   None if self.H is None else self.H * o)
 
     __rmul__ = __mul__
 
     def reciprocal(self) -> Jet:
         """``1 / self``: derivatives ``-1/v^2`` and ``2/v^3``."""
         inv = 1.0 / self.v
-        return Jet(inv, -self.g * inv[:, None] ** 2,
-                   2.0 * np.einsum("ei,ej->eij", self.g, self.g) * inv[:, None, None] ** 3
-                   - self.H * inv[:, None, None] ** 2)
+        if self.g is None:
+            return Jet(inv, None, None)
+        H = None
+        if self.H is not None:
+            H = (2.0 * np.einsum("ei,ej->eij", self.g, self.g) * inv[:, None, None] ** 3
+                 - self.H * inv[:, None, None] ** 2)
+        return Jet(inv, -self.g * inv[:, None] ** 2, H)
 
     def __truediv__(self, o: Jet | float) -> Jet:
         if isinstance(o, Jet):
@@ -66,31 +87,64 @@ class Jet:
 
 @dataclasses.dataclass
 class JetMat:
-    """3x3 matrix of jets."""
+    """3x3 matrix of jets (``g`` and ``H`` None below second order, as for :class:`Jet`)."""
 
     v: np.ndarray
-    g: np.ndarray
-    H: np.ndarray
+    g: np.ndarray | None
+    H: np.ndarray | None
 
     def entry(self, i: int, j: int) -> Jet:
         """Element ``(i, j)`` as a :class:`Jet`."""
-        return Jet(self.v[:, i, j], self.g[:, i, j], self.H[:, i, j])
+        return Jet(self.v[:, i, j], None if self.g is None else self.g[:, i, j],
+                   None if self.H is None else self.H[:, i, j])
 
     @property
     def T(self) -> JetMat:
         """Transpose."""
-        return JetMat(np.swapaxes(self.v, 1, 2), np.swapaxes(self.g, 1, 2),
-                      np.swapaxes(self.H, 1, 2))
+        return JetMat(np.swapaxes(self.v, 1, 2),
+                      None if self.g is None else np.swapaxes(self.g, 1, 2),
+                      None if self.H is None else np.swapaxes(self.H, 1, 2))
 
     def __matmul__(self, o: JetMat) -> JetMat:
         v = np.einsum("eij,ejk->eik", self.v, o.v)
-        g = (np.einsum("eij,ejkn->eikn", self.v, o.g)
-             + np.einsum("eijn,ejk->eikn", self.g, o.v))
-        cross = np.einsum("eijn,ejkm->eiknm", self.g, o.g)
-        H = (np.einsum("eij,ejknm->eiknm", self.v, o.H)
-             + np.einsum("eijnm,ejk->eiknm", self.H, o.v)
-             + cross + np.swapaxes(cross, 3, 4))
+        g = H = None
+        if self.g is not None and o.g is not None:
+            g = (np.einsum("eij,ejkn->eikn", self.v, o.g)
+                 + np.einsum("eijn,ejk->eikn", self.g, o.v))
+            if self.H is not None and o.H is not None:
+                cross = np.einsum("eijn,ejkm->eiknm", self.g, o.g)
+                H = (np.einsum("eij,ejknm->eiknm", self.v, o.H)
+                     + np.einsum("eijnm,ejk->eiknm", self.H, o.v)
+                     + cross + np.swapaxes(cross, 3, 4))
         return JetMat(v, g, H)
+
+    def times(self, Q: np.ndarray) -> JetMat:
+        """``self @ Q`` for constant matrices ``Q`` (E, 3, 3)."""
+        return JetMat(np.einsum("eij,ejk->eik", self.v, Q),
+                      None if self.g is None else np.einsum("eijn,ejk->eikn", self.g, Q),
+                      None if self.H is None else np.einsum("eijnm,ejk->eiknm", self.H, Q))
+
+    def take(self, mask: np.ndarray) -> JetMat:
+        """Return the elements selected by the boolean ``mask`` (E,)."""
+        return JetMat(self.v[mask], None if self.g is None else self.g[mask],
+                      None if self.H is None else self.H[mask])
+
+    @staticmethod
+    def merge(mask: np.ndarray, where: JetMat, elsewhere: JetMat) -> JetMat:
+        """Elements of ``where`` at the True entries of ``mask``, of ``elsewhere`` at the others.
+
+        The inverse of :meth:`take`: ``where = m.take(mask)``, ``elsewhere = m.take(~mask)``.
+        """
+        def fill(a: np.ndarray | None, b: np.ndarray | None) -> np.ndarray | None:
+            if a is None or b is None:
+                return None
+            out = np.empty((len(mask),) + a.shape[1:])
+            out[mask], out[~mask] = a, b
+            return out
+
+        v = fill(where.v, elsewhere.v)
+        assert v is not None  # values are always formed
+        return JetMat(v, fill(where.g, elsewhere.g), fill(where.H, elsewhere.H))
 
     def apply(self, x: list[Jet]) -> list[Jet]:
         """Matrix times a 3-vector of jets."""
@@ -99,7 +153,8 @@ class JetMat:
 
 
 def _zero_like(j: Jet) -> Jet:
-    return Jet(np.zeros_like(j.v), np.zeros_like(j.g), np.zeros_like(j.H))
+    return Jet(np.zeros_like(j.v), None if j.g is None else np.zeros_like(j.g),
+               None if j.H is None else np.zeros_like(j.H))
 
 
 _HAT = np.zeros((3, 3, 3))  # _HAT[k] = hat(e_k), hat(a) b = a x b
@@ -108,35 +163,45 @@ _HAT[1, 0, 2], _HAT[1, 2, 0] = 1.0, -1.0
 _HAT[2, 1, 0], _HAT[2, 0, 1] = 1.0, -1.0
 
 
+#: ``_SYM[k, m] = (hat(e_k) hat(e_m) + hat(e_m) hat(e_k)) / 2``: the second derivatives of
+#: ``exp(hat(phi))`` at 0.
+_SYM = np.array([[0.5 * (_HAT[k] @ _HAT[m] + _HAT[m] @ _HAT[k]) for m in range(3)]
+                 for k in range(3)])
+
+
 def hat(a: np.ndarray) -> np.ndarray:
     """Skew matrices ``(..., 3, 3)`` with ``hat(a) b = a x b``."""
     return np.einsum("...k,kij->...ij", a, _HAT)
 
 
-def rotation_jet(R: np.ndarray, n: int, offset: int) -> JetMat:
+def rotation_jet(R: np.ndarray, n: int, offset: int, order: int = 2) -> JetMat:
     """``R exp(hat(phi))`` at ``phi = 0`` as a jet in local variables ``offset..offset+2``.
 
     ``exp(hat(phi)) = I + hat(phi) + hat(phi)^2 / 2 + O(phi^3)``: first and second derivatives
-    at ``phi = 0`` are exact. ``R`` has shape (E, 3, 3).
+    at ``phi = 0`` are exact. ``R`` has shape (E, 3, 3); derivatives up to ``order`` (0, 1, 2).
     """
     E = R.shape[0]
-    g = np.zeros((E, 3, 3, n))
-    H = np.zeros((E, 3, 3, n, n))
+    g = np.zeros((E, 3, 3, n)) if order >= 1 else None
+    H = np.zeros((E, 3, 3, n, n)) if order >= 2 else None
     for k in range(3):
-        g[..., offset + k] = R @ _HAT[k]
-        for m in range(3):
-            H[..., offset + k, offset + m] = R @ (0.5 * (_HAT[k] @ _HAT[m] + _HAT[m] @ _HAT[k]))
+        if g is not None:
+            g[..., offset + k] = R @ _HAT[k]
+        if H is not None:
+            for m in range(k, 3):  # the second derivatives are symmetric in (k, m)
+                H[..., offset + k, offset + m] = H[..., offset + m, offset + k] = R @ _SYM[k, m]
     return JetMat(R.copy(), g, H)
 
 
-def vector_jet(x: np.ndarray, n: int, offset: int) -> list[Jet]:
-    """Positions ``x`` (E, 3) as jets in local variables ``offset..offset+2``."""
+def vector_jet(x: np.ndarray, n: int, offset: int, order: int = 2) -> list[Jet]:
+    """Positions ``x`` (E, 3) as jets in local variables ``offset..offset+2`` (up to ``order``)."""
     E = x.shape[0]
     out = []
     for k in range(3):
-        g = np.zeros((E, n))
-        g[:, offset + k] = 1.0
-        out.append(Jet(x[:, k].copy(), g, np.zeros((E, n, n))))
+        g = None
+        if order >= 1:
+            g = np.zeros((E, n))
+            g[:, offset + k] = 1.0
+        out.append(Jet(x[:, k].copy(), g, np.zeros((E, n, n)) if order >= 2 else None))
     return out
 
 
@@ -194,6 +259,7 @@ def rotation_vector(P: JetMat) -> list[Jet]:
          (P.entry(1, 0) - P.entry(0, 1)) * den]
     u = c[0] * c[0] + c[1] * c[1] + c[2] * c[2]
     h0, h1, h2 = _half_atan_ratio(u.v)
-    h = Jet(h0, h1[:, None] * u.g,
+    h = Jet(h0, None if u.g is None else h1[:, None] * u.g,
+            None if u.g is None or u.H is None else
             h1[:, None, None] * u.H + h2[:, None, None] * np.einsum("ei,ej->eij", u.g, u.g))
     return [h * ci for ci in c]

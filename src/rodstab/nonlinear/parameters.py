@@ -80,9 +80,9 @@ class LoadFactor:
     def dgrad(self, rod: DiscreteRod, terms: Terms | None = None) -> np.ndarray:
         """``dg/dmu`` (all unknowns), exact: ``g`` is affine in ``mu``."""
         mu = rod.load_factor
-        g0 = (rod.energy_terms() if terms is None else terms)[1]
+        g0 = rod.gradient() if terms is None else terms[1]
         rod.load_factor = mu + 1.0
-        g1 = rod.energy_terms()[1]
+        g1 = rod.gradient()
         rod.load_factor = mu
         return g1 - g0
 
@@ -149,9 +149,9 @@ class SegmentValue:
     def dgrad(self, rod: DiscreteRod, terms: Terms | None = None) -> np.ndarray:
         """``dg/dp`` (all unknowns), exact: ``g`` is affine in a natural curvature or twist."""
         p = self.get(rod)
-        g0 = (rod.energy_terms() if terms is None else terms)[1]
+        g0 = rod.gradient() if terms is None else terms[1]
         self.set(rod, p + 1.0)
-        g1 = rod.energy_terms()[1]
+        g1 = rod.gradient()
         self.set(rod, p)
         return g1 - g0
 
@@ -363,9 +363,11 @@ class WeldMoment:
         """``dg/dM_c = -d theta_c / d phi`` on the weld's rotation unknowns (exact)."""
         j = self._joint(rod)
         assert rod.R_joint_held is not None  # set by discretise
-        P = rotation_jet((rod.R_joint_held[j].T @ rod.R_joint[j])[None], 3, 0)
+        P = rotation_jet((rod.R_joint_held[j].T @ rod.R_joint[j])[None], 3, 0, order=1)
+        dtheta = rotation_vector(P)[self._c].g
+        assert dtheta is not None  # a first-order jet
         out = np.zeros(rod.n_dof)
-        out[rod.joint_dofs(j)] = -rotation_vector(P)[self._c].g[0]
+        out[rod.joint_dofs(j)] = -dtheta[0]
         return out
 
 

@@ -20,7 +20,7 @@ from ..errors import NotConverged, RodstabInputError
 from ..limits import DEFAULT as DEFAULT_LIMITS
 from ..limits import Limits, require_nonlinear
 from ..model import Assembly
-from ..numerics import find_roots, jacobi_scaling, lowest_eigenpairs
+from ..numerics import find_roots, jacobi_scaling, lowest_eigenpairs, pencil_interval_sparse
 from ..results import Result
 from .discrete import PENALTY, DiscreteRod, discretise
 
@@ -138,13 +138,15 @@ def sliding_mode(rod: DiscreteRod) -> np.ndarray | None:
 ALIGN_SHEAR = 1e-2
 
 
-def lowest_modes(rod: DiscreteRod, k: int = 4) -> tuple[np.ndarray, np.ndarray]:
+def lowest_modes(rod: DiscreteRod, k: int = 4, hessian: sp.spmatrix | None = None
+                 ) -> tuple[np.ndarray, np.ndarray]:
     """Return the lowest ``k`` eigenpairs of the Jacobi-scaled free Hessian.
 
     Vectors are mapped back to the free unknowns (``D v``), one column each. For a uniform closed
     ring the eigenpair that is the material-sliding zero mode (:func:`sliding_mode`) is left out.
+    ``hessian``: the full Hessian at ``rod``'s state when the caller has it (not formed again).
     """
-    _, _, H = rod.energy_terms()
+    H = rod.energy_terms()[2] if hessian is None else hessian
     free = rod.free_dofs()
     Hf = H[free][:, free].tocsc()
     Hf = 0.5 * (Hf + Hf.T)
@@ -412,23 +414,48 @@ def critical_load_factor(a: Assembly, lo: float, hi: float, *, elements_per_segm
                          n_scan: int = 12) -> NonlinearCritical:
     """First load factor in ``(lo, hi]`` at which the held state loses stability.
 
-    The held state must stay an equilibrium at every load (checked: the free gradient is ~0);
-    the lowest eigenvalue of the scaled Hessian is scanned and its sign change refined by the
-    one root finder. (A twisted ring is not such a state in the discrete model -- it needs a
-    shear force -- and is left for the continuation tools.)
+    The held state must stay an equilibrium at every load (checked at ``lo`` and ``hi``: its
+    free gradient is affine in the load factor, so ~0 at both ends means ~0 between them). (A
+    twisted ring is not such a state in the discrete model -- it needs a shear force -- and is
+    left for the continuation tools.)
+
+    The held configuration does not move with the load and the energy is quadratic in it, so
+    the free Hessian is affine in the load factor: ``H(mu) = H(lo) + t (H(hi) - H(lo))``,
+    ``t = (mu - lo) / (hi - lo)``. Stable at ``lo`` (``H(lo)`` positive definite), the state
+    is first lost where this pencil is first singular above ``lo``: one generalized eigen
+    solve (:func:`rodstab.numerics.pencil_interval_sparse`, both matrices Jacobi-scaled by
+    ``H(lo)``'s diagonal). Unstable at ``lo``, or with a sliding zero mode, the lowest eigenvalue of
+    the scaled Hessian is scanned (``n_scan`` intervals) and its sign change refined by the
+    one root finder. ``residual``: the lowest scaled eigenvalue at the load found.
     """
     rod = discretise(a, elements_per_segment, lo)
     free = rod.free_dofs()
     scale = float(np.max(rod.edge_B) / np.min(rod.rest_length))
 
-    def lam_min(mu: float) -> float:
+    def hessian(mu: float) -> sp.csr_matrix:
+        """Free Hessian of the held state at ``mu``, which must be an equilibrium there."""
         rod.load_factor = mu
-        _, g, _ = rod.energy_terms()
+        _, g, H = rod.energy_terms()
         if np.max(np.abs(g[free])) > 1e-8 * scale * max(1.0, abs(mu)):
             raise RodstabInputError(f"the held state is not an equilibrium of the discrete "
                                     f"model at load factor {mu:g}")
+        Hf = H[free][:, free]
+        return 0.5 * (Hf + Hf.T)
+
+    def lam_min(mu: float) -> float:
+        hessian(mu)
         return float(lowest_eigenvalues(rod, 1)[0])
 
+    if lam_min(lo) > 0 and sliding_mode(rod) is None:
+        A, B = hessian(lo), hessian(hi)
+        D = sp.diags(jacobi_scaling(A))
+        # K(t) = A - t C with C = A - B: stable for t below the pencil's upper end.
+        t = pencil_interval_sparse((D @ A @ D).tocsc(), (D @ (A - B) @ D).tocsc()).hi
+        x = float(lo + t * (hi - lo)) if t <= 1.0 else math.nan
+        return NonlinearCritical(x, elements_per_segment,
+                                 abs(lam_min(x)) if math.isfinite(x) else math.nan,
+                                 "lowest singular load of the held state's Hessian pencil "
+                                 "(affine in the load factor), generalized eigen solve")
     found = find_roots(lam_min, lo, hi, n_scan=n_scan)
     crossing = [r for r in found.roots if r.kind in ("sign-change", "grid-point")]
     x = crossing[0].x if crossing else math.nan

@@ -67,8 +67,9 @@ def engine(assembly: Assembly, elements: int, limits: Limits = DEFAULT_LIMITS
 def nonlinear_critical(assembly: Assembly, lo: float, hi: float, elements: int) -> float:
     """First load factor in ``(lo, hi]`` where the held state of the discrete rod loses stability.
 
-    :func:`rodstab.nonlinear.solve.critical_load_factor` (lowest Hessian eigenvalue, scan +
-    Brent); the held state must be an equilibrium at every load (untwisted, no end rotation).
+    :func:`rodstab.nonlinear.solve.critical_load_factor` (where the lowest Hessian eigenvalue
+    crosses zero: the Hessian pencil's first singular load); the held state must be an
+    equilibrium at every load (untwisted, no end rotation).
     """
     from ..nonlinear.solve import critical_load_factor
 

@@ -19,6 +19,7 @@ map and a Bloch phase per harmonic (:func:`rodstab.transfer.cyclic_ring_interval
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 
 from .. import atlas as ring_atlas
@@ -132,8 +133,14 @@ def transfer_stability(params: Params) -> CyclicRingInterval:
                                      STATE_TURNING[params.state])
 
 
+@functools.lru_cache(maxsize=4096)
 def transfer_interval(params: Params) -> tuple[float, float]:
-    """``(lo, hi)`` of :func:`transfer_stability`."""
+    """``(lo, hi)`` of :func:`transfer_stability`.
+
+    Memoized (a pure function of frozen parameters, an immutable result): the threshold's scan,
+    the stable-band chart and the report's atlases ask for the same sections (13 of the
+    report's 52 atlases were repeats).
+    """
     r = transfer_stability(params)
     return r.lo, r.hi
 

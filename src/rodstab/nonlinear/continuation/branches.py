@@ -38,7 +38,7 @@ from ...numerics import find_roots
 from ..discrete import DiscreteRod, discretise
 from ..parameters import LoadFactor, Parameter
 from ..solve import critical_load_factor, lowest_modes
-from .corrector import Stepper, correct, pinned_equilibrium
+from .corrector import Corrected, Stepper, correct, pinned_equilibrium
 from .path import Path, SpecialKind, mode_out_of_plane, post_buckling, reference_length, xi
 from .special import crossed, locate, lowest
 
@@ -211,9 +211,9 @@ def _land(rod: DiscreteRod, param: Parameter, value: float, phase: np.ndarray | 
         for k in range(1, m + 1):
             p_prev, p_next = param.get(trial), p0 + (value - p0) * k / m
             param.set(trial, p_next)
-            sigma = correct(trial, param, zero, 1.0, p_next - p_prev, acc_q=zero,
-                            acc_p=p_next - p_prev, phase=phase)
-            if not pinned_equilibrium(trial, sigma, phase):
+            result = correct(trial, param, zero, 1.0, p_next - p_prev, acc_q=zero,
+                             acc_p=p_next - p_prev, phase=phase)
+            if not pinned_equilibrium(trial, result, phase):
                 break
         else:
             return trial
@@ -224,7 +224,8 @@ def trace_branch(rod: DiscreteRod, param: Parameter, stable_side: float, ds: flo
                  n_steps: int, *, length: float, signs: tuple[float, ...] = (1.0, -1.0),
                  direction: Direction | None = None, stop_at_special: bool = False,
                  stop_kinds: tuple[SpecialKind, ...] = tuple(SpecialKind),
-                 window: tuple[float, float] | None = None, first_step: float = 1.0) -> Path:
+                 window: tuple[float, float] | None = None, first_step: float = 1.0,
+                 land_at: tuple[float, ...] = ()) -> Path:
     """Trace the branch leaving the bifurcation ``rod`` by pseudo-arclength.
 
     ``n_steps`` steps each way (``signs``), about ``ds`` (length unit) of amplitude per step, up to
@@ -235,7 +236,9 @@ def trace_branch(rod: DiscreteRod, param: Parameter, stable_side: float, ds: flo
     in ``states``) and a side stops at the first one of a kind in ``stop_kinds``; ``window``: a
     side stops once the parameter leaves it, on a point landed exactly on its edge.
     ``first_step``: the first step as a fraction of ``ds`` (steps then grow by 1.5), so that a
-    coarse branch still has points at small amplitude for the post-buckling fit.
+    coarse branch still has points at small amplitude for the post-buckling fit. ``land_at``:
+    parameter values on which a point is landed exactly (as on a window's edge) each time the
+    path crosses them, kept in ``landed``; the path itself goes on from its own point.
     """
     p_c = param.get(rod)
     d = direction or branch_directions(rod, param, stable_side, length)[0]
@@ -243,7 +246,7 @@ def trace_branch(rod: DiscreteRod, param: Parameter, stable_side: float, ds: flo
     ref = rod.x.copy()
     h = _scale_to_xi(rod, d.mode, ds / length, length)
     sides: dict[float, list] = {}
-    specials, states, ok_all, ends = [], [], True, []
+    specials, states, ok_all, ends, crossings = [], [], True, [], []
     shots = _Snapshots()
     shots.add(rod, p_c)
     for sign in signs:
@@ -256,7 +259,13 @@ def trace_branch(rod: DiscreteRod, param: Parameter, stable_side: float, ds: flo
             if not path.step():
                 ok_all = False
                 break
-            left = window is not None and not window[0] <= param.get(r) <= window[1]
+            p_prev, p_now = param.get(prev), param.get(r)
+            for value in land_at:
+                if (p_prev >= value) != (p_now >= value):
+                    landing = _land(prev, param, value, d.phase)
+                    if landing is not None:
+                        crossings.append((value, landing))
+            left = window is not None and not window[0] <= p_now <= window[1]
             if left:
                 # Land exactly on the window's edge: the corrector with the parameter held
                 # (row (0, 1)) from the last point inside -- plain Newton, which stays on a
@@ -265,7 +274,8 @@ def trace_branch(rod: DiscreteRod, param: Parameter, stable_side: float, ds: flo
                 landed = _land(prev, param, edge, d.phase)
                 if landed is not None:
                     r.assign(landed)
-            e1 = lowest(r)
+            # The stepper's Hessian is the point's unless it was landed on the window's edge.
+            e1 = lowest(r, None if left or path.terms is None else path.terms[2])
             if stop_at_special and e_prev is not None and crossed(e_prev, e1, prev_tp, path.tp):
                 point, at = locate(r, param, prev, prev_tq, prev_tp, path.last_h, e_prev, e1,
                                    path.tp, phase=d.phase)
@@ -289,15 +299,16 @@ def trace_branch(rod: DiscreteRod, param: Parameter, stable_side: float, ds: flo
                           + (" (double eigenvalue: phase pinned)" if d.phase is not None
                              else ""),
                           shots, tuple(specials), tuple(states))
-    return dataclasses.replace(branch, end_states=tuple(ends))
+    return dataclasses.replace(branch, end_states=tuple(ends), landed=tuple(crossings))
 
 
 def _advance(rod: DiscreteRod, param: Parameter, k: int, target: float, direction: np.ndarray,
-             phase: np.ndarray | None, depth: int = 0) -> bool:
+             phase: np.ndarray | None, depth: int = 0) -> Corrected | None:
     """Move the branch to amplitude ``target`` of free unknown ``k``.
 
     Predictor along ``direction``, the amplitude row in :func:`.corrector.correct`; on failure
-    restore the state and take two half steps (at most 5 halvings).
+    restore the state and take two half steps (at most 5 halvings). Returns the corrector's
+    result at the point reached, or None.
     """
     free = rod.free_dofs()
     saved = rod.copy()
@@ -307,16 +318,17 @@ def _advance(rod: DiscreteRod, param: Parameter, k: int, target: float, directio
     rod.apply(dq)
     ek = np.zeros(len(free))
     ek[k] = 1.0
-    sigma = correct(rod, param, ek, 0.0, target - cur, acc_q=direction * (target - cur),
-                    acc_p=0.0, phase=phase)
-    if pinned_equilibrium(rod, sigma, phase):
-        return True
+    result = correct(rod, param, ek, 0.0, target - cur, acc_q=direction * (target - cur),
+                     acc_p=0.0, phase=phase)
+    if result is not None and pinned_equilibrium(rod, result, phase):
+        return result
     rod.assign(saved)
     if depth >= 5:
-        return False
+        return None
     mid = 0.5 * (cur + target)
-    return (_advance(rod, param, k, mid, direction, phase, depth + 1)
-            and _advance(rod, param, k, target, direction, phase, depth + 1))
+    if _advance(rod, param, k, mid, direction, phase, depth + 1) is None:
+        return None
+    return _advance(rod, param, k, target, direction, phase, depth + 1)
 
 
 def amplitude_branch(rod: DiscreteRod, param: Parameter, stable_side: float,
@@ -346,10 +358,12 @@ def amplitude_branch(rod: DiscreteRod, param: Parameter, stable_side: float,
         r = rod.copy()
         base = r.x.reshape(-1)[free[k]]
         for target in xis:
-            if not _advance(r, param, k, base + sign * target * per_xi, unit, d.phase):
+            reached = _advance(r, param, k, base + sign * target * per_xi, unit, d.phase)
+            if reached is None:
                 ok_all = False
                 break
-            pts.append((xi(r, r.x, ref, mode_w, length), param.get(r), r.energy(), lowest(r)))
+            pts.append((xi(r, r.x, ref, mode_w, length), param.get(r), r.energy(),
+                        lowest(r, reached.terms[2])))
             if sign > 0:
                 shots.add(r, param.get(r))
     return _branch_path(str(param.key), p_c, sides, (0.0, p_c, rod.energy(), lowest(rod)),
@@ -387,13 +401,15 @@ def arclength_from_bifurcation(a: Assembly, lo: float, hi: float, *,
                                n_steps: int = 60, mu_window: tuple[float, float] | None = None,
                                both_sides: bool = False, stop_at_special: bool = False,
                                stop_kinds: tuple[SpecialKind, ...] = tuple(SpecialKind),
-                               reference_segment: str | None = None) -> Path:
+                               reference_segment: str | None = None,
+                               land_at: tuple[float, ...] = ()) -> Path:
     """Branch from the first bifurcation of the held state by pseudo-arclength.
 
     The first bifurcation in the load factor in ``(lo, hi]``, traced by :func:`trace_branch`, one
     side (the mode's sign) unless ``both_sides``; stops after ``n_steps``, when the load leaves
     ``mu_window`` or, with ``stop_at_special``, at the first special point of a kind in
-    ``stop_kinds`` (located).
+    ``stop_kinds`` (located). Points landed exactly on the loads ``land_at`` as the path
+    crosses them are in the path's ``landed``.
     """
     lo, hi = require_finite("lo", lo), require_finite("hi", hi)
     if not lo < hi:
@@ -406,4 +422,4 @@ def arclength_from_bifurcation(a: Assembly, lo: float, hi: float, *,
                         length=reference_length(a, reference_segment),
                         signs=(1.0, -1.0) if both_sides else (1.0,),
                         stop_at_special=stop_at_special, stop_kinds=stop_kinds,
-                        window=mu_window)
+                        window=mu_window, land_at=land_at)

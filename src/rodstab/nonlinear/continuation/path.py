@@ -52,10 +52,12 @@ class Path(Result):
     ``shapes`` (node positions, one side of a branch, at the parameter values
     ``shape_values``), ``states`` (``(value, state)`` at losses of stability and folds) and
     ``end_states`` (``(value, state)``: a branch's last point on each side traced, in the order
-    of the sides) are left out of :meth:`to_dict`, and so are, for the pictures of the same
-    points as ``shapes``, ``frames`` (the edge frames ``R_edge``, each (n_edges, 3, 3)) and
-    ``shape_moments`` (the internal moment per edge, each (n_edges,)). None of them is saved
-    with a run (:mod:`.storage`): a resumed run's branches have no shapes.
+    of the sides) and ``landed`` (``(value, state)`` landed exactly on values the branch
+    crossed, see :func:`.branches.trace_branch`) are left out of :meth:`to_dict`, and so are,
+    for the pictures of the same points as ``shapes``, ``frames`` (the edge frames ``R_edge``,
+    each (n_edges, 3, 3)) and ``shape_moments`` (the internal moment per edge, each
+    (n_edges,)). None of them is saved with a run (:mod:`.storage`): a resumed run's branches
+    have no shapes.
     """
 
     key: str
@@ -78,12 +80,13 @@ class Path(Result):
     end_states: tuple = ()
     frames: tuple = ()
     shape_moments: tuple = ()
+    landed: tuple = ()
 
     def to_dict(self) -> dict[str, Any]:
         """JSON form, without the node positions and discrete states."""
         return {f.name: jsonable(getattr(self, f.name)) for f in dataclasses.fields(self)
                 if f.name not in ("shapes", "shape_values", "states", "end_states", "frames",
-                                  "shape_moments")}
+                                  "shape_moments", "landed")}
 
     @property
     def radius(self) -> tuple[float, ...]:

@@ -205,13 +205,15 @@ def continuation(a: Assembly, key: str, start: float, stop: float, n_steps: int,
             if not path.step():
                 ok_all, why = False, f"step failed at {key} = {param.get(rod)!r}"
                 break
+            hessian = None if path.terms is None else path.terms[2]
             if (param.get(rod) - stop) * direction > 0:
                 # Past the end: land exactly on ``stop`` by Newton from the previous point.
                 trial = prev.copy()
                 param.set(trial, stop)
                 if newton(trial)[0]:
                     rod.assign(trial)
-            e0, e1 = rows[-1][2], lowest(rod)
+                    hessian = None  # the stepper's is not this point's
+            e0, e1 = rows[-1][2], lowest(rod, hessian)
             if crossed(e0, e1, prev_tp, path.tp):
                 point, at = locate(rod, param, prev, prev_tq, prev_tp, path.last_h, e0, e1,
                                    path.tp)

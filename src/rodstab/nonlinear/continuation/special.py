@@ -20,6 +20,7 @@ import math
 from collections.abc import Callable
 
 import numpy as np
+import scipy.sparse as sp
 
 from ...errors import RodstabInputError
 from ...numerics import refine_root
@@ -33,9 +34,12 @@ from .path import SpecialKind
 FOLD_COS = 1e-3
 
 
-def lowest(rod: DiscreteRod) -> float:
-    """Return the lowest (scaled) Hessian eigenvalue of ``rod``: > 0 stable."""
-    return float(lowest_modes(rod, 1)[0][0])
+def lowest(rod: DiscreteRod, hessian: sp.spmatrix | None = None) -> float:
+    """Return the lowest (scaled) Hessian eigenvalue of ``rod``: > 0 stable.
+
+    ``hessian``: the full Hessian at ``rod``'s state when the caller has it.
+    """
+    return float(lowest_modes(rod, 1, hessian)[0][0])
 
 
 def _refine(param: Parameter, prev: DiscreteRod, tq: np.ndarray, tp: float, h: float,
