@@ -5,6 +5,8 @@ from __future__ import annotations
 import dataclasses
 import math
 
+import pytest
+
 
 def test_results_display_as_html_tables_in_notebooks():
     """Every result has _repr_html_: one row per field, values escaped, long sequences cut."""
@@ -37,3 +39,19 @@ def test_plots_return_a_figure_without_a_path(tmp_path):
     assert isinstance(fig, Figure) and len(fig.axes) == 2
     out = plot_ring_states(shapes, ["line", "star"], tmp_path / "s.png")
     assert out == tmp_path / "s.png" and out.stat().st_size > 0
+
+
+def test_the_interactive_view_returns_its_plotly_figure_without_a_path():
+    """html_view without a path gives the plotly Figure (inline in a notebook): one frame per
+    state, the same traces as the written page."""
+    go = pytest.importorskip("plotly.graph_objects")
+    from rodstab.nonlinear.discrete import discretise
+    from rodstab.plots import html_view
+    from rodstab.ribbons import RodLayout
+    from rodstab.states import ring_assembly
+
+    rod = discretise(ring_assembly(6, 2 * math.pi / 3), 4, 1.0)
+    fig = html_view([rod.x, rod.x], [rod.R_edge, rod.R_edge], RodLayout.from_rod(rod),
+                    labels=["a", "b"])
+    assert isinstance(fig, go.Figure)
+    assert len(fig.frames) == 2 and len(fig.data) > 0

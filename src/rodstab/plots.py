@@ -379,9 +379,9 @@ def animate_shapes(shapes: Sequence[np.ndarray], frames: Sequence[np.ndarray],
 
 
 def html_view(shapes: Sequence[np.ndarray], frames: Sequence[np.ndarray], layout: RodLayout,
-              path: str | Path, *, labels: Sequence[str] | None = None,
+              path: str | Path | None = None, *, labels: Sequence[str] | None = None,
               edge_values: Sequence[np.ndarray] | None = None, value_label: str = "",
-              diverging: bool = False, title: str = "", width: float | None = None) -> Path:
+              diverging: bool = False, title: str = "", width: float | None = None) -> Any:
     """Write an interactive 3D view (self-contained HTML, plotly).
 
     Rods are boxes of their sections along their material frames (``Mesh3d``; the wide faces
@@ -398,8 +398,9 @@ def html_view(shapes: Sequence[np.ndarray], frames: Sequence[np.ndarray], layout
         Edge frames per state.
     layout : RodLayout
         Edges, segments, section proportions.
-    path : str or Path
-        The HTML file.
+    path : str or Path, optional
+        The HTML file; without it the plotly figure is returned (it shows itself, interactive,
+        in a notebook cell).
     labels : sequence of str, optional
         Slider label of each state.
     edge_values : sequence of ndarray, each (n_edges,), optional
@@ -415,8 +416,8 @@ def html_view(shapes: Sequence[np.ndarray], frames: Sequence[np.ndarray], layout
 
     Returns
     -------
-    Path
-        ``path``.
+    Path or plotly.graph_objects.Figure
+        ``path``, or the figure.
 
     Raises
     ------
@@ -502,6 +503,8 @@ def html_view(shapes: Sequence[np.ndarray], frames: Sequence[np.ndarray], layout
         layout_["updatemenus"] = [dict(type="buttons", buttons=[dict(
             label="play", method="animate", args=[None, dict(frame=dict(duration=200))])])]
     fig.update_layout(**layout_)
+    if path is None:
+        return fig
     p = Path(path)
     fig.write_html(p, include_plotlyjs=True, full_html=True)
     return p
