@@ -54,6 +54,87 @@ def test_cli_section_json_rectangle_and_ratios(cli_json):
     assert (p["b1"], p["b2"], p["sqrt_b1b2"]) == (2.5, 0.4, pytest.approx(1.0, rel=1e-15))
 
 
+#: A section's ratios (what the closed-form commands use), without the geometry of its size.
+_RATIO_KEYS = ("shape", "b1", "b2", "nu", "torsion", "aspect", "sqrt_b1b2")
+
+
+def _ratios(payload: dict) -> dict:
+    return {k: payload[k] for k in _RATIO_KEYS}
+
+
+def test_cli_section_by_dimensions_rectangle_h_over_t_is_the_aspect(cli_json):
+    """Issue 13: --height 5 mm --thickness 0.5 mm is h/t = 10: b1 = (h/t)^2 = 100 exactly
+    (both in mm: the ratio is taken in one unit), b2 the same as --aspect 10."""
+    p = cli_json(["section", "--shape", "rectangle", "--height", "5 mm", "--thickness",
+                  "0.5 mm", "--json"])
+    assert p["b1"] == 100.0 and p["aspect"] == 10.0
+    assert _ratios(p) == _ratios(cli_json(["section", "--shape", "rectangle", "--aspect", "10",
+                                           "--json"]))
+    assert p["dimensions"]["height"] == {"text": "5 mm", "value": pytest.approx(5e-3, rel=1e-15),
+                                         "unit": "m"}
+    # h t = 2.5 mm^2; I3 = h t^3/12 (in the plane), I1 = t h^3/12 (out of it)
+    assert p["geometry"]["area"]["value"] == pytest.approx(2.5e-6, rel=1e-14)
+    assert p["geometry"]["I3"]["value"] == pytest.approx(5e-3 * 5e-4**3 / 12, rel=1e-14)
+    assert p["geometry"]["I1"]["value"] == pytest.approx(5e-4 * 5e-3**3 / 12, rel=1e-14)
+
+
+@pytest.mark.parametrize("height, thickness, aspect", [
+    ("0.2 in", "1 mm", 5.08),  # 1 in = 25.4 mm exactly
+    ("5", "0.5", 10.0),  # plain numbers: their ratio only
+    ("2 mm", "4 mm", 0.5)])
+def test_cli_section_by_dimensions_in_other_units_or_plain(cli_json, height, thickness, aspect):
+    """Mixed units are converted before the ratio; plain numbers give h/t as written."""
+    p = cli_json(["section", "--shape", "ellipse", "--height", height, "--thickness",
+                  thickness, "--json"])
+    assert p["aspect"] == pytest.approx(aspect, rel=1e-14)
+    assert p["b1"] == pytest.approx(aspect**2, rel=1e-14)  # ellipse b1 = (h/t)^2 (eq. 3.11)
+
+
+def test_cli_section_by_dimensions_tube_is_inner_over_outer(cli_json):
+    """--outer-diameter 10 mm --inner-diameter 8 mm is the tube of --aspect 0.8."""
+    p = cli_json(["section", "--shape", "tube", "--outer-diameter", "10 mm",
+                  "--inner-diameter", "8 mm", "--json"])
+    assert _ratios(p) == _ratios(cli_json(["section", "--shape", "tube", "--aspect", "0.8",
+                                           "--json"]))
+    # J = 2 I = pi (Do^4 - Di^4)/32
+    assert p["geometry"]["J"]["value"] == pytest.approx(math.pi * (1e-2**4 - 8e-3**4) / 32,
+                                                        rel=1e-14)
+
+
+def test_cli_section_dimensions_and_E_give_B1_B2_B3(cli_json):
+    """--E with dimensions: B3 = E t^3 h/12, B1 = E h^3 t/12 (rectangle); a circle's
+    B3 = E pi D^4/64 and B2 = G J = E/(2 (1 + nu)) pi D^4/32."""
+    E = 200e9
+    p = cli_json(["section", "--shape", "rectangle", "--height", "5 mm", "--thickness",
+                  "0.5 mm", "--E", "200 GPa", "--json"])
+    B = {k: v["value"] for k, v in p["stiffness"].items()}
+    assert B["B3"] == pytest.approx(E * 5e-3 * 5e-4**3 / 12, rel=1e-13)
+    assert B["B1"] == pytest.approx(E * 5e-4 * 5e-3**3 / 12, rel=1e-13)
+    assert B["B2"] == pytest.approx(p["b2"] * B["B3"], rel=1e-15)
+    assert p["stiffness"]["B1"]["unit"] == "N*m^2"
+    c = cli_json(["section", "--diameter", "3 mm", "--nu", "0.3", "--E", "200 GPa", "--json"])
+    I = math.pi * 3e-3**4 / 64
+    assert c["stiffness"]["B3"]["value"] == pytest.approx(E * I, rel=1e-13)
+    assert c["stiffness"]["B2"]["value"] == pytest.approx(E / 2.6 * 2 * I, rel=1e-13)
+
+
+def test_cli_section_dimensions_in_the_table(run_cli):
+    """The table shows the dimensions as written, their ratio and, with --E, B1 B2 B3."""
+    out = run_cli(["section", "--shape", "rectangle", "--height", "5 mm", "--thickness",
+                   "0.5 mm", "--E", "200 GPa"])
+    assert out.exit_code == 0, out.stderr
+    assert "height 5 mm, thickness 0.5 mm (h/t = 10)" in out.stdout
+    assert "B3 = 0.0104167 N*m^2" in out.stdout  # 200e9 x 5e-3 x 1.25e-10 / 12
+
+
+def test_cli_ring_by_dimensions_equals_ring_by_aspect(cli_json):
+    """Every command with the section options reads the dimensions as their aspect."""
+    a = cli_json(["ring", "--loops", "2", "--shape", "rectangle", "--height", "3 mm",
+                  "--thickness", "1 mm", "--json"])
+    b = cli_json(["ring", "--loops", "2", "--shape", "rectangle", "--aspect", "3", "--json"])
+    assert a == b
+
+
 def test_cli_ratios_override_shape_note_goes_to_stderr_not_stdout(run_cli):
     """--b1/--b2 with an explicit --shape: the documented note is on stderr; stdout stays one
     JSON object with the given ratios (shape 'ratios')."""
@@ -181,6 +262,43 @@ BAD_INPUTS = [
     (["frobnicate"], ["frobnicate"]),
     (["section", "--bogus"], ["--bogus"]),
     pytest.param(["section", "--shape", "rectangle", "--b1", "-1", "--b2", "1"], ["b1", "-1"]),
+    # section by its dimensions (issue 13)
+    (["section", "--shape", "rectangle", "--height", "5 mm", "--thickness", "1 mm",
+      "--aspect", "5"], ["--height", "5 mm", "--aspect", "5"]),
+    (["section", "--shape", "rectangle", "--diameter", "3 mm"], ["--diameter", "3 mm",
+                                                                 "rectangle"]),
+    (["section", "--height", "5 mm", "--thickness", "1 mm"], ["--height", "5 mm", "circle"]),
+    (["section", "--shape", "tube", "--height", "5", "--outer-diameter", "1",
+      "--inner-diameter", "0.5"], ["--height", "5", "tube"]),
+    (["section", "--shape", "rectangle", "--height", "5 kg", "--thickness", "1 mm"],
+     ["--height", "5 kg", "length"]),
+    (["section", "--shape", "rectangle", "--height", "5 mm", "--thickness", "1 furlongz"],
+     ["--thickness", "1 furlongz"]),
+    (["section", "--shape", "rectangle", "--height", "-5 mm", "--thickness", "1 mm"],
+     ["--height", "-5 mm"]),
+    (["section", "--shape", "rectangle", "--height", "5", "--thickness", "0"],
+     ["--thickness", "0"]),
+    (["section", "--diameter", "0 mm"], ["--diameter", "0 mm"]),
+    (["section", "--shape", "rectangle", "--height", "5", "--thickness", "0.5 mm"],
+     ["--height", "5", "--thickness", "0.5 mm"]),
+    (["section", "--shape", "rectangle", "--height", "5 mm"], ["--height", "--thickness"]),
+    (["section", "--shape", "rectangle", "--height", "abc", "--thickness", "1"],
+     ["--height", "abc"]),
+    (["section", "--shape", "rectangle", "--height", "nan", "--thickness", "1"],
+     ["--height", "nan"]),
+    (["section", "--shape", "rectangle", "--height", "1 km", "--thickness", "1 um"],
+     ["--height", "1 km", "--thickness", "1 um"]),
+    (["section", "--shape", "tube", "--outer-diameter", "8 mm", "--inner-diameter", "1 cm"],
+     ["--inner-diameter", "1 cm", "--outer-diameter", "8 mm"]),
+    (["section", "--shape", "rectangle", "--height", "5", "--thickness", "1", "--b1", "1",
+      "--b2", "1"], ["--height", "5", "--b1"]),
+    (["section", "--E", "200 GPa"], ["--E", "200 GPa"]),
+    (["section", "--diameter", "3", "--E", "200 GPa"], ["--E", "200 GPa"]),
+    (["section", "--diameter", "3 mm", "--E", "3 m"], ["--E", "3 m"]),
+    (["section", "--diameter", "3 mm", "--E", "-2 GPa"], ["--E", "-2 GPa"]),
+    (["section", "--polygon", "x.json", "--height", "5 mm"], ["--height", "--polygon"]),
+    (["hexagram", "--threshold", "--shape", "rectangle", "--height", "2", "--thickness", "1"],
+     ["--threshold", "--height", "2"]),
     pytest.param(["ring", "--shape", "ellipse", "--b1", "1", "--b2", "1", "--aspect", "3"],
                  ["aspect", "3"]),
 ]
@@ -387,6 +505,9 @@ def test_closed_form_commands_import_no_scipy(argv):
 
 @pytest.mark.parametrize("argv, imports_pint", [
     (["--help"], False), (["section", "--json"], False), (["ring", "--loops", "3"], False),
+    (["section", "--shape", "rectangle", "--aspect", "2"], False),
+    (["section", "--shape", "rectangle", "--height", "2", "--thickness", "1"], False),
+    (["section", "--shape", "rectangle", "--height", "2 mm", "--thickness", "1 mm"], True),
     (["analyze", "examples/birod.toml", "--elements", "4"], False),
     (["analyze", "examples/steel_birod_fig7a.toml", "--elements", "4"], True)])
 def test_pint_is_imported_only_for_a_design_with_units(argv, imports_pint):

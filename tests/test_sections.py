@@ -20,6 +20,7 @@ from rodstab.sections import (
     rectangle,
     rectangle_b2_paper,
     rectangle_torsion_constant,
+    sized_section,
     thin_tube,
     tube,
 )
@@ -41,6 +42,27 @@ def reference_k(ratio: float, n_max: int = 20001) -> float:
 
 
 # --- paper Section 3.1: circular sections, solid or annular ----------------------------------
+
+
+@pytest.mark.parametrize("shape, sizes, aspect, I3", [
+    ("rectangle", {"height": 5e-3, "thickness": 5e-4}, 10.0, 5e-3 * 5e-4**3 / 12),
+    ("ellipse", {"height": 2e-3, "thickness": 4e-3}, 0.5, math.pi * 2e-3 * 4e-3**3 / 64),
+    ("tube", {"outer_diameter": 10.0, "inner_diameter": 8.0}, 0.8,
+     math.pi * (10.0**4 - 8.0**4) / 64),
+    ("circle", {"diameter": 3.0}, None, math.pi * 3.0**4 / 64)])
+def test_sized_section_has_the_ratios_of_its_aspect_and_the_I3_of_its_size(shape, sizes,
+                                                                             aspect, I3):
+    """Issue 13 (CLI --height/--thickness ...): a section built from its dimensions has the b1,
+    b2 of make_section at its aspect, and I3 = h t^3/12, pi h t^3/64, pi (Do^4 - Di^4)/64."""
+    s = sized_section(shape, sizes, nu=0.3)
+    ref = make_section(shape, aspect=aspect, nu=0.3)
+    assert (s.b1, s.b2) == pytest.approx((ref.b1, ref.b2), rel=1e-13)
+    assert s.I3 == pytest.approx(I3, rel=1e-14)
+
+
+def test_sized_section_rejects_a_shape_without_dimensions():
+    with pytest.raises(RodstabInputError, match="'ratios'"):
+        sized_section("ratios", {}, nu=0.3)
 
 
 @pytest.mark.parametrize("nu", NUS)

@@ -21,8 +21,11 @@ Any other exception is a bug in rodstab and propagates with its traceback.
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import functools
+import inspect
 import json
+import math
 import sys
 import warnings
 from collections.abc import Callable, Iterator
@@ -36,7 +39,9 @@ from . import __version__
 from .design import (
     CONTINUATION_ELEMENTS,
     CONTINUE_DEFAULT_N,
+    LENGTH_RANGE,
     NONLINEAR_MIN_ELEMENTS,
+    SECTION_DIMENSIONS,
     SWEEP_DEFAULT_N,
     load_polygon,
 )
@@ -53,6 +58,7 @@ from .limits import MAX_DOF, MAX_DOF_NONLINEAR, MAX_MEMORY, MAX_STEPS, Limits, r
 from .outputs import check_output
 from .results import jsonable
 from .sections import (
+    ASPECT_RANGE,
     POLYGON_MESH_SIZE,
     SHAPES,
     TORSION_OPTIONS,
@@ -61,8 +67,9 @@ from .sections import (
     composite_section,
     make_section,
     polygon_section,
+    sized_section,
 )
-from .units import Units
+from .units import Quantity, Units, parse_quantity, split_quantity
 
 #: Exit statuses of the ``rodstab`` command (module docstring, ``rodstab --help``, README).
 EXIT_OK = 0
@@ -70,8 +77,138 @@ EXIT_BAD_INPUT = 2
 EXIT_NOT_CONVERGED = 3
 
 
+#: Section dimensions (the design keys of :data:`~rodstab.design.SECTION_DIMENSIONS`), as the
+#: parameter names of their options ``--height``, ``--thickness``, ``--diameter``,
+#: ``--outer-diameter``, ``--inner-diameter``.
+_DIMENSION_OPTIONS = ("height", "thickness", "diameter", "outer_diameter", "inner_diameter")
 #: Options of ``_section_options`` that fix a closed-form section, so conflict with --polygon.
-_CLOSED_FORM_OPTIONS = ("shape", "aspect", "torsion", "b1", "b2")
+_CLOSED_FORM_OPTIONS = ("shape", "aspect", "torsion", "b1", "b2", *_DIMENSION_OPTIONS)
+
+
+def _opt(key: str) -> str:
+    """Return the option of a dimension key (``outer_diameter`` -> ``--outer-diameter``)."""
+    return "--" + key.replace("_", "-")
+
+
+@dataclasses.dataclass(frozen=True)
+class SectionDimensions:
+    """The section's dimensions given on the command line (``--height "5 mm"`` ...).
+
+    Attributes
+    ----------
+    shape : str
+        The ``--shape`` they describe.
+    text : dict of str to str
+        Each given dimension key (``height``, ``thickness``, ``diameter``, ``outer_diameter``,
+        ``inner_diameter``) -> its text as written.
+    si : dict of str to float or None
+        Each key -> its length in metres; None when the dimensions are plain numbers (they then
+        fix the section's ratio only).
+    aspect : float or None
+        The ratio they fix: h/t (rectangle, ellipse), inner/outer diameter (tube); None for a
+        circle (scale-free: every circle has the same b1, b2).
+    """
+
+    shape: str
+    text: dict[str, str]
+    si: dict[str, float] | None
+    aspect: float | None
+
+    def to_dict(self) -> dict[str, Any]:
+        """Return the JSON form: ``{key: {"text", "value", "unit"}}`` (value in m, or plain)."""
+        return {k: {"text": t, "value": None if self.si is None else self.si[k],
+                    "unit": None if self.si is None else "m"} for k, t in self.text.items()}
+
+
+def _read_size(key: str, text: str) -> tuple[float, Quantity | None]:
+    """Read one dimension option: a length quantity (``"5 mm"``) or a plain number.
+
+    Returns ``(number, quantity or None)``: the number as written and, for a quantity, its
+    parse by :func:`rodstab.units.parse_quantity` (which imports pint: plain numbers do not).
+    """
+    option = _opt(key)
+    inner = key == "inner_diameter"  # 0: a solid tube, as the design key
+    if split_quantity(text) is not None:
+        q = parse_quantity(text, option, "length")
+        value, si = q.magnitude, q.si
+    else:
+        q = None
+        try:
+            value = si = float(text)
+        except ValueError:
+            raise RodstabInputError(f"{option} {text!r} is neither a length (e.g. '5 mm') nor "
+                                    "a plain number") from None
+    positive = si >= 0.0 if inner else si > 0.0
+    if not (math.isfinite(si) and positive):
+        raise RodstabInputError(f"{option} {text!r} must be a finite size "
+                                f"{'>= 0' if inner else '> 0'}")
+    if q is not None and si != 0.0 and not LENGTH_RANGE[0] <= si <= LENGTH_RANGE[1]:
+        raise RodstabInputError(f"{option} {text!r} is outside [{LENGTH_RANGE[0]:g}, "
+                                f"{LENGTH_RANGE[1]:g}] m (a dimension of the cross-section)")
+    return value, q
+
+
+def _ratio(num: tuple[float, Quantity | None], den: tuple[float, Quantity | None]) -> float:
+    """Return num/den in a common unit (the numerator's): exact when both share a unit."""
+    (a, qa), (b, qb) = num, den
+    if qa is None or qb is None:
+        return a / b
+    return a / (b * (qb.si_per_unit / qa.si_per_unit))
+
+
+def _dimensions(shape: str, given: dict[str, str], aspect: float | None,
+                b1: float | None, b2: float | None) -> SectionDimensions:
+    """Check the dimension options against ``--shape``, ``--aspect``, ``--b1``/``--b2``.
+
+    Raises
+    ------
+    RodstabInputError
+        Naming the option and its value: given with ``--aspect`` or ``--b1``/``--b2``, not a
+        dimension of ``shape``, one of a pair missing, a plain number mixed with a quantity,
+        a wrong unit, a size <= 0, inner diameter >= outer, h/t out of range.
+    """
+    key, text = next(iter(given.items()))
+    if aspect is not None:
+        raise RodstabInputError(f"{_opt(key)} {text!r} and --aspect {aspect!r} both fix the "
+                                "section's ratio: give the dimensions or --aspect, not both")
+    for name, value in (("--b1", b1), ("--b2", b2)):
+        if value is not None:
+            raise RodstabInputError(f"{_opt(key)} {text!r} cannot be used with {name} "
+                                    f"{value!r}, which fixes the section's ratios")
+    need = SECTION_DIMENSIONS[shape]
+    for k, t in given.items():
+        if k not in need:
+            raise RodstabInputError(f"{_opt(k)} {t!r} has no meaning for --shape {shape} (its "
+                                    f"dimensions: {' and '.join(map(_opt, need))})")
+    missing = [k for k in need if k not in given]
+    if missing:
+        raise RodstabInputError(f"{_opt(key)} {text!r} needs {' and '.join(map(_opt, missing))}"
+                                f" (--shape {shape} is given by {' and '.join(map(_opt, need))})")
+    sizes = {k: _read_size(k, given[k]) for k in need}
+    kinds = {k: q is not None for k, (_, q) in sizes.items()}
+    if len(set(kinds.values())) > 1:
+        plain = next(k for k in need if not kinds[k])
+        unit = next(k for k in need if kinds[k])
+        raise RodstabInputError(f"{_opt(plain)} {given[plain]!r} is a plain number but "
+                                f"{_opt(unit)} {given[unit]!r} has a unit: give both with "
+                                "units, or both as plain numbers (then only their ratio counts)")
+    si = None
+    if all(kinds.values()):
+        si = {k: q.si for k, (_, q) in sizes.items() if q is not None}
+    ratio = None
+    if shape == "tube":
+        ratio = _ratio(sizes["inner_diameter"], sizes["outer_diameter"])
+        if not ratio < 1.0:
+            raise RodstabInputError(f"--inner-diameter {given['inner_diameter']!r} must be "
+                                    f"smaller than --outer-diameter {given['outer_diameter']!r}")
+    elif shape != "circle":
+        ratio = _ratio(sizes["height"], sizes["thickness"])
+        if not ASPECT_RANGE[0] <= ratio <= ASPECT_RANGE[1]:
+            raise RodstabInputError(
+                f"--height {given['height']!r} over --thickness {given['thickness']!r} is h/t = "
+                f"{ratio:.6g}, outside [{ASPECT_RANGE[0]:g}, {ASPECT_RANGE[1]:g}] (the h/t of "
+                "a rod's cross-section)")
+    return SectionDimensions(shape=shape, text=dict(given), si=si, aspect=ratio)
 
 
 def _section_options(f: Callable[..., Any]) -> Callable[..., Any]:
@@ -80,13 +217,29 @@ def _section_options(f: Callable[..., Any]) -> Callable[..., Any]:
     ``--polygon FILE`` (:func:`~rodstab.design.load_polygon`) builds a
     :func:`~rodstab.sections.polygon_section` instead, with ``--mesh-size`` and
     ``--orientation-deg``; it cannot be combined with the options of a closed-form shape.
+    ``--height``/``--thickness``, ``--diameter``, ``--outer-diameter``/``--inner-diameter``
+    give a closed-form section by its dimensions (:func:`_dimensions`), which fix its aspect;
+    a command with a ``dimensions`` parameter also receives them (:class:`SectionDimensions`,
+    None without them).
     """
+    takes_dimensions = "dimensions" in inspect.signature(f).parameters
 
     @click.option("--shape", type=click.Choice(SHAPES), default="circle", show_default=True,
                   help="Cross-section shape.")
     @click.option("--aspect", type=float, default=None,
                   help="h/t for ellipse and rectangle (h out of plane); inner/outer radius "
                        "ratio for tube.")
+    @click.option("--height", default=None, metavar="H",
+                  help='Rectangle, ellipse: h, out of the ring\'s plane ("5 mm", or a plain '
+                       "number); with --thickness it gives the aspect h/t.")
+    @click.option("--thickness", default=None, metavar="T",
+                  help='Rectangle, ellipse: t, in the ring\'s plane ("0.5 mm" or a number).')
+    @click.option("--diameter", default=None, metavar="D", help='Circle: diameter ("3 mm").')
+    @click.option("--outer-diameter", default=None, metavar="D",
+                  help='Tube: outer diameter ("10 mm"); with --inner-diameter it gives the '
+                       "aspect inner/outer.")
+    @click.option("--inner-diameter", default=None, metavar="D",
+                  help='Tube: inner diameter ("8 mm", 0 for a solid tube).')
     @click.option("--nu", type=float, default=1 / 3, show_default="1/3", help="Poisson's ratio.")
     @click.option("--torsion", type=click.Choice(TORSION_OPTIONS), default="exact",
                   show_default=True,
@@ -109,7 +262,14 @@ def _section_options(f: Callable[..., Any]) -> Callable[..., Any]:
     @functools.wraps(f)
     def wrapper(shape: str, aspect: float | None, nu: float, torsion: str,
                 b1: float | None, b2: float | None, polygon_file: str | None,
-                mesh_size: float | None, orientation_deg: float | None, **kwargs: Any) -> Any:
+                mesh_size: float | None, orientation_deg: float | None, height: str | None,
+                thickness: str | None, diameter: str | None, outer_diameter: str | None,
+                inner_diameter: str | None, **kwargs: Any) -> Any:
+        given = {k: v for k, v in (("height", height), ("thickness", thickness),
+                                   ("diameter", diameter), ("outer_diameter", outer_diameter),
+                                   ("inner_diameter", inner_diameter)) if v is not None}
+        if takes_dimensions:
+            kwargs["dimensions"] = None
         if polygon_file is not None:
             ctx = click.get_current_context()
             for name in _CLOSED_FORM_OPTIONS:
@@ -136,6 +296,11 @@ def _section_options(f: Callable[..., Any]) -> Callable[..., Any]:
             if value is not None:
                 raise RodstabInputError(f"{option} {value!r} needs --polygon (it describes a "
                                         "polygon section)")
+        if given:
+            dims = _dimensions(shape, given, aspect, b1, b2)
+            aspect = dims.aspect
+            if takes_dimensions:
+                kwargs["dimensions"] = dims
         section = make_section(shape, aspect=aspect, nu=nu, torsion=torsion, b1=b1, b2=b2)
         out = f(section=section, **kwargs)
         if b1 is not None and b2 is not None and shape != "circle":
@@ -299,16 +464,59 @@ def _polygon_lines(s: PolygonSection) -> list[str]:
             f"I3 {_fmt(s.I3 or 0.0)}, J {_fmt(s.J or 0.0)} (the polygon's length unit)"]
 
 
+def _dimension_lines(section: Section, dims: SectionDimensions, young: str | None,
+                     payload: dict[str, Any]) -> list[str]:
+    """Add the dimensions (and with ``--E`` the stiffnesses in N m^2) to ``payload``; lines."""
+    given = ", ".join(f"{k.replace('_', ' ')} {t}" for k, t in dims.text.items())
+    ratio = {"tube": "inner/outer", "circle": None}.get(dims.shape, "h/t")
+    lines = [f"dimensions   {given}" + ("" if ratio is None or dims.aspect is None else
+                                        f" ({ratio} = {_fmt(dims.aspect)})")
+             + (" (plain numbers: only their ratio counts)" if dims.si is None else "")]
+    payload["dimensions"] = dims.to_dict()
+    if dims.si is None:
+        if young is not None:
+            raise RodstabInputError(f"--E {young!r} needs the section's dimensions with units "
+                                    f"(e.g. --{next(iter(dims.text)).replace('_', '-')} "
+                                    "'5 mm'), not plain numbers")
+        return lines
+    sized = sized_section(dims.shape, dims.si, nu=section.nu if section.nu is not None
+                          else 1 / 3, torsion=section.torsion)
+    assert sized.area is not None and sized.I1 is not None and sized.I3 is not None
+    assert sized.J is not None  # closed-form shapes have their geometry
+    payload["geometry"] = {"area": {"value": sized.area, "unit": "m^2"},
+                           **{k: {"value": v, "unit": "m^4"} for k, v in
+                              (("I1", sized.I1), ("I3", sized.I3), ("J", sized.J))}}
+    lines.append(f"geometry     area {sized.area:.6g} m^2, I1 {sized.I1:.6g} m^4, "
+                 f"I3 {sized.I3:.6g} m^4, J {sized.J:.6g} m^4")
+    if young is not None:
+        E = parse_quantity(young, "--E", "modulus").si
+        if not E > 0.0:
+            raise RodstabInputError(f"--E {young!r} must be a positive modulus (e.g. "
+                                    "'200 GPa')")
+        B3 = E * sized.I3  # B3 = E I3; B1 = b1 B3, B2 = b2 B3 (b1, b2 of the table above)
+        B = {"B1": section.b1 * B3, "B2": section.b2 * B3, "B3": B3}
+        payload["stiffness"] = {k: {"value": v, "unit": "N*m^2"} for k, v in B.items()}
+        payload["E"] = {"value": E, "unit": "Pa", "text": young}
+        lines.append(f"stiffness    B1 = {B['B1']:.6g}, B2 = {B['B2']:.6g}, B3 = {B3:.6g} "
+                     f"N*m^2 (E {young}, nu {_fmt(section.nu or 0.0)})")
+    return lines
+
+
 @cli.command()
 @_section_options
+@click.option("--E", "young", default=None, metavar="E",
+              help='With dimensions in length units: Young\'s modulus ("200 GPa"); adds B1, B2, '
+                   "B3 in N*m^2.")
 @click.option("--plot", "plot_path", default=None, metavar="PATH.png",
               help="With --polygon: draw the mesh, centroid and principal axes.")
 @_json_option
-def section(section: Section, plot_path: str | None, as_json: bool) -> None:
+def section(section: Section, dimensions: SectionDimensions | None, young: str | None,
+            plot_path: str | None, as_json: bool) -> None:
     """Stiffness ratios b1 = B1/B3, b2 = B2/B3 of a cross-section (Fig. 4, eqs 3.11-3.12).
 
     Any section with --polygon FILE: second moments exact, Saint-Venant J by FE warping
-    (sectionproperties).
+    (sectionproperties). By its dimensions (--height "5 mm" --thickness "0.5 mm", ...): the
+    ratios are those of its aspect, and with --E "200 GPa" B1, B2, B3 in N*m^2.
     """
     if plot_path is not None:
         if not isinstance(section, PolygonSection):
@@ -317,6 +525,12 @@ def section(section: Section, plot_path: str | None, as_json: bool) -> None:
         out = _image_output("--plot", plot_path)
     payload = section.to_dict() | {"sqrt_b1b2": section.sqrt_b1b2}
     lines = [_section_line(section)]
+    if dimensions is not None:
+        lines += _dimension_lines(section, dimensions, young, payload)
+    elif young is not None:
+        raise RodstabInputError(f"--E {young!r} needs the section's dimensions with units "
+                                "(--height/--thickness, --diameter or --outer-diameter/"
+                                "--inner-diameter)")
     if isinstance(section, PolygonSection):
         lines += _polygon_lines(section)
         if plot_path is not None:
@@ -1095,7 +1309,7 @@ def hexagram(section: Section, find_threshold: bool, method: str, chart_path: st
     if rect_only:
         what = "--threshold" if find_threshold else "--chart"
         for option, name in (("shape", "--shape"), ("aspect", "--aspect"), ("b1", "--b1"),
-                             ("b2", "--b2")):
+                             ("b2", "--b2"), *((k, _opt(k)) for k in _DIMENSION_OPTIONS)):
             src = ctx.get_parameter_source(option)
             given = src is not None and src.name != "DEFAULT"
             if given and not (option == "shape" and ctx.params["shape"] == "rectangle"):
@@ -1173,7 +1387,8 @@ def _ring_and_section(design_file: str | None, structure: str, segments: int,
 
     if design_file is not None:
         given = [o for o in ("structure", "segments", "shape", "aspect", "nu", "torsion", "b1",
-                             "b2", "polygon_file", "mesh_size", "orientation_deg") if _given(o)]
+                             "b2", "polygon_file", "mesh_size", "orientation_deg",
+                             *_DIMENSION_OPTIONS) if _given(o)]
         if given:
             option = {"polygon_file": "polygon"}.get(given[0], given[0]).replace("_", "-")
             raise RodstabInputError(f"--{option} describes a built-in structure; "

@@ -536,6 +536,30 @@ def make_section(
     return rectangle(aspect=x, nu=nu, torsion=torsion)
 
 
+def sized_section(shape: str, sizes: Mapping[str, float], *, nu: float = 1 / 3,
+                  torsion: str = "exact") -> Section:
+    """Build a closed-form section of the given dimensions (its area, I1, I3, J in their unit).
+
+    ``sizes`` holds the dimensions of ``shape`` (the keys of a design's section:
+    ``diameter``; ``outer_diameter``, ``inner_diameter``; ``height`` h along e3 and
+    ``thickness`` t along e1), all in one length unit. Same b1, b2 as :func:`make_section`
+    with the aspect h/t or inner/outer; ``area``, ``I1``, ``I3``, ``J`` are those of these
+    dimensions (E I3 is then B3).
+    """
+    torsion = _check_torsion(torsion)
+    if shape == "circle":
+        return circle(radius=sizes["diameter"] / 2, nu=nu)
+    if shape == "tube":
+        return tube(outer_radius=sizes["outer_diameter"] / 2,
+                    inner_radius=sizes["inner_diameter"] / 2, nu=nu)
+    build = {"rectangle": rectangle, "ellipse": ellipse}.get(shape)
+    if build is None:
+        raise RodstabInputError(f"shape must be one of {SHAPES} to be built from dimensions, "
+                                f"got {shape!r}")
+    return build(aspect=sizes["height"] / sizes["thickness"], thickness=sizes["thickness"],
+                 nu=nu, torsion=torsion)
+
+
 # --------------------------------------------------------------------------- any polygon
 # Issue 13: a section given as a polygon with holes. The mesh and the finite elements are
 # sectionproperties' (an optional dependency, imported only here); rodstab checks the polygon,
