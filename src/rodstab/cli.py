@@ -1519,7 +1519,8 @@ def _given(option: str) -> bool:
                    "star's stress-free load: kappa_n R0 = 2 for the hexagram].")
 @click.option("--elements", type=int, default=8, show_default=True,
               help="Elements per rod of the discrete rod.")
-@click.option("--thickness", type=float, default=0.02, show_default=True,
+@click.option("--contact-thickness", "contact_thickness", type=float, default=0.02,
+              show_default=True,
               help="Out-of-plane section height h over the rod length L, for the contact "
                    "check (rods closer than h touch).")
 @click.option("--stimulus", "stimuli", multiple=True, metavar="STATE=KEY:STOP",
@@ -1540,7 +1541,7 @@ def _given(option: str) -> bool:
 @_json_option
 def transitions(design_file: str | None, section: Section, structure: str,
                 load_factor: float | None, elements: int,
-                thickness: float, stimuli: tuple[str, ...], states_: tuple[str, ...],
+                contact_thickness: float, stimuli: tuple[str, ...], states_: tuple[str, ...],
                 all_stimuli: bool, out_dir: str | None, as_json: bool) -> None:
     """Transitions between states under a stimulus: the transition graph.
 
@@ -1553,7 +1554,7 @@ def transitions(design_file: str | None, section: Section, structure: str,
     from .problems import ring_transitions as rt
 
     elements = require_int("--elements", elements, 2)
-    thickness = require_positive("--thickness", thickness)
+    thickness = require_positive("--contact-thickness", contact_thickness)
     ring, section, name, design = _ring_and_section(design_file, structure, 6, section)
     if load_factor is None:
         unit = rt.star_load(ring)
