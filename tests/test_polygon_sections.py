@@ -459,7 +459,8 @@ def test_cli_section_plot_and_its_mesh_data(run_cli, tmp_path):
     (["--polygon", "{tmp}/p.json", "--aspect", "2"], {"p.json": json.dumps(RECT)},
      "--aspect cannot be used with --polygon"),
     (["--polygon", "{tmp}/none.json"], {}, "polygon file .*none.json' does not exist"),
-    (["--polygon", "{tmp}/p.txt"], {"p.txt": "0,0"}, "must end in .json or .csv"),
+    (["--polygon", "{tmp}/p.txt"], {"p.txt": "0,0"},
+     r"must end in \.json, \.csv or \.dxf .*got '\.txt'"),
     (["--polygon", "{tmp}/p.csv"], {"p.csv": "0,0\n1,0\n1,x\n"},
      r"p.csv' line 3: '1,x' is not two numbers"),
     (["--polygon", "{tmp}/p.json"], {"p.json": '{"outline": []}'}, r"unknown key\(s\)"),
@@ -494,12 +495,13 @@ def test_every_command_takes_a_polygon_section(run_cli, tmp_path):
 
 
 def test_the_cli_and_the_package_import_sectionproperties_only_when_used():
-    """`rodstab --help` and importing the package leave sectionproperties (~1-2 s to import)
-    and shapely unloaded."""
+    """`rodstab --help` and importing the package leave sectionproperties (~1-2 s to import),
+    shapely and ezdxf (the DXF reader) unloaded."""
     code = ("import sys; from rodstab.cli import main\n"
             "import rodstab.design, rodstab.sections, rodstab.plots\n"
             "try:\n    main(['--help'])\nexcept SystemExit:\n    pass\n"
-            "print(sorted(m for m in ('sectionproperties', 'shapely') if m in sys.modules))")
+            "print(sorted(m for m in ('sectionproperties', 'shapely', 'ezdxf') "
+            "if m in sys.modules))")
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                        timeout=120)
     assert r.returncode == 0, r.stderr

@@ -250,8 +250,9 @@ def _section_options(f: Callable[..., Any]) -> Callable[..., Any]:
     @click.option("--polygon", "polygon_file", default=None, metavar="FILE",
                   help="Any section: a polygon file (.json {\"polygon\": [[x, y], ...], "
                        "\"holes\": [...]} or {\"parts\": [{\"polygon\", \"holes\", \"E\", "
-                       "\"nu\"}, ...]} of several materials, or .csv x,y rows, blank line "
-                       "before each hole); y is out of the ring's plane. Needs "
+                       "\"nu\"}, ...]} of several materials, .csv x,y rows, blank line "
+                       "before each hole, or .dxf closed polylines: the largest the outline, "
+                       "those inside it holes); y is out of the ring's plane. Needs "
                        "rodstab[sections].")
     @click.option("--mesh-size", type=float, default=None,
                   help=f"With --polygon: largest triangle area / section area "

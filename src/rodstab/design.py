@@ -11,6 +11,8 @@ Format (every key optional unless marked; unknown keys are errors)::
     # shape = "polygon" (implied by polygon = ...): any section, y out of the ring's plane
     # polygon = [[0, 0], [1, 0], [1, 2], [0, 2]]    # outline, any length unit
     # holes = [[[0.3, 0.3], [0.7, 0.3], [0.7, 0.6]]]  # optional
+    # dxf = "tee.dxf"         # or: outline and holes from a DXF file's closed polylines
+    #                         # (path relative to the design file; load_polygon)
     # mesh_size = 1e-3        # optional: largest triangle area / section area
     # orientation_deg = 90    # optional: direction of the ring's normal (a principal axis)
     # shape = "composite" (implied by parts = ...): several materials, bonded
@@ -146,7 +148,7 @@ _POLYGON_KEYS = ("polygon", "holes", "parts", "mesh_size", "orientation_deg")
 #: Keys of one part of a composite section (``parts = [{...}, ...]``).
 _PART = {"polygon", "holes", "E", "nu"}
 _SECTION = {"shape", "aspect", "nu", "torsion", "b1", "b2", "B3", *_POLYGON_KEYS,
-            *_DIMENSION_KEYS, "unit"}
+            *_DIMENSION_KEYS, "unit", "dxf"}
 _SEGMENT = {"name", "length", "curvature", "natural_curvature", "natural_radius",
             "natural_twist", "start", "angle_deg", "cusp", "section"}
 _WELD = {"ends"}
@@ -460,6 +462,7 @@ class _Reader:
     marker: str | None
     material: _Material | None = None
     length_unit: tuple[str, float] | None = None  # the first segment length's unit, m per unit
+    base: Path = Path(".")  # the design file's folder: section.dxf paths are relative to it
 
     def value(self, value: Any, path: str, kind: str, *, lo: float = -math.inf,
               hi: float = math.inf, lo_open: bool = False, why: str = "",
@@ -537,6 +540,8 @@ def _section_table(table: dict[str, Any], where: str,
             value = [_part(part, _path(path, i)) for i, part in enumerate(_as_list(
                 value, path, "an array of parts [{polygon = ..., E = ..., nu = ...}, ...]",
                 min_length=1))]
+        elif key == "dxf":
+            value = _as_str(value, path)
         elif key == "polygon":
             value = _points(value, path)
         elif key == "holes":
@@ -564,7 +569,32 @@ def _section_table(table: dict[str, Any], where: str,
         else:  # aspect: its range depends on the shape (_stiffness)
             value = _as_number(value, path)
         out[key] = (value, path)
+    if "dxf" in out:
+        _dxf_outline(out, reader.base)
     return out
+
+
+def _dxf_outline(out: dict[str, tuple[Any, str]], base: Path) -> None:
+    """Replace ``dxf = "file.dxf"`` of a checked section table by its polygon and holes.
+
+    The file is read by :func:`load_polygon` (relative to ``base``, the design's folder); its
+    coordinates are then a ``polygon`` in every respect (``unit`` included), named by the
+    path of the ``dxf`` key.
+    """
+    name, path = out.pop("dxf")
+    for key in ("polygon", "holes", "parts", "b1"):
+        if key in out:
+            raise RodstabInputError(f"{path} = {_show(name)} and {out[key][1]} both give the "
+                                    "section: give one of them")
+    if "shape" in out and out["shape"][0] != POLYGON:
+        raise RodstabInputError(f"{path} = {_show(name)} is a polygon's outline, but "
+                                f"{out['shape'][1]} = {_show(out['shape'][0])}")
+    try:
+        rings = load_polygon(base / name)
+    except RodstabInputError as exc:
+        raise RodstabInputError(f"{path}: {exc}") from None
+    out["polygon"] = (rings["polygon"], path)
+    out["holes"] = (rings["holes"], path)
 
 
 def _points(value: Any, path: str) -> list[list[float]]:
@@ -891,9 +921,9 @@ def _scaled(s: Segment, length: float, stiffness: float) -> Segment:
         start=(s.start[0] / length, s.start[1] / length))
 
 
-def _parse(data: Any) -> tuple[Assembly, int, str, Units | None]:
+def _parse(data: Any, base: Path) -> tuple[Assembly, int, str, Units | None]:
     top = _as_table(data, "", _TOP)
-    reader = _Reader(marker=_units_marker(top))
+    reader = _Reader(marker=_units_marker(top), base=base)
     reader.material = _material(top, reader)
     default = _section_table(_table(top, "section", "", _SECTION), "section", reader)
     seg_tables = _tables(top, "segment", _SEGMENT)
@@ -960,7 +990,8 @@ def parse_design(data: dict, source: str = "<dict>") -> Design:
     data : dict
         The parsed TOML document.
     source : str
-        Where ``data`` came from (a file name), to name in error messages.
+        Where ``data`` came from (a file name), to name in error messages; a section's
+        ``dxf`` file is read relative to its folder.
 
     Returns
     -------
@@ -974,7 +1005,7 @@ def parse_design(data: dict, source: str = "<dict>") -> Design:
         ``segment[2].natural_curvature``, ``support[0].rotation[1]``) and the value.
     """
     try:
-        assembly, elements, lf, units = _parse(data)
+        assembly, elements, lf, units = _parse(data, Path(source).parent)
     except RodstabInputError as exc:
         raise RodstabInputError(f"{source}: {exc}") from None
     return Design(assembly, elements, lf, source, data, units)
@@ -1069,6 +1100,105 @@ def _csv_rings(text: str, name: str) -> list[list[list[float]]]:
     return [r for r in rings if r]
 
 
+#: DXF entities that carry no section geometry (annotation, fills): skipped when reading a
+#: section's outline. Any other entity but a closed polyline is refused, named.
+_DXF_SKIPPED = frozenset({"TEXT", "MTEXT", "DIMENSION", "LEADER", "MLEADER", "HATCH", "POINT",
+                          "INSERT", "ATTDEF", "VIEWPORT"})
+
+
+def _inside(point: list[float], ring: list[list[float]]) -> bool:
+    """Whether ``point`` lies strictly inside the polygon ``ring`` (even-odd ray casting)."""
+    x, y = point
+    inside = False
+    for (x1, y1), (x2, y2) in zip(ring, ring[1:] + ring[:1], strict=True):
+        if (y1 > y) != (y2 > y) and x < x1 + (y - y1) * (x2 - x1) / (y2 - y1):
+            inside = not inside
+    return inside
+
+
+def _dxf_rings(p: Path, name: str) -> dict[str, Any]:
+    """Outline and holes of the closed polylines of a DXF file (:func:`load_polygon`).
+
+    Reads LWPOLYLINE and 2D POLYLINE entities of the model space with ezdxf directly: their
+    vertices are the polygon's points, so a DXF section runs the same code path as the same
+    points given in JSON (sectionproperties' ``Geometry.from_dxf`` would go through
+    cad_to_shapely, which re-joins and may re-order the vertices, for no gain here). The
+    largest closed loop (by area) is the outline; every loop with a vertex inside it is a
+    hole; a loop with none is a second, disjoint outline and is refused.
+    """
+    try:
+        import ezdxf
+        from ezdxf.entities import LWPolyline, Polyline
+    except ImportError:
+        raise RodstabInputError(f"polygon file {name}: reading DXF needs ezdxf: "
+                                'pip install "rodstab[sections]"') from None
+    try:
+        if p.stat().st_size > MAX_FILE_BYTES:  # the text formats' limit (_read_text)
+            raise RodstabInputError(f"polygon file {name} is larger than {MAX_FILE_BYTES} "
+                                    "bytes")
+        doc = ezdxf.readfile(str(p))
+    except FileNotFoundError:
+        raise RodstabInputError(f"polygon file {name} does not exist") from None
+    except IsADirectoryError:
+        raise RodstabInputError(f"polygon file {name} is a directory, not a file") from None
+    except OSError as exc:
+        if exc.errno is None:  # ezdxf's IOError("... is not a DXF file"), not the system's
+            raise RodstabInputError(f"polygon file {name} is not a valid DXF file") from None
+        raise RodstabInputError(f"cannot read polygon file {name}: "
+                                f"{exc.strerror or exc}") from None
+    except ezdxf.DXFError as exc:
+        raise RodstabInputError(f"polygon file {name} is not a valid DXF file: {exc}") from None
+    rings: list[list[list[float]]] = []
+    other: dict[str, int] = {}
+    for k, e in enumerate(doc.modelspace()):
+        kind = e.dxftype()
+        what = f"{kind} #{k} (layer {e.dxf.get('layer', '0')!r})"
+        if isinstance(e, LWPolyline):
+            closed = bool(e.closed)
+            pts = [[float(x), float(y), float(b)] for x, y, b in e.get_points("xyb")]
+        elif isinstance(e, Polyline) and not (e.is_poly_face_mesh or e.is_polygon_mesh):
+            closed = bool(e.is_closed)
+            pts = [[float(v.dxf.location.x), float(v.dxf.location.y),
+                    float(v.dxf.get("bulge", 0.0))] for v in e.vertices]
+        else:
+            if kind not in _DXF_SKIPPED:
+                other[kind] = other.get(kind, 0) + 1
+            continue
+        if len(pts) > 2 and pts[0][:2] == pts[-1][:2]:  # closed by a repeated first point
+            closed = True
+            pts = pts[:-1]
+        if not closed:
+            raise RodstabInputError(f"polygon file {name}: {what} is an open polyline "
+                                    f"({len(pts)} points); a section's outline and holes are "
+                                    "closed polylines")
+        if any(b != 0.0 for *_, b in pts):
+            raise RodstabInputError(f"polygon file {name}: {what} has arc segments (bulges); "
+                                    "give the outline as straight segments (a polygon)")
+        rings.append([pt[:2] for pt in pts])
+    if other:
+        found = ", ".join(f"{n} {kind}" for kind, n in sorted(other.items()))
+        raise RodstabInputError(f"polygon file {name} has {found} entities; only closed "
+                                "polylines (LWPOLYLINE, POLYLINE) are read as a section")
+    if not rings:
+        raise RodstabInputError(f"polygon file {name} has no closed polylines (an empty "
+                                "drawing); a section is one closed outline with holes")
+
+    def area(ring: list[list[float]]) -> float:
+        return abs(sum(x1 * y2 - x2 * y1 for (x1, y1), (x2, y2)
+                       in zip(ring, ring[1:] + ring[:1], strict=True))) / 2.0
+
+    outer = max(range(len(rings)), key=lambda i: area(rings[i]))
+    holes = [r for i, r in enumerate(rings) if i != outer]
+    apart = [i for i, r in enumerate(rings)
+             if i != outer and not any(_inside(pt, rings[outer]) for pt in r)]
+    if apart:
+        raise RodstabInputError(f"polygon file {name} has {len(apart) + 1} disjoint outer "
+                                f"loops (closed polylines {[outer, *apart]} in file order, "
+                                "none inside another); a section is one outline with holes "
+                                "(several materials: the JSON parts format)")
+    return {"polygon": rings[outer], "holes": holes}
+
+
 def load_polygon(path: str | Path) -> dict[str, Any]:
     """Read a polygon file: the outline and the holes of a section, or its parts.
 
@@ -1079,7 +1209,10 @@ def load_polygon(path: str | Path) -> dict[str, Any]:
       ``[[x, y], ...]``, or a composite ``{"parts": [{"polygon": ..., "holes": ..., "E": ...,
       "nu": ...}, ...]}``;
     * ``.csv``: one point ``x,y`` per line, an optional header line ``x,y``, ``#`` comments;
-      a blank line ends a ring: the first ring is the outline, every further one a hole.
+      a blank line ends a ring: the first ring is the outline, every further one a hole;
+    * ``.dxf``: closed polylines (LWPOLYLINE, POLYLINE, straight segments) of the model
+      space: the largest is the outline, those inside it are holes (ezdxf, the ``sections``
+      extra). Open polylines, other geometry, disjoint outlines or no polyline are refused.
 
     Parameters
     ----------
@@ -1104,9 +1237,11 @@ def load_polygon(path: str | Path) -> dict[str, Any]:
     p = Path(path)
     name = repr(str(p))
     suffix = p.suffix.lower()
-    if suffix not in (".json", ".csv"):
-        raise RodstabInputError(f"polygon file {name} must end in .json or .csv (the two "
-                                "formats read), got {suffix or 'no suffix'!r}")
+    if suffix not in (".json", ".csv", ".dxf"):
+        raise RodstabInputError(f"polygon file {name} must end in .json, .csv or .dxf (the "
+                                f"formats read), got {suffix or 'no suffix'!r}")
+    if suffix == ".dxf":
+        return _dxf_rings(p, name)
     text = _read_text(p, "polygon file", f"a polygon file is {suffix[1:].upper()} text")
     if suffix == ".csv":
         rings = _csv_rings(text, name)
