@@ -99,3 +99,48 @@ def reproduction(tmp_path_factory):
 
     out = tmp_path_factory.mktemp("results")
     return out, run_reproduction(out, progress=False)
+
+
+# --------------------------------------------------------------------------- the docs build
+#: The docs site build started in the background (tests/test_docs.py's ``site`` fixture waits
+#: for it): ``mkdocs build --strict`` runs every example and tutorial (~15 s of one core),
+#: while the rest of the suite mostly uses the other core; started once the tests are
+#: collected, only if test_docs.py is among them and mkdocs is installed.
+DOCS_BUILD: dict[str, object] = {}
+
+
+def docs_build_command(out: Path) -> tuple[list[str], dict[str, str]]:
+    """The site build's command line and environment (no results.json: the checks' rows)."""
+    env = {k: v for k, v in os.environ.items() if k != "RODSTAB_RESULTS"}
+    env.update(OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1", NO_MKDOCS_2_WARNING="1")
+    return ([sys.executable, "-m", "mkdocs", "build", "--strict", "-f", str(ROOT / "mkdocs.yml"),
+             "-d", str(out)], env)
+
+
+def pytest_collection_finish(session: pytest.Session) -> None:
+    """Start the docs build in the background if test_docs.py runs (see DOCS_BUILD)."""
+    import importlib.util
+    import tempfile
+
+    if session.config.option.collectonly or importlib.util.find_spec("mkdocs") is None:
+        return
+    if not any(Path(str(item.fspath)).name == "test_docs.py" for item in session.items):
+        return
+    out = Path(tempfile.mkdtemp(prefix="rodstab-site-"))
+    cmd, env = docs_build_command(out)
+    DOCS_BUILD["out"] = out
+    DOCS_BUILD["proc"] = subprocess.Popen(cmd, cwd=ROOT, env=env, stdout=subprocess.PIPE,
+                                          stderr=subprocess.PIPE, text=True)
+
+
+def pytest_sessionfinish(session: pytest.Session, exitstatus: int) -> None:
+    """Stop a docs build still running (an interrupted or failed-fast session)."""
+    import shutil
+
+    proc = DOCS_BUILD.get("proc")
+    if isinstance(proc, subprocess.Popen) and proc.poll() is None:
+        proc.kill()
+        proc.communicate()
+    out = DOCS_BUILD.get("out")
+    if isinstance(out, Path):
+        shutil.rmtree(out, ignore_errors=True)

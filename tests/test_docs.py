@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import importlib.util
 import json
-import os
 import re
 import subprocess
 import sys
@@ -43,13 +42,24 @@ hooks = _hooks()
 
 @pytest.fixture(scope="module")
 def site(tmp_path_factory) -> Path:
-    """``mkdocs build --strict`` into a temporary directory, without a results.json."""
+    """``mkdocs build --strict`` into a temporary directory, without a results.json.
+
+    The build conftest.py started in the background when the tests were collected, waited
+    for here; else (this file run on its own in some other way) built now.
+    """
+    from conftest import DOCS_BUILD, docs_build_command
+
+    proc = DOCS_BUILD.get("proc")
+    if isinstance(proc, subprocess.Popen):
+        stdout, stderr = proc.communicate()
+        out = DOCS_BUILD["out"]
+        assert isinstance(out, Path)
+        assert proc.returncode == 0, stdout[-3000:] + stderr[-6000:]
+        return out
     out = tmp_path_factory.mktemp("site")
-    env = {k: v for k, v in os.environ.items() if k != hooks.RESULTS_ENV}
-    env.update(OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1", NO_MKDOCS_2_WARNING="1")
-    r = subprocess.run([sys.executable, "-m", "mkdocs", "build", "--strict", "-f",
-                        str(ROOT / "mkdocs.yml"), "-d", str(out)],
-                       cwd=ROOT, env=env, capture_output=True, text=True)
+    cmd, env = docs_build_command(out)
+    assert hooks.RESULTS_ENV not in env
+    r = subprocess.run(cmd, cwd=ROOT, env=env, capture_output=True, text=True)
     assert r.returncode == 0, r.stdout[-3000:] + r.stderr[-6000:]
     return out
 
