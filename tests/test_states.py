@@ -19,7 +19,7 @@ from rodstab.cli import main
 from rodstab.design import load_design, parse_design
 from rodstab.errors import RodstabInputError
 from rodstab.model import Assembly
-from rodstab.states import closed_states, ring_assembly, ring_of, state_turning, uniform_ring
+from rodstab.states import closed_states, ring_assembly, ring_of, uniform_ring
 
 
 def _order(psi: float, n: int) -> int:
@@ -106,10 +106,10 @@ def test_bad_rings_are_refused_naming_the_value(kwargs, name):
         closed_states(n, **kwargs)
 
 
-def test_state_turning_names_the_missing_state():
-    assert state_turning(6, "cusp", "daisy") == pytest.approx(4 * math.pi / 3)
+def test_ring_state_names_the_missing_state():
+    assert uniform_ring(6).state("daisy").theta == pytest.approx(4 * math.pi / 3)
     with pytest.raises(RodstabInputError, match="'tulip'"):
-        state_turning(6, "cusp", "tulip")
+        uniform_ring(6).state("tulip")
 
 
 def test_cli_states_json_and_plot(capsys, tmp_path):

@@ -515,11 +515,6 @@ def closed_states(segments: int, *, weld: Weld = "cusp", length: float = 1.0,
                         natural_curvature=natural_curvature, B3=B3).states(max_turns=max_turns)
 
 
-def state_turning(segments: int, weld: Weld, label: str, max_turns: float = 1.0) -> float:
-    """Return ``theta`` of the state called ``label``; raise naming it if there is none."""
-    return uniform_ring(segments, weld=weld).state(label, max_turns).theta
-
-
 def state_centrelines(ring: Ring, theta: float, n_points: int = 60) -> list[np.ndarray]:
     """Centreline ``(n_points, 2)`` of every rod of the held state ``theta`` (lab frame)."""
     a = ring.held(theta)

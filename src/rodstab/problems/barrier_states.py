@@ -20,12 +20,10 @@ star: the two structures give the same barrier at the same section and load.
 
 from __future__ import annotations
 
-import dataclasses
-import math
-
 from ..errors import RodstabInputError
-from ..model import Assembly, Segment
+from ..model import Assembly
 from ..sections import Section
+from ..states import ring_of
 from . import folded_ring, hexagram
 
 #: States of each structure.
@@ -34,52 +32,20 @@ STRUCTURE_STATES: dict[str, tuple[str, ...]] = {"hexagram": hexagram.STATES,
 STRUCTURES = tuple(STRUCTURE_STATES)
 
 
-def _tangent_angle(s: Segment, end: str) -> float:
-    t = s.tangent(0.0 if end == "start" else s.length)
-    return math.atan2(float(t[1]), float(t[0]))
-
-
-def rechain(template: Assembly, curvature: dict[str, float]) -> Assembly:
-    """Return ``template`` with new held curvatures, its rods re-chained along its welds.
-
-    Segment 1 keeps its start and angle; each weld ``(s1, e1), (s2, e2)`` (in order; each weld
-    two ends, the welds a chain) places ``s2`` so that its end ``e2`` sits at ``s1``'s end ``e1``
-    with the tangents turned as in the template (welds keep full rotational continuity). The
-    model's validation refuses a chain that does not close.
-    """
-    placed = {template.segments[0].name: dataclasses.replace(
-        template.segments[0], curvature=curvature[template.segments[0].name])}
-    for weld in template.welds:
-        (n1, e1), (n2, e2) = weld
-        if n2 in placed:
-            continue  # the closing weld: checked by the model's validation
-        s1, t1, t2 = placed[n1], template.segment(n1), template.segment(n2)
-        turn = _tangent_angle(t2, e2) - _tangent_angle(t1, e1)
-        ang = _tangent_angle(s1, e1) + turn  # tangent of s2 at its end e2
-        k = curvature[n2]
-        p = s1.end_point(e1)
-        if e2 == "start":
-            placed[n2] = dataclasses.replace(t2, curvature=k, start=(float(p[0]), float(p[1])),
-                                             angle=ang)
-        else:
-            start_angle = ang - k * t2.length
-            probe = dataclasses.replace(t2, curvature=k, start=(0.0, 0.0), angle=start_angle)
-            q = p - probe.end_point("end")
-            placed[n2] = dataclasses.replace(probe, start=(float(q[0]), float(q[1])))
-    return Assembly(segments=tuple(placed[s.name] for s in template.segments),
-                    welds=template.welds, reference_load=template.reference_load)
-
-
 def one_loop_assembly(params: folded_ring.Params) -> Assembly:
     """Return the folded ring's rods held as arcs of turning ``theta``, curved as their natural one.
 
     Each rod's held curvature is ``sign(kappa_n) theta / L``: stress-free at ``kappa_n L =
-    theta`` (``kappa_n R0 = 1``), the experiment's one-loop ring (Fig. 10).
+    theta`` (``kappa_n R0 = 1``), the experiment's one-loop ring (Fig. 10). The folded ring is
+    read as a ring (:func:`rodstab.states.ring_of`: its natural curvature is positive along
+    the ring) and held with every rod turning by ``theta`` along it (:meth:`.Ring.held`), in
+    the folded ring's own segments, ends and welds.
     """
     folded = folded_ring.build(params)
-    k = params.theta / params.length
-    return rechain(folded, {s.name: math.copysign(k, s.natural_curvature)
-                            for s in folded.segments})
+    held = ring_of(folded).held(params.theta)
+    # the folded ring's segment order and weld list: the two states are one discrete rod
+    return Assembly(segments=tuple(held.segment(s.name) for s in folded.segments),
+                    welds=folded.welds, reference_load=folded.reference_load)
 
 
 def check_state(structure: str, state: str, option: str = "state") -> str:
