@@ -60,9 +60,6 @@ CASES = [
       "--no-progress"], 2, ["support.0.rotation.tangent", "3.04641e+289"]),
     (["continue", E + "twisted_rod.toml", "--vary", "segment.rod.natural_curvature=0:1e300:2",
       "--elements", "4", "--no-progress"], 2, ["segment.rod.natural_curvature", "1e+300"]),
-    # not converged: exit 3 after the output
-    (["analyze", E + "straight_clamped_rod.toml", "--elements", "2048"], 3,
-     ["residual", "fewer elements"]),
 ]
 
 
@@ -108,3 +105,21 @@ def test_a_design_without_natural_curvature_on_the_sparse_path_is_stable_everywh
     small = json.loads(run_cli(["analyze", E + "twisted_rod.toml", "--elements", "8",
                                 "--json"]).stdout)
     assert small["n_dof"] < 400 and small["load_factor_interval"] == [None, None]
+
+
+def test_not_converged_eigen_solve_exits_3_after_its_output(run_cli, monkeypatch):
+    """Exit 3 with the table printed first when the FE eigen solve misses its residual test.
+
+    Provoked by a residual tolerance of 0: since the (beta, omega) formulation no example
+    mesh up to the unknown limit misses it (residual 2.4e-7 at 10^6 unknowns; it was 2048
+    elements of the straight rod under the earlier formulation in w).
+    """
+    import rodstab.numerics
+
+    monkeypatch.setattr(rodstab.numerics, "SPARSE_RESIDUAL_TOL", 0.0)
+    r = run_cli(["analyze", E + "straight_clamped_rod.toml", "--elements", "128"])
+    assert r.exit_code == 3, (r.exit_code, r.stderr[-2000:])
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("rodstab: ")
+    assert "residual" in lines[0] and "fewer elements" in lines[0]
+    assert r.stdout.strip()

@@ -40,7 +40,7 @@ def test_runs_past_a_limit_are_refused_naming_cause_estimate_and_override():
     with pytest.raises(RodstabInputError, match=r"--vary .*1e\+09 steps.*--max-steps"):
         limits.require_steps(1_000_000_000, "--vary load_factor=1:4:1000000000")
     big = limits.Limits(max_dof=10**9, max_memory=2**50)
-    assert limits.require_linear([32_000], 2, "x", big) == 3 * 2 + 4 * 32_000 - 3
+    assert limits.require_linear([32_000], 2, "x", big) == 3 * 2 + 4 * 32_000 - 2
 
 
 @pytest.mark.parametrize("bad", [0, -1, 1.5, True, "8"])

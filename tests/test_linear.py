@@ -6,12 +6,13 @@ import math
 
 import numpy as np
 import pytest
+import scipy.linalg
 
 from rodstab.analytic.arc import clamped_arc_stability
 from rodstab.analytic.folded_ring import folded_ring_paper_method
 from rodstab.analytic.ring import ring_stability
 from rodstab.errors import RodstabInputError
-from rodstab.linear.assembly import discretise
+from rodstab.linear.assembly import discretise, quadratic_forms
 from rodstab.linear.solve import linear_stability
 from rodstab.model import Assembly, Segment
 from rodstab.numerics import matrix_roots
@@ -136,6 +137,31 @@ def test_section_5_folded_six_ring_is_pi_over_3_double_by_three_methods(sec):
     assert full.roots[0].multiplicity == 2
 
 
+def test_refinement_error_falls_to_round_off_and_stays_there():
+    """Six-ring (circle), against the closed form pi/3 sqrt(b1 b2): the error falls as h^4
+    and stays at round-off on fine meshes. The earlier fourth-order formulation in ``w``
+    (Hermite cubics) lost digits as n^4: 2.4e-6 at 1024 and 1.5e-3 with the wrong
+    multiplicity at 4096 elements per segment; the (beta, omega) form reads 2e-15 and 7e-16."""
+    a = six_ring(CIRCLE)
+    exact = math.pi / 3 * CIRCLE.sqrt_b1b2
+    errs = {n: abs(linear_stability(a, n).load_factor_critical - exact) / exact
+            for n in (16, 32, 2048)}
+    assert math.log2(errs[16] / errs[32]) == pytest.approx(4.0, abs=0.15)
+    fine = linear_stability(a, 2048)
+    assert errs[2048] < 1e-12 and fine.multiplicity == 2 and fine.multiplicity_lo == 2
+    lo = fine.load_factor_interval[0]
+    assert abs(-lo - exact) / exact < 1e-12  # the ring's interval is symmetric
+
+
+def test_quadratic_forms_from_strains_equal_the_assembled_products():
+    """The Rayleigh quotient's energies, element by element from strains, are x^T K x."""
+    d = discretise(six_ring(RECT2), 6)
+    x = np.random.default_rng(1).normal(size=d.n_global)
+    e0, e1 = quadratic_forms(d, x)
+    assert e0 == pytest.approx(x @ d.K0 @ x, rel=1e-12)
+    assert e1 == pytest.approx(x @ d.K1 @ x, rel=1e-12)
+
+
 def test_section_5_paper_method_own_equations_give_pi_over_3():
     """(5.12): det A^(1) already vanishes at pi/3, 2pi/3, pi, 4pi/3, 5pi/3 before 2 pi."""
     r = folded_ring_paper_method(0.05, 7.0, 700)
@@ -197,9 +223,12 @@ def test_bad_assemblies_raise_naming_the_problem(build, needle):
 
 def test_free_straight_assembly_has_exactly_three_rigid_modes_ungauged():
     """Stress-free folded ring (mu = 0, straight segments, which the elements represent
-    exactly): the ungauged K0 has exactly 3 zero eigenvalues (translation, two rotations)."""
+    exactly): the ungauged K0 on the closure rows' null space (``w`` single valued along every
+    segment) has exactly 3 zero eigenvalues (translation, two rotations). Without the closure
+    rows each joint ``w`` would be a further zero-energy unknown."""
     d = discretise(six_ring(RECT2), 4)
-    ev = np.linalg.eigvalsh(d.K0.toarray())
+    N = scipy.linalg.null_space(d.B.toarray())
+    ev = np.linalg.eigvalsh(N.T @ d.K0.toarray() @ N)
     zero = np.abs(ev) <= 1e-10 * np.abs(ev).max()
     assert zero.sum() == 3
     assert ev[~zero].min() > 0

@@ -22,6 +22,7 @@ from rodstab.numerics import (
     golden_min,
     matrix_roots,
     pencil_interval,
+    pencil_interval_sparse,
 )
 
 #: Accuracy asked of a refined simple root (Brent to XTOL * span, with margin for round-off).
@@ -299,6 +300,69 @@ def test_pencil_interval_matches_direct_definiteness_check(n, seed):
             ev = np.linalg.eigvalsh(Li @ (A - p * C) @ Li.T)
             assert np.min(np.abs(ev)) <= 1e-8 * max(1.0, np.max(np.abs(ev)))
             assert np.linalg.eigvalsh(A - 1.001 * p * C).min() < 0
+
+
+def _constrained_pencil(n: int, border: int, seed: int, a_jj: float = 4.0):
+    """Banded SPD ``A`` (a 1D Laplacian plus a diagonal), ``border`` leading unknowns
+    coupled to a few others with ``A_JJ = a_jj``, a symmetric banded ``C`` and two dense
+    constraint rows (like an FE segment's closure ``int beta ds``)."""
+    import scipy.sparse as sp
+
+    rng = np.random.default_rng(seed)
+    main = 2.0 + rng.uniform(0.0, 0.5, n)
+    A = sp.diags([-np.ones(n - 1), main, -np.ones(n - 1)], [-1, 0, 1]).tolil()
+    for j in range(border):
+        A[j, j] = a_jj
+        for i in (border + 3 * j, border + 3 * j + 1):
+            A[j, i] = A[i, j] = 0.3
+    c = rng.normal(size=n)
+    C = sp.diags([0.2 * c[:-1], c, 0.2 * c[:-1]], [-1, 0, 1])
+    G = np.zeros((2, n))
+    G[0, border:] = rng.uniform(0.5, 1.0, n - border)
+    G[1, :border] = 1.0
+    G[1, border:(n + border) // 2] = rng.uniform(-1.0, 1.0, (n - border) // 2)
+    return A.tocsc(), C.tocsc(), sp.csr_matrix(G)
+
+
+def _dense_constrained(A, C, G):
+    import scipy.linalg
+
+    N = scipy.linalg.null_space(G.toarray())
+    return pencil_interval(N.T @ A.toarray() @ N, N.T @ C.toarray() @ N), N
+
+
+@pytest.mark.parametrize("border", [0, 3])
+def test_sparse_constrained_pencil_matches_dense_null_space_solve(border):
+    """Substructured Lanczos on ``G v = 0`` (n = 400 > DENSE_EIG_MAX) against LAPACK on the
+    explicit null-space basis: both ends of the interval to 1e-10, the modes on the
+    constraints and parallel to the dense ones."""
+    A, C, G = _constrained_pencil(400, border, seed=7)
+    res = pencil_interval_sparse(A, C, constraints=G, border=border)
+    ref, N = _dense_constrained(A, C, G)
+    assert res.converged and res.n_dof == 398
+    assert res.hi == pytest.approx(ref.hi, rel=1e-10)
+    assert res.lo == pytest.approx(ref.lo, rel=1e-10)
+    for v, vr in ((res.mode_hi[:, 0], N @ ref.mode_hi[:, 0]),
+                  (res.mode_lo[:, 0], N @ ref.mode_lo[:, 0])):
+        assert np.abs(G @ v).max() <= 1e-10 * np.abs(v).max()
+        cos = abs(v @ vr) / np.linalg.norm(v) / np.linalg.norm(vr)
+        assert cos == pytest.approx(1.0, abs=1e-8)
+
+
+def test_sparse_constrained_pencil_definiteness_is_on_the_constraints():
+    """A border unknown of negative stiffness held at zero by a constraint row leaves ``A``
+    positive definite on the constraints (the Haynsworth count must say so and the interval
+    match the dense one); freed, it makes ``A`` indefinite and the solve refuses."""
+    import scipy.sparse as sp
+
+    A, C, _ = _constrained_pencil(400, 1, seed=3, a_jj=-1.0)
+    n = A.shape[0]
+    pin = sp.csr_matrix(([1.0], ([0], [0])), shape=(1, n))
+    res = pencil_interval_sparse(A, C, constraints=pin, border=1)
+    ref, _ = _dense_constrained(A, C, pin)
+    assert res.hi == pytest.approx(ref.hi, rel=1e-10)
+    with pytest.raises(ValueError, match="not positive definite"):
+        pencil_interval_sparse(A, C, border=1)
 
 
 def test_xtol_constant_is_relative_to_span():

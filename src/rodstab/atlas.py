@@ -52,8 +52,8 @@ PAIR = "symmetry-breaking pair"
 ALTERNATING = "alternating"
 #: The two methods of :func:`state_interval`.
 METHODS = ("transfer", "fe")
-#: Meshes (elements per rod) of the FE method and the order of its error: Hermite w and
-#: quadratic omega converge as h^4 (measured on the hexagram, problems/hexagram.py), so the pair
+#: Meshes (elements per rod) of the FE method and the order of its error: quadratic beta
+#: and omega converge as h^4 (measured on the hexagram, problems/hexagram.py), so the pair
 #: is Richardson-extrapolated with order 4 (agrees with the Bloch method to ~1e-7).
 FE_MESHES = (32, 64)
 FE_ORDER = 4

@@ -687,8 +687,8 @@ def analyze(design_file: str, elements: int | None, plot_path: str | None, limit
         payload["units"] = block
         lines += _analyze_unit_lines(block, d.units, r.stable_at_design)
     _emit(payload, as_json, lines)
-    _require_converged(r, f"the FE eigen solve at {n} elements per segment (round-off grows "
-                          "with the mesh, as h^-4: try fewer elements)")
+    _require_converged(r, f"the FE eigen solve at {n} elements per segment (the residual's "
+                          "round-off grows with the mesh, as h^-2: try fewer elements)")
 
 
 def _units_line(units: Units) -> str:

@@ -1574,7 +1574,7 @@ def model_value(design: Design, key: str, value: float, unit: str | None) -> flo
 
 
 #: Fewest elements per segment of the nonlinear rod (``rodstab equilibrium``): a design's
-#: ``[analysis] elements`` is chosen for the linear engine (Hermite FE, fourth order), the
+#: ``[analysis] elements`` is chosen for the linear engine (FE, fourth order), the
 #: discrete rod converges at second order and needs at least this many.
 NONLINEAR_MIN_ELEMENTS = 16
 #: Default elements per segment of a continuation (``rodstab continue``).

@@ -30,10 +30,10 @@ MAX_DOF_NONLINEAR = 500_000
 MAX_STEPS = 100_000
 #: Estimated peak memory of one solve, bytes (the machine this was written on has 24 GiB).
 MAX_MEMORY = 8 * 2**30
-#: Bytes per unknown of a sparse solve: the matrices (K0, K1, Z, the scaled pencil: ~10
-#: entries per row, 12 bytes each, several copies) and the sparse LU's fill (banded, ~40
-#: entries per row): a bound ~3x the measured peak (275 MB at 200k unknowns in 1000
-#: segments, 1.4 kB per unknown with the interpreter's 80 MB; benchmarks/bench_linear.py).
+#: Bytes per unknown of a sparse solve: the matrices (K0, K1, Z, the reduced pencil: ~10
+#: entries per row, 12 bytes each, several copies), the banded LU, the Lanczos basis (25
+#: vectors): a bound ~4x the measured peak (1.0 kB per unknown above the interpreter's
+#: baseline, six-ring at 10^3..10^6 unknowns; benchmarks/bench_linear.py).
 BYTES_PER_DOF = 4096
 
 
@@ -59,12 +59,12 @@ DEFAULT = Limits()
 
 
 def linear_dof(elements: Iterable[int], n_joints: int) -> int:
-    """Unknowns of the linear engine before constraints: ``3 J + sum(4 n - 3)``.
+    """Unknowns of the linear engine before constraints: ``3 J + sum(4 n - 2)``.
 
-    Per segment of ``n`` elements: nodal ``(w, w', omega)`` at ``n + 1`` nodes and one mid-element
-    ``omega`` per element, less the two end nodes' three, which are the joint's (``3 J``).
+    Per segment of ``n`` elements: ``(beta, omega)`` at ``n + 1`` nodes and at ``n`` mid-nodes,
+    less the two end nodes' two, which are the joint's rotation (``3 J`` with the joint ``w``).
     """
-    return 3 * int(n_joints) + sum(4 * int(n) - 3 for n in elements)
+    return 3 * int(n_joints) + sum(4 * int(n) - 2 for n in elements)
 
 
 def nonlinear_dof(elements: Iterable[int], n_joints: int) -> int:

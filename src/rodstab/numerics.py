@@ -620,16 +620,24 @@ def lowest_eigenpairs(A: Any, k: int) -> tuple[np.ndarray, np.ndarray]:
     return vals, vecs
 
 
-def pencil_interval_sparse(A, C, *, multiplicity_rtol: float = MULTIPLICITY_RTOL,
+def pencil_interval_sparse(A, C, *, constraints=None, border: int = 0,
+                           multiplicity_rtol: float = MULTIPLICITY_RTOL,
                            n_eig: int = 6, tol: float = 1e-12) -> PencilInterval:
-    """Sparse version of :func:`pencil_interval` for large FE pencils.
+    """Sparse version of :func:`pencil_interval` for large FE pencils, with linear constraints.
 
-    ``C v = theta A v`` with ``A`` sparse SPD: the few largest and smallest ``theta`` by
-    Lanczos (ARPACK ``eigsh`` in generalized mode, ``A`` factorised once by a sparse LU), to
-    relative tolerance ``tol``. The spectrum of ``theta`` accumulates at 0, so the extreme
-    values converge fast. ``n_eig`` doubles while all found values are one cluster (so a
-    multiplicity is never under-counted). Positive definiteness of ``A`` is checked by the signs
-    of the pivots of a symmetric, diagonally pivoted sparse factorisation (Sylvester's law).
+    ``C v = theta A v`` on the subspace ``G v = 0`` (``G = constraints``, ``m x n`` sparse of
+    full row rank, or None): the few largest and smallest ``theta`` by Lanczos (ARPACK
+    ``eigsh`` in generalized mode, ``A``-inner product), to relative tolerance ``tol``. The
+    spectrum of ``theta`` accumulates at 0, so the extreme values converge fast. ``n_eig``
+    doubles while all found values are one cluster (so a multiplicity is never under-counted).
+
+    The constrained solve ``[A G^T; G 0] [y; nu] = [f; 0]`` is done by substructuring: the
+    unknowns after the first ``border`` (``I``; ``A_II`` must be nonsingular) are factorised
+    once by a sparse LU in symmetric mode (diagonal pivots), and the ``border`` unknowns with
+    the ``m`` multipliers form a small dense Schur complement ``S``. ``A`` is positive definite
+    on ``G v = 0`` exactly when ``neg(A_II) + neg(S) - m = 0`` and ``S`` is nonsingular
+    (Haynsworth's inertia additivity and Sylvester's law; the KKT matrix has inertia
+    ``inertia(A | G v = 0) + (m, m, 0)``) -- the definiteness test.
     """
     import scipy.sparse as sp
     import scipy.sparse.linalg as spla
@@ -637,45 +645,92 @@ def pencil_interval_sparse(A, C, *, multiplicity_rtol: float = MULTIPLICITY_RTOL
     A = sp.csc_matrix(A)
     C = sp.csc_matrix(C)
     n = A.shape[0]
+    G = sp.csr_matrix((0, n)) if constraints is None else sp.csr_matrix(constraints)
+    m = G.shape[0]
     if n <= DENSE_EIG_MAX:  # the dense solve is O(n^3) and slow on a busy multithreaded BLAS
-        return pencil_interval(A.toarray(), C.toarray(), multiplicity_rtol=multiplicity_rtol)
-    # Symmetric permutation and diagonal pivots only: U's diagonal is then the D of
-    # P A P^T = L D L^T, whose signs are A's inertia (Sylvester) -- a definiteness test.
-    lu = spla.splu(A, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+        N = _sla().null_space(G.toarray()) if m else np.eye(n)
+        res = pencil_interval(N.T @ A.toarray() @ N, N.T @ C.toarray() @ N,
+                              multiplicity_rtol=multiplicity_rtol)
+        return dataclasses.replace(
+            res, mode_lo=None if res.mode_lo is None else N @ res.mode_lo,
+            mode_hi=None if res.mode_hi is None else N @ res.mode_hi, n_dof=n - m)
+    b = border
+    lu = spla.splu(A[b:, b:].tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
                    options={"SymmetricMode": True})
-    Ainv = spla.LinearOperator((n, n), matvec=lu.solve, dtype=float)
-    if np.any(lu.U.diagonal() <= 0):
-        raise RodstabInputError("pencil_interval_sparse: A is not positive definite")
+    d = lu.U.diagonal()
+    if not np.array_equal(lu.perm_r, lu.perm_c) or not np.all(np.isfinite(d)):
+        raise RodstabInputError("pencil_interval_sparse: A_II is singular (no symmetric "
+                                "factorisation)")
+    # W = [A_IJ, G_I^T]; S = [[A_JJ, G_J^T], [G_J, 0]] - W^T A_II^-1 W, (b + m) square.
+    # W and X are sparse when A_II is block diagonal (one block per segment of an FE
+    # assembly): the solves leave exact zeros outside the blocks a column touches.
+    W = sp.hstack([A[b:, :b], G[:, b:].T]).tocsc()
+    X = sp.hstack([sp.csc_matrix(lu.solve(W[:, [j]].toarray()))  # column by column: O(n)
+                   for j in range(W.shape[1])], format="csc") \
+        if W.shape[1] else sp.csc_matrix((n - b, 0))
+    S = np.zeros((b + m, b + m))
+    S[:b, :b] = A[:b, :b].toarray()
+    S[:b, b:] = G[:, :b].T.toarray()
+    S[b:, :b] = G[:, :b].toarray()
+    S -= (W.T @ X).toarray()
+    S = 0.5 * (S + S.T)
+    s_eig = np.linalg.eigvalsh(S) if S.size else np.zeros(0)
+    s_scale = max(float(np.abs(s_eig).max()) if s_eig.size else 0.0, 1e-300)
+    n_neg = int(np.sum(d < 0)) + int(np.sum(s_eig < 0)) - m
+    if n_neg != 0 or np.any(np.abs(s_eig) <= 1e-13 * s_scale):
+        raise RodstabInputError("pencil_interval_sparse: A is not positive definite on the "
+                                f"constraints ({n_neg} negative directions)")
+
+    def solve(f: np.ndarray) -> np.ndarray:
+        """``y`` with ``A y - f`` in the range of ``G^T`` and ``G y = 0``."""
+        z = lu.solve(f[b:])
+        g = np.concatenate([f[:b], np.zeros(m)]) - W.T @ z
+        yj = np.linalg.solve(S, g) if S.size else g
+        out = np.empty(n)
+        out[:b] = yj[:b]
+        out[b:] = z - X @ yj
+        return out
+
+    Ainv = spla.LinearOperator((n, n), matvec=solve, dtype=float)
 
     if C.count_nonzero() == 0 or not np.any(C.data):
         # C = 0 (e.g. no natural curvature anywhere): every theta is 0, the interval is the
         # whole line, as the dense pencil_interval says (ARPACK would stop: "Starting vector
         # is zero", found by benchmarks/fuzz.py).
-        return PencilInterval(-math.inf, math.inf, 0, 0, None, None, 0.0, True, n,
+        return PencilInterval(-math.inf, math.inf, 0, 0, None, None, 0.0, True, n - m,
                               "C = 0: no load-dependent term, every eigenvalue theta is 0")
+    # A start vector on the constraints, fixed (ARPACK's default is random: results would
+    # vary run to run); the Krylov space then stays on them, as solve() maps into them.
+    v_start = solve(C @ np.linspace(1.0, 2.0, n))
 
-    def extreme(which: str) -> tuple[np.ndarray, np.ndarray]:
-        k = min(n_eig, n - 2)
+    def both_ends() -> dict[str, tuple[np.ndarray, np.ndarray]]:
+        # One Lanczos run for both ends of the spectrum (ARPACK "BE", k/2 from each end);
+        # k doubles while either end's values are all one cluster.
+        k = min(2 * n_eig, n - m - 2)
         while True:
-            # fixed start vector: ARPACK's default is random (results would vary run to run)
             try:
-                vals, vecs = spla.eigsh(C, k=k, M=A, Minv=Ainv, which=which, tol=tol,
-                                        v0=np.linspace(1.0, 2.0, n))
+                vals, vecs = spla.eigsh(C, k=k, M=A, Minv=Ainv, which="BE", tol=tol,
+                                        v0=v_start)
             except spla.ArpackError as exc:  # ArpackNoConvergence is one
                 raise NotConverged(f"the sparse Lanczos eigen solve ({n} unknowns) failed: "
                                    f"{exc}") from None
-            order = np.argsort(vals)[::-1] if which == "LA" else np.argsort(vals)
+            order = np.argsort(vals)
             vals, vecs = vals[order], vecs[:, order]
-            t = vals[0]
-            if (np.abs(vals - t) <= multiplicity_rtol * abs(t)).all() and k < n - 2:
-                k = min(2 * k, n - 2)
+            half = k // 2
+            ends = {"LA": (vals[::-1][:k - half], vecs[:, ::-1][:, :k - half]),
+                    "SA": (vals[:half], vecs[:, :half])}
+            one_cluster = any((np.abs(v - v[0]) <= multiplicity_rtol * abs(v[0])).all()
+                              for v, _ in ends.values())
+            if one_cluster and k < n - m - 2:
+                k = min(2 * k, n - m - 2)
                 continue
-            return vals, vecs
+            return ends
 
     out: dict[str, tuple[float, int, np.ndarray | None]] = {}
     residual = 0.0
+    ends = both_ends()
     for which, sign in (("LA", 1.0), ("SA", -1.0)):
-        vals, vecs = extreme(which)
+        vals, vecs = ends[which]
         t = vals[0]
         if t * sign <= 1e-14 * max(abs(vals).max(), 1e-300):
             out[which] = (math.inf * sign, 0, None)
@@ -684,12 +739,15 @@ def pencil_interval_sparse(A, C, *, multiplicity_rtol: float = MULTIPLICITY_RTOL
         p = 1.0 / t
         V = vecs[:, close]
         for k in range(V.shape[1]):  # each vector with its own eigenvalue
-            Av = A @ V[:, k]
-            residual = max(residual, float(np.linalg.norm(Av - (C @ V[:, k]) / vals[close][k])
-                                           / np.linalg.norm(Av)))
+            # |A^-1 C v / theta - v| / |v| on the constraints: the inverted problem's residual
+            v = V[:, k]
+            residual = max(residual, float(np.linalg.norm(solve(C @ v) / vals[close][k] - v)
+                                           / np.linalg.norm(v)))
         out[which] = (p, int(close.sum()), V)
     hi, m_hi, v_hi = out["LA"]
     lo, m_lo, v_lo = out["SA"]
+    how = (f"substructured: sparse LU of A_II, {b + m}-square Schur complement" if b + m
+           else "sparse LU of A")
     return PencilInterval(lo, hi, m_lo, m_hi, v_lo, v_hi, residual,
-                          bool(residual < SPARSE_RESIDUAL_TOL), n,
-                          "Lanczos (ARPACK eigsh, generalized, sparse LU of A)")
+                          bool(residual < SPARSE_RESIDUAL_TOL), n - m,
+                          f"Lanczos (ARPACK eigsh, generalized; {how})")

@@ -12,7 +12,7 @@ from .rules import FE_RTOL, REPRODUCED, methods_agree
 #: What the project claims for each row of :func:`engine_checks`.
 EXPECTED = {"E3.1-N1": REPRODUCED, "E3.1-N3": REPRODUCED, "E3.2": REPRODUCED}
 
-_FE = "FE engine (rodstab.linear), Hermite w + quadratic omega"
+_FE = "FE engine (rodstab.linear), quadratic beta + omega"
 
 
 def engine_checks(run: Run) -> Iterator[Claim]:

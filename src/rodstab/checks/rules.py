@@ -41,7 +41,7 @@ FD_TOL = 1e-8
 #: A first variation computed from P2 (2.12) vs the one predicted by a printed ODE system, relative
 #: to its size: polynomial fields, exact Gauss quadrature, so only round-off separates them.
 VARIATION_RTOL = 1e-10
-#: FE engine (cubic Hermite w, quadratic omega) vs an exact eigenvalue at the meshes used in the
+#: FE engine (quadratic beta and omega) vs an exact eigenvalue at the meshes used in the
 #: report (error ~h^4, observed <= 5e-7 relative).
 FE_RTOL = 1e-6
 #: A critical mode from the shooting null vector vs its closed form (3.10), pointwise, both

@@ -2,10 +2,12 @@
 
 Unknowns: at every joint the lab-frame out-of-plane displacement ``w`` and the in-plane
 rotation vector ``(theta_x, theta_y)`` of the cross-section (welds share them: the geometric
-continuity conditions, nothing else); inside a segment the nodal ``(w, w', omega)`` and one
-mid-element ``omega``. A segment end with held tangent ``t`` sees ``w' = theta . n`` and
-``omega = theta . t``, ``n = t x e3`` (the rotation about ``i_r`` is ``beta = w'``, about the
-tangent is ``omega``; linearised, from (2.1) and (2.5)).
+continuity conditions, nothing else); inside a segment the nodal and mid-element
+``(beta, omega)`` of :mod:`.elements`. A segment end with held tangent ``t`` sees
+``beta = theta . n`` and ``omega = theta . t``, ``n = t x e3`` (the rotation about ``i_r`` is
+``beta = w'``, about the tangent is ``omega``; linearised, from (2.1) and (2.5)). The joint
+``w`` carry no energy: they enter only the closure rows ``B``, one per segment,
+``int beta ds - (w_end - w_start) = 0`` (``w`` single valued along the segment).
 """
 
 from __future__ import annotations
@@ -17,7 +19,13 @@ import scipy.sparse as sp
 from scipy.linalg import null_space
 
 from ..model import ROTATION_AXES, SUPPORT_KINDS, Assembly, held_frame
-from .elements import density_matrices, element_matrices
+from .elements import (
+    SIMPSON,
+    density_matrices,
+    element_matrices,
+    element_strains,
+    strain_energy,
+)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -26,37 +34,53 @@ class SegmentDofs:
 
     name: str
     n_elements: int
+    length: float
     T: sp.csr_matrix  # (n_local, n_global): local = T @ global
+    w_start: int  # global index of the joint w at the segment's start
+    D0: np.ndarray  # density matrices of elements.density_matrices
+    D1: np.ndarray
 
 
 @dataclasses.dataclass(frozen=True)
 class Discretisation:
-    """Global pencil ``K(mu) = K0 + mu K1`` and the constraint basis ``Z`` (free = Z @ reduced)."""
+    """Global pencil ``K(mu) = K0 + mu K1``, closure rows ``B`` and the support basis ``Z``.
+
+    The admissible unknowns are ``Z @ reduced`` with ``B @ Z @ reduced = 0``; the first
+    ``n_joint_reduced`` reduced unknowns are the joints', the rest the segments' interiors
+    (``Z`` is the identity there).
+    """
 
     K0: sp.csr_matrix
     K1: sp.csr_matrix
+    B: sp.csr_matrix
     Z: sp.csr_matrix
     segments: tuple[SegmentDofs, ...]
     joints: tuple[tuple[tuple[str, str], ...], ...]
     n_global: int
+    n_joint_reduced: int
 
 
 def _local_size(n_el: int) -> int:
-    return 3 * (n_el + 1) + n_el
+    return 2 * (n_el + 1) + 2 * n_el
 
 
 def _element_dof_table(n_el: int) -> np.ndarray:
-    """Local unknowns of every element, ``(n_el, 7)``, in the order of the element matrices.
+    """Local unknowns of every element, ``(n_el, 6)``, in the order of the element matrices.
 
-    ``(w, w')`` at both nodes, ``omega`` at the first node, mid-element and second node.
+    Node ``i`` holds ``(beta, omega)`` at ``2 i, 2 i + 1``; element ``e``'s mid-node at
+    ``2 (n_el + 1) + 2 e`` and the next.
     """
     e = np.arange(n_el)[:, None]
-    return np.hstack([3 * e, 3 * e + 1, 3 * (e + 1), 3 * (e + 1) + 1, 3 * e + 2,
-                      3 * (n_el + 1) + e, 3 * (e + 1) + 2])
+    mid = 2 * (n_el + 1) + 2 * e
+    return np.hstack([2 * e, 2 * e + 1, 2 * (e + 1), 2 * (e + 1) + 1, mid, mid + 1])
 
 
 def discretise(a: Assembly, elements_per_segment: int | dict[str, int] = 16) -> Discretisation:
-    """Assemble ``K0``, ``K1`` (sparse, symmetric) and the support constraint basis ``Z``."""
+    """Assemble ``K0``, ``K1`` (sparse, symmetric), the closure rows ``B`` and the basis ``Z``.
+
+    Element matrices are batched into COO triplets (no dense per-segment matrix): memory and
+    time are linear in the number of unknowns.
+    """
     joints = tuple(a.joints())
     joint_of = {end: j for j, joint in enumerate(joints) for end in joint}
     n_joint = 3 * len(joints)
@@ -66,62 +90,88 @@ def discretise(a: Assembly, elements_per_segment: int | dict[str, int] = 16) -> 
     offset = n_joint
     seg_offsets = {}
     for s in a.segments:
-        n_el = n_el_of[s.name]
-        n_interior = _local_size(n_el) - 6  # end nodes' (w, w', omega) are joint unknowns
         seg_offsets[s.name] = offset
-        offset += n_interior
+        offset += _local_size(n_el_of[s.name]) - 4  # end nodes' (beta, omega) are the joints'
     n_global = offset
-    rows0, cols0, v0, v1 = [], [], [], []
+    r_all, c_all, v0_all, v1_all = [], [], [], []
+    b_rows: list[np.ndarray] = []
+    b_cols: list[np.ndarray] = []
+    b_vals: list[np.ndarray] = []
     seg_dofs = []
-    for s in a.segments:
+    for i_seg, s in enumerate(a.segments):
         n_el = n_el_of[s.name]
         nl = _local_size(n_el)
         h = s.length / n_el
         D0, D1 = density_matrices(s.curvature, s.natural_curvature, s.B1, s.B2, s.B3)
         Ke0, Ke1 = element_matrices(h, D0, D1)
-        # Element matrices scattered into sparse local matrices (duplicates are summed); a
-        # dense local matrix costs (4 n + 3)^2 doubles -- 270 GB for one segment of 32k.
-        idx = _element_dof_table(n_el)
-        rows = np.repeat(idx, 7, axis=1).ravel()
-        cols = np.tile(idx, (1, 7)).ravel()
-        Kl0 = sp.csr_matrix((np.tile(Ke0.ravel(), n_el), (rows, cols)), shape=(nl, nl))
-        Kl1 = sp.csr_matrix((np.tile(Ke1.ravel(), n_el), (rows, cols)), shape=(nl, nl))
-        # Local -> global map: the end nodes' (w, w', omega) are the joint's (w, theta),
-        # w' = theta . n and omega = theta . t; every other local unknown is interior.
-        Tr: list[int] = []
-        Tc: list[int] = []
-        Tv: list[float] = []
+        # Local -> global map: the end nodes' (beta, omega) are the joint's theta . (n, t);
+        # every other local unknown is interior, numbered in local order.
+        ends = {}
         for node, end in ((0, "start"), (n_el, "end")):
-            j = joint_of[(s.name, end)]
             t = s.tangent(0.0 if node == 0 else s.length)
-            n = np.array([t[1], -t[0]])
-            Tr.append(3 * node)
-            Tc.append(3 * j)
-            Tv.append(1.0)
-            for comp, vec in ((1, n), (2, t)):
+            ends[node] = (joint_of[(s.name, end)], np.array([t[1], -t[0]]), t)
+        is_end = np.zeros(nl, dtype=bool)
+        is_end[[0, 1, 2 * n_el, 2 * n_el + 1]] = True
+        gmap = np.full(nl, -1)
+        gmap[~is_end] = seg_offsets[s.name] + np.arange(nl - 4)
+        Tr: list[int] = np.flatnonzero(~is_end).tolist()
+        Tc: list[int] = gmap[~is_end].tolist()
+        Tv = [1.0] * len(Tr)
+        for node, (j, n, t) in ends.items():
+            for comp, vec in ((0, n), (1, t)):
                 for c in range(2):
-                    Tr.append(3 * node + comp)
+                    Tr.append(2 * node + comp)
                     Tc.append(3 * j + 1 + c)
                     Tv.append(float(vec[c]))
-        inner = np.setdiff1d(np.arange(nl), [0, 1, 2, 3 * n_el, 3 * n_el + 1, 3 * n_el + 2])
-        Tr += inner.tolist()
-        Tc += (seg_offsets[s.name] + np.arange(inner.size)).tolist()
-        Tv += [1.0] * inner.size
         T = sp.csr_matrix((Tv, (Tr, Tc)), shape=(nl, n_global))
-        seg_dofs.append(SegmentDofs(s.name, n_el, T))
+        j_start, j_end = ends[0][0], ends[n_el][0]
+        seg_dofs.append(SegmentDofs(s.name, n_el, s.length, T, 3 * j_start, D0, D1))
+        # Element triplets in local numbering, then to global through T: interior rows map
+        # one to one, end rows to two joint rotations each.
+        idx = _element_dof_table(n_el)
+        rows = np.repeat(idx, 6, axis=1).ravel()
+        cols = np.tile(idx, (1, 6)).ravel()
+        Kl0 = sp.csr_matrix((np.tile(Ke0.ravel(), n_el), (rows, cols)), shape=(nl, nl))
+        Kl1 = sp.csr_matrix((np.tile(Ke1.ravel(), n_el), (rows, cols)), shape=(nl, nl))
         G0 = (T.T @ Kl0 @ T).tocoo()
         G1 = (T.T @ Kl1 @ T).tocoo()
-        rows0.append(G0.row)
-        cols0.append(G0.col)
-        v0.append(G0.data)
-        v1.append((G1.row, G1.col, G1.data))
-    K0 = sp.csr_matrix((np.concatenate(v0), (np.concatenate(rows0), np.concatenate(cols0))),
-                       shape=(n_global, n_global))
-    K1 = sp.csr_matrix((np.concatenate([d for _, _, d in v1]),
-                        (np.concatenate([r for r, _, _ in v1]),
-                         np.concatenate([c for _, c, _ in v1]))), shape=(n_global, n_global))
-    Z = _constraint_basis(a, joints, n_global)
-    return Discretisation(K0, K1, Z, tuple(seg_dofs), joints, n_global)
+        r_all += [G0.row, G1.row]
+        c_all += [G0.col, G1.col]
+        v0_all += [G0.data, np.zeros_like(G1.data)]
+        v1_all += [np.zeros_like(G0.data), G1.data]
+        # Closure row: int beta ds (Simpson, exact for quadratic beta) - w_end + w_start.
+        wloc = np.zeros(nl)
+        np.add.at(wloc, idx.ravel(), np.tile(SIMPSON * h, n_el))
+        brow = (sp.csr_matrix(wloc) @ T).tocoo()
+        b_rows += [np.full(brow.nnz, i_seg), np.array([i_seg, i_seg])]
+        b_cols += [brow.col, np.array([3 * j_end, 3 * j_start])]
+        b_vals += [brow.data, np.array([-1.0, 1.0])]
+    rows_g, cols_g = np.concatenate(r_all), np.concatenate(c_all)
+    K0 = sp.csr_matrix((np.concatenate(v0_all), (rows_g, cols_g)), shape=(n_global, n_global))
+    K1 = sp.csr_matrix((np.concatenate(v1_all), (rows_g, cols_g)), shape=(n_global, n_global))
+    B = sp.csr_matrix((np.concatenate(b_vals), (np.concatenate(b_rows),
+                                                np.concatenate(b_cols))),
+                      shape=(len(a.segments), n_global))
+    Z, n_joint_reduced = _constraint_basis(a, joints, n_global)
+    return Discretisation(K0, K1, B, Z, tuple(seg_dofs), joints, n_global, n_joint_reduced)
+
+
+def quadratic_forms(disc: Discretisation, x: np.ndarray) -> tuple[float, float]:
+    """``(x^T K0 x, x^T K1 x)`` for a global vector ``x``, element by element from strains.
+
+    The same numbers as the assembled products in exact arithmetic; in floating point the
+    error is ~``eps`` relative instead of ~``eps n^2`` (see
+    :func:`~rodstab.linear.elements.element_strains`), so the Rayleigh quotient
+    ``mu = -x^T K0 x / x^T K1 x`` of a computed mode is accurate to round-off at any mesh.
+    """
+    e0 = e1 = 0.0
+    for sd in disc.segments:
+        loc = sd.T @ x
+        q = element_strains(loc[_element_dof_table(sd.n_elements)], sd.length / sd.n_elements)
+        h = sd.length / sd.n_elements
+        e0 += strain_energy(q, sd.D0, h)
+        e1 += strain_energy(q, sd.D1, h)
+    return e0, e1
 
 
 def _rigid_at(point: np.ndarray) -> np.ndarray:
@@ -165,7 +215,7 @@ def rigid_modes_left(a: Assembly, joints) -> np.ndarray:
     return null_space(G) if G.size else np.eye(3)
 
 
-def _constraint_basis(a: Assembly, joints, n_global: int) -> sp.csr_matrix:
+def _constraint_basis(a: Assembly, joints, n_global: int) -> tuple[sp.csr_matrix, int]:
     """Basis ``Z`` of the unknowns allowed by the supports and the rigid-motion gauge.
 
     Rigid motions the supports leave free (a ring, a bi-rod held nowhere) change no energy, so
@@ -185,4 +235,5 @@ def _constraint_basis(a: Assembly, joints, n_global: int) -> sp.csr_matrix:
     n_joint = 3 * len(joints)
     Zj = sp.block_diag(blocks, format="csr")
     n_interior = n_global - n_joint
-    return sp.block_diag([Zj, sp.identity(n_interior, format="csr")], format="csr")
+    return (sp.block_diag([Zj, sp.identity(n_interior, format="csr")], format="csr"),
+            int(Zj.shape[1]))

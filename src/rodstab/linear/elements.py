@@ -1,58 +1,56 @@
 """Element matrices of P2 (eq 2.12) for one segment element.
 
-Fields on an element of length ``h`` (``xi = (s - s0)/h`` in [0, 1]): out-of-plane displacement
-``w = u3`` by cubic Hermite (nodal ``w``, ``w'``), twist ``omega`` by quadratic Lagrange
-(end nodes and mid-node), so both fields' eigenvalue errors fall as ``h^4``.
+P2 is written in its own unknowns ``(beta, omega)``, (2.11)-(2.12): both by quadratic Lagrange
+elements on an element of length ``h`` (``xi = (s - s0)/h`` in [0, 1]; end nodes and
+mid-node), so the eigenvalue error falls as ``h^4``. The out-of-plane displacement
+``w = u3`` enters P2 only through ``beta = w'`` and is not an unknown inside a segment: the
+constraint that ``w`` is single valued, ``w(end) - w(start) = int beta ds`` (the paper's
+``int beta ds = 0`` of Section 3 for a clamped arc), is imposed on each segment by
+:mod:`.assembly`. A second-order operator instead of the fourth-order one in ``w`` (Hermite
+cubics) keeps the factorised matrices' condition number ~ ``n^2`` rather than ``n^4``, the
+round-off floor that stopped refinement at ~1e-8 (six-ring, 256 elements per segment).
 
-With ``beta = w'`` (2.11), held curvature ``k = 1/R`` (signed) and held moment
-``m = B3 (k - mu kappa_n) = B3 M / R``, the density of (2.12) is ``1/2 q^T D q`` with
-``q = (w', w'', omega, omega')``::
+With held curvature ``k = 1/R`` (signed) and held moment ``m = B3 (k - mu kappa_n) = B3 M / R``,
+the density of (2.12) is ``1/2 q^T D q`` with ``q = (beta, beta', omega, omega')``::
 
-    B1 (w'' - k omega)^2 + B2 (omega' + k w')^2 - m (k w'^2 + k omega^2 + 2 w' omega')
+    B1 (beta' - k omega)^2 + B2 (omega' + k beta)^2 - m (k beta^2 + k omega^2 + 2 beta omega')
 
 The end term ``B3 M alpha beta / R |`` of (2.12) is not included: it vanishes at clamps, and at
 a joint in moment equilibrium the ends' contributions cancel (the second-order rotation is
 shared, the held moments balance) -- the argument of the paper after (4.4) and (5.2).
 ``D = D0 + mu D1`` is affine in the load factor ``mu``.
 
-Element DOF order: ``(w1, w1', w2, w2', omega1, omega_mid, omega2)``.
+Element DOF order: ``(beta1, omega1, beta2, omega2, beta_mid, omega_mid)``.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-_GAUSS_X, _GAUSS_W = np.polynomial.legendre.leggauss(4)
+_GAUSS_X, _GAUSS_W = np.polynomial.legendre.leggauss(3)
 _XI = 0.5 * (_GAUSS_X + 1.0)
 _WQ = 0.5 * _GAUSS_W
+#: ``int beta ds`` over an element in its DOF order, per unit length (Simpson, exact).
+SIMPSON = np.array([1.0, 0.0, 1.0, 0.0, 4.0, 0.0]) / 6.0
 
 
 def _shape_rows(h: float) -> np.ndarray:
-    """``B`` of shape (n_gauss, 4, 7): rows ``(w', w'', omega, omega')`` at each Gauss point."""
+    """``B`` of shape (n_gauss, 4, 6): rows ``(beta, beta', omega, omega')`` at Gauss points."""
     x = _XI
-    B = np.zeros((x.size, 4, 7))
-    # Hermite first and second derivatives with respect to s.
-    B[:, 0, 0] = (-6 * x + 6 * x**2) / h
-    B[:, 0, 1] = 1 - 4 * x + 3 * x**2
-    B[:, 0, 2] = (6 * x - 6 * x**2) / h
-    B[:, 0, 3] = -2 * x + 3 * x**2
-    B[:, 1, 0] = (-6 + 12 * x) / h**2
-    B[:, 1, 1] = (-4 + 6 * x) / h
-    B[:, 1, 2] = (6 - 12 * x) / h**2
-    B[:, 1, 3] = (-2 + 6 * x) / h
-    # Quadratic Lagrange and its derivative.
-    B[:, 2, 4] = 2 * (x - 0.5) * (x - 1)
-    B[:, 2, 5] = -4 * x * (x - 1)
-    B[:, 2, 6] = 2 * x * (x - 0.5)
-    B[:, 3, 4] = (4 * x - 3) / h
-    B[:, 3, 5] = (-8 * x + 4) / h
-    B[:, 3, 6] = (4 * x - 1) / h
+    n = (2 * (x - 0.5) * (x - 1), 2 * x * (x - 0.5), -4 * x * (x - 1))  # node 1, node 2, mid
+    dn = ((4 * x - 3) / h, (4 * x - 1) / h, (-8 * x + 4) / h)
+    B = np.zeros((x.size, 4, 6))
+    for col, (f, df) in zip(((0, 1), (2, 3), (4, 5)), zip(n, dn, strict=True), strict=True):
+        B[:, 0, col[0]] = f
+        B[:, 1, col[0]] = df
+        B[:, 2, col[1]] = f
+        B[:, 3, col[1]] = df
     return B
 
 
 def density_matrices(k: float, kappa_n: float, B1: float, B2: float,
                      B3: float) -> tuple[np.ndarray, np.ndarray]:
-    """``(D0, D1)`` with ``D = D0 + mu D1`` for ``q = (w', w'', omega, omega')``."""
+    """``(D0, D1)`` with ``D = D0 + mu D1`` for ``q = (beta, beta', omega, omega')``."""
 
     def D_of(m: float, with_elastic: bool) -> np.ndarray:
         D = np.zeros((4, 4))
@@ -62,7 +60,7 @@ def density_matrices(k: float, kappa_n: float, B1: float, B2: float,
         D[2, 2] = e * B1 * k * k - m * k
         D[3, 3] = e * B2
         D[1, 2] = D[2, 1] = -e * B1 * k
-        # w' omega' collects B2 k from (omega' + k w')^2 and -m from the prestress term.
+        # beta omega' collects B2 k from (omega' + k beta)^2 and -m from the prestress term.
         D[3, 0] = D[0, 3] = e * B2 * k - m
         return D
 
@@ -71,8 +69,33 @@ def density_matrices(k: float, kappa_n: float, B1: float, B2: float,
 
 
 def element_matrices(h: float, D0: np.ndarray, D1: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """``(K0, K1)`` (7x7) with ``int B^T D B ds`` for ``D0`` and ``D1`` (4-point Gauss, exact)."""
+    """``(K0, K1)`` (6x6): ``int B^T D B ds`` for ``D0`` and ``D1`` by exact 3-point Gauss."""
     B = _shape_rows(h)
     K0 = np.einsum("g,gai,ab,gbj->ij", _WQ * h, B, D0, B)
     K1 = np.einsum("g,gai,ab,gbj->ij", _WQ * h, B, D1, B)
     return K0, K1
+
+
+def element_strains(dofs: np.ndarray, h: float) -> np.ndarray:
+    """``q = (beta, beta', omega, omega')`` at the Gauss points, ``(n_el, n_gauss, 4)``.
+
+    ``dofs`` is ``(n_el, 6)`` in the element order. The derivatives are formed from the
+    differences ``u2 - u1`` and ``u1 + u2 - 2 u_mid`` first: ``u'`` is ~``h`` times smaller
+    than ``u``, and the assembled ``B`` rows (whose rounded entries cancel only approximately,
+    the same way in every element) would add ~``eps / h`` to it coherently along the rod.
+    """
+    x = _XI[None, :]
+    out = np.empty((dofs.shape[0], x.size, 4))
+    for k, (c1, c2, cm) in enumerate(((0, 2, 4), (1, 3, 5))):
+        u1, u2, um = dofs[:, c1, None], dofs[:, c2, None], dofs[:, cm, None]
+        d1 = u2 - u1
+        d2 = u1 + u2 - 2.0 * um
+        out[:, :, 2 * k] = 2 * (x - 0.5) * (x - 1) * u1 + 2 * x * (x - 0.5) * u2 \
+            - 4 * x * (x - 1) * um
+        out[:, :, 2 * k + 1] = (d1 + (4.0 * x - 2.0) * d2) / h
+    return out
+
+
+def strain_energy(q: np.ndarray, D: np.ndarray, h: float) -> float:
+    """``sum_e int q^T D q ds`` (twice the energy of the density ``D``) by the element rule."""
+    return float(h * np.einsum("g,ega,ab,egb->", _WQ, q, D, q))

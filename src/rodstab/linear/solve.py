@@ -17,7 +17,7 @@ from ..errors import RodstabInputError
 from ..limits import DEFAULT as DEFAULT_LIMITS
 from ..limits import Limits, require_linear
 from ..model import Assembly
-from ..numerics import jacobi_scaling, pencil_interval_sparse
+from ..numerics import pencil_interval_sparse
 from ..results import Result
 
 #: Critical eigenvalues closer than this (relative) are one repeated eigenvalue: symmetric
@@ -90,9 +90,14 @@ def _modes(disc, vec: np.ndarray | None) -> tuple[SegmentMode, ...]:
     for sd in disc.segments:
         loc = sd.T @ vec
         n_el = sd.n_elements
-        nodes = loc[: 3 * (n_el + 1)].reshape(-1, 3)
+        nodes = loc[: 2 * (n_el + 1)].reshape(-1, 2)
+        mids = loc[2 * (n_el + 1):].reshape(-1, 2)
+        # w from its joint value and int beta ds (Simpson, exact for quadratic beta)
+        h = sd.length / n_el
+        dw = h / 6.0 * (nodes[:-1, 0] + 4.0 * mids[:, 0] + nodes[1:, 0])
+        w = float(vec[sd.w_start]) + np.concatenate([[0.0], np.cumsum(dw)])
         s = np.linspace(0.0, 1.0, n_el + 1)
-        out.append(SegmentMode(sd.name, s, nodes[:, 0], nodes[:, 2]))
+        out.append(SegmentMode(sd.name, s, w, nodes[:, 1]))
     scale = max(float(np.max(np.abs(m.w))) for m in out) or 1.0
     return tuple(SegmentMode(m.name, m.s, m.w / scale, m.omega / scale) for m in out)
 
@@ -143,9 +148,7 @@ def linear_stability(a: Assembly, elements_per_segment: int | dict[str, int] = 1
                    limits)
     # deferred: scipy.sparse and scipy.linalg cost ~0.2 s to import, which an analytic
     # command that only names LinearStability should not pay
-    import scipy.sparse as sp
-
-    from .assembly import discretise, rigid_modes_left
+    from .assembly import discretise, quadratic_forms, rigid_modes_left
 
     disc = discretise(a, elements_per_segment)
     mu_ref = default_reference_load(a)
@@ -154,28 +157,30 @@ def linear_stability(a: Assembly, elements_per_segment: int | dict[str, int] = 1
     C = (-(Z.T @ disc.K1 @ Z)).tocsc()
     A = 0.5 * (A + A.T)
     C = 0.5 * (C + C.T)
-    # Symmetric Jacobi scaling (same eigenvalues): displacement, slope and twist unknowns
-    # scale as h^-3, h^-1 and h^-1, and unscaled the factorisation loses digits on fine meshes.
-    diag = A.diagonal()
-    if np.any(diag <= 0):
-        raise RodstabInputError(
-            f"the held state is not stable at the reference load factor {mu_ref:g} (a "
-            "non-positive diagonal entry: an unrestrained unknown)")
-    Dg = sp.diags(jacobi_scaling(A))
-    A = (Dg @ A @ Dg).tocsc()
-    C = (Dg @ C @ Dg).tocsc()
+    # All unknowns are rotations (beta, omega, theta) of one scale (~1/h on the diagonal), and
+    # the joint w enter only the closure rows: no diagonal scaling is needed.
     try:
-        res = pencil_interval_sparse(A, C, multiplicity_rtol=FE_MULTIPLICITY_RTOL)
+        res = pencil_interval_sparse(A, C, constraints=disc.B @ Z, border=disc.n_joint_reduced,
+                                     multiplicity_rtol=FE_MULTIPLICITY_RTOL)
     except RodstabInputError as exc:
         # Rigid motions are gauged out, so a singular or indefinite A is physical.
         raise RodstabInputError(
             f"the held state is not stable (or only neutrally stable: a mechanism) at the "
             f"reference load factor {mu_ref:g}; set reference_load to a load factor at which "
             "it is stable") from exc
-    lo, hi = mu_ref + res.lo, mu_ref + res.hi
-
     def full(v):
-        return None if v is None else Z @ (Dg @ v[:, 0])
+        return None if v is None else Z @ v[:, 0]
+
+    def rayleigh(v, fallback: float) -> float:
+        # The eigen solve's value carries the assembled matrices' round-off (~eps n^2); the
+        # Rayleigh quotient of its mode, from element strains, is exact to O(mode error^2).
+        if v is None:
+            return fallback
+        e0, e1 = quadratic_forms(disc, full(v))
+        return -e0 / e1 if e1 != 0.0 else fallback
+
+    lo = rayleigh(res.mode_lo, mu_ref + res.lo)
+    hi = rayleigh(res.mode_hi, mu_ref + res.hi)
 
     return LinearStability(
         load_factor_interval=(lo, hi), load_factor_critical=hi,
@@ -184,5 +189,6 @@ def linear_stability(a: Assembly, elements_per_segment: int | dict[str, int] = 1
         mode=_modes(disc, full(res.mode_hi)), mode_lo=_modes(disc, full(res.mode_lo)),
         n_rigid_modes=int(rigid_modes_left(a, disc.joints).shape[1]), residual=res.residual,
         converged=res.converged,
-        n_dof=int(A.shape[0]),
-        method="FE of P2 (Hermite w, quadratic omega); " + res.method)
+        n_dof=int(res.n_dof),
+        method="FE of P2 (quadratic beta and omega, w by closure rows; Rayleigh quotient "
+               "from element strains); " + res.method)
