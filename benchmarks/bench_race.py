@@ -23,9 +23,12 @@ load mu_c = 2 pi sqrt(B1 B2) / (B3 L) (eq. 3.9,
    verdict from scratch, as the shipped race did); "LDL", the same sign by Sylvester's inertia
    (one sparse LDL^T instead of the eigen solve); "warm", the Hessian pencil (affine in mu)
    assembled once, one LDL^T per verdict; "linear", the linear engine from scratch (assembly
-   of P2 + one LDL^T). PyElastica, one run: the motion above, final time from the measured
-   growth rate (:func:`race_final_time`), stopped once |A| > 100 a0; verdict by the fitted lam
-   AND the growth of |A| (both must agree, else "undecided").
+   of P2 + one factorisation whose inertia on the closure constraints is the verdict,
+   :func:`rodstab.linear.solve.stable_at`); "lin. warm", P2's pencil assembled once
+   (:func:`rodstab.linear.solve.linear_pencil`), one factorisation per verdict. PyElastica,
+   one run: the motion above, final time from the measured growth rate
+   (:func:`race_final_time`), stopped once |A| > 100 a0; verdict by the fitted lam AND the
+   growth of |A| (both must agree, else "undecided").
 Run: ``python benchmarks/bench_race.py`` (or ``python benchmarks/bench_nonlinear.py race``).
 PyElastica is installed with the benchmark extra: ``pip install ".[bench]"``.
 """
@@ -42,8 +45,7 @@ import scipy.sparse as sp
 from scipy.optimize import minimize_scalar
 
 from rodstab.analytic.arc import straight_clamped_critical
-from rodstab.linear.assembly import discretise as linear_discretise
-from rodstab.linear.solve import linear_stability
+from rodstab.linear.solve import LinearPencil, linear_pencil, linear_stability, stable_at
 from rodstab.model import Assembly, Segment
 from rodstab.nonlinear.discrete import DiscreteRod, discretise
 from rodstab.nonlinear.solve import critical_load_factor, lowest_eigenvalues
@@ -267,12 +269,17 @@ def rodstab_verdict_inertia(mu: float, n: int) -> tuple[bool, float]:
 
 
 def rodstab_verdict_linear(mu: float, n: int) -> tuple[bool, float]:
-    """Cold verdict of the linear engine: assemble P2's ``K0 + mu K1`` on the supports' basis,
-    one LDL^T (Jacobi-scaled, Sylvester's inertia)."""
+    """Cold verdict of the linear engine: assemble P2's pencil, one factorisation with its
+    inertia on the closure constraints (:func:`rodstab.linear.solve.stable_at`)."""
     t = time.perf_counter()
-    d = linear_discretise(straight_rod(), n)
-    K = (d.Z.T @ (d.K0 + mu * d.K1) @ d.Z).tocsc()
-    stable = _positive_definite(0.5 * (K + K.T))
+    stable = stable_at(straight_rod(), mu, n)
+    return stable, time.perf_counter() - t
+
+
+def rodstab_verdict_linear_warm(mu: float, pencil: LinearPencil) -> tuple[bool, float]:
+    """Warm verdict of the linear engine: P2's pencil assembled once, one factorisation."""
+    t = time.perf_counter()
+    stable = pencil.stable_at(mu)
     return stable, time.perf_counter() - t
 
 
@@ -357,26 +364,29 @@ def race() -> None:
               f"{100 * abs(m_r / MU_C - 1):.4f} %")
     n_r, n_l = meshes["nonlinear Hessian"], meshes["linear engine"]
     pencil = rodstab_pencil(n_r)
+    lin_pencil = linear_pencil(straight_rod(), n_l)
     print(f"cold nonlinear verdict at {n_r} elements, median of 5 (ms): " + ", ".join(
         f"{k} {1e3 * v:.2f}" for k, v in cold_profile(MU_C, n_r).items()))
 
     print(f"\nRace (rodstab median of 5: nonlinear {n_r} elements -- eig = lowest eigenvalue, "
-          f"LDL = inertia, warm = pencil assembled once -- and linear engine {n_l} elements; "
+          f"LDL = inertia, warm = pencil assembled once -- and linear engine {n_l} elements, "
+          f"cold and warm (P2's pencil assembled once), both by inertia; "
           f"PyElastica N = {n_e}, 1 run of <= {T:.4f} s simulated, stopped at growth "
           f"{GROWTH_DESIGN:g}):")
     print(f"{'f':>5} {'rodstab':>9} {'linear':>9} {'PyElastica':>11} {'lam 1/s2':>10} "
           f"{'|A|/a0':>7} {'PyEl s':>6} | ms (ratio):  {'eig':>13} {'LDL':>13} {'warm':>14} "
-          f"{'linear':>13} | same  >=1000x")
+          f"{'linear':>13} {'lin. warm':>13} | same  >=1000x")
     for f in RACE_FACTORS:
         mu = f * MU_C
         s_eig, t_eig = _median_time(lambda mu=mu: rodstab_verdict_eig(mu, n_r))
         s_ldl, t_ldl = _median_time(lambda mu=mu: rodstab_verdict_inertia(mu, n_r))
         s_warm, t_warm = _median_time(lambda mu=mu: rodstab_verdict_warm(mu, pencil))
         s_lin, t_lin = _median_time(lambda mu=mu: rodstab_verdict_linear(mu, n_l))
-        assert s_eig == s_ldl == s_warm
+        s_lw, t_lw = _median_time(lambda mu=mu: rodstab_verdict_linear_warm(mu, lin_pencil))
+        assert s_eig == s_ldl == s_warm and s_lin == s_lw
         v_e, t_e, lam, growth = elastica_verdict(mu, n_e, T)
         v_r, v_l = ("stable" if s else "unstable" for s in (s_eig, s_lin))
-        times = (t_eig, t_ldl, t_warm, t_lin)
+        times = (t_eig, t_ldl, t_warm, t_lin, t_lw)
         cells = " ".join(f"{1e3 * t:>6.3f} ({t_e / t:>5.0f})" for t in times)
         ok = "/".join("y" if t_e / t >= 1000 else "n" for t in times)
         print(f"{f:>5.2f} {v_r:>9} {v_l:>9} {v_e:>11} {lam:>10.4g} {growth:>7.1f} {t_e:>6.2f} | "

@@ -13,7 +13,7 @@ from rodstab.analytic.folded_ring import folded_ring_paper_method
 from rodstab.analytic.ring import ring_stability
 from rodstab.errors import RodstabInputError
 from rodstab.linear.assembly import discretise, quadratic_forms
-from rodstab.linear.solve import linear_stability
+from rodstab.linear.solve import linear_pencil, linear_stability, stable_at
 from rodstab.model import Assembly, Segment
 from rodstab.numerics import matrix_roots
 from rodstab.sections import circle, rectangle
@@ -151,6 +151,19 @@ def test_refinement_error_falls_to_round_off_and_stays_there():
     assert errs[2048] < 1e-12 and fine.multiplicity == 2 and fine.multiplicity_lo == 2
     lo = fine.load_factor_interval[0]
     assert abs(-lo - exact) / exact < 1e-12  # the ring's interval is symmetric
+
+
+@pytest.mark.parametrize("n", [6, 64], ids=["dense", "substructured"])
+def test_verdict_by_inertia_agrees_with_the_interval(n):
+    """``stable_at`` (one factorisation, no eigen solve) says stable exactly inside the
+    interval of ``linear_stability``: the six-ring 1 % inside and outside both ends, and a
+    clamped arc, through the dense (small) and the substructured (large) paths."""
+    for a in (six_ring(RECT2), clamped(2.0, 1.0, 1.0, CIRCLE)):
+        lo, hi = linear_stability(a, n).load_factor_interval
+        pen = linear_pencil(a, n)
+        for mu in (0.99 * hi, 1.01 * hi) + ((0.99 * lo, 1.01 * lo) if math.isfinite(lo) else ()):
+            assert pen.stable_at(mu) == (lo < mu < hi), (mu, lo, hi)
+        assert stable_at(a, 0.5 * hi, n) and not stable_at(a, 1.01 * hi, n)
 
 
 def test_quadratic_forms_from_strains_equal_the_assembled_products():

@@ -620,6 +620,100 @@ def lowest_eigenpairs(A: Any, k: int) -> tuple[np.ndarray, np.ndarray]:
     return vals, vecs
 
 
+@dataclasses.dataclass(frozen=True)
+class ConstrainedFactor:
+    """Factorisation of ``A`` on the constraints ``G v = 0`` by substructuring, with inertia.
+
+    The unknowns after the first ``border`` (``I``; ``A_II`` must be nonsingular) are
+    factorised once by a sparse LU in symmetric mode (diagonal pivots, so ``U``'s diagonal is
+    the ``D`` of ``P A_II P^T = L D L^T``), and the ``border`` unknowns with the ``m``
+    multipliers of ``G`` form a small dense Schur complement ``S`` of the KKT matrix
+    ``[A G^T; G 0]``. Its inertia is ``inertia(A | G v = 0) + (m, m, 0)`` (``G`` of full row
+    rank) and, by Haynsworth's additivity, ``inertia(A_II) + inertia(S)``: so ``A`` has
+    ``n_negative = neg(A_II) + neg(S) - m`` negative directions on the constraints, and a
+    zero one when ``S`` is singular.
+    """
+
+    n: int
+    border: int
+    m: int
+    lu: Any
+    W: Any  # sparse [A_IJ, G_I^T]
+    X: Any  # sparse A_II^-1 W
+    S: np.ndarray
+    n_negative: int
+    singular: bool
+
+    @classmethod
+    def of(cls, A: Any, G: Any, border: int) -> ConstrainedFactor:
+        """Factorise ``A`` (sparse symmetric ``n x n``) on ``G v = 0`` (sparse ``m x n``)."""
+        import scipy.sparse as sp
+        import scipy.sparse.linalg as spla
+
+        A = sp.csc_matrix(A)
+        G = sp.csr_matrix(G)
+        n, m, b = A.shape[0], G.shape[0], border
+        try:
+            lu = spla.splu(A[b:, b:].tocsc(), permc_spec="MMD_AT_PLUS_A",
+                           diag_pivot_thresh=0.0, options={"SymmetricMode": True})
+        except RuntimeError as exc:  # "Factor is exactly singular"
+            raise RodstabInputError(f"A_II is singular: {exc}") from None
+        d = lu.U.diagonal()
+        if not np.array_equal(lu.perm_r, lu.perm_c) or not np.all(np.isfinite(d)):
+            raise RodstabInputError("A_II is singular (no symmetric factorisation)")
+        # W and X are sparse when A_II is block diagonal (one block per segment of an FE
+        # assembly): the solves leave exact zeros outside the blocks a column touches.
+        W = sp.hstack([A[b:, :b], G[:, b:].T]).tocsc()
+        X = sp.hstack([sp.csc_matrix(lu.solve(W[:, [j]].toarray()))  # column by column: O(n)
+                       for j in range(W.shape[1])], format="csc") \
+            if W.shape[1] else sp.csc_matrix((n - b, 0))
+        S = np.zeros((b + m, b + m))
+        S[:b, :b] = A[:b, :b].toarray()
+        S[:b, b:] = G[:, :b].T.toarray()
+        S[b:, :b] = G[:, :b].toarray()
+        S -= (W.T @ X).toarray()
+        S = 0.5 * (S + S.T)
+        s_eig = np.linalg.eigvalsh(S) if S.size else np.zeros(0)
+        s_scale = max(float(np.abs(s_eig).max()) if s_eig.size else 0.0, 1e-300)
+        return cls(n, b, m, lu, W, X, S, int(np.sum(d < 0)) + int(np.sum(s_eig < 0)) - m,
+                   bool(np.any(np.abs(s_eig) <= 1e-13 * s_scale)))
+
+    def solve(self, f: np.ndarray) -> np.ndarray:
+        """``y`` with ``A y - f`` in the range of ``G^T`` and ``G y = 0``."""
+        b = self.border
+        z = self.lu.solve(f[b:])
+        g = np.concatenate([f[:b], np.zeros(self.m)]) - self.W.T @ z
+        yj = np.linalg.solve(self.S, g) if self.S.size else g
+        out = np.empty(self.n)
+        out[:b] = yj[:b]
+        out[b:] = z - self.X @ yj
+        return out
+
+
+def definite_on(A: Any, constraints: Any = None, border: int = 0) -> bool:
+    """Whether the sparse symmetric ``A`` is positive definite on ``constraints @ v = 0``.
+
+    A stability verdict without an eigen solve: the inertia of :class:`ConstrainedFactor`
+    (Sylvester, Haynsworth), or for up to :data:`DENSE_EIG_MAX` unknowns the lowest eigenvalue
+    of ``N^T A N`` on a null-space basis ``N``, against ``1e-13 max |eig|`` (a zero eigenvalue
+    -- the critical load itself -- is not definite).
+    """
+    import scipy.sparse as sp
+
+    A = sp.csc_matrix(A)
+    n = A.shape[0]
+    G = sp.csr_matrix((0, n)) if constraints is None else sp.csr_matrix(constraints)
+    if n <= DENSE_EIG_MAX:
+        N = _sla().null_space(G.toarray()) if G.shape[0] else np.eye(n)
+        ev = np.linalg.eigvalsh(N.T @ A.toarray() @ N)
+        return bool(ev.size == 0 or ev[0] > 1e-13 * max(abs(ev[0]), abs(ev[-1])))
+    try:
+        fac = ConstrainedFactor.of(A, G, border)
+    except RodstabInputError:
+        return False
+    return fac.n_negative == 0 and not fac.singular
+
+
 def pencil_interval_sparse(A, C, *, constraints=None, border: int = 0,
                            multiplicity_rtol: float = MULTIPLICITY_RTOL,
                            n_eig: int = 6, tol: float = 1e-12) -> PencilInterval:
@@ -631,13 +725,10 @@ def pencil_interval_sparse(A, C, *, constraints=None, border: int = 0,
     spectrum of ``theta`` accumulates at 0, so the extreme values converge fast. ``n_eig``
     doubles while all found values are one cluster (so a multiplicity is never under-counted).
 
-    The constrained solve ``[A G^T; G 0] [y; nu] = [f; 0]`` is done by substructuring: the
-    unknowns after the first ``border`` (``I``; ``A_II`` must be nonsingular) are factorised
-    once by a sparse LU in symmetric mode (diagonal pivots), and the ``border`` unknowns with
-    the ``m`` multipliers form a small dense Schur complement ``S``. ``A`` is positive definite
-    on ``G v = 0`` exactly when ``neg(A_II) + neg(S) - m = 0`` and ``S`` is nonsingular
-    (Haynsworth's inertia additivity and Sylvester's law; the KKT matrix has inertia
-    ``inertia(A | G v = 0) + (m, m, 0)``) -- the definiteness test.
+    The constrained solve ``[A G^T; G 0] [y; nu] = [f; 0]`` and the definiteness test of ``A``
+    on the constraints are those of :class:`ConstrainedFactor` (substructured on the first
+    ``border`` unknowns). Up to :data:`DENSE_EIG_MAX` unknowns: :func:`pencil_interval` on a
+    null-space basis of ``G``.
     """
     import scipy.sparse as sp
     import scipy.sparse.linalg as spla
@@ -654,43 +745,11 @@ def pencil_interval_sparse(A, C, *, constraints=None, border: int = 0,
         return dataclasses.replace(
             res, mode_lo=None if res.mode_lo is None else N @ res.mode_lo,
             mode_hi=None if res.mode_hi is None else N @ res.mode_hi, n_dof=n - m)
-    b = border
-    lu = spla.splu(A[b:, b:].tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
-                   options={"SymmetricMode": True})
-    d = lu.U.diagonal()
-    if not np.array_equal(lu.perm_r, lu.perm_c) or not np.all(np.isfinite(d)):
-        raise RodstabInputError("pencil_interval_sparse: A_II is singular (no symmetric "
-                                "factorisation)")
-    # W = [A_IJ, G_I^T]; S = [[A_JJ, G_J^T], [G_J, 0]] - W^T A_II^-1 W, (b + m) square.
-    # W and X are sparse when A_II is block diagonal (one block per segment of an FE
-    # assembly): the solves leave exact zeros outside the blocks a column touches.
-    W = sp.hstack([A[b:, :b], G[:, b:].T]).tocsc()
-    X = sp.hstack([sp.csc_matrix(lu.solve(W[:, [j]].toarray()))  # column by column: O(n)
-                   for j in range(W.shape[1])], format="csc") \
-        if W.shape[1] else sp.csc_matrix((n - b, 0))
-    S = np.zeros((b + m, b + m))
-    S[:b, :b] = A[:b, :b].toarray()
-    S[:b, b:] = G[:, :b].T.toarray()
-    S[b:, :b] = G[:, :b].toarray()
-    S -= (W.T @ X).toarray()
-    S = 0.5 * (S + S.T)
-    s_eig = np.linalg.eigvalsh(S) if S.size else np.zeros(0)
-    s_scale = max(float(np.abs(s_eig).max()) if s_eig.size else 0.0, 1e-300)
-    n_neg = int(np.sum(d < 0)) + int(np.sum(s_eig < 0)) - m
-    if n_neg != 0 or np.any(np.abs(s_eig) <= 1e-13 * s_scale):
+    fac = ConstrainedFactor.of(A, G, border)
+    if fac.n_negative != 0 or fac.singular:
         raise RodstabInputError("pencil_interval_sparse: A is not positive definite on the "
-                                f"constraints ({n_neg} negative directions)")
-
-    def solve(f: np.ndarray) -> np.ndarray:
-        """``y`` with ``A y - f`` in the range of ``G^T`` and ``G y = 0``."""
-        z = lu.solve(f[b:])
-        g = np.concatenate([f[:b], np.zeros(m)]) - W.T @ z
-        yj = np.linalg.solve(S, g) if S.size else g
-        out = np.empty(n)
-        out[:b] = yj[:b]
-        out[b:] = z - X @ yj
-        return out
-
+                                f"constraints ({fac.n_negative} negative directions)")
+    solve, b = fac.solve, border
     Ainv = spla.LinearOperator((n, n), matvec=solve, dtype=float)
 
     if C.count_nonzero() == 0 or not np.any(C.data):

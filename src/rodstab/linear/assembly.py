@@ -30,15 +30,25 @@ from .elements import (
 
 @dataclasses.dataclass(frozen=True)
 class SegmentDofs:
-    """Where one segment's local unknowns live in the global vector."""
+    """Where one segment's local unknowns live in the global vector.
+
+    Local unknown ``i`` is ``sum_k coef[i, k] x[index[i, k]]`` (``k`` = 0, 1): an interior
+    unknown is one global unknown (coefficient 1, then 0), an end node's ``beta`` or ``omega``
+    is the joint rotation's component along the end's ``n`` or ``t``.
+    """
 
     name: str
     n_elements: int
     length: float
-    T: sp.csr_matrix  # (n_local, n_global): local = T @ global
+    index: np.ndarray  # (n_local, 2) global indices
+    coef: np.ndarray  # (n_local, 2)
     w_start: int  # global index of the joint w at the segment's start
     D0: np.ndarray  # density matrices of elements.density_matrices
     D1: np.ndarray
+
+    def local(self, x: np.ndarray) -> np.ndarray:
+        """Return the segment's local unknowns of a global vector ``x``."""
+        return np.einsum("ik,ik->i", self.coef, x[self.index])
 
 
 @dataclasses.dataclass(frozen=True)
@@ -104,48 +114,44 @@ def discretise(a: Assembly, elements_per_segment: int | dict[str, int] = 16) -> 
         h = s.length / n_el
         D0, D1 = density_matrices(s.curvature, s.natural_curvature, s.B1, s.B2, s.B3)
         Ke0, Ke1 = element_matrices(h, D0, D1)
-        # Local -> global map: the end nodes' (beta, omega) are the joint's theta . (n, t);
-        # every other local unknown is interior, numbered in local order.
-        ends = {}
-        for node, end in ((0, "start"), (n_el, "end")):
-            t = s.tangent(0.0 if node == 0 else s.length)
-            ends[node] = (joint_of[(s.name, end)], np.array([t[1], -t[0]]), t)
+        # Local -> global map: every interior local unknown is one global unknown, numbered
+        # in local order; the end nodes' (beta, omega) are the joint's theta . (n, t).
+        index = np.zeros((nl, 2), dtype=np.int64)
+        coef = np.zeros((nl, 2))
         is_end = np.zeros(nl, dtype=bool)
         is_end[[0, 1, 2 * n_el, 2 * n_el + 1]] = True
-        gmap = np.full(nl, -1)
-        gmap[~is_end] = seg_offsets[s.name] + np.arange(nl - 4)
-        Tr: list[int] = np.flatnonzero(~is_end).tolist()
-        Tc: list[int] = gmap[~is_end].tolist()
-        Tv = [1.0] * len(Tr)
-        for node, (j, n, t) in ends.items():
-            for comp, vec in ((0, n), (1, t)):
-                for c in range(2):
-                    Tr.append(2 * node + comp)
-                    Tc.append(3 * j + 1 + c)
-                    Tv.append(float(vec[c]))
-        T = sp.csr_matrix((Tv, (Tr, Tc)), shape=(nl, n_global))
-        j_start, j_end = ends[0][0], ends[n_el][0]
-        seg_dofs.append(SegmentDofs(s.name, n_el, s.length, T, 3 * j_start, D0, D1))
-        # Element triplets in local numbering, then to global through T: interior rows map
-        # one to one, end rows to two joint rotations each.
-        idx = _element_dof_table(n_el)
-        rows = np.repeat(idx, 6, axis=1).ravel()
-        cols = np.tile(idx, (1, 6)).ravel()
-        Kl0 = sp.csr_matrix((np.tile(Ke0.ravel(), n_el), (rows, cols)), shape=(nl, nl))
-        Kl1 = sp.csr_matrix((np.tile(Ke1.ravel(), n_el), (rows, cols)), shape=(nl, nl))
-        G0 = (T.T @ Kl0 @ T).tocoo()
-        G1 = (T.T @ Kl1 @ T).tocoo()
-        r_all += [G0.row, G1.row]
-        c_all += [G0.col, G1.col]
-        v0_all += [G0.data, np.zeros_like(G1.data)]
-        v1_all += [np.zeros_like(G0.data), G1.data]
+        index[~is_end, 0] = seg_offsets[s.name] + np.arange(nl - 4)
+        coef[~is_end, 0] = 1.0
+        joint_at = {}
+        for node, end in ((0, "start"), (n_el, "end")):
+            j = joint_of[(s.name, end)]
+            joint_at[node] = j
+            t = s.tangent(0.0 if node == 0 else s.length)
+            for comp, vec in ((0, (t[1], -t[0])), (1, (t[0], t[1]))):
+                index[2 * node + comp] = (3 * j + 1, 3 * j + 2)
+                coef[2 * node + comp] = vec
+        seg_dofs.append(SegmentDofs(s.name, n_el, s.length, index, coef, 3 * joint_at[0],
+                                    D0, D1))
+        # Element triplets straight to global numbering: entry (i, j) of an element matrix
+        # goes to (index[i, a], index[j, b]) times coef[i, a] coef[j, b] (duplicates summed).
+        idx = _element_dof_table(n_el)  # (n_el, 6)
+        gi, gc = index[idx], coef[idx]  # (n_el, 6, 2)
+        rows = np.broadcast_to(gi[:, :, None, :, None], (n_el, 6, 6, 2, 2))
+        cols = np.broadcast_to(gi[:, None, :, None, :], (n_el, 6, 6, 2, 2))
+        cc = gc[:, :, None, :, None] * gc[:, None, :, None, :]
+        keep = (cc != 0.0).ravel()  # an interior unknown's second map entry is empty
+        r_all.append(rows.ravel()[keep])
+        c_all.append(cols.ravel()[keep])
+        v0_all.append((cc * Ke0[None, :, :, None, None]).ravel()[keep])
+        v1_all.append((cc * Ke1[None, :, :, None, None]).ravel()[keep])
         # Closure row: int beta ds (Simpson, exact for quadratic beta) - w_end + w_start.
         wloc = np.zeros(nl)
         np.add.at(wloc, idx.ravel(), np.tile(SIMPSON * h, n_el))
-        brow = (sp.csr_matrix(wloc) @ T).tocoo()
-        b_rows += [np.full(brow.nnz, i_seg), np.array([i_seg, i_seg])]
-        b_cols += [brow.col, np.array([3 * j_end, 3 * j_start])]
-        b_vals += [brow.data, np.array([-1.0, 1.0])]
+        bv = (coef * wloc[:, None]).ravel()
+        nz = bv != 0.0
+        b_rows += [np.full(int(nz.sum()) + 2, i_seg)]
+        b_cols += [index.ravel()[nz], np.array([3 * joint_at[n_el], 3 * joint_at[0]])]
+        b_vals += [bv[nz], np.array([-1.0, 1.0])]
     rows_g, cols_g = np.concatenate(r_all), np.concatenate(c_all)
     K0 = sp.csr_matrix((np.concatenate(v0_all), (rows_g, cols_g)), shape=(n_global, n_global))
     K1 = sp.csr_matrix((np.concatenate(v1_all), (rows_g, cols_g)), shape=(n_global, n_global))
@@ -166,7 +172,7 @@ def quadratic_forms(disc: Discretisation, x: np.ndarray) -> tuple[float, float]:
     """
     e0 = e1 = 0.0
     for sd in disc.segments:
-        loc = sd.T @ x
+        loc = sd.local(x)
         q = element_strains(loc[_element_dof_table(sd.n_elements)], sd.length / sd.n_elements)
         h = sd.length / sd.n_elements
         e0 += strain_energy(q, sd.D0, h)

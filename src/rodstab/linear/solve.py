@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from typing import Any
 
 import numpy as np
 
@@ -17,7 +18,7 @@ from ..errors import RodstabInputError
 from ..limits import DEFAULT as DEFAULT_LIMITS
 from ..limits import Limits, require_linear
 from ..model import Assembly
-from ..numerics import pencil_interval_sparse
+from ..numerics import definite_on, pencil_interval_sparse
 from ..results import Result
 
 #: Critical eigenvalues closer than this (relative) are one repeated eigenvalue: symmetric
@@ -88,7 +89,7 @@ def _modes(disc, vec: np.ndarray | None) -> tuple[SegmentMode, ...]:
         return ()
     out = []
     for sd in disc.segments:
-        loc = sd.T @ vec
+        loc = sd.local(vec)
         n_el = sd.n_elements
         nodes = loc[: 2 * (n_el + 1)].reshape(-1, 2)
         mids = loc[2 * (n_el + 1):].reshape(-1, 2)
@@ -122,15 +123,8 @@ def mode_family(mode: tuple[SegmentMode, ...]) -> str:
                      for m, (a, b) in zip(mode, means, strict=True))
 
 
-def linear_stability(a: Assembly, elements_per_segment: int | dict[str, int] = 16, *,
-                     limits: Limits = DEFAULT_LIMITS) -> LinearStability:
-    """Stable interval of the load factor ``mu`` for the assembly ``a``.
-
-    Mode coordinates ``s`` are normalised by each segment's length; ``w`` is scaled so that its
-    largest magnitude over the assembly is 1. ``elements_per_segment``: one count for every
-    segment, or a count per segment name. A run past ``limits`` (unknowns, memory;
-    :mod:`rodstab.limits`) is refused before anything is allocated.
-    """
+def _check(a: Assembly, elements_per_segment: int | dict[str, int], limits: Limits) -> None:
+    """Refuse what P2 of the held state does not describe, and runs past ``limits``."""
     twisted = [s.name for s in a.segments if s.natural_twist != 0.0]
     if twisted:
         raise RodstabInputError(
@@ -146,28 +140,89 @@ def linear_stability(a: Assembly, elements_per_segment: int | dict[str, int] = 1
               else [elements_per_segment] * len(a.segments))
     require_linear(counts, len(a.joints()), f"{elements_per_segment} elements per segment",
                    limits)
+
+
+@dataclasses.dataclass(frozen=True)
+class LinearPencil:
+    """P2 (2.12) of an assembly on its admissible unknowns: ``K(mu) = K0 + mu K1``.
+
+    ``K0`` and ``K1`` are on the reduced unknowns of the supports' basis ``Z``; ``G`` holds
+    the closure rows (``w`` single valued along each rod) there, and the first ``border``
+    reduced unknowns are the joints' (:mod:`.assembly`). ``mu`` (dimensionless) scales every
+    natural curvature; the entries are energies in the assembly's own units of ``B`` and
+    length.
+    """
+
+    disc: Any
+    K0: Any
+    K1: Any
+    G: Any
+    border: int
+
+    def stable_at(self, load_factor: float) -> bool:
+        """Return whether the held state is stable at ``load_factor``.
+
+        ``K(mu)`` positive definite on the constraints, by inertia alone (no eigen solve;
+        :func:`rodstab.numerics.definite_on`).
+        """
+        return definite_on(self.K0 + load_factor * self.K1, self.G, self.border)
+
+
+def linear_pencil(a: Assembly, elements_per_segment: int | dict[str, int] = 16, *,
+                  limits: Limits = DEFAULT_LIMITS) -> LinearPencil:
+    """Assemble P2's pencil for ``a`` (the one assembly path of :func:`linear_stability`).
+
+    Refused like :func:`linear_stability` (natural twist, end rotations, past ``limits``).
+    """
+    _check(a, elements_per_segment, limits)
     # deferred: scipy.sparse and scipy.linalg cost ~0.2 s to import, which an analytic
     # command that only names LinearStability should not pay
-    from .assembly import discretise, quadratic_forms, rigid_modes_left
+    from .assembly import discretise
 
     disc = discretise(a, elements_per_segment)
-    mu_ref = default_reference_load(a)
     Z = disc.Z
-    A = (Z.T @ (disc.K0 + mu_ref * disc.K1) @ Z).tocsc()
-    C = (-(Z.T @ disc.K1 @ Z)).tocsc()
-    A = 0.5 * (A + A.T)
-    C = 0.5 * (C + C.T)
+    K0 = (Z.T @ disc.K0 @ Z).tocsc()
+    K1 = (Z.T @ disc.K1 @ Z).tocsc()
     # All unknowns are rotations (beta, omega, theta) of one scale (~1/h on the diagonal), and
     # the joint w enter only the closure rows: no diagonal scaling is needed.
+    return LinearPencil(disc, 0.5 * (K0 + K0.T), 0.5 * (K1 + K1.T), (disc.B @ Z).tocsr(),
+                        disc.n_joint_reduced)
+
+
+def stable_at(a: Assembly, load_factor: float, elements_per_segment: int | dict[str, int] = 16,
+              *, limits: Limits = DEFAULT_LIMITS) -> bool:
+    """Stability verdict of the held state of ``a`` at ``load_factor`` (FE of P2, by inertia).
+
+    The answer of ``lo < load_factor < hi`` of :func:`linear_stability` without its eigen
+    solve: one factorisation. For several loads assemble once with :func:`linear_pencil`.
+    """
+    return linear_pencil(a, elements_per_segment, limits=limits).stable_at(load_factor)
+
+
+def linear_stability(a: Assembly, elements_per_segment: int | dict[str, int] = 16, *,
+                     limits: Limits = DEFAULT_LIMITS) -> LinearStability:
+    """Stable interval of the load factor ``mu`` for the assembly ``a``.
+
+    Mode coordinates ``s`` are normalised by each segment's length; ``w`` is scaled so that its
+    largest magnitude over the assembly is 1. ``elements_per_segment``: one count for every
+    segment, or a count per segment name. A run past ``limits`` (unknowns, memory;
+    :mod:`rodstab.limits`) is refused before anything is allocated.
+    """
+    from .assembly import quadratic_forms, rigid_modes_left
+
+    pen = linear_pencil(a, elements_per_segment, limits=limits)
+    disc, Z = pen.disc, pen.disc.Z
+    mu_ref = default_reference_load(a)
     try:
-        res = pencil_interval_sparse(A, C, constraints=disc.B @ Z, border=disc.n_joint_reduced,
-                                     multiplicity_rtol=FE_MULTIPLICITY_RTOL)
+        res = pencil_interval_sparse(pen.K0 + mu_ref * pen.K1, -pen.K1, constraints=pen.G,
+                                     border=pen.border, multiplicity_rtol=FE_MULTIPLICITY_RTOL)
     except RodstabInputError as exc:
         # Rigid motions are gauged out, so a singular or indefinite A is physical.
         raise RodstabInputError(
             f"the held state is not stable (or only neutrally stable: a mechanism) at the "
             f"reference load factor {mu_ref:g}; set reference_load to a load factor at which "
             "it is stable") from exc
+
     def full(v):
         return None if v is None else Z @ v[:, 0]
 
