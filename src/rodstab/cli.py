@@ -36,15 +36,6 @@ import click
 from click.core import ParameterSource
 
 from . import __version__
-from .design import (
-    CONTINUATION_ELEMENTS,
-    CONTINUE_DEFAULT_N,
-    LENGTH_RANGE,
-    NONLINEAR_MIN_ELEMENTS,
-    SECTION_DIMENSIONS,
-    SWEEP_DEFAULT_N,
-    load_polygon,
-)
 from .errors import (
     NotConverged,
     RodstabInputError,
@@ -54,12 +45,25 @@ from .errors import (
     require_positive_int,
 )
 from .executor import AUTO_MIN_SECONDS
-from .limits import MAX_DOF, MAX_DOF_NONLINEAR, MAX_MEMORY, MAX_STEPS, Limits, require_steps
+from .limits import (
+    CONTINUATION_ELEMENTS,
+    CONTINUE_DEFAULT_N,
+    LENGTH_RANGE,
+    MAX_DOF,
+    MAX_DOF_NONLINEAR,
+    MAX_MEMORY,
+    MAX_STEPS,
+    NONLINEAR_MIN_ELEMENTS,
+    SWEEP_DEFAULT_N,
+    Limits,
+    require_steps,
+)
 from .outputs import check_output
 from .results import jsonable
 from .sections import (
     ASPECT_RANGE,
     POLYGON_MESH_SIZE,
+    SECTION_DIMENSIONS,
     SHAPES,
     TORSION_OPTIONS,
     PolygonSection,
@@ -77,7 +81,7 @@ EXIT_BAD_INPUT = 2
 EXIT_NOT_CONVERGED = 3
 
 
-#: Section dimensions (the design keys of :data:`~rodstab.design.SECTION_DIMENSIONS`), as the
+#: Section dimensions (the design keys of :data:`~rodstab.sections.SECTION_DIMENSIONS`), as the
 #: parameter names of their options ``--height``, ``--thickness``, ``--diameter``,
 #: ``--outer-diameter``, ``--inner-diameter``.
 _DIMENSION_OPTIONS = ("height", "thickness", "diameter", "outer_diameter", "inner_diameter")
@@ -277,6 +281,8 @@ def _section_options(f: Callable[..., Any]) -> Callable[..., Any]:
                 if ctx.get_parameter_source(name) == ParameterSource.COMMANDLINE:
                     raise RodstabInputError(f"--{name} cannot be used with --polygon, which "
                                             "gives the section")
+            from .design import load_polygon
+
             spec = load_polygon(polygon_file)
             try:
                 if "parts" in spec:

@@ -101,6 +101,14 @@ from pathlib import Path
 from typing import Any
 
 from .errors import RodstabInputError, require_positive_int
+from .limits import (  # noqa: F401 -- defined there (light imports for the CLI), named here
+    CONTINUATION_ELEMENTS,
+    CONTINUE_DEFAULT_N,
+    LENGTH_RANGE,
+    NONLINEAR_MIN_ELEMENTS,
+    STIFFNESS_RANGE,
+    SWEEP_DEFAULT_N,
+)
 from .model import MAX_END_ROTATION, ROTATION_AXES, SUPPORTS, Assembly, Segment
 from .sections import (
     ASPECT_RANGE,
@@ -109,6 +117,7 @@ from .sections import (
     MESH_SIZE_RANGE,
     POLYGON,
     RATIO_RANGE,
+    SECTION_DIMENSIONS,
     SHAPES,
     TORSION_OPTIONS,
     Section,
@@ -134,10 +143,6 @@ from .units import (
 _TOP = {"section", "segment", "weld", "support", "analysis", "material"}
 #: Keys of ``[material]`` (a design with units).
 _MATERIAL = {"E", "nu", "G"}
-#: Section dimensions of a design with units, by shape: lengths, ``height`` (h) along e3 out
-#: of the ring's plane, ``thickness`` (t) along e1 in it (as :mod:`rodstab.sections`).
-SECTION_DIMENSIONS = {"circle": ("diameter",), "tube": ("outer_diameter", "inner_diameter"),
-                      "rectangle": ("height", "thickness"), "ellipse": ("height", "thickness")}
 _DIMENSION_KEYS = ("diameter", "outer_diameter", "inner_diameter", "height", "thickness")
 #: Keys of a segment that are lengths or curvatures: quantities in a design with units.
 _SEGMENT_KINDS = {"length": "length", "curvature": "curvature",
@@ -159,11 +164,6 @@ _ANALYSIS = {"elements", "reference_load", "load_factor_segment"}
 
 #: Largest design file read (bytes): a design is a few kB; beyond this it is not a design.
 MAX_FILE_BYTES = 16 * 2**20
-#: Accepted segment lengths and stiffnesses B3, in the file's own (consistent) units: wide
-#: enough for any unit system, narrow enough that the FE matrices (length^-3 x stiffness) and
-#: the held-state geometry stay far from overflow and underflow.
-LENGTH_RANGE = (1e-9, 1e9)
-STIFFNESS_RANGE = (1e-30, 1e30)
 #: Largest |curvature x length|, |natural_curvature x length| and |natural_twist x length| of
 #: a segment (radians): a thousand turns. Beyond it no mesh of a design resolves the segment.
 MAX_TURNING = 2000 * math.pi
@@ -1417,9 +1417,6 @@ class VarySpec:
 
 #: The grammar of ``--vary``, as its error messages quote it.
 VARY_GRAMMAR = "KEY=START:STOP[:N]"
-#: Default N of ``--vary KEY=START:STOP[:N]``: values of a sweep, steps of a continuation.
-SWEEP_DEFAULT_N = 9
-CONTINUE_DEFAULT_N = 40
 
 
 def _vary_number(spec: str, part: str, text: str) -> tuple[float, str | None]:
@@ -1573,12 +1570,6 @@ def model_value(design: Design, key: str, value: float, unit: str | None) -> flo
     return si / design.units.si(1.0, kind)
 
 
-#: Fewest elements per segment of the nonlinear rod (``rodstab equilibrium``): a design's
-#: ``[analysis] elements`` is chosen for the linear engine (FE, fourth order), the
-#: discrete rod converges at second order and needs at least this many.
-NONLINEAR_MIN_ELEMENTS = 16
-#: Default elements per segment of a continuation (``rodstab continue``).
-CONTINUATION_ELEMENTS = 16
 
 
 def nonlinear_elements(design: Design) -> int:

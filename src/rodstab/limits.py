@@ -170,3 +170,22 @@ def require_steps(n: int, cause: str, what: str = "steps", limits: Limits = DEFA
             f"{cause}: {n:.4g} {what}, above the limit of {limits.max_steps:,} "
             "(raise it with --max-steps)")
     return int(n)
+
+
+# Defaults and accepted ranges of a design's runs (named by rodstab.design; here so that the
+# command line reads them without importing the design module).
+
+#: Accepted segment lengths and stiffnesses B3, in the file's own (consistent) units: wide
+#: enough for any unit system, narrow enough that the FE matrices (length^-3 x stiffness) and
+#: the held-state geometry stay far from overflow and underflow.
+LENGTH_RANGE = (1e-9, 1e9)
+STIFFNESS_RANGE = (1e-30, 1e30)
+#: Default N of ``--vary KEY=START:STOP[:N]``: values of a sweep, steps of a continuation.
+SWEEP_DEFAULT_N = 9
+CONTINUE_DEFAULT_N = 40
+#: Fewest elements per segment of the nonlinear rod (``rodstab equilibrium``): a design's
+#: ``[analysis] elements`` is chosen for the linear engine (FE, fourth order), the
+#: discrete rod converges at second order and needs at least this many.
+NONLINEAR_MIN_ELEMENTS = 16
+#: Default elements per segment of a continuation (``rodstab continue``).
+CONTINUATION_ELEMENTS = 16

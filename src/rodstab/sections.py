@@ -54,6 +54,10 @@ from .results import Result
 TORSION_OPTIONS = ("exact", "paper")
 #: Shapes that :func:`make_section` (the CLI's entry point) builds.
 SHAPES = ("circle", "ellipse", "rectangle", "tube")
+#: Section dimensions of a design with units, by shape: lengths, ``height`` (h) along e3 out
+#: of the ring's plane, ``thickness`` (t) along e1 in it.
+SECTION_DIMENSIONS = {"circle": ("diameter",), "tube": ("outer_diameter", "inner_diameter"),
+                      "rectangle": ("height", "thickness"), "ellipse": ("height", "thickness")}
 #: :attr:`Section.shape` of :func:`polygon_section` (and the design files' shape key for it).
 POLYGON = "polygon"
 #: :attr:`Section.shape` of :func:`composite_section` (several materials).
