@@ -57,6 +57,8 @@ given as quantity strings instead of plain numbers, converted to SI::
     thickness = "0.5 mm"      # t, along e1: in the ring's plane (h/t is the aspect)
     # circle: diameter = "1 mm"; tube: outer_diameter, inner_diameter;
     # polygon: coordinates as plain numbers in unit = "mm";
+    # composite: parts = [{polygon = ..., E = "200 GPa", nu = 0.3}, ...] (or G = "77 GPa"),
+    #   coordinates in unit = "mm" ([material] not needed: each part has its own)
     # or, instead of [material] and dimensions: B3 = "0.06 N*m^2" with shape/aspect or b1, b2
 
     [[segment]]
@@ -73,7 +75,10 @@ counts (aspect, nu, b1, b2, angle_deg, rotation, reference_load, elements) are p
 in both. ``natural_radius`` (1/natural_curvature) is accepted in both kinds of design.
 A design with units is solved in the units of its load-factor segment (its length and B3 are
 1; :mod:`rodstab.units` states the conversion) and :attr:`Design.units` converts results back.
-Not read with units yet: composite sections (``parts``).
+A composite section (``parts``) with units takes each part's ``E`` (and ``G``, or ``nu``) as
+quantities and its coordinates in ``unit``: ``B3 = sum E_i I3_i`` about the modulus-weighted
+centroid, ``B1``, ``B2`` likewise (:func:`rodstab.sections.composite_section`); ``[material]``
+is not used by it.
 
 Plain data only: parsed with :mod:`tomllib`; nothing is evaluated.
 
@@ -151,7 +156,7 @@ _SEGMENT_KINDS = {"length": "length", "curvature": "curvature",
 #: Keys of a polygon section (shape "polygon", rodstab.sections.polygon_section).
 _POLYGON_KEYS = ("polygon", "holes", "parts", "mesh_size", "orientation_deg")
 #: Keys of one part of a composite section (``parts = [{...}, ...]``).
-_PART = {"polygon", "holes", "E", "nu"}
+_PART = {"polygon", "holes", "E", "nu", "G"}
 _SECTION = {"shape", "aspect", "nu", "torsion", "b1", "b2", "B3", *_POLYGON_KEYS,
             *_DIMENSION_KEYS, "unit", "dxf"}
 _SEGMENT = {"name", "length", "curvature", "natural_curvature", "natural_radius",
@@ -420,6 +425,11 @@ def _units_marker(data: Any) -> str | None:
         for key in (*_DIMENSION_KEYS, "unit"):
             if key in sec:
                 return f"{where}.{key} = {_show(sec[key])}"
+        parts = sec.get("parts")
+        for i, part in enumerate(parts if isinstance(parts, list) else []):
+            for key in ("E", "G"):
+                if isinstance(part, Mapping) and looks_like_quantity(part.get(key)):
+                    return f"{where}.parts[{i}].{key} = {_show(part[key])}"
         return f"{where}.B3 = {_show(sec['B3'])}" if looks_like_quantity(sec.get("B3")) \
             else None
 
@@ -493,23 +503,33 @@ def _material(top: Mapping, reader: _Reader) -> _Material | None:
     """Read ``[material]`` (E, and nu or G); None if the design has none."""
     if "material" not in top:
         return None
-    table = _table(top, "material", "", _MATERIAL)
-    E = reader.value(_get(table, "E", "material", _REQUIRED)[0], "material.E", "modulus",
+    return _elastic(_table(top, "material", "", _MATERIAL), "material", reader,
+                    "[material]")
+
+
+def _elastic(table: Mapping, where: str, reader: _Reader, owner: str) -> _Material:
+    """E and exactly one of nu, G of ``table`` (``[material]`` or one part of a composite).
+
+    E and G are moduli: quantities (to Pa) in a design with units, plain numbers (any one
+    unit) without. ``owner`` names the table in messages ("[material]", "section.parts[0]").
+    """
+    E = reader.value(_get(table, "E", where, _REQUIRED)[0], _path(where, "E"), "modulus",
                      lo=STIFFNESS_RANGE[0], hi=STIFFNESS_RANGE[1], why="Young's modulus")
     if ("nu" in table) == ("G" in table):
-        raise RodstabInputError("[material] needs exactly one of nu (Poisson's ratio) and G "
+        raise RodstabInputError(f"{owner} needs exactly one of nu (Poisson's ratio) and G "
                                 f"(the shear modulus) beside E, got {sorted(table)}")
     if "nu" in table:
-        nu = _as_number(table["nu"], "material.nu", lo=_NU_RANGE[0], hi=_NU_RANGE[1],
+        nu = _as_number(table["nu"], _path(where, "nu"), lo=_NU_RANGE[0], hi=_NU_RANGE[1],
                         lo_open=True, why="Poisson's ratio")
         return _Material(E=E, nu=nu, G=E / (2.0 * (1.0 + nu)))
-    G = reader.value(table["G"], "material.G", "modulus", lo=STIFFNESS_RANGE[0],
+    G = reader.value(table["G"], _path(where, "G"), "modulus", lo=STIFFNESS_RANGE[0],
                      hi=STIFFNESS_RANGE[1], why="the shear modulus")
     nu = E / (2.0 * G) - 1.0  # isotropy: G = E / (2 (1 + nu))
     if not (_NU_RANGE[0] < nu <= _NU_RANGE[1]):
-        raise RodstabInputError(f"material.G = {_show(table['G'])} with material.E = "
-                                f"{_show(table['E'])} gives nu = E/(2G) - 1 = {nu:.6g}, "
-                                "outside (-1, 0.5] (Poisson's ratio of an isotropic solid)")
+        raise RodstabInputError(f"{_path(where, 'G')} = {_show(table['G'])} with "
+                                f"{_path(where, 'E')} = {_show(table['E'])} gives nu = "
+                                f"E/(2G) - 1 = {nu:.6g}, outside (-1, 0.5] (Poisson's ratio "
+                                "of an isotropic solid)")
     return _Material(E=E, nu=nu, G=G)
 
 
@@ -525,10 +545,6 @@ def _section_table(table: dict[str, Any], where: str,
         path = _path(where, key)
         if key == "shape":
             value = _as_str(value, path, (*SHAPES, POLYGON, COMPOSITE))
-        elif key == "parts" and reader.marker is not None:
-            raise RodstabInputError(f"{path}: a composite section (parts) is not read with "
-                                    f"units yet ({reader.marker}); give the whole design in "
-                                    "plain numbers")
         elif key in _DIMENSION_KEYS:
             inner = key == "inner_diameter"  # 0: a solid tube
             value = _Dim(reader.value(value, path, "length", lo=0.0 if inner else
@@ -537,7 +553,7 @@ def _section_table(table: dict[str, Any], where: str,
         elif key == "unit":
             value = parse_unit(value, path, "length")
         elif key == "parts":
-            value = [_part(part, _path(path, i)) for i, part in enumerate(_as_list(
+            value = [_part(part, _path(path, i), reader) for i, part in enumerate(_as_list(
                 value, path, "an array of parts [{polygon = ..., E = ..., nu = ...}, ...]",
                 min_length=1))]
         elif key == "dxf":
@@ -609,17 +625,19 @@ def _points(value: Any, path: str) -> list[list[float]]:
             for i, p in enumerate(points)]
 
 
-def _part(value: Any, path: str) -> dict[str, Any]:
-    """Read one part ``{polygon, holes, E, nu}`` of a composite section."""
+def _part(value: Any, path: str, reader: _Reader | None = None) -> dict[str, Any]:
+    """Read one part ``{polygon, holes, E, nu or G}`` of a composite section.
+
+    Its E (and G) are read as ``[material]``'s (:func:`_elastic`): quantities in a design
+    with units, plain numbers in any one unit without (``reader`` None: plain numbers).
+    """
     table = _as_table(value, path, _PART)
     out: dict[str, Any] = {"polygon": _points(_get(table, "polygon", path, _REQUIRED)[0],
                                               _path(path, "polygon"))}
     out["holes"] = [_points(h, _path(_path(path, "holes"), k)) for k, h in
                     enumerate(_list(table, "holes", path, "an array of polygons"))]
-    out["E"] = _number(table, "E", path, lo=STIFFNESS_RANGE[0], hi=STIFFNESS_RANGE[1],
-                       why="Young's modulus of the part, any unit")
-    out["nu"] = _number(table, "nu", path, lo=_NU_RANGE[0], hi=_NU_RANGE[1], lo_open=True,
-                        why="Poisson's ratio")
+    mat = _elastic(table, path, reader or _Reader(marker=None), path)
+    out["E"], out["nu"] = mat.E, mat.nu
     return out
 
 
@@ -728,12 +746,15 @@ def _stiffness_with_units(spec: dict[str, tuple[Any, str]], where: str,
     dims = [k for k in _DIMENSION_KEYS if k in spec]
     if "B3" in spec:
         other = path(dims[0]) if dims else path("unit") if "unit" in spec else \
+            f"{path('parts')}' E" if "parts" in spec else \
             "[material]" if reader.material is not None else None
         if other is not None:
             raise RodstabInputError(
                 f"{path('B3')} = {_show(val('B3'))} and {other} both give the bending "
                 "stiffness: give B3 with a unit, or [material] E and the section's dimensions")
         return _stiffness(spec, where, _Reader(marker=None))
+    if val("shape", COMPOSITE if "parts" in spec else None) == COMPOSITE:
+        return _composite_with_units(spec, where)
     mat = reader.material
     if mat is None:
         raise RodstabInputError(
@@ -818,6 +839,43 @@ def _stiffness_with_units(spec: dict[str, tuple[Any, str]], where: str,
     B3 = mat.E * I3
     if not STIFFNESS_RANGE[0] <= B3 <= STIFFNESS_RANGE[1]:
         raise RodstabInputError(f"{where}: B3 = E I3 = {B3:g} N*m^2 is outside "
+                                f"[{STIFFNESS_RANGE[0]:g}, {STIFFNESS_RANGE[1]:g}]")
+    return sec.b1 * B3, sec.b2 * B3, B3
+
+
+def _composite_with_units(spec: dict[str, tuple[Any, str]],
+                          where: str) -> tuple[float, float, float]:
+    """``(B1, B2, B3)`` in N m^2 of a composite section of a design with units.
+
+    Its parts carry their own E and nu (read in Pa by :func:`_part`), its coordinates are in
+    ``unit``; ``[material]``, if any, is for the design's other sections. The composite's
+    ``I3`` is modulus-weighted and divided by ``parts[0]``'s E (:class:`PolygonSection`), so
+    ``B3 = E0 I3 unit^4``; ``b1`` and ``b2`` are ratios, as for a polygon with
+    ``[material]``.
+    """
+    def val(key: str) -> Any:
+        return spec[key][0] if key in spec else None
+
+    for key in ("nu", "b1", "b2", "aspect", "torsion", "polygon", "holes", *_DIMENSION_KEYS):
+        if key in spec:
+            raise RodstabInputError(f"{spec[key][1]} = {_show(val(key))} has no meaning for a "
+                                    "composite section (its parts carry their own polygon, E "
+                                    "and nu; its J is computed by FE)")
+    if "parts" not in spec:
+        raise RodstabInputError(f"{spec['shape'][1]} = 'composite' needs {where}.parts = "
+                                "[...] (the parts, each {polygon, E, nu})")
+    if "unit" not in spec:
+        raise RodstabInputError(f"{where}: a composite section in a design with units needs "
+                                f"{where}.unit, the unit of its coordinates (e.g. 'mm')")
+    try:
+        sec = composite_section(val("parts"), mesh_size=val("mesh_size"),
+                                orientation_deg=val("orientation_deg"))
+    except RodstabInputError as exc:  # the geometry: name the table
+        raise RodstabInputError(f"{where}: {exc}") from None
+    assert sec.I3 is not None
+    B3 = sec.parts[0].E * sec.I3 * val("unit") ** 4
+    if not STIFFNESS_RANGE[0] <= B3 <= STIFFNESS_RANGE[1]:
+        raise RodstabInputError(f"{where}: B3 = sum E I3 = {B3:g} N*m^2 is outside "
                                 f"[{STIFFNESS_RANGE[0]:g}, {STIFFNESS_RANGE[1]:g}]")
     return sec.b1 * B3, sec.b2 * B3, B3
 
