@@ -1374,10 +1374,12 @@ def _dxf_rings(p: Path, name: str, sagitta: float = DXF_SAGITTA) -> dict[str, An
     """Outline and holes of the closed outlines of a DXF file (:func:`load_polygon`).
 
     Reads the model space with ezdxf directly: blocks (INSERT) are expanded; closed
-    LWPOLYLINE and 2D POLYLINE (their bulges), CIRCLE, full ELLIPSE and closed SPLINE are
-    loops; LINE, ARC, open polylines, elliptic arcs and open splines are joined end to end
-    into loops. Curves are flattened to vertices on the curve, with largest sagitta
-    ``sagitta`` times the drawing's size (:data:`DXF_SAGITTA`); straight vertices are kept
+    LWPOLYLINE and 2D POLYLINE (their bulges) and CIRCLE are loops; LINE, ARC, open
+    polylines, ELLIPSE and SPLINE are joined end to end into loops (a full ellipse or a
+    clamped spline whose ends meet is a loop by itself; a periodic spline whose flattening
+    does not return to its start is refused as open). Curves are flattened to vertices on
+    the curve, with largest sagitta ``sagitta`` times the drawing's size
+    (:data:`DXF_SAGITTA`); straight vertices are kept
     exactly, so a polygon drawn as a polyline runs the same code path as the same points
     given in JSON (sectionproperties' ``Geometry.from_dxf`` would go through cad_to_shapely,
     which re-joins and may re-order the vertices). The largest loop (by area) is the
@@ -1431,9 +1433,10 @@ def load_polygon(path: str | Path, *, sagitta: float = DXF_SAGITTA) -> dict[str,
     * ``.csv``: one point ``x,y`` per line, an optional header line ``x,y``, ``#`` comments;
       a blank line ends a ring: the first ring is the outline, every further one a hole;
     * ``.dxf``: closed outlines of the model space (ezdxf, the ``sections`` extra): closed
-      LWPOLYLINE or POLYLINE (bulges too), CIRCLE, ELLIPSE, closed SPLINE, or LINE, ARC and
-      open polylines joined end to end; blocks (INSERT) are expanded as inserted. Curves are
-      flattened (``sagitta``). The largest loop is the outline, those inside it are holes.
+      LWPOLYLINE or POLYLINE (bulges too), CIRCLE, or LINE, ARC, ELLIPSE, SPLINE and
+      open polylines joined end to end (a full ellipse's ends meet); blocks (INSERT) are
+      expanded as inserted. Curves are flattened (``sagitta``). The largest loop is the
+      outline, those inside it are holes.
       Outlines that stay open or branch, disjoint outlines, other geometry (3D faces,
       solids, meshes), a drawing out of the xy plane, or an empty drawing are refused, named;
       annotation (text, dimensions, hatches, points) is skipped.
