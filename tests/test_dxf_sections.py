@@ -1,9 +1,12 @@
-"""A section from a DXF file (issue 13): rodstab.design.load_polygon reads closed polylines.
+"""A section from a DXF file (issue 13): rodstab.design.load_polygon reads closed outlines.
 
 The DXF reader hands its vertices to the same :func:`rodstab.sections.polygon_section` as the
 JSON and CSV formats, so a DXF section must equal the polygon section of the same points
 exactly; the closed forms (b1 = (h/t)^2 of a rectangle, b1 = 1 of a regular polygon tube)
-check the outline was read the right way round (y out of the ring's plane).
+check the outline was read the right way round (y out of the ring's plane). Curves (CIRCLE,
+ARC, bulges) are flattened to vertices on the curve: a polygon inscribed in it, whose loss of
+second moment is derived below and checked against the closed forms of the circle and the
+tube; blocks (INSERT) are placed as inserted.
 """
 
 from __future__ import annotations
@@ -14,7 +17,7 @@ from pathlib import Path
 
 import pytest
 
-from rodstab.design import load_design, load_polygon
+from rodstab.design import DXF_SAGITTA, load_design, load_polygon
 from rodstab.errors import RodstabInputError
 from rodstab.sections import polygon_section, rectangle
 
@@ -79,6 +82,114 @@ def test_a_repeated_first_point_closes_a_polyline(tmp_path):
     assert load_polygon(path) == {"polygon": RECT, "holes": []}
 
 
+# --- curves and blocks -------------------------------------------------------------------
+# A curve is flattened to vertices on it, every chord with sagitta s <= DXF_SAGITTA x size.
+# A circle of radius r becomes an inscribed regular n-gon, x = 2 pi/n, whose polar moment is
+# (n r^4/12) sin x (2 + cos x) = (pi r^4/2)(1 - x^2/3 + O(x^4)); its sagitta s = r (1 -
+# cos(x/2)) = r x^2/8, so its I (and J = 2 I, no warping) lose (16/3) s/d of the circle's
+# (d = 2 r). Exactly inscribed: the polygon's second moments are exact and below the circle's.
+FLAT = 16 / 3
+
+
+def _circles(path: Path, diameters: list[float]) -> Path:
+    doc = ezdxf.new()
+    for d in diameters:
+        doc.modelspace().add_circle((1.0, -2.0), d / 2)
+    doc.saveas(path)
+    return path
+
+
+def test_a_dxf_circle_in_mm_is_e_pi_d4_over_64_within_the_flattening(tmp_path):
+    """A CIRCLE of d = 2 mm, E = 200 GPa, nu = 0.3, default sagitta and mesh: B3 = E pi d^4/64
+    and B2 = G pi d^4/32 (b1 = 1, b2 = 1/(1 + nu), paper Section 3.1), each low by at most
+    (16/3) DXF_SAGITTA (the inscribed polygon) plus the FE error of J (none here: a fine
+    regular polygon has no warping)."""
+    _circles(tmp_path / "c.dxf", [2.0])
+    (tmp_path / "c.toml").write_text(
+        "[material]\nE = '200 GPa'\nnu = 0.3\n[section]\ndxf = 'c.dxf'\nunit = 'mm'\n"
+        "[[segment]]\nname = 'a'\nlength = '100 mm'\nnatural_radius = '50 mm'\n"
+        "[[support]]\nend = 'a.start'\n[[support]]\nend = 'a.end'\n")
+    d = load_design(tmp_path / "c.toml")
+    s, unit = d.assembly.segments[0], d.units.stiffness
+    B3 = 200e9 * math.pi * 2e-3**4 / 64
+    for got, exact in ((s.B3 * unit, B3), (s.B1 * unit, B3), (s.B2 * unit, B3 / 1.3)):
+        assert -FLAT * DXF_SAGITTA * 1.0001 <= got / exact - 1 < 0.0, (got, exact)
+    # The bound is attained: ezdxf's chord count gives a sagitta just below the tolerance.
+    assert s.B3 * unit / B3 - 1 == pytest.approx(-FLAT * DXF_SAGITTA, rel=0.01)
+
+
+def test_a_dxf_tube_of_two_circles_loses_what_the_flattening_predicts(tmp_path):
+    """Two CIRCLEs, do = 2, di = 1 (sagitta 1e-5 of the size do, for speed): the inner loop
+    is the hole. Outline and hole are each inscribed, s <= 1e-5 do; the outline loses
+    (16/3) s/do of Io, the hole (16/3) s/di of Ii, which the tube gains back, so
+    I/I_tube - 1 = -(16/3) 1e-5 (Io - (do/di) Ii)/(Io - Ii) = -(16/3) 1e-5 (14/15);
+    b1 = 1 and J = 2 I (b2 = 1/(1 + nu)) to the FE's round-off."""
+    sag = 1e-5
+    spec = load_polygon(_circles(tmp_path / "t.dxf", [1.0, 2.0]), sagitta=sag)
+    assert len(spec["holes"]) == 1
+    s = polygon_section(spec["polygon"], spec["holes"], nu=0.3)
+    io, ii = math.pi * 2.0**4 / 64, math.pi * 1.0**4 / 64
+    predicted = -FLAT * sag * (io - 2.0 * ii) / (io - ii)
+    for got in (s.I1, s.I3, s.J / 2):
+        assert got / (io - ii) - 1 == pytest.approx(predicted, rel=0.02)
+    assert s.b1 == pytest.approx(1.0, rel=1e-9)
+    assert s.b2 == pytest.approx(1 / 1.3, rel=1e-9)
+
+
+def _block(path: Path, rotation: float, base: tuple[float, float] = (0.0, 0.0)) -> Path:
+    """RECT as an LWPOLYLINE in block 'R', inserted at (10, -3) turned by ``rotation``."""
+    doc = ezdxf.new()
+    block = doc.blocks.new(name="R", base_point=base)
+    block.add_lwpolyline(RECT, close=True)
+    doc.modelspace().add_blockref("R", (10.0, -3.0), dxfattribs={"rotation": rotation})
+    doc.saveas(path)
+    return path
+
+
+def test_a_block_inserted_rectangle_is_the_rectangle_where_it_is_placed(tmp_path):
+    """INSERT of a block: its vertices are RECT moved by (10, -3) (the section of the same
+    shape: b1 = 4 as RECT's); turned by 90 degrees the 1 x 2 rectangle lies 2 x 1, b1 = 1/4."""
+    spec = load_polygon(_block(tmp_path / "b.dxf", 0.0))
+    assert spec == {"polygon": [[x + 10.0, y - 3.0] for x, y in RECT], "holes": []}
+    plain = polygon_section(RECT, mesh_size=MESH)
+    s = polygon_section(spec["polygon"], mesh_size=MESH)
+    assert (s.b1, s.b2) == (pytest.approx(plain.b1, rel=1e-9), pytest.approx(plain.b2, rel=1e-9))
+    turned = load_polygon(_block(tmp_path / "t.dxf", 90.0))["polygon"]
+    assert turned == [[pytest.approx(10.0 - y, abs=1e-12), pytest.approx(x - 3.0, abs=1e-12)]
+                      for x, y in RECT]
+    assert polygon_section(turned, mesh_size=MESH).b1 == pytest.approx(0.25, rel=1e-9)
+
+
+def test_lines_and_arcs_join_into_the_stadium_a_bulged_polyline_draws(tmp_path):
+    """A stadium (straight length 2, end radius 1/2) drawn as LINE, ARC, LINE, ARC (arcs
+    counter-clockwise, so the chain reverses two edges) and as one closed LWPOLYLINE with
+    bulges 1 (semicircles): the same loop, of area 2 x 1 + pi/4 less the flattening (two
+    half circles of d = 1: (8/3) s/d of their area, s <= DXF_SAGITTA x 3)."""
+    doc = ezdxf.new()
+    m = doc.modelspace()
+    m.add_line((0, -0.5), (2, -0.5))
+    m.add_arc((2, 0), 0.5, -90, 90)
+    m.add_line((0, 0.5), (2, 0.5))  # drawn left to right: reversed in the loop
+    m.add_arc((0, 0), 0.5, 90, 270)
+    doc.saveas(tmp_path / "chain.dxf")
+    doc = ezdxf.new()
+    doc.modelspace().add_lwpolyline([(0, -0.5, 0), (2, -0.5, 1), (2, 0.5, 0), (0, 0.5, 1)],
+                                    format="xyb", close=True)
+    doc.saveas(tmp_path / "bulge.dxf")
+
+    def area(ring):
+        return 0.5 * abs(sum(x1 * y2 - x2 * y1 for (x1, y1), (x2, y2)
+                             in zip(ring, ring[1:] + ring[:1], strict=True)))
+
+    chain, bulge = (load_polygon(tmp_path / f)["polygon"] for f in ("chain.dxf", "bulge.dxf"))
+    assert len(chain) == len(bulge)
+    exact = 2.0 + math.pi / 4
+    for ring in (chain, bulge):
+        loss = (exact - area(ring)) / (math.pi / 4)
+        assert 0.0 < loss <= 8 / 3 * DXF_SAGITTA * 3.0 * 1.0001
+    assert area(chain) == pytest.approx(area(bulge), rel=1e-12)
+
+
 def _open(tmp_path):
     return _write(tmp_path / "open.dxf", [RECT], closed=False)
 
@@ -101,12 +212,29 @@ def _line(tmp_path):
     return tmp_path / "line.dxf"
 
 
-def _bulge(tmp_path):
+def _branch(tmp_path):
+    """The rectangle of four LINEs with a fifth from a corner: three edges meet there."""
     doc = ezdxf.new()
-    doc.modelspace().add_lwpolyline([(0, 0, 0), (1, 0, 0.5), (1, 2, 0), (0, 2, 0)],
-                                    format="xyb", close=True)
-    doc.saveas(tmp_path / "arc.dxf")
-    return tmp_path / "arc.dxf"
+    for a, b in zip(RECT, RECT[1:] + RECT[:1], strict=True):
+        doc.modelspace().add_line(a, b)
+    doc.modelspace().add_line((1, 2), (3, 3))
+    doc.saveas(tmp_path / "branch.dxf")
+    return tmp_path / "branch.dxf"
+
+
+def _face(tmp_path):
+    doc = ezdxf.new()
+    doc.modelspace().add_lwpolyline(RECT, close=True)
+    doc.modelspace().add_3dface([(0, 0, 0), (1, 0, 0), (1, 1, 0)])
+    doc.saveas(tmp_path / "face.dxf")
+    return tmp_path / "face.dxf"
+
+
+def _tilted(tmp_path):
+    doc = ezdxf.new()
+    doc.modelspace().add_circle((0, 0, 0), 1.0, dxfattribs={"extrusion": (1, 0, 0)})
+    doc.saveas(tmp_path / "tilted.dxf")
+    return tmp_path / "tilted.dxf"
 
 
 def _garbage(tmp_path):
@@ -116,13 +244,17 @@ def _garbage(tmp_path):
 
 @pytest.mark.parametrize("make, message", [
     (_open, r"open\.dxf.*LWPOLYLINE #0 \(layer '0'\) is an open polyline \(4 points\)"),
-    (_empty, r"empty\.dxf' has no closed polylines \(an empty drawing\)"),
-    (_disjoint, r"two\.dxf' has 2 disjoint outer loops \(closed polylines \[0, 1\]"),
-    (_line, r"line\.dxf' has 1 LINE entities; only closed polylines"),
-    (_bulge, r"arc\.dxf.*LWPOLYLINE #0 .* has arc segments \(bulges\)"),
+    (_empty, r"empty\.dxf' has no outline \(an empty drawing\)"),
+    (_disjoint, r"two\.dxf' has 2 disjoint outer loops \(LWPOLYLINE #0 \(layer '0'\), "
+                r"LWPOLYLINE #1 \(layer '0'\); none inside another\)"),
+    (_line, r"line\.dxf': the outline of LINE #1 \(layer '0'\) is open: it ends at \(5, 5\)"),
+    (_branch, r"branch\.dxf': 3 edges meet at \(1, 2\) \(LINE #1 .*LINE #2 .*LINE #4 "),
+    (_face, r"face\.dxf' has 1 3DFACE entities; a section is read from closed outlines"),
+    (_tilted, r"tilted\.dxf': its drawing is not flat in the xy plane"),
     (_garbage, r"bad\.dxf' is not a valid DXF file"),
     (lambda p: p / "missing.dxf", r"missing\.dxf' does not exist"),
-], ids=["open", "empty", "disjoint", "line", "bulge", "not-dxf", "missing"])
+], ids=["open", "empty", "disjoint", "line", "branch", "3dface", "tilted", "not-dxf",
+        "missing"])
 def test_bad_dxf_files_are_refused_naming_what_was_found(tmp_path, make, message):
     with pytest.raises(RodstabInputError, match=message):
         load_polygon(make(tmp_path))

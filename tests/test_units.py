@@ -262,16 +262,102 @@ def test_bad_units_exit_2_naming_key_and_value(change, words, run_cli, tmp_path)
 
 def test_a_polygon_with_units_needs_its_coordinate_unit_and_scales_by_it(tmp_path):
     """A t x h = 0.5 mm x 2 mm polygon (y out of the plane) in mm is the rectangle's B3 =
-    E h t^3/12; without unit it is refused; a composite is not read with units yet."""
+    E h t^3/12; without unit it is refused."""
     pytest.importorskip("sectionproperties")
     poly = [[0, 0], [0.5, 0], [0.5, 2], [0, 2]]
     d = parse_design(_rod(f'polygon = {poly}\nunit = "mm"'))
     assert d.units.stiffness == pytest.approx(200e9 * 2e-3 * 0.5e-3**3 / 12, rel=1e-9)
     with pytest.raises(RodstabInputError, match=r"section\.unit"):
         parse_design(_rod(f"polygon = {poly}"))
-    with pytest.raises(RodstabInputError, match=r"section\.parts.*composite.*not read with "
-                                                r"units"):
-        parse_design(_rod(f"parts = [{{polygon = {poly}, E = 1.0, nu = 0.3}}]"))
+
+
+#: A steel strip (t = 2 mm) bonded beside an aluminium one (t = 3 mm), both h = 5 mm out of
+#: the ring's plane (y): side by side along x, the axis of in-plane bending.
+_STEEL = [[0, 0], [2, 0], [2, 5], [0, 5]]
+_ALU = [[2, 0], [5, 0], [5, 5], [2, 5]]
+_BIMETAL = (f'unit = "mm"\nmesh_size = 0.016\nparts = [{{polygon = {_STEEL}, E = "200 GPa", '
+            f'nu = 0.3}}, {{polygon = {_ALU}, E = "70 GPa", G = "26 GPa"}}]')
+
+
+def _composite(section: str, segment: str = 'length = "235.6 mm"\nnatural_radius = "75 mm"'
+               ) -> dict:
+    """The clamped/sliding-clamp rod of :func:`_rod` without [material] (parts carry E)."""
+    import tomllib
+
+    return tomllib.loads(f'[section]\n{section}\n[[segment]]\nname = "rod"\n{segment}\n'
+                         '[[support]]\nend = "rod.start"\ntype = "clamped"\n'
+                         '[[support]]\nend = "rod.end"\ntype = "sliding-clamp"\n')
+
+
+def test_a_bimetal_composite_with_units_is_sum_e_i_about_the_weighted_centroid():
+    """Two bonded rectangles side by side along x (steel t1 = 2 mm, E1 = 200 GPa; aluminium
+    t2 = 3 mm, E2 = 70 GPa; both h = 5 mm). Closed form (composite beam, transformed
+    section): out of the plane both are centred at y = h/2, so B1 = (E1 t1 + E2 t2) h^3/12;
+    in the plane about the modulus-weighted centroid x_c = sum E_i A_i x_i / sum E_i A_i,
+    B3 = sum E_i (h t_i^3/12 + h t_i (x_i - x_c)^2) (parallel axes). Second moments of
+    polygons are exact, so both hold to round-off. B2 (FE) is the library's composite of the
+    same parts, G0 J; and the design is the plain one of the same parts with E in GPa, nu2 =
+    E2/(2 G2) - 1, L = 1 and L/R0: same b1, b2 and the same critical load factor."""
+    pytest.importorskip("sectionproperties")
+    from rodstab.sections import composite_section
+
+    d = parse_design(_composite(_BIMETAL))
+    s, B = d.assembly.segments[0], d.units.stiffness
+    E1, E2, h, t1, t2 = 200e9, 70e9, 5e-3, 2e-3, 3e-3
+    x1, x2 = t1 / 2, t1 + t2 / 2
+    xc = (E1 * t1 * x1 + E2 * t2 * x2) / (E1 * t1 + E2 * t2)
+    B3 = sum(E * (h * t**3 / 12 + h * t * (x - xc) ** 2)
+             for E, t, x in ((E1, t1, x1), (E2, t2, x2)))
+    assert (d.units.E, d.units.length_unit) == (None, "mm")
+    assert s.B3 * B == pytest.approx(B3, rel=1e-12)
+    assert s.B1 * B == pytest.approx((E1 * t1 + E2 * t2) * h**3 / 12, rel=1e-12)
+    nu2 = 70 / (2 * 26) - 1
+    lib = composite_section([{"polygon": _STEEL, "E": 200.0, "nu": 0.3},
+                             {"polygon": _ALU, "E": 70.0, "nu": nu2}], mesh_size=0.016)
+    assert s.B2 * B == pytest.approx(lib.b2 * B3, rel=1e-12)
+    assert s.B2 * B == pytest.approx(E1 / 2.6 * lib.J * 1e-12, rel=1e-12)  # G0 J, mm^4
+    plain = parse_design({
+        "section": {"parts": [{"polygon": _STEEL, "E": 200.0, "nu": 0.3},
+                              {"polygon": _ALU, "E": 70.0, "nu": nu2}], "mesh_size": 0.016},
+        "segment": [{"name": "rod", "length": 1.0, "natural_curvature": 235.6 / 75}],
+        "support": [{"end": "rod.start", "type": "clamped"},
+                    {"end": "rod.end", "type": "sliding-clamp"}]})
+    p = plain.assembly.segments[0]
+    for key in ("length", "natural_curvature", "B1", "B2", "B3"):
+        assert getattr(s, key) == pytest.approx(getattr(p, key), rel=1e-12)
+    mu = linear_stability(d.assembly, 16).load_factor_critical
+    assert mu == pytest.approx(linear_stability(plain.assembly, 16).load_factor_critical,
+                               rel=1e-12)
+
+
+@pytest.mark.parametrize("section, words", [
+    (_BIMETAL.replace('E = "70 GPa"', "E = 70e9"),
+     ["section.parts[1].E = 70000000000.0 is a plain number", "has units"]),
+    (_BIMETAL.replace('unit = "mm"\n', ""), ["section.unit", "composite"]),
+    (_BIMETAL.replace('"70 GPa"', '"70 m"'), ["section.parts[1].E", "'70 m'"]),
+    (_BIMETAL.replace('G = "26 GPa"', 'nu = 0.3, G = "26 GPa"'),
+     ["section.parts[1] needs exactly one of nu", "G"]),
+    (_BIMETAL.replace('G = "26 GPa"', 'G = "20 GPa"'),
+     ["section.parts[1].G = '20 GPa'", "nu = E/(2G) - 1 = 0.75"]),
+    (_BIMETAL + '\nB3 = "1 N*m^2"', ["section.B3", "section.unit"]),
+    (_BIMETAL + '\nheight = "1 mm"', ["section.height", "composite"]),
+], ids=["plain-E", "no-unit", "E-not-modulus", "nu-and-G", "G-gives-bad-nu", "B3", "height"])
+def test_bad_composites_with_units_name_the_key(section, words):
+    pytest.importorskip("sectionproperties")
+    with pytest.raises(RodstabInputError) as exc:
+        parse_design(_composite(section))
+    for w in words:
+        assert w in str(exc.value), (w, str(exc.value))
+
+
+def test_a_quantity_in_a_part_makes_the_design_one_with_units():
+    """E = "200 GPa" in a part is a sign of units: a plain length beside it is refused,
+    naming it and the part's modulus."""
+    pytest.importorskip("sectionproperties")
+    with pytest.raises(RodstabInputError, match=r"segment\[0\]\.length = 1\.0 is a plain "
+                                                r"number.*section\.parts\[0\]\.E = '200 GPa'"):
+        parse_design(_composite(_BIMETAL.replace('unit = "mm"\n', ""),
+                                "length = 1.0\nnatural_curvature = 1.0"))
 
 
 def test_a_plain_design_keeps_its_meaning_and_refuses_quantities_elsewhere():

@@ -255,8 +255,10 @@ def _section_options(f: Callable[..., Any]) -> Callable[..., Any]:
                   help="Any section: a polygon file (.json {\"polygon\": [[x, y], ...], "
                        "\"holes\": [...]} or {\"parts\": [{\"polygon\", \"holes\", \"E\", "
                        "\"nu\"}, ...]} of several materials, .csv x,y rows, blank line "
-                       "before each hole, or .dxf closed polylines: the largest the outline, "
-                       "those inside it holes); y is out of the ring's plane. Needs "
+                       "before each hole, or .dxf closed outlines: polylines, circles, "
+                       "lines and arcs joined, blocks; curves flattened to a sagitta of 1e-6 "
+                       "of the size; the largest loop the outline, those inside it holes); "
+                       "y is out of the ring's plane. Needs "
                        "rodstab[sections].")
     @click.option("--mesh-size", type=float, default=None,
                   help=f"With --polygon: largest triangle area / section area "

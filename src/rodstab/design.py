@@ -11,8 +11,10 @@ Format (every key optional unless marked; unknown keys are errors)::
     # shape = "polygon" (implied by polygon = ...): any section, y out of the ring's plane
     # polygon = [[0, 0], [1, 0], [1, 2], [0, 2]]    # outline, any length unit
     # holes = [[[0.3, 0.3], [0.7, 0.3], [0.7, 0.6]]]  # optional
-    # dxf = "tee.dxf"         # or: outline and holes from a DXF file's closed polylines
-    #                         # (path relative to the design file; load_polygon)
+    # dxf = "tee.dxf"         # or: outline and holes from a DXF file's closed outlines:
+    #                         # polylines (bulges too), circles, lines and arcs joined, blocks;
+    #                         # curves flattened to DXF_SAGITTA of the size (path relative to
+    #                         # the design file; load_polygon)
     # mesh_size = 1e-3        # optional: largest triangle area / section area
     # orientation_deg = 90    # optional: direction of the ring's normal (a principal axis)
     # shape = "composite" (implied by parts = ...): several materials, bonded
@@ -57,6 +59,8 @@ given as quantity strings instead of plain numbers, converted to SI::
     thickness = "0.5 mm"      # t, along e1: in the ring's plane (h/t is the aspect)
     # circle: diameter = "1 mm"; tube: outer_diameter, inner_diameter;
     # polygon: coordinates as plain numbers in unit = "mm";
+    # composite: parts = [{polygon = ..., E = "200 GPa", nu = 0.3}, ...] (or G = "77 GPa"),
+    #   coordinates in unit = "mm" ([material] not needed: each part has its own)
     # or, instead of [material] and dimensions: B3 = "0.06 N*m^2" with shape/aspect or b1, b2
 
     [[segment]]
@@ -73,7 +77,10 @@ counts (aspect, nu, b1, b2, angle_deg, rotation, reference_load, elements) are p
 in both. ``natural_radius`` (1/natural_curvature) is accepted in both kinds of design.
 A design with units is solved in the units of its load-factor segment (its length and B3 are
 1; :mod:`rodstab.units` states the conversion) and :attr:`Design.units` converts results back.
-Not read with units yet: composite sections (``parts``).
+A composite section (``parts``) with units takes each part's ``E`` (and ``G``, or ``nu``) as
+quantities and its coordinates in ``unit``: ``B3 = sum E_i I3_i`` about the modulus-weighted
+centroid, ``B1``, ``B2`` likewise (:func:`rodstab.sections.composite_section`); ``[material]``
+is not used by it.
 
 Plain data only: parsed with :mod:`tomllib`; nothing is evaluated.
 
@@ -151,7 +158,7 @@ _SEGMENT_KINDS = {"length": "length", "curvature": "curvature",
 #: Keys of a polygon section (shape "polygon", rodstab.sections.polygon_section).
 _POLYGON_KEYS = ("polygon", "holes", "parts", "mesh_size", "orientation_deg")
 #: Keys of one part of a composite section (``parts = [{...}, ...]``).
-_PART = {"polygon", "holes", "E", "nu"}
+_PART = {"polygon", "holes", "E", "nu", "G"}
 _SECTION = {"shape", "aspect", "nu", "torsion", "b1", "b2", "B3", *_POLYGON_KEYS,
             *_DIMENSION_KEYS, "unit", "dxf"}
 _SEGMENT = {"name", "length", "curvature", "natural_curvature", "natural_radius",
@@ -420,6 +427,11 @@ def _units_marker(data: Any) -> str | None:
         for key in (*_DIMENSION_KEYS, "unit"):
             if key in sec:
                 return f"{where}.{key} = {_show(sec[key])}"
+        parts = sec.get("parts")
+        for i, part in enumerate(parts if isinstance(parts, list) else []):
+            for key in ("E", "G"):
+                if isinstance(part, Mapping) and looks_like_quantity(part.get(key)):
+                    return f"{where}.parts[{i}].{key} = {_show(part[key])}"
         return f"{where}.B3 = {_show(sec['B3'])}" if looks_like_quantity(sec.get("B3")) \
             else None
 
@@ -493,23 +505,33 @@ def _material(top: Mapping, reader: _Reader) -> _Material | None:
     """Read ``[material]`` (E, and nu or G); None if the design has none."""
     if "material" not in top:
         return None
-    table = _table(top, "material", "", _MATERIAL)
-    E = reader.value(_get(table, "E", "material", _REQUIRED)[0], "material.E", "modulus",
+    return _elastic(_table(top, "material", "", _MATERIAL), "material", reader,
+                    "[material]")
+
+
+def _elastic(table: Mapping, where: str, reader: _Reader, owner: str) -> _Material:
+    """E and exactly one of nu, G of ``table`` (``[material]`` or one part of a composite).
+
+    E and G are moduli: quantities (to Pa) in a design with units, plain numbers (any one
+    unit) without. ``owner`` names the table in messages ("[material]", "section.parts[0]").
+    """
+    E = reader.value(_get(table, "E", where, _REQUIRED)[0], _path(where, "E"), "modulus",
                      lo=STIFFNESS_RANGE[0], hi=STIFFNESS_RANGE[1], why="Young's modulus")
     if ("nu" in table) == ("G" in table):
-        raise RodstabInputError("[material] needs exactly one of nu (Poisson's ratio) and G "
+        raise RodstabInputError(f"{owner} needs exactly one of nu (Poisson's ratio) and G "
                                 f"(the shear modulus) beside E, got {sorted(table)}")
     if "nu" in table:
-        nu = _as_number(table["nu"], "material.nu", lo=_NU_RANGE[0], hi=_NU_RANGE[1],
+        nu = _as_number(table["nu"], _path(where, "nu"), lo=_NU_RANGE[0], hi=_NU_RANGE[1],
                         lo_open=True, why="Poisson's ratio")
         return _Material(E=E, nu=nu, G=E / (2.0 * (1.0 + nu)))
-    G = reader.value(table["G"], "material.G", "modulus", lo=STIFFNESS_RANGE[0],
+    G = reader.value(table["G"], _path(where, "G"), "modulus", lo=STIFFNESS_RANGE[0],
                      hi=STIFFNESS_RANGE[1], why="the shear modulus")
     nu = E / (2.0 * G) - 1.0  # isotropy: G = E / (2 (1 + nu))
     if not (_NU_RANGE[0] < nu <= _NU_RANGE[1]):
-        raise RodstabInputError(f"material.G = {_show(table['G'])} with material.E = "
-                                f"{_show(table['E'])} gives nu = E/(2G) - 1 = {nu:.6g}, "
-                                "outside (-1, 0.5] (Poisson's ratio of an isotropic solid)")
+        raise RodstabInputError(f"{_path(where, 'G')} = {_show(table['G'])} with "
+                                f"{_path(where, 'E')} = {_show(table['E'])} gives nu = "
+                                f"E/(2G) - 1 = {nu:.6g}, outside (-1, 0.5] (Poisson's ratio "
+                                "of an isotropic solid)")
     return _Material(E=E, nu=nu, G=G)
 
 
@@ -525,10 +547,6 @@ def _section_table(table: dict[str, Any], where: str,
         path = _path(where, key)
         if key == "shape":
             value = _as_str(value, path, (*SHAPES, POLYGON, COMPOSITE))
-        elif key == "parts" and reader.marker is not None:
-            raise RodstabInputError(f"{path}: a composite section (parts) is not read with "
-                                    f"units yet ({reader.marker}); give the whole design in "
-                                    "plain numbers")
         elif key in _DIMENSION_KEYS:
             inner = key == "inner_diameter"  # 0: a solid tube
             value = _Dim(reader.value(value, path, "length", lo=0.0 if inner else
@@ -537,7 +555,7 @@ def _section_table(table: dict[str, Any], where: str,
         elif key == "unit":
             value = parse_unit(value, path, "length")
         elif key == "parts":
-            value = [_part(part, _path(path, i)) for i, part in enumerate(_as_list(
+            value = [_part(part, _path(path, i), reader) for i, part in enumerate(_as_list(
                 value, path, "an array of parts [{polygon = ..., E = ..., nu = ...}, ...]",
                 min_length=1))]
         elif key == "dxf":
@@ -609,17 +627,19 @@ def _points(value: Any, path: str) -> list[list[float]]:
             for i, p in enumerate(points)]
 
 
-def _part(value: Any, path: str) -> dict[str, Any]:
-    """Read one part ``{polygon, holes, E, nu}`` of a composite section."""
+def _part(value: Any, path: str, reader: _Reader | None = None) -> dict[str, Any]:
+    """Read one part ``{polygon, holes, E, nu or G}`` of a composite section.
+
+    Its E (and G) are read as ``[material]``'s (:func:`_elastic`): quantities in a design
+    with units, plain numbers in any one unit without (``reader`` None: plain numbers).
+    """
     table = _as_table(value, path, _PART)
     out: dict[str, Any] = {"polygon": _points(_get(table, "polygon", path, _REQUIRED)[0],
                                               _path(path, "polygon"))}
     out["holes"] = [_points(h, _path(_path(path, "holes"), k)) for k, h in
                     enumerate(_list(table, "holes", path, "an array of polygons"))]
-    out["E"] = _number(table, "E", path, lo=STIFFNESS_RANGE[0], hi=STIFFNESS_RANGE[1],
-                       why="Young's modulus of the part, any unit")
-    out["nu"] = _number(table, "nu", path, lo=_NU_RANGE[0], hi=_NU_RANGE[1], lo_open=True,
-                        why="Poisson's ratio")
+    mat = _elastic(table, path, reader or _Reader(marker=None), path)
+    out["E"], out["nu"] = mat.E, mat.nu
     return out
 
 
@@ -728,12 +748,15 @@ def _stiffness_with_units(spec: dict[str, tuple[Any, str]], where: str,
     dims = [k for k in _DIMENSION_KEYS if k in spec]
     if "B3" in spec:
         other = path(dims[0]) if dims else path("unit") if "unit" in spec else \
+            f"{path('parts')}' E" if "parts" in spec else \
             "[material]" if reader.material is not None else None
         if other is not None:
             raise RodstabInputError(
                 f"{path('B3')} = {_show(val('B3'))} and {other} both give the bending "
                 "stiffness: give B3 with a unit, or [material] E and the section's dimensions")
         return _stiffness(spec, where, _Reader(marker=None))
+    if val("shape", COMPOSITE if "parts" in spec else None) == COMPOSITE:
+        return _composite_with_units(spec, where)
     mat = reader.material
     if mat is None:
         raise RodstabInputError(
@@ -818,6 +841,43 @@ def _stiffness_with_units(spec: dict[str, tuple[Any, str]], where: str,
     B3 = mat.E * I3
     if not STIFFNESS_RANGE[0] <= B3 <= STIFFNESS_RANGE[1]:
         raise RodstabInputError(f"{where}: B3 = E I3 = {B3:g} N*m^2 is outside "
+                                f"[{STIFFNESS_RANGE[0]:g}, {STIFFNESS_RANGE[1]:g}]")
+    return sec.b1 * B3, sec.b2 * B3, B3
+
+
+def _composite_with_units(spec: dict[str, tuple[Any, str]],
+                          where: str) -> tuple[float, float, float]:
+    """``(B1, B2, B3)`` in N m^2 of a composite section of a design with units.
+
+    Its parts carry their own E and nu (read in Pa by :func:`_part`), its coordinates are in
+    ``unit``; ``[material]``, if any, is for the design's other sections. The composite's
+    ``I3`` is modulus-weighted and divided by ``parts[0]``'s E (:class:`PolygonSection`), so
+    ``B3 = E0 I3 unit^4``; ``b1`` and ``b2`` are ratios, as for a polygon with
+    ``[material]``.
+    """
+    def val(key: str) -> Any:
+        return spec[key][0] if key in spec else None
+
+    for key in ("nu", "b1", "b2", "aspect", "torsion", "polygon", "holes", *_DIMENSION_KEYS):
+        if key in spec:
+            raise RodstabInputError(f"{spec[key][1]} = {_show(val(key))} has no meaning for a "
+                                    "composite section (its parts carry their own polygon, E "
+                                    "and nu; its J is computed by FE)")
+    if "parts" not in spec:
+        raise RodstabInputError(f"{spec['shape'][1]} = 'composite' needs {where}.parts = "
+                                "[...] (the parts, each {polygon, E, nu})")
+    if "unit" not in spec:
+        raise RodstabInputError(f"{where}: a composite section in a design with units needs "
+                                f"{where}.unit, the unit of its coordinates (e.g. 'mm')")
+    try:
+        sec = composite_section(val("parts"), mesh_size=val("mesh_size"),
+                                orientation_deg=val("orientation_deg"))
+    except RodstabInputError as exc:  # the geometry: name the table
+        raise RodstabInputError(f"{where}: {exc}") from None
+    assert sec.I3 is not None
+    B3 = sec.parts[0].E * sec.I3 * val("unit") ** 4
+    if not STIFFNESS_RANGE[0] <= B3 <= STIFFNESS_RANGE[1]:
+        raise RodstabInputError(f"{where}: B3 = sum E I3 = {B3:g} N*m^2 is outside "
                                 f"[{STIFFNESS_RANGE[0]:g}, {STIFFNESS_RANGE[1]:g}]")
     return sec.b1 * B3, sec.b2 * B3, B3
 
@@ -1101,9 +1161,30 @@ def _csv_rings(text: str, name: str) -> list[list[list[float]]]:
 
 
 #: DXF entities that carry no section geometry (annotation, fills): skipped when reading a
-#: section's outline. Any other entity but a closed polyline is refused, named.
+#: section's outline. Any other entity but the outline's is refused, named.
 _DXF_SKIPPED = frozenset({"TEXT", "MTEXT", "DIMENSION", "LEADER", "MLEADER", "HATCH", "POINT",
-                          "INSERT", "ATTDEF", "VIEWPORT"})
+                          "ATTDEF", "ATTRIB", "VIEWPORT"})
+#: Chord tolerance of a DXF curve (CIRCLE, ARC, ELLIPSE, SPLINE, a polyline's bulge): it is
+#: flattened to a polyline whose largest sagitta (distance between chord and curve) is this
+#: fraction of the drawing's size (largest extent). The vertices lie on the curve, so the
+#: polygon is inscribed: a full circle of diameter d = size loses (16/3) x this of its I1, I3
+#: and J (5.3e-6; derivation and check in tests/test_dxf_sections.py), a smaller or partial
+#: curve less. That is of the order of the finite element error of J at the default mesh for
+#: convex sections (3.9e-6 for the 1 x 2 rectangle), far below it at re-entrant corners
+#: (~1e-3), and 450 times below the geometric error of the default mesh's straight-sided
+#: elements laid on the same circle (chords of one element length: 2.4e-3). Its cost: a
+#: circle of the section's size gets 1571 vertices, the mesh ~8600 triangles (~6 s); a tube
+#: ~15000 (~10 s). ``load_polygon(..., sagitta=1e-5)`` is 10 times coarser and ~3 times
+#: faster.
+DXF_SAGITTA = 1e-6
+#: Accepted ``sagitta`` of :func:`load_polygon`: below 1e-8 a circle needs more vertices than
+#: :data:`MAX_POLYGON_VERTICES`; above 1e-2 it is a hexagon.
+DXF_SAGITTA_RANGE = (1e-8, 1e-2)
+#: Two ends of DXF edges (LINE, ARC, open polylines, ...) closer than this fraction of the
+#: drawing's size are one point: the edges are joined there.
+DXF_JOIN_TOL = 1e-7
+#: Deepest nesting of blocks (INSERT within a block) that is expanded.
+_DXF_MAX_DEPTH = 16
 
 
 def _inside(point: list[float], ring: list[list[float]]) -> bool:
@@ -1116,19 +1197,10 @@ def _inside(point: list[float], ring: list[list[float]]) -> bool:
     return inside
 
 
-def _dxf_rings(p: Path, name: str) -> dict[str, Any]:
-    """Outline and holes of the closed polylines of a DXF file (:func:`load_polygon`).
-
-    Reads LWPOLYLINE and 2D POLYLINE entities of the model space with ezdxf directly: their
-    vertices are the polygon's points, so a DXF section runs the same code path as the same
-    points given in JSON (sectionproperties' ``Geometry.from_dxf`` would go through
-    cad_to_shapely, which re-joins and may re-order the vertices, for no gain here). The
-    largest closed loop (by area) is the outline; every loop with a vertex inside it is a
-    hole; a loop with none is a second, disjoint outline and is refused.
-    """
+def _dxf_read(p: Path, name: str) -> Any:
+    """Read a DXF file with ezdxf, or raise a :class:`RodstabInputError` naming it."""
     try:
         import ezdxf
-        from ezdxf.entities import LWPolyline, Polyline
     except ImportError:
         raise RodstabInputError(f"polygon file {name}: reading DXF needs ezdxf: "
                                 'pip install "rodstab[sections]"') from None
@@ -1136,7 +1208,7 @@ def _dxf_rings(p: Path, name: str) -> dict[str, Any]:
         if p.stat().st_size > MAX_FILE_BYTES:  # the text formats' limit (_read_text)
             raise RodstabInputError(f"polygon file {name} is larger than {MAX_FILE_BYTES} "
                                     "bytes")
-        doc = ezdxf.readfile(str(p))
+        return ezdxf.readfile(str(p))
     except FileNotFoundError:
         raise RodstabInputError(f"polygon file {name} does not exist") from None
     except IsADirectoryError:
@@ -1148,40 +1220,190 @@ def _dxf_rings(p: Path, name: str) -> dict[str, Any]:
                                 f"{exc.strerror or exc}") from None
     except ezdxf.DXFError as exc:
         raise RodstabInputError(f"polygon file {name} is not a valid DXF file: {exc}") from None
-    rings: list[list[list[float]]] = []
+
+
+def _dxf_entities(doc: Any, name: str) -> list[tuple[str, Any]]:
+    """Return the model space's entities, blocks (INSERT) expanded, each with its name.
+
+    A block reference is replaced by its entities, placed, scaled and rotated as inserted
+    (ezdxf's ``virtual_entities``), nested blocks too; names read ``INSERT #2 (block 'R',
+    layer '0') > LWPOLYLINE #0 (layer '0')``.
+    """
+    out: list[tuple[str, Any]] = []
+
+    def walk(entities: Any, prefix: str, depth: int) -> None:
+        for k, e in enumerate(entities):
+            kind = e.dxftype()
+            what = f"{prefix}{kind} #{k} (layer {e.dxf.get('layer', '0')!r})"
+            if kind == "INSERT":
+                if depth >= _DXF_MAX_DEPTH:
+                    raise RodstabInputError(f"polygon file {name}: {what} nests blocks more "
+                                            f"than {_DXF_MAX_DEPTH} deep")
+                block = f"{prefix}INSERT #{k} (block {e.dxf.get('name', '?')!r}, layer " \
+                        f"{e.dxf.get('layer', '0')!r}) > "
+                try:
+                    inner = list(e.virtual_entities())
+                except Exception as exc:  # ezdxf: a missing block, a non-uniform scaling
+                    raise RodstabInputError(f"polygon file {name}: {what} cannot be "
+                                            f"expanded ({exc})") from None
+                walk(inner, block, depth + 1)
+            elif kind not in _DXF_SKIPPED:
+                out.append((what, e))
+
+    walk(doc.modelspace(), "", 0)
+    return out
+
+
+def _dxf_pieces(entities: list[tuple[str, Any]], sagitta: float, name: str
+                ) -> tuple[list[tuple[str, list[list[float]]]],
+                           list[tuple[str, list[list[float]], bool]]]:
+    """Return the closed loops and open edges (lists of [x, y, z], WCS) of the entities.
+
+    An edge carries whether it is a polyline (named as an open polyline if it stays open).
+
+    Curves are flattened with chord tolerance ``sagitta`` (absolute); polylines are exploded
+    into their LINE and ARC segments (ezdxf ``virtual_entities``), which puts them and their
+    bulges in world coordinates, and joined back in order; their straight vertices are kept
+    exactly.
+    """
+    from ezdxf.entities import Polyline
+
+    loops: list[tuple[str, list[list[float]]]] = []
+    edges: list[tuple[str, list[list[float]], bool]] = []
     other: dict[str, int] = {}
-    for k, e in enumerate(doc.modelspace()):
+
+    def xyz(points: Any) -> list[list[float]]:
+        return [[float(v.x), float(v.y), float(v.z)] for v in points]
+
+    def segment(e: Any) -> list[list[float]]:
+        if e.dxftype() == "LINE":
+            return xyz([e.dxf.start, e.dxf.end])
+        return xyz(e.flattening(sagitta))  # ARC (a bulge)
+
+    for what, e in entities:
         kind = e.dxftype()
-        what = f"{kind} #{k} (layer {e.dxf.get('layer', '0')!r})"
-        if isinstance(e, LWPolyline):
-            closed = bool(e.closed)
-            pts = [[float(x), float(y), float(b)] for x, y, b in e.get_points("xyb")]
-        elif isinstance(e, Polyline) and not (e.is_poly_face_mesh or e.is_polygon_mesh):
-            closed = bool(e.is_closed)
-            pts = [[float(v.dxf.location.x), float(v.dxf.location.y),
-                    float(v.dxf.get("bulge", 0.0))] for v in e.vertices]
+        closed = False
+        if kind == "LWPOLYLINE" or (kind == "POLYLINE" and isinstance(e, Polyline)
+                                    and not (e.is_poly_face_mesh or e.is_polygon_mesh)):
+            closed = bool(e.closed if kind == "LWPOLYLINE" else e.is_closed)
+            pts: list[list[float]] = []
+            for seg in e.virtual_entities():
+                piece = segment(seg)
+                pts.extend(piece if not pts else piece[1:])
+            if not pts:
+                raise RodstabInputError(f"polygon file {name}: {what} has no segments")
+            if closed:
+                loops.append((what, pts[:-1]))  # the closing segment ends at the first point
+            else:  # perhaps closed by a repeated first point: _dxf_chain joins its ends
+                edges.append((what, pts, True))
+        elif kind in ("LINE", "ARC"):
+            edges.append((what, segment(e), False))
+        elif kind == "CIRCLE":
+            loops.append((what, xyz(e.flattening(sagitta))[:-1]))
+        elif kind in ("ELLIPSE", "SPLINE"):  # a full one's ends meet: _dxf_chain closes it
+            edges.append((what, xyz(e.flattening(sagitta)), False))
         else:
-            if kind not in _DXF_SKIPPED:
-                other[kind] = other.get(kind, 0) + 1
-            continue
-        if len(pts) > 2 and pts[0][:2] == pts[-1][:2]:  # closed by a repeated first point
-            closed = True
-            pts = pts[:-1]
-        if not closed:
-            raise RodstabInputError(f"polygon file {name}: {what} is an open polyline "
-                                    f"({len(pts)} points); a section's outline and holes are "
-                                    "closed polylines")
-        if any(b != 0.0 for *_, b in pts):
-            raise RodstabInputError(f"polygon file {name}: {what} has arc segments (bulges); "
-                                    "give the outline as straight segments (a polygon)")
-        rings.append([pt[:2] for pt in pts])
+            other[kind] = other.get(kind, 0) + 1
     if other:
         found = ", ".join(f"{n} {kind}" for kind, n in sorted(other.items()))
-        raise RodstabInputError(f"polygon file {name} has {found} entities; only closed "
-                                "polylines (LWPOLYLINE, POLYLINE) are read as a section")
-    if not rings:
-        raise RodstabInputError(f"polygon file {name} has no closed polylines (an empty "
-                                "drawing); a section is one closed outline with holes")
+        raise RodstabInputError(f"polygon file {name} has {found} entities; a section is read "
+                                "from closed outlines of LWPOLYLINE, POLYLINE, LINE, ARC, "
+                                "CIRCLE, ELLIPSE, SPLINE (and blocks of them)")
+    return loops, edges
+
+
+def _dxf_chain(edges: list[tuple[str, list[list[float]], bool]], tol: float,
+               name: str) -> list[tuple[str, list[list[float]]]]:
+    """Join open edges end to end into closed loops; refuse open or branching chains.
+
+    Two ends within ``tol`` are one point. Each loop is named by its first edge.
+    """
+    ends = [(e[0], e[-1]) for _, e, _ in edges]
+
+    def at(point: list[float], skip: set[int]) -> list[tuple[int, bool]]:
+        """Unused edges with an end at ``point``: (index, whether it must be reversed)."""
+        hits = []
+        for j, (a, b) in enumerate(ends):
+            if j in skip:
+                continue
+            if math.dist(a, point) <= tol:
+                hits.append((j, False))
+            elif math.dist(b, point) <= tol:
+                hits.append((j, True))
+        return hits
+
+    def where(point: list[float]) -> str:
+        return f"({point[0]:.6g}, {point[1]:.6g})"
+
+    loops = []
+    used: set[int] = set()
+    for i, (first, pts, polyline) in enumerate(edges):
+        if i in used:
+            continue
+        used.add(i)
+        chain, names = list(pts), [first]
+        while math.dist(chain[-1], chain[0]) > tol or len(names) == 1 and len(chain) < 3:
+            hits = at(chain[-1], used)
+            if not hits:
+                if len(names) == 1 and polyline:
+                    raise RodstabInputError(f"polygon file {name}: {first} is an open "
+                                            f"polyline ({len(pts)} points); a section's "
+                                            "outline and holes are closed")
+                raise RodstabInputError(
+                    f"polygon file {name}: the outline of {', '.join(names)} is open: it "
+                    f"ends at {where(chain[-1])} with no entity joined there (ends within "
+                    f"{DXF_JOIN_TOL:g} of the drawing's size are joined); a section's outline "
+                    "and holes are closed")
+            if len(hits) > 1:
+                raise RodstabInputError(
+                    f"polygon file {name}: {len(hits) + 1} edges meet at {where(chain[-1])} "
+                    f"({', '.join([names[-1], *(edges[j][0] for j, _ in hits)])}); an "
+                    "outline is a simple loop")
+            j, flip = hits[0]
+            used.add(j)
+            nxt = edges[j][1][::-1] if flip else edges[j][1]
+            chain.extend(nxt[1:])
+            names.append(edges[j][0])
+        if math.dist(chain[-1], chain[0]) <= tol:
+            chain.pop()  # the closing point
+        loops.append((first, chain))
+    return loops
+
+
+def _dxf_rings(p: Path, name: str, sagitta: float = DXF_SAGITTA) -> dict[str, Any]:
+    """Outline and holes of the closed outlines of a DXF file (:func:`load_polygon`).
+
+    Reads the model space with ezdxf directly: blocks (INSERT) are expanded; closed
+    LWPOLYLINE and 2D POLYLINE (their bulges) and CIRCLE are loops; LINE, ARC, open
+    polylines, ELLIPSE and SPLINE are joined end to end into loops (a full ellipse or a
+    clamped spline whose ends meet is a loop by itself; a periodic spline whose flattening
+    does not return to its start is refused as open). Curves are flattened to vertices on
+    the curve, with largest sagitta ``sagitta`` times the drawing's size
+    (:data:`DXF_SAGITTA`); straight vertices are kept
+    exactly, so a polygon drawn as a polyline runs the same code path as the same points
+    given in JSON (sectionproperties' ``Geometry.from_dxf`` would go through cad_to_shapely,
+    which re-joins and may re-order the vertices). The largest loop (by area) is the
+    outline; every loop with a vertex inside it is a hole; a loop with none is a second,
+    disjoint outline and is refused. The drawing must lie in the xy plane.
+    """
+    from ezdxf import bbox
+
+    doc = _dxf_read(p, name)
+    entities = _dxf_entities(doc, name)
+    if not entities:
+        raise RodstabInputError(f"polygon file {name} has no outline (an empty drawing); a "
+                                "section is one closed outline with holes")
+    box = bbox.extents([e for _, e in entities])
+    size = float(max(box.size.x, box.size.y)) if box.has_data else 0.0
+    if not (math.isfinite(size) and size > 0.0):
+        raise RodstabInputError(f"polygon file {name}: its drawing has no extent (size "
+                                f"{size!r})")
+    if abs(float(box.size.z)) > DXF_JOIN_TOL * size:
+        raise RodstabInputError(f"polygon file {name}: its drawing is not flat in the xy plane "
+                                f"(z spans {float(box.size.z):g}); a section is drawn in xy")
+    loops, edges = _dxf_pieces(entities, sagitta * size, name)
+    loops += _dxf_chain(edges, DXF_JOIN_TOL * size, name)
+    rings = [[[x, y] for x, y, _ in pts] for _, pts in loops]
 
     def area(ring: list[list[float]]) -> float:
         return abs(sum(x1 * y2 - x2 * y1 for (x1, y1), (x2, y2)
@@ -1193,13 +1415,13 @@ def _dxf_rings(p: Path, name: str) -> dict[str, Any]:
              if i != outer and not any(_inside(pt, rings[outer]) for pt in r)]
     if apart:
         raise RodstabInputError(f"polygon file {name} has {len(apart) + 1} disjoint outer "
-                                f"loops (closed polylines {[outer, *apart]} in file order, "
+                                f"loops ({', '.join(loops[i][0] for i in [outer, *apart])}; "
                                 "none inside another); a section is one outline with holes "
                                 "(several materials: the JSON parts format)")
     return {"polygon": rings[outer], "holes": holes}
 
 
-def load_polygon(path: str | Path) -> dict[str, Any]:
+def load_polygon(path: str | Path, *, sagitta: float = DXF_SAGITTA) -> dict[str, Any]:
     """Read a polygon file: the outline and the holes of a section, or its parts.
 
     Formats (by suffix):
@@ -1210,14 +1432,23 @@ def load_polygon(path: str | Path) -> dict[str, Any]:
       "nu": ...}, ...]}``;
     * ``.csv``: one point ``x,y`` per line, an optional header line ``x,y``, ``#`` comments;
       a blank line ends a ring: the first ring is the outline, every further one a hole;
-    * ``.dxf``: closed polylines (LWPOLYLINE, POLYLINE, straight segments) of the model
-      space: the largest is the outline, those inside it are holes (ezdxf, the ``sections``
-      extra). Open polylines, other geometry, disjoint outlines or no polyline are refused.
+    * ``.dxf``: closed outlines of the model space (ezdxf, the ``sections`` extra): closed
+      LWPOLYLINE or POLYLINE (bulges too), CIRCLE, or LINE, ARC, ELLIPSE, SPLINE and
+      open polylines joined end to end (a full ellipse's ends meet); blocks (INSERT) are
+      expanded as inserted. Curves are flattened (``sagitta``). The largest loop is the
+      outline, those inside it are holes.
+      Outlines that stay open or branch, disjoint outlines, other geometry (3D faces,
+      solids, meshes), a drawing out of the xy plane, or an empty drawing are refused, named;
+      annotation (text, dimensions, hatches, points) is skipped.
 
     Parameters
     ----------
     path : str or Path
         The file, UTF-8, at most :data:`MAX_FILE_BYTES`.
+    sagitta : float
+        DXF only: the largest distance between a flattened curve and its chords, over the
+        drawing's size, in :data:`DXF_SAGITTA_RANGE`; default :data:`DXF_SAGITTA` (its
+        comment states the resulting error).
 
     Returns
     -------
@@ -1241,7 +1472,9 @@ def load_polygon(path: str | Path) -> dict[str, Any]:
         raise RodstabInputError(f"polygon file {name} must end in .json, .csv or .dxf (the "
                                 f"formats read), got {suffix or 'no suffix'!r}")
     if suffix == ".dxf":
-        return _dxf_rings(p, name)
+        sag = _as_number(sagitta, "sagitta", lo=DXF_SAGITTA_RANGE[0], hi=DXF_SAGITTA_RANGE[1],
+                         why="the chord tolerance of a DXF curve over the drawing's size")
+        return _dxf_rings(p, name, sag)
     text = _read_text(p, "polygon file", f"a polygon file is {suffix[1:].upper()} text")
     if suffix == ".csv":
         rings = _csv_rings(text, name)
