@@ -38,16 +38,32 @@ SLIDING_RATIO = 1e-3
 SLIDING_OVERLAP = 0.9
 #: Eigenvalues of the Jacobi-scaled Hessian below ZERO_EIG x (l_e / L)^2 / PENALTY are reported
 #: as zero (neutral): the stiff stretch/shear penalty dominates the diagonal, so the bending
-#: eigenvalues scale like (l_e / L)^2 / PENALTY (see :func:`zero_eigenvalue_tol`).
+#: eigenvalues of rotation (twist) modes scale like (l_e / L)^2 / PENALTY ...
 ZERO_EIG = 1e-4
+#: ... and those of displacement modes like (l_e / L)^4 / PENALTY (the position unknowns' diagonal
+#: is the penalty's K / l_e, theirs l_e^-2 larger; measured: the six-ring's lowest 1.4e-9, 5.6e-12,
+#: 2.2e-14, 1.5e-15 at 16, 64, 256, 512 elements per segment): below ZERO_EIG_DISPLACEMENT x
+#: (l_e / L)^4 / PENALTY, when smaller, they are zero. (With the first bound alone the
+#: six-ring's stable held state was reported unstable from 256 elements per segment.)
+ZERO_EIG_DISPLACEMENT = 1.0
+#: ... but never below this: the lowest eigenvalues of the scaled Hessian (unit diagonal) are
+#: computed to an absolute error of ~1e-17 (measured at 1024 elements per segment against the
+#: (l_e / L)^4 extrapolation from 256 and 512: six-ring 7.2e-17 for 9e-17, hexagram 1.9e-17
+#: for 2.3e-17, steel-strip six-ring 4e-18 for 1.3e-17); four times that is not resolved.
+ZERO_EIG_ROUNDOFF = 0.25 * float(np.finfo(float).eps)
 
 
 def zero_eigenvalue_tol(rod: DiscreteRod) -> float:
-    """Scaled eigenvalues with magnitude below this count as zero (neutral) for ``rod``."""
+    """Scaled eigenvalues with magnitude below this count as zero (neutral) for ``rod``.
+
+    ``max(min(ZERO_EIG r^2, ZERO_EIG_DISPLACEMENT r^4) / PENALTY, ZERO_EIG_ROUNDOFF)``,
+    ``r = min l_e / L`` (``L`` the total length): the first bound up to ``L / l_e = 100``.
+    """
     from .discrete import PENALTY
 
     ratio = float(np.min(rod.rest_length)) / rod.assembly.total_length
-    return ZERO_EIG * ratio**2 / PENALTY
+    return max(min(ZERO_EIG * ratio**2, ZERO_EIG_DISPLACEMENT * ratio**4) / PENALTY,
+               ZERO_EIG_ROUNDOFF)
 
 
 def residual_tolerance(rod: DiscreteRod) -> float:
