@@ -66,25 +66,31 @@ def zero_eigenvalue_tol(rod: DiscreteRod) -> float:
                ZERO_EIG_ROUNDOFF)
 
 
-def residual_tolerance(rod: DiscreteRod) -> float:
-    """Free-gradient max-norm at which Newton on ``rod`` has converged.
+def residual_tolerance(rod: DiscreteRod) -> np.ndarray:
+    """Free-gradient bound, per unknown (shape ``(n_dof,)``), at which Newton has converged.
 
     ``NEWTON_RTOL`` times the stiff force scale ``PENALTY max|B| / l_e``, or, when larger,
-    ``NEWTON_ROUNDOFF`` times the gradient's round-off level ``u K max|x| / l_e`` (``u`` the
-    unit round-off, ``K = PENALTY max|B| / l_e^2``): an edge's stretch force ``K eps`` carries
-    the rounding ``u max|x| / l_e`` of its strain, computed from absolute node positions. (A
-    rigid translation, which leaves the exact gradient unchanged, changes the computed one by
-    1.0-1.2 times this level on the six-ring and hexagram examples at 256-1024 elements per
-    segment.) The ratio of the two grows as ``max|x| / l_e^2``: the round-off level takes over
-    near 300 elements per unit length (``max|x| ~ 1``); beyond, the fixed relative tolerance
-    could not be met and Newton stalled (hexagram at 1024 elements: 60 iterations at residual
-    5e-3, tolerance 1.6e-3, round-off level 6.3e-3).
+    ``NEWTON_ROUNDOFF`` times the gradient's round-off level: ``u K max|x| / l_e`` for a node
+    position, ``u K max|x|`` for a rotation (``u`` the unit round-off, ``K = PENALTY max|B| /
+    l_e^2``): an edge's stretch force ``K eps`` carries the rounding ``u max|x| / l_e`` of its
+    strain, computed from absolute node positions, and its moment that force times ``l_e``. (A
+    rigid translation, which leaves the exact gradient unchanged, changes the computed position
+    forces by 1.0-1.2 times this level on the six-ring and hexagram examples at 256-1024
+    elements per segment.) For positions the ratio of the two grows as ``max|x| / l_e^2``: the
+    round-off level takes over near 300 elements per unit length (``max|x| ~ 1``); beyond, the
+    fixed relative tolerance could not be met and Newton stalled (hexagram at 1024 elements: 60
+    iterations at residual 5e-3, tolerance 1.6e-3, round-off level 6.3e-3). Rotations keep the
+    relative tolerance up to ~1e6 elements per unit length (a common bound for both let a
+    twisted straight rod at 2048 elements pass as an equilibrium).
     """
     l_min = float(np.min(rod.rest_length))
     scale = float(PENALTY * np.max(rod.edge_B) / l_min)
     extent = float(np.max(np.abs(rod.x))) if rod.x.size else 0.0
-    roundoff = float(np.finfo(float).eps) * scale * extent / l_min**2
-    return max(NEWTON_RTOL * scale, NEWTON_ROUNDOFF * roundoff)
+    u = float(np.finfo(float).eps)
+    tol = np.full(rod.n_dof, max(NEWTON_RTOL * scale, NEWTON_ROUNDOFF * u * scale * extent))
+    n_pos = 3 * len(rod.x)
+    tol[:n_pos] = max(NEWTON_RTOL * scale, NEWTON_ROUNDOFF * u * scale * extent / l_min**2)
+    return tol
 
 
 @dataclasses.dataclass(frozen=True)
@@ -218,7 +224,7 @@ def newton(rod: DiscreteRod, *, max_iter: int = NEWTON_MAX_ITER) -> tuple[bool, 
 
     Steps are taken along ``-H^-1 g`` when ``H`` (free part) is positive definite, else along a
     shifted ``(H + s D) ^-1`` direction, so every step descends; the step halves until the
-    energy decreases (Armijo). Converged when ``max |g_free|`` is at most
+    energy decreases (Armijo). Converged when every ``|g_free|`` is at most its
     :func:`residual_tolerance` (``NEWTON_RTOL * scale`` above the gradient's round-off). A start
     far from the Kirchhoff constraint (a frame sheared by more than ``ALIGN_SHEAR``: a user's
     shape, a rough perturbation) first has its frames turned onto their chords
@@ -386,7 +392,7 @@ def _newton(rod: DiscreteRod, max_iter: int) -> tuple[bool, int, float]:
     free = rod.free_dofs()
     # Relative to the force scale of the stiffest terms (stretch/shear penalty), not below the
     # gradient's round-off.
-    tol = residual_tolerance(rod)
+    tol = residual_tolerance(rod)[free]
     lam_floor = zero_eigenvalue_tol(rod)  # well below the scaled bending eigenvalues
     lam = 0.0
     it = 0
@@ -394,7 +400,7 @@ def _newton(rod: DiscreteRod, max_iter: int) -> tuple[bool, int, float]:
     while True:
         gf = g[free]
         res = float(np.max(np.abs(gf))) if gf.size else 0.0
-        if res <= tol:
+        if np.all(np.abs(gf) <= tol):
             return True, it, res
         if it == max_iter:
             return False, max_iter, res
