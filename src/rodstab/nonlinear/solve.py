@@ -53,17 +53,22 @@ ZERO_EIG_DISPLACEMENT = 1.0
 ZERO_EIG_ROUNDOFF = 0.25 * float(np.finfo(float).eps)
 
 
+def soft_eigenvalue_floor(rod: DiscreteRod) -> float:
+    """``min(ZERO_EIG r^2, ZERO_EIG_DISPLACEMENT r^4) / PENALTY``, ``r = min l_e / L``.
+
+    A small fraction of the lowest scaled bending eigenvalues (``L`` the total length; the
+    first bound up to ``L / l_e = 100``): Newton's smallest Levenberg-Marquardt shift.
+    """
+    ratio = float(np.min(rod.rest_length)) / rod.assembly.total_length
+    return min(ZERO_EIG * ratio**2, ZERO_EIG_DISPLACEMENT * ratio**4) / PENALTY
+
+
 def zero_eigenvalue_tol(rod: DiscreteRod) -> float:
     """Scaled eigenvalues with magnitude below this count as zero (neutral) for ``rod``.
 
-    ``max(min(ZERO_EIG r^2, ZERO_EIG_DISPLACEMENT r^4) / PENALTY, ZERO_EIG_ROUNDOFF)``,
-    ``r = min l_e / L`` (``L`` the total length): the first bound up to ``L / l_e = 100``.
+    :func:`soft_eigenvalue_floor`, but at least ``ZERO_EIG_ROUNDOFF`` (not resolved).
     """
-    from .discrete import PENALTY
-
-    ratio = float(np.min(rod.rest_length)) / rod.assembly.total_length
-    return max(min(ZERO_EIG * ratio**2, ZERO_EIG_DISPLACEMENT * ratio**4) / PENALTY,
-               ZERO_EIG_ROUNDOFF)
+    return max(soft_eigenvalue_floor(rod), ZERO_EIG_ROUNDOFF)
 
 
 def residual_tolerance(rod: DiscreteRod) -> np.ndarray:
@@ -393,7 +398,9 @@ def _newton(rod: DiscreteRod, max_iter: int) -> tuple[bool, int, float]:
     # Relative to the force scale of the stiffest terms (stretch/shear penalty), not below the
     # gradient's round-off.
     tol = residual_tolerance(rod)[free]
-    lam_floor = zero_eigenvalue_tol(rod)  # well below the scaled bending eigenvalues
+    # Well below the scaled bending eigenvalues, even where those are below round-off (the
+    # floor of zero_eigenvalue_tol, which is a verdict's tolerance, not a shift's).
+    lam_floor = soft_eigenvalue_floor(rod)
     lam = 0.0
     it = 0
     E, g, H = rod.energy_terms()
