@@ -66,21 +66,30 @@ def test_newton_converges_on_the_hexagram_at_1024_elements_per_segment():
     assert np.all(np.abs(rod.gradient()[free]) <= residual_tolerance(rod)[free])
 
 
-def test_a_twisted_straight_rod_at_2048_elements_is_no_equilibrium():
-    """A smooth twist of 0.05 sin(2 pi s) rad on the clamped straight rod at 2048 elements:
-    its free gradient (twisting moments ~1e-3) is far below the positions' round-off bound
-    (~7) but not below the rotations' tolerance, so Newton iterates (it stopped at once with
-    one bound for both) and untwists the rod."""
+def _twisted_straight_rod(n: int, amplitude: float):
     from rodstab.model import Assembly, Segment
 
     s = Segment(name="a", length=1.0, curvature=0.0, natural_curvature=0.0, B1=1.0, B2=0.75,
                 B3=1.0)
     rod = discretise(Assembly(segments=(s,), supports=(("a", "start", "clamped"),
-                                                        ("a", "end", "clamped"))), 2048, 1.0)
+                                                        ("a", "end", "clamped"))), n, 1.0)
     ne = len(rod.R_edge)
     dq = np.zeros(rod.n_dof)
-    dq[rod.edge_dofs(np.arange(ne))[:, 1]] = 0.05 * np.sin(2 * np.pi * (np.arange(ne) + 0.5) / ne)
+    dq[rod.edge_dofs(np.arange(ne))[:, 1]] = amplitude * np.sin(
+        2 * np.pi * (np.arange(ne) + 0.5) / ne)
     rod.apply(dq)
+    return rod
+
+
+@pytest.mark.parametrize(("n", "amplitude"), [(2048, 0.05), (4096, 0.01)])
+def test_a_twisted_straight_rod_is_no_equilibrium_at_fine_meshes(n, amplitude):
+    """A smooth twist ``amplitude sin(2 pi s)`` rad on the clamped straight rod: its twisting
+    moments (~1e-3, ~1e-4) are far below the positions' round-off bound (~7, ~30) and, at
+    4096 elements, below the stiff scale's relative tolerance (4e-4); they are above the
+    rotations' bound (bending scale, round-off), so Newton iterates and untwists the rod. (One
+    bound for all unknowns passed it at 2048 elements, the stiff scale alone at 4096; both
+    with 0 iterations.)"""
+    rod = _twisted_straight_rod(n, amplitude)
     ok, its, _ = newton(rod)
     assert ok and its >= 1
     assert float(np.max(np.abs(rod.edge_twist()))) < 1e-6

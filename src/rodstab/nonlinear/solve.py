@@ -31,6 +31,10 @@ NEWTON_MAX_ITER = 60
 #: ... or below this many times its round-off level (:func:`residual_tolerance`), when that is
 #: larger: from a few hundred elements per unit length the relative tolerance is below it.
 NEWTON_ROUNDOFF = 4.0
+#: A rotation's bound is at most this times ``max|B| l_e / L^2`` (:func:`residual_tolerance`):
+#: equal to ``NEWTON_RTOL`` x the stiff scale at ``L / l_e = 100`` (``NEWTON_RTOL PENALTY
+#: 100^2``), smaller on finer meshes.
+NEWTON_RTOL_BEND = NEWTON_RTOL * PENALTY * 100.0**2
 #: The sliding field of a uniform ring is considered when, after removing the rigid motion that
 #: restores the gauge, more than this fraction of it remains (not just a rigid rotation) ...
 SLIDING_RATIO = 1e-3
@@ -84,15 +88,21 @@ def residual_tolerance(rod: DiscreteRod) -> np.ndarray:
     elements per segment.) For positions the ratio of the two grows as ``max|x| / l_e^2``: the
     round-off level takes over near 300 elements per unit length (``max|x| ~ 1``); beyond, the
     fixed relative tolerance could not be met and Newton stalled (hexagram at 1024 elements: 60
-    iterations at residual 5e-3, tolerance 1.6e-3, round-off level 6.3e-3). Rotations keep the
-    relative tolerance up to ~1e6 elements per unit length (a common bound for both let a
-    twisted straight rod at 2048 elements pass as an equilibrium).
+    iterations at residual 5e-3, tolerance 1.6e-3, round-off level 6.3e-3).
+
+    A rotation's bound is also at most ``NEWTON_RTOL_BEND max|B| l_e / L^2`` (``L`` the total
+    length), the moment on one edge of a unit smooth bending or twisting misfit: the stiff
+    scale alone grows as ``1 / l_e`` while that moment falls as ``l_e``, and let a straight rod
+    twisted by 0.05 sin(2 pi s) rad at 4096 elements pass as an equilibrium with 0 iterations.
+    Both bounds agree at ``L / l_e = 100``; coarser meshes keep the relative one.
     """
     l_min = float(np.min(rod.rest_length))
     scale = float(PENALTY * np.max(rod.edge_B) / l_min)
     extent = float(np.max(np.abs(rod.x))) if rod.x.size else 0.0
     u = float(np.finfo(float).eps)
-    tol = np.full(rod.n_dof, max(NEWTON_RTOL * scale, NEWTON_ROUNDOFF * u * scale * extent))
+    bend = NEWTON_RTOL_BEND * float(np.max(rod.edge_B)) * l_min / rod.assembly.total_length**2
+    tol = np.full(rod.n_dof, max(min(NEWTON_RTOL * scale, bend),
+                                 NEWTON_ROUNDOFF * u * scale * extent / l_min))
     n_pos = 3 * len(rod.x)
     tol[:n_pos] = max(NEWTON_RTOL * scale, NEWTON_ROUNDOFF * u * scale * extent / l_min**2)
     return tol
