@@ -65,6 +65,11 @@ DENSE_EIG_MAX = 200
 #: below this times ``max |A_ij|`` (ARPACK's own test is relative to the shifted-inverted
 #: eigenvalue, which says little about a tiny eigenvalue of a stiff matrix).
 EIG_RESIDUAL_TOL = 1e-8
+#: The Lanczos shift of :func:`lowest_eigenpairs` lies at least twice this times ``max |A_ij|``
+#: below the lowest eigenvalue (when that is ~0): a few units of round-off. (An absolute 1e-12
+#: made the lowest eigenvalues of a Jacobi-scaled rod Hessian at 1e-14..1e-17, hundreds of
+#: elements per segment, one cluster as seen from the shift: ~7000 Lanczos steps, 15-45 s.)
+EIG_SHIFT_FLOOR = 1e-14
 
 
 def _brentq() -> Any:
@@ -541,6 +546,15 @@ def count_below(A: Any, sigma: float) -> int | None:
     the eigenvalues below ``sigma``. None when that factorisation is not available (singular,
     or the pivoting left the diagonal).
     """
+    return _ldlt(A, sigma)[1]
+
+
+def _ldlt(A: Any, sigma: float) -> tuple[Any, int | None]:
+    """Symmetric factorisation of ``A - sigma I`` and its count of negative pivots.
+
+    ``(lu, count)``: SuperLU in symmetric mode (see :func:`count_below`); ``(None, None)`` when
+    it fails, ``(lu, None)`` when the pivoting left the diagonal (no inertia).
+    """
     import scipy.sparse as sp
     import scipy.sparse.linalg as spla
 
@@ -549,11 +563,11 @@ def count_below(A: Any, sigma: float) -> int | None:
         lu = spla.splu((A - sigma * sp.identity(n)).tocsc(), permc_spec="MMD_AT_PLUS_A",
                        diag_pivot_thresh=0.0, options={"SymmetricMode": True})
     except RuntimeError:
-        return None
+        return None, None
     if not np.array_equal(lu.perm_r, lu.perm_c):
-        return None
+        return lu, None
     d = lu.U.diagonal()
-    return int(np.sum(d < 0)) if np.all(np.isfinite(d)) else None
+    return lu, (int(np.sum(d < 0)) if np.all(np.isfinite(d)) else None)
 
 
 def jacobi_scaling(A: Any) -> np.ndarray:
@@ -596,20 +610,25 @@ def lowest_eigenpairs(A: Any, k: int) -> tuple[np.ndarray, np.ndarray]:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             lam0 = spla.eigsh(A, k=1, sigma=0.0, which="LM", tol=1e-10, v0=v0)[0][0]
-        step = max(abs(lam0), 1e-12)
+        step = max(abs(lam0), EIG_SHIFT_FLOOR * float(abs(A).max()))
         sigma = min(lam0, 0.0) - 2.0 * step
         for _ in range(80):
-            if count_below(A, sigma) == 0:
+            lu, below = _ldlt(A, sigma)
+            if below == 0:
                 break
             step *= 2.0
             sigma = min(lam0, 0.0) - 2.0 * step
         else:
             raise NotConverged("could not place a Lanczos shift below the lowest eigenvalue "
                                "(no inertia-certified shift in 80 doublings)")
+        assert lu is not None  # below == 0 only with a factorisation
+        # The certifying factorisation of A - sigma I is the shift-invert operator: no second
+        # factorisation inside eigsh.
+        op = spla.LinearOperator((n, n), matvec=lu.solve, dtype=float)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             vals, vecs = spla.eigsh(A, k=min(k, n - 1), sigma=sigma, which="LM", tol=1e-10,
-                                    maxiter=20000, v0=v0)
+                                    maxiter=20000, v0=v0, OPinv=op)
         order = np.argsort(vals)
         vals, vecs = vals[order], vecs[:, order]
     scale = float(abs(A).max()) if n else 1.0

@@ -28,6 +28,13 @@ from .discrete import PENALTY, DiscreteRod, discretise
 #: generalised force scale (PENALTY max |B| / l_e, the stretch/shear terms) of the model.
 NEWTON_RTOL = 1e-10
 NEWTON_MAX_ITER = 60
+#: ... or below this many times its round-off level (:func:`residual_tolerance`), when that is
+#: larger: from a few hundred elements per unit length the relative tolerance is below it.
+NEWTON_ROUNDOFF = 4.0
+#: A rotation's bound is at most this times ``max|B| l_e / L^2`` (:func:`residual_tolerance`):
+#: equal to ``NEWTON_RTOL`` x the stiff scale at ``L / l_e = 100`` (``NEWTON_RTOL PENALTY
+#: 100^2``), smaller on finer meshes.
+NEWTON_RTOL_BEND = NEWTON_RTOL * PENALTY * 100.0**2
 #: The sliding field of a uniform ring is considered when, after removing the rigid motion that
 #: restores the gauge, more than this fraction of it remains (not just a rigid rotation) ...
 SLIDING_RATIO = 1e-3
@@ -35,16 +42,70 @@ SLIDING_RATIO = 1e-3
 SLIDING_OVERLAP = 0.9
 #: Eigenvalues of the Jacobi-scaled Hessian below ZERO_EIG x (l_e / L)^2 / PENALTY are reported
 #: as zero (neutral): the stiff stretch/shear penalty dominates the diagonal, so the bending
-#: eigenvalues scale like (l_e / L)^2 / PENALTY (see :func:`zero_eigenvalue_tol`).
+#: eigenvalues of rotation (twist) modes scale like (l_e / L)^2 / PENALTY ...
 ZERO_EIG = 1e-4
+#: ... and those of displacement modes like (l_e / L)^4 / PENALTY (the position unknowns' diagonal
+#: is the penalty's K / l_e, theirs l_e^-2 larger; measured: the six-ring's lowest 1.4e-9, 5.6e-12,
+#: 2.2e-14, 1.5e-15 at 16, 64, 256, 512 elements per segment): below ZERO_EIG_DISPLACEMENT x
+#: (l_e / L)^4 / PENALTY, when smaller, they are zero. (With the first bound alone the
+#: six-ring's stable held state was reported unstable from 256 elements per segment.)
+ZERO_EIG_DISPLACEMENT = 1.0
+#: ... but never below this: the lowest eigenvalues of the scaled Hessian (unit diagonal) are
+#: computed to an absolute error of ~1e-17 (measured at 1024 elements per segment against the
+#: (l_e / L)^4 extrapolation from 256 and 512: six-ring 7.2e-17 for 9e-17, hexagram 1.9e-17
+#: for 2.3e-17, steel-strip six-ring 4e-18 for 1.3e-17); four times that is not resolved.
+ZERO_EIG_ROUNDOFF = 0.25 * float(np.finfo(float).eps)
+
+
+def soft_eigenvalue_floor(rod: DiscreteRod) -> float:
+    """``min(ZERO_EIG r^2, ZERO_EIG_DISPLACEMENT r^4) / PENALTY``, ``r = min l_e / L``.
+
+    A small fraction of the lowest scaled bending eigenvalues (``L`` the total length; the
+    first bound up to ``L / l_e = 100``): Newton's smallest Levenberg-Marquardt shift.
+    """
+    ratio = float(np.min(rod.rest_length)) / rod.assembly.total_length
+    return min(ZERO_EIG * ratio**2, ZERO_EIG_DISPLACEMENT * ratio**4) / PENALTY
 
 
 def zero_eigenvalue_tol(rod: DiscreteRod) -> float:
-    """Scaled eigenvalues with magnitude below this count as zero (neutral) for ``rod``."""
-    from .discrete import PENALTY
+    """Scaled eigenvalues with magnitude below this count as zero (neutral) for ``rod``.
 
-    ratio = float(np.min(rod.rest_length)) / rod.assembly.total_length
-    return ZERO_EIG * ratio**2 / PENALTY
+    :func:`soft_eigenvalue_floor`, but at least ``ZERO_EIG_ROUNDOFF`` (not resolved).
+    """
+    return max(soft_eigenvalue_floor(rod), ZERO_EIG_ROUNDOFF)
+
+
+def residual_tolerance(rod: DiscreteRod) -> np.ndarray:
+    """Free-gradient bound, per unknown (shape ``(n_dof,)``), at which Newton has converged.
+
+    ``NEWTON_RTOL`` times the stiff force scale ``PENALTY max|B| / l_e``, or, when larger,
+    ``NEWTON_ROUNDOFF`` times the gradient's round-off level: ``u K max|x| / l_e`` for a node
+    position, ``u K max|x|`` for a rotation (``u`` the unit round-off, ``K = PENALTY max|B| /
+    l_e^2``): an edge's stretch force ``K eps`` carries the rounding ``u max|x| / l_e`` of its
+    strain, computed from absolute node positions, and its moment that force times ``l_e``. (A
+    rigid translation, which leaves the exact gradient unchanged, changes the computed position
+    forces by 1.0-1.2 times this level on the six-ring and hexagram examples at 256-1024
+    elements per segment.) For positions the ratio of the two grows as ``max|x| / l_e^2``: the
+    round-off level takes over near 300 elements per unit length (``max|x| ~ 1``); beyond, the
+    fixed relative tolerance could not be met and Newton stalled (hexagram at 1024 elements: 60
+    iterations at residual 5e-3, tolerance 1.6e-3, round-off level 6.3e-3).
+
+    A rotation's bound is also at most ``NEWTON_RTOL_BEND max|B| l_e / L^2`` (``L`` the total
+    length), the moment on one edge of a unit smooth bending or twisting misfit: the stiff
+    scale alone grows as ``1 / l_e`` while that moment falls as ``l_e``, and let a straight rod
+    twisted by 0.05 sin(2 pi s) rad at 4096 elements pass as an equilibrium with 0 iterations.
+    Both bounds agree at ``L / l_e = 100``; coarser meshes keep the relative one.
+    """
+    l_min = float(np.min(rod.rest_length))
+    scale = float(PENALTY * np.max(rod.edge_B) / l_min)
+    extent = float(np.max(np.abs(rod.x))) if rod.x.size else 0.0
+    u = float(np.finfo(float).eps)
+    bend = NEWTON_RTOL_BEND * float(np.max(rod.edge_B)) * l_min / rod.assembly.total_length**2
+    tol = np.full(rod.n_dof, max(min(NEWTON_RTOL * scale, bend),
+                                 NEWTON_ROUNDOFF * u * scale * extent / l_min))
+    n_pos = 3 * len(rod.x)
+    tol[:n_pos] = max(NEWTON_RTOL * scale, NEWTON_ROUNDOFF * u * scale * extent / l_min**2)
+    return tol
 
 
 @dataclasses.dataclass(frozen=True)
@@ -178,7 +239,8 @@ def newton(rod: DiscreteRod, *, max_iter: int = NEWTON_MAX_ITER) -> tuple[bool, 
 
     Steps are taken along ``-H^-1 g`` when ``H`` (free part) is positive definite, else along a
     shifted ``(H + s D) ^-1`` direction, so every step descends; the step halves until the
-    energy decreases (Armijo). Converged when ``max |g_free| <= NEWTON_RTOL * scale``. A start
+    energy decreases (Armijo). Converged when every ``|g_free|`` is at most its
+    :func:`residual_tolerance` (``NEWTON_RTOL * scale`` above the gradient's round-off). A start
     far from the Kirchhoff constraint (a frame sheared by more than ``ALIGN_SHEAR``: a user's
     shape, a rough perturbation) first has its frames turned onto their chords
     (:meth:`DiscreteRod.align_frames`): the stiff penalty otherwise dominates the quadratic
@@ -331,6 +393,24 @@ def lm_step(rod: DiscreteRod, free: np.ndarray, E: float, gf: np.ndarray, Hf: sp
     return None, lam
 
 
+def _retract_if_lower(trial: DiscreteRod, dq: np.ndarray) -> None:
+    """:func:`.discover.retract_step` on a trial state, kept only if it lowers the energy.
+
+    A large step in the chart (``R exp(hat(phi))``, ``x + dx``) leaves a stretch/shear misfit of
+    second order in the step, which the quadratic model does not see and whose stiffness grows
+    as ``1 / l_e^2``: without the retraction Newton from a start 0.01 L off the folded six-ring
+    took 131, 506 and more than 600 iterations at 16, 64 and 256 elements per segment (4 with
+    it). Where the supports impose a strain (an end turned between two clamps) the retraction,
+    which removes all strain, would raise the energy: the plain step is kept.
+    """
+    from .discover import retract_step
+
+    plain = trial.copy()
+    retract_step(trial, dq)
+    if trial.energy() > plain.energy():
+        trial.assign(plain)
+
+
 def _newton(rod: DiscreteRod, max_iter: int) -> tuple[bool, int, float]:
     """Run the iteration of :func:`newton`: Newton with a Levenberg-Marquardt safeguard.
 
@@ -343,22 +423,26 @@ def _newton(rod: DiscreteRod, max_iter: int) -> tuple[bool, int, float]:
     lowers the gradient is accepted instead.
     """
     free = rod.free_dofs()
-    # Force scale of the stiffest terms (stretch/shear penalty): the residual is relative to it.
-    scale = float(PENALTY * np.max(rod.edge_B) / np.min(rod.rest_length))
-    lam_floor = zero_eigenvalue_tol(rod)  # well below the scaled bending eigenvalues
+    # Relative to the force scale of the stiffest terms (stretch/shear penalty), not below the
+    # gradient's round-off.
+    tol = residual_tolerance(rod)[free]
+    # Well below the scaled bending eigenvalues, even where those are below round-off (the
+    # floor of zero_eigenvalue_tol, which is a verdict's tolerance, not a shift's).
+    lam_floor = soft_eigenvalue_floor(rod)
     lam = 0.0
     it = 0
     E, g, H = rod.energy_terms()
     while True:
         gf = g[free]
         res = float(np.max(np.abs(gf))) if gf.size else 0.0
-        if res <= NEWTON_RTOL * scale:
+        if np.all(np.abs(gf) <= tol):
             return True, it, res
         if it == max_iter:
             return False, max_iter, res
         it += 1
         Hf = H[free][:, free].tocsc()
-        terms, lam = lm_step(rod, free, E, gf, 0.5 * (Hf + Hf.T), lam, lam_floor)
+        terms, lam = lm_step(rod, free, E, gf, 0.5 * (Hf + Hf.T), lam, lam_floor,
+                             retract=_retract_if_lower)
         if terms is None:
             return False, it, res
         E, g, H = terms
