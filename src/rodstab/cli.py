@@ -830,9 +830,12 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
         energy, *unit_lines,
         f"stability    {'stable' if r.stable else 'NOT stable'}; lowest scaled Hessian "
         f"eigenvalues {', '.join(f'{v:.3g}' for v in ev)}",
-    ] + ([f"WARNING      largest stretch/shear strain {r.max_strain:.3g}: the supports impose "
+    ] + ([] if r.stability_resolved else [
+        "WARNING      stability NOT RESOLVED at this mesh: the lowest scaled eigenvalue is "
+        "within round-off of zero (fewer elements resolve it)"]) + (
+        [f"WARNING      largest stretch/shear strain {r.max_strain:.3g}: the supports impose "
           "a motion an inextensible rod cannot make (the result is the stiff penalty's)"]
-         if r.max_strain > STRAIN_WARN else []))
+        if r.max_strain > STRAIN_WARN else []))
     if not ok:
         raise NotConverged(f"Newton did not converge in {its} iterations at load factor "
                            f"{load_factor:g} (residual {res:.3g})")

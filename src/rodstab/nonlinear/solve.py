@@ -122,6 +122,11 @@ class Equilibrium(Result):
     load_factor: float
     method: str
     max_strain: float = 0.0  # largest stretch/shear strain of an edge (Kirchhoff: ~0)
+    #: False when the verdict rests on round-off: the lowest scaled eigenvalue within
+    #: ZERO_EIG_ROUNDOFF of zero on a mesh so fine that a resolved neutral or soft mode would
+    #: lie there too (node positions are absolute, the stretch stiffness grows as 1/l_e^2);
+    #: ``stable`` is then False and means "not shown stable" -- use fewer elements.
+    stability_resolved: bool = True
 
 
 #: An equilibrium whose largest stretch/shear strain exceeds this is not a Kirchhoff rod's:
@@ -478,10 +483,12 @@ def equilibrium(a: Assembly, *, load_factor: float = 1.0, elements_per_segment: 
         ok, its, res = newton(rod)
     E = rod.energy()
     ev = lowest_eigenvalues(rod, n_eig)
+    resolved = not (abs(ev[0]) <= ZERO_EIG_ROUNDOFF
+                    and soft_eigenvalue_floor(rod) < ZERO_EIG_ROUNDOFF)
     return Equilibrium(ok, E, res, its, bool(ok and ev[0] > zero_eigenvalue_tol(rod)),
                        tuple(float(v) for v in ev), len(rod.free_dofs()), load_factor,
                        "discrete Cosserat rod (stiff stretch/shear), Newton + line search, "
-                       "exact Hessian by second-order jets", max_strain(rod)), rod
+                       "exact Hessian by second-order jets", max_strain(rod), resolved), rod
 
 
 @dataclasses.dataclass(frozen=True)
