@@ -23,6 +23,7 @@ from rodstab.numerics import (
     matrix_roots,
     pencil_interval,
     pencil_interval_sparse,
+    sigma_min_2x2,
 )
 
 #: Accuracy asked of a refined simple root (Brent to XTOL * span, with margin for round-off).
@@ -422,3 +423,21 @@ def test_refine_root_refines_a_bracket_without_scanning():
     assert len(calls) < 15
     with pytest.raises(RodstabInputError, match=r"no sign change on \[0.0, 1.0\]"):
         refine_root(math.cos, 0.0, 1.0)
+
+
+def test_sigma_min_2x2_equals_lapack_and_keeps_its_digits_at_a_root():
+    """Closed-form smallest singular values of symmetric 2x2 matrices against LAPACK's SVD on
+    random ones; on an exactly singular one shifted by 1e-12 in ``a22`` the closed form reads
+    the shift's effect (|det| / sigma_max = a11 1e-12 / F^(1/2)) to 1e-3 relative (the
+    shift itself is stored in y = 4.5 + 1e-12 to ~5e-4)."""
+    rng = np.random.default_rng(5)
+    a11, a22, a12 = rng.normal(size=(3, 200))
+    got = sigma_min_2x2(a11, a22, a12)
+    ref = [np.linalg.svd(np.array([[x, z], [z, y]]), compute_uv=False)[-1]
+           for x, y, z in zip(a11, a22, a12, strict=True)]
+    assert np.allclose(got, ref, rtol=1e-10, atol=1e-15)
+    x, z = 2.0, 3.0
+    y = z * z / x + 1e-12  # det = x * 1e-12
+    F = x * x + y * y + 2 * z * z
+    assert sigma_min_2x2(np.array(x), np.array(y), np.array(z)) == pytest.approx(
+        x * 1e-12 / math.sqrt(F), rel=1e-3)

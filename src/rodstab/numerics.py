@@ -538,6 +538,20 @@ def pencil_interval(A: np.ndarray, C: np.ndarray, *,
                           bool(residual < 1e-8), n, "generalized symmetric eigh (LAPACK sygv)")
 
 
+def sigma_min_2x2(a11: np.ndarray, a22: np.ndarray, a12: np.ndarray) -> np.ndarray:
+    """Smallest singular values of symmetric 2x2 matrices ``[[a11, a12], [a12, a22]]``.
+
+    Vectorised, in closed form: ``sigma_max^2 = (F + sqrt(F^2 - 4 det^2)) / 2`` (``F`` the
+    squared Frobenius norm) and ``sigma_min = |det| / sigma_max``, which keeps its relative
+    accuracy at a root of ``det`` (where the difference formula would cancel): the residual
+    check of the closed-form mode pencils of the analytic modules.
+    """
+    det = a11 * a22 - a12 * a12
+    F = a11 * a11 + a22 * a22 + 2.0 * a12 * a12
+    smax = np.sqrt(0.5 * (F + np.sqrt(np.maximum(F * F - 4.0 * det * det, 0.0))))
+    return np.abs(det) / np.maximum(smax, 1e-300)
+
+
 def count_below(A: Any, sigma: float) -> int | None:
     """Count the eigenvalues of the sparse symmetric ``A`` below ``sigma`` (Sylvester's inertia).
 

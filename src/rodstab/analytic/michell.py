@@ -26,6 +26,7 @@ import numpy as np
 from ..errors import RodstabInputError, require_positive, require_positive_int
 from ..limits import DEFAULT as DEFAULT_LIMITS
 from ..limits import Limits, require_steps
+from ..numerics import sigma_min_2x2
 from ..results import Result
 
 
@@ -98,13 +99,10 @@ def michell_stability(b2: float, loops: int = 1, *, b1: float = 1.0,
     t = np.sqrt(ks * ks - 1.0)
     i = int(np.argmin(t))
     t_c, j_c = float(t[i]), N + 1 + i
-    # Each mode checked on its pencil: sigma_min(A - t C) / ||A||_2, 2x2 closed form
-    # (sigma_min = |det| / sigma_max), as numerics.pencil_interval reports its residual.
-    a11, a22, a12 = ks * ks - 1.0, ks * ks, t * ks
-    det = a11 * a22 - a12 * a12
-    F = a11 * a11 + a22 * a22 + 2.0 * a12 * a12
-    smax = np.sqrt(0.5 * (F + np.sqrt(np.maximum(F * F - 4.0 * det * det, 0.0))))
-    residual = float(np.max(np.abs(det) / smax / (ks * ks))) if ks.size else 0.0
+    # Each mode checked on its pencil: sigma_min(A - t C) / ||A||_2, as
+    # numerics.pencil_interval reports its residual.
+    residual = float(np.max(sigma_min_2x2(ks * ks - 1.0, ks * ks, t * ks) / (ks * ks))) \
+        if ks.size else 0.0
     k = j_c / N
     t_c_report = math.nan if unstable else t_c
     return MichellStability(

@@ -21,6 +21,7 @@ import numpy as np
 from ..errors import require_positive, require_positive_int
 from ..limits import DEFAULT as DEFAULT_LIMITS
 from ..limits import Limits, require_steps
+from ..numerics import sigma_min_2x2
 from ..results import Result
 
 
@@ -86,25 +87,20 @@ def ring_mode_bound(j: int, loops: int, b1: float, b2: float) -> ModeBound:
 def _pencil_residuals(k: np.ndarray, bounds: np.ndarray, b1: float, b2: float) -> float:
     """Largest ``sigma_min(A_k - M C_k) / ||A_k||_2`` over the modes at their finite bounds.
 
-    Vectorised over the modes (``k``, ``bounds`` of equal shape): the 2x2 matrices'
-    singular values in closed form, ``sigma_max^2 = (F + sqrt(F^2 - 4 det^2)) / 2`` with ``F``
-    the squared Frobenius norm and ``sigma_min = |det| / sigma_max`` (no cancellation at a
-    root, where ``det`` is what vanishes). ``k = 0`` is the 1x1 pencil ``b1 - M`` embedded as
-    ``diag(b1 - M, b2)`` (:func:`ring_mode_pencil`).
+    Vectorised over the modes (``k``, ``bounds`` of equal shape), singular values in closed
+    form (:func:`rodstab.numerics.sigma_min_2x2`). ``k = 0`` is the 1x1 pencil ``b1 - M``
+    embedded as ``diag(b1 - M, b2)`` (:func:`ring_mode_pencil`).
     """
     ok = np.isfinite(bounds)
     k, M = k[ok], bounds[ok]
     a11 = b1 + b2 * k * k - M
     a22 = np.where(k == 0, b2, b1 * k * k + b2 - M)
     a12 = np.where(k == 0, 0.0, -(b1 + b2) * k + M * k)
-    det = a11 * a22 - a12 * a12
-    F = a11 * a11 + a22 * a22 + 2.0 * a12 * a12
-    smax = np.sqrt(0.5 * (F + np.sqrt(np.maximum(F * F - 4.0 * det * det, 0.0))))
     # ||A_k||_2: the larger eigenvalue of the symmetric positive A_k
     p11, p22 = b1 + b2 * k * k, b1 * k * k + b2
     p12 = np.where(k == 0, 0.0, -(b1 + b2) * k)
     norm = 0.5 * (p11 + p22) + np.sqrt(0.25 * (p11 - p22) ** 2 + p12 * p12)
-    return float(np.max(np.abs(det) / np.maximum(smax, 1e-300) / norm)) if k.size else 0.0
+    return float(np.max(sigma_min_2x2(a11, a22, a12) / norm)) if k.size else 0.0
 
 
 @dataclasses.dataclass(frozen=True)
