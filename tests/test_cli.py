@@ -10,6 +10,7 @@ that does not converge gives status 3; any other exception is a bug and propagat
 
 from __future__ import annotations
 
+import io
 import json
 import math
 
@@ -545,3 +546,35 @@ def test_continue_states_its_mesh_error_and_richardson_reaches_the_closed_form(r
     assert actual > 0.01 * exact  # the 16-element value is visibly off ...
     assert p["error_estimate"] == pytest.approx(actual, rel=0.05)  # ... and says by how much
     assert math.isclose(p["value_fine"], exact, rel_tol=0.01)
+
+
+class _Tty(io.StringIO):
+    def isatty(self) -> bool:
+        return True
+
+
+def test_elapsed_indicator_shows_after_its_delay_on_a_terminal_and_clears_its_line():
+    """A command without its own progress bar says it is working once it has run ``after``
+    seconds, on a terminal only, and clears the line before any output and at its end."""
+    import time
+
+    from rodstab.cli import _quiet_indicator, elapsed_indicator
+
+    tty = _Tty()
+    with elapsed_indicator("rodstab x: working", tty, after=0.05, tick=0.01):
+        time.sleep(0.3)
+        _quiet_indicator()  # what _emit does before the output
+        before_output = tty.getvalue()
+        time.sleep(0.1)
+    out = tty.getvalue()
+    assert "\rrodstab x: working: 0 s" in before_output
+    assert before_output.endswith("\r" + " " * len("rodstab x: working: 0 s") + "\r")
+    assert out == before_output  # nothing drawn after the output began
+    quiet = _Tty()
+    with elapsed_indicator("rodstab y", quiet, after=1.0, tick=0.01):
+        time.sleep(0.1)
+    assert quiet.getvalue() == ""  # a fast command shows nothing
+    pipe = io.StringIO()
+    with elapsed_indicator("rodstab z", pipe, after=0.0, tick=0.01):
+        time.sleep(0.1)
+    assert pipe.getvalue() == ""  # not a terminal: nothing

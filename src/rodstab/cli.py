@@ -375,6 +375,7 @@ def _limit_options(f: Callable[..., Any]) -> Callable[..., Any]:
 
 
 def _emit(payload: dict[str, Any], as_json: bool, lines: list[str]) -> None:
+    _quiet_indicator()
     if as_json:
         click.echo(json.dumps(jsonable(payload), allow_nan=False))
     else:
@@ -441,6 +442,7 @@ def _warnings_as_lines() -> Iterator[None]:
         def show(message: Warning | str, category: type[Warning], filename: str, lineno: int,
                  file: Any = None, line: str | None = None) -> None:
             if issubclass(category, RodstabWarning):
+                _quiet_indicator()
                 with tqdm.external_write_mode(file=sys.stderr):
                     click.echo(f"rodstab: warning: {' '.join(str(message).split())}",
                                err=True)
@@ -451,9 +453,76 @@ def _warnings_as_lines() -> Iterator[None]:
         yield
 
 
+#: Commands that draw their own progress bar (tqdm, with --no-progress).
+_OWN_PROGRESS = {"continue", "sweep", "atlas", "reproduce"}
+#: Seconds after which a command without its own bar shows that it is still working.
+ELAPSED_AFTER = 2.0
+
+
+@contextlib.contextmanager
+def elapsed_indicator(desc: str, stream: Any = None, *, after: float = ELAPSED_AFTER,
+                      tick: float = 0.5) -> Iterator[None]:
+    """Show ``desc: N s`` on ``stream`` (stderr) while the block runs, from ``after`` seconds.
+
+    Only on a terminal (a log or a pipe gets nothing); the line is cleared at the end, so the
+    command's own output and its one-line errors stay as they are. A daemon thread redraws
+    it every ``tick`` seconds: the solvers need no callback.
+    """
+    import threading
+    import time
+
+    stream = sys.stderr if stream is None else stream
+    if not getattr(stream, "isatty", lambda: False)():
+        yield
+        return
+    stop = threading.Event()
+    lock = threading.Lock()
+    start = time.monotonic()
+    shown = [0]
+
+    def draw() -> None:
+        while not stop.wait(tick):
+            t = time.monotonic() - start
+            with lock:
+                if t >= after and not stop.is_set():
+                    text = f"{desc}: {t:.0f} s"
+                    stream.write("\r" + text)
+                    stream.flush()
+                    shown[0] = len(text)
+
+    def finish() -> None:
+        stop.set()
+        with lock:
+            if shown[0]:
+                stream.write("\r" + " " * shown[0] + "\r")
+                stream.flush()
+                shown[0] = 0
+
+    thread = threading.Thread(target=draw, daemon=True)
+    _INDICATOR_STOP.append(finish)
+    thread.start()
+    try:
+        yield
+    finally:
+        finish()
+        thread.join()
+        _INDICATOR_STOP.remove(finish)
+
+
+#: The running elapsed_indicator's stop: called before any output, which must not share a line
+#: with it (nor be erased when it clears its line).
+_INDICATOR_STOP: list[Callable[[], None]] = []
+
+
+def _quiet_indicator() -> None:
+    for finish in list(_INDICATOR_STOP):
+        finish()
+
+
 @click.group(context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(__version__, prog_name="rodstab")
-def cli() -> None:
+@click.pass_context
+def cli(ctx: click.Context) -> None:
     """Elastic stability of Kirchhoff rods and rings in circular or straight states.
 
     \b
@@ -461,6 +530,8 @@ def cli() -> None:
     3 not converged (one line on stderr; equilibrium, continue and sweep
     print their table or JSON first).
     """  # noqa: D301 - "\b" is click's no-rewrap marker (a backspace character), not a regex
+    if ctx.invoked_subcommand and ctx.invoked_subcommand not in _OWN_PROGRESS:
+        ctx.with_resource(elapsed_indicator(f"rodstab {ctx.invoked_subcommand}: working"))
 
 
 def _polygon_lines(s: PolygonSection) -> list[str]:
