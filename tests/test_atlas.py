@@ -167,8 +167,8 @@ def test_mirror_state_interval_is_the_negated_one():
 @pytest.mark.parametrize("call,name", [
     (lambda: A.mode_type(4, 6), "4"),
     (lambda: A.bloch_interval(uniform_ring(6, weld=1.0, natural_curvature=1.0), 0.5),
-     "57.2958deg"),
-    (lambda: A.bloch_interval(uniform_ring(6), 0.5), "natural_curvature"),
+     "theta = 0.5"),
+    (lambda: A.bloch_interval(uniform_ring(6), 2 * math.pi / 6 - math.pi), "natural_curvature"),
     (lambda: A.select_states(uniform_ring(6, natural_curvature=1.0), ["tulip"]), "tulip"),
     (lambda: A.ring_atlas(lambda p: uniform_ring(6, natural_curvature=1.0), [1.0]), "1"),
     (lambda: A.state_interval(uniform_ring(6, natural_curvature=1.0),

@@ -43,7 +43,7 @@ from .limits import Limits
 from .linear.solve import linear_stability
 from .numerics import refine_root
 from .results import Result
-from .states import HeldState, Ring, weld_name
+from .states import HeldState, Ring, step_angle, weld_name
 from .transfer import CyclicRingInterval, cyclic_ring_interval
 
 #: Mode types at a limit, by Bloch harmonic ``m`` of an ``n``-rod ring.
@@ -141,15 +141,18 @@ def bloch_interval(ring: Ring, theta: float) -> CyclicRingInterval:
 
     :func:`rodstab.transfer.cyclic_ring_interval` in the ring's units: arc ``L / R = theta``,
     load ``L kappa_n = L natural_curvature`` per unit load factor, ``b1 = B1 / B3``,
-    ``b2 = B2 / B3`` (P2 depends on the stiffnesses only through these). Refuses, naming the
-    weld, a ring whose welds are neither cusps nor smooth (the Bloch joint map knows those two).
+    ``b2 = B2 / B3`` (P2 depends on the stiffnesses only through these). Welds of any angle:
+    the joint map turns the rotation and moment vectors and carries the end term of the exact
+    second variation (:func:`rodstab.transfer.weld_joint_map`). Refuses, naming ``theta``, a
+    turning at which the rods do not close into the ring (``n psi`` not a multiple of 2 pi).
     """
-    if ring.weld not in ("cusp", "smooth"):
-        raise RodstabInputError(f"the transfer method needs cusp or smooth welds; this ring's "
-                                f"welds turn the tangent by {weld_name(ring.weld)} (use the "
-                                "fe method)")
+    turns = ring.segments * step_angle(theta, ring.weld) / (2 * math.pi)
+    if not math.isfinite(turns) or abs(turns - round(turns)) > 1e-9 * max(1.0, abs(turns)):
+        raise RodstabInputError(f"theta = {theta!r} is no held state of this ring: "
+                                f"{ring.segments} rods turning by it and "
+                                f"{weld_name(ring.weld)} welds do not close")
     return cyclic_ring_interval(theta, ring.length * ring.natural_curvature, ring.B1 / ring.B3,
-                                ring.B2 / ring.B3, ring.segments, str(ring.weld),
+                                ring.B2 / ring.B3, ring.segments, ring.weld,
                                 stress_free_load(ring, theta))
 
 

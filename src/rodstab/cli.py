@@ -1889,7 +1889,7 @@ ATLAS_DEFAULT_N = 21
               show_default=True, help="Directory for atlas.json and atlas.png.")
 @click.option("--method", type=click.Choice(["transfer", "fe"]), default="transfer",
               show_default=True,
-              help="Exact rod with a Bloch phase per harmonic (cusp or smooth welds; names "
+              help="Exact rod with a Bloch phase per harmonic (welds of any angle; names "
                    "the mode at each limit), or the FE engine on the whole ring "
                    "(Richardson-extrapolated from 32 and 64 elements per rod).")
 @click.option("--state", "state_labels", multiple=True,

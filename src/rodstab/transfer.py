@@ -216,13 +216,16 @@ def straight_segment_system(m: float, B1: float, B2: float) -> np.ndarray:
 def _end_quantities(y: np.ndarray, m: float, B1: float, B2: float) -> dict[str, np.ndarray]:
     """Rows (as linear maps of ``y``) of the end quantities of a straight segment.
 
-    ``V = -(B1 w''' + m omega')`` (shear), ``Mb = B1 w''`` (bending moment about ``n``),
-    ``Tq = B2 omega' - m w'`` (torque): the coefficients of ``dw``, ``dw'``, ``d omega`` in the
-    boundary terms of the first variation of P2.
+    ``V = -(B1 w''' + m omega')`` (shear), ``Mb = B1 w'' + m omega / 2`` (bending moment about
+    ``n``), ``Tq = B2 omega' - m w' / 2`` (torque): the coefficients of ``dw``, ``dw'``,
+    ``d omega`` in the boundary terms of the first variation of the exact second variation,
+    P2's integrand plus its end term ``1/2 m [w' omega]`` (which gives the ``m omega / 2`` and
+    ``m w' / 2``; derived at :func:`rodstab.linear.assembly.end_term_matrices`). Without the
+    end term the natural joint conditions hold only at smooth welds and cusps.
     """
     w, dw, d2w, d3w, om, dom = (y[i] for i in range(6))
-    return {"w": w, "dw": dw, "om": om, "V": -(B1 * d3w + m * dom), "Mb": B1 * d2w,
-            "Tq": B2 * dom - m * dw}
+    return {"w": w, "dw": dw, "om": om, "V": -(B1 * d3w + m * dom),
+            "Mb": B1 * d2w + 0.5 * m * om, "Tq": B2 * dom - 0.5 * m * dw}
 
 
 #: Rigid motions of a free planar assembly (translation, two rotations): always in the null
@@ -404,15 +407,60 @@ def arc_end_matrix(L_kappa: float, L_over_R: float, b1: float, b2: float) -> np.
     return G
 
 
+def weld_joint_map(turn: float) -> np.ndarray:
+    """6x6 map of a weld turning the tangent by ``turn`` (radians, about ``e3``) on ``Gt y``.
+
+    ``Gt y = (u, u', omega, P_u, P_u' + m omega / 2, P_w + m u' / 2)`` (:func:`arc_end_matrix`
+    with the end term of the exact second variation, :func:`_with_end_term`): ``u`` and the
+    shear are scalars along ``e3``; the rotation vector ``u' n + omega t`` and the moment
+    ``(P_u' + m omega / 2) n + (P_w + m u' / 2) t`` are continuous vectors of the plane, whose
+    components in the next arc's frame ``(n, t)`` turned by ``turn`` are
+    ``(cos a x + sin a y, -sin a x + cos a y)``. ``turn = pi`` is :data:`CUSP_JOINT_MAP`,
+    ``turn = 0`` the identity.
+    """
+    c, s = math.cos(turn), math.sin(turn)
+    rot = np.array([[c, s], [-s, c]])
+    J = np.eye(6)
+    J[1:3, 1:3] = rot
+    J[4:6, 4:6] = rot
+    if abs(turn - math.pi) <= 1e-12 or abs(turn + math.pi) <= 1e-12:
+        return CUSP_JOINT_MAP.copy()  # exact signs (cos pi, sin pi are rounded)
+    return J
+
+
+def _with_end_term(G: np.ndarray, L_kappa: float, L_over_R: float) -> np.ndarray:
+    """:func:`arc_end_matrix` ``G`` with the end term ``1/2 m [u' omega]`` in its moments.
+
+    The exact second variation is P2's integral plus ``1/2 m [u' omega]`` over every arc
+    (derived at :func:`rodstab.linear.assembly.end_term_matrices`; ``m = L/R - L kappa_n``):
+    its first variation adds ``m omega / 2`` to ``P_u'`` and ``m u' / 2`` to ``P_w``. At a
+    cusp or a smooth weld the added terms cancel between the two ends; at other angles not.
+    """
+    m = L_over_R - L_kappa
+    Gt = G.copy()
+    Gt[4] += 0.5 * m * G[2]
+    Gt[5] += 0.5 * m * G[1]
+    return Gt
+
+
 def _cyclic_parts(L_kappa: float, L_over_R: float, b1: float, b2: float,
-                  weld: str) -> tuple[np.ndarray, np.ndarray]:
-    """``(G, J G T)`` of :func:`cyclic_ring_matrix` (the same for every harmonic)."""
-    if weld not in ("cusp", "smooth"):
-        raise RodstabInputError(f"weld must be 'cusp' or 'smooth', got {weld!r}")
+                  weld: str | float) -> tuple[np.ndarray, np.ndarray]:
+    """``(G, J G T)`` of :func:`cyclic_ring_matrix` (the same for every harmonic).
+
+    ``weld``: ``"cusp"``, ``"smooth"`` or the tangent's turn across a weld in radians.
+    """
+    if isinstance(weld, str):
+        if weld not in ("cusp", "smooth"):
+            raise RodstabInputError(f"weld must be 'cusp', 'smooth' or a turn in radians, "
+                                    f"got {weld!r}")
+        turn = math.pi if weld == "cusp" else 0.0
+    else:
+        turn = float(weld)
+        if not math.isfinite(turn):
+            raise RodstabInputError(f"weld turn must be finite, got {weld!r}")
     S = arc_system_matrix(L_kappa, L_over_R, b1, b2)
-    G = arc_end_matrix(L_kappa, L_over_R, b1, b2)
-    J = CUSP_JOINT_MAP if weld == "cusp" else np.eye(6)
-    return G, J @ G @ expm(S)
+    G = _with_end_term(arc_end_matrix(L_kappa, L_over_R, b1, b2), L_kappa, L_over_R)
+    return G, weld_joint_map(turn) @ G @ expm(S)
 
 
 def _bloch(G: np.ndarray, right: np.ndarray, harmonic: int, segments: int) -> np.ndarray:
@@ -432,14 +480,15 @@ def _bloch(G: np.ndarray, right: np.ndarray, harmonic: int, segments: int) -> np
 
 
 def cyclic_ring_matrix(L_kappa: float, L_over_R: float, b1: float, b2: float, harmonic: int,
-                       segments: int, weld: str) -> np.ndarray:
+                       segments: int, weld: str | float) -> np.ndarray:
     """Bloch matrix of harmonic ``m`` of a ring of ``segments`` equal arcs; singular at its loads.
 
     Arc ``i + 1`` is arc ``i`` turned about ``e3`` (by ``L/R + pi`` across a cusp, ``L/R``
-    across a smooth weld), so the P2 of every arc is the same in its own frame and the modes
-    of harmonic ``m`` have ``y_{i+1}(0) = rho y_i(0)``, ``rho = exp(2 pi i m / n)``. With
-    ``T = expm(S)`` over one arc (:func:`arc_system_matrix`), ``G`` = :func:`arc_end_matrix`
-    and ``J`` the joint map (:data:`CUSP_JOINT_MAP`, or the identity for a smooth weld), the
+    across a smooth weld, ``L/R + a`` across a weld turning the tangent by ``a``), so the P2
+    of every arc is the same in its own frame and the modes of harmonic ``m`` have
+    ``y_{i+1}(0) = rho y_i(0)``, ``rho = exp(2 pi i m / n)``. With ``T = expm(S)`` over one
+    arc (:func:`arc_system_matrix`), ``G`` = :func:`arc_end_matrix` with the end term
+    (:func:`_with_end_term`) and ``J`` = :func:`weld_joint_map`, the
     weld conditions of arc ``i``'s end and arc ``i + 1``'s start read
     ``(rho G - J G T) y_i(0) = 0``. For ``rho = +-1`` this 6x6 matrix is real; otherwise its
     real 12x12 form ``[[Re, -Im], [Im, Re]]`` is returned, singular on the pair ``m, n - m``
@@ -471,7 +520,7 @@ class CyclicRingInterval(Result):
 
 
 def cyclic_ring_interval(L_over_R: float, L_kappa_per_mu: float, b1: float, b2: float,
-                         segments: int, weld: str, reference: float, *, chunk: float = 1.0,
+                         segments: int, weld: str | float, reference: float, *, chunk: float = 1.0,
                          max_span: float = 50.0, n_scan: int = 40) -> CyclicRingInterval:
     """Stable interval of ``mu`` (``L kappa_n = mu L_kappa_per_mu``) around a stable ``reference``.
 
@@ -520,8 +569,9 @@ def cyclic_ring_interval(L_over_R: float, L_kappa_per_mu: float, b1: float, b2: 
             start += chunk
         found[side] = best if best is not None else (side * math.inf, -1, 0, 0.0)
     lo, hi = found[-1], found[1]
+    weld_label = weld if isinstance(weld, str) else f"{math.degrees(weld):.6g}deg"
     return CyclicRingInterval(
         lo=lo[0], hi=hi[0], harmonic_lo=lo[1], harmonic_hi=hi[1], multiplicity_lo=lo[2],
         multiplicity_hi=hi[2], rigid_nullity=tuple(nullity), residual=max(lo[3], hi[3]),
-        method=f"exact P2 on one arc, {weld} joint map, Bloch phase per harmonic 0..{n // 2}, "
-               "sigma_min scan")
+        method=f"exact second variation on one arc, {weld_label} joint map, Bloch phase per "
+               f"harmonic 0..{n // 2}, sigma_min scan")

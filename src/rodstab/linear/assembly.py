@@ -8,6 +8,11 @@ continuity conditions, nothing else); inside a segment the nodal and mid-element
 ``beta = w'``, about the tangent is ``omega``; linearised, from (2.1) and (2.5)). The joint
 ``w`` carry no energy: they enter only the closure rows ``B``, one per segment,
 ``int beta ds - (w_end - w_start) = 0`` (``w`` single valued along the segment).
+
+Every segment end also carries the end term ``1/2 m [beta omega]`` of the exact second
+variation (:func:`end_term_matrices`): the integrand of (2.12) differs from it by
+``-1/2 m (beta omega)'``, which telescopes across a weld only where ``beta omega`` is the same
+on both sides (smooth welds and cusps), not at a weld of any other angle.
 """
 
 from __future__ import annotations
@@ -45,6 +50,8 @@ class SegmentDofs:
     w_start: int  # global index of the joint w at the segment's start
     D0: np.ndarray  # density matrices of elements.density_matrices
     D1: np.ndarray
+    #: Held moment ``m = m0 + mu m1`` as ``(m0, m1) = (B3 k, -B3 kappa_n)``: the end term's.
+    moment: tuple[float, float] = (0.0, 0.0)
 
     def local(self, x: np.ndarray) -> np.ndarray:
         """Return the segment's local unknowns of a global vector ``x``."""
@@ -131,7 +138,7 @@ def discretise(a: Assembly, elements_per_segment: int | dict[str, int] = 16) -> 
                 index[2 * node + comp] = (3 * j + 1, 3 * j + 2)
                 coef[2 * node + comp] = vec
         seg_dofs.append(SegmentDofs(s.name, n_el, s.length, index, coef, 3 * joint_at[0],
-                                    D0, D1))
+                                    D0, D1, (s.B3 * s.curvature, -s.B3 * s.natural_curvature)))
         # Element triplets straight to global numbering: entry (i, j) of an element matrix
         # goes to (index[i, a], index[j, b]) times coef[i, a] coef[j, b] (duplicates summed).
         idx = _element_dof_table(n_el)  # (n_el, 6)
@@ -152,6 +159,15 @@ def discretise(a: Assembly, elements_per_segment: int | dict[str, int] = 16) -> 
         b_rows += [np.full(int(nz.sum()) + 2, i_seg)]
         b_cols += [index.ravel()[nz], np.array([3 * joint_at[n_el], 3 * joint_at[0]])]
         b_vals += [bv[nz], np.array([-1.0, 1.0])]
+        # The end term of the exact second variation on the joint rotations (3 j + 1, 3 j + 2).
+        for node, sign in ((0, -1.0), (n_el, 1.0)):
+            t = s.tangent(0.0 if node == 0 else s.length)
+            E0, E1 = end_term_matrices(t, sign, s.curvature, s.natural_curvature, s.B3)
+            g = 3 * joint_at[node] + np.array([1, 2])
+            r_all.append(np.repeat(g, 2))
+            c_all.append(np.tile(g, 2))
+            v0_all.append(E0.ravel())
+            v1_all.append(E1.ravel())
     rows_g, cols_g = np.concatenate(r_all), np.concatenate(c_all)
     K0 = sp.csr_matrix((np.concatenate(v0_all), (rows_g, cols_g)), shape=(n_global, n_global))
     K1 = sp.csr_matrix((np.concatenate(v1_all), (rows_g, cols_g)), shape=(n_global, n_global))
@@ -160,6 +176,30 @@ def discretise(a: Assembly, elements_per_segment: int | dict[str, int] = 16) -> 
                       shape=(len(a.segments), n_global))
     Z, n_joint_reduced = _constraint_basis(a, joints, n_global)
     return Discretisation(K0, K1, B, Z, tuple(seg_dofs), joints, n_global, n_joint_reduced)
+
+
+def end_term_matrices(t: np.ndarray, sign: float, k: float, kappa_n: float,
+                      B3: float) -> tuple[np.ndarray, np.ndarray]:
+    """2x2 ``(E0, E1)``: twice the end term ``sign m beta omega / 2`` on ``theta = (x, y)``.
+
+    Second variation of (2.9) about a held state of uniform moment ``m = B3 (k - mu kappa_n)``
+    and zero internal force, with the rotation written ``exp(Theta) R0`` (``Theta`` the lab-frame
+    rotation vector, exactly continuous at a weld and zero at a clamp): the second-order part of
+    the curvature is ``kappa_3 = -1/2 (beta omega' - omega beta' + k (beta^2 + omega^2))``
+    (``beta = Theta . n``, ``omega = Theta . t``), while (2.10) without its ``(alpha beta)'``
+    has ``-beta omega' - k (beta^2 + omega^2) / 2``. The exact energy is therefore the
+    integral of (2.12) plus ``1/2 m [beta omega]`` from start to end of every segment
+    (``sign`` -1 at a start, +1 at an end); the second-order in-plane rotation enters only
+    as ``m [Theta_2 . e3]``, which telescopes (``Theta`` and ``m`` continuous at welds).
+    At a smooth weld or a cusp (``n, t`` both kept or both reversed) the two ends' terms
+    cancel; at any other angle they do not. ``t`` is the end's held tangent (lab frame);
+    ``beta omega = theta^T n t^T theta``, symmetrised. ``E0`` carries ``m = B3 k``, ``E1``
+    the part ``-B3 kappa_n`` per unit load factor, as :func:`.elements.density_matrices`.
+    """
+    n = np.array([t[1], -t[0]])
+    tt = np.array([t[0], t[1]])
+    S = 0.5 * (np.outer(n, tt) + np.outer(tt, n))
+    return sign * B3 * k * S, -sign * B3 * kappa_n * S
 
 
 def quadratic_forms(disc: Discretisation, x: np.ndarray) -> tuple[float, float]:
@@ -177,6 +217,11 @@ def quadratic_forms(disc: Discretisation, x: np.ndarray) -> tuple[float, float]:
         h = sd.length / sd.n_elements
         e0 += strain_energy(q, sd.D0, h)
         e1 += strain_energy(q, sd.D1, h)
+        # The end terms (end_term_matrices): m [beta omega] from start to end, twice 1/2.
+        n2 = 2 * sd.n_elements
+        jump = loc[n2] * loc[n2 + 1] - loc[0] * loc[1]
+        e0 += sd.moment[0] * jump
+        e1 += sd.moment[1] * jump
     return e0, e1
 
 

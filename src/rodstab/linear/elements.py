@@ -15,9 +15,14 @@ the density of (2.12) is ``1/2 q^T D q`` with ``q = (beta, beta', omega, omega')
 
     B1 (beta' - k omega)^2 + B2 (omega' + k beta)^2 - m (k beta^2 + k omega^2 + 2 beta omega')
 
-The end term ``B3 M alpha beta / R |`` of (2.12) is not included: it vanishes at clamps, and at
-a joint in moment equilibrium the ends' contributions cancel (the second-order rotation is
-shared, the held moments balance) -- the argument of the paper after (4.4) and (5.2).
+The end term ``B3 M alpha beta / R |`` of (2.12) is not included here: with ``alpha`` an Euler
+angle it is no function of the linearised rotation alone. The exact second variation (a
+rotation ``exp(Theta) R0`` with ``Theta`` continuous at welds) is this density plus
+``1/2 m [beta omega]`` over every segment, which :mod:`.assembly` adds at the segment ends
+(:func:`~rodstab.linear.assembly.end_term_matrices`). Those terms cancel across smooth welds
+and cusps, which is why (2.12) alone is right for every structure of the paper, and not
+across a weld of any other angle.
+
 ``D = D0 + mu D1`` is affine in the load factor ``mu``.
 
 Element DOF order: ``(beta1, omega1, beta2, omega2, beta_mid, omega_mid)``.
