@@ -353,8 +353,11 @@ def test_cli_barrier_string_json_plot_and_animation(string_six: tuple, tmp_path,
     assert (out["method"], out["images"], out["converged"]) == ("string", 11, True)
     assert out["barrier_forward"] == pytest.approx(b.barrier_forward, abs=1e-12)
     assert out["saddle_index"] == 1 and (out["from"], out["to"]) == ("folded", "one-loop")
+    from rodstab.limits import Limits
+
     assert seen == {"elements_per_segment": 8, "images": 11, "name_a": "folded",
-                    "name_b": "one-loop", "mu": pytest.approx(THETA), "segments": 6}
+                    "name_b": "one-loop", "mu": pytest.approx(THETA), "segments": 6,
+                    "limits": Limits()}  # the default limits, passed on
     assert png.stat().st_size > 0
     assert Image.open(gif).n_frames == len(path)
 

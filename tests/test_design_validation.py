@@ -139,6 +139,11 @@ CASES = [
      ["weld[1].ends[1]", "'b.middle'", "'segment.start' or 'segment.end'"]),
     (_design(replace=(('ends = ["a.end", "b.end"]', 'ends = ["a.end"]'),)),
      ["weld[1].ends", "two or more"]),
+    # an end welded twice (issue 19 item 10: the same [[weld]] pasted twice)
+    (_design(replace=(('ends = ["a.end", "b.end"]', 'ends = ["a.start", "b.start"]'),)),
+     ["a.start", "welded twice", "weld[0]", "weld[1]"]),
+    (_design(replace=(('ends = ["a.end", "b.end"]', 'ends = ["c.end", "b.start"]'),)),
+     ["b.start", "welded twice", "weld[0]", "weld[1]"]),
     (_design(replace=(('end = "c.start"', 'end = "q.start"'),)),
      ["support[1].end", "'q.start'", "a, b, c"]),
     (_design(replace=(('end = "c.start"', 'end = 5'),)), ["support[1].end", "5"]),
@@ -282,3 +287,63 @@ def test_cli_vary_errors_name_the_part(argv, words, run_cli, tmp_path):
     assert len(lines) == 1, r.stderr
     for w in words:
         assert w in lines[0], (w, lines[0])
+
+
+UNITS = """\
+[material]
+E = "{E}"
+nu = 0.3
+[section]
+shape = "circle"
+diameter = "1 mm"
+[[segment]]
+name = "a"
+length = "100 mm"
+natural_radius = "75 mm"
+[[support]]
+end = "a.start"
+type = "clamped"
+[[support]]
+end = "a.end"
+type = "clamped"
+"""
+
+
+def test_a_modulus_outside_every_engineering_material_warns_on_stderr_and_in_json(run_cli,
+                                                                                  tmp_path):
+    """Issue 19 item 10: E = "200 Pa" (200 GPa meant) was accepted without a word, every
+    energy off by 1e9. Still accepted (exit 0), with one warning line naming the key and the
+    value, and a "warnings" field in --json."""
+    import json
+
+    path = tmp_path / "d.toml"
+    path.write_text(UNITS.format(E="200 Pa"))
+    r = run_cli(["analyze", str(path), "--json", "--elements", "4"])
+    assert r.exit_code == 0, r.stderr
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("rodstab: warning: "), r.stderr
+    for w in (str(path), "material.E", "'200 Pa'", "10 kPa", "2 TPa"):
+        assert w in lines[0], (w, lines[0])
+    warned = json.loads(r.stdout)["warnings"]
+    assert len(warned) == 1 and "material.E" in warned[0]
+
+
+@pytest.mark.parametrize("E, G, warned", [("200 GPa", None, []), ("10 kPa", None, []),
+                                          ("3 TPa", None, ["material.E"]),
+                                          ("10 kPa", "5 kPa", ["material.G"])])
+def test_modulus_range_of_the_warning(E, G, warned):
+    """10 kPa (soft gels) to 2 TPa (diamond) is quiet; outside, E or G is named."""
+    import tomllib
+    import warnings
+
+    from rodstab.design import parse_design
+    from rodstab.errors import RodstabWarning
+
+    text = UNITS.format(E=E)
+    if G is not None:
+        text = text.replace("nu = 0.3", f'G = "{G}"')
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        notes = list(parse_design(tomllib.loads(text), "d.toml").warnings)
+    assert notes == [str(w.message) for w in caught if w.category is RodstabWarning]
+    assert [k for k in ("material.E", "material.G") if any(k in n for n in notes)] == warned

@@ -60,6 +60,17 @@ CASES = [
       "--no-progress"], 2, ["support.0.rotation.tangent", "3.04641e+289"]),
     (["continue", E + "twisted_rod.toml", "--vary", "segment.rod.natural_curvature=0:1e300:2",
       "--elements", "4", "--no-progress"], 2, ["segment.rod.natural_curvature", "1e+300"]),
+    # issue 19 item 10: ran for minutes / had no --max-dof (the string's images are relaxed
+    # together: 8 el./rod, six rods = 306 unknowns each, at most 500000 // 306 = 1633 images)
+    (["barrier", "--images", "100000000"], 2, ["--images 100000000", "at most 1,633",
+                                               "--max-dof"]),
+    (["barrier", "--images", "17", "--max-dof", "1000"], 2, ["--images 17", "at most 3",
+                                                             "--max-dof"]),
+    (["barrier", "--method", "continuation", "--elements", "100000"], 2,
+     ["--elements 100000", "--max-dof"]),
+    (["transitions", "--elements", "100000"], 2, ["100000 elements per rod", "--max-dof"]),
+    (["transitions", "--max-dof", "100"], 2, ["8 elements per rod", "306 unknowns",
+                                              "--max-dof"]),
 ]
 
 
@@ -123,3 +134,27 @@ def test_not_converged_eigen_solve_exits_3_after_its_output(run_cli, monkeypatch
     assert len(lines) == 1 and lines[0].startswith("rodstab: ")
     assert "residual" in lines[0] and "fewer elements" in lines[0]
     assert r.stdout.strip()
+
+
+def test_atlas_respects_the_lock_of_a_running_continue(run_cli, tmp_path):
+    """Issue 19 item 10: atlas --out wrote into a folder a running `continue` had locked; now
+    it takes the same run.lock (rodstab.outputs.run_lock) and exits 2 naming the folder and
+    the lock, leaving the other run's lock alone."""
+    import json
+    import os
+    import socket
+
+    out = tmp_path / "busy"
+    out.mkdir()
+    lock = out / "run.lock"
+    lock.write_text(json.dumps({"pid": os.getpid(), "host": socket.gethostname(),
+                                "started": "2024-01-01T00:00:00+00:00"}))
+    before = lock.read_text()
+    r = run_cli(["atlas", E + "unfolded_six_ring.toml", "--vary", "section.aspect=1:2:3",
+                 "--out", str(out), "--no-progress"])
+    assert r.exit_code == 2, (r.exit_code, r.stderr[-2000:])
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("rodstab: error: "), r.stderr
+    for w in ("--out", str(out), "in use by another rodstab run", str(lock)):
+        assert w in lines[0], (w, lines[0])
+    assert lock.read_text() == before and sorted(p.name for p in out.iterdir()) == ["run.lock"]

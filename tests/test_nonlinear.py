@@ -393,3 +393,66 @@ def test_meshes_and_loads_the_discrete_rod_cannot_represent_are_refused(elements
     with pytest.raises(RodstabInputError, match=match):
         discretise(ring(3), elements, load)
     assert discretise(ring(3), 8, 1.0).n_dof > 0
+
+
+SPLIT_ARC = """
+[section]
+shape = "rectangle"
+aspect = 2.0
+[[segment]]
+name = "a"
+length = 0.6
+curvature = 1.0
+natural_curvature = 1.0
+[[segment]]
+name = "b"
+length = 1.4
+curvature = 1.0
+natural_curvature = 1.0
+[[weld]]
+ends = ["a.end", "b.start"]
+[[support]]
+end = "a.start"
+type = "clamped"
+[[support]]
+end = "b.end"
+type = "clamped"
+"""
+
+
+def test_split_arc_weld_of_unequal_elements_is_relaxed_and_converges_to_the_closed_form(tmp_path):
+    """Issue 19 item 8: an arc L/R = 2 split 0.6 / 1.4 (smooth weld between elements of unequal
+    length, an O(l_e^2) joint moment in the discrete held state), both ends clamped, was
+    refused ("not an equilibrium of the discrete model"). Relaxed by Newton at each load, its
+    critical load converges at second order to the unsplit arc's closed form (3.7)/(3.8); the
+    relaxation is reported (held residual -> relaxed residual, a move of O(l_e^2))."""
+    from rodstab.analytic.arc import clamped_arc_stability
+    from rodstab.design import load_design
+
+    path = tmp_path / "split_arc.toml"
+    path.write_text(SPLIT_ARC)
+    a = load_design(path).assembly
+    sec = rectangle(aspect=2.0)
+    exact = clamped_arc_stability(sec.b1, sec.b2, 2.0).L_kappa_interval[1] / 2.0  # L = 2
+    found = [critical_load_factor(a, 0.0, 10.0, elements_per_segment=n) for n in (8, 16)]
+    for r in found:
+        assert r.relaxed and r.relaxed_residual < 1e-3 * r.held_residual
+        assert r.relaxation_shift < 0.01
+        # planar joint moments against an out-of-plane mode: an exact bifurcation
+        assert r.mode_coupling < 1e-6 and "imperfect" not in r.method
+        assert "relaxed by Newton" in r.method
+    e8, e16 = (r.load_factor_critical - exact for r in found)
+    assert 3.5 < e8 / e16 < 4.5  # second order
+    richardson = (4 * found[1].load_factor_critical - found[0].load_factor_critical) / 3
+    assert abs(richardson - exact) < 3e-4 * exact  # 8.7e-4 / 7.4246 = 1.2e-4 measured
+
+
+def test_critical_load_factor_refuses_imposed_end_rotations():
+    """The held state of a design that turns a clamped end is not an equilibrium; relaxing
+    it would follow another state: refused with the end named."""
+    s = Segment(name="a", length=1.0, curvature=0.0, natural_curvature=1.0, B1=1.0, B2=0.75,
+                B3=1.0)
+    a = Assembly(segments=(s,), supports=(("a", "start", "clamped"), ("a", "end", "clamped")),
+                 end_rotations=(("a", "end", (0.0, 2.0, 0.0)),))
+    with pytest.raises(RodstabInputError, match=r"a\.end"):
+        critical_load_factor(a, 0.0, 5.0, elements_per_segment=4)

@@ -376,6 +376,8 @@ def _limit_options(f: Callable[..., Any]) -> Callable[..., Any]:
 
 def _emit(payload: dict[str, Any], as_json: bool, lines: list[str]) -> None:
     _quiet_indicator()
+    if _SHOWN_WARNINGS and "warnings" not in payload:
+        payload = payload | {"warnings": list(_SHOWN_WARNINGS)}
     if as_json:
         click.echo(json.dumps(jsonable(payload), allow_nan=False))
     else:
@@ -427,11 +429,17 @@ def _html_output(option: str, value: str) -> Path:
     return path
 
 
+#: The :class:`~rodstab.errors.RodstabWarning` messages this run has shown (each once, in
+#: order): :func:`_emit` adds them to a ``--json`` object as ``warnings``.
+_SHOWN_WARNINGS: list[str] = []
+
+
 @contextlib.contextmanager
 def _warnings_as_lines() -> Iterator[None]:
     """Print each :class:`~rodstab.errors.RodstabWarning` as one ``rodstab: warning:`` line.
 
-    A progress bar being drawn is cleared first (tqdm's external write mode).
+    A progress bar being drawn is cleared first (tqdm's external write mode). A message already
+    shown in this run (a design re-read at each point of a sweep) is not repeated.
     """
     from tqdm import tqdm
 
@@ -442,10 +450,13 @@ def _warnings_as_lines() -> Iterator[None]:
         def show(message: Warning | str, category: type[Warning], filename: str, lineno: int,
                  file: Any = None, line: str | None = None) -> None:
             if issubclass(category, RodstabWarning):
+                text = " ".join(str(message).split())
+                if text in _SHOWN_WARNINGS:
+                    return
+                _SHOWN_WARNINGS.append(text)
                 _quiet_indicator()
                 with tqdm.external_write_mode(file=sys.stderr):
-                    click.echo(f"rodstab: warning: {' '.join(str(message).split())}",
-                               err=True)
+                    click.echo(f"rodstab: warning: {text}", err=True)
             else:
                 shown(message, category, filename, lineno, file, line)
 
@@ -1621,11 +1632,12 @@ def _given(option: str) -> bool:
 @click.option("--out", "out_dir", type=click.Path(file_okay=False), default=None,
               help="Directory for transitions.json and transitions.png (the graph).")
 @_section_options
+@_limit_options
 @_json_option
 def transitions(design_file: str | None, section: Section, structure: str,
                 load_factor: float | None, elements: int,
                 contact_thickness: float, stimuli: tuple[str, ...], states_: tuple[str, ...],
-                all_stimuli: bool, out_dir: str | None, as_json: bool) -> None:
+                all_stimuli: bool, out_dir: str | None, limits: Limits, as_json: bool) -> None:
     """Transitions between states under a stimulus: the transition graph.
 
     Each state is loaded until it first loses stability, relaxed past it, unloaded and
@@ -1660,7 +1672,7 @@ def transitions(design_file: str | None, section: Section, structure: str,
         warnings.simplefilter("ignore", RuntimeWarning)
         res = rt.transitions(ring, load_factor=load_factor, elements=elements,
                              thickness=thickness, stimuli=stim, all_stimuli=all_stimuli,
-                             load=tuple(states_) or None)
+                             load=tuple(states_) or None, limits=limits)
     payload = res.graph.to_json()
     payload["structure"] = name
     payload["section"] = section.to_dict()
@@ -1744,11 +1756,12 @@ _BARRIER_STATES = {"six-ring": ("folded", "one-loop"), "hexagram": ("line", "sta
 @click.option("--animation", "animation_path", type=click.Path(dir_okay=False), default=None,
               help="Write a GIF of the path's states (.gif). String method.")
 @_section_options
+@_limit_options
 @_json_option
 def barrier(design_file: str | None, section: Section, method: str, structure: str,
             from_state: str | None, to_state: str | None, load_factor: float, elements: int,
             images: int | None, plot_path: str | None, animation_path: str | None,
-            as_json: bool) -> None:
+            limits: Limits, as_json: bool) -> None:
     """Energy barrier between two stable states of a ring: the saddle and the path through it.
 
     string (default): the minimum energy path between the two states by the string method
@@ -1760,6 +1773,7 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
     unconverged barrier exits 3 after the output.
     """
     from .errors import require_int
+    from .limits import require_nonlinear
 
     elements = require_int("--elements", elements, 4)
     k = require_finite("--load-factor", load_factor)
@@ -1795,19 +1809,25 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
     if from_state == to_state:
         raise RodstabInputError(f"--to {to_state!r} is the --from state: a barrier joins two "
                                 "different states")
+    # Sized before anything is built: the string relaxes its images together.
+    string = method == "string"
+    require_nonlinear([elements] * len(a.segments), len(a.joints()),
+                      f"--images {n_img}, --elements {elements}" if string else
+                      f"--elements {elements}", limits, copies=n_img if string else 1)
     path: list[Any] = []
     try:
         if method == "string":
             from .nonlinear.mep import string_barrier
 
             b, path = string_barrier(a, b_asm, mu, elements_per_segment=elements,
-                                     images=n_img, name_a=from_state, name_b=to_state)
+                                     images=n_img, name_a=from_state, name_b=to_state,
+                                     limits=limits)
         else:
             from .nonlinear.barrier import barrier_from_bifurcation
 
             b = barrier_from_bifurcation(a, mu, upper=model_load_factor(structure, 4.0),
                                          elements_per_segment=elements, name=from_state,
-                                         named={to_state: b_asm})
+                                         named={to_state: b_asm}, limits=limits)
     except RodstabInputError as exc:
         raise RodstabInputError(f"--load-factor {k!r}, --from {from_state!r}: {exc}") from exc
     payload = b.to_dict()
@@ -1924,6 +1944,7 @@ def atlas_cmd(design_file: str, vary: str, out_dir: str, method: str,
     from .atlas import LOAD_FACTOR_UNITS, ring_atlas
     from .design import load_design, parse_vary, vary_in_units
     from .executor import check_workers, task_size
+    from .outputs import run_lock, write_atomic
     from .states import Ring, ring_of
     from .sweep import design_at
 
@@ -1956,6 +1977,9 @@ def atlas_cmd(design_file: str, vary: str, out_dir: str, method: str,
     for value in (spec.start, spec.stop):  # both ends of the range, before the bar
         ring_at(value)
     out = check_output("--out", out_dir, directory=True)
+    # One run at a time writes into --out (a running `continue` or `sweep` there holds its
+    # run.lock): held until the command ends.
+    click.get_current_context().with_resource(run_lock(out, label=f"--out {out_dir!r}"))
     with tqdm(total=spec.n, desc="rodstab atlas", disable=no_progress, leave=False,
               delay=0.5) as bar:
         at = ring_atlas(ring_at, np.linspace(spec.start, spec.stop, spec.n).tolist(),
@@ -1996,7 +2020,7 @@ def atlas_cmd(design_file: str, vary: str, out_dir: str, method: str,
                             xlabel=at.key, ylabel="load factor",
                             title=f"{design_file}: stable bands ({method})")
     payload["json"], payload["plot"] = str(json_path), str(png)
-    json_path.write_text(json.dumps(jsonable(payload), allow_nan=False, indent=1))
+    write_atomic(json_path, json.dumps(jsonable(payload), allow_nan=False, indent=1))
     width = max(12, *(len(s) for s in at.states))
     lines = [f"load factor  {LOAD_FACTOR_UNITS}; method {method}",
              f"{at.key:>12} " + " ".join(f"{s:>{2 * width + 3}}" for s in at.states)]
@@ -2042,8 +2066,10 @@ def main(argv: list[str] | None = None) -> None:
     ``NotConverged``: one stderr line, status 3 (EXIT_NOT_CONVERGED). Anything else is a bug
     and propagates with its traceback.
     """
+    _SHOWN_WARNINGS.clear()
     try:
-        status = cli.main(args=argv, prog_name="rodstab", standalone_mode=False)
+        with _warnings_as_lines():
+            status = cli.main(args=argv, prog_name="rodstab", standalone_mode=False)
     except click.exceptions.Abort:
         click.echo("rodstab: aborted", err=True)
         sys.exit(130)

@@ -95,7 +95,10 @@ and ``|natural_twist|`` times the length at most :data:`MAX_TURNING`, ``angle_de
 ``aspect``, ``b1``, ``b2`` as :mod:`rodstab.sections` accepts them; a polygon's points are
 numbers (``section.polygon[3][1]``) and its geometry is checked by
 :func:`rodstab.sections.polygon_section` (the message names the table, e.g. ``section: holes[0]
-... is not inside the polygon``). Messages start with the file's name.
+... is not inside the polygon``). Messages start with the file's name. A modulus (``E``, ``G``)
+with a unit outside :data:`MODULUS_WARN_RANGE` is accepted with a warning
+(:attr:`Design.warnings`, a :class:`~rodstab.errors.RodstabWarning`). An end in two welds is
+refused (:func:`rodstab.model.validate`).
 """
 
 from __future__ import annotations
@@ -103,11 +106,12 @@ from __future__ import annotations
 import copy
 import dataclasses
 import math
+import warnings
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from .errors import RodstabInputError, require_positive_int
+from .errors import RodstabInputError, RodstabWarning, require_positive_int
 from .limits import (  # noqa: F401 -- defined there (light imports for the CLI), named here
     CONTINUATION_ELEMENTS,
     CONTINUE_DEFAULT_N,
@@ -181,6 +185,11 @@ ANGLE_RANGE_DEG = (-360.0, 360.0)
 #: Largest |reference_load| (a load factor; the design's natural curvatures are at 1).
 MAX_REFERENCE_LOAD = 1e6
 _NU_RANGE = (-1.0, 0.5)
+#: Young's and shear moduli of engineering materials (Pa): soft elastomers and gels from
+#: ~10 kPa to diamond's ~1.2 TPa. A modulus with a unit outside this range is accepted with a
+#: warning (:attr:`Design.warnings`): most likely a wrong prefix ("200 Pa" for 200 GPa puts
+#: every energy off by 1e9).
+MODULUS_WARN_RANGE = (1e4, 2e12)
 _TURNING_WHY = "at most a thousand turns (2000 pi rad) of the segment"
 
 _REQUIRED = object()
@@ -383,6 +392,9 @@ class Design:
     source: str
     raw: dict
     units: Units | None = None
+    #: Values accepted but suspicious (a modulus outside any engineering material's range),
+    #: each also issued as a :class:`~rodstab.errors.RodstabWarning` when parsed.
+    warnings: tuple[str, ...] = ()
 
     def paper_load_factor(self, mu: float) -> float:
         """``lam = B3 kappa_n L / sqrt(B1 B2)`` of ``load_factor_segment`` at load ``mu``."""
@@ -475,6 +487,7 @@ class _Reader:
     material: _Material | None = None
     length_unit: tuple[str, float] | None = None  # the first segment length's unit, m per unit
     base: Path = Path(".")  # the design file's folder: section.dxf paths are relative to it
+    warnings: list[str] = dataclasses.field(default_factory=list)  # see Design.warnings
 
     def value(self, value: Any, path: str, kind: str, *, lo: float = -math.inf,
               hi: float = math.inf, lo_open: bool = False, why: str = "",
@@ -517,6 +530,7 @@ def _elastic(table: Mapping, where: str, reader: _Reader, owner: str) -> _Materi
     """
     E = reader.value(_get(table, "E", where, _REQUIRED)[0], _path(where, "E"), "modulus",
                      lo=STIFFNESS_RANGE[0], hi=STIFFNESS_RANGE[1], why="Young's modulus")
+    _check_modulus(E, _get(table, "E", where, _REQUIRED)[0], _path(where, "E"), reader)
     if ("nu" in table) == ("G" in table):
         raise RodstabInputError(f"{owner} needs exactly one of nu (Poisson's ratio) and G "
                                 f"(the shear modulus) beside E, got {sorted(table)}")
@@ -526,6 +540,7 @@ def _elastic(table: Mapping, where: str, reader: _Reader, owner: str) -> _Materi
         return _Material(E=E, nu=nu, G=E / (2.0 * (1.0 + nu)))
     G = reader.value(table["G"], _path(where, "G"), "modulus", lo=STIFFNESS_RANGE[0],
                      hi=STIFFNESS_RANGE[1], why="the shear modulus")
+    _check_modulus(G, table["G"], _path(where, "G"), reader)
     nu = E / (2.0 * G) - 1.0  # isotropy: G = E / (2 (1 + nu))
     if not (_NU_RANGE[0] < nu <= _NU_RANGE[1]):
         raise RodstabInputError(f"{_path(where, 'G')} = {_show(table['G'])} with "
@@ -533,6 +548,19 @@ def _elastic(table: Mapping, where: str, reader: _Reader, owner: str) -> _Materi
                                 f"E/(2G) - 1 = {nu:.6g}, outside (-1, 0.5] (Poisson's ratio "
                                 "of an isotropic solid)")
     return _Material(E=E, nu=nu, G=G)
+
+
+def _check_modulus(si: float, raw: Any, path: str, reader: _Reader) -> None:
+    """Note (not refuse) a modulus with a unit outside :data:`MODULUS_WARN_RANGE`.
+
+    Plain numbers are in the file's own unit system and are not judged.
+    """
+    lo, hi = MODULUS_WARN_RANGE
+    if reader.marker is not None and not lo <= si <= hi:
+        reader.warnings.append(
+            f"{path} = {_show(raw)} is outside the moduli of engineering materials "
+            f"({lo / 1e3:g} kPa to {hi / 1e12:g} TPa: soft elastomers to diamond); check its "
+            "unit: every energy and stiffness scales with it")
 
 
 def _section_table(table: dict[str, Any], where: str,
@@ -981,9 +1009,11 @@ def _scaled(s: Segment, length: float, stiffness: float) -> Segment:
         start=(s.start[0] / length, s.start[1] / length))
 
 
-def _parse(data: Any, base: Path) -> tuple[Assembly, int, str, Units | None]:
+def _parse(data: Any, base: Path, reader: _Reader | None = None
+           ) -> tuple[Assembly, int, str, Units | None]:
     top = _as_table(data, "", _TOP)
-    reader = _Reader(marker=_units_marker(top), base=base)
+    reader = _Reader(marker=None) if reader is None else reader
+    reader.marker, reader.base = _units_marker(top), base
     reader.material = _material(top, reader)
     default = _section_table(_table(top, "section", "", _SECTION), "section", reader)
     seg_tables = _tables(top, "segment", _SEGMENT)
@@ -1064,11 +1094,15 @@ def parse_design(data: dict, source: str = "<dict>") -> Design:
         For any invalid value, naming ``source``, the key path (e.g.
         ``segment[2].natural_curvature``, ``support[0].rotation[1]``) and the value.
     """
+    reader = _Reader(marker=None)
     try:
-        assembly, elements, lf, units = _parse(data, Path(source).parent)
+        assembly, elements, lf, units = _parse(data, Path(source).parent, reader)
     except RodstabInputError as exc:
         raise RodstabInputError(f"{source}: {exc}") from None
-    return Design(assembly, elements, lf, source, data, units)
+    notes = tuple(f"{source}: {w}" for w in reader.warnings)
+    for w in notes:
+        warnings.warn(w, RodstabWarning, stacklevel=2)
+    return Design(assembly, elements, lf, source, data, units, notes)
 
 
 def _read_text(p: Path, what: str, kind: str) -> str:

@@ -153,12 +153,22 @@ def require_linear_uniform(elements: int, n_segments: int, n_joints: int, cause:
 
 
 def require_nonlinear(elements: Iterable[int], n_joints: int, cause: str,
-                      limits: Limits = DEFAULT) -> int:
-    """Return the discrete rod's unknown count, or refuse a run past ``max_dof_nonlinear``."""
-    dof = nonlinear_dof(elements, n_joints)
+                      limits: Limits = DEFAULT, *, copies: int = 1) -> int:
+    """Return the discrete rod's unknown count, or refuse a run past ``max_dof_nonlinear``.
+
+    ``copies``: states of the model solved together (the images of a string, relaxed as one
+    band): the limit is on their total, so the most copies allowed is derived from it
+    (``max_dof_nonlinear`` over one state's unknowns), named in the message. Nothing of the
+    size of ``copies`` is allocated.
+    """
+    one = nonlinear_dof(elements, n_joints)
+    dof = int(copies) * one
     if dof > limits.max_dof_nonlinear:
+        what = ("the nonlinear model would have" if copies == 1 else
+                f"{int(copies):,} states of the nonlinear model ({one:,} unknowns each; at most "
+                f"{limits.max_dof_nonlinear // max(one, 1):,} fit) would have")
         raise RodstabInputError(
-            f"{cause}: the nonlinear model would have {dof:.4g} unknowns, above the limit of "
+            f"{cause}: {what} {dof:.4g} unknowns, above the limit of "
             f"{limits.max_dof_nonlinear:,} (raise it with --max-dof)")
     return dof
 

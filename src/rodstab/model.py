@@ -336,6 +336,18 @@ def validate(a: Assembly) -> None:
             a.segment(name)
             if end not in ENDS:
                 raise RodstabInputError(f"weld end must be 'start' or 'end', got {end!r}")
+    # An end in two welds (a [[weld]] pasted twice) would silently merge them into one joint:
+    # a joint of three or more ends is one weld that lists them all.
+    welded_in: dict[tuple[str, str], int] = {}
+    for i, w in enumerate(a.welds):
+        for n, e in w:
+            j = welded_in.setdefault((n, e), i)
+            if j != i:
+                raise RodstabInputError(
+                    f"end {n}.{e} is welded twice: in weld[{j}] "
+                    f"{[f'{m}.{f}' for m, f in a.welds[j]]} and weld[{i}] "
+                    f"{[f'{m}.{f}' for m, f in w]}; weld each end once (a joint of three or more "
+                    f"ends is one weld listing them all)")
     for name, end, kind in a.supports:
         a.segment(name)
         if end not in ENDS:

@@ -54,6 +54,8 @@ from typing import Any
 import numpy as np
 
 from ..errors import RodstabInputError, require_finite, require_int
+from ..limits import DEFAULT as DEFAULT_LIMITS
+from ..limits import Limits, require_nonlinear
 from ..model import Assembly
 from ..results import Result
 from .discover import Snapshot, common_rod, retract_step, same_state
@@ -281,7 +283,8 @@ def _held(a: Assembly, n: int, mu: float) -> tuple[DiscreteRod, float]:
 def barrier_from_bifurcation(a: Assembly, load_factor: float, *, upper: float,
                              elements_per_segment: int = 8, name: str = "A",
                              named: Mapping[str, Assembly] | None = None,
-                             n_steps: int = SADDLE_STEPS) -> Barrier:
+                             n_steps: int = SADDLE_STEPS,
+                             limits: Limits = DEFAULT_LIMITS) -> Barrier:
     """Energy barrier out of held state ``a`` at ``load_factor`` (module docstring).
 
     ``upper``: the bifurcation that ends ``a``'s stable interval is searched in
@@ -289,11 +292,13 @@ def barrier_from_bifurcation(a: Assembly, load_factor: float, *, upper: float,
     order) that the far end of the path may be; ``name``: ``a``'s label. Raises
     :class:`RodstabInputError` naming the value when ``a`` is not stable at ``load_factor``, no
     bifurcation lies below ``upper``, or its branch does not come back to ``load_factor``
-    (a supercritical bifurcation: no saddle on this branch).
+    (a supercritical bifurcation: no saddle on this branch). A model past
+    ``limits.max_dof_nonlinear`` unknowns is refused before it is built.
     """
     mu0 = require_finite("load_factor", load_factor)
     upper = require_finite("upper", upper)
     n = require_int("elements_per_segment", elements_per_segment, MIN_ELEMENTS)
+    require_nonlinear([n] * len(a.segments), len(a.joints()), f"{n} elements per rod", limits)
     if not upper > mu0:
         raise RodstabInputError(f"upper must exceed load_factor {mu0!r}, got {upper!r}")
     from .continuation import arclength_from_bifurcation

@@ -115,6 +115,8 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from ..errors import RodstabInputError, require_finite, require_int
+from ..limits import DEFAULT as DEFAULT_LIMITS
+from ..limits import Limits, require_nonlinear
 from ..model import Assembly
 from ..numerics import jacobi_scaling
 from ..results import Result
@@ -624,8 +626,8 @@ def relax_string(band: list[DiscreteRod], *, max_iter: int = STRING_MAX_ITER,
 
 def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
                    elements_per_segment: int = 8, images: int = STRING_IMAGES,
-                   name_a: str = "A", name_b: str = "B", max_iter: int = STRING_MAX_ITER
-                   ) -> tuple[Barrier, list[Snapshot]]:
+                   name_a: str = "A", name_b: str = "B", max_iter: int = STRING_MAX_ITER,
+                   limits: Limits = DEFAULT_LIMITS) -> tuple[Barrier, list[Snapshot]]:
     """Energy barrier between held states ``a`` and ``b`` of one ring by the string method.
 
     Both are put in one discrete model (:func:`~.discover.common_rod`) at ``load_factor`` and
@@ -649,6 +651,10 @@ def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
         Labels of ``a`` and ``b``.
     max_iter : int
         Most string iterations.
+    limits : Limits
+        The images are relaxed together: their unknowns in total are at most
+        ``limits.max_dof_nonlinear`` (:func:`rodstab.limits.require_nonlinear`), checked before
+        anything is built.
 
     Returns
     -------
@@ -667,6 +673,8 @@ def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
     n = require_int("elements_per_segment", elements_per_segment, MIN_ELEMENTS)
     n_img = require_int("images", images, 3)
     max_iter = require_int("max_iter", max_iter, 1)
+    require_nonlinear([n] * len(a.segments), len(a.joints()),
+                      f"images {n_img}, {n} elements per rod", limits, copies=n_img)
     rod_a, rod_b = common_rod(a, n, mu), common_rod(b, n, mu)
     if not same_model(rod_a, rod_b):
         raise RodstabInputError(f"states {name_a!r} and {name_b!r} are not states of one "

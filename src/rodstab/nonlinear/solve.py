@@ -493,62 +493,179 @@ def equilibrium(a: Assembly, *, load_factor: float = 1.0, elements_per_segment: 
 
 @dataclasses.dataclass(frozen=True)
 class NonlinearCritical(Result):
-    """Load factor at which the held state's lowest Hessian eigenvalue crosses zero."""
+    """Load factor at which the held state's lowest Hessian eigenvalue crosses zero.
+
+    ``held_residual``: the held state's largest free-gradient component over the loads searched
+    (the gradient is affine in the load: the larger of the two ends). When it is above
+    :data:`HELD_RTOL` (the discretisation's O(l_e^2) error, e.g. a weld between elements of
+    unequal length) the held state is ``relaxed`` by Newton at each load before its stability
+    is judged: ``relaxed_residual`` is the largest free gradient left after Newton and
+    ``relaxation_shift`` the largest change it made: a node's displacement over the total
+    length, or a frame's rotation (rad), whichever is larger (NaN when not relaxed).
+    """
 
     load_factor_critical: float
     elements_per_segment: int
     residual: float
     method: str
+    held_residual: float = 0.0
+    relaxed: bool = False
+    relaxed_residual: float = math.nan
+    relaxation_shift: float = math.nan
+    #: |cos| between the held state's free gradient and the critical mode at the load found
+    #: (relaxed only, else NaN). ~0 when symmetry keeps them apart (a planar design's joint
+    #: moments against an out-of-plane mode): the bifurcation is exact. Above
+    #: :data:`COUPLING_TOL` the relaxation is an imperfection of the critical mode (the
+    #: bifurcation becomes a nearby fold or is passed by), said in ``method``.
+    mode_coupling: float = math.nan
+
+
+#: The held state is an equilibrium of the discrete model (used as it is) when its free
+#: gradient is at most this times ``max|B| / min l_e`` (x ``max(1, |load factor|)``) at both
+#: ends of the search; else it is relaxed by Newton (:func:`critical_load_factor`).
+HELD_RTOL = 1e-8
+#: A relaxation that moves a node by more than this fraction of the total length, or turns a
+#: frame by more than this (rad), is no longer a correction of the held state's
+#: discretisation error (an O(l_e^2) joint moment: the arc split 0.6 / 1.4 turns a frame by
+#: 0.18, 0.019, 0.0036 rad at 2, 4, 8 elements per segment): the held state is then refused as
+#: not an equilibrium (e.g. a natural twist on a curve at a coarse mesh).
+RELAX_MAX_SHIFT = 0.1
+#: Fixed-point iterations of the relaxed pencil (:func:`critical_load_factor`) and the relative
+#: change of the load at which they stop; the relaxation changes the critical load by
+#: O(l_e^2), so each iteration gains about that factor (3-4 iterations measured).
+RELAX_ITER = 12
+RELAX_XTOL = 1e-8
+#: :attr:`NonlinearCritical.mode_coupling` above this is reported as an imperfect bifurcation.
+COUPLING_TOL = 1e-6
 
 
 def critical_load_factor(a: Assembly, lo: float, hi: float, *, elements_per_segment: int = 32,
                          n_scan: int = 12) -> NonlinearCritical:
-    """First load factor in ``(lo, hi]`` at which the held state loses stability.
+    """First load factor from ``lo`` towards ``hi`` at which the held state loses stability.
 
-    The held state must stay an equilibrium at every load (checked at ``lo`` and ``hi``: its
-    free gradient is affine in the load factor, so ~0 at both ends means ~0 between them). (A
-    twisted ring is not such a state in the discrete model -- it needs a shear force -- and is
-    left for the continuation tools.)
+    The held state of the continuum is an equilibrium at every load (P2); the discrete one is
+    up to its discretisation error, which vanishes on uniform meshes of a uniform arc but not
+    at a weld between elements of unequal length (an O(l_e^2) joint moment). Its free gradient
+    is affine in the load factor, so it is checked at ``lo`` and ``hi``: within
+    :data:`HELD_RTOL`, the held state is used as it is; above, it is relaxed by Newton
+    (:func:`newton`, two iterations from the held state) at each load before the stability
+    check, and the relaxation is reported (:class:`NonlinearCritical`). A relaxation that moves
+    the state by more than :data:`RELAX_MAX_SHIFT` (of the length, or rad), or fails, is
+    refused: that state is not the held one (a twisted ring needs a shear force) and is left
+    for the continuation tools, as are imposed end rotations (refused first).
 
     The held configuration does not move with the load and the energy is quadratic in it, so
     the free Hessian is affine in the load factor: ``H(mu) = H(lo) + t (H(hi) - H(lo))``,
     ``t = (mu - lo) / (hi - lo)``. Stable at ``lo`` (``H(lo)`` positive definite), the state
     is first lost where this pencil is first singular above ``lo``: one generalized eigen
     solve (:func:`rodstab.numerics.pencil_interval_sparse`, both matrices Jacobi-scaled by
-    ``H(lo)``'s diagonal). Unstable at ``lo``, or with a sliding zero mode, the lowest eigenvalue of
-    the scaled Hessian is scanned (``n_scan`` intervals) and its sign change refined by the
-    one root finder. ``residual``: the lowest scaled eigenvalue at the load found.
+    ``H(lo)``'s diagonal). A relaxed state moves with the load (by O(l_e^2)): the pencil of the
+    state relaxed at the load found is solved again until that load repeats
+    (:data:`RELAX_ITER`, :data:`RELAX_XTOL`). Unstable at ``lo``, with a sliding zero mode, or
+    when the iteration does not settle, the lowest eigenvalue of the (relaxed) scaled Hessian is
+    scanned (``n_scan`` intervals) and its sign change nearest ``lo`` refined by the one root
+    finder. ``residual``: the lowest scaled eigenvalue at the load found. A relaxed result
+    states how far the relaxation is from the critical mode (``mode_coupling``): planar joint
+    moments cannot move an out-of-plane bifurcation (arc split 0.6 / 1.4: 8 elements per
+    segment 7.5505, 16: 7.4568, 32: 7.4327, 64: 7.4267 against the closed form's 7.4246, h^2).
     """
-    rod = discretise(a, elements_per_segment, lo)
+    turned = [f"{name}.{end}" for name, end, r in a.end_rotations if any(r)]
+    if turned:
+        raise RodstabInputError(f"the held state is not an equilibrium: the design turns the "
+                                f"clamped end(s) {', '.join(turned)}; critical_load_factor "
+                                f"follows the held state only (use the continuation tools)")
+    held = discretise(a, elements_per_segment, lo)
+    rod = held.copy()
     free = rod.free_dofs()
     scale = float(np.max(rod.edge_B) / np.min(rod.rest_length))
 
-    def hessian(mu: float) -> sp.csr_matrix:
-        """Free Hessian of the held state at ``mu``, which must be an equilibrium there."""
+    def held_gradient(mu: float) -> float:
+        held.load_factor = mu
+        return float(np.max(np.abs(held.gradient()[free]))) if free.size else 0.0
+
+    ends = [(mu, held_gradient(mu)) for mu in (lo, hi)]
+    held_res = max(g for _, g in ends)
+    relax = any(g > HELD_RTOL * scale * max(1.0, abs(mu)) for mu, g in ends)
+    worst = {"residual": 0.0, "shift": 0.0}
+
+    def state_at(mu: float) -> None:
+        """Put ``rod`` in the held state at ``mu``, relaxed by Newton when needed."""
+        rod.assign(held)
         rod.load_factor = mu
-        _, g, H = rod.energy_terms()
-        if np.max(np.abs(g[free])) > 1e-8 * scale * max(1.0, abs(mu)):
-            raise RodstabInputError(f"the held state is not an equilibrium of the discrete "
-                                    f"model at load factor {mu:g}")
-        Hf = H[free][:, free]
+        if not relax:
+            return
+        ok, _, res = newton(rod)
+        turn = vee_log(np.swapaxes(np.concatenate([held.R_edge, held.R_joint]), 1, 2)
+                       @ np.concatenate([rod.R_edge, rod.R_joint]))
+        shift = max(float(np.max(np.abs(rod.x - held.x))) / a.total_length,
+                    float(np.max(np.linalg.norm(turn, axis=1))))
+        if not ok or shift > RELAX_MAX_SHIFT:
+            why = (f"Newton did not converge (free gradient {res:.3g})" if not ok else
+                   f"Newton moved it by {shift:.3g} (of the total length, or rad), above "
+                   f"RELAX_MAX_SHIFT = {RELAX_MAX_SHIFT:g}")
+            raise RodstabInputError(
+                f"the held state is not an equilibrium of the discrete model at load factor "
+                f"{mu:g} (free gradient {held_gradient(mu):.3g}) and relaxing it failed: {why}")
+        worst["residual"] = max(worst["residual"], res)
+        worst["shift"] = max(worst["shift"], shift)
+
+    def hessian(mu: float) -> sp.csr_matrix:
+        """Free Hessian of the current state at ``mu``."""
+        rod.load_factor = mu
+        Hf = rod.energy_terms()[2][free][:, free]
         return 0.5 * (Hf + Hf.T)
 
     def lam_min(mu: float) -> float:
-        hessian(mu)
+        state_at(mu)
         return float(lowest_eigenvalues(rod, 1)[0])
 
-    if lam_min(lo) > 0 and sliding_mode(rod) is None:
+    def pencil_load() -> float:
+        """First singular load from ``lo`` of the current state's (affine) Hessian, or NaN."""
         A, B = hessian(lo), hessian(hi)
         D = sp.diags(jacobi_scaling(A))
         # K(t) = A - t C with C = A - B: stable for t below the pencil's upper end.
         t = pencil_interval_sparse((D @ A @ D).tocsc(), (D @ (A - B) @ D).tocsc()).hi
-        x = float(lo + t * (hi - lo)) if t <= 1.0 else math.nan
-        return NonlinearCritical(x, elements_per_segment,
-                                 abs(lam_min(x)) if math.isfinite(x) else math.nan,
-                                 "lowest singular load of the held state's Hessian pencil "
-                                 "(affine in the load factor), generalized eigen solve")
-    found = find_roots(lam_min, lo, hi, n_scan=n_scan)
-    crossing = [r for r in found.roots if r.kind in ("sign-change", "grid-point")]
+        return float(lo + t * (hi - lo)) if t <= 1.0 else math.nan
+
+    def result(x: float, residual: float, method: str) -> NonlinearCritical:
+        coupling = math.nan
+        if relax:
+            method += (f"; held state relaxed by Newton at each load (free gradient "
+                       f"{held_res:.3g} -> {worst['residual']:.3g}, largest move "
+                       f"{worst['shift']:.3g} of the length or rad)")
+        if relax and math.isfinite(x):
+            state_at(x)
+            v = lowest_modes(rod, 1)[1][:, 0]
+            held.load_factor = x
+            g = held.gradient()[free]
+            coupling = float(abs(v @ g) / max(np.linalg.norm(v) * np.linalg.norm(g), 1e-300))
+            if coupling > COUPLING_TOL:
+                method += (f"; the relaxation is not orthogonal to the critical mode (|cos| "
+                           f"{coupling:.2g}): an imperfect bifurcation, the load is a nearby "
+                           "fold's or the closest approach's, not converged at O(l_e^2)")
+        return NonlinearCritical(x, elements_per_segment, residual, method, held_res, relax,
+                                 worst["residual"] if relax else math.nan,
+                                 worst["shift"] if relax else math.nan, coupling)
+
+    if lam_min(lo) > 0 and sliding_mode(rod) is None:
+        x = pencil_load()
+        settled = not relax
+        for _ in range(RELAX_ITER if relax else 0):
+            m = x if math.isfinite(x) else hi
+            state_at(m)
+            x = pencil_load()
+            # Settled: the load repeats, or the state relaxed at hi has no singular load.
+            if (abs(x - m) <= RELAX_XTOL * max(1.0, abs(x))) if math.isfinite(x) else m == hi:
+                settled = True
+                break
+        if settled:
+            res = abs(lam_min(x)) if math.isfinite(x) else math.nan
+            return result(x, res, "lowest singular load of the held state's Hessian pencil "
+                          "(affine in the load factor), generalized eigen solve")
+    a_, b_ = min(lo, hi), max(lo, hi)
+    found = find_roots(lam_min, a_, b_, n_scan=n_scan)
+    crossing = sorted((r for r in found.roots if r.kind in ("sign-change", "grid-point")),
+                      key=lambda r: abs(r.x - lo))
     x = crossing[0].x if crossing else math.nan
-    return NonlinearCritical(x, elements_per_segment, crossing[0].residual if crossing else
-                             math.nan, "lowest Hessian eigenvalue of the held state, scan + Brent")
+    return result(x, crossing[0].residual if crossing else math.nan,
+                  "lowest Hessian eigenvalue of the held state, scan + Brent")

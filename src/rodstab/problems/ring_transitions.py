@@ -27,6 +27,8 @@ import dataclasses
 import numpy as np
 
 from ..errors import RodstabInputError
+from ..limits import DEFAULT as DEFAULT_LIMITS
+from ..limits import Limits, require_nonlinear
 from ..nonlinear.discrete import discretise
 from ..nonlinear.parameters import parameter
 from ..nonlinear.transitions import TransitionGraph, ring_nodes, transition_graph
@@ -134,15 +136,19 @@ class RingTransitions:
 def transitions(ring: Ring, *, load_factor: float, elements: int = 8,
                 thickness: float = DEFAULT_THICKNESS,
                 stimuli: dict[str, tuple[tuple[str, float], ...]] | None = None,
-                all_stimuli: bool = False, load: tuple[str, ...] | None = None
-                ) -> RingTransitions:
+                all_stimuli: bool = False, load: tuple[str, ...] | None = None,
+                limits: Limits = DEFAULT_LIMITS) -> RingTransitions:
     """Transition graph of the states ``load`` of ``ring`` at ``load_factor`` (module docstring).
 
     ``load``: labels of :meth:`~rodstab.states.Ring.states` (default: its basic states);
     ``stimuli``: per loaded state, ``(key, stop)`` pairs (default :func:`default_stimuli`; a
     state without any is refused, naming it). The basic states and the loaded ones are the
-    references for the identification, whichever are loaded.
+    references for the identification, whichever are loaded. A model past
+    ``limits.max_dof_nonlinear`` unknowns is refused before anything is built.
     """
+    # A closed ring of n rods has n joints.
+    require_nonlinear([elements] * ring.segments, ring.segments, f"{elements} elements per rod",
+                      limits)
     ring = ring.forward()
     basic = ring_basic_states(ring)
     load = basic if load is None else load

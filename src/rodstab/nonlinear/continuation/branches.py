@@ -37,7 +37,7 @@ from ...model import Assembly
 from ...numerics import find_roots
 from ..discrete import DiscreteRod, discretise
 from ..parameters import LoadFactor, Parameter
-from ..solve import critical_load_factor, lowest_modes
+from ..solve import critical_load_factor, lowest_modes, newton
 from .corrector import Corrected, Stepper, correct, pinned_equilibrium
 from .path import Path, SpecialKind, mode_out_of_plane, post_buckling, reference_length, xi
 from .special import crossed, locate, lowest
@@ -377,8 +377,14 @@ def _bifurcation(a: Assembly, lo: float, hi: float, n: int) -> tuple[DiscreteRod
         raise RodstabInputError(f"the held state does not lose stability for load factors in "
                                 f"({lo!r}, {hi!r}]: no bifurcation to start from")
     rod = discretise(a, n, crit.load_factor_critical)
+    below = discretise(a, n, lo)
+    if crit.relaxed:
+        # The discrete held state carries an O(l_e^2) joint moment (unequal elements at a
+        # weld): start from the equilibrium critical_load_factor judged, not the held state.
+        newton(rod)
+        newton(below)
     # The held state is stable below mu_c unless the lower end of the bracket says otherwise.
-    side = -1.0 if lowest(discretise(a, n, lo)) > 0 else 1.0
+    side = -1.0 if lowest(below) > 0 else 1.0
     return rod, side
 
 
