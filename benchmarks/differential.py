@@ -29,6 +29,7 @@ for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_var, "1")  # one core per worker: workers are the parallelism
 
 import argparse  # noqa: E402
+import contextlib  # noqa: E402
 import dataclasses  # noqa: E402
 import functools  # noqa: E402
 import math  # noqa: E402
@@ -562,11 +563,14 @@ def main(argv: list[str] | None = None) -> int:
     else:
         jobs = [(fams[i % len(fams)], args.seed, i // len(fams)) for i in range(args.n)]
     t0 = time.perf_counter()
-    if args.workers > 1:
-        with multiprocessing.get_context("fork").Pool(args.workers) as pool:
-            results = list(pool.imap(_run, jobs, chunksize=1))
-    else:
-        results = [_run(j) for j in jobs]
+    results = []
+    with multiprocessing.get_context("fork").Pool(args.workers) if args.workers > 1 \
+            else contextlib.nullcontext() as pool:
+        for r in (pool.imap(_run, jobs, chunksize=1) if pool else map(_run, jobs)):
+            results.append(r)
+            if len(results) % 25 == 0 and len(jobs) > 25:  # a long run shows it is alive
+                print(f"  {len(results)}/{len(jobs)} designs, {time.perf_counter() - t0:.0f} s",
+                      file=sys.stderr, flush=True)
     wall = time.perf_counter() - t0
     if args.verbose:
         for r in results:
