@@ -176,8 +176,9 @@ def _folded_closed(p: Any) -> Values:
 
 def _birod_closed(p: Any) -> Values:
     # One end clamped: the mode u(1) = u(2), alpha(1) = -alpha(2) with sin(lambda) = 0
-    # (problems.birod.full_system).
-    return {"lambda": math.pi}
+    # (problems.birod.full_system). Both ends clamped: each rod is the straightened rod of
+    # (3.9) on its own (the sliding of that clamp is in-plane, outside P2): lambda = 2 pi.
+    return {"lambda": math.pi if p.clamp == "start" else 2 * math.pi}
 
 
 def folded(rng: np.random.Generator) -> Trial:
@@ -187,7 +188,7 @@ def folded(rng: np.random.Generator) -> Trial:
         return _problem_trial("folded-ring", params | {"segments": 2 * int(rng.integers(2, 7))},
                               {"closed-form": _folded_closed}, _CLOSED_RTOL)
     clamp = [None, "start", "both"][int(rng.integers(3))]
-    closed = {"closed-form": _birod_closed} if clamp == "start" else {}
+    closed = {"closed-form": _birod_closed} if clamp is not None else {}
     return _problem_trial("bi-rod", params | {"clamp": clamp}, closed,
                           _CLOSED_RTOL if closed else {})
 

@@ -19,8 +19,13 @@ from pathlib import Path
 
 import pytest
 
+from rodstab import problems
 from rodstab.analytic.ring import ring_stability
+from rodstab.linear.solve import stable_at
+from rodstab.nonlinear.solve import equilibrium
 from rodstab.numerics import matrix_roots
+from rodstab.sections import ellipse, rectangle
+from rodstab.states import uniform_ring
 from rodstab.transfer import cyclic_ring_matrix
 
 _PATH = Path(__file__).resolve().parent.parent / "benchmarks" / "differential.py"
@@ -106,3 +111,42 @@ def test_bloch_root_next_to_a_found_root_is_not_skipped() -> None:
     for x in want:
         assert any(abs(r - x) <= 1e-8 for r in found), (x, found)
 
+
+
+@pytest.mark.xfail(strict=True, reason="issue 19 (found by the differential test): the bi-rod's "
+                   "nonlinear method scans a fixed window lambda in (0.5, 4.5)")
+def test_birod_clamped_at_both_ends_nonlinear_finds_its_limit() -> None:
+    """Bi-rod clamped at both ends (``--family folded --index 8``): ``lambda_c = 2 pi``.
+
+    With both ends clamped each rod is the straightened rod of (3.9) on its own (the clamp's
+    sliding is in-plane, outside P2), so ``lambda_c = 2 pi`` (the FE and the full system agree);
+    the nonlinear method of ``problems.birod`` scans ``lambda`` in (0.5, 4.5) only and returns
+    nan, a method that has a limit to find reporting none.
+    """
+    birod = problems.REGISTRY["bi-rod"]
+    p = birod.Params(section=ellipse(aspect=0.9434, nu=0.0241), length=1.127, clamp="both")
+    got = birod.METHODS["nonlinear"](p)["lambda"]
+    assert problems.agree(got, 2 * math.pi, birod.AGREE_RTOL[("transfer", "nonlinear")]), got
+
+
+@pytest.mark.xfail(strict=True, reason="issue 19 (found by the differential test): the "
+                   "nonlinear verdict's zero-eigenvalue band covers stable loads of a stiff "
+                   "section")
+def test_nonlinear_verdict_is_stable_inside_a_stiff_cusp_rings_interval() -> None:
+    """4 cusp rods, rectangle h/t = 9.877 (b1 = 97.6), daisy (``--family cusp-rings --index 39``).
+
+    Stress-free at 7.531; the Bloch lower limit is 1.88141 (the FE agrees to 2e-6), so the
+    load 2.0509 (3 % of the distance inside) is stable: the linear FE's inertia says so. The
+    discrete rod at 48 elements per rod finds its lowest Hessian eigenvalue positive (4.5e-13)
+    but below ``zero_eigenvalue_tol`` (7.3e-13) and reports ``stable=False`` with
+    ``stability_resolved=True``: at the stress-free load the soft mode is only 6x above the
+    tolerance (4.4e-12), so the band the verdict calls neutral reaches 3 % into the interval.
+    """
+    sec = rectangle(aspect=9.877, nu=0.378)
+    ring = uniform_ring(4, weld="cusp", length=1.0, natural_curvature=0.6257, B1=sec.b1,
+                        B2=sec.b2)
+    theta = ring.state("daisy").theta
+    a = ring.held(theta, reference_load=theta / 0.6257)
+    assert stable_at(a, 2.0509, 64) and not stable_at(a, 1.85, 64)  # the reference: FE
+    eq, _ = equilibrium(a, load_factor=2.0509, elements_per_segment=48)
+    assert eq.stable, eq.lowest_eigenvalues
