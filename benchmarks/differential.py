@@ -1,0 +1,606 @@
+"""Differential test of rodstab on random designs (issue 19), on demand.
+
+    python benchmarks/differential.py [--n 1000] [--seed 0] [--family arcs,rings,...] [--workers 2]
+    python benchmarks/differential.py --family rings --seed 0 --index 17 -v   # one design again
+
+Seeded random designs over every family (:data:`FAMILIES`): clamped arcs, N-loop rings, folded
+rings and bi-rods, cusp-welded rings of identical rods in their closed held states (read from a
+design file like examples/hexagram.toml), and planar assemblies from design files (kinked chains,
+Y-joints, split arcs; clamped ends). Sections of every closed-form shape (rectangle and ellipse
+h/t 0.3-10, circle, tube, nu 0-0.5) and given ratios b1, b2 in 0.05-50. Every design is solved
+by every method that applies (the problem modules' ``METHODS``, the linear FE engine, the
+transfer methods: monodromy, shooting, full system, Bloch; the closed forms; the nonlinear rod's
+critical load), each pair compared within its stated tolerance (``AGREE_RTOL`` of the problem
+modules, :mod:`rodstab.checks.rules` for the others; multiplicities exactly), and the nonlinear
+rod's verdict (:func:`rodstab.nonlinear.solve.equilibrium`) is asked at load factors just inside
+and just outside every limit of the family's reference method (:data:`VERDICT_MARGIN`).
+
+Prints per family and method pair the relative differences ``|a - b| / max(|a|, |b|, 1)`` (as
+:func:`rodstab.problems.agree`): count, median, max, number beyond tolerance; wrong verdicts;
+methods that raised; the seeds and the time; then every disagreement with a one-line reproducer.
+Exit status 1 if there is any. ``tests/test_differential.py`` runs a bounded version.
+
+Cost: a few seconds of one core per design (folded rings and cusp rings the most: the paper's
+transfer matrices, the full system and two FE meshes per held state); ``--n 300`` took 3900 s
+of design time on a machine loaded ~5x (1970 s wall with 2 workers). A design whose nonlinear
+eigen solve does not converge can take minutes (assemblies index 23 of seed 0: 260 s).
+"""
+
+from __future__ import annotations
+
+import os
+
+for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_var, "1")  # one core per worker: workers are the parallelism
+
+import argparse  # noqa: E402
+import contextlib  # noqa: E402
+import dataclasses  # noqa: E402
+import functools  # noqa: E402
+import math  # noqa: E402
+import multiprocessing  # noqa: E402
+import sys  # noqa: E402
+import time  # noqa: E402
+import traceback  # noqa: E402
+import zlib  # noqa: E402
+from collections.abc import Callable  # noqa: E402
+from typing import Any  # noqa: E402
+
+import numpy as np  # noqa: E402
+
+from rodstab import atlas, problems, sections  # noqa: E402
+from rodstab.analytic.arc import clamped_arc_stability  # noqa: E402
+from rodstab.checks.rules import FE_RTOL, NONLINEAR_RTOL, ROOT_RTOL  # noqa: E402
+from rodstab.design import parse_design  # noqa: E402
+from rodstab.linear.solve import default_reference_load, linear_stability  # noqa: E402
+from rodstab.model import Assembly, Segment  # noqa: E402
+from rodstab.nonlinear.solve import critical_load_factor, equilibrium  # noqa: E402
+from rodstab.states import ring_of  # noqa: E402
+from rodstab.transfer import cyclic_ring_interval, full_system_critical  # noqa: E402
+
+#: The nonlinear verdict is asked at ``r + (1 -+ VERDICT_MARGIN)(x - r)`` for a limit ``x`` and
+#: the reference load ``r``: six times the nonlinear rod's stated mesh error
+#: (:data:`NONLINEAR_RTOL`, O(h^2) at the meshes used), so a wrong verdict is not mesh error.
+VERDICT_MARGIN = 6 * NONLINEAR_RTOL
+#: Held states of a cusp ring solved per design (chosen at random): bounds the cost per design.
+MAX_STATES = 3
+#: Elements per segment of a design file's FE (the design default) and of its finer check.
+DESIGN_ELEMENTS = 32
+FINE_ELEMENTS = 128
+#: Window (from the reference load) of an assembly whose FE interval has no finite end.
+NL_WINDOW = 50.0
+
+Values = dict[str, float]
+
+
+@dataclasses.dataclass
+class Trial:
+    """One random design: its methods, the tolerances of its pairs, the verdicts to ask.
+
+    ``methods``: name -> ``() -> {quantity: value}`` (keys ``mult:...`` are multiplicities,
+    compared exactly); ``verdicts(values of the first method)`` -> ``[(quantity, assembly,
+    reference load, limit as load factor, nonlinear elements)]``; ``snippet``: rodstab code
+    (or a design file) that rebuilds the design.
+    """
+
+    label: str
+    snippet: str
+    methods: dict[str, Callable[[], Values]]
+    rtol: dict[tuple[str, str], float]
+    verdicts: Callable[[Values], list[tuple[str, Assembly, float, float, int]]] | None = None
+
+
+def _r(x: float, digits: int = 4) -> float:
+    """``x`` rounded to ``digits`` significant digits: the label is the exact design."""
+    return float(f"{x:.{digits - 1}e}")
+
+
+def _loguniform(rng: np.random.Generator, lo: float, hi: float) -> float:
+    return _r(math.exp(rng.uniform(math.log(lo), math.log(hi))))
+
+
+def random_section(rng: np.random.Generator) -> dict[str, Any]:
+    """Keywords of :func:`rodstab.sections.make_section` (also a design's ``[section]``)."""
+    shape = str(rng.choice(["rectangle", "ellipse", "circle", "tube", "ratios"]))
+    if shape == "ratios":
+        return {"b1": _loguniform(rng, 0.05, 50.0), "b2": _loguniform(rng, 0.05, 50.0)}
+    spec: dict[str, Any] = {"shape": shape, "nu": _r(rng.uniform(0.0, 0.5), 3)}
+    if shape in ("rectangle", "ellipse"):
+        spec["aspect"] = _loguniform(rng, 0.3, 10.0)
+    elif shape == "tube":
+        spec["aspect"] = _r(rng.uniform(0.0, 0.9), 3)
+    return spec
+
+
+def _kw(d: dict[str, Any]) -> str:
+    return ", ".join(f"{k}={v!r}" for k, v in d.items())
+
+
+# ---------------------------------------------------------------------------------------------
+# Families from the problem modules: their METHODS and AGREE_RTOL, the verdict on build(params).
+
+def _problem_trial(name: str, params: dict[str, Any], extra: dict[str, Callable[[Any], Values]]
+                   | None = None, extra_rtol: dict[tuple[str, str], float] | None = None
+                   ) -> Trial:
+    mod = problems.REGISTRY[name]
+    sec = params.pop("section")
+    p = mod.Params(section=sections.make_section(**sec), **params)
+    code = (f"from rodstab import problems; from rodstab.sections import make_section; "
+            f"m = problems.REGISTRY[{name!r}]; p = m.Params(section=make_section({_kw(sec)}), "
+            f"{_kw(params)}); print({{k: f(p) for k, f in m.METHODS.items()}})")
+    extra = extra or {}
+    # A closed form, where there is one, is the reference of the verdicts (the first method).
+    ordered = {**extra, **mod.METHODS} if "closed-form" in extra else {**mod.METHODS, **extra}
+    methods = {k: functools.partial(f, p) for k, f in ordered.items()}
+    rtol = {**mod.AGREE_RTOL, **(extra_rtol or {})}
+    a = mod.build(p)
+    ref = default_reference_load(a)
+
+    def to_mu(key: str, value: float) -> float:
+        # to_paper is affine in the load factor: invert it from two points
+        base = next(k for k in mod.to_paper(0.0, p) if key.startswith(k))
+        p0, p1 = mod.to_paper(0.0, p)[base], mod.to_paper(1.0, p)[base]
+        return (value - p0) / (p1 - p0)
+
+    def verdicts(values: Values) -> list[tuple[str, Assembly, float, float, int]]:
+        return [(k, a, ref, to_mu(k, v), mod.NONLINEAR_ELEMENTS) for k, v in values.items()]
+
+    return Trial(f"{name} section({_kw(sec)}) {_kw(params)}", code, methods, rtol, verdicts)
+
+
+def arcs(rng: np.random.Generator) -> Trial:
+    """Clamped arc of Section 3.2, L/R in [0, 20] (0: the straightened rod, 1 in 20)."""
+    LR = 0.0 if rng.random() < 0.05 else _r(rng.uniform(0.05, 20.0))
+    return _problem_trial("clamped-arc", {"section": random_section(rng), "L_over_R": LR})
+
+
+def _ring_bloch(p: Any) -> Values:
+    # The N-loop ring as N smooth-welded full circles (L/R = 2 pi, L kappa_n = 2 pi mu):
+    # the Bloch method of the cusp rings on the rings of Section 3.1.
+    r = cyclic_ring_interval(2 * math.pi, 2 * math.pi, p.section.b1, p.section.b2, p.loops,
+                             "smooth", 1.0)
+    return {"kappa_L_over_2pi_lower": p.loops * r.lo, "kappa_L_over_2pi_upper": p.loops * r.hi}
+
+
+def rings(rng: np.random.Generator) -> Trial:
+    """Untwisted N-loop ring of Section 3.1, N = 1..9; also by the Bloch method."""
+    return _problem_trial("ring", {"section": random_section(rng),
+                                   "loops": int(rng.integers(1, 10))},
+                          {"bloch": _ring_bloch}, {("analytic", "bloch"): ROOT_RTOL})
+
+
+#: The closed forms of the folded ring and the bi-rod clamped at one end, against both others.
+_CLOSED_RTOL = {("closed-form", "transfer"): ROOT_RTOL, ("closed-form", "fe"): FE_RTOL}
+
+
+def _folded_closed(p: Any) -> Values:
+    # lambda_c = 2 pi / (2n): kappa_n x total length = 2 pi sqrt(B1 B2) / B3, the straightened
+    # rod (3.9) of the whole ring (rodstab.checks.sec5, row 5.14).
+    return {"lambda": 2 * math.pi / p.segments}
+
+
+def _birod_closed(p: Any) -> Values:
+    # One end clamped: the mode u(1) = u(2), alpha(1) = -alpha(2) with sin(lambda) = 0
+    # (problems.birod.full_system). Both ends clamped: each rod is the straightened rod of
+    # (3.9) on its own (the sliding of that clamp is in-plane, outside P2): lambda = 2 pi.
+    return {"lambda": math.pi if p.clamp == "start" else 2 * math.pi}
+
+
+def folded(rng: np.random.Generator) -> Trial:
+    """Folded ring of Section 5 (4-12 segments) or bi-rod of Section 4 (any clamp)."""
+    params = {"section": random_section(rng), "length": _loguniform(rng, 0.5, 2.0)}
+    if rng.random() < 0.5:
+        return _problem_trial("folded-ring", params | {"segments": 2 * int(rng.integers(2, 7))},
+                              {"closed-form": _folded_closed}, _CLOSED_RTOL)
+    clamp = [None, "start", "both"][int(rng.integers(3))]
+    closed = {"closed-form": _birod_closed} if clamp is not None else {}
+    return _problem_trial("bi-rod", params | {"clamp": clamp}, closed,
+                          _CLOSED_RTOL if closed else {})
+
+
+# ---------------------------------------------------------------------------------------------
+# Families from design files.
+
+def _toml(data: dict[str, Any]) -> str:
+    """The design as a TOML file (the reproducer of a design-file family)."""
+    def val(v: Any) -> str:
+        if isinstance(v, bool):
+            return "true" if v else "false"
+        if isinstance(v, str):
+            return f'"{v}"'
+        if isinstance(v, list):
+            return "[" + ", ".join(val(x) for x in v) + "]"
+        return repr(v)
+    out = []
+    for key, table in data.items():
+        for t in table if isinstance(table, list) else [table]:
+            out.append(f"[[{key}]]" if isinstance(table, list) else f"[{key}]")
+            out += [f"{k} = {val(v)}" for k, v in t.items()]
+    return "\n".join(out)
+
+
+def _mult(r: Any, attr_lo: str, attr_hi: str) -> Values:
+    return {"mult:lower": getattr(r, attr_lo), "mult:upper": getattr(r, attr_hi)}
+
+
+def cusp_rings(rng: np.random.Generator) -> Trial:
+    """3-10 identical rods welded at cusps (a design file like examples/hexagram.toml).
+
+    Read by :func:`rodstab.states.ring_of`; up to :data:`MAX_STATES` of its closed held states
+    with ``theta >= 0``, each by the Bloch method and the FE atlas (:mod:`rodstab.atlas`).
+    """
+    n = int(rng.integers(3, 11))
+    kn = _loguniform(rng, 0.5, 3.0)
+    theta = math.pi - 2 * math.pi / n  # the star: a closed state of every cusp ring
+    segs = [{"name": f"r{i}", "length": 1.0, "curvature": theta, "natural_curvature": kn}
+            | ({"cusp": True} if i > 1 else {}) for i in range(1, n + 1)]
+    data = {"section": random_section(rng), "segment": segs,
+            "weld": [{"ends": [f"r{i}.end", f"r{i % n + 1}.start"]} for i in range(1, n + 1)]}
+    ring = ring_of(parse_design(data).assembly)
+    states = atlas.select_states(ring, atlas.default_states(ring))
+    pick = sorted(rng.choice(len(states), min(MAX_STATES, len(states)), replace=False))
+    states = tuple(states[int(i)] for i in pick)
+
+    def by(method: str) -> Values:
+        out: Values = {}
+        for st in states:
+            si = atlas.state_interval(ring, st, method)
+            out |= {f"{st.label}.lower": si.lower.load_factor,
+                    f"{st.label}.upper": si.upper.load_factor,
+                    f"mult:{st.label}.lower": si.lower.multiplicity,
+                    f"mult:{st.label}.upper": si.upper.multiplicity}
+        return out
+
+    def verdicts(values: Values) -> list[tuple[str, Assembly, float, float, int]]:
+        out = []
+        for st in states:
+            ref = atlas.stress_free_load(ring, st.theta)
+            a = ring.held(st.theta, reference_load=ref)
+            # ~0.1 rad per element (16 at least): the star's and the eight's arcs alike
+            n_el = max(16, math.ceil(abs(st.theta) / 0.1))
+            out += [(k, a, ref, values[k], n_el) for k in (f"{st.label}.lower",
+                                                           f"{st.label}.upper")]
+        return out
+
+    labels = ", ".join(s.label for s in states)
+    return Trial(f"{n} cusp rods, kappa_n {kn}, section({_kw(data['section'])}), {labels}",
+                 _toml(data), {m: functools.partial(by, m) for m in atlas.METHODS},
+                 {("transfer", "fe"): problems.REGISTRY["hexagram"].AGREE_RTOL[
+                     ("transfer", "fe")]}, verdicts)
+
+
+def _wrap_deg(x: float) -> float:
+    return _r(math.remainder(x, 360.0), 5)
+
+
+def _chain(rng: np.random.Generator) -> tuple[str, dict[str, Any]]:
+    """2-4 segments, all straight or all of one held curvature, welded at angles up to 150."""
+    n = int(rng.integers(2, 5))
+    kn = _r(rng.choice([-1, 1]) * rng.uniform(0.5, 2.0))
+    k = 0.0 if rng.random() < 0.5 else _r(kn * rng.uniform(-2.0, 2.0))
+    segs, ang = [], 0.0
+    for i in range(n):
+        L = _r(rng.uniform(0.5, 1.5))
+        s = {"name": f"s{i}", "length": L, "curvature": k, "natural_curvature": kn}
+        if i:
+            ang = _wrap_deg(ang + rng.uniform(-150.0, 150.0))
+            s["angle_deg"] = ang
+        segs.append(s)
+        ang = ang + math.degrees(k * L)
+    return "chain", {"segment": segs, "weld": [{"ends": [f"s{i}.end", f"s{i + 1}.start"]}
+                                               for i in range(n - 1)],
+                     "support": [{"end": "s0.start"}, {"end": f"s{n - 1}.end"}]}
+
+
+def _y_joint(rng: np.random.Generator) -> tuple[str, dict[str, Any]]:
+    """Segment a's end welded to b's and c's starts at angles up to 150 deg; moments balance."""
+    kb, kc = (_r(rng.choice([-1, 1]) * rng.uniform(0.5, 2.0)) for _ in range(2))
+    knat = {"a": kb + kc, "b": kb, "c": kc}  # B3 kappa_n balances at the weld (model.validate)
+    ratio = 0.0 if rng.random() < 0.5 else _r(rng.uniform(-2.0, 2.0))  # stress-free load
+    L = {s: _r(rng.uniform(0.5, 1.5)) for s in "abc"}
+    segs = [{"name": s, "length": L[s], "curvature": ratio * knat[s],
+             "natural_curvature": knat[s]} for s in "abc"]
+    a = Segment(name="a", length=L["a"], curvature=ratio * knat["a"], natural_curvature=0.0,
+                B1=1.0, B2=1.0, B3=1.0)
+    xy = [float(v) for v in a.end_point("end")]
+    a_end = math.degrees(ratio * knat["a"] * L["a"])
+    for s in segs[1:]:
+        s |= {"start": xy, "angle_deg": _wrap_deg(a_end + rng.uniform(-150.0, 150.0))}
+    return "Y-joint", {"segment": segs, "weld": [{"ends": ["a.end", "b.start", "c.start"]}],
+                       "support": [{"end": "a.start"}, {"end": "b.end"}, {"end": "c.end"}]}
+
+
+def _split_arc(rng: np.random.Generator) -> tuple[str, dict[str, Any]]:
+    """A clamped arc of L/R in [0.5, 20] (R = 1, kappa_n = mu) split into 2-4 parts, smooth."""
+    LR = _r(rng.uniform(0.5, 20.0))
+    cuts = np.sort(rng.uniform(0.1, 0.9, int(rng.integers(1, 4))))
+    parts = np.diff(np.concatenate([[0.0], cuts, [1.0]])) * LR
+    parts = [_r(float(x)) for x in parts[:-1]]
+    parts.append(LR - sum(parts))
+    segs = [{"name": f"s{i}", "length": L, "curvature": 1.0, "natural_curvature": 1.0}
+            for i, L in enumerate(parts)]
+    n = len(segs)
+    return "split arc", {"segment": segs, "weld": [{"ends": [f"s{i}.end", f"s{i + 1}.start"]}
+                                                   for i in range(n - 1)],
+                         "support": [{"end": "s0.start"}, {"end": f"s{n - 1}.end"}]}
+
+
+def _mirrored(a: Assembly) -> Assembly:
+    """``a`` with every natural curvature negated: load factor ``mu`` becomes ``-mu``."""
+    segs = tuple(dataclasses.replace(s, natural_curvature=-s.natural_curvature)
+                 for s in a.segments)
+    ref = None if a.reference_load is None else -a.reference_load
+    return dataclasses.replace(a, segments=segs, reference_load=ref)
+
+
+def assemblies(rng: np.random.Generator) -> Trial:
+    """A planar assembly from a design file: kinked chain, Y-joint or split arc; clamped ends.
+
+    Methods (load factors): ``fe`` at the design default mesh and ``fe-fine`` at
+    :data:`FINE_ELEMENTS`; ``transfer`` (the full system of exact solutions) when every segment
+    is straight, each end as the first singular load of ``a`` or of its mirror; ``analytic``
+    (3.7)/(3.8) for a split arc; ``nonlinear``: the critical load of the discrete rod on each
+    side, within twice the FE's distance from the reference load (:data:`NL_WINDOW` if none).
+    """
+    kind, data = [_chain, _y_joint, _split_arc][int(rng.integers(3))](rng)
+    data = {"section": random_section(rng)} | data
+    a = parse_design(data).assembly
+    ref = default_reference_load(a)
+    straight = all(s.curvature == 0.0 for s in a.segments)
+
+    def fe(n: int) -> Values:
+        r = linear_stability(a, n)
+        lo, hi = r.load_factor_interval
+        return {"lower": lo, "upper": hi, "mult:lower": r.multiplicity_lo,
+                "mult:upper": r.multiplicity}
+
+    @functools.cache
+    def window() -> float:
+        # Twice the FE's farthest end from the reference: a method that finds no root there
+        # (nan) or an earlier one disagrees with the FE either way; windows of fixed span cost
+        # seconds of scanning (the full system) or meet the discrete joint moments (item 8).
+        lo, hi = linear_stability(a, DESIGN_ELEMENTS).load_factor_interval
+        far = max(abs(x - ref) for x in (lo, hi) if math.isfinite(x)) if math.isfinite(
+            lo) or math.isfinite(hi) else NL_WINDOW
+        return 2.0 * far + 1.0
+
+    def transfer() -> Values:
+        ends = [full_system_critical(x, 1.0, 0, abs(ref) + window()) for x in (_mirrored(a), a)]
+        return {"lower": -ends[0].lambda_c, "upper": ends[1].lambda_c,
+                "mult:lower": ends[0].multiplicity, "mult:upper": ends[1].multiplicity}
+
+    def analytic() -> Values:
+        s = a.segments[0]
+        LR = sum(x.length for x in a.segments)  # R = 1: L kappa_n = L/R mu
+        lo, hi = clamped_arc_stability(s.B1 / s.B3, s.B2 / s.B3, LR).L_kappa_interval
+        return {"lower": lo / LR, "upper": hi / LR}
+
+    def nonlinear() -> Values:
+        up = critical_load_factor(a, ref, ref + window(), elements_per_segment=DESIGN_ELEMENTS)
+        down = critical_load_factor(_mirrored(a), -ref, -ref + window(),
+                                    elements_per_segment=DESIGN_ELEMENTS)
+        return {"lower": -down.load_factor_critical, "upper": up.load_factor_critical}
+
+    methods: dict[str, Callable[[], Values]] = {}
+    if kind == "split arc":
+        methods["analytic"] = analytic
+    methods |= {"fe": functools.partial(fe, DESIGN_ELEMENTS),
+                "fe-fine": functools.partial(fe, FINE_ELEMENTS)}
+    if straight:
+        methods["transfer"] = transfer
+    methods["nonlinear"] = nonlinear
+    first = next(iter(methods))
+    rtol = {(first, m): FE_RTOL for m in methods if m not in (first, "nonlinear")}
+    rtol[(first, "nonlinear")] = NONLINEAR_RTOL
+
+    def verdicts(values: Values) -> list[tuple[str, Assembly, float, float, int]]:
+        return [(k, a, ref, v, DESIGN_ELEMENTS) for k, v in values.items()]
+
+    segs = data["segment"]
+    desc = ", ".join(f"{s['name']} L={s['length']:g}" + (f" @{s['angle_deg']:g}deg"
+                                                         if "angle_deg" in s else "")
+                     for s in segs)
+    return Trial(f"{kind} ({'straight' if straight else 'curved'}) section("
+                 f"{_kw(data['section'])}): {desc}", _toml(data), methods, rtol, verdicts)
+
+
+#: family name -> generator of one random design.
+FAMILIES: dict[str, Callable[[np.random.Generator], Trial]] = {
+    "arcs": arcs, "rings": rings, "folded": folded, "cusp-rings": cusp_rings,
+    "assemblies": assemblies}
+
+
+# ---------------------------------------------------------------------------------------------
+# One design: run, compare, verdicts.
+
+def rel_diff(a: float, b: float) -> float:
+    """``|a - b| / max(|a|, |b|, 1)`` (:func:`rodstab.problems.agree`); equal values: 0."""
+    if a == b:
+        return 0.0
+    if not math.isfinite(a - b):
+        return math.inf if not (math.isnan(a) or math.isnan(b)) else math.nan
+    return abs(a - b) / max(abs(a), abs(b), 1.0)
+
+
+def trial_of(family: str, seed: int, index: int) -> Trial:
+    """The design ``index`` of ``family`` for ``seed`` (independent of the other designs)."""
+    rng = np.random.default_rng([seed, zlib.crc32(family.encode()), index])
+    return FAMILIES[family](rng)
+
+
+def _error(exc: BaseException) -> str:
+    return f"{type(exc).__name__}: {str(exc).splitlines()[0][:160] if str(exc) else ''}"
+
+
+def run_trial(family: str, seed: int, index: int, only: frozenset[str] | None = None
+              ) -> dict[str, Any]:
+    """Run one design: every method (or those in ``only``; ``"verdict"`` for the verdicts).
+
+    Returns ``{"values": {method: values or error text}, "rows": [(pair, kind, key, a, b,
+    diff, tol, ok)], "errors": [(method, text)], "verdicts": [(key, mu, side, stable, ok,
+    note)], ...}``.
+    """
+    t0 = time.perf_counter()
+    out: dict[str, Any] = {"family": family, "seed": seed, "index": index, "rows": [],
+                           "errors": [], "verdicts": [], "values": {}}
+    try:
+        trial = trial_of(family, seed, index)
+    except Exception as exc:  # the generator itself: a design the reader refuses
+        out |= {"label": "(design not built)", "snippet": "", "time": 0.0}
+        out["errors"].append(("design", _error(exc)))
+        return out
+    out |= {"label": trial.label, "snippet": trial.snippet}
+    values: dict[str, Values] = {}
+    for name, method in trial.methods.items():
+        if only is not None and name not in only:
+            continue
+        try:
+            values[name] = {k: float(v) for k, v in method().items()}
+            out["values"][name] = values[name]
+        except Exception as exc:  # a method that applies must not raise
+            out["errors"].append((name, _error(exc)))
+            out["values"][name] = _error(exc)
+    for (m1, m2), tol in trial.rtol.items():
+        if m1 not in values or m2 not in values:
+            continue
+        for key in values[m1].keys() & values[m2].keys():
+            kind = "mult" if key.startswith("mult:") else "value"
+            t = 0.0 if kind == "mult" else tol
+            a, b = values[m1][key], values[m2][key]
+            d = rel_diff(a, b)
+            out["rows"].append((f"{m1}~{m2}", kind, key, a, b, d, t, bool(d <= t)))
+    ref_method = next((m for m in trial.methods if m in values), "")
+    if trial.verdicts and ref_method and (only is None or "verdict" in only):
+        limits = {k: v for k, v in values[ref_method].items() if not k.startswith("mult:")}
+        for key, a, ref, x, n_el in trial.verdicts(limits):
+            if not math.isfinite(x):
+                continue
+            for side, f in (("inside", 1 - VERDICT_MARGIN), ("outside", 1 + VERDICT_MARGIN)):
+                mu = ref + f * (x - ref)
+                try:
+                    eq, _ = equilibrium(a, load_factor=mu, elements_per_segment=n_el)
+                    ok = eq.converged and eq.stability_resolved and eq.stable == (side ==
+                                                                                   "inside")
+                    note = (f"stable={eq.stable} converged={eq.converged} resolved="
+                            f"{eq.stability_resolved} lowest eig {eq.lowest_eigenvalues[0]:.3g}")
+                except Exception as exc:
+                    ok, note = False, _error(exc)
+                out["verdicts"].append((f"{ref_method}~nonlinear verdict", key, mu, side, ok,
+                                        note, n_el))
+    out["time"] = time.perf_counter() - t0
+    return out
+
+
+# ---------------------------------------------------------------------------------------------
+# Report.
+
+def disagreements(res: dict[str, Any]) -> list[str]:
+    """One line per disagreement, wrong verdict or raised method of one design."""
+    lines = []
+    for pair, _, key, a, b, d, t, ok in res["rows"]:
+        if not ok:
+            lines.append(f"{pair} {key}: {a:.10g} vs {b:.10g} (rel diff {d:.3g} > {t:g})")
+    for pair, key, mu, side, ok, note, n_el in res["verdicts"]:
+        if not ok:
+            lines.append(f"{pair} {key}: at load factor {mu:.6g} ({side}, {n_el} el.) {note}")
+    for method, text in res["errors"]:
+        lines.append(f"{method} raised {text}")
+    return lines
+
+
+def reproducer(res: dict[str, Any]) -> str:
+    return (f"python benchmarks/differential.py --family {res['family']} --seed {res['seed']} "
+            f"--index {res['index']} -v")
+
+
+def table(results: list[dict[str, Any]]) -> str:
+    """Per family and method pair: count, median, max relative difference, beyond tolerance."""
+    lines = [f"{'family':<11} {'pair':<30} {'kind':<7} {'count':>6} {'median':>9} {'max':>9} "
+             f"{'tol':>7} {'beyond':>6}"]
+    for fam in dict.fromkeys(r["family"] for r in results):
+        rs = [r for r in results if r["family"] == fam]
+        groups: dict[tuple[str, str], list[tuple[float, float, bool]]] = {}
+        for r in rs:
+            for pair, kind, _, _, _, d, t, ok in r["rows"]:
+                groups.setdefault((pair, kind), []).append((d, t, ok))
+            for pair, _, _, _, ok, _, _ in r["verdicts"]:
+                groups.setdefault((pair, "verdict"), []).append((math.nan, math.nan, ok))
+            for method, _ in r["errors"]:
+                groups.setdefault((method, "raised"), []).append((math.nan, math.nan, False))
+        for (pair, kind), v in sorted(groups.items()):
+            med, mx, tol = f"{'-':>9}", f"{'-':>9}", f"{'-':>7}"
+            if kind in ("value", "mult"):
+                ds = np.array([d for d, _, _ in v], dtype=float)
+                fin = ds[np.isfinite(ds)]
+                med = f"{np.median(fin):9.2e}" if fin.size else med
+                mx, tol = f"{np.max(ds):9.2e}", f"{v[0][1]:7.0e}"  # nan, inf shown as such
+            bad = sum(not ok for _, _, ok in v)
+            lines.append(f"{fam:<11} {pair:<30} {kind:<7} {len(v):>6} {med} {mx} {tol} "
+                         f"{bad:>6}")
+    return "\n".join(lines)
+
+
+def _run(job: tuple[str, int, int]) -> dict[str, Any]:
+    try:
+        return run_trial(*job)
+    except Exception:  # noqa: BLE001 -- a harness error is reported, never lost
+        return {"family": job[0], "seed": job[1], "index": job[2], "label": "(harness error)",
+                "snippet": "", "rows": [], "verdicts": [], "values": {}, "time": 0.0,
+                "errors": [("harness", traceback.format_exc().splitlines()[-1])]}
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--n", type=int, default=1000, help="designs in all, shared by the families")
+    ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--family", default=",".join(FAMILIES),
+                    help=f"comma-separated, of {', '.join(FAMILIES)}")
+    ap.add_argument("--workers", type=int, default=1)
+    ap.add_argument("--index", type=int, default=None, help="run this one design (of --family)")
+    ap.add_argument("-v", "--verbose", action="store_true",
+                    help="print each design, its snippet and every method's values")
+    args = ap.parse_args(argv)
+    fams = [f.strip() for f in args.family.split(",") if f.strip()]
+    unknown = [f for f in fams if f not in FAMILIES]
+    if unknown:
+        ap.error(f"unknown family {unknown}; the families are {list(FAMILIES)}")
+    if args.index is not None:
+        jobs = [(f, args.seed, args.index) for f in fams]
+    else:
+        jobs = [(fams[i % len(fams)], args.seed, i // len(fams)) for i in range(args.n)]
+    t0 = time.perf_counter()
+    results = []
+    with multiprocessing.get_context("fork").Pool(args.workers) if args.workers > 1 \
+            else contextlib.nullcontext() as pool:
+        for r in (pool.imap(_run, jobs, chunksize=1) if pool else map(_run, jobs)):
+            results.append(r)
+            if len(results) % 25 == 0 and len(jobs) > 25:  # a long run shows it is alive
+                print(f"  {len(results)}/{len(jobs)} designs, {time.perf_counter() - t0:.0f} s",
+                      file=sys.stderr, flush=True)
+    wall = time.perf_counter() - t0
+    if args.verbose:
+        for r in results:
+            print(f"== {r['family']}[{r['index']}] seed {r['seed']}: {r['label']} "
+                  f"({r['time']:.2f} s)\n{r['snippet']}")
+            for m, v in r["values"].items():
+                print(f"  {m}: {v}")
+            for line in disagreements(r):
+                print(f"  DISAGREES {line}")
+    print(f"differential test: {len(results)} designs, seed {args.seed}, families "
+          f"{', '.join(fams)}; verdict margin {VERDICT_MARGIN:g}; {wall:.1f} s wall, "
+          f"{sum(r['time'] for r in results):.1f} s in designs, {args.workers} worker(s)")
+    print(table(results))
+    bad = [(r, line) for r in results for line in disagreements(r)]
+    n_designs = len({(r["family"], r["index"]) for r, _ in bad})
+    print(f"\n{len(bad)} disagreement(s) in {n_designs} design(s)")
+    for r, line in bad:
+        print(f"  {r['family']}[{r['index']}] {r['label']}\n      {line}\n      "
+              f"{reproducer(r)}")
+    slow = max(results, key=lambda r: r["time"], default=None)
+    if slow is not None:
+        print(f"slowest design: {slow['family']}[{slow['index']}] {slow['time']:.1f} s")
+    return 1 if bad else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
