@@ -112,15 +112,13 @@ def test_bloch_root_next_to_a_found_root_is_not_skipped() -> None:
 
 
 
-@pytest.mark.xfail(strict=True, reason="issue 19 (found by the differential test): the bi-rod's "
-                   "nonlinear method scans a fixed window lambda in (0.5, 4.5)")
 def test_birod_clamped_at_both_ends_nonlinear_finds_its_limit() -> None:
     """Bi-rod clamped at both ends (``--family folded --index 8``): ``lambda_c = 2 pi``.
 
     With both ends clamped each rod is the straightened rod of (3.9) on its own (the clamp's
     sliding is in-plane, outside P2), so ``lambda_c = 2 pi`` (the FE and the full system agree);
-    the nonlinear method of ``problems.birod`` scans ``lambda`` in (0.5, 4.5) only and returns
-    nan, a method that has a limit to find reporting none.
+    the nonlinear method of ``problems.birod`` scanned ``lambda`` in (0.5, 4.5) only and
+    returned nan, a method that has a limit to find reporting none.
     """
     birod = problems.REGISTRY["bi-rod"]
     p = birod.Params(section=ellipse(aspect=0.9434, nu=0.0241), length=1.127, clamp="both")
