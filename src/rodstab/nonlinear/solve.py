@@ -20,7 +20,13 @@ from ..errors import NotConverged, RodstabInputError
 from ..limits import DEFAULT as DEFAULT_LIMITS
 from ..limits import Limits, require_nonlinear
 from ..model import Assembly
-from ..numerics import find_roots, jacobi_scaling, lowest_eigenpairs, pencil_interval_sparse
+from ..numerics import (
+    find_roots,
+    jacobi_scaling,
+    lowest_eigenpairs,
+    lowest_eigenvalues_on,
+    pencil_interval_sparse,
+)
 from ..results import Result
 from .discrete import PENALTY, DiscreteRod, discretise
 
@@ -55,6 +61,47 @@ ZERO_EIG_DISPLACEMENT = 1.0
 #: (l_e / L)^4 extrapolation from 256 and 512: six-ring 7.2e-17 for 9e-17, hexagram 1.9e-17
 #: for 2.3e-17, steel-strip six-ring 4e-18 for 1.3e-17); four times that is not resolved.
 ZERO_EIG_ROUNDOFF = 0.25 * float(np.finfo(float).eps)
+
+
+#: :func:`equilibrium` decides stability in Kirchhoff coordinates
+#: (:func:`kirchhoff_eigenvalues`) when :func:`soft_eigenvalue_floor` is below this many times
+#: ``ZERO_EIG_ROUNDOFF``: the absolute coordinates' soft eigenvalues then keep fewer than ~2
+#: digits (from ~650 elements per unit length; coarser meshes keep the absolute coordinates
+#: and their recorded eigenvalues).
+KIRCHHOFF_MARGIN = 100.0
+#: In Kirchhoff coordinates the soft eigenvalues (rotation modes, the stiff penalty off the
+#: diagonal) scale as ``(l_e / L)^2``: those below ``KIRCHHOFF_ZERO_EIG (l_e / L)^2`` are zero.
+KIRCHHOFF_ZERO_EIG = 1e-4
+
+
+def kirchhoff_zero_tol(rod: DiscreteRod) -> float:
+    """Return the zero tolerance of :func:`kirchhoff_eigenvalues`.
+
+    ``KIRCHHOFF_ZERO_EIG (min l_e / L)^2``, at least ``ZERO_EIG_ROUNDOFF``.
+    """
+    ratio = float(np.min(rod.rest_length)) / rod.assembly.total_length
+    return max(KIRCHHOFF_ZERO_EIG * ratio**2, ZERO_EIG_ROUNDOFF)
+
+
+def kirchhoff_eigenvalues(rod: DiscreteRod, k: int = 4) -> np.ndarray:
+    """Return the ``k`` lowest scaled eigenvalues of the free Hessian in Kirchhoff coordinates.
+
+    :meth:`DiscreteRod.kirchhoff_hessian` (``A`` on ``G z = 0``: the free Hessian's inertia,
+    the stiff penalty alone on the diagonal of the strain unknowns), Jacobi-scaled ``D A D``;
+    the joint-node positions, which have no stiffness of their own, are weighed like a
+    rotation of the whole rod (``L`` times the median scale of the edge rotations). Their sign
+    is the verdict of :func:`lowest_eigenvalues` (Sylvester); their size is on the bending
+    scale, ``~(l_e / L)^2``, not ``(l_e / L)^4 / PENALTY``: resolved far past the round-off
+    of the absolute coordinates (measured: benchmarks/bench_newton.py).
+    """
+    kh = rod.kirchhoff_hessian()
+    d = jacobi_scaling(kh.A)
+    ne = len(rod.R_edge)
+    b = kh.border
+    d[:b] = rod.assembly.total_length * float(np.median(d[b + 3 * ne: b + 6 * ne]))
+    D = sp.diags(d)
+    A = (D @ kh.A @ D).tocsc()
+    return lowest_eigenvalues_on(0.5 * (A + A.T), (kh.G @ D).tocsr(), b, k)
 
 
 def soft_eigenvalue_floor(rod: DiscreteRod) -> float:
@@ -482,13 +529,24 @@ def equilibrium(a: Assembly, *, load_factor: float = 1.0, elements_per_segment: 
     else:
         ok, its, res = newton(rod)
     E = rod.energy()
-    ev = lowest_eigenvalues(rod, n_eig)
-    resolved = not (abs(ev[0]) <= ZERO_EIG_ROUNDOFF
-                    and soft_eigenvalue_floor(rod) < ZERO_EIG_ROUNDOFF)
-    return Equilibrium(ok, E, res, its, bool(ok and ev[0] > zero_eigenvalue_tol(rod)),
+    method = ("discrete Cosserat rod (stiff stretch/shear), Newton + line search, exact "
+              "Hessian by second-order jets")
+    if soft_eigenvalue_floor(rod) < KIRCHHOFF_MARGIN * ZERO_EIG_ROUNDOFF \
+            and sliding_mode(rod) is None:
+        # Fine mesh: the absolute coordinates' soft eigenvalues near round-off; the same
+        # Hessian in Kirchhoff coordinates resolves them (the uniform ring's sliding mode,
+        # left out by lowest_modes, is not, so such rings keep the absolute coordinates).
+        ev = kirchhoff_eigenvalues(rod, n_eig)
+        floor, tol = KIRCHHOFF_ZERO_EIG * (float(np.min(rod.rest_length))
+                                           / a.total_length)**2, kirchhoff_zero_tol(rod)
+        method += "; stability in Kirchhoff coordinates (stiff penalty on the diagonal)"
+    else:
+        ev = lowest_eigenvalues(rod, n_eig)
+        floor, tol = soft_eigenvalue_floor(rod), zero_eigenvalue_tol(rod)
+    resolved = not (abs(ev[0]) <= ZERO_EIG_ROUNDOFF and floor < ZERO_EIG_ROUNDOFF)
+    return Equilibrium(ok, E, res, its, bool(ok and ev[0] > tol),
                        tuple(float(v) for v in ev), len(rod.free_dofs()), load_factor,
-                       "discrete Cosserat rod (stiff stretch/shear), Newton + line search, "
-                       "exact Hessian by second-order jets", max_strain(rod), resolved), rod
+                       method, max_strain(rod), resolved), rod
 
 
 @dataclasses.dataclass(frozen=True)
