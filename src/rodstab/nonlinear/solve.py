@@ -2,7 +2,10 @@
 
 Stability: the lowest eigenvalues of the Hessian restricted to the free unknowns (clamps and
 the rigid-motion gauge removed), after a symmetric Jacobi scaling ``D H D`` -- which keeps the
-inertia (Sylvester), hence the stable/unstable verdict and the load at which it changes.
+inertia (Sylvester), hence the stable/unstable verdict and the load at which it changes. On fine
+meshes the same Hessian is taken in Kirchhoff coordinates (:func:`kirchhoff_eigenvalues`: the
+stiff stretch/shear penalty alone on the diagonal of strain unknowns), where its soft
+eigenvalues stay far above round-off.
 """
 
 from __future__ import annotations
@@ -104,6 +107,27 @@ def kirchhoff_eigenvalues(rod: DiscreteRod, k: int = 4) -> np.ndarray:
     return lowest_eigenvalues_on(0.5 * (A + A.T), (kh.G @ D).tocsr(), b, k)
 
 
+def stability_eigenvalues(rod: DiscreteRod, k: int = 4
+                          ) -> tuple[np.ndarray, float, float, bool]:
+    """Return the lowest ``k`` scaled eigenvalues that decide stability, with their floors.
+
+    ``(eigenvalues, soft floor, zero tolerance, kirchhoff)``: on a fine mesh (the absolute
+    coordinates' :func:`soft_eigenvalue_floor` below ``KIRCHHOFF_MARGIN`` x
+    ``ZERO_EIG_ROUNDOFF``) :func:`kirchhoff_eigenvalues` with ``KIRCHHOFF_ZERO_EIG (l_e /
+    L)^2`` and :func:`kirchhoff_zero_tol` (``kirchhoff`` True), else :func:`lowest_eigenvalues`
+    with :func:`soft_eigenvalue_floor` and :func:`zero_eigenvalue_tol`. A uniform closed ring
+    keeps the absolute coordinates on every mesh: its material-sliding zero mode is left out
+    there (:func:`lowest_modes`), not in Kirchhoff coordinates.
+    """
+    if soft_eigenvalue_floor(rod) < KIRCHHOFF_MARGIN * ZERO_EIG_ROUNDOFF \
+            and sliding_mode(rod) is None:
+        ratio = float(np.min(rod.rest_length)) / rod.assembly.total_length
+        return (kirchhoff_eigenvalues(rod, k), KIRCHHOFF_ZERO_EIG * ratio**2,
+                kirchhoff_zero_tol(rod), True)
+    return lowest_eigenvalues(rod, k), soft_eigenvalue_floor(rod), zero_eigenvalue_tol(rod), \
+        False
+
+
 def soft_eigenvalue_floor(rod: DiscreteRod) -> float:
     """``min(ZERO_EIG r^2, ZERO_EIG_DISPLACEMENT r^4) / PENALTY``, ``r = min l_e / L``.
 
@@ -171,8 +195,12 @@ class Equilibrium(Result):
     max_strain: float = 0.0  # largest stretch/shear strain of an edge (Kirchhoff: ~0)
     #: False when the verdict rests on round-off: the lowest scaled eigenvalue within
     #: ZERO_EIG_ROUNDOFF of zero on a mesh so fine that a resolved neutral or soft mode would
-    #: lie there too (node positions are absolute, the stretch stiffness grows as 1/l_e^2);
-    #: ``stable`` is then False and means "not shown stable" -- use fewer elements.
+    #: lie there too; ``stable`` is then False and means "not shown stable" -- use fewer
+    #: elements. Fine meshes are decided in Kirchhoff coordinates (:func:`stability_eigenvalues`),
+    #: whose soft floor ``KIRCHHOFF_ZERO_EIG (l_e / L)^2`` reaches round-off only past ~1e6
+    #: elements per unit length (beyond ``MAX_DOF_NONLINEAR``); the absolute coordinates, whose
+    #: floor ``(l_e / L)^4 / PENALTY`` reaches it near 1000, are kept there only by a uniform
+    #: closed ring (its sliding mode), the one case left that can report False.
     stability_resolved: bool = True
 
 
@@ -531,18 +559,9 @@ def equilibrium(a: Assembly, *, load_factor: float = 1.0, elements_per_segment: 
     E = rod.energy()
     method = ("discrete Cosserat rod (stiff stretch/shear), Newton + line search, exact "
               "Hessian by second-order jets")
-    if soft_eigenvalue_floor(rod) < KIRCHHOFF_MARGIN * ZERO_EIG_ROUNDOFF \
-            and sliding_mode(rod) is None:
-        # Fine mesh: the absolute coordinates' soft eigenvalues near round-off; the same
-        # Hessian in Kirchhoff coordinates resolves them (the uniform ring's sliding mode,
-        # left out by lowest_modes, is not, so such rings keep the absolute coordinates).
-        ev = kirchhoff_eigenvalues(rod, n_eig)
-        floor, tol = KIRCHHOFF_ZERO_EIG * (float(np.min(rod.rest_length))
-                                           / a.total_length)**2, kirchhoff_zero_tol(rod)
+    ev, floor, tol, kirchhoff = stability_eigenvalues(rod, n_eig)
+    if kirchhoff:
         method += "; stability in Kirchhoff coordinates (stiff penalty on the diagonal)"
-    else:
-        ev = lowest_eigenvalues(rod, n_eig)
-        floor, tol = soft_eigenvalue_floor(rod), zero_eigenvalue_tol(rod)
     resolved = not (abs(ev[0]) <= ZERO_EIG_ROUNDOFF and floor < ZERO_EIG_ROUNDOFF)
     return Equilibrium(ok, E, res, its, bool(ok and ev[0] > tol),
                        tuple(float(v) for v in ev), len(rod.free_dofs()), load_factor,
