@@ -723,8 +723,10 @@ class ConstrainedFactor:
         return out
 
 
-def lowest_eigenvalues_on(A: Any, G: Any, border: int, k: int) -> np.ndarray:
-    """Return the ``k`` lowest eigenvalues of sparse symmetric ``A`` on ``G v = 0`` (``(k,)``).
+def lowest_eigenpairs_on(A: Any, G: Any, border: int, k: int) -> tuple[np.ndarray, np.ndarray]:
+    """Return the ``k`` lowest eigenpairs of sparse symmetric ``A`` on ``G v = 0``.
+
+    ``(vals (k,), vecs (n, k))``, the vectors orthonormal and in the null space of ``G``.
 
     The eigenvalues of ``N^T A N`` for an orthonormal basis ``N`` of the null space of ``G``
     (``m x n``, full row rank, ``m`` small: its rows may be dense). Dense up to
@@ -749,7 +751,8 @@ def lowest_eigenvalues_on(A: Any, G: Any, border: int, k: int) -> np.ndarray:
     n = A.shape[0]
     if n <= DENSE_EIG_MAX:
         N = _sla().null_space(G.toarray()) if G.shape[0] else np.eye(n)
-        return np.linalg.eigvalsh(N.T @ A.toarray() @ N)[:k]
+        w, V = np.linalg.eigh(N.T @ A.toarray() @ N)
+        return w[:k], N @ V[:, :k]
     scale = float(abs(A).max())
     eye = sp.identity(n, format="csc")
 
@@ -801,7 +804,7 @@ def lowest_eigenvalues_on(A: Any, G: Any, border: int, k: int) -> np.ndarray:
     if res.size and float(res.max()) > EIG_RESIDUAL_TOL * scale:
         raise NotConverged(f"lowest eigenvalues on the constraints: residual "
                            f"{float(res.max()):.3g} exceeds {EIG_RESIDUAL_TOL:g} x max|A|")
-    return vals
+    return vals, vecs
 
 
 def definite_on(A: Any, constraints: Any = None, border: int = 0) -> bool:

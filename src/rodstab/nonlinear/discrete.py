@@ -213,7 +213,29 @@ class DiscreteRod:
         G = sp.csr_matrix((np.concatenate(gvals), (np.concatenate(grows),
                                                   np.concatenate(gcols))),
                           shape=(3 * len(self.assembly.segments), n))
-        return KirchhoffHessian(A, G, b)
+        return KirchhoffHessian(A, G, b, zmap, np.concatenate([Td_eta, Td_phi], axis=2))
+
+    def from_kirchhoff(self, kh: KirchhoffHessian, z: np.ndarray) -> np.ndarray:
+        """Map ``z`` (Kirchhoff coordinates, ``G z = 0``) to the increment ``v`` (n_dof,).
+
+        Rotations and joint-node positions are copied; each segment's interior nodes follow
+        from its start node by summing the chords ``d_e = Td (eta_e, phi_e)``.
+        """
+        v = np.zeros(self.n_dof)
+        has = kh.zmap >= 0
+        v[has] = z[kh.zmap[has]]
+        ne = len(self.R_edge)
+        b = kh.border
+        ep = np.concatenate([z[b: b + 3 * ne].reshape(-1, 3),
+                             z[b + 3 * ne: b + 6 * ne].reshape(-1, 3)], axis=1)
+        d = np.einsum("eij,ej->ei", kh.chord, ep)
+        seg = self.edge_segment
+        for s_ in range(len(self.assembly.segments)):
+            es = np.flatnonzero(seg == s_)
+            start = v[self.node_dofs(self.edge_nodes[es[0], 0])]
+            inner = self.edge_nodes[es[:-1], 1]
+            v[self.node_dofs(inner).ravel()] = (start + np.cumsum(d[es[:-1]], axis=0)).ravel()
+        return v
 
     def gradient(self, *, links: bool = True) -> np.ndarray:
         """Exact gradient (n_dof,) at the current state, without the Hessian (a third the cost).
@@ -481,6 +503,8 @@ class KirchhoffHessian:
     A: sp.csr_matrix
     G: sp.csr_matrix
     border: int
+    zmap: np.ndarray  # (n_dof,) index in z of each unknown kept (-1: none)
+    chord: np.ndarray  # (n_edges, 3, 6): d_e = chord (eta_e, phi_e)
 
 
 #: Largest held turning of one element (rad): the rotation between neighbouring edge frames is

@@ -27,7 +27,7 @@ from ..numerics import (
     find_roots,
     jacobi_scaling,
     lowest_eigenpairs,
-    lowest_eigenvalues_on,
+    lowest_eigenpairs_on,
     pencil_interval_sparse,
 )
 from ..results import Result
@@ -97,6 +97,15 @@ def kirchhoff_eigenvalues(rod: DiscreteRod, k: int = 4) -> np.ndarray:
     scale, ``~(l_e / L)^2``, not ``(l_e / L)^4 / PENALTY``: resolved far past the round-off
     of the absolute coordinates (measured: benchmarks/bench_newton.py).
     """
+    return kirchhoff_modes(rod, k)[0]
+
+
+def kirchhoff_modes(rod: DiscreteRod, k: int = 4) -> tuple[np.ndarray, np.ndarray]:
+    """Return :func:`kirchhoff_eigenvalues` with their vectors on the free unknowns (columns).
+
+    For a uniform closed ring the eigenpair that is the material-sliding zero mode
+    (:func:`sliding_mode`) is left out, as in :func:`lowest_modes`.
+    """
     kh = rod.kirchhoff_hessian()
     d = jacobi_scaling(kh.A)
     ne = len(rod.R_edge)
@@ -104,7 +113,13 @@ def kirchhoff_eigenvalues(rod: DiscreteRod, k: int = 4) -> np.ndarray:
     d[:b] = rod.assembly.total_length * float(np.median(d[b + 3 * ne: b + 6 * ne]))
     D = sp.diags(d)
     A = (D @ kh.A @ D).tocsc()
-    return lowest_eigenvalues_on(0.5 * (A + A.T), (kh.G @ D).tocsr(), b, k)
+    slide = sliding_mode(rod)
+    vals, Z = lowest_eigenpairs_on(0.5 * (A + A.T), (kh.G @ D).tocsr(), b,
+                                   k + (1 if slide is not None else 0))
+    free = rod.free_dofs()
+    vecs = np.stack([rod.from_kirchhoff(kh, d * Z[:, c])[free] for c in range(Z.shape[1])],
+                    axis=1)
+    return _without_sliding(rod, free, slide, vals, vecs, k)
 
 
 def stability_eigenvalues(rod: DiscreteRod, k: int = 4
@@ -115,12 +130,10 @@ def stability_eigenvalues(rod: DiscreteRod, k: int = 4
     coordinates' :func:`soft_eigenvalue_floor` below ``KIRCHHOFF_MARGIN`` x
     ``ZERO_EIG_ROUNDOFF``) :func:`kirchhoff_eigenvalues` with ``KIRCHHOFF_ZERO_EIG (l_e /
     L)^2`` and :func:`kirchhoff_zero_tol` (``kirchhoff`` True), else :func:`lowest_eigenvalues`
-    with :func:`soft_eigenvalue_floor` and :func:`zero_eigenvalue_tol`. A uniform closed ring
-    keeps the absolute coordinates on every mesh: its material-sliding zero mode is left out
-    there (:func:`lowest_modes`), not in Kirchhoff coordinates.
+    with :func:`soft_eigenvalue_floor` and :func:`zero_eigenvalue_tol`. Both leave out a uniform
+    closed ring's material-sliding zero mode.
     """
-    if soft_eigenvalue_floor(rod) < KIRCHHOFF_MARGIN * ZERO_EIG_ROUNDOFF \
-            and sliding_mode(rod) is None:
+    if soft_eigenvalue_floor(rod) < KIRCHHOFF_MARGIN * ZERO_EIG_ROUNDOFF:
         ratio = float(np.min(rod.rest_length)) / rod.assembly.total_length
         return (kirchhoff_eigenvalues(rod, k), KIRCHHOFF_ZERO_EIG * ratio**2,
                 kirchhoff_zero_tol(rod), True)
@@ -295,18 +308,29 @@ def lowest_modes(rod: DiscreteRod, k: int = 4, hessian: sp.spmatrix | None = Non
     A = (sp.diags(d) @ Hf @ sp.diags(d)).tocsc()
     slide = sliding_mode(rod)
     vals, vecs = lowest_eigenpairs(A, k + (1 if slide is not None else 0))
-    if slide is not None:
-        # Leave out the eigenpair that IS the sliding mode (cosine > SLIDING_OVERLAP of the
-        # node displacements: the frame part of the finite-difference field is less accurate).
-        pos = free < 3 * len(rod.x)
-        V = (d[:, None] * vecs)[pos]
-        u = slide[pos] / np.linalg.norm(slide[pos])
-        overlap = np.abs(V.T @ u) / np.maximum(np.linalg.norm(V, axis=0), 1e-300)
-        j = int(np.argmax(overlap))
-        keep = np.ones(len(vals), bool)
-        keep[j if overlap[j] > SLIDING_OVERLAP else len(vals) - 1] = False
-        vals, vecs = vals[keep][:k], vecs[:, keep][:, :k]
-    return vals, d[:, None] * vecs
+    vecs = d[:, None] * vecs
+    return _without_sliding(rod, free, slide, vals, vecs, k)
+
+
+def _without_sliding(rod: DiscreteRod, free: np.ndarray, slide: np.ndarray | None,
+                     vals: np.ndarray, vecs: np.ndarray, k: int
+                     ) -> tuple[np.ndarray, np.ndarray]:
+    """Leave out of ``k + 1`` eigenpairs (vectors on the free unknowns) the sliding one.
+
+    The pair whose node displacements have a cosine above ``SLIDING_OVERLAP`` with the
+    sliding field (the frame part of the finite-difference field is less accurate); else the
+    highest. ``slide`` None: the first ``k``.
+    """
+    if slide is None:
+        return vals[:k], vecs[:, :k]
+    pos = free < 3 * len(rod.x)
+    V = vecs[pos]
+    u = slide[pos] / np.linalg.norm(slide[pos])
+    overlap = np.abs(V.T @ u) / np.maximum(np.linalg.norm(V, axis=0), 1e-300)
+    j = int(np.argmax(overlap))
+    keep = np.ones(len(vals), bool)
+    keep[j if overlap[j] > SLIDING_OVERLAP else len(vals) - 1] = False
+    return vals[keep][:k], vecs[:, keep][:, :k]
 
 
 def lowest_eigenvalues(rod: DiscreteRod, k: int = 4) -> np.ndarray:
