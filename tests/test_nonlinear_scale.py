@@ -182,8 +182,8 @@ def test_a_fine_mesh_verdict_is_resolved_and_agrees_with_the_linear_fe():
 
 
 def test_an_unresolved_verdict_is_reported_not_unstable(run_cli, monkeypatch):
-    """The reporting path of a verdict below round-off (reachable only by a uniform closed ring
-    past ~1000 elements per unit length, which keeps the absolute coordinates): with the
+    """The reporting path of a verdict below round-off (in Kirchhoff coordinates reachable only
+    at ``min l_e / L`` < ~7e-7: a very short segment meshed like long ones): with the
     round-off floor raised above the straightened rod's lowest eigenvalue and the Kirchhoff
     coordinates switched off, ``stable`` is False, ``stability_resolved`` False and the text
     says NOT RESOLVED; with the defaults the same run is stable and resolved."""

@@ -142,8 +142,8 @@ class DiscreteRod:
         chords = end joint - start joint). The map from the free unknowns onto ``{G z = 0}`` is
         one-to-one, so ``z^T A z`` on it has the inertia of the free Hessian.
         """
-        H = self._evaluate(2, True, stretch=False)[2]
-        assert H is not None  # order 2
+        _, gb, H = self._evaluate(2, True, stretch=False)
+        assert H is not None and gb is not None  # order 2
         ne = len(self.R_edge)
         le = self.rest_length
         i, j = self.edge_nodes[:, 0], self.edge_nodes[:, 1]
@@ -213,7 +213,19 @@ class DiscreteRod:
         G = sp.csr_matrix((np.concatenate(gvals), (np.concatenate(grows),
                                                   np.concatenate(gcols))),
                           shape=(3 * len(self.assembly.segments), n))
-        return KirchhoffHessian(A, G, b, zmap, np.concatenate([Td_eta, Td_phi], axis=2))
+        # Gradient: the stretch force K l_e (eps - e2) on eta; bending (and the work of point
+        # loads) on the rotations and joint positions -- the stretch term has no derivative in
+        # phi at fixed eta. A dead force on an interior node would also load the chords before
+        # it: not formed (None).
+        grad = None
+        joint_nodes = set(jnodes)
+        if all(node in joint_nodes for node, _ in self.node_force):
+            grad = np.zeros(n)
+            kept = np.flatnonzero(zmap >= 0)
+            grad[zmap[kept]] = gb[kept]
+            grad[eta.ravel()] = ((K * le)[:, None] * (np.stack([ek.v for ek in eps], axis=1)
+                                                      - _T0)).ravel()
+        return KirchhoffHessian(A, G, b, zmap, np.concatenate([Td_eta, Td_phi], axis=2), grad)
 
     def from_kirchhoff(self, kh: KirchhoffHessian, z: np.ndarray) -> np.ndarray:
         """Map ``z`` (Kirchhoff coordinates, ``G z = 0``) to the increment ``v`` (n_dof,).
@@ -505,6 +517,7 @@ class KirchhoffHessian:
     border: int
     zmap: np.ndarray  # (n_dof,) index in z of each unknown kept (-1: none)
     chord: np.ndarray  # (n_edges, 3, 6): d_e = chord (eta_e, phi_e)
+    gradient: np.ndarray | None = None  # (n,) energy gradient in z (None: not formed)
 
 
 #: Largest held turning of one element (rad): the rotation between neighbouring edge frames is
