@@ -14,18 +14,21 @@
    is reachable (``rodstab equilibrium --perturb 0.01``).
 
 Limits (measured, see the docstrings of :func:`rodstab.nonlinear.solve.residual_tolerance` and
-:data:`rodstab.nonlinear.solve.ZERO_EIG_ROUNDOFF`): node positions are absolute, so the stiff
+:func:`rodstab.nonlinear.solve.stability_eigenvalues`): node positions are absolute, so the stiff
 penalty's forces carry a rounding ``u K max|x| / l_e`` ~ ``u PENALTY B max|x| / l_e^3``; past
 ~1e4 elements per unit length a smooth perturbation's forces are below it (the straightened rod
-at 16384 elements: 0 iterations), and the six-rings' lowest scaled Hessian eigenvalues (~1e-17
-from 1024 elements per segment) fall below what the check resolves (~u / 4): "stable False"
-there means "not resolved".
+at 16384 elements: 0 iterations). The stability check takes the Hessian in Kirchhoff
+coordinates on fine meshes (column ``coords``): its lowest scaled eigenvalue times
+``(L / l_e)^2`` (column ``x (L/l_e)^2``) is mesh-independent; in the absolute coordinates the
+same eigenvalue is ``~(l_e / L)^4 / PENALTY``, at round-off (~1e-17) from ~1000 elements per unit
+length, where the verdict was "not resolved".
 
 Run: ``OMP_NUM_THREADS=1 python benchmarks/bench_newton.py [--quick]``.
 """
 
 from __future__ import annotations
 
+import math
 import statistics
 import sys
 import time
@@ -39,14 +42,15 @@ from rodstab.model import Assembly, Segment
 from rodstab.nonlinear.discrete import discretise
 from rodstab.nonlinear.solve import (
     equilibrium,
-    lowest_eigenvalues,
+    kirchhoff_polish,
     newton,
     residual_tolerance,
-    zero_eigenvalue_tol,
+    stability_eigenvalues,
+    uses_kirchhoff,
 )
 from rodstab.problems import folded_ring
 
-REPEATS = 3
+REPEATS = 3  # --repeats N overrides
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 
 
@@ -77,8 +81,9 @@ def perturbed(a: Assembly, n: int, mu: float):
 
 def scaling(name: str, a: Assembly, mu: float, meshes: list[int]) -> None:
     print(f"\n{name}: Newton + stability check from a perturbed held state, mu = {mu:.5g}")
-    print(f"{'el./seg':>8} {'dof':>7} {'its':>4} {'converged':>9} {'lowest eig':>11} "
-          f"{'stable':>6} {'newton s':>9} {'eig s':>7} {'total s':>8}")
+    print(f"{'el./seg':>8} {'dof':>7} {'its':>4} {'converged':>9} {'coords':>9} "
+          f"{'lowest eig':>11} {'x (L/l_e)^2':>11} {'stable':>6} {'newton s':>9} {'eig s':>7} "
+          f"{'total s':>8}")
     rows = []
     for n in meshes:
         t_newton, t_eig = [], []
@@ -86,8 +91,10 @@ def scaling(name: str, a: Assembly, mu: float, meshes: list[int]) -> None:
             rod = perturbed(a, n, mu)
             t0 = time.perf_counter()
             ok, its, _ = newton(rod)
+            if ok and uses_kirchhoff(rod):  # as equilibrium does
+                its += kirchhoff_polish(rod)
             t1 = time.perf_counter()
-            ev = lowest_eigenvalues(rod, 4)
+            ev, _, tol, kirchhoff = stability_eigenvalues(rod, 4)
             t2 = time.perf_counter()
             t_newton.append(t1 - t0)
             t_eig.append(t2 - t1)
@@ -95,9 +102,11 @@ def scaling(name: str, a: Assembly, mu: float, meshes: list[int]) -> None:
         tn, te = statistics.median(t_newton), statistics.median(t_eig)
         tot = statistics.median([x + y for x, y in zip(t_newton, t_eig, strict=True)])
         rows.append((dof, tot))
-        print(f"{n:>8} {dof:>7} {its:>4} {str(ok):>9} {ev[0]:>11.3e} "
-              f"{str(bool(ev[0] > zero_eigenvalue_tol(rod))):>6} {tn:>9.3f} {te:>7.3f} "
-              f"{tot:>8.3f}", flush=True)
+        ratio = a.total_length / float(np.min(rod.rest_length))
+        print(f"{n:>8} {dof:>7} {its:>4} {str(ok):>9} "
+              f"{'Kirchhoff' if kirchhoff else 'absolute':>9} {ev[0]:>11.3e} "
+              f"{ev[0] * ratio**2 if kirchhoff else math.nan:>11.4f} "
+              f"{str(bool(ev[0] > tol)):>6} {tn:>9.3f} {te:>7.3f} {tot:>8.3f}", flush=True)
     d, t = np.log([r[0] for r in rows]), np.log([r[1] for r in rows])
     slope = float(np.polyfit(d, t, 1)[0])
     print(f"fitted exponent: time ~ dof^{slope:.2f} ({rows[0][0]} .. {rows[-1][0]} dof; "
@@ -127,6 +136,8 @@ def examples_table(n: int, perturb: float = 0.01) -> None:
 
 if __name__ == "__main__":
     quick = "--quick" in sys.argv
+    if "--repeats" in sys.argv:
+        REPEATS = int(sys.argv[sys.argv.index("--repeats") + 1])
     p = folded_ring.Params()
     ring = folded_ring.build(p)
     mu_ring = linear_stability(ring, 32).load_factor_critical

@@ -723,6 +723,90 @@ class ConstrainedFactor:
         return out
 
 
+def lowest_eigenpairs_on(A: Any, G: Any, border: int, k: int) -> tuple[np.ndarray, np.ndarray]:
+    """Return the ``k`` lowest eigenpairs of sparse symmetric ``A`` on ``G v = 0``.
+
+    ``(vals (k,), vecs (n, k))``, the vectors orthonormal and in the null space of ``G``.
+
+    The eigenvalues of ``N^T A N`` for an orthonormal basis ``N`` of the null space of ``G``
+    (``m x n``, full row rank, ``m`` small: its rows may be dense). Dense up to
+    :data:`DENSE_EIG_MAX` unknowns; beyond, shift-invert Lanczos on the constrained inverse
+    ``f -> y`` (``A y - sigma y - f`` in the range of ``G^T``, ``G y = 0``: a symmetric operator
+    on the null space whose largest eigenvalues are ``1 / (lam - sigma)``), by
+    :class:`ConstrainedFactor` (``border``: as there). As in :func:`lowest_eigenpairs` the shift
+    is placed below the lowest eigenvalue and certified there by the inertia (no negative
+    direction of ``A - sigma I`` on the constraints), so no eigenvalue is missed. Raises
+    :class:`~rodstab.errors.NotConverged` when a pair's residual (projected on the null space)
+    exceeds :data:`EIG_RESIDUAL_TOL` ``max |A_ij|``.
+    """
+    import warnings
+
+    import scipy.sparse as sp
+    import scipy.sparse.linalg as spla
+
+    from .errors import NotConverged
+
+    A = sp.csc_matrix(A)
+    G = sp.csr_matrix(G)
+    n = A.shape[0]
+    if n <= DENSE_EIG_MAX:
+        N = _sla().null_space(G.toarray()) if G.shape[0] else np.eye(n)
+        w, V = np.linalg.eigh(N.T @ A.toarray() @ N)
+        return w[:k], N @ V[:, :k]
+    scale = float(abs(A).max())
+    eye = sp.identity(n, format="csc")
+
+    def factor(sigma: float) -> ConstrainedFactor | None:
+        try:
+            return ConstrainedFactor.of(A - sigma * eye, G, border)
+        except RodstabInputError:  # singular at this shift: try another
+            return None
+
+    def largest(fac: ConstrainedFactor, kk: int, which: str) -> tuple[np.ndarray, np.ndarray]:
+        op = spla.LinearOperator((n, n), matvec=fac.solve, dtype=float)
+        v0 = fac.solve(np.linspace(1.0, 2.0, n))  # in the null space, fixed (reproducible)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            return spla.eigsh(op, k=kk, which=which, tol=1e-10, maxiter=20000, v0=v0)
+
+    sigma = -EIG_SHIFT_FLOOR * scale
+    fac = factor(sigma)
+    if fac is None:
+        sigma *= -1.0
+        fac = factor(sigma)
+    if fac is None:
+        raise NotConverged("lowest eigenvalues on the constraints: singular at two shifts")
+    if fac.n_negative > 0:
+        # Nearest eigenvalue to the shift first, then below the lowest (doubling steps).
+        mu = largest(fac, 1, "LM")[0][0]
+        lam0 = sigma + 1.0 / mu
+        step = max(abs(lam0), EIG_SHIFT_FLOOR * scale)
+        for _ in range(80):
+            sigma = min(lam0, 0.0) - 2.0 * step
+            fac = factor(sigma)
+            if fac is not None and fac.n_negative == 0:
+                break
+            step *= 2.0
+        else:
+            raise NotConverged("could not place a Lanczos shift below the lowest eigenvalue "
+                               "on the constraints (80 doublings)")
+    assert fac is not None
+    mus, vecs = largest(fac, min(k, n - G.shape[0] - 1), "LA")
+    order = np.argsort(-mus)
+    vals = sigma + 1.0 / mus[order]
+    vecs = vecs[:, order]
+    # Residual on the null space: A y - lam y minus its least-squares part in range(G^T).
+    R = A @ vecs - vecs * vals
+    Gd = G.T.toarray()
+    if Gd.shape[1]:
+        R = R - Gd @ np.linalg.lstsq(Gd, R, rcond=None)[0]
+    res = np.linalg.norm(R, axis=0)
+    if res.size and float(res.max()) > EIG_RESIDUAL_TOL * scale:
+        raise NotConverged(f"lowest eigenvalues on the constraints: residual "
+                           f"{float(res.max()):.3g} exceeds {EIG_RESIDUAL_TOL:g} x max|A|")
+    return vals, vecs
+
+
 def definite_on(A: Any, constraints: Any = None, border: int = 0) -> bool:
     """Whether the sparse symmetric ``A`` is positive definite on ``constraints @ v = 0``.
 

@@ -121,6 +121,134 @@ class DiscreteRod:
         assert g is not None and H is not None  # order 2
         return E, g, H
 
+    def kirchhoff_hessian(self) -> KirchhoffHessian:
+        """Return the free Hessian in Kirchhoff coordinates, where the stiff penalty is diagonal.
+
+        The same quadratic form as :meth:`energy_terms`' Hessian on the free unknowns, written
+        in other coordinates ``z`` (Sylvester: the same inertia, hence the same stable/unstable
+        verdict). Per edge, the node positions enter only through the chord ``d = x_j - x_i``,
+        and ``(d, phi_e)`` is replaced by ``(eta_e, phi_e)`` with ``eta_e = J_d d + J_phi phi_e``
+        the linearised stretch/shear strain (``J_d = R_e^T / l_e``, so ``d = l_e R_e (eta -
+        J_phi phi_e)``). The penalty ``1/2 K l_e |eps|^2`` then has the Gauss-Newton part
+        ``K l_e |eta|^2`` -- stiff, but alone on the diagonal -- and the stress part ``K l_e
+        (eps - e2) . d^2 eps`` (the internal force times the frame's second variation), which is
+        on the bending scale. In the absolute coordinates ``(x, phi)`` every entry carries the
+        stiff scale, and its round-off ``u K / l_e`` swamps the soft (bending) eigenvalues, which
+        lie ``(l_e / L)^4 / PENALTY`` below it (below ``u`` from ~1000 elements per unit length).
+
+        The positions are recovered from the chords: the free components of the joint nodes
+        are kept (``border``, first), interior nodes follow by summing the chords along each
+        segment, and each segment closes with three linear constraints ``G z = 0`` (sum of its
+        chords = end joint - start joint). The map from the free unknowns onto ``{G z = 0}`` is
+        one-to-one, so ``z^T A z`` on it has the inertia of the free Hessian.
+        """
+        _, gb, H = self._evaluate(2, True, stretch=False)
+        assert H is not None and gb is not None  # order 2
+        ne = len(self.R_edge)
+        le = self.rest_length
+        i, j = self.edge_nodes[:, 0], self.edge_nodes[:, 1]
+        # eps(d, phi) = R^T d / l_e - e2, variables (d 0..2, phi 3..5), d = x_j - x_i.
+        dj = vector_jet((self.x[j] - self.x[i]) / le[:, None], 6, 0, 2)
+        for c in range(3):  # the jet is of d / l_e: rescale its derivatives to d
+            assert dj[c].g is not None
+            dj[c].g /= le[:, None]
+        eps = rotation_jet(self.R_edge, 6, 3, 2).T.apply(dj)
+        K = PENALTY * self.edge_B.max(axis=1) / le**2
+        S = np.zeros((ne, 6, 6))
+        Jphi = np.zeros((ne, 3, 3))
+        for k, ek in enumerate(eps):
+            assert ek.H is not None and ek.g is not None  # order 2
+            S += ((K * le) * (ek.v - _T0[k]))[:, None, None] * ek.H
+            Jphi[:, k, :] = ek.g[:, 3:6]
+        Td_eta = le[:, None, None] * self.R_edge  # d d / d eta
+        Td_phi = -Td_eta @ Jphi  # d d / d phi (eta fixed)
+        Sdd, Sdp, Spp = S[:, :3, :3], S[:, :3, 3:], S[:, 3:, 3:]
+        tT = np.swapaxes
+        A_ee = tT(Td_eta, 1, 2) @ Sdd @ Td_eta + (K * le)[:, None, None] * np.eye(3)
+        A_ep = tT(Td_eta, 1, 2) @ (Sdd @ Td_phi + Sdp)
+        A_pp = Spp + tT(Td_phi, 1, 2) @ Sdp + tT(Sdp, 1, 2) @ Td_phi \
+            + tT(Td_phi, 1, 2) @ Sdd @ Td_phi
+        # z layout: [joint-node positions (free components) | eta | phi_e | phi_J (free)].
+        free = set(self.free_dofs().tolist())
+        nx = len(self.x)
+        jnodes = sorted({int(self.edge_nodes[lk[0], 0 if lk[3] == "start" else 1])
+                         for lk in self.end_links})
+        border_dofs = [int(d) for n_ in jnodes for d in self.node_dofs(n_) if int(d) in free]
+        b = len(border_dofs)
+        zmap = np.full(self.n_dof, -1)
+        zmap[border_dofs] = np.arange(b)
+        zmap[3 * nx: 3 * (nx + ne)] = b + 3 * ne + np.arange(3 * ne)  # phi_e
+        jd = [d for d in range(3 * (nx + ne), self.n_dof) if d in free]
+        zmap[jd] = b + 6 * ne + np.arange(len(jd))
+        n = b + 6 * ne + len(jd)
+        eta = b + 3 * np.arange(ne)[:, None] + np.arange(3)  # (ne, 3)
+        phi = zmap[self.edge_dofs(np.arange(ne))]
+        blocks = np.concatenate([np.concatenate([A_ee, A_ep], axis=2),
+                                 np.concatenate([tT(A_ep, 1, 2), A_pp], axis=2)], axis=1)
+        loc = np.concatenate([eta, phi], axis=1)  # (ne, 6)
+        Hc = H.tocoo()
+        keep = (zmap[Hc.row] >= 0) & (zmap[Hc.col] >= 0)
+        rows = np.concatenate([np.repeat(loc, 6, axis=1).ravel(), zmap[Hc.row[keep]]])
+        cols = np.concatenate([np.tile(loc, (1, 6)).ravel(), zmap[Hc.col[keep]]])
+        vals = np.concatenate([blocks.ravel(), Hc.data[keep]])
+        A = sp.csr_matrix((vals, (rows, cols)), shape=(n, n))
+        # Closure of each segment: sum_e (Td_eta eta_e + Td_phi phi_e) - x_end + x_start = 0.
+        seg = self.edge_segment
+        grows, gcols, gvals = [], [], []
+        for s_ in range(len(self.assembly.segments)):
+            es = np.flatnonzero(seg == s_)
+            for c in range(3):
+                r = 3 * s_ + c
+                for T, idx in ((Td_eta, eta), (Td_phi, phi)):
+                    grows.append(np.full(3 * len(es), r))
+                    gcols.append(idx[es].ravel())
+                    gvals.append(T[es, c, :].ravel())
+                for node, sign in ((self.edge_nodes[es[-1], 1], -1.0),
+                                   (self.edge_nodes[es[0], 0], 1.0)):
+                    zc = zmap[3 * node + c]
+                    if zc >= 0:
+                        grows.append(np.array([r]))
+                        gcols.append(np.array([zc]))
+                        gvals.append(np.array([sign]))
+        G = sp.csr_matrix((np.concatenate(gvals), (np.concatenate(grows),
+                                                  np.concatenate(gcols))),
+                          shape=(3 * len(self.assembly.segments), n))
+        # Gradient: the stretch force K l_e (eps - e2) on eta; bending (and the work of point
+        # loads) on the rotations and joint positions -- the stretch term has no derivative in
+        # phi at fixed eta. A dead force on an interior node would also load the chords before
+        # it: not formed (None).
+        grad = None
+        joint_nodes = set(jnodes)
+        if all(node in joint_nodes for node, _ in self.node_force):
+            grad = np.zeros(n)
+            kept = np.flatnonzero(zmap >= 0)
+            grad[zmap[kept]] = gb[kept]
+            grad[eta.ravel()] = ((K * le)[:, None] * (np.stack([ek.v for ek in eps], axis=1)
+                                                      - _T0)).ravel()
+        return KirchhoffHessian(A, G, b, zmap, np.concatenate([Td_eta, Td_phi], axis=2), grad)
+
+    def from_kirchhoff(self, kh: KirchhoffHessian, z: np.ndarray) -> np.ndarray:
+        """Map ``z`` (Kirchhoff coordinates, ``G z = 0``) to the increment ``v`` (n_dof,).
+
+        Rotations and joint-node positions are copied; each segment's interior nodes follow
+        from its start node by summing the chords ``d_e = Td (eta_e, phi_e)``.
+        """
+        v = np.zeros(self.n_dof)
+        has = kh.zmap >= 0
+        v[has] = z[kh.zmap[has]]
+        ne = len(self.R_edge)
+        b = kh.border
+        ep = np.concatenate([z[b: b + 3 * ne].reshape(-1, 3),
+                             z[b + 3 * ne: b + 6 * ne].reshape(-1, 3)], axis=1)
+        d = np.einsum("eij,ej->ei", kh.chord, ep)
+        seg = self.edge_segment
+        for s_ in range(len(self.assembly.segments)):
+            es = np.flatnonzero(seg == s_)
+            start = v[self.node_dofs(self.edge_nodes[es[0], 0])]
+            inner = self.edge_nodes[es[:-1], 1]
+            v[self.node_dofs(inner).ravel()] = (start + np.cumsum(d[es[:-1]], axis=0)).ravel()
+        return v
+
     def gradient(self, *, links: bool = True) -> np.ndarray:
         """Exact gradient (n_dof,) at the current state, without the Hessian (a third the cost).
 
@@ -134,9 +262,13 @@ class DiscreteRod:
         """Energy only (for line searches, path points): no derivatives are formed."""
         return self._evaluate(0, True)[0]
 
-    def _evaluate(self, order: int, links: bool
+    def _evaluate(self, order: int, links: bool, stretch: bool = True
                   ) -> tuple[float, np.ndarray | None, sp.csr_matrix | None]:
-        """Energy and its derivatives up to ``order`` (0, 1, 2); None for those not formed."""
+        """Energy and its derivatives up to ``order`` (0, 1, 2); None for those not formed.
+
+        ``stretch`` False leaves out the stretch/shear penalty (:meth:`kirchhoff_hessian` forms
+        it in its own coordinates).
+        """
         rows, cols, vals = [], [], []
         grad = np.zeros(self.n_dof) if order >= 1 else None
         total = 0.0
@@ -154,21 +286,22 @@ class DiscreteRod:
                 vals.append(jet.H.ravel())
 
         mu = self.load_factor
-        # Stretch and shear of every edge: variables (x_i, x_j, phi_e).
-        e = np.arange(len(self.R_edge))
-        i, j = self.edge_nodes[:, 0], self.edge_nodes[:, 1]
-        xi = vector_jet(self.x[i], 9, 0, order)
-        xj = vector_jet(self.x[j], 9, 3, order)
-        R = rotation_jet(self.R_edge, 9, 6, order)
         le = self.rest_length
-        d = [(xj[k] - xi[k]) * (1.0 / le) for k in range(3)]
-        eps = R.T.apply(d)
-        K = PENALTY * self.edge_B.max(axis=1) / le**2
-        zero = Jet(np.zeros(len(e)), np.zeros((len(e), 9)) if order >= 1 else None,
-                   np.zeros((len(e), 9, 9)) if order >= 2 else None)
-        en = sum(((eps[k] - _T0[k]) * (eps[k] - _T0[k]) for k in range(3)), start=zero)
-        scatter(en * (0.5 * K * le), np.concatenate([self.node_dofs(i), self.node_dofs(j),
-                                                      self.edge_dofs(e)], axis=1))
+        if stretch:
+            # Stretch and shear of every edge: variables (x_i, x_j, phi_e).
+            e = np.arange(len(self.R_edge))
+            i, j = self.edge_nodes[:, 0], self.edge_nodes[:, 1]
+            xi = vector_jet(self.x[i], 9, 0, order)
+            xj = vector_jet(self.x[j], 9, 3, order)
+            R = rotation_jet(self.R_edge, 9, 6, order)
+            d = [(xj[k] - xi[k]) * (1.0 / le) for k in range(3)]
+            eps = R.T.apply(d)
+            K = PENALTY * self.edge_B.max(axis=1) / le**2
+            zero = Jet(np.zeros(len(e)), np.zeros((len(e), 9)) if order >= 1 else None,
+                       np.zeros((len(e), 9, 9)) if order >= 2 else None)
+            en = sum(((eps[k] - _T0[k]) * (eps[k] - _T0[k]) for k in range(3)), start=zero)
+            scatter(en * (0.5 * K * le), np.concatenate([self.node_dofs(i), self.node_dofs(j),
+                                                          self.edge_dofs(e)], axis=1))
         # Bending between consecutive edges of a segment: variables (phi_a, phi_b).
         if len(self.bend_pairs):
             a, b = self.bend_pairs[:, 0], self.bend_pairs[:, 1]
@@ -369,6 +502,22 @@ class DiscreteRod:
         self.x += dq[: 3 * nx].reshape(-1, 3)
         self.R_edge = self.R_edge @ rodrigues(dq[3 * nx: 3 * (nx + ne)].reshape(-1, 3))
         self.R_joint = self.R_joint @ rodrigues(dq[3 * (nx + ne):].reshape(-1, 3))
+
+
+@dataclasses.dataclass(frozen=True)
+class KirchhoffHessian:
+    """The free Hessian in Kirchhoff coordinates (:meth:`DiscreteRod.kirchhoff_hessian`).
+
+    ``A`` (sparse symmetric ``n x n``) on ``G z = 0`` (``G`` sparse, three rows per segment);
+    the first ``border`` unknowns are joint-node positions (no stiffness of their own).
+    """
+
+    A: sp.csr_matrix
+    G: sp.csr_matrix
+    border: int
+    zmap: np.ndarray  # (n_dof,) index in z of each unknown kept (-1: none)
+    chord: np.ndarray  # (n_edges, 3, 6): d_e = chord (eta_e, phi_e)
+    gradient: np.ndarray | None = None  # (n,) energy gradient in z (None: not formed)
 
 
 #: Largest held turning of one element (rad): the rotation between neighbouring edge frames is

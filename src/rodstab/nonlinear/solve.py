@@ -2,7 +2,10 @@
 
 Stability: the lowest eigenvalues of the Hessian restricted to the free unknowns (clamps and
 the rigid-motion gauge removed), after a symmetric Jacobi scaling ``D H D`` -- which keeps the
-inertia (Sylvester), hence the stable/unstable verdict and the load at which it changes.
+inertia (Sylvester), hence the stable/unstable verdict and the load at which it changes. On fine
+meshes the same Hessian is taken in Kirchhoff coordinates (:func:`kirchhoff_eigenvalues`: the
+stiff stretch/shear penalty alone on the diagonal of strain unknowns), where its soft
+eigenvalues stay far above round-off.
 """
 
 from __future__ import annotations
@@ -20,7 +23,13 @@ from ..errors import NotConverged, RodstabInputError
 from ..limits import DEFAULT as DEFAULT_LIMITS
 from ..limits import Limits, require_nonlinear
 from ..model import Assembly
-from ..numerics import find_roots, jacobi_scaling, lowest_eigenpairs, pencil_interval_sparse
+from ..numerics import (
+    find_roots,
+    jacobi_scaling,
+    lowest_eigenpairs,
+    lowest_eigenpairs_on,
+    pencil_interval_sparse,
+)
 from ..results import Result
 from .discrete import PENALTY, DiscreteRod, discretise
 
@@ -55,6 +64,139 @@ ZERO_EIG_DISPLACEMENT = 1.0
 #: (l_e / L)^4 extrapolation from 256 and 512: six-ring 7.2e-17 for 9e-17, hexagram 1.9e-17
 #: for 2.3e-17, steel-strip six-ring 4e-18 for 1.3e-17); four times that is not resolved.
 ZERO_EIG_ROUNDOFF = 0.25 * float(np.finfo(float).eps)
+
+
+#: :func:`equilibrium` decides stability in Kirchhoff coordinates
+#: (:func:`kirchhoff_eigenvalues`) when :func:`soft_eigenvalue_floor` is below this many times
+#: ``ZERO_EIG_ROUNDOFF``: the absolute coordinates' soft eigenvalues then keep fewer than ~2
+#: digits (from ~650 elements per unit length; coarser meshes keep the absolute coordinates
+#: and their recorded eigenvalues).
+KIRCHHOFF_MARGIN = 100.0
+#: In Kirchhoff coordinates the soft eigenvalues (rotation modes, the stiff penalty off the
+#: diagonal) scale as ``(l_e / L)^2``: those below ``KIRCHHOFF_ZERO_EIG (l_e / L)^2`` are zero.
+KIRCHHOFF_ZERO_EIG = 1e-4
+
+
+def kirchhoff_zero_tol(rod: DiscreteRod) -> float:
+    """Return the zero tolerance of :func:`kirchhoff_eigenvalues`.
+
+    ``KIRCHHOFF_ZERO_EIG (min l_e / L)^2``, at least ``ZERO_EIG_ROUNDOFF``.
+    """
+    ratio = float(np.min(rod.rest_length)) / rod.assembly.total_length
+    return max(KIRCHHOFF_ZERO_EIG * ratio**2, ZERO_EIG_ROUNDOFF)
+
+
+def kirchhoff_eigenvalues(rod: DiscreteRod, k: int = 4) -> np.ndarray:
+    """Return the ``k`` lowest scaled eigenvalues of the free Hessian in Kirchhoff coordinates.
+
+    :meth:`DiscreteRod.kirchhoff_hessian` (``A`` on ``G z = 0``: the free Hessian's inertia,
+    the stiff penalty alone on the diagonal of the strain unknowns), Jacobi-scaled ``D A D``;
+    the joint-node positions, which have no stiffness of their own, are weighed like a
+    rotation of the whole rod (``L`` times the median scale of the edge rotations). Their sign
+    is the verdict of :func:`lowest_eigenvalues` (Sylvester); their size is on the bending
+    scale, ``~(l_e / L)^2``, not ``(l_e / L)^4 / PENALTY``: resolved far past the round-off
+    of the absolute coordinates (measured: benchmarks/bench_newton.py).
+    """
+    return kirchhoff_modes(rod, k)[0]
+
+
+def _kirchhoff_scaled(rod: DiscreteRod) -> tuple[Any, np.ndarray, sp.csc_matrix, sp.csr_matrix]:
+    """:meth:`DiscreteRod.kirchhoff_hessian`, its scaling ``d`` and ``D A D``, ``G D``.
+
+    Jacobi scaling; the joint-node positions (no stiffness of their own) weighed like a
+    rotation of the whole rod (``L`` times the median scale of the edge rotations).
+    """
+    kh = rod.kirchhoff_hessian()
+    d = jacobi_scaling(kh.A)
+    ne = len(rod.R_edge)
+    b = kh.border
+    d[:b] = rod.assembly.total_length * float(np.median(d[b + 3 * ne: b + 6 * ne]))
+    D = sp.diags(d)
+    A = (D @ kh.A @ D).tocsc()
+    return kh, d, (0.5 * (A + A.T)).tocsc(), (kh.G @ D).tocsr()
+
+
+#: Newton steps of :func:`kirchhoff_polish` at most, and the largest rotation (rad) of a last
+#: step (measured on the folded six-ring from a twisted start: steps 5e-10, 2e-16 at 1024
+#: elements per segment; 2.4e-5, 2.3e-6, 1.8e-6, 2e-8, 2e-9 at 2816, where the gradient's
+#: round-off in these coordinates is reached; the lowest eigenvalue is settled from the 4th).
+KIRCHHOFF_POLISH_ITER = 6
+KIRCHHOFF_POLISH_STEP = 1e-7
+
+
+def kirchhoff_polish(rod: DiscreteRod, max_iter: int = KIRCHHOFF_POLISH_ITER) -> int:
+    """Newton steps in Kirchhoff coordinates from a converged state, in place; return their number.
+
+    In the absolute coordinates Newton's tolerance is the gradient's round-off ``u K max|x| /
+    l_e`` (:func:`residual_tolerance`), which on a fine mesh exceeds the forces of a soft
+    (bending) misfit: a state it accepts can sit off the equilibrium along soft modes (the
+    folded six-ring from a twisted start at 2816 elements per segment: lowest Kirchhoff
+    eigenvalue x (L / l_e)^2 -3.6 after Newton, 0.94 at the held equilibrium). In Kirchhoff
+    coordinates the stiff force stays on its own unknowns: ``[A G^T; G 0] (dz, nu) = (-g, 0)``
+    (:class:`~rodstab.numerics.ConstrainedFactor`), mapped back by
+    :meth:`DiscreteRod.from_kirchhoff`, until a step turns no frame by more than
+    ``KIRCHHOFF_POLISH_STEP``.
+    """
+    from ..errors import RodstabInputError
+    from ..numerics import ConstrainedFactor
+
+    nx = len(rod.x)
+    for it in range(max_iter):
+        kh, d, A, G = _kirchhoff_scaled(rod)
+        if kh.gradient is None:
+            return it
+        try:
+            fac = ConstrainedFactor.of(A, G, kh.border)
+        except RodstabInputError:  # singular: a neutral state, nothing to polish safely
+            return it
+        dv = rod.from_kirchhoff(kh, d * fac.solve(-d * kh.gradient))
+        rod.apply(dv)
+        if float(np.max(np.abs(dv[3 * nx:]))) <= KIRCHHOFF_POLISH_STEP:
+            return it + 1
+    return max_iter
+
+
+def kirchhoff_modes(rod: DiscreteRod, k: int = 4) -> tuple[np.ndarray, np.ndarray]:
+    """Return :func:`kirchhoff_eigenvalues` with their vectors on the free unknowns (columns).
+
+    For a uniform closed ring the eigenpair that is the material-sliding zero mode
+    (:func:`sliding_mode`) is left out, as in :func:`lowest_modes`.
+    """
+    kh, d, A, G = _kirchhoff_scaled(rod)
+    slide = sliding_mode(rod)
+    vals, Z = lowest_eigenpairs_on(A, G, kh.border, k + (1 if slide is not None else 0))
+    free = rod.free_dofs()
+    vecs = np.stack([rod.from_kirchhoff(kh, d * Z[:, c])[free] for c in range(Z.shape[1])],
+                    axis=1)
+    return _without_sliding(rod, free, slide, vals, vecs, k)
+
+
+def uses_kirchhoff(rod: DiscreteRod) -> bool:
+    """Whether stability is decided in Kirchhoff coordinates (:func:`stability_eigenvalues`).
+
+    When the absolute coordinates' :func:`soft_eigenvalue_floor` is below ``KIRCHHOFF_MARGIN``
+    x ``ZERO_EIG_ROUNDOFF``.
+    """
+    return soft_eigenvalue_floor(rod) < KIRCHHOFF_MARGIN * ZERO_EIG_ROUNDOFF
+
+
+def stability_eigenvalues(rod: DiscreteRod, k: int = 4
+                          ) -> tuple[np.ndarray, float, float, bool]:
+    """Return the lowest ``k`` scaled eigenvalues that decide stability, with their floors.
+
+    ``(eigenvalues, soft floor, zero tolerance, kirchhoff)``: on a fine mesh (the absolute
+    coordinates' :func:`soft_eigenvalue_floor` below ``KIRCHHOFF_MARGIN`` x
+    ``ZERO_EIG_ROUNDOFF``) :func:`kirchhoff_eigenvalues` with ``KIRCHHOFF_ZERO_EIG (l_e /
+    L)^2`` and :func:`kirchhoff_zero_tol` (``kirchhoff`` True), else :func:`lowest_eigenvalues`
+    with :func:`soft_eigenvalue_floor` and :func:`zero_eigenvalue_tol`. Both leave out a uniform
+    closed ring's material-sliding zero mode.
+    """
+    if uses_kirchhoff(rod):
+        ratio = float(np.min(rod.rest_length)) / rod.assembly.total_length
+        return (kirchhoff_eigenvalues(rod, k), KIRCHHOFF_ZERO_EIG * ratio**2,
+                kirchhoff_zero_tol(rod), True)
+    return lowest_eigenvalues(rod, k), soft_eigenvalue_floor(rod), zero_eigenvalue_tol(rod), \
+        False
 
 
 def soft_eigenvalue_floor(rod: DiscreteRod) -> float:
@@ -124,8 +266,12 @@ class Equilibrium(Result):
     max_strain: float = 0.0  # largest stretch/shear strain of an edge (Kirchhoff: ~0)
     #: False when the verdict rests on round-off: the lowest scaled eigenvalue within
     #: ZERO_EIG_ROUNDOFF of zero on a mesh so fine that a resolved neutral or soft mode would
-    #: lie there too (node positions are absolute, the stretch stiffness grows as 1/l_e^2);
-    #: ``stable`` is then False and means "not shown stable" -- use fewer elements.
+    #: lie there too; ``stable`` is then False and means "not shown stable" -- use fewer
+    #: elements. Fine meshes are decided in Kirchhoff coordinates (:func:`stability_eigenvalues`),
+    #: whose soft floor ``KIRCHHOFF_ZERO_EIG (l_e / L)^2`` reaches round-off only at
+    #: ``min l_e / L`` below ~7e-7 (one segment: 1.4e6 elements, beyond ``MAX_DOF_NONLINEAR``;
+    #: reachable only by a segment ~1e-4 of the total length meshed as finely as the others),
+    #: where the absolute coordinates' floor ``(l_e / L)^4 / PENALTY`` reached it near 1000.
     stability_resolved: bool = True
 
 
@@ -220,18 +366,29 @@ def lowest_modes(rod: DiscreteRod, k: int = 4, hessian: sp.spmatrix | None = Non
     A = (sp.diags(d) @ Hf @ sp.diags(d)).tocsc()
     slide = sliding_mode(rod)
     vals, vecs = lowest_eigenpairs(A, k + (1 if slide is not None else 0))
-    if slide is not None:
-        # Leave out the eigenpair that IS the sliding mode (cosine > SLIDING_OVERLAP of the
-        # node displacements: the frame part of the finite-difference field is less accurate).
-        pos = free < 3 * len(rod.x)
-        V = (d[:, None] * vecs)[pos]
-        u = slide[pos] / np.linalg.norm(slide[pos])
-        overlap = np.abs(V.T @ u) / np.maximum(np.linalg.norm(V, axis=0), 1e-300)
-        j = int(np.argmax(overlap))
-        keep = np.ones(len(vals), bool)
-        keep[j if overlap[j] > SLIDING_OVERLAP else len(vals) - 1] = False
-        vals, vecs = vals[keep][:k], vecs[:, keep][:, :k]
-    return vals, d[:, None] * vecs
+    vecs = d[:, None] * vecs
+    return _without_sliding(rod, free, slide, vals, vecs, k)
+
+
+def _without_sliding(rod: DiscreteRod, free: np.ndarray, slide: np.ndarray | None,
+                     vals: np.ndarray, vecs: np.ndarray, k: int
+                     ) -> tuple[np.ndarray, np.ndarray]:
+    """Leave out of ``k + 1`` eigenpairs (vectors on the free unknowns) the sliding one.
+
+    The pair whose node displacements have a cosine above ``SLIDING_OVERLAP`` with the
+    sliding field (the frame part of the finite-difference field is less accurate); else the
+    highest. ``slide`` None: the first ``k``.
+    """
+    if slide is None:
+        return vals[:k], vecs[:, :k]
+    pos = free < 3 * len(rod.x)
+    V = vecs[pos]
+    u = slide[pos] / np.linalg.norm(slide[pos])
+    overlap = np.abs(V.T @ u) / np.maximum(np.linalg.norm(V, axis=0), 1e-300)
+    j = int(np.argmax(overlap))
+    keep = np.ones(len(vals), bool)
+    keep[j if overlap[j] > SLIDING_OVERLAP else len(vals) - 1] = False
+    return vals[keep][:k], vecs[:, keep][:, :k]
 
 
 def lowest_eigenvalues(rod: DiscreteRod, k: int = 4) -> np.ndarray:
@@ -481,14 +638,22 @@ def equilibrium(a: Assembly, *, load_factor: float = 1.0, elements_per_segment: 
         ok, its, res = relax(rod)
     else:
         ok, its, res = newton(rod)
+    if ok and uses_kirchhoff(rod):
+        # Newton's tolerance (the absolute coordinates' round-off) leaves soft misfits on a
+        # fine mesh: settle them where the verdict is taken.
+        its += kirchhoff_polish(rod)
+        gf = rod.gradient()[rod.free_dofs()]
+        res = float(np.max(np.abs(gf))) if gf.size else 0.0
     E = rod.energy()
-    ev = lowest_eigenvalues(rod, n_eig)
-    resolved = not (abs(ev[0]) <= ZERO_EIG_ROUNDOFF
-                    and soft_eigenvalue_floor(rod) < ZERO_EIG_ROUNDOFF)
-    return Equilibrium(ok, E, res, its, bool(ok and ev[0] > zero_eigenvalue_tol(rod)),
+    method = ("discrete Cosserat rod (stiff stretch/shear), Newton + line search, exact "
+              "Hessian by second-order jets")
+    ev, floor, tol, kirchhoff = stability_eigenvalues(rod, n_eig)
+    if kirchhoff:
+        method += "; stability in Kirchhoff coordinates (stiff penalty on the diagonal)"
+    resolved = not (abs(ev[0]) <= ZERO_EIG_ROUNDOFF and floor < ZERO_EIG_ROUNDOFF)
+    return Equilibrium(ok, E, res, its, bool(ok and ev[0] > tol),
                        tuple(float(v) for v in ev), len(rod.free_dofs()), load_factor,
-                       "discrete Cosserat rod (stiff stretch/shear), Newton + line search, "
-                       "exact Hessian by second-order jets", max_strain(rod), resolved), rod
+                       method, max_strain(rod), resolved), rod
 
 
 @dataclasses.dataclass(frozen=True)
