@@ -126,9 +126,6 @@ def test_birod_clamped_at_both_ends_nonlinear_finds_its_limit() -> None:
     assert problems.agree(got, 2 * math.pi, birod.AGREE_RTOL[("transfer", "nonlinear")]), got
 
 
-@pytest.mark.xfail(strict=True, reason="issue 19 (found by the differential test): the "
-                   "nonlinear verdict's zero-eigenvalue band covers stable loads of a stiff "
-                   "section")
 def test_nonlinear_verdict_is_stable_inside_a_stiff_cusp_rings_interval() -> None:
     """4 cusp rods, rectangle h/t = 9.877 (b1 = 97.6), daisy (``--family cusp-rings --index 39``).
 
