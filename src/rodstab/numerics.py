@@ -936,6 +936,7 @@ def pencil_interval_sparse(A, C, *, constraints=None, border: int = 0,
     found = {sign: (*at_end(vals, vecs, sign), complete, k // 2) for sign in (1.0, -1.0)}
     scale = max(float(np.max(np.abs(vals))) if vals.size else 0.0, 1e-300)
     out: dict[float, tuple[float, int, np.ndarray | None]] = {}
+    thetas: dict[float, np.ndarray] = {}
     near: dict[float, tuple[float, ...]] = {}
     failures: list[str] = []
     for sign, name in ((1.0, "LA"), (-1.0, "SA")):
@@ -961,6 +962,7 @@ def pencil_interval_sparse(A, C, *, constraints=None, border: int = 0,
             mult, Vc, why = certify(ev, V, sign, done, k_end)
             if why is None:
                 out[sign] = (1.0 / float(ev[0]), mult, Vc)
+                thetas[sign] = ev[:mult]  # the cluster: ev runs from the end inwards
                 near[sign] = tuple(1.0 / ev[:NEAR_VALUES])
                 break
             if k_end >= k_max:
@@ -972,11 +974,13 @@ def pencil_interval_sparse(A, C, *, constraints=None, border: int = 0,
                            f"the extreme eigenvalues: {'; '.join(failures)}")
     residual = 0.0
     for sign in (1.0, -1.0):
-        p, mult, V = out[sign]
-        for k in range(0 if V is None else V.shape[1]):  # each vector with its own eigenvalue
+        modes = out[sign][2]
+        if modes is None:
+            continue
+        for k in range(modes.shape[1]):  # each vector with its own eigenvalue
             # |A^-1 C v / theta - v| / |v| on the constraints: the inverted problem's residual
-            v = V[:, k]
-            residual = max(residual, float(np.linalg.norm(solve(C @ v) * p - v)
+            v = modes[:, k]
+            residual = max(residual, float(np.linalg.norm(solve(C @ v) / thetas[sign][k] - v)
                                            / np.linalg.norm(v)))
     out_hi, out_lo = out[1.0], out[-1.0]
     hi, m_hi, v_hi = out_hi
