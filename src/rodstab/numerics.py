@@ -57,6 +57,8 @@ SUBSCAN = 16
 #: Eigenvalues within this relative distance are counted as one repeated eigenvalue when the
 #: method states no error of its own (:func:`multiplicity_tolerance`).
 MULTIPLICITY_RTOL = 1e-6
+#: Machine epsilon (the round-off floor of :func:`multiplicity_tolerance`).
+EPS = float(np.finfo(float).eps)
 #: The one multiplicity rule (:func:`multiplicity_tolerance`): two computed eigenvalues (roots)
 #: are one multiple eigenvalue when they differ by at most this many times the method's error
 #: estimate. A discretisation that breaks a symmetry splits an exact pair by up to the sum of
@@ -217,14 +219,16 @@ def multiplicity_tolerance(value: float, error: float | None = None) -> float:
     The one multiplicity rule of rodstab, used by every method (FE, transfer/Bloch, closed
     forms): :data:`MULTIPLICITY_ERROR_FACTOR` times the method's error estimate ``error``
     (absolute, in the units of ``value``: an FE mesh error from a Richardson estimate, a root
-    finder's tolerance), never below :data:`MULTIPLICITY_RTOL` ``|value|`` (and that alone
-    when ``error`` is None). Values farther apart are distinct even when the method cannot
-    resolve them (two methods with different errors then agree within their errors).
+    finder's tolerance; never below a few units of round-off), or :data:`MULTIPLICITY_RTOL`
+    ``|value|`` when the method states no error (None). Values farther apart are distinct:
+    two methods then agree on a multiplicity wherever the split is outside both their
+    tolerances, and within a method's tolerance it cannot tell (the near-coincident symmetric
+    and antisymmetric roots of a clamped arc near L/R = 2 pi: 1 by a closed form at 1e-12,
+    2 by an FE at 1e-7).
     """
-    floor = MULTIPLICITY_RTOL * abs(value)
     if error is None or not math.isfinite(error):
-        return floor
-    return max(floor, MULTIPLICITY_ERROR_FACTOR * abs(error))
+        return MULTIPLICITY_RTOL * abs(value)
+    return max(MULTIPLICITY_ERROR_FACTOR * abs(error), 16.0 * EPS * abs(value))
 
 
 def multiplicity_of(values: Any, value: float, error: float | None = None) -> int:
@@ -237,6 +241,19 @@ def multiplicity_of(values: Any, value: float, error: float | None = None) -> in
         return 0
     v = np.asarray(values, dtype=float)
     return int(np.sum(np.abs(v - value) <= multiplicity_tolerance(value, error)))
+
+
+def richardson(coarse: float, fine: float, ratio: float, order: float) -> tuple[float, float]:
+    """Richardson extrapolation of a discretisation of error ``~ h^order``: ``(value, error)``.
+
+    ``coarse`` and ``fine`` on meshes ``ratio`` apart (``h_coarse = ratio h_fine``); ``value``
+    is the extrapolated value and ``error = |fine - coarse| / (ratio^order - 1)`` the estimate
+    of the fine value's error (the leading term). Non-finite inputs give ``(fine, nan)``.
+    """
+    if not (math.isfinite(coarse) and math.isfinite(fine)):
+        return float(fine), math.nan
+    step = (fine - coarse) / (ratio ** order - 1.0)
+    return float(fine + step), float(abs(step))
 
 
 def find_roots(

@@ -17,14 +17,16 @@ from ..analytic.arc import max_arc_length as _max_arc_length
 from ..errors import RodstabInputError, require_finite
 from ..limits import DEFAULT as DEFAULT_LIMITS
 from ..limits import Limits
-from ..linear.solve import LinearStability
+from ..linear.solve import LinearStability, converged_stability
 from ..model import Assembly
 from ..numerics import matrix_roots
 from ..sections import Section, circle
 from ..transfer import clamped_arc_matrix
 from ._common import Method, engine, nonlinear_critical, segment
 
-#: Elements of the linear engine (report row E3.2: FE error ~1e-8 at L/R = 2).
+#: Elements the linear engine starts from (report row E3.2: FE error ~1e-8 at L/R = 2); refined
+#: from there until the estimated error is 1e-7 (:func:`engine_stability`: at L/R = 16,
+#: b1 = 100, b2 = 1.5 this mesh was 2.1e-3 off).
 DEFAULT_ELEMENTS = 96
 #: Elements of the nonlinear rod in :data:`METHODS` (second-order error, ~1e-3).
 NONLINEAR_ELEMENTS = 32
@@ -78,9 +80,18 @@ def max_arc_length(section: Section) -> MaxArcLength:
     return _max_arc_length(section.b1, section.b2)
 
 
-def engine_stability(params: Params, elements: int = DEFAULT_ELEMENTS,
+def engine_stability(params: Params, elements: int | None = None,
                      limits: Limits = DEFAULT_LIMITS) -> LinearStability:
-    """Stable interval of the load factor by the linear FE engine."""
+    """Stable interval of the load factor by the linear FE engine.
+
+    ``elements`` (per arc) fixes the mesh; by default it starts at
+    :data:`DEFAULT_ELEMENTS` and is refined until the estimated mesh error is below
+    :data:`rodstab.linear.solve.FE_TARGET_RTOL` (:func:`rodstab.linear.solve.
+    converged_stability`), so the FE meets :data:`AGREE_RTOL` on every accepted design
+    (``mesh_error`` and ``elements`` of the result say what was reached).
+    """
+    if elements is None:
+        return converged_stability(build(params), DEFAULT_ELEMENTS, limits=limits)
     return engine(build(params), elements, limits)
 
 
@@ -124,7 +135,7 @@ METHODS: dict[str, Method] = {"analytic": _analytic, "transfer": _transfer, "fe"
 AGREE_RTOL: dict[tuple[str, str], float] = {
     # (3.7)/(3.8) vs the shooting matrix: both exact, root-finder tolerance.
     ("analytic", "transfer"): 1e-8,
-    # FE mesh error at DEFAULT_ELEMENTS (observed ~1e-8 at L/R = 2).
+    # FE mesh refined until its estimated error is 1e-7 (Richardson, converged_stability).
     ("analytic", "fe"): 1e-6,
     # Discrete rod at NONLINEAR_ELEMENTS: second-order mesh error.
     ("analytic", "nonlinear"): 5e-3,
