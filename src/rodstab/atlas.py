@@ -11,8 +11,8 @@ of the load factor around the state's stress-free load, by two independent metho
   together: multiplicity 2), ``m = n/2`` neighbouring rods opposite (``rho = -1``).
 * ``fe`` -- the linear FE engine on the whole ring (:meth:`Ring.held`), Richardson-extrapolated
   from :data:`FE_MESHES` (order :data:`FE_ORDER`); multiplicities from the finer mesh by the
-  one multiplicity rule with its Richardson error (:func:`rodstab.linear.solve.
-  with_mesh_error`), no harmonic.
+  one multiplicity rule with its Richardson error
+  (:func:`rodstab.linear.solve.with_mesh_error`), no harmonic.
 
 The **load factor** is the design's: the multiplier of its natural curvature (natural
 curvature = load factor x the segments' ``natural_curvature``). A held state of turning

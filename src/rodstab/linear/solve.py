@@ -22,9 +22,10 @@ from ..numerics import definite_on, pencil_interval_sparse
 from ..results import Result
 
 #: The FE's relative error of a critical load where no mesh-error estimate was made (the
-#: a-priori statement of the engine: the multiplicity rule :func:`rodstab.numerics.
-#: multiplicity_tolerance` then merges values within 4x this, 1e-5). With ``mesh_check``
-#: :func:`linear_stability` estimates the error instead (Richardson with half the mesh).
+#: a-priori statement of the engine: the multiplicity rule
+#: :func:`rodstab.numerics.multiplicity_tolerance` then merges values within 4x this, 1e-5).
+#: :func:`with_mesh_error` and :func:`converged_stability` estimate the error instead
+#: (Richardson with a coarser mesh).
 FE_ERROR_RTOL = 2.5e-6
 
 

@@ -29,7 +29,7 @@ from ._common import Method, engine, nonlinear_converged, segment
 #: b1 = 100, b2 = 1.5 this mesh was 2.1e-3 off).
 DEFAULT_ELEMENTS = 96
 #: Elements the nonlinear rod of :data:`METHODS` starts from; it doubles them until the
-#: Richardson estimate holds (:func:`._common.nonlinear_converged`: second-order error ~1e-3
+#: Richardson estimate holds (``problems._common.nonlinear_converged``: second-order error ~1e-3
 #: at 32 elements, 52 % at b1 = 100, b2 = 30, L/R = 16).
 NONLINEAR_ELEMENTS = 32
 #: Grid intervals of the transfer-matrix scan, per unit of the scanned ``L kappa_n``.
@@ -88,8 +88,9 @@ def engine_stability(params: Params, elements: int | None = None,
 
     ``elements`` (per arc) fixes the mesh; by default it starts at
     :data:`DEFAULT_ELEMENTS` and is refined until the estimated mesh error is below
-    :data:`rodstab.linear.solve.FE_TARGET_RTOL` (:func:`rodstab.linear.solve.
-    converged_stability`), so the FE meets :data:`AGREE_RTOL` on every accepted design
+    :data:`rodstab.linear.solve.FE_TARGET_RTOL`
+    (:func:`rodstab.linear.solve.converged_stability`), so the FE meets :data:`AGREE_RTOL` on
+    every accepted design
     (``mesh_error`` and ``elements`` of the result say what was reached).
     """
     if elements is None:

@@ -26,7 +26,7 @@ from ._common import Method, engine, nonlinear_converged, segment
 #: estimated error is 1e-7 (:func:`engine_stability`: a 9-loop ring reached 8.9e-6 here).
 DEFAULT_ELEMENTS = 150
 #: Elements per loop the nonlinear rod of :data:`METHODS` starts from; it doubles them until the
-#: Richardson estimate holds (:func:`._common.nonlinear_converged`; second-order error 2e-3
+#: Richardson estimate holds (``problems._common.nonlinear_converged``; second-order error 2e-3
 #: at 32).
 NONLINEAR_ELEMENTS = 32
 
@@ -78,8 +78,9 @@ def engine_stability(params: Params, elements: int | None = None,
 
     ``elements`` (per loop) fixes the mesh; by default it starts at
     :data:`DEFAULT_ELEMENTS` and is refined until the estimated mesh error is below
-    :data:`rodstab.linear.solve.FE_TARGET_RTOL` (:func:`rodstab.linear.solve.
-    converged_stability`), so the FE meets :data:`AGREE_RTOL` on every accepted design
+    :data:`rodstab.linear.solve.FE_TARGET_RTOL`
+    (:func:`rodstab.linear.solve.converged_stability`), so the FE meets :data:`AGREE_RTOL` on
+    every accepted design
     (``mesh_error`` and ``elements`` of the result say what was reached).
     """
     if elements is None:
