@@ -309,13 +309,14 @@ def with_mesh_error(fine: LinearStability, coarse: LinearStability) -> LinearSta
 
 
 def converged_stability(a: Assembly, elements_per_segment: int, *,
-                        rtol: float = FE_TARGET_RTOL,
+                        rtol: float = FE_TARGET_RTOL, unit: float = 1.0,
                         limits: Limits = DEFAULT_LIMITS) -> LinearStability:
     """:func:`linear_stability` on a mesh fine enough for relative error ``rtol``, and its error.
 
     Starts from ``elements_per_segment`` (and half of it for the first estimate) and refines
     the mesh (by the factor the h^4 law asks for) while the Richardson estimate of either
-    finite end's error (:func:`with_mesh_error`) exceeds ``rtol`` times its magnitude: a
+    finite end's error (:func:`with_mesh_error`) exceeds ``rtol max(|end|, unit)`` (``unit``:
+    the load factor below which a caller compares absolutely, e.g. one paper unit): a
     default mesh that holds on the paper's designs is too coarse for long arcs or stiff
     sections (clamped arc b1 = 100, b2 = 1.5, L/R = 16: 2.1e-3 at 96 elements), and this meets
     its accuracy on every design. The result carries ``mesh_error``; when
@@ -326,7 +327,7 @@ def converged_stability(a: Assembly, elements_per_segment: int, *,
     coarse = linear_stability(a, max(1, n // 2), limits=limits)
     fine = with_mesh_error(linear_stability(a, n, limits=limits), coarse)
     for _ in range(FE_MAX_REFINEMENTS):
-        excess = _excess(fine, rtol)
+        excess = _excess(fine, rtol, unit)
         if excess <= 1.0:
             return fine
         grow = min(max(FE_REFINE_MARGIN * excess ** (1.0 / FE_ORDER), 1.5), 8.0)
@@ -338,20 +339,20 @@ def converged_stability(a: Assembly, elements_per_segment: int, *,
         except RodstabInputError as exc:  # past limits: say what was reached
             return _short_of(fine, rtol, f"the next mesh is refused: {exc}")
         fine = with_mesh_error(finer, fine)
-    return fine if _excess(fine, rtol) <= 1.0 else _short_of(
+    return fine if _excess(fine, rtol, unit) <= 1.0 else _short_of(
         fine, rtol, f"at most {FE_MAX_REFINEMENTS} refinements to {FE_MAX_GROWTH}x the "
                     "starting mesh")
 
 
-def _excess(r: LinearStability, rtol: float) -> float:
-    """Largest ratio of a finite end's estimated mesh error to ``rtol max(|end|, 1)``."""
+def _excess(r: LinearStability, rtol: float, unit: float) -> float:
+    """Largest ratio of a finite end's estimated mesh error to ``rtol max(|end|, unit)``."""
     assert r.mesh_error is not None
     worst = 0.0
     for x, e in zip(r.load_factor_interval, r.mesh_error, strict=True):
         if math.isfinite(x):
-            # relative above 1, absolute below (an end at 0: the stress-free one-loop ring of
-            # b1 = 1), as problems.agree compares
-            worst = max(worst, e / (rtol * max(abs(x), 1.0)) if math.isfinite(e) else math.inf)
+            # relative above unit, absolute below (an end at 0: the stress-free one-loop ring
+            # of b1 = 1), as problems.agree compares in the paper's units
+            worst = max(worst, e / (rtol * max(abs(x), unit)) if math.isfinite(e) else math.inf)
     return worst
 
 

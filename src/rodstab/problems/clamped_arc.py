@@ -94,7 +94,10 @@ def engine_stability(params: Params, elements: int | None = None,
     (``mesh_error`` and ``elements`` of the result say what was reached).
     """
     if elements is None:
-        return converged_stability(build(params), DEFAULT_ELEMENTS, limits=limits)
+        # one unit of L kappa_n (problems.agree compares absolutely below it) in load factor
+        L, _, kn = _geometry(params)
+        return converged_stability(build(params), DEFAULT_ELEMENTS, unit=1.0 / (L * kn),
+                                   limits=limits)
     return engine(build(params), elements, limits)
 
 

@@ -84,7 +84,9 @@ def engine_stability(params: Params, elements: int | None = None,
     (``mesh_error`` and ``elements`` of the result say what was reached).
     """
     if elements is None:
-        return converged_stability(build(params), DEFAULT_ELEMENTS, limits=limits)
+        # one unit of (L/2pi) kappa_n = N mu (problems.agree compares absolutely below it)
+        return converged_stability(build(params), DEFAULT_ELEMENTS, unit=1.0 / params.loops,
+                                   limits=limits)
     return engine(build(params), elements, limits)
 
 
