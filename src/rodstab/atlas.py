@@ -10,8 +10,9 @@ of the load factor around the state's stress-free load, by two independent metho
   deforms alike, ``0 < m < n/2`` a symmetry-breaking pair (harmonics ``m`` and ``n - m``
   together: multiplicity 2), ``m = n/2`` neighbouring rods opposite (``rho = -1``).
 * ``fe`` -- the linear FE engine on the whole ring (:meth:`Ring.held`), Richardson-extrapolated
-  from :data:`FE_MESHES` (order :data:`FE_ORDER`); multiplicities from the finer mesh, no
-  harmonic.
+  from :data:`FE_MESHES` (order :data:`FE_ORDER`); multiplicities from the finer mesh by the
+  one multiplicity rule with its Richardson error
+  (:func:`rodstab.linear.solve.with_mesh_error`), no harmonic.
 
 The **load factor** is the design's: the multiplier of its natural curvature (natural
 curvature = load factor x the segments' ``natural_curvature``). A held state of turning
@@ -40,8 +41,8 @@ from .errors import RodstabInputError
 from .executor import run_points
 from .limits import DEFAULT as DEFAULT_LIMITS
 from .limits import Limits
-from .linear.solve import linear_stability
-from .numerics import refine_root
+from .linear.solve import FE_ORDER, linear_stability, with_mesh_error
+from .numerics import refine_root, richardson
 from .results import Result
 from .states import HeldState, Ring, step_angle, weld_name
 from .transfer import CyclicRingInterval, cyclic_ring_interval
@@ -52,11 +53,10 @@ PAIR = "symmetry-breaking pair"
 ALTERNATING = "alternating"
 #: The two methods of :func:`state_interval`.
 METHODS = ("transfer", "fe")
-#: Meshes (elements per rod) of the FE method and the order of its error: quadratic beta
-#: and omega converge as h^4 (measured on the hexagram, problems/hexagram.py), so the pair
-#: is Richardson-extrapolated with order 4 (agrees with the Bloch method to ~1e-7).
+#: Meshes (elements per rod) of the FE method: quadratic beta and omega converge as h^4
+#: (:data:`rodstab.linear.solve.FE_ORDER`, measured on the hexagram, problems/hexagram.py), so
+#: the pair is Richardson-extrapolated with order 4 (agrees with the Bloch method to ~1e-7).
 FE_MESHES = (32, 64)
-FE_ORDER = 4
 #: Null space of a planar ring's out-of-plane problem at a stable load: translation along e3
 #: and rotations about the two in-plane axes.
 RING_RIGID_MOTIONS = 3
@@ -184,13 +184,13 @@ def fe_interval(ring: Ring, state: HeldState, limits: Limits = DEFAULT_LIMITS) -
     ref = stress_free_load(ring, state.theta)
     a = ring.held(state.theta, reference_load=ref)
     coarse, fine = (linear_stability(a, n, limits=limits) for n in FE_MESHES)
-    r = (FE_MESHES[1] / FE_MESHES[0]) ** FE_ORDER
-
-    def extrapolate(c: float, f: float) -> float:
-        return float(f + (f - c) / (r - 1.0)) if math.isfinite(f) else float(f)
-
-    lo, hi = (extrapolate(c, f) for c, f in zip(coarse.load_factor_interval,
-                                                 fine.load_factor_interval, strict=True))
+    # The fine mesh's multiplicities by the one rule with its Richardson error estimate: a
+    # symmetry pair the mesh splits by its own error is one double eigenvalue (the "8" of a
+    # 4-rod cusp ring, b1 = 92, b2 = 1.6: split 2e-6 at 64 elements, Bloch: double).
+    fine = with_mesh_error(fine, coarse)
+    lo, hi = (richardson(c, f, FE_MESHES[1] / FE_MESHES[0], FE_ORDER)[0]
+              for c, f in zip(coarse.load_factor_interval, fine.load_factor_interval,
+                              strict=True))
     n = ring.segments
     return StateInterval(
         label=state.label, theta=state.theta, stress_free_load=ref,

@@ -54,8 +54,17 @@ XTOL = 1e-14
 SPARSE_RESIDUAL_TOL = 1e-6
 #: Subintervals per scan interval of the local re-scan around a minimum of |f| or sigma_min.
 SUBSCAN = 16
-#: Eigenvalues within this relative distance are counted as one repeated eigenvalue.
+#: Eigenvalues within this relative distance are counted as one repeated eigenvalue when the
+#: method states no error of its own (:func:`multiplicity_tolerance`).
 MULTIPLICITY_RTOL = 1e-6
+#: Machine epsilon (the round-off floor of :func:`multiplicity_tolerance`).
+EPS = float(np.finfo(float).eps)
+#: The one multiplicity rule (:func:`multiplicity_tolerance`): two computed eigenvalues (roots)
+#: are one multiple eigenvalue when they differ by at most this many times the method's error
+#: estimate. A discretisation that breaks a symmetry splits an exact pair by up to the sum of
+#: the two values' errors (2x the estimate), and an estimate (Richardson, a-priori bound) is
+#: itself good to a factor ~2: hence 4.
+MULTIPLICITY_ERROR_FACTOR = 4.0
 #: Up to this many unknowns :func:`lowest_eigenpairs` uses a dense solver; beyond, shift-invert
 #: Lanczos (tested against the dense solver, tests/test_paths.py). The dense solve is O(n^3)
 #: and, with a multithreaded BLAS on a loaded machine, slow already at a few hundred unknowns
@@ -202,6 +211,49 @@ def _order_of_vanishing(g: Callable[[float], float], x0: float, h: float) -> int
         return 1
     m = math.log(vals[1] / vals[0]) / math.log(2.0)
     return max(1, int(round(m)))
+
+
+def multiplicity_tolerance(value: float, error: float | None = None) -> float:
+    """Distance within which computed eigenvalues (roots) are one multiple eigenvalue at ``value``.
+
+    The one multiplicity rule of rodstab, used by every method (FE, transfer/Bloch, closed
+    forms): :data:`MULTIPLICITY_ERROR_FACTOR` times the method's error estimate ``error``
+    (absolute, in the units of ``value``: an FE mesh error from a Richardson estimate, a root
+    finder's tolerance; never below a few units of round-off), or :data:`MULTIPLICITY_RTOL`
+    ``|value|`` when the method states no error (None). Values farther apart are distinct:
+    two methods then agree on a multiplicity wherever the split is outside both their
+    tolerances, and within a method's tolerance it cannot tell (the near-coincident symmetric
+    and antisymmetric roots of a clamped arc near L/R = 2 pi: 1 by a closed form at 1e-12,
+    2 by an FE at 1e-7).
+    """
+    if error is None or not math.isfinite(error):
+        return MULTIPLICITY_RTOL * abs(value)
+    return max(MULTIPLICITY_ERROR_FACTOR * abs(error), 16.0 * EPS * abs(value))
+
+
+def multiplicity_of(values: Any, value: float, error: float | None = None) -> int:
+    """Count the ``values`` that are one multiple eigenvalue with ``value`` (the rule above).
+
+    ``values`` are the computed eigenvalues (roots) near ``value``, ``value`` among them; 0 for
+    a non-finite ``value`` (no eigenvalue bounds that side).
+    """
+    if not math.isfinite(value):
+        return 0
+    v = np.asarray(values, dtype=float)
+    return int(np.sum(np.abs(v - value) <= multiplicity_tolerance(value, error)))
+
+
+def richardson(coarse: float, fine: float, ratio: float, order: float) -> tuple[float, float]:
+    """Richardson extrapolation of a discretisation of error ``~ h^order``: ``(value, error)``.
+
+    ``coarse`` and ``fine`` on meshes ``ratio`` apart (``h_coarse = ratio h_fine``); ``value``
+    is the extrapolated value and ``error = |fine - coarse| / (ratio^order - 1)`` the estimate
+    of the fine value's error (the leading term). Non-finite inputs give ``(fine, nan)``.
+    """
+    if not (math.isfinite(coarse) and math.isfinite(fine)):
+        return float(fine), math.nan
+    step = (fine - coarse) / (ratio ** order - 1.0)
+    return float(fine + step), float(abs(step))
 
 
 def find_roots(
@@ -466,14 +518,42 @@ class PencilInterval(Result):
     converged: bool
     n_dof: int
     method: str
+    #: The computed eigenvalues (as loads ``p = 1/theta``) on each side, nearest to 0 first:
+    #: a caller with an error estimate of its own (an FE mesh error) re-applies the
+    #: multiplicity rule to them (:func:`multiplicity_of`).
+    near_lo: tuple[float, ...] = ()
+    near_hi: tuple[float, ...] = ()
 
+
+#: Eigenvalues per side kept in :attr:`PencilInterval.near_lo` / ``near_hi``.
+NEAR_VALUES = 12
+#: Restarts of one sparse Lanczos run (ARPACK ``maxiter``). The extreme eigenvalues converge in
+#: a few (every both-ends run of tests/test_linear.py and test_hexagram.py within 30); a
+#: requested value inside an accumulation point of the spectrum (a strongly anisotropic ring
+#: accumulates theta at -1/b2 as well as at 0) never does, and ARPACK's default (10 n) then ran
+#: 70 s before failing. The converged part is used and certified by the inertia.
+LANCZOS_MAXITER = 30
+#: Lanczos runs of :func:`pencil_interval_sparse` per end before it gives up certifying it.
+LANCZOS_ATTEMPTS = 4
 
 #: Pencils up to this size are reduced in numpy (:func:`pencil_interval`), larger by LAPACK.
 SMALL_PENCIL = 8
 
 
+def pencil_window(theta: float, error_rtol: float | None) -> float:
+    """Return the multiplicity window about the load ``p = 1/theta``, in units of ``theta``.
+
+    :func:`multiplicity_tolerance` ``w`` of ``p`` with the relative error estimate
+    ``error_rtol`` of the load; ``|1/theta' - 1/theta| <= w`` is ``|theta' - theta| <= w
+    theta^2`` to first order.
+    """
+    p = 1.0 / theta
+    err = None if error_rtol is None else error_rtol * abs(p)
+    return multiplicity_tolerance(p, err) * theta * theta
+
+
 def pencil_interval(A: np.ndarray, C: np.ndarray, *,
-                    multiplicity_rtol: float = MULTIPLICITY_RTOL) -> PencilInterval:
+                    error_rtol: float | None = None) -> PencilInterval:
     """Stable interval of the load ``p`` for the symmetric pencil ``K(p) = A - p C``.
 
     ``A`` (the second variation at zero load) must be symmetric positive definite; ``C`` is
@@ -482,8 +562,10 @@ def pencil_interval(A: np.ndarray, C: np.ndarray, *,
     positive definite exactly for ``1/theta_min < p < 1/theta_max`` (``theta_min < 0 <
     theta_max``); a side with no eigenvalue of that sign is unbounded.
 
-    Eigenvalues within ``multiplicity_rtol`` (relative) of the critical one count towards its
-    multiplicity (a discretisation splits a symmetric pair by about its own error).
+    Eigenvalues that are one with the critical one by the multiplicity rule
+    (:func:`multiplicity_tolerance`, the caller's relative error estimate ``error_rtol`` of
+    the loads: a discretisation splits a symmetric pair by about its own error) count towards
+    its multiplicity.
 
     Raises
     ------
@@ -518,7 +600,7 @@ def pencil_interval(A: np.ndarray, C: np.ndarray, *,
         t = th.max() if pick > 0 else th.min()
         if abs(t) <= tol:
             return (math.inf if pick > 0 else -math.inf), 0, None
-        close = np.abs(theta - t) <= multiplicity_rtol * abs(t)
+        close = np.abs(theta - t) <= pencil_window(float(t), error_rtol)
         return 1.0 / float(t), int(close.sum()), (V[:, close], theta[close])
 
     hi, m_hi, vt_hi = side(theta > tol, +1.0)
@@ -534,8 +616,11 @@ def pencil_interval(A: np.ndarray, C: np.ndarray, *,
                                            / np.linalg.norm(Av)))
     v_hi = None if vt_hi is None else vt_hi[0]
     v_lo = None if vt_lo is None else vt_lo[0]
+    pos, neg = np.sort(theta[theta > tol])[::-1], np.sort(theta[theta < -tol])
     return PencilInterval(lo, hi, m_lo, m_hi, v_lo, v_hi, residual,
-                          bool(residual < 1e-8), n, "generalized symmetric eigh (LAPACK sygv)")
+                          bool(residual < 1e-8), n, "generalized symmetric eigh (LAPACK sygv)",
+                          near_lo=tuple(1.0 / neg[:NEAR_VALUES]),
+                          near_hi=tuple(1.0 / pos[:NEAR_VALUES]))
 
 
 def sigma_min_2x2(a11: np.ndarray, a22: np.ndarray, a12: np.ndarray) -> np.ndarray:
@@ -653,6 +738,10 @@ def lowest_eigenpairs(A: Any, k: int) -> tuple[np.ndarray, np.ndarray]:
     return vals, vecs
 
 
+#: Entries of one dense block of right-hand sides in :meth:`ConstrainedFactor.of` (8 MB).
+SOLVE_BLOCK_ENTRIES = 1_000_000
+
+
 @dataclasses.dataclass(frozen=True)
 class ConstrainedFactor:
     """Factorisation of ``A`` on the constraints ``G v = 0`` by substructuring, with inertia.
@@ -697,8 +786,11 @@ class ConstrainedFactor:
         # W and X are sparse when A_II is block diagonal (one block per segment of an FE
         # assembly): the solves leave exact zeros outside the blocks a column touches.
         W = sp.hstack([A[b:, :b], G[:, b:].T]).tocsc()
-        X = sp.hstack([sp.csc_matrix(lu.solve(W[:, [j]].toarray()))  # column by column: O(n)
-                       for j in range(W.shape[1])], format="csc") \
+        # In blocks of columns (one SuperLU call per block: a call per column cost ~3 ms of
+        # overhead each at 5000 unknowns), each block dense: O(n) memory per block.
+        cols = max(1, SOLVE_BLOCK_ENTRIES // max(n - b, 1))
+        X = sp.hstack([sp.csc_matrix(lu.solve(W[:, j:j + cols].toarray()))
+                       for j in range(0, W.shape[1], cols)], format="csc") \
             if W.shape[1] else sp.csc_matrix((n - b, 0))
         S = np.zeros((b + m, b + m))
         S[:b, :b] = A[:b, :b].toarray()
@@ -832,15 +924,23 @@ def definite_on(A: Any, constraints: Any = None, border: int = 0) -> bool:
 
 
 def pencil_interval_sparse(A, C, *, constraints=None, border: int = 0,
-                           multiplicity_rtol: float = MULTIPLICITY_RTOL,
+                           error_rtol: float | None = None,
                            n_eig: int = 6, tol: float = 1e-12) -> PencilInterval:
     """Sparse version of :func:`pencil_interval` for large FE pencils, with linear constraints.
 
     ``C v = theta A v`` on the subspace ``G v = 0`` (``G = constraints``, ``m x n`` sparse of
     full row rank, or None): the few largest and smallest ``theta`` by Lanczos (ARPACK
-    ``eigsh`` in generalized mode, ``A``-inner product), to relative tolerance ``tol``. The
-    spectrum of ``theta`` accumulates at 0, so the extreme values converge fast. ``n_eig``
-    doubles while all found values are one cluster (so a multiplicity is never under-counted).
+    ``eigsh`` in generalized mode, ``A``-inner product, one run per end), to relative
+    tolerance ``tol``. The extreme values converge fast; the spectrum accumulates at 0 and, for
+    strongly anisotropic sections, at other points too (a requested value there never
+    converges: the converged part is used). Each end is certified by the inertia
+    (:class:`ConstrainedFactor` of ``A - C / theta'`` for a ``theta'`` between the critical
+    cluster and the next found value: the count of eigenvalues beyond it must be the
+    cluster's), so no extreme eigenvalue is missed and a multiplicity is not under-counted;
+    ``n_eig`` doubles while the found values are all one cluster or the certificate fails.
+    Multiplicities by :func:`multiplicity_tolerance` with the caller's relative error
+    estimate ``error_rtol``. Raises :class:`~rodstab.errors.NotConverged` (with the reason)
+    when an end cannot be certified.
 
     The constrained solve ``[A G^T; G 0] [y; nu] = [f; 0]`` and the definiteness test of ``A``
     on the constraints are those of :class:`ConstrainedFactor` (substructured on the first
@@ -858,7 +958,7 @@ def pencil_interval_sparse(A, C, *, constraints=None, border: int = 0,
     if n <= DENSE_EIG_MAX:  # the dense solve is O(n^3) and slow on a busy multithreaded BLAS
         N = _sla().null_space(G.toarray()) if m else np.eye(n)
         res = pencil_interval(N.T @ A.toarray() @ N, N.T @ C.toarray() @ N,
-                              multiplicity_rtol=multiplicity_rtol)
+                              error_rtol=error_rtol)
         return dataclasses.replace(
             res, mode_lo=None if res.mode_lo is None else N @ res.mode_lo,
             mode_hi=None if res.mode_hi is None else N @ res.mode_hi, n_dof=n - m)
@@ -878,52 +978,119 @@ def pencil_interval_sparse(A, C, *, constraints=None, border: int = 0,
     # A start vector on the constraints, fixed (ARPACK's default is random: results would
     # vary run to run); the Krylov space then stays on them, as solve() maps into them.
     v_start = solve(C @ np.linspace(1.0, 2.0, n))
+    k_max = n - m - 2
 
-    def both_ends() -> dict[str, tuple[np.ndarray, np.ndarray]]:
-        # One Lanczos run for both ends of the spectrum (ARPACK "BE", k/2 from each end);
-        # k doubles while either end's values are all one cluster.
-        k = min(2 * n_eig, n - m - 2)
-        while True:
-            try:
-                vals, vecs = spla.eigsh(C, k=k, M=A, Minv=Ainv, which="BE", tol=tol,
-                                        v0=v_start)
-            except spla.ArpackError as exc:  # ArpackNoConvergence is one
-                raise NotConverged(f"the sparse Lanczos eigen solve ({n} unknowns) failed: "
-                                   f"{exc}") from None
-            order = np.argsort(vals)
-            vals, vecs = vals[order], vecs[:, order]
-            half = k // 2
-            ends = {"LA": (vals[::-1][:k - half], vecs[:, ::-1][:, :k - half]),
-                    "SA": (vals[:half], vecs[:, :half])}
-            one_cluster = any((np.abs(v - v[0]) <= multiplicity_rtol * abs(v[0])).all()
-                              for v, _ in ends.values())
-            if one_cluster and k < n - m - 2:
-                k = min(2 * k, n - m - 2)
+    def lanczos(which: str, k: int) -> tuple[np.ndarray, np.ndarray, bool]:
+        # k values of ``C v = theta A v`` (the A-inner product) at one end ("LA", "SA") or
+        # k/2 at each ("BE"), and whether all k converged (else the converged part, possibly
+        # empty: a value asked for inside an accumulation point of the spectrum never does).
+        try:
+            vals, vecs = spla.eigsh(C, k=k, M=A, Minv=Ainv, which=which, tol=tol,
+                                    v0=v_start, maxiter=LANCZOS_MAXITER)
+            complete = True
+        except spla.ArpackNoConvergence as exc:
+            vals, vecs, complete = exc.eigenvalues, exc.eigenvectors, False
+        except spla.ArpackError as exc:
+            raise NotConverged(f"the sparse Lanczos eigen solve ({n} unknowns) failed: "
+                               f"{exc}") from None
+        return np.asarray(vals), np.asarray(vecs), complete
+
+    def at_end(vals: np.ndarray, vecs: np.ndarray, sign: float
+               ) -> tuple[np.ndarray, np.ndarray]:
+        # the values of one sign, from the end inwards
+        sel = vals * sign > 0
+        order = np.argsort(-sign * vals[sel])
+        return vals[sel][order], vecs[:, sel][:, order]
+
+    def negative_directions(t: float) -> int | None:
+        # Eigenvalues theta beyond t (theta > t for t > 0, theta < t for t < 0) by Sylvester's
+        # inertia of A - C / t on the constraints: n_negative(A - p C) = #{p theta > 1}.
+        try:
+            f = ConstrainedFactor.of(A - C / t, G, border)
+        except RodstabInputError:
+            return None
+        return None if f.singular else f.n_negative
+
+    def certify(vals: np.ndarray, vecs: np.ndarray, sign: float, complete: bool, k: int
+                ) -> tuple[int, np.ndarray | None, str | None]:
+        # The end's extreme eigenvalue t = vals[0] with its multiplicity (the values within
+        # the multiplicity window of 1/t), certified by the inertia at a theta between that
+        # cluster and the next found value: the count beyond it must be the cluster's, so no
+        # eigenvalue beyond t or inside its window was missed. (0, None, why) to ask again.
+        t = float(vals[0])
+        window = pencil_window(t, error_rtol)
+        close = np.abs(vals - t) <= window
+        if complete and close.all() and k < k_max:
+            return 0, None, "the found values were one cluster"
+        edge = vals[close][-1]
+        nxt = vals[~close]
+        probe = 0.5 * (edge + nxt[0]) if nxt.size else edge - sign * window
+        count = negative_directions(float(probe))
+        if count == int(close.sum()):
+            return int(close.sum()), vecs[:, close], None
+        return 0, None, (f"the inertia counts {count} eigenvalues beyond theta = {probe:.6g}, "
+                         f"Lanczos found {int(close.sum())}")
+
+    # One Lanczos run for both ends first (k/2 from each); an end it does not settle is asked
+    # again on its own, k doubling.
+    k = min(2 * n_eig, k_max)
+    vals, vecs, complete = lanczos("BE", k)
+    found = {sign: (*at_end(vals, vecs, sign), complete, k // 2) for sign in (1.0, -1.0)}
+    scale = max(float(np.max(np.abs(vals))) if vals.size else 0.0, 1e-300)
+    out: dict[float, tuple[float, int, np.ndarray | None]] = {}
+    thetas: dict[float, np.ndarray] = {}
+    near: dict[float, tuple[float, ...]] = {}
+    failures: list[str] = []
+    for sign, name in ((1.0, "LA"), (-1.0, "SA")):
+        ev, V, done, k_end = found[sign]
+        why: str | None = None
+        for attempt in range(LANCZOS_ATTEMPTS + 1):
+            if attempt:
+                k_end = min(max(2 * k_end, n_eig), k_max)
+                ev, V, done = lanczos(name, k_end)
+                ev, V = at_end(ev, V, sign)
+                scale = max(scale, float(np.max(np.abs(ev))) if ev.size else 0.0)
+            if ev.size == 0:
+                if done:  # every eigenvalue found at this end has the other sign
+                    why = None
+                    out[sign] = (math.inf * sign, 0, None)
+                    break
+                why = f"no eigenvalue converged at the {name} end ({k_end} asked)"
                 continue
-            return ends
-
-    out: dict[str, tuple[float, int, np.ndarray | None]] = {}
+            if abs(ev[0]) <= 1e-14 * scale:
+                why = None
+                out[sign] = (math.inf * sign, 0, None)
+                break
+            mult, Vc, why = certify(ev, V, sign, done, k_end)
+            if why is None:
+                out[sign] = (1.0 / float(ev[0]), mult, Vc)
+                thetas[sign] = ev[:mult]  # the cluster: ev runs from the end inwards
+                near[sign] = tuple(1.0 / ev[:NEAR_VALUES])
+                break
+            if k_end >= k_max:
+                break
+        if why is not None:
+            failures.append(why)
+    if failures:
+        raise NotConverged(f"the sparse Lanczos eigen solve ({n} unknowns) could not certify "
+                           f"the extreme eigenvalues: {'; '.join(failures)}")
     residual = 0.0
-    ends = both_ends()
-    for which, sign in (("LA", 1.0), ("SA", -1.0)):
-        vals, vecs = ends[which]
-        t = vals[0]
-        if t * sign <= 1e-14 * max(abs(vals).max(), 1e-300):
-            out[which] = (math.inf * sign, 0, None)
+    for sign in (1.0, -1.0):
+        modes = out[sign][2]
+        if modes is None:
             continue
-        close = np.abs(vals - t) <= multiplicity_rtol * abs(t)
-        p = 1.0 / t
-        V = vecs[:, close]
-        for k in range(V.shape[1]):  # each vector with its own eigenvalue
+        for k in range(modes.shape[1]):  # each vector with its own eigenvalue
             # |A^-1 C v / theta - v| / |v| on the constraints: the inverted problem's residual
-            v = V[:, k]
-            residual = max(residual, float(np.linalg.norm(solve(C @ v) / vals[close][k] - v)
+            v = modes[:, k]
+            residual = max(residual, float(np.linalg.norm(solve(C @ v) / thetas[sign][k] - v)
                                            / np.linalg.norm(v)))
-        out[which] = (p, int(close.sum()), V)
-    hi, m_hi, v_hi = out["LA"]
-    lo, m_lo, v_lo = out["SA"]
+    out_hi, out_lo = out[1.0], out[-1.0]
+    hi, m_hi, v_hi = out_hi
+    lo, m_lo, v_lo = out_lo
     how = (f"substructured: sparse LU of A_II, {b + m}-square Schur complement" if b + m
            else "sparse LU of A")
     return PencilInterval(lo, hi, m_lo, m_hi, v_lo, v_hi, residual,
                           bool(residual < SPARSE_RESIDUAL_TOL), n - m,
-                          f"Lanczos (ARPACK eigsh, generalized; {how})")
+                          f"Lanczos (ARPACK eigsh, generalized, each end certified by the "
+                          f"inertia; {how})", near_lo=near.get(-1.0, ()),
+                          near_hi=near.get(1.0, ()))

@@ -28,7 +28,7 @@ from collections.abc import Callable
 import numpy as np
 
 from ..errors import RodstabInputError, require_in_range, require_positive
-from ..numerics import Root, find_roots
+from ..numerics import XTOL, Root, find_roots, multiplicity_tolerance
 from ..results import Result
 
 #: Largest argument of sinh/cosh evaluated (beyond it the value overflows a double).
@@ -148,7 +148,12 @@ class ArcStability(Result):
     method: str
 
 
-def _first_root(fun, p0: float, direction: float, span: float, max_doublings: int = 6):
+#: Doublings of :func:`_first_root`'s window before it gives up.
+_MAX_DOUBLINGS = 6
+
+
+def _first_root(fun, p0: float, direction: float, span: float,
+                max_doublings: int = _MAX_DOUBLINGS):
     """First root of ``fun(p)`` beyond ``p0`` in ``direction``; the window doubles if empty."""
     # The scan starts a little away from p0 (M = 0): the reduced functions have a removable
     # singularity there whose value is swamped by round-off and could fake a sign change. The
@@ -220,8 +225,11 @@ def clamped_arc_stability(b1: float, b2: float, L_over_R: float) -> ArcStability
         if not cands:
             return (math.inf * direction, "none", 0.0)
         best = min(cands, key=lambda c: abs(c[0] - p0))
-        # Both families at the same load (L/R = 2 pi: the ends meet) is a double eigenvalue.
-        if len(cands) == 2 and abs(cands[0][0] - cands[1][0]) <= 1e-9 * (1 + abs(best[0])):
+        # Both families at the same load (L/R = 2 pi: the ends meet) is a double eigenvalue,
+        # by the one multiplicity rule with the roots' tolerance (find_roots' Brent
+        # refinement, XTOL times the scanned window, which reaches 2^6 span).
+        if len(cands) == 2 and abs(cands[0][0] - cands[1][0]) <= multiplicity_tolerance(
+                best[0], XTOL * span * 2 ** _MAX_DOUBLINGS):
             return best[0], "symmetric+antisymmetric", best[2]
         return best
 

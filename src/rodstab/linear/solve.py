@@ -21,9 +21,12 @@ from ..model import Assembly
 from ..numerics import definite_on, pencil_interval_sparse
 from ..results import Result
 
-#: Critical eigenvalues closer than this (relative) are one repeated eigenvalue: symmetric
-#: pairs are split by the discretisation (and the rigid-motion gauge) far below its error.
-FE_MULTIPLICITY_RTOL = 1e-5
+#: The FE's relative error of a critical load where no mesh-error estimate was made (the
+#: a-priori statement of the engine: the multiplicity rule
+#: :func:`rodstab.numerics.multiplicity_tolerance` then merges values within 4x this, 1e-5).
+#: :func:`with_mesh_error` and :func:`converged_stability` estimate the error instead
+#: (Richardson with a coarser mesh).
+FE_ERROR_RTOL = 2.5e-6
 
 
 @dataclasses.dataclass(frozen=True)
@@ -58,6 +61,16 @@ class LinearStability(Result):
     converged: bool
     n_dof: int
     method: str
+    #: The computed eigenvalues (load factors) on each side, nearest to the interval first
+    #: (the critical one and its cluster among them): :func:`with_mesh_error` re-applies the
+    #: multiplicity rule to them with the estimated mesh error.
+    near_lo: tuple[float, ...] = ()
+    near_hi: tuple[float, ...] = ()
+    #: Estimated absolute mesh error of ``(lo, hi)`` (Richardson with a coarser mesh,
+    #: :func:`with_mesh_error`); None when not estimated (then :data:`FE_ERROR_RTOL` is assumed).
+    mesh_error: tuple[float, float] | None = None
+    #: Elements per segment of this solve (one count, or the largest of a per-name mapping).
+    elements: int = 0
 
 
 #: A stress-free load factor beyond this is not used as the reference (the pencil would be
@@ -215,7 +228,7 @@ def linear_stability(a: Assembly, elements_per_segment: int | dict[str, int] = 1
     mu_ref = default_reference_load(a)
     try:
         res = pencil_interval_sparse(pen.K0 + mu_ref * pen.K1, -pen.K1, constraints=pen.G,
-                                     border=pen.border, multiplicity_rtol=FE_MULTIPLICITY_RTOL)
+                                     border=pen.border, error_rtol=FE_ERROR_RTOL)
     except RodstabInputError as exc:
         # Rigid motions are gauged out, so a singular or indefinite A is physical.
         raise RodstabInputError(
@@ -246,4 +259,109 @@ def linear_stability(a: Assembly, elements_per_segment: int | dict[str, int] = 1
         converged=res.converged,
         n_dof=int(res.n_dof),
         method="FE of P2 (quadratic beta and omega, w by closure rows; Rayleigh quotient "
-               "from element strains); " + res.method)
+               "from element strains); " + res.method,
+        near_lo=tuple(float(mu_ref + p) for p in res.near_lo),
+        near_hi=tuple(float(mu_ref + p) for p in res.near_hi),
+        elements=(max(elements_per_segment.values()) if isinstance(elements_per_segment, dict)
+                  else int(elements_per_segment)))
+
+
+#: Order of the FE's error in the element size: quadratic beta and omega converge as h^4
+#: (measured: clamped arc b1 = 100, b2 = 1.5, L/R = 16 at 96..768 elements, ratios 15-16 per
+#: halving; the hexagram, problems/hexagram.py).
+FE_ORDER = 4
+#: Relative mesh error at which :func:`converged_stability` stops refining: a quarter of the
+#: 1e-6 to which the problems' FE must agree with the closed forms (their AGREE_RTOL), so the
+#: paper's designs stay at their default meshes (clamped arc L/R = 2: 1.0e-7 at 96 elements).
+FE_TARGET_RTOL = 2.5e-7
+#: Refinements :func:`converged_stability` tries before it reports the error reached, and the
+#: most it multiplies the starting mesh by in all (the clamped arc b1 = 100, b2 = 1.5,
+#: L/R = 16 needs 12x the default 96 elements).
+FE_MAX_REFINEMENTS = 4
+FE_MAX_GROWTH = 32
+#: Each refinement multiplies the elements by the factor the h^4 error law asks for, times
+#: this margin, within [1.5, 8] (a pre-asymptotic estimate must not jump far).
+FE_REFINE_MARGIN = 1.25
+
+
+def with_mesh_error(fine: LinearStability, coarse: LinearStability) -> LinearStability:
+    """``fine`` with its mesh error estimated from ``coarse`` and its multiplicities by it.
+
+    Richardson (:func:`rodstab.numerics.richardson`, order :data:`FE_ORDER`, the meshes'
+    ratio of elements) gives the error of each end of ``fine``; the one multiplicity rule
+    (:func:`rodstab.numerics.multiplicity_tolerance`) then merges the eigenvalues of ``fine``
+    within 4x that error: a pair that the mesh splits by its own error is one double
+    eigenvalue (a stiff cusp ring's symmetry pair, split 2e-6 at 32 elements per rod).
+    """
+    from ..numerics import multiplicity_of, richardson
+
+    ratio = fine.elements / coarse.elements
+    err = tuple(richardson(c, f, ratio, FE_ORDER)[1] for c, f in
+                zip(coarse.load_factor_interval, fine.load_factor_interval, strict=True))
+    lo, hi = fine.load_factor_interval
+    # the Rayleigh-quotient ends replace the eigen solve's nearest values (same to ~1e-12)
+    m_lo = multiplicity_of((lo, *fine.near_lo[1:]), lo, err[0]) if fine.near_lo else \
+        fine.multiplicity_lo
+    m_hi = multiplicity_of((hi, *fine.near_hi[1:]), hi, err[1]) if fine.near_hi else \
+        fine.multiplicity
+    return dataclasses.replace(fine, mesh_error=(err[0], err[1]), multiplicity_lo=m_lo,
+                               multiplicity=m_hi)
+
+
+def converged_stability(a: Assembly, elements_per_segment: int, *,
+                        rtol: float = FE_TARGET_RTOL, unit: float = 1.0,
+                        limits: Limits = DEFAULT_LIMITS) -> LinearStability:
+    """:func:`linear_stability` on a mesh fine enough for relative error ``rtol``, and its error.
+
+    Starts from ``elements_per_segment`` (and half of it for the first estimate) and refines
+    the mesh (by the factor the h^4 law asks for) while the Richardson estimate of either
+    finite end's error (:func:`with_mesh_error`) exceeds ``rtol max(|end|, unit)`` (``unit``:
+    the load factor below which a caller compares absolutely, e.g. one paper unit): a
+    default mesh that holds on the paper's designs is too coarse for long arcs or stiff
+    sections (clamped arc b1 = 100, b2 = 1.5, L/R = 16: 2.1e-3 at 96 elements), and this meets
+    its accuracy on every design. The result carries ``mesh_error``; when
+    :data:`FE_MAX_REFINEMENTS`, :data:`FE_MAX_GROWTH` or ``limits`` stop the refinement first,
+    it is ``converged=False`` and ``method`` states the error reached.
+    """
+    n = max(2, int(elements_per_segment))
+    coarse = linear_stability(a, max(1, n // 2), limits=limits)
+    fine = with_mesh_error(linear_stability(a, n, limits=limits), coarse)
+    for _ in range(FE_MAX_REFINEMENTS):
+        excess = _excess(fine, rtol, unit)
+        if excess <= 1.0:
+            return fine
+        grow = min(max(FE_REFINE_MARGIN * excess ** (1.0 / FE_ORDER), 1.5), 8.0)
+        n_next = min(math.ceil(grow * fine.elements), FE_MAX_GROWTH * n)
+        if n_next <= fine.elements:
+            break
+        try:
+            finer = linear_stability(a, n_next, limits=limits)
+        except RodstabInputError as exc:  # past limits: say what was reached
+            return _short_of(fine, rtol, f"the next mesh is refused: {exc}")
+        fine = with_mesh_error(finer, fine)
+    return fine if _excess(fine, rtol, unit) <= 1.0 else _short_of(
+        fine, rtol, f"at most {FE_MAX_REFINEMENTS} refinements to {FE_MAX_GROWTH}x the "
+                    "starting mesh")
+
+
+def _excess(r: LinearStability, rtol: float, unit: float) -> float:
+    """Largest ratio of a finite end's estimated mesh error to ``rtol max(|end|, unit)``."""
+    assert r.mesh_error is not None
+    worst = 0.0
+    for x, e in zip(r.load_factor_interval, r.mesh_error, strict=True):
+        if math.isfinite(x):
+            # relative above unit, absolute below (an end at 0: the stress-free one-loop ring
+            # of b1 = 1), as problems.agree compares in the paper's units
+            worst = max(worst, e / (rtol * max(abs(x), unit)) if math.isfinite(e) else math.inf)
+    return worst
+
+
+def _short_of(r: LinearStability, rtol: float, why: str) -> LinearStability:
+    """``r`` marked not converged: its mesh error is above ``rtol`` (relative)."""
+    assert r.mesh_error is not None
+    rel = max(e / max(abs(x), 1.0) for x, e in zip(r.load_factor_interval, r.mesh_error,
+                                                   strict=True) if math.isfinite(x))
+    return dataclasses.replace(
+        r, converged=False,
+        method=r.method + f"; estimated mesh error {rel:.2g} (relative) above the target "
+                          f"{rtol:g} at {r.elements} elements per segment ({why})")
