@@ -32,9 +32,9 @@ from typing import cast
 
 import numpy as np
 
-from .errors import RodstabInputError
+from .errors import NotConverged, RodstabInputError
 from .model import FULL_SYSTEM, SUPPORT_KINDS
-from .numerics import matrix_roots
+from .numerics import SINGULAR_TOL, matrix_roots
 from .results import Result
 
 
@@ -161,37 +161,156 @@ def _mean_beta_row(M: float, loops: int, b1: float, b2: float) -> np.ndarray:
     return integral[2]
 
 
-def ring_interval_transfer(b1: float, b2: float, loops: int, *, span: float = 3.0,
-                           n_scan: int = 600) -> tuple[float, float, list[float]]:
+#: The rigid rotations about in-plane axes in the state ``y = (omega, omega', beta, beta')`` at
+#: ``theta = 0``: ``omega = cos(theta + phi)``, ``beta = sin(theta + phi)`` solve (3.1) for every
+#: ``M`` (the ``k = 1`` pencil of (3.2) is ``(b1 + b2 - M) [[1, -1], [-1, 1]]``), an invariant
+#: subspace of ``S`` with exponents ``+-i``. Orthonormal columns.
+RING_RIGID_BASIS = np.array([[1.0, 0.0], [0.0, 1.0], [0.0, -1.0], [1.0, 0.0]]) / math.sqrt(2.0)
+#: Its orthogonal complement: the initial states that are not a rigid rotation.
+RING_DEFORMATION_BASIS = np.array([[1.0, 0.0], [0.0, 1.0], [0.0, 1.0], [-1.0, 0.0]]) \
+    / math.sqrt(2.0)
+
+
+def ring_matching_matrix(M: float, loops: int, b1: float, b2: float) -> np.ndarray:
+    """``2 sinh(P S / 2) C`` (4x2), ``P = 2 pi N``, scaled: rank-deficient where ``T - I`` is.
+
+    Shoot (3.1) from ``theta = 0`` forwards and backwards by half the ring and match at the
+    antipode: ``y(P/2) = expm(P S/2) y0`` and ``y(-P/2) = expm(-P S/2) y0`` are the same state
+    of a periodic solution, so periodic solutions are the null vectors of
+    ``H = expm(P S/2) - expm(-P S/2) = expm(-P S/2) (T - I)``, ``T`` the monodromy
+    (:func:`ring_periodicity_measure`). Unlike ``T - I``, ``H`` has no exponential trend
+    hiding roots: where ``S`` has real exponents ``+-a`` (``(b1 - M)(b2 - M) < 0``) both
+    grow as ``sinh(a P/2)`` (``T - I`` is dominated by ``e^{aP}`` in ONE direction, and its
+    relative smallest singular values fall below any root threshold). ``H`` is divided by
+    ``e^{alpha P/2} ||S||_2`` (``alpha`` the largest ``|Re|`` of an eigenvalue of ``S``; both
+    exponentials are taken of the shifted ``+-P S/2 - alpha P/2``, so nothing overflows): of
+    order one, or of order ``P`` at most, for every ``M``.
+
+    The rigid rotations (:data:`RING_RIGID_BASIS`, exponents ``+-i``, ``sinh(i pi N) = 0``)
+    are null vectors at every ``M``; they are removed exactly by restricting ``H`` to their
+    complement ``C`` (:data:`RING_DEFORMATION_BASIS`; ``y0 = R a + C b`` is periodic iff
+    ``H C b = 0``), not by counting small singular values, whose round-off floor near
+    ``M = 0`` (exponents ``+-i`` twice: nearly parallel eigenvectors) reaches 1e-12.
+    """
+    S = ring_system_matrix(M, b1, b2)
+    half = np.pi * loops
+    shift = half * float(np.max(np.abs(np.linalg.eigvals(S).real)))
+    eye = np.eye(4)
+    H = expm(half * S - shift * eye) - expm(-half * S - shift * eye)
+    return cast(np.ndarray, H @ RING_DEFORMATION_BASIS / np.linalg.norm(S, 2))
+
+
+def ring_root_window(b1: float, b2: float) -> tuple[float, float]:
+    """Loads ``M`` that bracket both ends of the ring's stable interval, from two test modes.
+
+    The stress-free state ``M = 0`` is stable (P2 positive definite beyond the rigid motions).
+    Upper end: the uniform twist (mode ``j = 0`` of (3.2)) makes P2 proportional to
+    ``b1 - M``, negative beyond ``M = b1``, so ``M_hi <= b1``. Lower end: the mode
+    ``k = (N + 1)/N <= 2`` of (3.2) has the pencil ``A_k - M C_k`` with ``C_k`` indefinite
+    (``det C_k = 1 - k^2 < 0``), singular first at ``M^-(k) = (b1 + b2)/2 - sqrt((b1 - b2)^2/4
+    + b1 b2 k^2) >= min(b1, b2) - k sqrt(b1 b2) > -2 sqrt(b1 b2)``, and indefinite below it, so
+    ``M_lo > -2 sqrt(b1 b2)``. Returned with a margin of 5 %: every root that can end the
+    interval lies inside, none at an end of the scan.
+    """
+    return -2.1 * math.sqrt(b1 * b2), 1.05 * b1
+
+
+#: Scan points per unit of the ring's phase ``N Re(kappa)`` (adjacent roots of (3.1) differ
+#: by 1 in it): every root is then at least this many scan intervals from the next.
+RING_SCAN_PER_TURN = 8
+
+
+def _ring_phase(M: np.ndarray, loops: int, b1: float, b2: float) -> np.ndarray:
+    """``N Re(kappa)``: ``+-i kappa`` the exponents of (3.1) besides the rigid ``+-i``.
+
+    From the eigenvalues of ``S`` (``sum |Im| = 2 + 2 Re(kappa)``), vectorised over ``M``.
+    Roots are where it is a whole number (not every whole number is a root: the rigid
+    rotations, ``kappa = 1``, give one at ``M = b1 + b2`` only).
+    """
+    Ss = np.array([ring_system_matrix(float(m), b1, b2) for m in M])
+    im = np.abs(np.linalg.eigvals(Ss).imag).sum(axis=1)
+    return cast(np.ndarray, loops * np.maximum(0.5 * im - 1.0, 0.0))
+
+
+def ring_scan_grid(b1: float, b2: float, loops: int, lo: float, hi: float,
+                   max_points: int = 200_000) -> np.ndarray:
+    """Scan points on ``[lo, hi]`` with at most ``1/RING_SCAN_PER_TURN`` of phase per interval.
+
+    Adjacent roots differ by one in the phase :func:`_ring_phase`, which turns fast near
+    ``M = b1, b2`` (``kappa ~ sqrt|M - b|``) and for large ``|M|``: a uniform grid of any
+    fixed size steps over roots there (``N = 9``, ``b1 = 0.05``: ``M = b1`` and the next root
+    are 6e-4 apart on a window of width 3). Starting from 64 uniform intervals plus the points
+    ``b1``, ``b2`` (the ``kappa = 0`` roots, with at least three scan intervals between them
+    when they differ), every interval with more phase is bisected.
+    """
+    xs = np.linspace(lo, hi, 65)
+    extra = [b1, b2]
+    gap = abs(b1 - b2)
+    if gap > 0:
+        extra += [b + d * gap / 8 for b in (b1, b2) for d in (-3, -2, -1, 1, 2, 3)]
+    xs = np.unique(np.concatenate([xs, [x for x in extra if lo < x < hi]]))
+    ph = _ring_phase(xs, loops, b1, b2)
+    while True:
+        wide = np.abs(np.diff(ph)) * RING_SCAN_PER_TURN > 1.0
+        wide &= np.diff(xs) > 1e-12 * (hi - lo)
+        if not wide.any():
+            return xs
+        if xs.size + wide.sum() > max_points:
+            raise NotConverged(f"ring transfer: more than {max_points} scan points needed to "
+                               f"resolve the phase (N = {loops}, b1 = {b1:g}, b2 = {b2:g})")
+        mid = 0.5 * (xs[:-1] + xs[1:])[wide]
+        order = np.argsort(np.concatenate([xs, mid]))
+        xs = np.concatenate([xs, mid])[order]
+        ph = np.concatenate([ph, _ring_phase(mid, loops, b1, b2)])[order]
+
+
+def ring_interval_transfer(b1: float, b2: float, loops: int) -> tuple[float, float, list[float]]:
     """Stable interval of ``M`` for the N-loop ring by the monodromy method (second method).
 
-    Scans ``M`` in ``[-span, span] * max(1, b1, b2)`` for periodic solutions of (3.1) beyond
-    the two rigid rotations (:func:`rodstab.numerics.matrix_roots` with ``known_nullity=2``),
-    drops those that violate closure ``int beta dtheta = 0`` (at ``M = b2``, ``beta = const``
-    -- the paper's "spurious" root), and returns ``(M_lo, M_hi, admissible_roots)`` with the
-    admissible roots nearest to ``M = 0`` on either side.
+    Finds the periodic solutions of (3.1) beyond the two rigid rotations as the singular
+    points of :func:`ring_matching_matrix` (:func:`rodstab.numerics.matrix_roots`,
+    ``known_nullity=2``) on the window :func:`ring_root_window`, scanned on
+    :func:`ring_scan_grid`; drops those that violate closure ``int beta dtheta = 0`` (at
+    ``M = b2``, ``beta = const`` -- the paper's "spurious" root), and returns
+    ``(M_lo, M_hi, admissible_roots)`` with the admissible roots nearest to ``M = 0`` on either
+    side. No Fourier ansatz, no (3.3): only the window is from test modes. Every minimum of
+    the measure is a root or bounded well away from zero (the matching matrix has no
+    ill-conditioned non-roots: ``|sin|`` of the phase times a matrix of full rank, or
+    ``sinh`` where the exponents are real), so a minimum is a root at ``SINGULAR_TOL``: the
+    round-off floor of the half-ring exponentials near ``M = 0`` (1e-11) is above the
+    default touching threshold. At a root ``j >= 1`` every periodic deformation closes up
+    (``T = I``): the whole matching matrix vanishes, so its ``sigma_min`` is scanned against
+    the scan's typical size (``absolute``), not against its own ``sigma_max``.
+
+    Raises :class:`~rodstab.errors.NotConverged` if a side has no admissible root in the
+    window (which the window's derivation excludes): never an infinite end.
     """
-    w = span * max(1.0, b1, b2)
-    found = matrix_roots(
-        lambda M: expm(2.0 * np.pi * loops * ring_system_matrix(M, b1, b2)) - np.eye(4),
-        -w, w, n_scan=n_scan, known_nullity=RING_RIGID_NULLITY,
-        method_name="monodromy sigma_3 scan + golden section")
+    lo_w, hi_w = ring_root_window(b1, b2)
+    grid = ring_scan_grid(b1, b2, loops, lo_w, hi_w)
+    found = matrix_roots(lambda M: ring_matching_matrix(M, loops, b1, b2), lo_w, hi_w,
+                         grid=grid, touch_tol=SINGULAR_TOL, absolute=True,
+                         method_name="half-ring shooting matched at the antipode, "
+                                     "phase-resolved sigma_min scan + golden section")
     admissible = []
     for root in found.roots:
-        T = expm(2.0 * np.pi * loops * ring_system_matrix(root.x, b1, b2)) - np.eye(4)
-        s = np.linalg.svd(T, compute_uv=False)
-        null = null_space(T, rcond=max(1e-7, 1e3 * s[-1 - RING_RIGID_NULLITY] / (1 + s[0])))
-        null = null if null.shape[1] > RING_RIGID_NULLITY else ring_periodic_null_vectors(
-            root.x, loops, b1, b2, RING_RIGID_NULLITY + max(root.multiplicity, 1)).T
+        # The root's periodic deformations: the right singular vectors of H C for its
+        # multiplicity's smallest singular values.
+        _, _, vt = np.linalg.svd(ring_matching_matrix(root.x, loops, b1, b2))
+        null = RING_DEFORMATION_BASIS @ vt[vt.shape[0] - max(root.multiplicity, 1):].T
         c = _mean_beta_row(root.x, loops, b1, b2)
         cn = c @ null
         # Closure removes one null direction unless every periodic solution already closes.
         lost = 1 if np.linalg.norm(cn) > 1e-8 * (np.linalg.norm(c) + 1.0) else 0
-        if null.shape[1] - lost > RING_RIGID_NULLITY:
+        if null.shape[1] - lost > 0:
             admissible.append(root.x)
     neg = [m for m in admissible if m < 0]
     pos = [m for m in admissible if m > 0]
-    return (max(neg) if neg else -np.inf), (min(pos) if pos else np.inf), admissible
+    if not neg or not pos:
+        raise NotConverged(
+            f"ring transfer (b1 = {b1:g}, b2 = {b2:g}, N = {loops}): no admissible root "
+            f"{'below' if not neg else 'above'} M = 0 in [{lo_w:g}, {hi_w:g}], where the test "
+            "modes of ring_root_window prove one")
+    return max(neg), min(pos), admissible
 
 
 # --------------------------------------------------------------------------------------------
