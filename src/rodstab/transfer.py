@@ -108,6 +108,99 @@ def clamped_arc_mode(
     return x, ys[:, 0] / scale, ys[:, 4] / scale
 
 
+#: Initial states at the arc's midpoint ``x = 1/2`` of each family: the EL equations are
+#: invariant under ``x -> 1 - x`` with ``(u, w)`` unchanged, so a mode has ``u`` and ``w`` both
+#: even (symmetric: ``u'``, ``u'''``, ``w'`` vanish at the midpoint, ``u``, ``u''``, ``w``
+#: free) or both odd (antisymmetric: ``u``, ``u''``, ``w`` vanish, the others free).
+ARC_FAMILY_FREE = {"symmetric": [0, 2, 4], "antisymmetric": [1, 3, 5]}
+
+
+def clamped_half_arc_matrix(L_kappa: float, L_over_R: float, b1: float, b2: float,
+                            family: str) -> np.ndarray:
+    """3x3 shooting matrix of one family from the midpoint to a clamped end; singular at its loads.
+
+    The rows ``(u, u', w)`` of ``expm(S/2)`` (half the arc, :func:`arc_system_matrix`) times the
+    family's free midpoint values (:data:`ARC_FAMILY_FREE`). The two families' loads are the
+    loads of :func:`clamped_arc_matrix`, each family searched alone: a symmetric and an
+    antisymmetric load closer than a scan spacing (4.5e-4 apart at ``b1 = 0.19``,
+    ``b2 = 0.24``, ``L/R = 16.6``) are two roots of two functions, not a close pair of one;
+    and half the length halves the exponential growth where the exponents are real.
+    """
+    if family not in ARC_FAMILY_FREE:
+        raise RodstabInputError(f"family must be 'symmetric' or 'antisymmetric', got {family!r}")
+    T = expm(0.5 * arc_system_matrix(L_kappa, L_over_R, b1, b2))
+    return T[np.ix_(_ESSENTIAL, ARC_FAMILY_FREE[family])]
+
+
+def arc_root_window(L_over_R: float, b1: float, b2: float) -> tuple[float, float]:
+    """Loads ``L kappa_n`` beyond which the clamped arc is proven unstable, from test fields.
+
+    The module docstring's ``I[u, w] = Q0 - m Q1`` (``m = Lbar - L kappa_n``) is negative --
+    the arc unstable -- at every load beyond ``Lbar - Q0/Q1`` for any admissible field with
+    ``Q1 != 0``, so both ends of the stable interval lie between the best such bounds:
+
+    * the twist ``u = 0``, ``w = sin(pi x)``: ``Q0 = (b2 pi^2 + b1 Lbar^2)/2``,
+      ``Q1 = Lbar/2`` (the root near ``Lbar (1 - b1)`` of a stiff ``b1``: -295.9 at
+      ``b1 = 50``, ``b2 = 1.3``, ``Lbar = 6``, outside any window of a few ``2 pi sqrt(b1 b2)``);
+    * ``u = 1 - cos(2 pi n x)``, ``w = g u`` (the straight rod's mode (3.10) for ``n = 1``,
+      ``g = 2 pi sqrt(b1/b2)``, exact there), ``n = 1 .. 8``, ``g`` over both signs.
+
+    Returned with a margin of 5 % of the window plus 1: every end lies strictly inside.
+    """
+    Lb = float(L_over_R)
+    bounds: list[float] = []
+    if Lb > 0:
+        bounds.append(Lb - (b2 * math.pi ** 2 + b1 * Lb * Lb) / Lb)
+    n = np.arange(1, 9)[:, None]
+    mags = np.geomspace(1e-3, 1e3, 241) * math.sqrt(b1 / b2)
+    g = np.concatenate([-mags, mags])[None, :]
+    k2 = (2 * math.pi * n) ** 2
+    uu, upup, uppupp, uppu = 1.5, 0.5 * k2, 0.5 * k2 * k2, -0.5 * k2  # integrals over [0, 1]
+    a = Lb * g
+    q0 = b1 * (uppupp - 2 * a * uppu + a * a * uu) + b2 * (g + Lb) ** 2 * upup
+    q1 = Lb * upup + Lb * g * g * uu + 2 * g * upup
+    with np.errstate(divide="ignore", invalid="ignore"):
+        p = np.where(q1 != 0, Lb - q0 / q1, np.nan)
+    bounds += p[np.isfinite(p)].tolist()
+    hi = min([b for b in bounds if b > Lb], default=math.inf)
+    lo = max([b for b in bounds if b < Lb], default=-math.inf)
+    margin = 0.05 * (hi - lo) + 1.0
+    return lo - margin, hi + margin
+
+
+def arc_phase(L_kappa: np.ndarray, L_over_R: float, b1: float, b2: float) -> np.ndarray:
+    """Half-turns of the arc's oscillating solutions: ``sum |Im(eig S)| / (2 pi)``.
+
+    The loads of one family are at least about one half-turn apart, so a scan with a fixed
+    number of points per unit of this phase resolves them wherever they crowd.
+    """
+    Ss = np.array([arc_system_matrix(float(p), L_over_R, b1, b2) for p in L_kappa])
+    return cast(np.ndarray, np.abs(np.linalg.eigvals(Ss).imag).sum(axis=1) / (2 * np.pi))
+
+
+def phase_grid(phase: Callable[[np.ndarray], np.ndarray], lo: float, hi: float,
+               per_turn: int, base: int = 64, max_points: int = 200_000) -> np.ndarray:
+    """Scan points on ``[lo, hi]`` with at most ``1/per_turn`` of ``phase`` per interval.
+
+    ``base`` uniform intervals, each bisected while the phase changes by more than
+    ``1/per_turn`` across it (down to 1e-12 of the window). Raises
+    :class:`~rodstab.errors.NotConverged` beyond ``max_points``.
+    """
+    xs = np.linspace(lo, hi, base + 1)
+    ph = phase(xs)
+    while True:
+        wide = (np.abs(np.diff(ph)) * per_turn > 1.0) & (np.diff(xs) > 1e-12 * (hi - lo))
+        if not wide.any():
+            return xs
+        if xs.size + wide.sum() > max_points:
+            raise NotConverged(f"more than {max_points} scan points needed to resolve the "
+                               "phase")
+        mid = 0.5 * (xs[:-1] + xs[1:])[wide]
+        order = np.argsort(np.concatenate([xs, mid]))
+        xs = np.concatenate([xs, mid])[order]
+        ph = np.concatenate([ph, phase(mid)])[order]
+
+
 def ring_system_matrix(M: float, b1: float, b2: float) -> np.ndarray:
     """4x4 matrix of ``y' = S y``, ``y = (omega, omega', beta, beta')``, for the ring (3.1).
 
