@@ -133,7 +133,7 @@ def clamped_half_arc_matrix(L_kappa: float, L_over_R: float, b1: float, b2: floa
 
 
 def arc_root_window(L_over_R: float, b1: float, b2: float) -> tuple[float, float]:
-    """Loads ``L kappa_n`` beyond which the clamped arc is proven unstable, from test fields.
+    """Return loads ``L kappa_n`` beyond which the clamped arc is proven unstable (test fields).
 
     The module docstring's ``I[u, w] = Q0 - m Q1`` (``m = Lbar - L kappa_n``) is negative --
     the arc unstable -- at every load beyond ``Lbar - Q0/Q1`` for any admissible field with
@@ -294,7 +294,7 @@ def ring_matching_matrix(M: float, loops: int, b1: float, b2: float) -> np.ndarr
 
 
 def ring_root_window(b1: float, b2: float) -> tuple[float, float]:
-    """Loads ``M`` that bracket both ends of the ring's stable interval, from two test modes.
+    """Return loads ``M`` that bracket both ends of the ring's stable interval (two test modes).
 
     The stress-free state ``M = 0`` is stable (P2 positive definite beyond the rigid motions).
     Upper end: the uniform twist (mode ``j = 0`` of (3.2)) makes P2 proportional to
@@ -666,9 +666,10 @@ class CyclicRingInterval(Result):
     """Stable interval of the load factor of a cyclic ring of arcs, one end from each side.
 
     ``lo``/``hi`` are the singular loads nearest below/above ``reference`` over the harmonics
-    ``0 .. n/2`` (``-inf``/``+inf`` if none within ``max_span``); ``harmonic_*`` the harmonic
-    ``m`` (the pair ``m, n - m``) and ``multiplicity_*`` the null-space dimension there;
-    ``rigid_nullity`` the rigid motions per harmonic.
+    ``0 .. n/2``; ``harmonic_*`` the harmonic ``m`` (the pair ``m, n - m``) and
+    ``multiplicity_*`` the null-space dimension there; ``rigid_nullity`` the rigid motions per
+    harmonic. ``converged`` is False, with the ``reason``, when a side has no singular load up
+    to the load where test fields prove one (that end is then ``-inf``/``+inf``, not a result).
     """
 
     lo: float
@@ -680,23 +681,40 @@ class CyclicRingInterval(Result):
     rigid_nullity: tuple[int, ...]
     residual: float
     method: str
+    converged: bool
+    reason: str
+
+
+#: Scan intervals of :func:`cyclic_ring_interval` per unit of :func:`arc_phase` (one arc).
+CYCLIC_PER_TURN = 8
 
 
 def cyclic_ring_interval(L_over_R: float, L_kappa_per_mu: float, b1: float, b2: float,
-                         segments: int, weld: str, reference: float, *, chunk: float = 1.0,
-                         max_span: float = 50.0, n_scan: int = 40) -> CyclicRingInterval:
+                         segments: int, weld: str, reference: float, *,
+                         chunk: float = 1.0) -> CyclicRingInterval:
     """Stable interval of ``mu`` (``L kappa_n = mu L_kappa_per_mu``) around a stable ``reference``.
 
     For every harmonic ``m = 0 .. n/2`` of :func:`cyclic_ring_matrix`, the rigid motions are
     counted at ``reference`` (singular values below :data:`RIGID_SV_RTOL`); then the package's
     root finder (:func:`rodstab.numerics.matrix_roots`, the rigid motions as known nullity)
-    scans outwards from ``reference`` in overlapping windows of ``chunk`` (``n_scan`` intervals
-    each) until
-    a singular load is found or ``max_span`` is passed. An eigenvalue of the pencil crosses
-    zero exactly at a singular load, so the first one on each side bounds the stable interval.
+    scans outwards from ``reference`` in windows that start at ``chunk`` and double
+    (overlapping by a tenth), each on a grid resolving the phase of one arc's solutions
+    (:func:`phase_grid`, :func:`arc_phase`), until a singular load is found. An eigenvalue of
+    the pencil crosses zero exactly at a singular load, so the first one on each side bounds
+    the stable interval.
+
+    Where to stop is derived, not a fixed span: a test field on ONE arc that vanishes with its
+    slope and twist at both ends is admissible for the whole ring (zero at every weld), so the
+    clamped arc's bounds :func:`arc_root_window` (``L/R`` of one arc) prove the ring unstable
+    beyond them. A side with no singular load up to there is returned as ``-inf``/``+inf``
+    with ``converged=False`` and the reason (5 cusp rods, ``b1 = 90``, ``b2 = 1.4``,
+    ``theta = 36`` deg: the lower end -56.8 lies beyond the former fixed span of 50).
     """
     n = int(segments)
     harmonics = range(n // 2 + 1)
+    if L_kappa_per_mu == 0 or not math.isfinite(L_kappa_per_mu):
+        raise RodstabInputError(f"L_kappa_per_mu must be finite and nonzero, got "
+                                f"{L_kappa_per_mu!r}")
 
     parts: dict[float, tuple[np.ndarray, np.ndarray]] = {}  # the harmonics share T(mu)
 
@@ -707,33 +725,47 @@ def cyclic_ring_interval(L_over_R: float, L_kappa_per_mu: float, b1: float, b2: 
             return _bloch(*parts[mu], h, n)
         return at
 
+    def phase(mus: np.ndarray) -> np.ndarray:
+        return arc_phase(mus * L_kappa_per_mu, L_over_R, b1, b2)
+
+    bound = sorted(p / L_kappa_per_mu for p in arc_root_window(L_over_R, b1, b2))
     nullity = []
     for h in harmonics:
         s = np.linalg.svd(matrix(h)(reference), compute_uv=False)
         nullity.append(int(np.sum(s <= RIGID_SV_RTOL * s[0])))
     found: dict[int, tuple[float, int, int, float]] = {}
-    for side in (-1, 1):
+    reasons = []
+    for side, limit in ((-1, bound[0]), (1, bound[1])):
         best: tuple[float, int, int, float] | None = None
-        start = 0.0
-        while best is None and start < max_span:
+        reach, width = 0.0, float(chunk)
+        distance = (limit - reference) * side
+        while best is None and reach < distance:
             # Windows overlap by a tenth of a window: a root within one scan spacing of a
             # window's end (where sigma_min has no interior minimum on the grid) is found by
             # the next window as an interior point.
-            a, b = sorted((reference + side * (start - 0.1 * chunk),
-                           reference + side * (start + 1.1 * chunk)))
+            a, b = sorted((reference + side * max(reach - 0.1 * width, 0.0),
+                           reference + side * min(reach + width, distance)))
+            grid = phase_grid(phase, a, b, CYCLIC_PER_TURN, base=32)
             for h in harmonics:
-                search = matrix_roots(matrix(h), a, b, n_scan=n_scan, known_nullity=nullity[h],
+                search = matrix_roots(matrix(h), a, b, grid=grid, known_nullity=nullity[h],
                                       method_name="Bloch harmonic")
                 roots = [r for r in search.roots if (r.x - reference) * side > 0]
                 if roots:
                     r = roots[0] if side > 0 else roots[-1]
                     if best is None or abs(r.x - reference) < abs(best[0] - reference):
                         best = (r.x, h, r.multiplicity, r.residual)
-            start += chunk
+            reach += width
+            width *= 2.0
+            parts.clear()
+        if best is None:
+            reasons.append(f"no singular load {'below' if side < 0 else 'above'} the "
+                           f"stress-free load {reference:.6g} up to {limit:.6g}, where a "
+                           "test field on one arc proves one")
         found[side] = best if best is not None else (side * math.inf, -1, 0, 0.0)
     lo, hi = found[-1], found[1]
     return CyclicRingInterval(
         lo=lo[0], hi=hi[0], harmonic_lo=lo[1], harmonic_hi=hi[1], multiplicity_lo=lo[2],
         multiplicity_hi=hi[2], rigid_nullity=tuple(nullity), residual=max(lo[3], hi[3]),
         method=f"exact P2 on one arc, {weld} joint map, Bloch phase per harmonic 0..{n // 2}, "
-               "sigma_min scan")
+               "sigma_min scan on a phase-resolved grid up to a test-field bound",
+        converged=not reasons, reason="; ".join(reasons))

@@ -123,9 +123,11 @@ def transfer_interval(params: Params) -> tuple[float, float]:
                            Lb + side * min(reach + width, abs(limit - Lb))))
             grid = phase_grid(phase, a, b, _TRANSFER_PER_TURN, base=16)
             for family in ARC_FAMILY_FREE:
-                found = matrix_roots(
-                    lambda p, f=family: clamped_half_arc_matrix(p, Lb, s.b1, s.b2, f), a, b,
-                    grid=grid, method_name=f"half-arc shooting, {family} family")
+                def shooting(p: float, f: str = family) -> np.ndarray:
+                    return clamped_half_arc_matrix(p, Lb, s.b1, s.b2, f)
+
+                found = matrix_roots(shooting, a, b, grid=grid,
+                                     method_name=f"half-arc shooting, {family} family")
                 xs = [r.x for r in found.roots if (r.x - Lb) * side > 0]
                 if xs:
                     x = min(xs, key=lambda v: abs(v - Lb))
