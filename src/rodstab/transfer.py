@@ -34,7 +34,7 @@ import numpy as np
 
 from .errors import NotConverged, RodstabInputError
 from .model import FULL_SYSTEM, SUPPORT_KINDS
-from .numerics import SINGULAR_TOL, matrix_roots
+from .numerics import SINGULAR_TOL, Root, matrix_roots
 from .results import Result
 
 
@@ -361,12 +361,13 @@ def ring_interval_transfer(b1: float, b2: float, loops: int) -> tuple[float, flo
     """Stable interval of ``M`` for the N-loop ring by the monodromy method (second method).
 
     Finds the periodic solutions of (3.1) beyond the two rigid rotations as the singular
-    points of :func:`ring_matching_matrix` (:func:`rodstab.numerics.matrix_roots`,
-    ``known_nullity=2``) on the window :func:`ring_root_window`, scanned on
-    :func:`ring_scan_grid`; drops those that violate closure ``int beta dtheta = 0`` (at
-    ``M = b2``, ``beta = const`` -- the paper's "spurious" root), and returns
-    ``(M_lo, M_hi, admissible_roots)`` with the admissible roots nearest to ``M = 0`` on either
-    side. No Fourier ansatz, no (3.3): only the window is from test modes. Every minimum of
+    points of :func:`ring_matching_matrix` (:func:`rodstab.numerics.matrix_roots`),
+    outwards from ``M = 0`` in doubling windows up to the bounds :func:`ring_root_window`,
+    each scanned on :func:`ring_scan_grid`; drops those that violate closure
+    ``int beta dtheta = 0`` (at ``M = b2``, ``beta = const`` -- the paper's "spurious" root),
+    and returns ``(M_lo, M_hi, admissible_roots)`` with the admissible roots nearest to
+    ``M = 0`` on either side (``admissible_roots``: those of the windows searched). No
+    Fourier ansatz, no (3.3): only the window is from test modes. Every minimum of
     the measure is a root or bounded well away from zero (the matching matrix has no
     ill-conditioned non-roots: ``|sin|`` of the phase times a matrix of full rank, or
     ``sinh`` where the exponents are real), so a minimum is a root at ``SINGULAR_TOL``: the
@@ -379,31 +380,46 @@ def ring_interval_transfer(b1: float, b2: float, loops: int) -> tuple[float, flo
     window (which the window's derivation excludes): never an infinite end.
     """
     lo_w, hi_w = ring_root_window(b1, b2)
-    grid = ring_scan_grid(b1, b2, loops, lo_w, hi_w)
-    found = matrix_roots(lambda M: ring_matching_matrix(M, loops, b1, b2), lo_w, hi_w,
-                         grid=grid, touch_tol=SINGULAR_TOL, absolute=True,
-                         method_name="half-ring shooting matched at the antipode, "
-                                     "phase-resolved sigma_min scan + golden section")
-    admissible = []
-    for root in found.roots:
+
+    def closes(root: Root) -> bool:
         # The root's periodic deformations: the right singular vectors of H C for its
         # multiplicity's smallest singular values.
         _, _, vt = np.linalg.svd(ring_matching_matrix(root.x, loops, b1, b2))
         null = RING_DEFORMATION_BASIS @ vt[vt.shape[0] - max(root.multiplicity, 1):].T
         c = _mean_beta_row(root.x, loops, b1, b2)
-        cn = c @ null
         # Closure removes one null direction unless every periodic solution already closes.
-        lost = 1 if np.linalg.norm(cn) > 1e-8 * (np.linalg.norm(c) + 1.0) else 0
-        if null.shape[1] - lost > 0:
-            admissible.append(root.x)
-    neg = [m for m in admissible if m < 0]
-    pos = [m for m in admissible if m > 0]
-    if not neg or not pos:
-        raise NotConverged(
-            f"ring transfer (b1 = {b1:g}, b2 = {b2:g}, N = {loops}): no admissible root "
-            f"{'below' if not neg else 'above'} M = 0 in [{lo_w:g}, {hi_w:g}], where the test "
-            "modes of ring_root_window prove one")
-    return max(neg), min(pos), admissible
+        lost = 1 if np.linalg.norm(c @ null) > 1e-8 * (np.linalg.norm(c) + 1.0) else 0
+        return null.shape[1] - lost > 0
+
+    admissible: list[float] = []
+    ends = []
+    for side, limit in ((-1.0, lo_w), (1.0, hi_w)):
+        # Outwards from M = 0 in windows that double (overlapping by a tenth): the first
+        # window with an admissible root holds the nearest one, and the roots beyond it are
+        # not refined.
+        reach, width, nearest = 0.0, abs(limit) / 16, None
+        while nearest is None and reach < abs(limit):
+            a, b = sorted((side * max(reach - 0.1 * width, 0.0),
+                           side * min(reach + width, abs(limit))))
+            found = matrix_roots(
+                lambda M: ring_matching_matrix(M, loops, b1, b2), a, b,
+                grid=ring_scan_grid(b1, b2, loops, a, b), touch_tol=SINGULAR_TOL,
+                absolute=True, method_name="half-ring shooting matched at the antipode, "
+                                           "phase-resolved sigma_min scan + golden section")
+            for root in found.roots:
+                if root.x * side > 0 and root.x not in admissible and closes(root):
+                    admissible.append(root.x)
+                    if nearest is None or abs(root.x) < abs(nearest):
+                        nearest = root.x
+            reach += width
+            width *= 2.0
+        if nearest is None:
+            raise NotConverged(
+                f"ring transfer (b1 = {b1:g}, b2 = {b2:g}, N = {loops}): no admissible root "
+                f"{'below' if side < 0 else 'above'} M = 0 up to {limit:g}, where the test "
+                "modes of ring_root_window prove one")
+        ends.append(nearest)
+    return ends[0], ends[1], sorted(admissible)
 
 
 # --------------------------------------------------------------------------------------------
