@@ -139,3 +139,16 @@ def test_matrix_roots_grid_is_validated_and_used():
     assert matrix_roots(A, 0.0, 1.0, grid=grid).values == pytest.approx([0.3001], abs=1e-12)
     with pytest.raises(RodstabInputError, match="grid"):
         matrix_roots(A, 0.0, 1.0, grid=grid[::-1])
+
+
+def test_atlas_interval_carries_the_bloch_methods_non_convergence(monkeypatch):
+    """StateInterval.converged (JSON 'converged', CLI exit 3) is the Bloch result's, with why."""
+    from rodstab import atlas
+    from rodstab.states import uniform_ring
+
+    ring = uniform_ring(5, weld="cusp", natural_curvature=1.0, B1=90.0, B2=1.4)
+    state = next(s for s in ring.states(max_turns=1.0).states
+                 if abs(s.theta - THETA) < 1e-9)
+    monkeypatch.setattr(transfer, "arc_root_window", lambda Lb, b1, b2: (Lb - 3.0, Lb + 3.0))
+    r = atlas.transfer_interval(ring, state)
+    assert not r.converged and "no singular load below" in r.reason
