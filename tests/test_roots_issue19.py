@@ -59,6 +59,9 @@ def test_ring_window_holds_the_closed_form_ends():
     (50.0, 1.3, 6.0, "L_kappa_n_lower", None),
     # Issue reproducer: old scan returned the symmetric 17.940467 of a close pair.
     (0.19, 0.24, 16.6, "L_kappa_n_upper", "antisymmetric"),
+    # Found by benchmarks/diff_transfer_roots.py (seed 7): a false root at -8.48 where the
+    # exponents are real (FE: -276.30).
+    (46.8994, 0.0611344, 6.01744, "L_kappa_n_lower", None),
 ])
 def test_arc_transfer_finds_the_characteristic_equation_ends(b1, b2, L_over_R, side, mode):
     """Shooting matrix per family = roots of (3.7)/(3.8), relative 1e-8, both ends."""

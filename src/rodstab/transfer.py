@@ -120,7 +120,8 @@ def clamped_half_arc_matrix(L_kappa: float, L_over_R: float, b1: float, b2: floa
     """3x3 shooting matrix of one family from the midpoint to a clamped end; singular at its loads.
 
     The rows ``(u, u', w)`` of ``expm(S/2)`` (half the arc, :func:`arc_system_matrix`) times the
-    family's free midpoint values (:data:`ARC_FAMILY_FREE`). The two families' loads are the
+    family's free midpoint values (:data:`ARC_FAMILY_FREE`), as an orthonormal basis of their
+    span (see the code). The two families' loads are the
     loads of :func:`clamped_arc_matrix`, each family searched alone: a symmetric and an
     antisymmetric load closer than a scan spacing (4.5e-4 apart at ``b1 = 0.19``,
     ``b2 = 0.24``, ``L/R = 16.6``) are two roots of two functions, not a close pair of one;
@@ -128,8 +129,21 @@ def clamped_half_arc_matrix(L_kappa: float, L_over_R: float, b1: float, b2: floa
     """
     if family not in ARC_FAMILY_FREE:
         raise RodstabInputError(f"family must be 'symmetric' or 'antisymmetric', got {family!r}")
-    T = expm(0.5 * arc_system_matrix(L_kappa, L_over_R, b1, b2))
-    return T[np.ix_(_ESSENTIAL, ARC_FAMILY_FREE[family])]
+    S = arc_system_matrix(L_kappa, L_over_R, b1, b2)
+    # Where exponents are real every column of expm(S/2) is dominated by the growing solution:
+    # the columns are nearly parallel, sigma_min/sigma_max ~ e^-(growth) and the row-scaled
+    # determinant is round-off (b1 = 46.9, b2 = 0.061, L/R = 6.0: a false root at -8.48, the
+    # true one at -276.3). So the family's solutions are propagated in steps that grow by at
+    # most e^2 and re-orthonormalised after each (QR with a positive diagonal: continuous in
+    # the load); the span, and so the singular loads, are those of expm(S/2) on the family.
+    growth = 0.5 * float(np.max(np.abs(np.linalg.eigvals(S).real)))
+    steps = max(1, math.ceil(growth / 2.0))
+    step = expm(S * (0.5 / steps))
+    Y = np.eye(6)[:, ARC_FAMILY_FREE[family]]
+    for _ in range(steps):
+        Y, R = np.linalg.qr(step @ Y)
+        Y = Y * np.sign(np.diag(R))
+    return cast(np.ndarray, Y[_ESSENTIAL])
 
 
 def arc_root_window(L_over_R: float, b1: float, b2: float) -> tuple[float, float]:
