@@ -193,14 +193,16 @@ def arc_phase(L_kappa: np.ndarray, L_over_R: float, b1: float, b2: float) -> np.
 
 
 def phase_grid(phase: Callable[[np.ndarray], np.ndarray], lo: float, hi: float,
-               per_turn: int, base: int = 64, max_points: int = 200_000) -> np.ndarray:
+               per_turn: int, base: int = 64, max_points: int = 200_000,
+               extra: tuple[float, ...] = ()) -> np.ndarray:
     """Scan points on ``[lo, hi]`` with at most ``1/per_turn`` of ``phase`` per interval.
 
-    ``base`` uniform intervals, each bisected while the phase changes by more than
-    ``1/per_turn`` across it (down to 1e-12 of the window). Raises
-    :class:`~rodstab.errors.NotConverged` beyond ``max_points``.
+    ``base`` uniform intervals plus the ``extra`` points inside, each interval bisected while
+    the phase changes by more than ``1/per_turn`` across it (down to 1e-12 of the window).
+    Raises :class:`~rodstab.errors.NotConverged` beyond ``max_points``.
     """
     xs = np.linspace(lo, hi, base + 1)
+    xs = np.unique(np.concatenate([xs, [x for x in extra if lo < x < hi]]))
     ph = phase(xs)
     while True:
         wide = (np.abs(np.diff(ph)) * per_turn > 1.0) & (np.diff(xs) > 1e-12 * (hi - lo))
@@ -350,25 +352,16 @@ def ring_scan_grid(b1: float, b2: float, loops: int, lo: float, hi: float,
     ``b1``, ``b2`` (the ``kappa = 0`` roots, with at least three scan intervals between them
     when they differ), every interval with more phase is bisected.
     """
-    xs = np.linspace(lo, hi, 65)
     extra = [b1, b2]
     gap = abs(b1 - b2)
     if gap > 0:
         extra += [b + d * gap / 8 for b in (b1, b2) for d in (-3, -2, -1, 1, 2, 3)]
-    xs = np.unique(np.concatenate([xs, [x for x in extra if lo < x < hi]]))
-    ph = _ring_phase(xs, loops, b1, b2)
-    while True:
-        wide = np.abs(np.diff(ph)) * RING_SCAN_PER_TURN > 1.0
-        wide &= np.diff(xs) > 1e-12 * (hi - lo)
-        if not wide.any():
-            return xs
-        if xs.size + wide.sum() > max_points:
-            raise NotConverged(f"ring transfer: more than {max_points} scan points needed to "
-                               f"resolve the phase (N = {loops}, b1 = {b1:g}, b2 = {b2:g})")
-        mid = 0.5 * (xs[:-1] + xs[1:])[wide]
-        order = np.argsort(np.concatenate([xs, mid]))
-        xs = np.concatenate([xs, mid])[order]
-        ph = np.concatenate([ph, _ring_phase(mid, loops, b1, b2)])[order]
+    try:
+        return phase_grid(lambda M: _ring_phase(M, loops, b1, b2), lo, hi, RING_SCAN_PER_TURN,
+                          base=64, max_points=max_points, extra=tuple(extra))
+    except NotConverged as exc:
+        raise NotConverged(f"ring transfer (N = {loops}, b1 = {b1:g}, b2 = {b2:g}): "
+                           f"{exc}") from None
 
 
 def ring_interval_transfer(b1: float, b2: float, loops: int) -> tuple[float, float, list[float]]:
