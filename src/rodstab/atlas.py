@@ -120,6 +120,8 @@ class StateInterval(Result):
     residual: float
     converged: bool
     method: str
+    #: Why the interval is not converged (empty when it is).
+    reason: str = ""
 
     @property
     def interval(self) -> tuple[float, float]:
@@ -172,7 +174,7 @@ def transfer_interval(ring: Ring, state: HeldState) -> StateInterval:
         lower=_limit(r.lo, r.multiplicity_lo, r.harmonic_lo, n),
         upper=_limit(r.hi, r.multiplicity_hi, r.harmonic_hi, n),
         stable_at_stress_free=sum(r.rigid_nullity) == RING_RIGID_MOTIONS,
-        residual=r.residual, converged=True, method=r.method)
+        residual=r.residual, converged=r.converged, method=r.method, reason=r.reason)
 
 
 def fe_interval(ring: Ring, state: HeldState, limits: Limits = DEFAULT_LIMITS) -> StateInterval:
@@ -200,7 +202,9 @@ def fe_interval(ring: Ring, state: HeldState, limits: Limits = DEFAULT_LIMITS) -
         and fine.n_rigid_modes == RING_RIGID_MOTIONS,
         residual=max(coarse.residual, fine.residual),
         converged=coarse.converged and fine.converged,
-        method=f"FE engine, {FE_MESHES[0]}/{FE_MESHES[1]} el./rod, Richardson order {FE_ORDER}")
+        method=f"FE engine, {FE_MESHES[0]}/{FE_MESHES[1]} el./rod, Richardson order {FE_ORDER}",
+        reason="" if coarse.converged and fine.converged else
+        f"FE eigen solve residual {max(coarse.residual, fine.residual):.3g} above tolerance")
 
 
 def state_interval(ring: Ring, state: HeldState, method: str = "transfer",

@@ -2042,9 +2042,9 @@ def atlas_cmd(design_file: str, vary: str, out_dir: str, method: str,
            if not r.converged]
     if bad:
         where = ", ".join(f"{r.label} at {at.key} = {p:g}" for p, r in bad[:5])
-        raise NotConverged(f"the FE eigen solve of {where}: residual "
-                           f"{max(r.residual for _, r in bad):.3g} is above the method's "
-                           "tolerance (those intervals are not to be trusted)")
+        raise NotConverged(f"the stable intervals of {where} are not converged: "
+                           f"{bad[0][1].reason or 'residual above tolerance'} (those intervals "
+                           "are not to be trusted)")
 
 
 #: Click >= 8.2 raises this usage error for ``rodstab`` without arguments; its message is the

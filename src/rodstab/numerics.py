@@ -384,6 +384,9 @@ def matrix_roots(
     singular_tol: float = SINGULAR_TOL,
     known_nullity: int = 0,
     method_name: str = "scan sigma_min + brent",
+    grid: np.ndarray | None = None,
+    touch_tol: float = TOUCH_SINGULAR_TOL,
+    absolute: bool = False,
 ) -> RootSearch:
     """Find every ``x`` in ``[lo, hi]`` at which the square matrix ``matrix(x)`` is singular.
 
@@ -396,19 +399,44 @@ def matrix_roots(
     ``g <= singular_tol``. The multiplicity is the number of singular values
     ``<= sqrt(singular_tol)``
     times ``sigma_max`` at the root (the dimension of the null space).
+
+    ``grid`` (optional): the increasing scan points, from ``lo`` to ``hi``, in place of the
+    ``n_scan`` uniform intervals -- for a caller that knows where roots crowd (a phase that
+    turns fast in one part of the interval), so the guarantee of the module docstring holds
+    with the local spacing. ``touch_tol``: the ratio a minimum without a determinant sign
+    change must reach (default :data:`TOUCH_SINGULAR_TOL`); a caller whose matrix has no
+    ill-conditioned non-roots but a round-off floor above it at its roots may raise it up to
+    ``singular_tol``. A rectangular ``matrix(x)`` (rank loss, no determinant) is searched by
+    its minima alone. ``absolute=True`` scans ``sigma_min`` over the scan's median
+    ``sigma_max`` alone, for a matrix that vanishes as a whole at its roots (every singular
+    value together, a mode of multiplicity equal to its column count): there the ratio to the
+    local ``sigma_max`` stays finite and shows no dip.
     """
     if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
         raise RodstabInputError(f"matrix_roots needs finite lo < hi, got lo={lo!r}, hi={hi!r}")
     r = known_nullity
 
-    xs = np.linspace(lo, hi, n_scan + 1)
-    svals = [np.linalg.svd(matrix(float(x)), compute_uv=False) for x in xs]
+    if grid is None:
+        xs = np.linspace(lo, hi, n_scan + 1)
+    else:
+        xs = np.asarray(grid, dtype=float)
+        if xs.ndim != 1 or xs.size < 3 or not np.all(np.diff(xs) > 0) \
+                or xs[0] != lo or xs[-1] != hi:
+            raise RodstabInputError("matrix_roots: grid must be increasing, at least 3 points, "
+                                    f"from lo={lo!r} to hi={hi!r}")
+        n_scan = xs.size - 1
+    mats = [matrix(float(x)) for x in xs]
+    square = mats[0].shape[0] == mats[0].shape[1]
+    svals = [np.linalg.svd(A, compute_uv=False) for A in mats]
+    del mats
     # Reference size: the median largest singular value over the scan. Dividing by
     # max(sigma_max, s_ref) instead of sigma_max alone keeps the measure relative where A is
     # large, yet still sees a root at which every singular value vanishes together (A = (x-1) I).
     s_ref = float(np.median([sv[0] for sv in svals])) or 1.0
 
     def _ratio(s: np.ndarray) -> float:
+        if absolute:
+            return float(s[-1 - r] / s_ref)
         if r == 0:
             return float(s[-1] / max(s[0], s_ref))
         return float(s[-1 - r] / (1.0 + s[0]))
@@ -450,7 +478,8 @@ def matrix_roots(
             mult = int(np.sum(s <= math.sqrt(singular_tol) * max(s[0], s_ref)))
             roots.append(Root(x, max(mult, 1), gx, (float(xa), float(xb)), "sign-change"))
 
-    ds = np.array([det(float(x)) for x in xs]) if r == 0 else np.ones(n_scan + 1)
+    signs = r == 0 and square  # a determinant sign to scan and to polish on
+    ds = np.array([det(float(x)) for x in xs]) if signs else np.ones(n_scan + 1)
     for i in range(n_scan):
         if np.sign(ds[i]) * np.sign(ds[i + 1]) < 0:
             add_sign_change(xs[i], xs[i + 1])
@@ -472,7 +501,7 @@ def matrix_roots(
         # No sign change of det next to this minimum of g: either a root of even multiplicity,
         # or two simple roots closer than one scan spacing. A finer local grid tells them apart.
         sub = np.linspace(a, b, 4 * SUBSCAN + 1)
-        dsub = [det(float(t)) for t in sub] if r == 0 else [1.0] * len(sub)
+        dsub = [det(float(t)) for t in sub] if signs else [1.0] * len(sub)
         n_before = len(roots)
         for k in range(4 * SUBSCAN):
             if np.sign(dsub[k]) * np.sign(dsub[k + 1]) < 0:
@@ -483,7 +512,7 @@ def matrix_roots(
         # No sign change to polish on: demand the stricter TOUCH_SINGULAR_TOL, since a merely
         # ill-conditioned matrix (sigma ratio ~1e-9, e.g. a long hyperbolic shooting interval)
         # must not pass for singular; golden search on a genuine zero reaches ~1e-13 or below.
-        if gx > min(singular_tol, TOUCH_SINGULAR_TOL) or is_pole(x, a, b):
+        if gx > min(singular_tol, touch_tol) or is_pole(x, a, b):
             continue
         _, s = _measure(matrix(x))
         ref = max(s[0], s_ref) + (1.0 if r else 0.0)

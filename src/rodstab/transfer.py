@@ -32,9 +32,9 @@ from typing import cast
 
 import numpy as np
 
-from .errors import RodstabInputError
+from .errors import NotConverged, RodstabInputError
 from .model import FULL_SYSTEM, SUPPORT_KINDS
-from .numerics import matrix_roots
+from .numerics import SINGULAR_TOL, Root, matrix_roots
 from .results import Result
 
 
@@ -108,6 +108,115 @@ def clamped_arc_mode(
     return x, ys[:, 0] / scale, ys[:, 4] / scale
 
 
+#: Initial states at the arc's midpoint ``x = 1/2`` of each family: the EL equations are
+#: invariant under ``x -> 1 - x`` with ``(u, w)`` unchanged, so a mode has ``u`` and ``w`` both
+#: even (symmetric: ``u'``, ``u'''``, ``w'`` vanish at the midpoint, ``u``, ``u''``, ``w``
+#: free) or both odd (antisymmetric: ``u``, ``u''``, ``w`` vanish, the others free).
+ARC_FAMILY_FREE = {"symmetric": [0, 2, 4], "antisymmetric": [1, 3, 5]}
+
+
+def clamped_half_arc_matrix(L_kappa: float, L_over_R: float, b1: float, b2: float,
+                            family: str) -> np.ndarray:
+    """3x3 shooting matrix of one family from the midpoint to a clamped end; singular at its loads.
+
+    The rows ``(u, u', w)`` of ``expm(S/2)`` (half the arc, :func:`arc_system_matrix`) times the
+    family's free midpoint values (:data:`ARC_FAMILY_FREE`), as an orthonormal basis of their
+    span (see the code). The two families' loads are the
+    loads of :func:`clamped_arc_matrix`, each family searched alone: a symmetric and an
+    antisymmetric load closer than a scan spacing (4.5e-4 apart at ``b1 = 0.19``,
+    ``b2 = 0.24``, ``L/R = 16.6``) are two roots of two functions, not a close pair of one;
+    and half the length halves the exponential growth where the exponents are real.
+    """
+    if family not in ARC_FAMILY_FREE:
+        raise RodstabInputError(f"family must be 'symmetric' or 'antisymmetric', got {family!r}")
+    S = arc_system_matrix(L_kappa, L_over_R, b1, b2)
+    # Where exponents are real every column of expm(S/2) is dominated by the growing solution:
+    # the columns are nearly parallel, sigma_min/sigma_max ~ e^-(growth) and the row-scaled
+    # determinant is round-off (b1 = 46.9, b2 = 0.061, L/R = 6.0: a false root at -8.48, the
+    # true one at -276.3). So the family's solutions are propagated in steps that grow by at
+    # most e^2 and re-orthonormalised after each (QR with a positive diagonal: continuous in
+    # the load); the span, and so the singular loads, are those of expm(S/2) on the family.
+    growth = 0.5 * float(np.max(np.abs(np.linalg.eigvals(S).real)))
+    steps = max(1, math.ceil(growth / 2.0))
+    step = expm(S * (0.5 / steps))
+    Y = np.eye(6)[:, ARC_FAMILY_FREE[family]]
+    for _ in range(steps):
+        Y, R = np.linalg.qr(step @ Y)
+        Y = Y * np.sign(np.diag(R))
+    return cast(np.ndarray, Y[_ESSENTIAL])
+
+
+def arc_root_window(L_over_R: float, b1: float, b2: float) -> tuple[float, float]:
+    """Return loads ``L kappa_n`` beyond which the clamped arc is proven unstable (test fields).
+
+    The module docstring's ``I[u, w] = Q0 - m Q1`` (``m = Lbar - L kappa_n``) is negative --
+    the arc unstable -- at every load beyond ``Lbar - Q0/Q1`` for any admissible field with
+    ``Q1 != 0``, so both ends of the stable interval lie between the best such bounds:
+
+    * the twist ``u = 0``, ``w = sin(pi x)``: ``Q0 = (b2 pi^2 + b1 Lbar^2)/2``,
+      ``Q1 = Lbar/2`` (the root near ``Lbar (1 - b1)`` of a stiff ``b1``: -295.9 at
+      ``b1 = 50``, ``b2 = 1.3``, ``Lbar = 6``, outside any window of a few ``2 pi sqrt(b1 b2)``);
+    * ``u = 1 - cos(2 pi n x)``, ``w = g u`` (the straight rod's mode (3.10) for ``n = 1``,
+      ``g = 2 pi sqrt(b1/b2)``, exact there), ``n = 1 .. 8``, ``g`` over both signs.
+
+    Returned with a margin of 5 % of the window plus 1: every end lies strictly inside.
+    """
+    Lb = float(L_over_R)
+    bounds: list[float] = []
+    if Lb > 0:
+        bounds.append(Lb - (b2 * math.pi ** 2 + b1 * Lb * Lb) / Lb)
+    n = np.arange(1, 9)[:, None]
+    mags = np.geomspace(1e-3, 1e3, 241) * math.sqrt(b1 / b2)
+    g = np.concatenate([-mags, mags])[None, :]
+    k2 = (2 * math.pi * n) ** 2
+    uu, upup, uppupp, uppu = 1.5, 0.5 * k2, 0.5 * k2 * k2, -0.5 * k2  # integrals over [0, 1]
+    a = Lb * g
+    q0 = b1 * (uppupp - 2 * a * uppu + a * a * uu) + b2 * (g + Lb) ** 2 * upup
+    q1 = Lb * upup + Lb * g * g * uu + 2 * g * upup
+    with np.errstate(divide="ignore", invalid="ignore"):
+        p = np.where(q1 != 0, Lb - q0 / q1, np.nan)
+    bounds += p[np.isfinite(p)].tolist()
+    hi = min([b for b in bounds if b > Lb], default=math.inf)
+    lo = max([b for b in bounds if b < Lb], default=-math.inf)
+    margin = 0.05 * (hi - lo) + 1.0
+    return lo - margin, hi + margin
+
+
+def arc_phase(L_kappa: np.ndarray, L_over_R: float, b1: float, b2: float) -> np.ndarray:
+    """Half-turns of the arc's oscillating solutions: ``sum |Im(eig S)| / (2 pi)``.
+
+    The loads of one family are at least about one half-turn apart, so a scan with a fixed
+    number of points per unit of this phase resolves them wherever they crowd.
+    """
+    Ss = np.array([arc_system_matrix(float(p), L_over_R, b1, b2) for p in L_kappa])
+    return cast(np.ndarray, np.abs(np.linalg.eigvals(Ss).imag).sum(axis=1) / (2 * np.pi))
+
+
+def phase_grid(phase: Callable[[np.ndarray], np.ndarray], lo: float, hi: float,
+               per_turn: int, base: int = 64, max_points: int = 200_000,
+               extra: tuple[float, ...] = ()) -> np.ndarray:
+    """Scan points on ``[lo, hi]`` with at most ``1/per_turn`` of ``phase`` per interval.
+
+    ``base`` uniform intervals plus the ``extra`` points inside, each interval bisected while
+    the phase changes by more than ``1/per_turn`` across it (down to 1e-12 of the window).
+    Raises :class:`~rodstab.errors.NotConverged` beyond ``max_points``.
+    """
+    xs = np.linspace(lo, hi, base + 1)
+    xs = np.unique(np.concatenate([xs, [x for x in extra if lo < x < hi]]))
+    ph = phase(xs)
+    while True:
+        wide = (np.abs(np.diff(ph)) * per_turn > 1.0) & (np.diff(xs) > 1e-12 * (hi - lo))
+        if not wide.any():
+            return xs
+        if xs.size + wide.sum() > max_points:
+            raise NotConverged(f"more than {max_points} scan points needed to resolve the "
+                               "phase")
+        mid = 0.5 * (xs[:-1] + xs[1:])[wide]
+        order = np.argsort(np.concatenate([xs, mid]))
+        xs = np.concatenate([xs, mid])[order]
+        ph = np.concatenate([ph, phase(mid)])[order]
+
+
 def ring_system_matrix(M: float, b1: float, b2: float) -> np.ndarray:
     """4x4 matrix of ``y' = S y``, ``y = (omega, omega', beta, beta')``, for the ring (3.1).
 
@@ -161,37 +270,163 @@ def _mean_beta_row(M: float, loops: int, b1: float, b2: float) -> np.ndarray:
     return integral[2]
 
 
-def ring_interval_transfer(b1: float, b2: float, loops: int, *, span: float = 3.0,
-                           n_scan: int = 600) -> tuple[float, float, list[float]]:
+#: The rigid rotations about in-plane axes in the state ``y = (omega, omega', beta, beta')`` at
+#: ``theta = 0``: ``omega = cos(theta + phi)``, ``beta = sin(theta + phi)`` solve (3.1) for every
+#: ``M`` (the ``k = 1`` pencil of (3.2) is ``(b1 + b2 - M) [[1, -1], [-1, 1]]``), an invariant
+#: subspace of ``S`` with exponents ``+-i``. Orthonormal columns.
+RING_RIGID_BASIS = np.array([[1.0, 0.0], [0.0, 1.0], [0.0, -1.0], [1.0, 0.0]]) / math.sqrt(2.0)
+#: Its orthogonal complement: the initial states that are not a rigid rotation.
+RING_DEFORMATION_BASIS = np.array([[1.0, 0.0], [0.0, 1.0], [0.0, 1.0], [-1.0, 0.0]]) \
+    / math.sqrt(2.0)
+
+
+def ring_matching_matrix(M: float, loops: int, b1: float, b2: float) -> np.ndarray:
+    """``2 sinh(P S / 2) C`` (4x2), ``P = 2 pi N``, scaled: rank-deficient where ``T - I`` is.
+
+    Shoot (3.1) from ``theta = 0`` forwards and backwards by half the ring and match at the
+    antipode: ``y(P/2) = expm(P S/2) y0`` and ``y(-P/2) = expm(-P S/2) y0`` are the same state
+    of a periodic solution, so periodic solutions are the null vectors of
+    ``H = expm(P S/2) - expm(-P S/2) = expm(-P S/2) (T - I)``, ``T`` the monodromy
+    (:func:`ring_periodicity_measure`). Unlike ``T - I``, ``H`` has no exponential trend
+    hiding roots: where ``S`` has real exponents ``+-a`` (``(b1 - M)(b2 - M) < 0``) both
+    grow as ``sinh(a P/2)`` (``T - I`` is dominated by ``e^{aP}`` in ONE direction, and its
+    relative smallest singular values fall below any root threshold). ``H`` is divided by
+    ``e^{alpha P/2} ||S||_2`` (``alpha`` the largest ``|Re|`` of an eigenvalue of ``S``; both
+    exponentials are taken of the shifted ``+-P S/2 - alpha P/2``, so nothing overflows): of
+    order one, or of order ``P`` at most, for every ``M``.
+
+    The rigid rotations (:data:`RING_RIGID_BASIS`, exponents ``+-i``, ``sinh(i pi N) = 0``)
+    are null vectors at every ``M``; they are removed exactly by restricting ``H`` to their
+    complement ``C`` (:data:`RING_DEFORMATION_BASIS`; ``y0 = R a + C b`` is periodic iff
+    ``H C b = 0``), not by counting small singular values, whose round-off floor near
+    ``M = 0`` (exponents ``+-i`` twice: nearly parallel eigenvectors) reaches 1e-12.
+    """
+    S = ring_system_matrix(M, b1, b2)
+    half = np.pi * loops
+    shift = half * float(np.max(np.abs(np.linalg.eigvals(S).real)))
+    eye = np.eye(4)
+    H = expm(half * S - shift * eye) - expm(-half * S - shift * eye)
+    return cast(np.ndarray, H @ RING_DEFORMATION_BASIS / np.linalg.norm(S, 2))
+
+
+def ring_root_window(b1: float, b2: float) -> tuple[float, float]:
+    """Return loads ``M`` that bracket both ends of the ring's stable interval (two test modes).
+
+    The stress-free state ``M = 0`` is stable (P2 positive definite beyond the rigid motions).
+    Upper end: the uniform twist (mode ``j = 0`` of (3.2)) makes P2 proportional to
+    ``b1 - M``, negative beyond ``M = b1``, so ``M_hi <= b1``. Lower end: the mode
+    ``k = (N + 1)/N <= 2`` of (3.2) has the pencil ``A_k - M C_k`` with ``C_k`` indefinite
+    (``det C_k = 1 - k^2 < 0``), singular first at ``M^-(k) = (b1 + b2)/2 - sqrt((b1 - b2)^2/4
+    + b1 b2 k^2) >= min(b1, b2) - k sqrt(b1 b2) > -2 sqrt(b1 b2)``, and indefinite below it, so
+    ``M_lo > -2 sqrt(b1 b2)``. Returned with a margin of 5 %: every root that can end the
+    interval lies inside, none at an end of the scan.
+    """
+    return -2.1 * math.sqrt(b1 * b2), 1.05 * b1
+
+
+#: Scan points per unit of the ring's phase ``N Re(kappa)`` (adjacent roots of (3.1) differ
+#: by 1 in it): every root is then at least this many scan intervals from the next.
+RING_SCAN_PER_TURN = 8
+
+
+def _ring_phase(M: np.ndarray, loops: int, b1: float, b2: float) -> np.ndarray:
+    """``N Re(kappa)``: ``+-i kappa`` the exponents of (3.1) besides the rigid ``+-i``.
+
+    From the eigenvalues of ``S`` (``sum |Im| = 2 + 2 Re(kappa)``), vectorised over ``M``.
+    Roots are where it is a whole number (not every whole number is a root: the rigid
+    rotations, ``kappa = 1``, give one at ``M = b1 + b2`` only).
+    """
+    Ss = np.array([ring_system_matrix(float(m), b1, b2) for m in M])
+    im = np.abs(np.linalg.eigvals(Ss).imag).sum(axis=1)
+    return cast(np.ndarray, loops * np.maximum(0.5 * im - 1.0, 0.0))
+
+
+def ring_scan_grid(b1: float, b2: float, loops: int, lo: float, hi: float,
+                   max_points: int = 200_000) -> np.ndarray:
+    """Scan points on ``[lo, hi]`` with at most ``1/RING_SCAN_PER_TURN`` of phase per interval.
+
+    Adjacent roots differ by one in the phase :func:`_ring_phase`, which turns fast near
+    ``M = b1, b2`` (``kappa ~ sqrt|M - b|``) and for large ``|M|``: a uniform grid of any
+    fixed size steps over roots there (``N = 9``, ``b1 = 0.05``: ``M = b1`` and the next root
+    are 6e-4 apart on a window of width 3). Starting from 64 uniform intervals plus the points
+    ``b1``, ``b2`` (the ``kappa = 0`` roots, with at least three scan intervals between them
+    when they differ), every interval with more phase is bisected.
+    """
+    extra = [b1, b2]
+    gap = abs(b1 - b2)
+    if gap > 0:
+        extra += [b + d * gap / 8 for b in (b1, b2) for d in (-3, -2, -1, 1, 2, 3)]
+    try:
+        return phase_grid(lambda M: _ring_phase(M, loops, b1, b2), lo, hi, RING_SCAN_PER_TURN,
+                          base=64, max_points=max_points, extra=tuple(extra))
+    except NotConverged as exc:
+        raise NotConverged(f"ring transfer (N = {loops}, b1 = {b1:g}, b2 = {b2:g}): "
+                           f"{exc}") from None
+
+
+def ring_interval_transfer(b1: float, b2: float, loops: int) -> tuple[float, float, list[float]]:
     """Stable interval of ``M`` for the N-loop ring by the monodromy method (second method).
 
-    Scans ``M`` in ``[-span, span] * max(1, b1, b2)`` for periodic solutions of (3.1) beyond
-    the two rigid rotations (:func:`rodstab.numerics.matrix_roots` with ``known_nullity=2``),
-    drops those that violate closure ``int beta dtheta = 0`` (at ``M = b2``, ``beta = const``
-    -- the paper's "spurious" root), and returns ``(M_lo, M_hi, admissible_roots)`` with the
-    admissible roots nearest to ``M = 0`` on either side.
+    Finds the periodic solutions of (3.1) beyond the two rigid rotations as the singular
+    points of :func:`ring_matching_matrix` (:func:`rodstab.numerics.matrix_roots`),
+    outwards from ``M = 0`` in doubling windows up to the bounds :func:`ring_root_window`,
+    each scanned on :func:`ring_scan_grid`; drops those that violate closure
+    ``int beta dtheta = 0`` (at ``M = b2``, ``beta = const`` -- the paper's "spurious" root),
+    and returns ``(M_lo, M_hi, admissible_roots)`` with the admissible roots nearest to
+    ``M = 0`` on either side (``admissible_roots``: those of the windows searched). No
+    Fourier ansatz, no (3.3): only the window is from test modes. Every minimum of
+    the measure is a root or bounded well away from zero (the matching matrix has no
+    ill-conditioned non-roots: ``|sin|`` of the phase times a matrix of full rank, or
+    ``sinh`` where the exponents are real), so a minimum is a root at ``SINGULAR_TOL``: the
+    round-off floor of the half-ring exponentials near ``M = 0`` (1e-11) is above the
+    default touching threshold. At a root ``j >= 1`` every periodic deformation closes up
+    (``T = I``): the whole matching matrix vanishes, so its ``sigma_min`` is scanned against
+    the scan's typical size (``absolute``), not against its own ``sigma_max``.
+
+    Raises :class:`~rodstab.errors.NotConverged` if a side has no admissible root in the
+    window (which the window's derivation excludes): never an infinite end.
     """
-    w = span * max(1.0, b1, b2)
-    found = matrix_roots(
-        lambda M: expm(2.0 * np.pi * loops * ring_system_matrix(M, b1, b2)) - np.eye(4),
-        -w, w, n_scan=n_scan, known_nullity=RING_RIGID_NULLITY,
-        method_name="monodromy sigma_3 scan + golden section")
-    admissible = []
-    for root in found.roots:
-        T = expm(2.0 * np.pi * loops * ring_system_matrix(root.x, b1, b2)) - np.eye(4)
-        s = np.linalg.svd(T, compute_uv=False)
-        null = null_space(T, rcond=max(1e-7, 1e3 * s[-1 - RING_RIGID_NULLITY] / (1 + s[0])))
-        null = null if null.shape[1] > RING_RIGID_NULLITY else ring_periodic_null_vectors(
-            root.x, loops, b1, b2, RING_RIGID_NULLITY + max(root.multiplicity, 1)).T
+    lo_w, hi_w = ring_root_window(b1, b2)
+
+    def closes(root: Root) -> bool:
+        # The root's periodic deformations: the right singular vectors of H C for its
+        # multiplicity's smallest singular values.
+        _, _, vt = np.linalg.svd(ring_matching_matrix(root.x, loops, b1, b2))
+        null = RING_DEFORMATION_BASIS @ vt[vt.shape[0] - max(root.multiplicity, 1):].T
         c = _mean_beta_row(root.x, loops, b1, b2)
-        cn = c @ null
         # Closure removes one null direction unless every periodic solution already closes.
-        lost = 1 if np.linalg.norm(cn) > 1e-8 * (np.linalg.norm(c) + 1.0) else 0
-        if null.shape[1] - lost > RING_RIGID_NULLITY:
-            admissible.append(root.x)
-    neg = [m for m in admissible if m < 0]
-    pos = [m for m in admissible if m > 0]
-    return (max(neg) if neg else -np.inf), (min(pos) if pos else np.inf), admissible
+        lost = 1 if np.linalg.norm(c @ null) > 1e-8 * (np.linalg.norm(c) + 1.0) else 0
+        return null.shape[1] - lost > 0
+
+    admissible: list[float] = []
+    ends = []
+    for side, limit in ((-1.0, lo_w), (1.0, hi_w)):
+        # Outwards from M = 0 in windows that double (overlapping by a tenth): the first
+        # window with an admissible root holds the nearest one, and the roots beyond it are
+        # not refined.
+        reach, width, nearest = 0.0, abs(limit) / 16, None
+        while nearest is None and reach < abs(limit):
+            a, b = sorted((side * max(reach - 0.1 * width, 0.0),
+                           side * min(reach + width, abs(limit))))
+            found = matrix_roots(
+                lambda M: ring_matching_matrix(M, loops, b1, b2), a, b,
+                grid=ring_scan_grid(b1, b2, loops, a, b), touch_tol=SINGULAR_TOL,
+                absolute=True, method_name="half-ring shooting matched at the antipode, "
+                                           "phase-resolved sigma_min scan + golden section")
+            for root in found.roots:
+                if root.x * side > 0 and root.x not in admissible and closes(root):
+                    admissible.append(root.x)
+                    if nearest is None or abs(root.x) < abs(nearest):
+                        nearest = root.x
+            reach += width
+            width *= 2.0
+        if nearest is None:
+            raise NotConverged(
+                f"ring transfer (b1 = {b1:g}, b2 = {b2:g}, N = {loops}): no admissible root "
+                f"{'below' if side < 0 else 'above'} M = 0 up to {limit:g}, where the test "
+                "modes of ring_root_window prove one")
+        ends.append(nearest)
+    return ends[0], ends[1], sorted(admissible)
 
 
 # --------------------------------------------------------------------------------------------
@@ -503,9 +738,10 @@ class CyclicRingInterval(Result):
     """Stable interval of the load factor of a cyclic ring of arcs, one end from each side.
 
     ``lo``/``hi`` are the singular loads nearest below/above ``reference`` over the harmonics
-    ``0 .. n/2`` (``-inf``/``+inf`` if none within ``max_span``); ``harmonic_*`` the harmonic
-    ``m`` (the pair ``m, n - m``) and ``multiplicity_*`` the null-space dimension there;
-    ``rigid_nullity`` the rigid motions per harmonic.
+    ``0 .. n/2``; ``harmonic_*`` the harmonic ``m`` (the pair ``m, n - m``) and
+    ``multiplicity_*`` the null-space dimension there; ``rigid_nullity`` the rigid motions per
+    harmonic. ``converged`` is False, with the ``reason``, when a side has no singular load up
+    to the load where test fields prove one (that end is then ``-inf``/``+inf``, not a result).
     """
 
     lo: float
@@ -517,23 +753,40 @@ class CyclicRingInterval(Result):
     rigid_nullity: tuple[int, ...]
     residual: float
     method: str
+    converged: bool
+    reason: str
+
+
+#: Scan intervals of :func:`cyclic_ring_interval` per unit of :func:`arc_phase` (one arc).
+CYCLIC_PER_TURN = 8
 
 
 def cyclic_ring_interval(L_over_R: float, L_kappa_per_mu: float, b1: float, b2: float,
-                         segments: int, weld: str | float, reference: float, *, chunk: float = 1.0,
-                         max_span: float = 50.0, n_scan: int = 40) -> CyclicRingInterval:
+                         segments: int, weld: str | float, reference: float, *,
+                         chunk: float = 1.0) -> CyclicRingInterval:
     """Stable interval of ``mu`` (``L kappa_n = mu L_kappa_per_mu``) around a stable ``reference``.
 
     For every harmonic ``m = 0 .. n/2`` of :func:`cyclic_ring_matrix`, the rigid motions are
     counted at ``reference`` (singular values below :data:`RIGID_SV_RTOL`); then the package's
     root finder (:func:`rodstab.numerics.matrix_roots`, the rigid motions as known nullity)
-    scans outwards from ``reference`` in overlapping windows of ``chunk`` (``n_scan`` intervals
-    each) until
-    a singular load is found or ``max_span`` is passed. An eigenvalue of the pencil crosses
-    zero exactly at a singular load, so the first one on each side bounds the stable interval.
+    scans outwards from ``reference`` in windows that start at ``chunk`` and double
+    (overlapping by a tenth), each on a grid resolving the phase of one arc's solutions
+    (:func:`phase_grid`, :func:`arc_phase`), until a singular load is found. An eigenvalue of
+    the pencil crosses zero exactly at a singular load, so the first one on each side bounds
+    the stable interval.
+
+    Where to stop is derived, not a fixed span: a test field on ONE arc that vanishes with its
+    slope and twist at both ends is admissible for the whole ring (zero at every weld), so the
+    clamped arc's bounds :func:`arc_root_window` (``L/R`` of one arc) prove the ring unstable
+    beyond them. A side with no singular load up to there is returned as ``-inf``/``+inf``
+    with ``converged=False`` and the reason (5 cusp rods, ``b1 = 90``, ``b2 = 1.4``,
+    ``theta = 36`` deg: the lower end -56.8 lies beyond the former fixed span of 50).
     """
     n = int(segments)
     harmonics = range(n // 2 + 1)
+    if L_kappa_per_mu == 0 or not math.isfinite(L_kappa_per_mu):
+        raise RodstabInputError(f"L_kappa_per_mu must be finite and nonzero, got "
+                                f"{L_kappa_per_mu!r}")
 
     parts: dict[float, tuple[np.ndarray, np.ndarray]] = {}  # the harmonics share T(mu)
 
@@ -544,29 +797,42 @@ def cyclic_ring_interval(L_over_R: float, L_kappa_per_mu: float, b1: float, b2: 
             return _bloch(*parts[mu], h, n)
         return at
 
+    def phase(mus: np.ndarray) -> np.ndarray:
+        return arc_phase(mus * L_kappa_per_mu, L_over_R, b1, b2)
+
+    bound = sorted(p / L_kappa_per_mu for p in arc_root_window(L_over_R, b1, b2))
     nullity = []
     for h in harmonics:
         s = np.linalg.svd(matrix(h)(reference), compute_uv=False)
         nullity.append(int(np.sum(s <= RIGID_SV_RTOL * s[0])))
     found: dict[int, tuple[float, int, int, float]] = {}
-    for side in (-1, 1):
+    reasons = []
+    for side, limit in ((-1, bound[0]), (1, bound[1])):
         best: tuple[float, int, int, float] | None = None
-        start = 0.0
-        while best is None and start < max_span:
+        reach, width = 0.0, float(chunk)
+        distance = (limit - reference) * side
+        while best is None and reach < distance:
             # Windows overlap by a tenth of a window: a root within one scan spacing of a
             # window's end (where sigma_min has no interior minimum on the grid) is found by
             # the next window as an interior point.
-            a, b = sorted((reference + side * (start - 0.1 * chunk),
-                           reference + side * (start + 1.1 * chunk)))
+            a, b = sorted((reference + side * max(reach - 0.1 * width, 0.0),
+                           reference + side * min(reach + width, distance)))
+            grid = phase_grid(phase, a, b, CYCLIC_PER_TURN, base=32)
             for h in harmonics:
-                search = matrix_roots(matrix(h), a, b, n_scan=n_scan, known_nullity=nullity[h],
+                search = matrix_roots(matrix(h), a, b, grid=grid, known_nullity=nullity[h],
                                       method_name="Bloch harmonic")
                 roots = [r for r in search.roots if (r.x - reference) * side > 0]
                 if roots:
                     r = roots[0] if side > 0 else roots[-1]
                     if best is None or abs(r.x - reference) < abs(best[0] - reference):
                         best = (r.x, h, r.multiplicity, r.residual)
-            start += chunk
+            reach += width
+            width *= 2.0
+            parts.clear()
+        if best is None:
+            reasons.append(f"no singular load {'below' if side < 0 else 'above'} the "
+                           f"stress-free load {reference:.6g} up to {limit:.6g}, where a "
+                           "test field on one arc proves one")
         found[side] = best if best is not None else (side * math.inf, -1, 0, 0.0)
     lo, hi = found[-1], found[1]
     weld_label = weld if isinstance(weld, str) else f"{math.degrees(weld):.6g}deg"
@@ -574,4 +840,6 @@ def cyclic_ring_interval(L_over_R: float, L_kappa_per_mu: float, b1: float, b2: 
         lo=lo[0], hi=hi[0], harmonic_lo=lo[1], harmonic_hi=hi[1], multiplicity_lo=lo[2],
         multiplicity_hi=hi[2], rigid_nullity=tuple(nullity), residual=max(lo[3], hi[3]),
         method=f"exact second variation on one arc, {weld_label} joint map, Bloch phase per "
-               f"harmonic 0..{n // 2}, sigma_min scan")
+               f"harmonic 0..{n // 2}, sigma_min scan on a phase-resolved grid up to a "
+               "test-field bound",
+        converged=not reasons, reason="; ".join(reasons))

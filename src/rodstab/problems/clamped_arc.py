@@ -12,16 +12,24 @@ from __future__ import annotations
 import dataclasses
 import math
 
+import numpy as np
+
 from ..analytic.arc import ArcStability, MaxArcLength, clamped_arc_stability
 from ..analytic.arc import max_arc_length as _max_arc_length
-from ..errors import RodstabInputError, require_finite
+from ..errors import NotConverged, RodstabInputError, require_finite
 from ..limits import DEFAULT as DEFAULT_LIMITS
 from ..limits import Limits
 from ..linear.solve import LinearStability, converged_stability
 from ..model import Assembly
 from ..numerics import matrix_roots
 from ..sections import Section, circle
-from ..transfer import clamped_arc_matrix
+from ..transfer import (
+    ARC_FAMILY_FREE,
+    arc_phase,
+    arc_root_window,
+    clamped_half_arc_matrix,
+    phase_grid,
+)
 from ._common import Method, engine, nonlinear_converged, segment
 
 #: Elements the linear engine starts from (report row E3.2: FE error ~1e-8 at L/R = 2); refined
@@ -32,8 +40,8 @@ DEFAULT_ELEMENTS = 96
 #: Richardson estimate holds (``problems._common.nonlinear_converged``: second-order error ~1e-3
 #: at 32 elements, 52 % at b1 = 100, b2 = 30, L/R = 16).
 NONLINEAR_ELEMENTS = 32
-#: Grid intervals of the transfer-matrix scan, per unit of the scanned ``L kappa_n``.
-_TRANSFER_SCAN_DENSITY = 40
+#: Scan intervals of the transfer method per unit of :func:`rodstab.transfer.arc_phase`.
+_TRANSFER_PER_TURN = 8
 
 
 @dataclasses.dataclass(frozen=True, kw_only=True)
@@ -106,16 +114,55 @@ def _analytic(params: Params) -> dict[str, float]:
     return {"L_kappa_n_lower": lo, "L_kappa_n_upper": hi}
 
 
-def _transfer(params: Params) -> dict[str, float]:
+def transfer_interval(params: Params) -> tuple[float, float]:
+    """Stable interval of ``L kappa_n`` by the shooting matrices of the two families.
+
+    Each side of the stress-free load ``L/R`` is searched outwards in windows that double
+    (overlapping by a tenth), every window scanned on a grid resolving the phase of the
+    solutions (:func:`rodstab.transfer.phase_grid`, :func:`rodstab.transfer.arc_phase`) for
+    the symmetric and the antisymmetric family separately
+    (:func:`rodstab.transfer.clamped_half_arc_matrix`); the first window with a root holds
+    the nearest one. The search stops at the bound :func:`rodstab.transfer.arc_root_window`
+    proves from test fields; no root by then raises :class:`~rodstab.errors.NotConverged`
+    (never an infinite end reported as a result).
+    """
     s, Lb = params.section, float(params.L_over_R)
-    span = 4.0 * math.pi * max(s.sqrt_b1b2, 1.0) + Lb
-    n_scan = int(2 * span * _TRANSFER_SCAN_DENSITY)
-    roots = matrix_roots(lambda p: clamped_arc_matrix(p, Lb, s.b1, s.b2), Lb - span, Lb + span,
-                         n_scan=n_scan).values
-    below = [p for p in roots if p < Lb]
-    above = [p for p in roots if p > Lb]
-    return {"L_kappa_n_lower": max(below) if below else -math.inf,
-            "L_kappa_n_upper": min(above) if above else math.inf}
+    bound = arc_root_window(Lb, s.b1, s.b2)
+
+    def phase(p: np.ndarray) -> np.ndarray:
+        return arc_phase(p, Lb, s.b1, s.b2)
+
+    ends = []
+    for side, limit in ((-1.0, bound[0]), (1.0, bound[1])):
+        reach, width, nearest = 0.0, 1.0, None
+        while nearest is None and reach < abs(limit - Lb):
+            a, b = sorted((Lb + side * max(reach - 0.1 * width, 0.0),
+                           Lb + side * min(reach + width, abs(limit - Lb))))
+            grid = phase_grid(phase, a, b, _TRANSFER_PER_TURN, base=16)
+            for family in ARC_FAMILY_FREE:
+                def shooting(p: float, f: str = family) -> np.ndarray:
+                    return clamped_half_arc_matrix(p, Lb, s.b1, s.b2, f)
+
+                found = matrix_roots(shooting, a, b, grid=grid,
+                                     method_name=f"half-arc shooting, {family} family")
+                xs = [r.x for r in found.roots if (r.x - Lb) * side > 0]
+                if xs:
+                    x = min(xs, key=lambda v: abs(v - Lb))
+                    if nearest is None or abs(x - Lb) < abs(nearest - Lb):
+                        nearest = x
+            reach += width
+            width *= 2.0
+        if nearest is None:
+            raise NotConverged(f"clamped arc transfer (b1 = {s.b1:g}, b2 = {s.b2:g}, "
+                               f"L/R = {Lb:g}): no load {'below' if side < 0 else 'above'} "
+                               f"L/R up to {limit:g}, where test fields prove one")
+        ends.append(nearest)
+    return ends[0], ends[1]
+
+
+def _transfer(params: Params) -> dict[str, float]:
+    lo, hi = transfer_interval(params)
+    return {"L_kappa_n_lower": lo, "L_kappa_n_upper": hi}
 
 
 def _fe(params: Params) -> dict[str, float]:

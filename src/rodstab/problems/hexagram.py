@@ -23,7 +23,7 @@ import functools
 import math
 
 from .. import atlas as ring_atlas
-from ..errors import RodstabInputError, require_positive
+from ..errors import NotConverged, RodstabInputError, require_positive
 from ..limits import DEFAULT as DEFAULT_LIMITS
 from ..limits import Limits
 from ..linear.solve import LinearStability
@@ -142,6 +142,8 @@ def transfer_interval(params: Params) -> tuple[float, float]:
     report's 52 atlases were repeats).
     """
     r = transfer_stability(params)
+    if not r.converged:
+        raise NotConverged(f"hexagram {params.state}: {r.reason}")
     return r.lo, r.hi
 
 
