@@ -48,13 +48,12 @@ CASES = [
     # clamped arc, b1 = 0.371, b2 = 1.063, L/R = 2.994
     pytest.param("arcs", 11, {"analytic", "fe"}, id="arc-short"),
     # clamped arc, ellipse h/t = 2.008, L/R = 8.652: the FE at 96 elements off by 3.5e-6
-    pytest.param("arcs", 2, {"analytic", "fe"}, id="arc-long",
-                 marks=_known("6", "arc FE default mesh outside AGREE_RTOL for L/R > 8")),
+    # (item 6: the FE's default mesh is now refined to its stated accuracy)
+    pytest.param("arcs", 2, {"analytic", "fe"}, id="arc-long"),
     # 2-loop ring, tube
     pytest.param("rings", 1, {"analytic", "fe"}, id="ring-2-loops"),
     # 1-loop ring, b1 = 0.2274, b2 = 29.87: the FE at 150 elements off by 1.7e-6
-    pytest.param("rings", 0, {"analytic", "fe"}, id="ring-b2-30",
-                 marks=_known("6", "ring FE default mesh outside AGREE_RTOL")),
+    pytest.param("rings", 0, {"analytic", "fe"}, id="ring-b2-30"),
     # bi-rod clamped at one end (lambda = pi), folded ring of 4 segments (lambda = 2 pi / 4)
     pytest.param("folded", 1, {"closed-form", "fe", "verdict"}, id="bi-rod"),
     pytest.param("folded", 11, {"closed-form", "fe"}, id="folded-4"),
@@ -85,8 +84,6 @@ def test_methods_agree_on_random_design(family: str, index: int, methods: set[st
 # ---------------------------------------------------------------------------------------------
 # Found by the differential test, not in issue 19's list.
 
-@pytest.mark.xfail(strict=True, reason="issue 19 (found by the differential test): matrix_roots "
-                   "skips a touching root within two scan spacings of a found one")
 def test_bloch_root_next_to_a_found_root_is_not_skipped() -> None:
     """6-loop ring, b1 = 0.409, b2 = 0.1328 (benchmarks/differential.py --family rings --index 9).
 
@@ -94,9 +91,10 @@ def test_bloch_root_next_to_a_found_root_is_not_skipped() -> None:
     of harmonic 1 (j = 7 = 1 mod 6) of the Bloch matrix of one loop (6 smooth welds); the same
     harmonic holds the lower limit (j = 5) at ``mu = 0.96741``, 2.2 scan spacings below.
     ``cyclic_ring_interval`` scans ``[ref - 0.1, ref + 1.1]`` with 40 intervals and returns
-    ``hi = 1.06915`` (the next root, harmonic 2): :func:`rodstab.numerics.matrix_roots` skips
-    a local minimum of its measure when a root already found lies within two scan spacings, so
-    the second of two touching roots that close is lost. Here the first 10 intervals of that
+    ``hi = 1.06915`` (the next root, harmonic 2): :func:`rodstab.numerics.matrix_roots` skipped
+    a local minimum of its measure when a root already found lay within two scan spacings, so
+    the second of two touching roots that close was lost (now: only a root in the minimum's
+    own basin explains it). Here the first 10 intervals of that
     window (the same grid). Reference: the closed form (3.3).
     """
     b1, b2, loops = 0.409, 0.1328, 6

@@ -496,7 +496,11 @@ def matrix_roots(
             candidates.append(end)
     for i in candidates:
         a, b = xs[max(i - 2, 0)], xs[min(i + 2, n_scan)]
-        if any(a <= r.x <= b for r in roots):
+        # A root already found explains this minimum only if it lies in the minimum's own
+        # basin (the neighbouring scan points): g falls from i - 1 to i, which a root beyond
+        # i - 1 does not cause. (Skipping within two spacings lost the second of two roots 2.2
+        # spacings apart: a 6-loop ring's upper limit by the Bloch method.)
+        if any(xs[max(i - 1, 0)] <= r.x <= xs[min(i + 1, n_scan)] for r in roots):
             continue
         # No sign change of det next to this minimum of g: either a root of even multiplicity,
         # or two simple roots closer than one scan spacing. A finer local grid tells them apart.
