@@ -141,7 +141,9 @@ SUPPORT_KINDS: dict[str, SupportKind] = {k.name: k for k in (
     # Pinned with a fork: w = 0, no rotation about the tangent (no twist).
     SupportKind(name="fork", holds_deflection=True, held_rotations=frozenset({"tangent"}),
                 slides_along_tangent=False, methods=frozenset({LINEAR})),
-    # w = 0 only.
+    # w = 0 only. A held moment here is an applied end moment, taken as the one a bearing along
+    # the end's tangent carrying a pin along its normal transmits (its second-order work:
+    # rodstab.linear.assembly.applied_moment_terms).
     SupportKind(name="pinned", holds_deflection=True, held_rotations=frozenset(),
                 slides_along_tangent=False, methods=frozenset({LINEAR})),
     # Holds nothing.

@@ -75,6 +75,8 @@ class Discretisation:
     joints: tuple[tuple[tuple[str, str], ...], ...]
     n_global: int
     n_joint_reduced: int
+    #: (joint, E0, E1) of :func:`applied_moment_terms` (2x2 on the joint's rotation).
+    support_terms: tuple = ()
 
 
 def _local_size(n_el: int) -> int:
@@ -168,6 +170,13 @@ def discretise(a: Assembly, elements_per_segment: int | dict[str, int] = 16) -> 
             c_all.append(np.tile(g, 2))
             v0_all.append(E0.ravel())
             v1_all.append(E1.ravel())
+    support_terms = applied_moment_terms(a, joint_of)
+    for j, E0, E1 in support_terms:
+        g = 3 * j + np.array([1, 2])
+        r_all.append(np.repeat(g, 2))
+        c_all.append(np.tile(g, 2))
+        v0_all.append(E0.ravel())
+        v1_all.append(E1.ravel())
     rows_g, cols_g = np.concatenate(r_all), np.concatenate(c_all)
     K0 = sp.csr_matrix((np.concatenate(v0_all), (rows_g, cols_g)), shape=(n_global, n_global))
     K1 = sp.csr_matrix((np.concatenate(v1_all), (rows_g, cols_g)), shape=(n_global, n_global))
@@ -175,7 +184,46 @@ def discretise(a: Assembly, elements_per_segment: int | dict[str, int] = 16) -> 
                                                 np.concatenate(b_cols))),
                       shape=(len(a.segments), n_global))
     Z, n_joint_reduced = _constraint_basis(a, joints, n_global)
-    return Discretisation(K0, K1, B, Z, tuple(seg_dofs), joints, n_global, n_joint_reduced)
+    return Discretisation(K0, K1, B, Z, tuple(seg_dofs), joints, n_global, n_joint_reduced,
+                          tuple(support_terms))
+
+
+def applied_moment_terms(a: Assembly, joint_of: dict) -> list[tuple[int, np.ndarray,
+                                                                     np.ndarray]]:
+    """``(joint, E0, E1)``: the second-order work of the end moment applied at a support.
+
+    A support that does not hold the in-plane (binormal) rotation -- ``fork``, ``pinned`` --
+    carries the held moment as an applied end moment, ``M = sum_e sign_e m_e`` of the ends at
+    the joint. Its second variation depends on how the moment is applied: rodstab takes the
+    moment a bearing along the supported end's tangent carrying a pin along its normal
+    transmits, whose in-plane rotation is ``exp(omega t) exp(beta n)``'s, ``Theta . e3 =
+    -beta omega / 2`` at second order (Baker-Campbell-Hausdorff). Its term, twice
+    ``-M beta omega / 2`` on the supported end's ``(n, t)``, cancels that end's own end term
+    (:func:`end_term_matrices`): at a single end the second variation is (2.12)'s integral
+    alone, as before the end terms (a pinned column: ``omega' = m w' / B2``). At a fork the
+    twist is held and both vanish. With no independent method for these supports (the
+    nonlinear rod and the full system take clamps and free ends only) this is a modelling
+    choice, stated here and in the support table's docs.
+    """
+    out = []
+    for name, end, kind_name in a.supports:
+        if "binormal" in SUPPORT_KINDS[kind_name].held_rotations:
+            continue
+        j = joint_of[(name, end)]
+        m0 = m1 = 0.0
+        for (seg_name, seg_end), jj in joint_of.items():
+            if jj != j:
+                continue
+            seg = a.segment(seg_name)
+            sign = 1.0 if seg_end == "end" else -1.0
+            m0 += sign * seg.B3 * seg.curvature
+            m1 += -sign * seg.B3 * seg.natural_curvature
+        t = a.segment(name).tangent(0.0 if end == "start" else a.segment(name).length)
+        n = np.array([t[1], -t[0]])
+        tt = np.array([t[0], t[1]])
+        S = 0.5 * (np.outer(n, tt) + np.outer(tt, n))
+        out.append((j, -m0 * S, -m1 * S))
+    return out
 
 
 def end_term_matrices(t: np.ndarray, sign: float, k: float, kappa_n: float,
@@ -222,6 +270,10 @@ def quadratic_forms(disc: Discretisation, x: np.ndarray) -> tuple[float, float]:
         jump = loc[n2] * loc[n2 + 1] - loc[0] * loc[1]
         e0 += sd.moment[0] * jump
         e1 += sd.moment[1] * jump
+    for j, E0, E1 in disc.support_terms:
+        th = x[3 * j + 1: 3 * j + 3]
+        e0 += float(th @ E0 @ th)
+        e1 += float(th @ E1 @ th)
     return e0, e1
 
 
