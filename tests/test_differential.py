@@ -142,3 +142,27 @@ def test_nonlinear_verdict_is_stable_inside_a_stiff_cusp_rings_interval() -> Non
     assert stable_at(a, 2.0509, 64) and not stable_at(a, 1.85, 64)  # the reference: FE
     eq, _ = equilibrium(a, load_factor=2.0509, elements_per_segment=48)
     assert eq.stable, eq.lowest_eigenvalues
+
+
+@pytest.mark.xfail(strict=True, reason="issue 19 (found after the angled-weld fix): the Bloch "
+                   "scan misses a harmonic-0 root of a ring with one rigid null vector where "
+                   "two singular values cross")
+def test_bloch_finds_the_harmonic_0_root_of_a_ring_welded_at_an_angle() -> None:
+    """3 rods welded at -13.85 deg, b1 = 0.3708, b2 = 1.2801, the state theta = 253.855 deg.
+
+    The FE (64 and 128 elements per rod: 5.674258, 5.674256) and the Bloch matrix of harmonic
+    0 itself (its second-smallest singular value falls to 1.5e-8 of the largest at 5.674256,
+    a V of slope ~0.045) put the upper limit at 5.674256; ``cyclic_ring_interval`` returns
+    5.762902, the next root: with the rigid motion's null vector the scan measure is
+    ``sigma_{n-1}``, which near the root crosses the next singular value (4.7e-4), so the
+    grid sees no isolated minimum there. Reference: the FE engine (an independent method).
+    """
+    from rodstab import atlas
+    from rodstab.linear.solve import linear_stability
+
+    turn, b1, b2 = -0.2418109747006123, 0.3707775156286258, 1.2801355801787586
+    ring = uniform_ring(3, weld=turn, natural_curvature=1.0, B1=b1, B2=b2)
+    state = next(s for s in ring.states(max_turns=1.0).states if s.label == "theta=253.855deg")
+    fe = linear_stability(ring.held(state.theta, reference_load=state.theta), 64)
+    bloch = atlas.bloch_interval(ring, state.theta)
+    assert bloch.hi == pytest.approx(fe.load_factor_interval[1], rel=1e-5)
