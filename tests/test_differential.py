@@ -144,18 +144,16 @@ def test_nonlinear_verdict_is_stable_inside_a_stiff_cusp_rings_interval() -> Non
     assert eq.stable, eq.lowest_eigenvalues
 
 
-@pytest.mark.xfail(strict=True, reason="issue 19 (found after the angled-weld fix): the Bloch "
-                   "scan misses a harmonic-0 root of a ring with one rigid null vector where "
-                   "two singular values cross")
 def test_bloch_finds_the_harmonic_0_root_of_a_ring_welded_at_an_angle() -> None:
     """3 rods welded at -13.85 deg, b1 = 0.3708, b2 = 1.2801, the state theta = 253.855 deg.
 
     The FE (64 and 128 elements per rod: 5.674258, 5.674256) and the Bloch matrix of harmonic
     0 itself (its second-smallest singular value falls to 1.5e-8 of the largest at 5.674256,
-    a V of slope ~0.045) put the upper limit at 5.674256; ``cyclic_ring_interval`` returns
-    5.762902, the next root: with the rigid motion's null vector the scan measure is
+    a V of slope ~0.045) put the upper limit at 5.674256; ``cyclic_ring_interval`` returned
+    5.762902, the next root: with the rigid motion's null vector the scan measure was
     ``sigma_{n-1}``, which near the root crosses the next singular value (4.7e-4), so the
-    grid sees no isolated minimum there. Reference: the FE engine (an independent method).
+    grid saw no isolated minimum there (now: the matrix bordered by the rigid null vectors).
+    Reference: the FE engine (an independent method).
     """
     from rodstab import atlas
     from rodstab.linear.solve import linear_stability

@@ -802,9 +802,41 @@ def cyclic_ring_interval(L_over_R: float, L_kappa_per_mu: float, b1: float, b2: 
 
     bound = sorted(p / L_kappa_per_mu for p in arc_root_window(L_over_R, b1, b2))
     nullity = []
+    borders: dict[int, tuple[np.ndarray, np.ndarray]] = {}
     for h in harmonics:
-        s = np.linalg.svd(matrix(h)(reference), compute_uv=False)
-        nullity.append(int(np.sum(s <= RIGID_SV_RTOL * s[0])))
+        U, s, Vt = np.linalg.svd(matrix(h)(reference))
+        k = int(np.sum(s <= RIGID_SV_RTOL * s[0]))
+        nullity.append(k)
+        if k:
+            borders[h] = (U[:, -k:], Vt[-k:].T)
+
+    def searched(h: int) -> Callable[[float], np.ndarray]:
+        """Return the harmonic's matrix, bordered by its rigid motions' null vectors if any.
+
+        ``[[A, W], [N^T, 0]]`` (``N``, ``W``: right and left null vectors at ``reference``;
+        the rigid motions are null at every load) is nonsingular where ``A`` has only the
+        rigid null space, and has a determinant sign: scanning ``A``'s ``(k+1)``-th smallest
+        singular value instead lost a root where it crossed the next one (3 rods welded at
+        -13.85 deg: 5.7629 for 5.674256). Roots are checked on ``A`` itself.
+        """
+        if h not in borders:
+            return matrix(h)
+        W, N = borders[h]
+        k = N.shape[1]
+
+        def at(mu: float) -> np.ndarray:
+            A = matrix(h)(mu)
+            scale = float(np.linalg.norm(A, 2)) or 1.0
+            out = np.zeros((A.shape[0] + k, A.shape[1] + k))
+            out[:A.shape[0], :A.shape[1]] = A
+            out[:A.shape[0], A.shape[1]:] = scale * W
+            out[A.shape[0]:, :A.shape[1]] = scale * N.T
+            return out
+        return at
+
+    def is_root_of_a(h: int, x: float) -> bool:
+        s = np.linalg.svd(matrix(h)(x), compute_uv=False)
+        return bool(s[-1 - nullity[h]] <= math.sqrt(SINGULAR_TOL) * s[0])
     found: dict[int, tuple[float, int, int, float]] = {}
     reasons = []
     for side, limit in ((-1, bound[0]), (1, bound[1])):
@@ -819,9 +851,10 @@ def cyclic_ring_interval(L_over_R: float, L_kappa_per_mu: float, b1: float, b2: 
                            reference + side * min(reach + width, distance)))
             grid = phase_grid(phase, a, b, CYCLIC_PER_TURN, base=32)
             for h in harmonics:
-                search = matrix_roots(matrix(h), a, b, grid=grid, known_nullity=nullity[h],
+                search = matrix_roots(searched(h), a, b, grid=grid,
                                       method_name="Bloch harmonic")
-                roots = [r for r in search.roots if (r.x - reference) * side > 0]
+                roots = [r for r in search.roots if (r.x - reference) * side > 0
+                         and (h not in borders or is_root_of_a(h, r.x))]
                 if roots:
                     r = roots[0] if side > 0 else roots[-1]
                     if best is None or abs(r.x - reference) < abs(best[0] - reference):
