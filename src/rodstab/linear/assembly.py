@@ -219,9 +219,7 @@ def applied_moment_terms(a: Assembly, joint_of: dict) -> list[tuple[int, np.ndar
             m0 += sign * seg.B3 * seg.curvature
             m1 += -sign * seg.B3 * seg.natural_curvature
         t = a.segment(name).tangent(0.0 if end == "start" else a.segment(name).length)
-        n = np.array([t[1], -t[0]])
-        tt = np.array([t[0], t[1]])
-        S = 0.5 * (np.outer(n, tt) + np.outer(tt, n))
+        S = beta_omega_form(t)
         out.append((j, -m0 * S, -m1 * S))
     return out
 
@@ -244,10 +242,18 @@ def end_term_matrices(t: np.ndarray, sign: float, k: float, kappa_n: float,
     ``beta omega = theta^T n t^T theta``, symmetrised. ``E0`` carries ``m = B3 k``, ``E1``
     the part ``-B3 kappa_n`` per unit load factor, as :func:`.elements.density_matrices`.
     """
+    S = beta_omega_form(t)
+    return sign * B3 * k * S, -sign * B3 * kappa_n * S
+
+
+def beta_omega_form(t: np.ndarray) -> np.ndarray:
+    """2x2 symmetric ``S`` with ``theta^T S theta = beta omega`` at an end of held tangent ``t``.
+
+    ``beta = theta . n``, ``omega = theta . t``, ``n = t x e3`` (lab frame).
+    """
     n = np.array([t[1], -t[0]])
     tt = np.array([t[0], t[1]])
-    S = 0.5 * (np.outer(n, tt) + np.outer(tt, n))
-    return sign * B3 * k * S, -sign * B3 * kappa_n * S
+    return 0.5 * (np.outer(n, tt) + np.outer(tt, n))
 
 
 def quadratic_forms(disc: Discretisation, x: np.ndarray) -> tuple[float, float]:
