@@ -37,6 +37,7 @@ import argparse  # noqa: E402
 import contextlib  # noqa: E402
 import dataclasses  # noqa: E402
 import functools  # noqa: E402
+import json  # noqa: E402
 import math  # noqa: E402
 import multiprocessing  # noqa: E402
 import sys  # noqa: E402
@@ -559,6 +560,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--index", type=int, default=None, help="run this one design (of --family)")
     ap.add_argument("-v", "--verbose", action="store_true",
                     help="print each design, its snippet and every method's values")
+    ap.add_argument("--jsonl", default=None,
+                    help="append each design's result to this file as it finishes (a long run "
+                         "can be read, and its disagreements worked on, before it ends)")
     args = ap.parse_args(argv)
     fams = [f.strip() for f in args.family.split(",") if f.strip()]
     unknown = [f for f in fams if f not in FAMILIES]
@@ -574,6 +578,9 @@ def main(argv: list[str] | None = None) -> int:
             else contextlib.nullcontext() as pool:
         for r in (pool.imap(_run, jobs, chunksize=1) if pool else map(_run, jobs)):
             results.append(r)
+            if args.jsonl:
+                with open(args.jsonl, "a", encoding="utf-8") as fh:
+                    fh.write(json.dumps(r, default=str) + "\n")
             if len(results) % 25 == 0 and len(jobs) > 25:  # a long run shows it is alive
                 print(f"  {len(results)}/{len(jobs)} designs, {time.perf_counter() - t0:.0f} s",
                       file=sys.stderr, flush=True)

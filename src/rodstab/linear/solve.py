@@ -270,6 +270,15 @@ def linear_stability(a: Assembly, elements_per_segment: int | dict[str, int] = 1
 #: (measured: clamped arc b1 = 100, b2 = 1.5, L/R = 16 at 96..768 elements, ratios 15-16 per
 #: halving; the hexagram, problems/hexagram.py).
 FE_ORDER = 4
+#: Round-off of the FE's eigenvalues (relative to ``max(|load factor|, 1)``), the floor of the
+#: error estimates :func:`with_mesh_error` gives the multiplicity rule: past the asymptotic
+#: range the eigenvalues wander by round-off, and a symmetry pair is split by it while
+#: Richardson sees ~1e-12. Measured: 9 cusp rods, b1 = 33.8, b2 = 0.52, theta = 20 deg, the
+#: exact pair at -19.9749 split 2.3e-10, 9.5e-10, 1.4e-9 at 32, 64, 128 elements per rod
+#: (7e-11 relative); 7 rods, rectangle h/t = 2.5, theta = 25.7 deg: 4.6e-11 relative at 64.
+#: Ten times the worst seen; three orders below the 1e-6 that mesh error gives at the
+#: default meshes, so no pair that a mesh resolves is merged by it.
+FE_ROUNDOFF_RTOL = 1e-9
 #: Relative mesh error at which :func:`converged_stability` stops refining: a quarter of the
 #: 1e-6 to which the problems' FE must agree with the closed forms (their AGREE_RTOL), so the
 #: paper's designs stay at their default meshes (clamped arc L/R = 2: 1.0e-7 at 96 elements).
@@ -299,11 +308,23 @@ def with_mesh_error(fine: LinearStability, coarse: LinearStability) -> LinearSta
     err = tuple(richardson(c, f, ratio, FE_ORDER)[1] for c, f in
                 zip(coarse.load_factor_interval, fine.load_factor_interval, strict=True))
     lo, hi = fine.load_factor_interval
+
+    def near_errors(f: tuple[float, ...], c: tuple[float, ...], e0: float) -> list[float]:
+        # each near eigenvalue's own estimate (paired by rank with the coarse mesh's): the
+        # worse-resolved member of a pair sets how far the mesh can split it; never below the
+        # eigenvalues' round-off (FE_ROUNDOFF_RTOL), which Richardson cannot see
+        est = [e0] + [richardson(c[i], f[i], ratio, FE_ORDER)[1] if i < len(c) else math.nan
+                      for i in range(1, len(f))]
+        return [max(e, FE_ROUNDOFF_RTOL * max(abs(x), 1.0)) if math.isfinite(e) else e
+                for e, x in zip(est, f, strict=True)]
+
     # the Rayleigh-quotient ends replace the eigen solve's nearest values (same to ~1e-12)
-    m_lo = multiplicity_of((lo, *fine.near_lo[1:]), lo, err[0]) if fine.near_lo else \
-        fine.multiplicity_lo
-    m_hi = multiplicity_of((hi, *fine.near_hi[1:]), hi, err[1]) if fine.near_hi else \
-        fine.multiplicity
+    m_lo = multiplicity_of((lo, *fine.near_lo[1:]), lo, err[0],
+                           near_errors(fine.near_lo, coarse.near_lo, err[0])) \
+        if fine.near_lo else fine.multiplicity_lo
+    m_hi = multiplicity_of((hi, *fine.near_hi[1:]), hi, err[1],
+                           near_errors(fine.near_hi, coarse.near_hi, err[1])) \
+        if fine.near_hi else fine.multiplicity
     return dataclasses.replace(fine, mesh_error=(err[0], err[1]), multiplicity_lo=m_lo,
                                multiplicity=m_hi)
 
