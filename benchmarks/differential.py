@@ -53,7 +53,13 @@ from rodstab import atlas, problems, sections  # noqa: E402
 from rodstab.analytic.arc import clamped_arc_stability  # noqa: E402
 from rodstab.checks.rules import FE_RTOL, NONLINEAR_RTOL, ROOT_RTOL  # noqa: E402
 from rodstab.design import parse_design  # noqa: E402
-from rodstab.linear.solve import default_reference_load, linear_stability  # noqa: E402
+from rodstab.errors import NotConverged  # noqa: E402
+from rodstab.linear.solve import (  # noqa: E402
+    FE_TARGET_RTOL,
+    converged_stability,
+    default_reference_load,
+    linear_stability,
+)
 from rodstab.model import Assembly, Segment  # noqa: E402
 from rodstab.nonlinear.solve import critical_load_factor, equilibrium  # noqa: E402
 from rodstab.states import ring_of  # noqa: E402
@@ -65,7 +71,8 @@ from rodstab.transfer import cyclic_ring_interval, full_system_critical  # noqa:
 VERDICT_MARGIN = 6 * NONLINEAR_RTOL
 #: Held states of a cusp ring solved per design (chosen at random): bounds the cost per design.
 MAX_STATES = 3
-#: Elements per segment of a design file's FE (the design default) and of its finer check.
+#: Elements per segment where a design file's FE starts refining (the design default) and
+#: where its finer check (to a 16x smaller target error) starts.
 DESIGN_ELEMENTS = 32
 FINE_ELEMENTS = 128
 #: Window (from the reference load) of an assembly whose FE interval has no finite end.
@@ -337,11 +344,13 @@ def _mirrored(a: Assembly) -> Assembly:
 def assemblies(rng: np.random.Generator) -> Trial:
     """A planar assembly from a design file: kinked chain, Y-joint or split arc; clamped ends.
 
-    Methods (load factors): ``fe`` at the design default mesh and ``fe-fine`` at
-    :data:`FINE_ELEMENTS`; ``transfer`` (the full system of exact solutions) when every segment
-    is straight, each end as the first singular load of ``a`` or of its mirror; ``analytic``
-    (3.7)/(3.8) for a split arc; ``nonlinear``: the critical load of the discrete rod on each
-    side, within twice the FE's distance from the reference load (:data:`NL_WINDOW` if none).
+    Methods (load factors): ``fe`` as ``rodstab analyze`` runs a design without a mesh (refined
+    from :data:`DESIGN_ELEMENTS` to the FE's target error) and ``fe-fine`` (from
+    :data:`FINE_ELEMENTS` to a 16x smaller target); ``transfer`` (the full system of exact
+    solutions) when every segment is straight, each end as the first singular load of ``a``
+    or of its mirror; ``analytic`` (3.7)/(3.8) for a split arc; ``nonlinear``: the critical
+    load of the discrete rod on each side, within twice the FE's distance from the reference
+    load (:data:`NL_WINDOW` if none).
     """
     kind, data = [_chain, _y_joint, _split_arc][int(rng.integers(3))](rng)
     data = {"section": random_section(rng)} | data
@@ -349,8 +358,11 @@ def assemblies(rng: np.random.Generator) -> Trial:
     ref = default_reference_load(a)
     straight = all(s.curvature == 0.0 for s in a.segments)
 
-    def fe(n: int) -> Values:
-        r = linear_stability(a, n)
+    def fe(n: int, rtol: float) -> Values:
+        # `analyze`'s default (no [analysis] elements): refined from n to the target error
+        r = converged_stability(a, n, rtol=rtol)
+        if not r.converged:
+            raise NotConverged(r.reason or f"FE residual {r.residual:.3g}")
         lo, hi = r.load_factor_interval
         return {"lower": lo, "upper": hi, "mult:lower": r.multiplicity_lo,
                 "mult:upper": r.multiplicity}
@@ -385,8 +397,8 @@ def assemblies(rng: np.random.Generator) -> Trial:
     methods: dict[str, Callable[[], Values]] = {}
     if kind == "split arc":
         methods["analytic"] = analytic
-    methods |= {"fe": functools.partial(fe, DESIGN_ELEMENTS),
-                "fe-fine": functools.partial(fe, FINE_ELEMENTS)}
+    methods |= {"fe": functools.partial(fe, DESIGN_ELEMENTS, FE_TARGET_RTOL),
+                "fe-fine": functools.partial(fe, FINE_ELEMENTS, FE_TARGET_RTOL / 16)}
     if straight:
         methods["transfer"] = transfer
     methods["nonlinear"] = nonlinear

@@ -10,9 +10,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from rodstab.analytic.arc import clamped_arc_stability
 from rodstab.design import load_design, parse_design, set_design_value
 from rodstab.errors import RodstabInputError
-from rodstab.linear.solve import linear_stability
+from rodstab.linear.solve import converged_stability, linear_stability
+from rodstab.sections import rectangle
 from rodstab.sweep import SweepResult, columns, sweep
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -40,13 +42,19 @@ def test_sweep_rows_match_single_linear_stability_runs():
             single.paper_load_factor(ls.load_factor_critical), rel=1e-12)
 
 
-def test_sweep_default_elements_are_the_designs_and_table_keys_are_the_clis():
+def test_sweep_default_mesh_is_analyzes_and_table_keys_are_the_clis():
     d = load_design(ARC)
     r = sweep(d, "section.aspect", np.linspace(1.0, 2.0, 2))
     assert r.elements_per_segment is None
-    single = linear_stability(d.assembly, d.elements)  # aspect 2 is the file's value
+    # no [analysis] elements: refined from the design's start as `analyze` does (aspect 2 is
+    # the file's value), which meets the closed form (3.7)/(3.8) of L/R = 2
+    single = converged_stability(d.assembly, d.elements)
+    assert single.elements > d.elements
     assert r.rows[1].load_factor_critical == pytest.approx(single.load_factor_critical,
                                                            rel=1e-12)
+    sec = rectangle(aspect=2.0)
+    hi = clamped_arc_stability(sec.b1, sec.b2, 2.0).L_kappa_interval[1] / 2.0
+    assert r.rows[1].load_factor_critical == pytest.approx(hi, rel=1e-6)
     table = r.table()
     assert list(table[0]) == list(columns("section.aspect")) == [
         "index", "section.aspect", "status", "load_factor_critical", "load_factor_lower",

@@ -9,10 +9,11 @@ of the load factor around the state's stress-free load, by two independent metho
   or smooth welds only). It names the harmonic of the mode at each limit: ``m = 0`` every rod
   deforms alike, ``0 < m < n/2`` a symmetry-breaking pair (harmonics ``m`` and ``n - m``
   together: multiplicity 2), ``m = n/2`` neighbouring rods opposite (``rho = -1``).
-* ``fe`` -- the linear FE engine on the whole ring (:meth:`Ring.held`), Richardson-extrapolated
-  from :data:`FE_MESHES` (order :data:`FE_ORDER`); multiplicities from the finer mesh by the
-  one multiplicity rule with its Richardson error
-  (:func:`rodstab.linear.solve.with_mesh_error`), no harmonic.
+* ``fe`` -- the linear FE engine on the whole ring (:meth:`Ring.held`), its mesh refined from
+  :data:`FE_MESHES` until the Richardson estimate (order :data:`FE_ORDER`) of each end's
+  error meets :data:`rodstab.linear.solve.FE_TARGET_RTOL`; multiplicities by the one
+  multiplicity rule with those errors (:func:`rodstab.linear.solve.with_mesh_error`), no
+  harmonic.
 
 The **load factor** is the design's: the multiplier of its natural curvature (natural
 curvature = load factor x the segments' ``natural_curvature``). A held state of turning
@@ -41,8 +42,8 @@ from .errors import RodstabInputError
 from .executor import run_points
 from .limits import DEFAULT as DEFAULT_LIMITS
 from .limits import Limits
-from .linear.solve import FE_ORDER, linear_stability, with_mesh_error
-from .numerics import refine_root, richardson
+from .linear.solve import FE_ORDER, converged_stability
+from .numerics import refine_root
 from .results import Result
 from .states import HeldState, Ring, step_angle, weld_name
 from .transfer import CyclicRingInterval, cyclic_ring_interval
@@ -53,9 +54,10 @@ PAIR = "symmetry-breaking pair"
 ALTERNATING = "alternating"
 #: The two methods of :func:`state_interval`.
 METHODS = ("transfer", "fe")
-#: Meshes (elements per rod) of the FE method: quadratic beta and omega converge as h^4
-#: (:data:`rodstab.linear.solve.FE_ORDER`, measured on the hexagram, problems/hexagram.py), so
-#: the pair is Richardson-extrapolated with order 4 (agrees with the Bloch method to ~1e-7).
+#: Starting meshes (elements per rod) of the FE method: quadratic beta and omega converge as
+#: h^4 (:data:`rodstab.linear.solve.FE_ORDER`, measured on the hexagram, problems/hexagram.py);
+#: :func:`fe_interval` refines from this pair until the Richardson estimate meets the FE's
+#: target error.
 FE_MESHES = (32, 64)
 #: Null space of a planar ring's out-of-plane problem at a stable load: translation along e3
 #: and rotations about the two in-plane axes.
@@ -178,33 +180,39 @@ def transfer_interval(ring: Ring, state: HeldState) -> StateInterval:
 
 
 def fe_interval(ring: Ring, state: HeldState, limits: Limits = DEFAULT_LIMITS) -> StateInterval:
-    """:class:`StateInterval` of ``state`` by the FE engine, extrapolated from :data:`FE_MESHES`.
+    """:class:`StateInterval` of ``state`` by the FE engine, on a mesh refined to its accuracy.
 
-    Raises :class:`RodstabInputError` (from the engine) if the state is not stable at its
-    stress-free load.
+    :func:`rodstab.linear.solve.converged_stability` from :data:`FE_MESHES` (half, whole):
+    the mesh is refined until the Richardson estimate of each end's error is below
+    :data:`rodstab.linear.solve.FE_TARGET_RTOL` (relative above 1); ``converged=False`` with
+    the error reached if it cannot be. A fixed 32/64 pair extrapolated was 1.1e-5 off the Bloch
+    method on a 6-rod cusp ring's eight (differential test, cusp-rings seed 0 index 29: the
+    pair not yet in the asymptotic range). Raises :class:`RodstabInputError` (from the
+    engine) if the state is not stable at its stress-free load.
     """
     ref = stress_free_load(ring, state.theta)
     a = ring.held(state.theta, reference_load=ref)
-    coarse, fine = (linear_stability(a, n, limits=limits) for n in FE_MESHES)
-    # The fine mesh's multiplicities by the one rule with its Richardson error estimate: a
-    # symmetry pair the mesh splits by its own error is one double eigenvalue (the "8" of a
-    # 4-rod cusp ring, b1 = 92, b2 = 1.6: split 2e-6 at 64 elements, Bloch: double).
-    fine = with_mesh_error(fine, coarse)
-    lo, hi = (richardson(c, f, FE_MESHES[1] / FE_MESHES[0], FE_ORDER)[0]
-              for c, f in zip(coarse.load_factor_interval, fine.load_factor_interval,
-                              strict=True))
+    # The multiplicities by the one rule with the mesh's Richardson error estimates
+    # (with_mesh_error): a symmetry pair the mesh splits by its own error is one double
+    # eigenvalue (the "8" of a 4-rod cusp ring, b1 = 92, b2 = 1.6: split 2e-6 at 64 elements,
+    # Bloch: double).
+    fine = converged_stability(a, FE_MESHES[1], limits=limits)
+    lo, hi = fine.load_factor_interval
     n = ring.segments
+    assert fine.mesh_error is not None
+    err = max((e / max(abs(x), 1.0) for x, e in zip((lo, hi), fine.mesh_error, strict=True)
+               if math.isfinite(x)), default=0.0)
     return StateInterval(
         label=state.label, theta=state.theta, stress_free_load=ref,
         lower=_limit(lo, fine.multiplicity_lo, None, n),
         upper=_limit(hi, fine.multiplicity, None, n),
         stable_at_stress_free=bool(lo < ref < hi)
         and fine.n_rigid_modes == RING_RIGID_MOTIONS,
-        residual=max(coarse.residual, fine.residual),
-        converged=coarse.converged and fine.converged,
-        method=f"FE engine, {FE_MESHES[0]}/{FE_MESHES[1]} el./rod, Richardson order {FE_ORDER}",
-        reason="" if coarse.converged and fine.converged else
-        f"FE eigen solve residual {max(coarse.residual, fine.residual):.3g} above tolerance")
+        residual=fine.residual, converged=fine.converged,
+        method=f"FE engine, {fine.elements} el./rod, estimated mesh error {err:.2g} "
+               f"(relative; order {FE_ORDER})",
+        reason="" if fine.converged else fine.reason or
+        f"FE eigen solve residual {fine.residual:.3g} above tolerance")
 
 
 def state_interval(ring: Ring, state: HeldState, method: str = "transfer",

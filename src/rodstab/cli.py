@@ -729,15 +729,22 @@ def michell(section: Section, loops: int, limits: Limits, as_json: bool) -> None
 @_json_option
 def analyze(design_file: str, elements: int | None, plot_path: str | None, limits: Limits,
             as_json: bool) -> None:
-    """Linear stability of the assembly in a TOML design file (FE of P2, eq 2.12)."""
+    """Linear stability of the assembly in a TOML design file (FE of P2, eq 2.12).
+
+    Without --elements or [analysis] elements the mesh is refined until the estimated error
+    of each end is 2.5e-7 (relative); a mesh given is kept and its estimated error printed.
+    """
     from .design import load_design
-    from .linear.solve import linear_stability, mode_family
+    from .linear.solve import FE_TARGET_RTOL, converged_stability, mode_family
 
     d = load_design(design_file)
     n = d.elements if elements is None else require_positive_int("--elements", elements)
     plot = None if plot_path is None else _image_output("--plot", plot_path)
-    r = linear_stability(d.assembly, n, limits=limits)
+    refine = elements is None and not d.elements_given
+    r = converged_stability(d.assembly, n, refine=refine, limits=limits)
+    n = r.elements
     lam = d.paper_load_factor(r.load_factor_critical)
+    rel_err = _relative_mesh_error(r)
     payload = {
         "design": d.source,
         "load_factor_critical": r.load_factor_critical,
@@ -749,6 +756,9 @@ def analyze(design_file: str, elements: int | None, plot_path: str | None, limit
         "converged": r.converged,
         "n_dof": r.n_dof,
         "elements_per_segment": n,
+        "mesh_refined": refine,
+        "mesh_error": None if r.mesh_error is None else list(r.mesh_error),
+        "mesh_error_relative": rel_err,
         "reference_load": r.reference_load,
         "n_rigid_modes_gauged": r.n_rigid_modes,
         "load_factor_definition": "natural curvatures of all segments = load factor x the "
@@ -769,6 +779,10 @@ def analyze(design_file: str, elements: int | None, plot_path: str | None, limit
         f"critical     {_fmt(hi)} (multiplicity {r.multiplicity}); lam = {_fmt(lam)} "
         f"({payload['paper_load_factor_definition']})",
         f"mode         {payload['mode_family']}" + _one_of(r.multiplicity),
+        f"accuracy     {n} elements per segment"
+        + (f" ({'chosen for the target' if refine else 'as given'}; estimated mesh error "
+           f"{rel_err:.2g} relative" + (f", target {FE_TARGET_RTOL:g})" if refine else ")")
+           if rel_err is not None else " (mesh error not estimated at 1 element)"),
     ]
     if d.units is not None:
         from .units import stability_units
@@ -777,8 +791,22 @@ def analyze(design_file: str, elements: int | None, plot_path: str | None, limit
         payload["units"] = block
         lines += _analyze_unit_lines(block, d.units, r.stable_at_design)
     _emit(payload, as_json, lines)
+    if r.reason:
+        raise NotConverged(f"the FE mesh: {r.reason}; give a mesh with --elements to accept "
+                           "its error")
     _require_converged(r, f"the FE eigen solve at {n} elements per segment (the residual's "
                           "round-off grows with the mesh, as h^-2: try fewer elements)")
+
+
+def _relative_mesh_error(r: Any) -> float | None:
+    """Largest estimated mesh error of ``r``'s finite ends, relative to ``max(|end|, 1)``."""
+    import math
+
+    if r.mesh_error is None:
+        return None
+    errs = [e / max(abs(x), 1.0) for x, e in zip(r.load_factor_interval, r.mesh_error,
+                                                 strict=True) if math.isfinite(x)]
+    return max(errs, default=0.0)
 
 
 def _units_line(units: Units) -> str:

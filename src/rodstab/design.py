@@ -42,7 +42,8 @@ Format (every key optional unless marked; unknown keys are errors)::
                               # binormal (clamps only; nonlinear model only)
 
     [analysis]
-    elements = 32             # per segment
+    elements = 32             # per segment; absent: the FE starts at 32 and refines its
+                              # mesh until the estimated error is 2.5e-7 (relative)
     reference_load = 0.0      # a load factor at which the held state is stable
     load_factor_segment = "a" # report lam = B3 kappa_n L / sqrt(B1 B2) of this segment
 
@@ -395,6 +396,10 @@ class Design:
     #: Values accepted but suspicious (a modulus outside any engineering material's range),
     #: each also issued as a :class:`~rodstab.errors.RodstabWarning` when parsed.
     warnings: tuple[str, ...] = ()
+    #: Whether ``[analysis] elements`` was given: a mesh the user chose is kept (its error is
+    #: reported); otherwise ``elements`` is where the FE starts refining to its stated
+    #: accuracy (:func:`rodstab.linear.solve.converged_stability`).
+    elements_given: bool = False
 
     def paper_load_factor(self, mu: float) -> float:
         """``lam = B3 kappa_n L / sqrt(B1 B2)`` of ``load_factor_segment`` at load ``mu``."""
@@ -1010,7 +1015,7 @@ def _scaled(s: Segment, length: float, stiffness: float) -> Segment:
 
 
 def _parse(data: Any, base: Path, reader: _Reader | None = None
-           ) -> tuple[Assembly, int, str, Units | None]:
+           ) -> tuple[Assembly, int, str, Units | None, bool]:
     top = _as_table(data, "", _TOP)
     reader = _Reader(marker=None) if reader is None else reader
     reader.marker, reader.base = _units_marker(top), base
@@ -1066,7 +1071,7 @@ def _parse(data: Any, base: Path, reader: _Reader | None = None
                       G=mat.G if mat else None, segment=lf)
     assembly = Assembly(segments=tuple(segments), welds=tuple(welds), supports=tuple(supports),
                         reference_load=ref, end_rotations=tuple(rotations))
-    return assembly, elements, lf, units
+    return assembly, elements, lf, units, "elements" in analysis
 
 
 def parse_design(data: dict, source: str = "<dict>") -> Design:
@@ -1096,13 +1101,13 @@ def parse_design(data: dict, source: str = "<dict>") -> Design:
     """
     reader = _Reader(marker=None)
     try:
-        assembly, elements, lf, units = _parse(data, Path(source).parent, reader)
+        assembly, elements, lf, units, given = _parse(data, Path(source).parent, reader)
     except RodstabInputError as exc:
         raise RodstabInputError(f"{source}: {exc}") from None
     notes = tuple(f"{source}: {w}" for w in reader.warnings)
     for w in notes:
         warnings.warn(w, RodstabWarning, stacklevel=2)
-    return Design(assembly, elements, lf, source, data, units, notes)
+    return Design(assembly, elements, lf, source, data, units, notes, given)
 
 
 def _read_text(p: Path, what: str, kind: str) -> str:

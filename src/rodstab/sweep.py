@@ -59,7 +59,7 @@ from .errors import NotConverged, RodstabInputError, require_finite, require_pos
 from .executor import check_workers, run_points, task_size
 from .limits import DEFAULT as DEFAULT_LIMITS
 from .limits import Limits, require_steps
-from .linear.solve import linear_stability
+from .linear.solve import converged_stability
 from .results import Result
 
 if TYPE_CHECKING:
@@ -268,15 +268,19 @@ def solve_point(design: Design, key: str, elements: int | None, limits: Limits, 
     t0 = time.perf_counter()
     try:
         d = design_at(design, key, value, unit)
-        r = linear_stability(d.assembly, d.elements if elements is None else elements,
-                             limits=limits)
+        # the mesh policy of `analyze`: one given (--elements, [analysis] elements) is kept,
+        # otherwise refined to the FE's stated accuracy
+        r = converged_stability(d.assembly, d.elements if elements is None else elements,
+                                refine=elements is None and not d.elements_given,
+                                limits=limits)
     except (RodstabInputError, NotConverged) as exc:
         status = INVALID if isinstance(exc, RodstabInputError) else NOT_CONVERGED
         return SweepRow(index, value, status, nan, nan, None, nan, nan,
                         time.perf_counter() - t0, _one_line(exc))
     seconds = time.perf_counter() - t0
-    error = "" if r.converged else (f"the FE eigen solve's residual {r.residual:.3g} is "
-                                    "above the method's tolerance")
+    error = "" if r.converged else r.reason or (f"the FE eigen solve's residual "
+                                                f"{r.residual:.3g} is above the method's "
+                                                "tolerance")
     ref = d.assembly.segment(d.load_factor_segment)
     kc = None if d.units is None else \
         abs(d.units.si(r.load_factor_critical * ref.natural_curvature, "curvature"))

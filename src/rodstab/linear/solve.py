@@ -71,6 +71,9 @@ class LinearStability(Result):
     mesh_error: tuple[float, float] | None = None
     #: Elements per segment of this solve (one count, or the largest of a per-name mapping).
     elements: int = 0
+    #: Why ``converged`` is False when the eigen solve did converge: the mesh error reached
+    #: is above the target of :func:`converged_stability` (empty otherwise).
+    reason: str = ""
 
 
 #: A stress-free load factor beyond this is not used as the reference (the pencil would be
@@ -331,7 +334,8 @@ def with_mesh_error(fine: LinearStability, coarse: LinearStability) -> LinearSta
 
 def converged_stability(a: Assembly, elements_per_segment: int, *,
                         rtol: float = FE_TARGET_RTOL, unit: float = 1.0,
-                        limits: Limits = DEFAULT_LIMITS) -> LinearStability:
+                        limits: Limits = DEFAULT_LIMITS, refine: bool = True
+                        ) -> LinearStability:
     """:func:`linear_stability` on a mesh fine enough for relative error ``rtol``, and its error.
 
     Starts from ``elements_per_segment`` (and half of it for the first estimate) and refines
@@ -343,7 +347,20 @@ def converged_stability(a: Assembly, elements_per_segment: int, *,
     its accuracy on every design. The result carries ``mesh_error``; when
     :data:`FE_MAX_REFINEMENTS`, :data:`FE_MAX_GROWTH` or ``limits`` stop the refinement first,
     it is ``converged=False`` and ``method`` states the error reached.
+
+    ``refine=False``: the mesh a user asked for, kept: the result at ``elements_per_segment``
+    with its estimated ``mesh_error`` (from half that mesh; not estimated at 1 element), never
+    refined and not marked by ``rtol``; its multiplicities are that mesh's own.
     """
+    if not refine:
+        # the estimate is added; the multiplicities stay the mesh's own (a coarse mesh's
+        # error would merge distinct eigenvalues under the one rule)
+        n = int(elements_per_segment)
+        fine = linear_stability(a, n, limits=limits)
+        if n < 2:
+            return fine
+        est = with_mesh_error(fine, linear_stability(a, n // 2, limits=limits))
+        return dataclasses.replace(fine, mesh_error=est.mesh_error)
     n = max(2, int(elements_per_segment))
     coarse = linear_stability(a, max(1, n // 2), limits=limits)
     fine = with_mesh_error(linear_stability(a, n, limits=limits), coarse)
@@ -382,7 +399,6 @@ def _short_of(r: LinearStability, rtol: float, why: str) -> LinearStability:
     assert r.mesh_error is not None
     rel = max(e / max(abs(x), 1.0) for x, e in zip(r.load_factor_interval, r.mesh_error,
                                                    strict=True) if math.isfinite(x))
-    return dataclasses.replace(
-        r, converged=False,
-        method=r.method + f"; estimated mesh error {rel:.2g} (relative) above the target "
-                          f"{rtol:g} at {r.elements} elements per segment ({why})")
+    why = (f"estimated mesh error {rel:.2g} (relative) above the target {rtol:g} at "
+           f"{r.elements} elements per segment ({why})")
+    return dataclasses.replace(r, converged=False, method=r.method + "; " + why, reason=why)
