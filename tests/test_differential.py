@@ -24,7 +24,7 @@ from rodstab.analytic.ring import ring_stability
 from rodstab.linear.solve import stable_at
 from rodstab.nonlinear.solve import equilibrium
 from rodstab.numerics import matrix_roots
-from rodstab.sections import ellipse, rectangle
+from rodstab.sections import ellipse, from_ratios, rectangle
 from rodstab.states import uniform_ring
 from rodstab.transfer import cyclic_ring_matrix
 
@@ -164,3 +164,55 @@ def test_bloch_finds_the_harmonic_0_root_of_a_ring_welded_at_an_angle() -> None:
     fe = linear_stability(ring.held(state.theta, reference_load=state.theta), 64)
     bloch = atlas.bloch_interval(ring, state.theta)
     assert bloch.hi == pytest.approx(fe.load_factor_interval[1], rel=1e-5)
+
+
+def test_bloch_invents_no_root_on_a_stiff_one_loop_ring() -> None:
+    """1-loop ring, b1 = 20.51, b2 = 0.3894 (``--family rings --index 132``; 159 alike).
+
+    (3.3) puts the lower end at the uniform-twist root ``(L/2 pi) kappa_n = 1 - b1 = -19.51``
+    (the FE agrees to 2e-10). The Bloch method on one smooth-welded full circle returned
+    -5.99992: its matrix, exponentiated over the whole circle at real exponents, lost enough
+    digits to pass for singular there (now: the unknown is the mid-arc state, each
+    exponential spans half the arc). Reference: the closed form (3.3).
+    """
+    ring = problems.REGISTRY["ring"]
+    p = ring.Params(section=from_ratios(b1=20.51, b2=0.3894), loops=1)
+    want = ring.METHODS["analytic"](p)
+    got = differential._ring_bloch(p)
+    assert want["kappa_L_over_2pi_lower"] == pytest.approx(1 - 20.51, rel=1e-12)
+    for key, x in want.items():
+        assert got[key] == pytest.approx(x, rel=1e-8), (key, got)
+
+
+@pytest.mark.parametrize(("n", "kn", "b1", "b2", "label", "mult"), [
+    # 3 rods, theta = 60 deg (``--family cusp-rings --index 20``): the exact pair at -25.8007
+    # is split 2.3e-9 at 64 elements per rod, where the Richardson estimate of the lower member
+    # is 2.5e-10 (its partner's: 2.3e-9); the FE said 1
+    pytest.param(3, 2.143, 5.239, 48.56, "theta=60deg", 2, id="3-rods-pair-split-by-mesh"),
+    # 9 rods, theta = 20 deg (index 10): the pair at -19.9749 split 9.5e-10 at 64 by
+    # round-off (32 -> 64 -> 128: 2.3e-10, 9.5e-10, 1.4e-9); the FE said 1
+    pytest.param(9, 0.5819, 33.78, 0.5186, "theta=20deg", 2, id="9-rods-round-off"),
+    # 8 rods, the eight (index 29): the fixed 32/64 pair extrapolated was 1.1e-5 off; the Bloch
+    # harmonic 3 counted two singular values at 9e-6 (roots 0.12 away) as null: 4 for 2
+    pytest.param(8, 1.502, 0.0962, 43.92, "eight", 2, id="8-rods-eight"),
+])
+def test_cusp_ring_multiplicities_and_limits_by_bloch_and_fe(n, kn, b1, b2, label, mult) -> None:
+    """Bloch and the FE atlas agree on both limits (1e-6) and on their multiplicities (``mult``:
+    the lower one's, where they disagreed).
+
+    References: each other, and the symmetry of a cyclic ring: harmonics ``m`` and ``n - m``
+    (``0 < m < n/2``) are complex conjugates, so a limit of such a harmonic is exactly double.
+    """
+    from rodstab import atlas
+
+    ring = uniform_ring(n, weld="cusp", length=1.0, natural_curvature=kn, B1=b1, B2=b2)
+    state = next(s for s in ring.states(max_turns=1.0).states if s.label == label)
+    tr = atlas.state_interval(ring, state, "transfer")
+    fe = atlas.state_interval(ring, state, "fe")
+    for a, b in ((tr.lower, fe.lower), (tr.upper, fe.upper)):
+        assert problems.agree(a.load_factor, b.load_factor, 1e-6), (a, b)
+    assert tr.lower.multiplicity == fe.lower.multiplicity == mult
+    assert tr.upper.multiplicity == fe.upper.multiplicity
+    for lim in (tr.lower, tr.upper):
+        m = lim.harmonic
+        assert lim.multiplicity >= (2 if 0 < m and 2 * m != n else 1), lim

@@ -680,9 +680,15 @@ def _with_end_term(G: np.ndarray, L_kappa: float, L_over_R: float) -> np.ndarray
 
 def _cyclic_parts(L_kappa: float, L_over_R: float, b1: float, b2: float,
                   weld: str | float) -> tuple[np.ndarray, np.ndarray]:
-    """``(G, J G T)`` of :func:`cyclic_ring_matrix` (the same for every harmonic).
+    """``(G H^-1, J G T H^-1)``, ``H = expm(S/2)``, of :func:`cyclic_ring_matrix` (every harmonic).
 
-    ``weld``: ``"cusp"``, ``"smooth"`` or the tangent's turn across a weld in radians.
+    ``weld``: ``"cusp"``, ``"smooth"`` or the tangent's turn across a weld in radians. The
+    unknown is the state at MID-ARC, ``z = H y(0)``: the same singular loads (``H`` is
+    invertible), but each exponential spans half the arc, so where the solutions grow as
+    ``e^(a s)`` the matrix is conditioned as ``e^(a L/2)``, not ``e^(a L)``. Over whole arcs
+    the Bloch matrix of a one-loop ring (one full circle, b1 = 20.5, b2 = 0.39) lost enough
+    digits to pass for singular at (L/2 pi) kappa_n = -6.0, where (3.3) has no root (its
+    lower end is 1 - b1 = -19.51): differential test, rings seed 0 index 132 (also 159).
     """
     if isinstance(weld, str):
         if weld not in ("cusp", "smooth"):
@@ -695,7 +701,8 @@ def _cyclic_parts(L_kappa: float, L_over_R: float, b1: float, b2: float,
             raise RodstabInputError(f"weld turn must be finite, got {weld!r}")
     S = arc_system_matrix(L_kappa, L_over_R, b1, b2)
     G = _with_end_term(arc_end_matrix(L_kappa, L_over_R, b1, b2), L_kappa, L_over_R)
-    return G, weld_joint_map(turn) @ G @ expm(S)
+    half, back = expm(0.5 * S), expm(-0.5 * S)
+    return G @ back, weld_joint_map(turn) @ G @ half
 
 
 def _bloch(G: np.ndarray, right: np.ndarray, harmonic: int, segments: int) -> np.ndarray:
@@ -725,7 +732,9 @@ def cyclic_ring_matrix(L_kappa: float, L_over_R: float, b1: float, b2: float, ha
     arc (:func:`arc_system_matrix`), ``G`` = :func:`arc_end_matrix` with the end term
     (:func:`_with_end_term`) and ``J`` = :func:`weld_joint_map`, the
     weld conditions of arc ``i``'s end and arc ``i + 1``'s start read
-    ``(rho G - J G T) y_i(0) = 0``. For ``rho = +-1`` this 6x6 matrix is real; otherwise its
+    ``(rho G - J G T) y_i(0) = 0``, solved for the mid-arc state ``z = expm(S/2) y_i(0)``
+    (:func:`_cyclic_parts`: the same roots, half the exponential growth). For ``rho = +-1``
+    this 6x6 matrix is real; otherwise its
     real 12x12 form ``[[Re, -Im], [Im, Re]]`` is returned, singular on the pair ``m, n - m``
     together (a mode of multiplicity 2).
     """
