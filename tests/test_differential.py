@@ -216,3 +216,27 @@ def test_cusp_ring_multiplicities_and_limits_by_bloch_and_fe(n, kn, b1, b2, labe
     for lim in (tr.lower, tr.upper):
         m = lim.harmonic
         assert lim.multiplicity >= (2 if 0 < m and 2 * m != n else 1), lim
+
+
+def test_nonlinear_verdict_past_a_limit_when_lanczos_stalls() -> None:
+    """7 cusp rods, b1 = 20.83, b2 = 0.1464, theta = 180/7 deg (cusp-rings index 193).
+
+    Just (3 %) past the Bloch lower limit the held state is unstable: the FE engine says so
+    (reference). The discrete rod's verdict (16 elements per rod) raised ArpackNoConvergence
+    after 20001 iterations: its two lowest Hessian eigenvalues are negative and the shift had
+    to go below them, where the transformed near-zero cluster crowds (now: a short Lanczos
+    try, then a dense solve at this size).
+    """
+    from rodstab import atlas
+
+    ring = uniform_ring(7, weld="cusp", length=1.0, natural_curvature=2.092, B1=20.83,
+                        B2=0.1464)
+    state = next(s for s in ring.states(max_turns=1.0).states
+                 if s.label == "theta=25.7143deg")
+    ref = atlas.stress_free_load(ring, state.theta)
+    lo = atlas.state_interval(ring, state, "transfer").lower.load_factor
+    mu = ref + 1.03 * (lo - ref)
+    a = ring.held(state.theta, reference_load=ref)
+    assert not stable_at(a, mu, 64) and stable_at(a, ref + 0.97 * (lo - ref), 64)  # the FE
+    eq, _ = equilibrium(a, load_factor=mu, elements_per_segment=16)
+    assert eq.converged and eq.stability_resolved and not eq.stable, eq.lowest_eigenvalues

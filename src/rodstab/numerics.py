@@ -70,6 +70,9 @@ MULTIPLICITY_ERROR_FACTOR = 4.0
 #: and, with a multithreaded BLAS on a loaded machine, slow already at a few hundred unknowns
 #: (0.85 s at 300 measured on 2 busy cores, 0.006 s sparse).
 DENSE_EIG_MAX = 200
+#: Largest matrix :func:`lowest_eigenpairs` solves densely when Lanczos does not converge
+#: (LAPACK eigh of 4000 unknowns: ~10 s on one core).
+DENSE_FALLBACK_MAX = 4000
 #: :func:`lowest_eigenpairs` has converged when every pair's residual ``|A v - lam v|`` is
 #: below this times ``max |A_ij|`` (ARPACK's own test is relative to the shifted-inverted
 #: eigenvalue, which says little about a tiny eigenvalue of a stiff matrix).
@@ -807,10 +810,32 @@ def lowest_eigenpairs(A: Any, k: int) -> tuple[np.ndarray, np.ndarray]:
         # The certifying factorisation of A - sigma I is the shift-invert operator: no second
         # factorisation inside eigsh.
         op = spla.LinearOperator((n, n), matvec=lu.solve, dtype=float)
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            vals, vecs = spla.eigsh(A, k=min(k, n - 1), sigma=sigma, which="LM", tol=1e-10,
-                                    maxiter=20000, v0=v0, OPinv=op)
+        kk = min(k, n - 1)
+        vals = vecs = None
+        # ARPACK's default basis (2k + 1 vectors) can stall when the shift had to go far below
+        # the lowest eigenvalues (an unstable state: the transformed ones 1/(lam - sigma)
+        # crowd): a 7-rod cusp ring at 16 elements per rod, 1.03x past its lower limit, ran
+        # 20001 iterations (38 s) with 2 of 4 converged, and a 60-vector basis took 20 s.
+        # A near-zero cluster (rigid motions, near-neutral modes of a ring) converges slowly
+        # at best: a first try with few restarts, then dense where that is cheap.
+        tries = ((max(2 * kk + 1, 20), 1000),) if n <= DENSE_FALLBACK_MAX else \
+            ((max(2 * kk + 1, 20), 1000), (max(4 * kk, 60), 20000))
+        for ncv, iters in tries:
+            try:
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore")
+                    vals, vecs = spla.eigsh(A, k=kk, sigma=sigma, which="LM", tol=1e-10,
+                                            maxiter=iters, v0=v0, OPinv=op,
+                                            ncv=min(ncv, n - 1))
+                break
+            except spla.ArpackNoConvergence:
+                continue
+        if vals is None:
+            if n > DENSE_FALLBACK_MAX:
+                raise NotConverged(f"lowest eigenpairs: shift-invert Lanczos did not converge "
+                                   f"({n} unknowns, bases of up to {max(4 * kk, 60)} "
+                                   "vectors)")
+            vals, vecs = _sla().eigh(A.toarray(), subset_by_index=[0, kk - 1])
         order = np.argsort(vals)
         vals, vecs = vals[order], vecs[:, order]
     scale = float(abs(A).max()) if n else 1.0
@@ -942,7 +967,18 @@ def lowest_eigenpairs_on(A: Any, G: Any, border: int, k: int) -> tuple[np.ndarra
         v0 = fac.solve(np.linspace(1.0, 2.0, n))  # in the null space, fixed (reproducible)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            return spla.eigsh(op, k=kk, which=which, tol=1e-10, maxiter=20000, v0=v0)
+            return spla.eigsh(op, k=kk, which=which, tol=1e-10, v0=v0,
+                              maxiter=1000 if n <= DENSE_FALLBACK_MAX else 20000)
+
+    def dense() -> tuple[np.ndarray, np.ndarray]:
+        # Lanczos stalled on a crowded near-zero cluster (as in lowest_eigenpairs): dense
+        # where that is cheap, else say so
+        if n > DENSE_FALLBACK_MAX:
+            raise NotConverged(f"lowest eigenvalues on the constraints: shift-invert Lanczos "
+                               f"did not converge ({n} unknowns)") from None
+        N = _sla().null_space(G.toarray()) if G.shape[0] else np.eye(n)
+        w, V = np.linalg.eigh(N.T @ A.toarray() @ N)
+        return w[:k], N @ V[:, :k]
 
     sigma = -EIG_SHIFT_FLOOR * scale
     fac = factor(sigma)
@@ -953,7 +989,10 @@ def lowest_eigenpairs_on(A: Any, G: Any, border: int, k: int) -> tuple[np.ndarra
         raise NotConverged("lowest eigenvalues on the constraints: singular at two shifts")
     if fac.n_negative > 0:
         # Nearest eigenvalue to the shift first, then below the lowest (doubling steps).
-        mu = largest(fac, 1, "LM")[0][0]
+        try:
+            mu = largest(fac, 1, "LM")[0][0]
+        except spla.ArpackNoConvergence:
+            return dense()
         lam0 = sigma + 1.0 / mu
         step = max(abs(lam0), EIG_SHIFT_FLOOR * scale)
         for _ in range(80):
@@ -966,7 +1005,10 @@ def lowest_eigenpairs_on(A: Any, G: Any, border: int, k: int) -> tuple[np.ndarra
             raise NotConverged("could not place a Lanczos shift below the lowest eigenvalue "
                                "on the constraints (80 doublings)")
     assert fac is not None
-    mus, vecs = largest(fac, min(k, n - G.shape[0] - 1), "LA")
+    try:
+        mus, vecs = largest(fac, min(k, n - G.shape[0] - 1), "LA")
+    except spla.ArpackNoConvergence:
+        return dense()
     order = np.argsort(-mus)
     vals = sigma + 1.0 / mus[order]
     vecs = vecs[:, order]
