@@ -22,8 +22,10 @@ Exit status 1 if there is any. ``tests/test_differential.py`` runs a bounded ver
 
 Cost: a few seconds of one core per design (folded rings and cusp rings the most: the paper's
 transfer matrices, the full system and two FE meshes per held state); ``--n 300`` took 3900 s
-of design time on a machine loaded ~5x (1970 s wall with 2 workers). A design whose nonlinear
-eigen solve does not converge can take minutes (assemblies index 23 of seed 0: 260 s).
+of design time on a machine loaded ~5x (1970 s wall with 2 workers). An assembly's nonlinear
+critical load is refined until converged: 1-9 s a design for assemblies 0-30 of seed 0 (the
+260 s once stated here for index 23 did not reproduce: 5.9 s for its analytic and nonlinear
+methods before that refinement, 1.9 s for the whole design after).
 """
 
 from __future__ import annotations
