@@ -63,6 +63,12 @@ CASES = [
     pytest.param("assemblies", 38, {"analytic", "fe-fine"}, id="split-arc"),
     # the same split arc by the nonlinear rod (a weld of unequal elements, relaxed: item 8)
     pytest.param("assemblies", 38, {"analytic", "nonlinear"}, id="split-arc-nonlinear"),
+    # a split arc whose nonlinear critical load at a fixed 32 elements per segment was refused
+    # (welds between elements of length ratio 48): the harness's converged nonlinear method
+    # (one element size, Richardson; test_nonlinear.py has the other split arcs and the
+    # Y-joint of issue 19 as table rows) and its verdicts
+    pytest.param("assemblies", 12, {"analytic", "nonlinear", "verdict"},
+                 id="split-arc-12-nonlinear"),
     # two straight rods welded at -126.56 deg, clamped: the nonlinear rod's verdicts at the FE's
     # limits (item 1: the FE's second variation at an angled weld)
     pytest.param("assemblies", 16, {"fe", "verdict"}, id="kinked-chain"),

@@ -529,20 +529,47 @@ MAX_ELEMENT_TURNING = 0.75 * math.pi
 MAX_NATURAL_TURNING = 1e8
 
 
-def check_mesh(a: Assembly, elements_per_segment: int, load_factor: float) -> None:
+def element_counts(a: Assembly, elements_per_segment: int | dict[str, int]) -> dict[str, int]:
+    """Return the elements of each segment (by name): one count for all, or one per segment.
+
+    As the linear engine's ``elements_per_segment`` (:func:`rodstab.linear.solve
+    .linear_stability`). Raises :class:`RodstabInputError` naming a count that is not an
+    integer >= 2, or a segment without one.
+    """
+    if isinstance(elements_per_segment, dict):
+        missing = [s.name for s in a.segments if s.name not in elements_per_segment]
+        if missing:
+            raise RodstabInputError(f"elements_per_segment has no count for segment(s) "
+                                    f"{missing}")
+        counts = {s.name: elements_per_segment[s.name] for s in a.segments}
+    else:
+        counts = {s.name: elements_per_segment for s in a.segments}
+    for name, n in counts.items():
+        if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 2:
+            raise RodstabInputError(f"elements_per_segment must be an integer >= 2, got "
+                                    f"{n!r}" + (f" for segment {name!r}"
+                                                if isinstance(elements_per_segment, dict)
+                                                else ""))
+    return {name: int(n) for name, n in counts.items()}
+
+
+def check_mesh(a: Assembly, elements_per_segment: int | dict[str, int],
+               load_factor: float) -> None:
     """Refuse a mesh or load the discrete rod cannot represent, naming what to change.
 
     Every element turns by less than :data:`MAX_ELEMENT_TURNING` in the held state (a 3-loop
     ring of 3 elements would have each element close on itself), and every segment's natural
     turning ``|load_factor kappa_n L|`` is finite and at most :data:`MAX_NATURAL_TURNING`.
+    ``elements_per_segment``: one count, or a count per segment name.
     """
     mu = require_finite("load factor", load_factor)
+    counts = element_counts(a, elements_per_segment)
     for s in a.segments:
-        turn = abs(s.curvature) * s.length / elements_per_segment
+        turn = abs(s.curvature) * s.length / counts[s.name]
         if turn > MAX_ELEMENT_TURNING * (1 + 1e-12):
             need = math.ceil(abs(s.curvature) * s.length / MAX_ELEMENT_TURNING)
             raise RodstabInputError(
-                f"elements per segment {elements_per_segment}: an element of segment "
+                f"elements per segment {counts[s.name]}: an element of segment "
                 f"{s.name!r} turns by {math.degrees(turn):.4g} deg in the held state, the "
                 f"discrete rod allows at most {math.degrees(MAX_ELEMENT_TURNING):g}; use at "
                 f"least {need} elements")
@@ -554,21 +581,19 @@ def check_mesh(a: Assembly, elements_per_segment: int, load_factor: float) -> No
                 f"above {MAX_NATURAL_TURNING:g}")
 
 
-def discretise(a: Assembly, elements_per_segment: int = 32, load_factor: float = 1.0
-               ) -> DiscreteRod:
+def discretise(a: Assembly, elements_per_segment: int | dict[str, int] = 32,
+               load_factor: float = 1.0) -> DiscreteRod:
     """Return the discrete rod of an assembly in its held state (an equilibrium when P2 says so).
 
     Supports are read from :data:`~rodstab.model.SUPPORT_KINDS`: a kind that holds all
     rotations holds the joint's frame; one that holds the deflection holds the joint's position,
     except along the end tangent if it slides (that tangent must then be along x or y). Kinds
     without :data:`~rodstab.model.NONLINEAR` in their methods (fork, pinned: not implemented
-    here) raise :class:`RodstabInputError`.
+    here) raise :class:`RodstabInputError`. ``elements_per_segment``: one count for every
+    segment, or a count per segment name (:func:`element_counts`).
     """
-    if isinstance(elements_per_segment, bool) or not isinstance(elements_per_segment, int) \
-            or elements_per_segment < 2:
-        raise RodstabInputError(f"elements_per_segment must be an integer >= 2, got "
-                                f"{elements_per_segment!r}")
-    check_mesh(a, elements_per_segment, load_factor)
+    counts = element_counts(a, elements_per_segment)
+    check_mesh(a, counts, load_factor)
     joints = a.joints()
     joint_of = {end: k for k, joint in enumerate(joints) for end in joint}
     xs, edge_nodes, lengths, Bs, kns, pairs, links = [], [], [], [], [], [], []
@@ -591,7 +616,7 @@ def discretise(a: Assembly, elements_per_segment: int = 32, load_factor: float =
         R_joint[k] = held_frame(seg.tangent(s_end))
     ks, tws = [], []
     for seg in a.segments:
-        n = elements_per_segment
+        n = counts[seg.name]
         s = np.linspace(0.0, seg.length, n + 1)
         pts = seg.position(s)
         ids = [joint_node[joint_of[(seg.name, "start")]]]

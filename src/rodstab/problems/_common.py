@@ -7,7 +7,6 @@ module's ``METHODS``, and the linear and nonlinear solves that every module shar
 from __future__ import annotations
 
 import dataclasses
-import math
 from collections.abc import Callable
 from typing import Any
 
@@ -78,38 +77,23 @@ def nonlinear_critical(assembly: Assembly, lo: float, hi: float, elements: int) 
     return found.load_factor_critical
 
 
-#: :func:`nonlinear_converged` doubles the mesh until the Richardson estimate of the fine
-#: mesh's error is below this (relative above 1): the extrapolated value is then ~1e-5.
-NONLINEAR_TARGET_RTOL = 1e-3
-#: The most elements per segment :func:`nonlinear_converged` goes to.
-NONLINEAR_MAX_ELEMENTS = 1024
-
-
 def nonlinear_converged(assembly: Assembly, lo: float, hi: float, start: int) -> float:
     """:func:`nonlinear_critical` Richardson-extrapolated from meshes fine enough for it.
 
-    Meshes ``start, 2 start, ...`` elements per segment; stops when the second-order
-    Richardson estimate of the finer mesh's error is below :data:`NONLINEAR_TARGET_RTOL`
-    (relative above 1) and returns the extrapolated value. A fixed 32 elements was 52 % off on
-    a clamped arc of L/R = 16 with b1 = 100, b2 = 30 (too few elements per mode wavelength
-    to be in the asymptotic range). Raises :class:`~rodstab.errors.NotConverged` when
-    :data:`NONLINEAR_MAX_ELEMENTS` is reached first.
+    :func:`rodstab.nonlinear.solve.converged_critical_load_factor` from ``start`` elements per
+    segment (doubled until the Richardson estimate of the error is below
+    :data:`~rodstab.nonlinear.solve.CONVERGED_RTOL`, relative above 1); returns the
+    extrapolated value. Raises :class:`~rodstab.errors.NotConverged` with the estimate reached
+    when it does not converge by :data:`~rodstab.nonlinear.solve.CONVERGED_MAX_ELEMENTS`.
     """
     from ..errors import NotConverged
-    from ..numerics import richardson as extrapolate
+    from ..nonlinear.solve import converged_critical_load_factor
 
-    n = int(start)
-    coarse = nonlinear_critical(assembly, lo, hi, n)
-    while True:
-        fine = nonlinear_critical(assembly, lo, hi, 2 * n)
-        value, err = extrapolate(coarse, fine, 2.0, 2)
-        if math.isfinite(err) and err <= NONLINEAR_TARGET_RTOL * max(abs(fine), 1.0):
-            return value
-        n *= 2
-        if 2 * n > NONLINEAR_MAX_ELEMENTS:
-            raise NotConverged(f"the discrete rod's critical load factor did not settle by "
-                               f"{n} elements per segment (Richardson error estimate {err:.2g})")
-        coarse = fine
+    found = converged_critical_load_factor(assembly, lo, hi, elements_per_segment=int(start))
+    if not found.converged:
+        raise NotConverged(f"the discrete rod's critical load factor did not settle: "
+                           f"{found.method}")
+    return found.load_factor_critical
 
 
 def richardson(coarse: float, fine: float) -> float:
