@@ -233,8 +233,9 @@ def build_gallery(config: MkDocsConfig, files: Files, work: Path) -> list[Path]:
             extra = missing_extra(exc)
             if extra is None:
                 raise PluginError(f"docs: examples/{path.name}: {exc}") from exc
+            why = str(exc).replace(str(path), f"examples/{path.name}")  # no build path
             skipped = (f"This example needs the optional `{extra}` extra, which is not "
-                       f"installed where this site was built ({exc}). Build the docs with "
+                       f"installed where this site was built ({why}). Build the docs with "
                        f'`pip install ".[docs,{extra}]"` to run it here.')
             log.info("gallery: examples/%s not run: the %s extra is missing", path.name, extra)
             commands = []
