@@ -15,7 +15,16 @@
   Theory pages pull their section's rows with ``<!-- rodstab:claims SECTION -->``.
 * **Live commands** -- a fenced block of language ``rodstab`` in any page (one command per
   line, without the leading ``rodstab``) is replaced by the command and what it printed.
-* **API reference** -- one mkdocstrings page per public module of the package.
+* **API reference** -- one mkdocstrings page per public module of the package: its docstring,
+  then its public functions, classes (the result types among them) and constants, in that
+  order (:func:`api_page`); the nav groups the pages by package (:data:`API_GROUPS`).
+* **Math** -- MathJax is served from the site itself: the hook copies it from the installed
+  ``django-static-mathjax`` package (the docs extra; MathJax 3 only, no Django), so pages
+  render their equations without the network (:func:`mathjax_files`).
+
+An example that needs an optional extra which is not installed (``examples/polygon_section.toml``
+needs ``rodstab[sections]``) gets a page that shows its design file and says so, instead of
+failing the build.
 
 Commands run in this process through :func:`rodstab.cli.main` (imports paid once), in a
 temporary directory holding a copy of ``examples/``, so each is shown as a user types it from
@@ -53,6 +62,7 @@ from mkdocs.structure.pages import Page
 import rodstab
 from rodstab import checks, cli
 from rodstab.design import Design, load_design
+from rodstab.errors import RodstabInputError
 from rodstab.states import ring_of
 
 log = logging.getLogger("mkdocs.hooks.rodstab")
@@ -71,8 +81,13 @@ NOT_IN_API = ("rodstab.cli",)
 GENERATED_SECTIONS = ("gallery/index.md", "tutorials/index.md", "api/index.md")
 
 _CLAIMS_MARK = re.compile(r"^<!-- rodstab:claims (\S+) -->$", re.M)
+_DOCSTRING_MARK = re.compile(r"^<!-- rodstab:docstring (\S+) -->$", re.M)
+#: A reST literal block: a paragraph ending in "::", a blank line, then indented lines.
+_LITERAL = re.compile(r"::\n\n((?:    .*\n|\n)+)")
 _LIVE_BLOCK = re.compile(r"^```rodstab\n(.*?)\n```$", re.M | re.S)
 _HEADER_COMMAND = re.compile(r"^\s*rodstab \S.*$", re.M)
+#: How rodstab names an optional extra that is not installed (sections.py, design.py, ...).
+_MISSING_EXTRA = re.compile(r'pip install "rodstab\[(\w+)\]"')
 
 
 # --- running rodstab -----------------------------------------------------------------------
@@ -169,8 +184,18 @@ def _escape(text: str) -> str:
     return text.replace("_", "\\_").replace("<", "&lt;").replace("$", "\\$")
 
 
-def gallery_page(path: Path, runs: list[Ran], pictures: dict[Path, str]) -> str:
-    """Markdown of one example's gallery page."""
+def missing_extra(exc: RodstabInputError) -> str | None:
+    """Return the optional extra that ``exc`` says is not installed (None: another error)."""
+    m = _MISSING_EXTRA.search(str(exc))
+    return m.group(1) if m else None
+
+
+def gallery_page(path: Path, runs: list[Ran], pictures: dict[Path, str],
+                 skipped: str | None = None) -> str:
+    """Markdown of one example's gallery page.
+
+    ``skipped``: why its commands were not run in this build (an optional extra missing).
+    """
     text = path.read_text()
     header = header_comment(text)
     lines = [f"# examples/{path.name}", ""]
@@ -178,6 +203,8 @@ def gallery_page(path: Path, runs: list[Ran], pictures: dict[Path, str]) -> str:
     lines += ["", f'??? note "examples/{path.name}"', "", "    ```toml"]
     lines += ["    " + t if t else "" for t in text.rstrip().splitlines()]
     lines += ["    ```", ""]
+    if skipped:
+        lines += ['!!! warning "Not run in this build"', "", f"    {skipped}", ""]
     for ran in runs:
         lines += [f"## rodstab {ran.args[0]}", "", console(ran)]
         fast = FAST_OPTIONS.get(ran.args[0])
@@ -199,7 +226,20 @@ def build_gallery(config: MkDocsConfig, files: Files, work: Path) -> list[Path]:
             "they printed and the pictures they wrote.", "",
             "| example | what it is | commands |", "|---|---|---|"]
     for path in examples:
-        runs = [run_rodstab(args, work) for args in example_commands(path)]
+        skipped = None
+        try:
+            commands = example_commands(path)
+        except RodstabInputError as exc:
+            extra = missing_extra(exc)
+            if extra is None:
+                raise PluginError(f"docs: examples/{path.name}: {exc}") from exc
+            why = str(exc).replace(str(path), f"examples/{path.name}")  # no build path
+            skipped = (f"This example needs the optional `{extra}` extra, which is not "
+                       f"installed where this site was built ({why}). Build the docs with "
+                       f'`pip install ".[docs,{extra}]"` to run it here.')
+            log.info("gallery: examples/%s not run: the %s extra is missing", path.name, extra)
+            commands = []
+        runs = [run_rodstab(args, work) for args in commands]
         pictures: dict[Path, str] = {}
         for ran in runs:
             for p in ran.pictures:
@@ -207,11 +247,12 @@ def build_gallery(config: MkDocsConfig, files: Files, work: Path) -> list[Path]:
                 pictures[p] = name
                 files.append(File.generated(config, f"gallery/{name}", content=p.read_bytes()))
         files.append(File.generated(config, f"gallery/{path.stem}.md",
-                                    content=gallery_page(path, runs, pictures)))
+                                    content=gallery_page(path, runs, pictures, skipped)))
         first = re.split(r"\.\s+(?=[A-Z])", header_comment(path.read_text()))[0]
         first = first.replace("\n", " ")
-        rows.append(f"| [{path.name}]({path.stem}.md) | {_escape(first)} | "
-                    + ", ".join(f"`{r.args[0]}`" for r in runs) + " |")
+        ran = ", ".join(f"`{r.args[0]}`" for r in runs) if not skipped else (
+            "not run in this build (an optional extra is missing)")
+        rows.append(f"| [{path.name}]({path.stem}.md) | {_escape(first)} | {ran} |")
     files.append(File.generated(config, "gallery/index.md", content="\n".join(rows) + "\n"))
     return examples
 
@@ -469,18 +510,160 @@ def public_modules() -> list[str]:
                                 and n not in NOT_IN_API)
 
 
+#: The API reference's sections in the nav and on its index: (title, module prefixes). A module
+#: goes to the first section one of whose prefixes is its name or a package above it; a module
+#: no section claims goes to "Other modules" (so none is ever left out).
+API_GROUPS: tuple[tuple[str, tuple[str, ...]], ...] = (
+    ("Designs, sections, units", ("rodstab", "rodstab.design", "rodstab.model",
+                                  "rodstab.sections", "rodstab.units")),
+    ("Multistable rings", ("rodstab.states", "rodstab.atlas")),
+    ("Closed forms and kinematics", ("rodstab.analytic", "rodstab.kinematics")),
+    ("Linear stability", ("rodstab.linear", "rodstab.transfer", "rodstab.numerics")),
+    ("Nonlinear rod", ("rodstab.nonlinear",)),
+    ("The paper's structures", ("rodstab.problems",)),
+    ("Checks and report", ("rodstab.checks", "rodstab.report")),
+    ("Sweeps, limits, output", ("rodstab.sweep", "rodstab.executor", "rodstab.limits",
+                                "rodstab.errors", "rodstab.results", "rodstab.outputs",
+                                "rodstab.plots", "rodstab.ribbons", "rodstab.transition_plot")),
+)
+_OTHER_GROUP = "Other modules"
+#: API page sections, in page order: griffe's kind of member -> heading.
+API_KINDS = (("function", "Functions"), ("class", "Classes"), ("type alias", "Type aliases"),
+             ("attribute", "Constants and attributes"))
+
+
+def api_group(module: str) -> str:
+    """Return the API section (:data:`API_GROUPS`) of ``module``."""
+    for title, prefixes in API_GROUPS:
+        for prefix in prefixes:
+            # "rodstab" claims the package page only, not every module under it
+            if module == prefix or (prefix != "rodstab" and module.startswith(prefix + ".")):
+                return title
+    return _OTHER_GROUP
+
+
+def api_groups() -> list[tuple[str, list[str]]]:
+    """Return the public modules by API section, in :data:`API_GROUPS` order (none empty)."""
+    titles = [t for t, _ in API_GROUPS] + [_OTHER_GROUP]
+    grouped: dict[str, list[str]] = {t: [] for t in titles}
+    for name in public_modules():
+        grouped[api_group(name)].append(name)
+    return [(t, grouped[t]) for t in titles if grouped[t]]
+
+
+@functools.cache
+def _griffe_package() -> Any:
+    """Load the package as mkdocstrings sees it (griffe's static analysis of ``src/``)."""
+    import griffe
+
+    return griffe.load("rodstab", search_paths=[str(ROOT / "src")], docstring_parser="numpy")
+
+
+def api_members(module: str) -> dict[str, list[str]]:
+    """Return the members an API page documents, by kind (:data:`API_KINDS`), in source order.
+
+    As mkdocstrings' own selection with ``filters: ["!^_"]``: public names defined in the
+    module, and imported ones only where the module exports them (``__all__``); submodules
+    have their own pages.
+    """
+    package = _griffe_package()
+    obj = package if module == "rodstab" else package[module.removeprefix("rodstab.")]
+    out: dict[str, list[str]] = {kind: [] for kind, _ in API_KINDS}
+    for name, member in obj.members.items():
+        if name.startswith("_") or (member.is_alias and not member.is_public):
+            continue
+        try:
+            kind = member.kind.value
+        except Exception:  # an export whose target griffe cannot resolve: not documented
+            continue
+        if kind in out:
+            out[kind].append(name)
+    return out
+
+
+def api_page(module: str) -> str:
+    """Markdown of one module's API page.
+
+    The module's docstring first (``members: false``), then one directive per public member
+    under a heading per kind: functions, then classes (the result types), then constants. One
+    directive for the whole module would put its constants first: mkdocstrings orders by
+    category with attributes first.
+    """
+    lines = [f"::: {module}", "    options:", "      members: false", ""]
+    for kind, heading in API_KINDS:
+        names = api_members(module)[kind]
+        if not names:
+            continue
+        lines += [f"## {heading}", ""]
+        for name in names:
+            lines += [f"::: {module}.{name}", "    options:", "      heading_level: 3",
+                      "      show_root_full_path: false", ""]
+    return "\n".join(lines)
+
+
 def build_api(config: MkDocsConfig, files: Files) -> list[str]:
-    """One page per public module (its mkdocstrings directive) and an index."""
+    """One page per public module (:func:`api_page`) and an index, grouped by package."""
     modules = public_modules()
     index = ["# API reference", "",
-             "Generated from the docstrings (numpy style) of every public module. The command "
-             "line is documented in the [CLI reference](../cli.md).", ""]
+             "Generated from the docstrings (numpy style) of every public module. Each page "
+             "gives the module's docstring, then its public functions, classes (the result "
+             "types among them) and constants. The command line is documented in the "
+             "[CLI reference](../cli.md).", ""]
     for name in modules:
-        files.append(File.generated(config, f"api/{name}.md", content=f"::: {name}\n"))
-        summary = (importlib.import_module(name).__doc__ or "").strip().split("\n")[0]
-        index.append(f"- [`{name}`]({name}.md): {_escape(summary)}")
+        files.append(File.generated(config, f"api/{name}.md", content=api_page(name)))
+    for title, names in api_groups():
+        index += [f"## {title}", ""]
+        for name in names:
+            summary = (importlib.import_module(name).__doc__ or "").strip().split("\n")[0]
+            index.append(f"- [`{name}`]({name}.md): {_escape(summary)}")
+        index.append("")
     files.append(File.generated(config, "api/index.md", content="\n".join(index) + "\n"))
     return modules
+
+
+# --- math, served by the site --------------------------------------------------------------
+
+#: Where the site serves MathJax from (mkdocs.yml's extra_javascript loads
+#: ``mathjax/tex-mml-chtml.js``; MathJax finds its fonts and extensions beside that file).
+MATHJAX_DIR = "mathjax"
+#: The one combined MathJax component the pages load (TeX and MathML in, CommonHTML out).
+MATHJAX_COMPONENT = "tex-mml-chtml.js"
+_MATHJAX_MISSING = ('docs: math needs MathJax from the docs extra: pip install ".[docs]" '
+                    "(the django-static-mathjax package: MathJax 3's files, no Django)")
+
+
+def mathjax_root() -> Path:
+    """Return the ``es5`` directory of the installed MathJax 3 copy (django-static-mathjax).
+
+    That package installs the MathJax distribution as ``mathjax/static/mathjax/``. Raises
+    PluginError when it is not installed (or is another package named ``mathjax``).
+    """
+    spec = importlib.util.find_spec("mathjax")
+    locations = list(spec.submodule_search_locations or []) if spec else []
+    for location in locations:
+        es5 = Path(location) / "static" / "mathjax" / "es5"
+        if (es5 / MATHJAX_COMPONENT).is_file():
+            return es5
+    raise PluginError(_MATHJAX_MISSING)
+
+
+def mathjax_files(config: MkDocsConfig) -> list[File]:
+    """Return the MathJax files the site serves under :data:`MATHJAX_DIR`.
+
+    The combined component and every directory it loads from on demand (fonts, TeX
+    extensions, the menu, accessibility and speech), and MathJax's licence; the other
+    combined components and the Node.js adaptors are left out.
+    """
+    es5 = mathjax_root()
+    sources = [es5 / MATHJAX_COMPONENT]
+    sources += sorted(f for d in es5.iterdir() if d.is_dir() and d.name != "adaptors"
+                      for f in d.rglob("*") if f.is_file())
+    out = [File.generated(config, f"{MATHJAX_DIR}/{f.relative_to(es5).as_posix()}",
+                          abs_src_path=str(f)) for f in sources]
+    licence = es5.parent / "LICENSE"
+    if licence.is_file():
+        out.append(File.generated(config, f"{MATHJAX_DIR}/LICENSE", abs_src_path=str(licence)))
+    return out
 
 
 # --- hooks ---------------------------------------------------------------------------------
@@ -491,14 +674,15 @@ def _tutorial_title(script: Path) -> str:
     return doc.split("\n")[0].rstrip(".")
 
 
-def _generated_nav() -> dict[str, list[dict[str, str]]]:
+def _generated_nav() -> dict[str, list[dict[str, Any]]]:
     """Each generated section of the nav: its pages, each ``{title: path}``."""
     return {
         "gallery/index.md": [{p.name: f"gallery/{p.stem}.md"}
                              for p in sorted(EXAMPLES.glob("*.toml"))],
         "tutorials/index.md": [{_tutorial_title(p): f"tutorials/{p.stem}.md"}
                                for p in sorted(TUTORIALS.glob("*.py"))],
-        "api/index.md": [{m: f"api/{m}.md"} for m in public_modules()],
+        "api/index.md": [{title: [{m: f"api/{m}.md"} for m in names]}
+                         for title, names in api_groups()],
     }
 
 
@@ -538,6 +722,8 @@ def on_files(files: Files, config: MkDocsConfig) -> Files:
         results = results_path()
         files.append(File.generated(config, "paper-vs-rodstab.md", content=paper_page(results)))
         build_api(config, files)
+        for f in mathjax_files(config):
+            files.append(f)
         _state["results"] = results
         _state["rows"] = claim_rows(results)
         _state["work"] = _workdir()
@@ -547,8 +733,29 @@ def on_files(files: Files, config: MkDocsConfig) -> Files:
     return files
 
 
+def docstring_markdown(module: str, language: str = "toml") -> str:
+    """Return a module's docstring as Markdown, for a page that shows it as in the code.
+
+    reST literal blocks (``...::`` and an indented block) become fenced blocks of
+    ``language``; double backquotes become code. Sphinx roles stay as they are: the page's
+    HTML gets them as cross-references (:func:`on_page_content`).
+    """
+    doc = inspect.cleandoc(importlib.import_module(module).__doc__ or "") + "\n"
+
+    def fence(m: re.Match[str]) -> str:
+        block = inspect.cleandoc("\n".join(line[4:] for line in m.group(1).splitlines()))
+        return f":\n\n```{language}\n{block}\n```\n\n"
+
+    doc = re.sub(r"(?<!`)``([^`]+)``(?!`)", r"`\1`", doc)
+    return _LITERAL.sub(fence, doc)
+
+
 def on_page_markdown(markdown: str, page: Page, config: MkDocsConfig, files: Files) -> str:
-    """Expand ``rodstab`` blocks (run them) and claims markers (the section's rows)."""
+    """Expand ``rodstab`` blocks, claims markers and docstring markers.
+
+    A ``rodstab`` block is run and replaced by its output, a claims marker by its section's
+    rows, ``<!-- rodstab:docstring MODULE -->`` by that module's docstring.
+    """
     def claims(m: re.Match[str]) -> str:
         rows = [r for r in _state["rows"] if in_section(r, m.group(1))]
         if not rows:
@@ -562,7 +769,12 @@ def on_page_markdown(markdown: str, page: Page, config: MkDocsConfig, files: Fil
         return "\n".join(console(run_rodstab(shlex.split(line), _state["work"]))
                          for line in m.group(1).splitlines() if line.strip())
 
+    def docstring(m: re.Match[str]) -> str:
+        _state.setdefault("docstring_pages", {})[page.file.src_uri] = m.group(1)
+        return docstring_markdown(m.group(1))
+
     markdown = _CLAIMS_MARK.sub(claims, markdown)
+    markdown = _DOCSTRING_MARK.sub(docstring, markdown)
     return _LIVE_BLOCK.sub(live, markdown)
 
 
@@ -628,12 +840,16 @@ def identifier(name: str, module: str) -> str:
 def on_page_content(html: str, page: Page, config: MkDocsConfig, files: Files) -> str:
     """Turn the docstrings' Sphinx roles (``:func:`name```) into cross-references.
 
-    The API pages render them as a role followed by code; each becomes an optional autorefs
-    link (a name that is not documented stays plain code, without a warning).
+    The API pages, and the pages that show a module's docstring, render them as a role
+    followed by code; each becomes an optional autorefs link (a name that is not documented
+    stays plain code, without a warning).
     """
-    if not page.file.src_uri.startswith("api/"):
+    if page.file.src_uri.startswith("api/"):
+        module = page.file.src_uri.removeprefix("api/").removesuffix(".md")
+    elif page.file.src_uri in _state.get("docstring_pages", {}):
+        module = _state["docstring_pages"][page.file.src_uri]
+    else:
         return html
-    module = page.file.src_uri.removeprefix("api/").removesuffix(".md")
 
     def link(m: re.Match[str]) -> str:
         tilde, name = m.groups()  # "~": show the last component only (Sphinx's convention)

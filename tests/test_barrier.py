@@ -389,7 +389,7 @@ def test_cli_barrier_reads_the_states_of_a_design_ring(string_six: tuple,
     """``rodstab barrier DESIGN --from line --to star``: the states are the design ring's held
     states of those labels (Ring.held; rodstab states names the folded ring's states line and
     star), at the design's load factor. The library call is replaced (wiring only; the full
-    run gives the built-in six-ring's 1.12004, README)."""
+    run gives the built-in six-ring's 1.12004, docs/guide/multistable.md)."""
     import rodstab.nonlinear.mep as mep
     from rodstab.cli import main
 

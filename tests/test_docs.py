@@ -1,7 +1,13 @@
 """The documentation site (mkdocs.yml, docs/hooks.py) builds with ``--strict`` and holds what
 it promises: a gallery page with its pictures for every example, a page per tutorial, every
 check id on the paper-vs-rodstab page, every command on the CLI page, every public module in
-the API reference. The build runs every example and tutorial, so a broken one fails it.
+the API reference (functions first, grouped by package in the nav), the design-file format
+from ``rodstab.design``'s docstring, and no script loaded from the network (MathJax is served
+by the site). The build runs every example and tutorial, so a broken one fails it.
+
+The README (a designer's first screen, at most 10,000 characters) is checked too: its
+design file is the hexagram of ``examples/``, its Python block prints what it shows, and its
+links point at files that exist.
 """
 
 from __future__ import annotations
@@ -163,3 +169,136 @@ def test_paper_page_from_a_results_file_shows_computed_rows(tmp_path):
         assert f"**{r.status}**" in page
     assert page.count("not in this results.json") == len(checks.expected_statuses()) - len(rows)
     assert "rodstab test" in page
+
+
+def test_api_pages_lead_with_functions_then_classes_then_constants(site):
+    html = _page(site, "api/rodstab.linear.solve")
+    ids = re.findall(r'<h[1-3][^>]*id="([^"]+)"', html)
+    assert ids[0] == "rodstab.linear.solve"
+    assert ids.index("functions") < ids.index("classes") < ids.index("constants-and-attributes")
+    first = ids[ids.index("functions") + 1]
+    assert first.startswith("rodstab.linear.solve.") and first.split(".")[-1].islower()
+    assert "rodstab.linear.solve.converged_stability" in ids
+    assert "rodstab.linear.solve.LinearStability" in ids
+
+
+def test_api_nav_groups_every_module_by_package_with_full_names(site):
+    groups = hooks.api_groups()
+    listed = [m for _, names in groups for m in names]
+    assert sorted(listed) == sorted(hooks.public_modules())  # each once, none left out
+    assert dict(groups)["Nonlinear rod"][0] == "rodstab.nonlinear"
+    assert "rodstab.linear.solve" in dict(groups)["Linear stability"]
+    html = _page(site, "api").replace("&#39;", "'")
+    for title, names in groups:
+        assert title in html, title
+        for name in names:
+            assert f'href="{name}/"' in html
+    # the sidebar shows the full dotted name (wrapped by docs/stylesheets/extra.css, not cut)
+    assert "rodstab.nonlinear.continuation.branches" in _page(site, "api/rodstab.design")
+    assert (site / "stylesheets" / "extra.css").is_file()
+
+
+def test_design_file_page_renders_the_format_from_the_docstring(site):
+    """The format is rodstab.design's docstring (written once): its literal blocks as TOML
+    code, its Sphinx roles as cross-references."""
+    html = _page(site, "guide/design-files")
+    section = html.split('id="the-format"')[1].split('id="how-a-design-is-solved"')[0]
+    text = re.sub(r"<[^>]+>", "", section)
+    assert "load_factor_segment" in text and "natural_radius" in text
+    assert '<div class="highlight">' in section and '<span class="k">[section]</span>' in section
+    assert "::" not in text and ":class:" not in text and "``" not in text
+    assert 'href="../../api/rodstab.model/#rodstab.model.Assembly"' in section
+
+
+def test_built_pages_load_no_script_from_the_network(site):
+    """Offline math: MathJax comes from the site (docs/hooks.py copies it from the docs extra's
+    django-static-mathjax), and no page loads a script or stylesheet from another host."""
+    pages = sorted(site.rglob("*.html"))
+    assert len(pages) > 50
+    remote = re.compile(r'<(?:script|link)\b[^>]*\b(?:src|href)="(?:https?:)?//[^"]*"')
+    for page in pages:
+        html = page.read_text()
+        for tag in re.findall(r"<script\b[^>]*>", html) + re.findall(r"<link\b[^>]*>", html):
+            if "stylesheet" in tag or tag.startswith("<script"):
+                assert not remote.search(tag), f"{page.relative_to(site)}: {tag}"
+    mathjax = site / hooks.MATHJAX_DIR
+    assert (mathjax / hooks.MATHJAX_COMPONENT).is_file()
+    assert list((mathjax / "output" / "chtml" / "fonts" / "woff-v2").glob("*.woff"))
+    assert (mathjax / "input" / "tex" / "extensions" / "ams.js").is_file()
+    html = _page(site, "theory/section4")
+    assert 'src="../../mathjax/tex-mml-chtml.js"' in html and "arithmatex" in html
+
+
+def test_gallery_shows_an_example_whose_extra_is_missing_without_running_it(tmp_path,
+                                                                            monkeypatch):
+    """Without the sections extra a polygon example is not run: its page says why."""
+    import sys
+
+    for name in [n for n in sys.modules if n.split(".")[0] in ("sectionproperties", "shapely")]:
+        monkeypatch.setitem(sys.modules, name, None)
+    for name in ("sectionproperties", "shapely"):
+        monkeypatch.setitem(sys.modules, name, None)  # import fails: not installed
+    example = tmp_path / "tee.toml"
+    example.write_text("# A T section.\n[section]\npolygon = [[-1.25, 0.0], [1.25, 0.0], "
+                       "[1.25, 0.5], [0.2, 0.5], [0.2, 2.5], [-0.2, 2.5], [-0.2, 0.5], "
+                       "[-1.25, 0.5]]\n\n[[segment]]\nname = 'rod'\nlength = 1.0\n"
+                       "natural_curvature = 1.0\n")
+    with pytest.raises(hooks.RodstabInputError) as exc:
+        hooks.example_commands(example)
+    assert hooks.missing_extra(exc.value) == "sections"
+    page = hooks.gallery_page(example, [], {}, skipped="needs the sections extra")
+    assert "Not run in this build" in page and "polygon = " in page
+    bad = tmp_path / "bad.toml"  # any other input error is not a missing extra: it fails
+    bad.write_text("[section]\nshape = 'hexagon'\n")
+    with pytest.raises(hooks.RodstabInputError) as other:
+        hooks.example_commands(bad)
+    assert hooks.missing_extra(other.value) is None
+
+
+# --- the README ---------------------------------------------------------------------------------
+
+README = (ROOT / "README.md").read_text()
+
+
+def _blocks(language: str) -> list[str]:
+    return re.findall(rf"^```{language}\n(.*?)^```$", README, re.M | re.S)
+
+
+def test_readme_is_short_and_keeps_the_quick_start():
+    assert len(README) <= 10_000, len(README)
+    assert _blocks("bash")[0] == ("pip install . && rodstab reproduce --out results\n"
+                                  'pip install ".[test]" && python -m pytest -q\n')
+    for extra in ("test", "viz", "sections", "docs", "distributed", "bench"):
+        assert f"| `{extra}` |" in README, extra  # the extras table lists pyproject's extras
+    assert "Leanza" in README and "LICENSE" in README and (ROOT / "LICENSE").is_file()
+
+
+def test_readme_links_point_at_files():
+    for target in re.findall(r"\]\(([^)#]+)(?:#[^)]*)?\)", README):
+        if not target.startswith("http"):
+            assert (ROOT / target).exists(), target
+
+
+def test_readme_ring_is_the_hexagram_and_its_python_prints_what_it_shows(tmp_path):
+    """The design file of "Design your own ring" is examples/hexagram.toml's ring (same states,
+    natural curvature and section), and the "From Python" block prints its text block."""
+    import contextlib
+    import io
+
+    from rodstab.design import load_design
+    from rodstab.states import ring_of
+
+    (tmp_path / "ring.toml").write_text(_blocks("toml")[0])
+    ours, theirs = (ring_of(load_design(p).assembly) for p in
+                    (tmp_path / "ring.toml", ROOT / "examples" / "hexagram.toml"))
+    assert ([(s.label, s.theta) for s in ours.states().states]
+            == [(s.label, s.theta) for s in theirs.states().states])
+    assert (ours.natural_curvature, ours.B1, ours.B2) == pytest.approx(
+        (theirs.natural_curvature, theirs.B1, theirs.B2), rel=1e-12)
+    code, = _blocks("python")
+    shown = re.search(r"^```python\n.*?^```\n\n```text\n(.*?)^```$", README, re.M | re.S)
+    assert shown is not None
+    out = io.StringIO()
+    with contextlib.chdir(tmp_path), contextlib.redirect_stdout(out):
+        exec(compile(code, "README.md", "exec"), {})  # noqa: S102
+    assert out.getvalue() == shown.group(1)

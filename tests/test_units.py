@@ -2,8 +2,9 @@
 
 Reference numbers are closed forms: B3 = E I3 of the section (I3 = pi d^4/64 of a circle,
 h t^3/12 of a rectangle), the bi-rod's limit lam_c = B3 kappa_n L / sqrt(B1 B2) = pi of this
-project (README, "Section 4"; the paper prints 2 pi), i.e. psi_c = pi sqrt(b1 b2)/2 with
-sqrt(b1 b2) = 1/sqrt(1 + nu) for a circle, and the folded six-sided ring's lam_c = pi/3.
+project (docs/differences.md, "Section 4"; the paper prints 2 pi), i.e.
+psi_c = pi sqrt(b1 b2)/2 with sqrt(b1 b2) = 1/sqrt(1 + nu) for a circle, and the folded
+six-sided ring's lam_c = pi/3.
 """
 
 from __future__ import annotations
@@ -181,7 +182,7 @@ def test_fig_7_energy_and_moment_are_the_held_states():
 
 
 def test_steel_strip_six_ring_margin_is_the_folded_rings_closed_form(run_cli):
-    """Folded six-sided ring: lam_c = pi/3 (README, "Section 5"), lam = kappa_n L /
+    """Folded six-sided ring: lam_c = pi/3 (docs/differences.md, "Section 5"), lam = kappa_n L /
     sqrt(b1 b2) with kappa_n L = 2 pi/3: critical load factor sqrt(b1 b2)/2 for the strip
     h/t = 10 (nu = 0.3): stable, 1 - 2/sqrt(b1 b2) below."""
     sec = rectangle(aspect=10.0, nu=0.3)

@@ -75,7 +75,8 @@ from .sections import (
 )
 from .units import Quantity, Units, parse_quantity, split_quantity
 
-#: Exit statuses of the ``rodstab`` command (module docstring, ``rodstab --help``, README).
+#: Exit statuses of the ``rodstab`` command (module docstring, ``rodstab --help``,
+#: docs/guide/limits.md).
 EXIT_OK = 0
 EXIT_BAD_INPUT = 2
 EXIT_NOT_CONVERGED = 3
