@@ -11,9 +11,10 @@ arc radius (natural curvature ``1 / R0`` per unit ``mu``), so a state of held cu
 is stress-free at ``mu = k R0``: 0 (line), 1 (star), 2 (daisy), 3 (eight), the reference load
 of its stable interval. The paper's load (5.7) is ``lambda = kappa_n L / sqrt(b1 b2)``.
 
-Two methods: the FE engine on the whole ring (:mod:`rodstab.linear`, Richardson-extrapolated
-from :data:`FE_MESHES`) and the exact general solution of P2 on one arc with the cusp joint
-map and a Bloch phase per harmonic (:func:`rodstab.transfer.cyclic_ring_interval`).
+Two methods: the FE engine on the whole ring (:mod:`rodstab.linear`, its mesh refined from
+:data:`FE_MESHES` to the FE's target error, :func:`rodstab.atlas.fe_interval`) and the exact
+general solution of P2 on one arc with the cusp joint map and a Bloch phase per harmonic
+(:func:`rodstab.transfer.cyclic_ring_interval`).
 """
 
 from __future__ import annotations
@@ -44,12 +45,11 @@ STATES = tuple(STATE_TURNING)
 L_OVER_R0 = 2 * math.pi / 3
 #: Elements per rod of the linear engine for one solve (e.g. ``rodstab hexagram``'s mode).
 DEFAULT_ELEMENTS = 64
-#: Meshes (elements per rod) of the FE method (:data:`rodstab.atlas.FE_MESHES`): its limits
-#: converge as h^4 (Hermite w, quadratic omega; measured: the error falls 15-16x per halving
-#: from 16 to 96 elements), so the pair is Richardson-extrapolated with order 4. Measured
-#: against the Bloch method at h/t = 4: 3.6e-4 at 32 and 2.1e-5 at 64 elements alone (the
-#: eight's limits), 6e-8 after extrapolation from 48/96; past ~100 elements per rod round-off
-#: grows (the engine flags residuals above 1e-6).
+#: Starting meshes (elements per rod) of the FE method (:data:`rodstab.atlas.FE_MESHES`): its
+#: limits converge as h^4 (measured: the error falls 15-16x per halving from 16 to 96
+#: elements; against the Bloch method at h/t = 4: 3.6e-4 at 32 and 2.1e-5 at 64 elements, the
+#: eight's limits), so the mesh is refined from this pair until the Richardson estimate of
+#: each end's error is :data:`rodstab.linear.solve.FE_TARGET_RTOL`.
 FE_MESHES = ring_atlas.FE_MESHES
 #: Order of the FE error in the mesh size (above).
 FE_ORDER = ring_atlas.FE_ORDER
@@ -259,7 +259,8 @@ def _by(method: str) -> Method:
 METHODS: dict[str, Method] = {"transfer": _by("transfer"), "fe": _by("fe")}
 #: How closely each pair must agree (relative above 1, absolute below), and why.
 AGREE_RTOL: dict[tuple[str, str], float] = {
-    # FE extrapolated from 32/64 elements per rod (order 4): measured <= 2e-7 (circle, h/t 4).
+    # FE refined to an estimated 2.5e-7 (relative); the differential test's cusp rings of
+    # 3-10 rods, every section shape: <= 1.4e-7 (seed 0).
     ("transfer", "fe"): 1e-6,
 }
 
