@@ -353,14 +353,14 @@ def test_concurrent_atomic_writes_do_not_collide(tmp_path):
 
 def _third_solve_raises(monkeypatch, failure: BaseException) -> None:
     calls = []
-    solve = rodstab.sweep.linear_stability
+    solve = rodstab.sweep.converged_stability
 
     def third_fails(*args, **kwargs):
         calls.append(1)
         if len(calls) == 3:
             raise failure
         return solve(*args, **kwargs)
-    monkeypatch.setattr(rodstab.sweep, "linear_stability", third_fails)
+    monkeypatch.setattr(rodstab.sweep, "converged_stability", third_fails)
 
 
 def _sweep_rows(out: Path) -> list[dict[str, str]]:

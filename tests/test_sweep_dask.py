@@ -211,12 +211,12 @@ def _csv_rows_of(rows) -> list[dict[str, str]]:
 
 def _count_solves(monkeypatch) -> list[float]:
     calls: list[float] = []
-    solve = rodstab.sweep.linear_stability
+    solve = rodstab.sweep.converged_stability
 
     def counted(*args, **kwargs):
         calls.append(1.0)
         return solve(*args, **kwargs)
-    monkeypatch.setattr(rodstab.sweep, "linear_stability", counted)
+    monkeypatch.setattr(rodstab.sweep, "converged_stability", counted)
     return calls
 
 
