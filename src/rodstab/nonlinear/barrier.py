@@ -58,7 +58,8 @@ from ..limits import DEFAULT as DEFAULT_LIMITS
 from ..limits import Limits, require_nonlinear
 from ..model import Assembly
 from ..results import Result
-from .discover import Snapshot, common_rod, retract_step, same_state
+from .constraint import retract_step
+from .discover import Snapshot, common_rod, same_state
 from .discrete import PENALTY, DiscreteRod, discretise
 from .solve import NEWTON_RTOL, lm_step, lowest_modes, newton, zero_eigenvalue_tol
 
@@ -111,7 +112,7 @@ def descend(rod: DiscreteRod, lam0: float, *, max_steps: int = DESCENT_MAX_STEPS
     past the lowest scaled eigenvalue when ``s`` is not a descent direction) and shrinks by 4
     after a step the model predicted well. Ends with :func:`newton` once the gradient is below
     its tolerance. ``retract``: large trial steps are retracted onto the inextensible states
-    (:func:`~.discover.retract_step`), which lets them be larger (module :mod:`.mep`).
+    (:func:`~.constraint.retract_step`), which lets them be larger (module :mod:`.mep`).
     """
     free = rod.free_dofs()
     tol = NEWTON_RTOL * _residual_scale(rod)

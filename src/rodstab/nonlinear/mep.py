@@ -13,7 +13,7 @@ difference of two images is taken in the chart of the first (:func:`chart_differ
 ``x_b - x_a`` and the rotation vectors of ``R_a^T R_b``), updates by
 :meth:`~.discrete.DiscreteRod.apply` (``R exp(hat(phi))``), the chart in which
 :meth:`~.discrete.DiscreteRod.energy_terms` gives the exact gradient and Hessian. Chart sizes
-(:func:`~rodstab.nonlinear.discover.chart_size`) are the largest node move over the mean rod
+(:func:`~rodstab.nonlinear.constraint.chart_size`) are the largest node move over the mean rod
 length ``L`` or frame turn in radians; arclength is the Euclidean norm of the free unknowns
 with positions over ``L``. All images are in one gauge (:func:`to_gauge`): the gauge joint's
 frame and node are the same in every image, so no rigid motion -- a direction of zero energy --
@@ -40,7 +40,7 @@ by ``R_m(2 pi t)``: each image is moved back into A's gauge rigidly. (Without th
 images of the relaxed string were A itself turned about its own line, a detour of zero energy
 18 chart units long, six-ring at 8 el./rod: the band of the retired nudged elastic band had the
 same defect.) Each image is then made inextensible
-(:func:`~rodstab.nonlinear.discover.restore_inextensible`: where the turned frames' tangents do
+(:func:`~rodstab.nonlinear.constraint.restore_inextensible`: where the turned frames' tangents do
 not close round the ring, positions alone leave a penalty strain -- 7.5e5 B3/L on the hexagram's
 star -> daisy path -- which least frame turns remove). Highest initial energies: 99 B3/L
 (six-ring), 283 (star -> daisy), against saddles at 14.3 and 7.9.
@@ -52,12 +52,12 @@ plane the Levenberg shift ``H + lam D`` (``D = |diag H|``) is raised until it is
 has to be convex, not the string's own direction: ``H + lam D`` may keep one negative eigenvalue
 if ``tau . (H + lam D)^-1 tau < 0`` (the inertia of the bordered matrix), both read off the
 pivots of a symmetric factorisation. (Along the six-ring's string at 8 el./rod the unshifted
-``H`` had no negative eigenvalue at 134 of 360 steps, one at 53, more at 173.) Every trial
-state is retracted onto the inextensible states (:func:`~rodstab.nonlinear.discover.retract_step`):
-a chart step opens the ring's closure at second order, and at 0.1 rad the penalty strain that leaves
-(0.83 B3/L on the six-ring) swamps the predicted change (0.04), so unretracted steps were accepted
-only below ~0.03 rad and a version of this loop without the retraction needed 190 iterations where
-it needs 40. The step is accepted when the energy falls by a quarter of the model's prediction, else
+``H`` had no negative eigenvalue at 134 of 360 steps, one at 53, more at 173.) Every trial state is
+retracted onto the inextensible states (:func:`~rodstab.nonlinear.constraint.retract_step`): a chart
+step opens the ring's closure at second order, and at 0.1 rad the penalty strain that leaves (0.83
+B3/L on the six-ring) swamps the predicted change (0.04), so unretracted steps were accepted only
+below ~0.03 rad and a version of this loop without the retraction needed 190 iterations where it
+needs 40. The step is accepted when the energy falls by a quarter of the model's prediction, else
 ``lam`` grows 4x (Levenberg-Marquardt, as :func:`~.solve.lm_step`). A step moves nothing by more
 than :data:`STEP_FRACTION` of the
 image's smaller chart gap to its neighbours (images do not overtake each other). No springs:
@@ -77,7 +77,7 @@ Newton's method on the gradient, ``s = -H^-1 g``: no merit function, a saddle be
 of the energy (the gradient-norm merit of :func:`~rodstab.nonlinear.discover.deflated_newton`
 stalls at a non-stationary point, residual 0.054 B3/L^2, from the six-ring string's highest
 image). Steps are capped at :data:`SADDLE_STEP` and retracted while larger than
-:data:`~rodstab.nonlinear.discover.RETRACT_ABOVE` (the last, small steps are plain Newton,
+:data:`~rodstab.nonlinear.constraint.RETRACT_ABOVE` (the last, small steps are plain Newton,
 quadratically convergent; the retraction would remove an equilibrium's own shear strain).
 Without the retraction the same iteration converged only with steps capped at 0.01 rad.
 Converged at :data:`~rodstab.nonlinear.solve.NEWTON_RTOL` times the stiff force scale, as
@@ -121,14 +121,8 @@ from ..model import Assembly
 from ..numerics import jacobi_scaling
 from ..results import Result
 from .barrier import MIN_ELEMENTS, Barrier, descents_from_saddle, same_model, state_label
-from .discover import (
-    NewtonRun,
-    Snapshot,
-    chart_size,
-    common_rod,
-    restore_inextensible,
-    retract_step,
-)
+from .constraint import chart_size, restore_inextensible, retract_step
+from .discover import NewtonRun, Snapshot, common_rod
 from .discrete import PENALTY, DiscreteRod
 from .jets import rodrigues
 from .solve import NEWTON_RTOL, lowest_modes, newton, vee_log, zero_eigenvalue_tol
@@ -331,7 +325,7 @@ def _perpendicular_step(r: DiscreteRod, free: np.ndarray, E: float, gf: np.ndarr
     the model ``g . s + 1/2 s^T H s`` on the plane, ``P = H + lam D`` with ``lam`` (from the
     given one) the smallest 4x step up for which ``P`` is positive definite on the plane
     (module docstring). The step is scaled to move nothing by more than ``cap``
-    (:func:`chart_size`), retracted (:func:`~.discover.restore_inextensible`) and accepted
+    (:func:`chart_size`), retracted (:func:`~.constraint.restore_inextensible`) and accepted
     when the energy falls by a quarter of the model's prediction; else ``lam`` grows 4x.
 
     Returns the energy terms ``(E, g, H)`` of the new state and the ``lam`` to start the next
@@ -377,7 +371,7 @@ def reparametrise(band: list[DiscreteRod], free: np.ndarray) -> list[DiscreteRod
     Arclength: the Euclidean chart norm (positions over ``L``, radians) of the free parts of
     consecutive differences. A new image at arclength ``s`` between images ``k`` and ``k + 1``
     is ``band[k]`` moved by the fraction of :func:`chart_difference` ``(band[k], band[k + 1])``
-    (piecewise geodesic), then retracted (:func:`~.discover.restore_inextensible`). The ends
+    (piecewise geodesic), then retracted (:func:`~.constraint.restore_inextensible`). The ends
     are kept (the same objects).
     """
     scale = _chart_scale(band[0])
@@ -448,7 +442,7 @@ def refine_saddle(r: DiscreteRod, *, max_iter: int = SADDLE_MAX_ITER) -> NewtonR
 
     Steps ``s = -H^-1 g`` on the free unknowns, scaled to move nothing by more than
     :data:`SADDLE_STEP`, and retracted onto the inextensible states while larger than
-    :data:`~.discover.RETRACT_ABOVE` (:func:`~.discover.retract_step`, module docstring). No
+    :data:`~.constraint.RETRACT_ABOVE` (:func:`~.constraint.retract_step`, module docstring). No
     merit function: it converges to saddles as well as minima, from their basin. Once the
     residual is below the tolerance, up to :data:`POLISH_STEPS` more plain Newton steps are
     taken while each lowers it: near soft modes the energy error is ~``g^2 / lambda``, 1e-6
@@ -500,7 +494,7 @@ class StringRun(Result):
     ``converged``: Newton from a local maximum of the string's energies converged to a
     stationary point of index one that the caller accepted; ``iterations``: string iterations
     done; ``displacement``: largest chart move of an image in the last iteration (over ``L``,
-    rad); ``largest_gap``: largest chart gap (:func:`~.discover.chart_size`) between
+    rad); ``largest_gap``: largest chart gap (:func:`~.constraint.chart_size`) between
     neighbouring images at the end; ``too_coarse``: stopped because a gap exceeded
     :data:`MAX_GAP`; ``top_energies``: the highest interior image's energy after each iteration;
     ``saddle_image``: the image the saddle was refined from (-1: none); ``saddle_index``,
