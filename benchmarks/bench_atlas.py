@@ -17,7 +17,7 @@ import numpy as np
 from bench_analytic import median_time
 
 from rodstab.atlas import RingAtlas, ring_atlas
-from rodstab.design import load_design
+from rodstab.io.design import load_design
 from rodstab.states import Ring, ring_of
 from rodstab.sweep import design_at
 

@@ -50,8 +50,8 @@ from rodstab.analytic.arc import clamped_arc_stability
 from rodstab.analytic.michell import michell_stability
 from rodstab.analytic.ring import ring_stability
 from rodstab.atlas import grid_values, ring_atlas
-from rodstab.design import load_design
 from rodstab.executor import cores, open_executor, task_size
+from rodstab.io.design import load_design
 from rodstab.limits import DEFAULT as DEFAULT_LIMITS
 from rodstab.linear.solve import linear_stability
 from rodstab.nonlinear.discrete import discretise

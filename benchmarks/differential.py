@@ -52,8 +52,8 @@ import numpy as np  # noqa: E402
 from rodstab import atlas, problems, sections  # noqa: E402
 from rodstab.analytic.arc import clamped_arc_stability  # noqa: E402
 from rodstab.checks.rules import FE_RTOL, NONLINEAR_RTOL, ROOT_RTOL  # noqa: E402
-from rodstab.design import parse_design  # noqa: E402
 from rodstab.errors import NotConverged  # noqa: E402
+from rodstab.io.design import parse_design  # noqa: E402
 from rodstab.linear.solve import (  # noqa: E402
     FE_TARGET_RTOL,
     converged_stability,

@@ -52,7 +52,7 @@ from mkdocs.structure.pages import Page
 
 import rodstab
 from rodstab import checks, cli
-from rodstab.design import Design, load_design
+from rodstab.io.design import Design, load_design
 from rodstab.states import ring_of
 
 log = logging.getLogger("mkdocs.hooks.rodstab")

@@ -21,8 +21,8 @@ import pytest
 
 from rodstab import atlas as A
 from rodstab.cli import main
-from rodstab.design import load_design
 from rodstab.errors import RodstabInputError
+from rodstab.io.design import load_design
 from rodstab.problems import folded_ring, unfolded_ring
 from rodstab.sections import rectangle
 from rodstab.states import ring_of, uniform_ring

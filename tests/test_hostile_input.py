@@ -138,7 +138,7 @@ def test_not_converged_eigen_solve_exits_3_after_its_output(run_cli, monkeypatch
 
 def test_atlas_respects_the_lock_of_a_running_continue(run_cli, tmp_path):
     """Issue 19 item 10: atlas --out wrote into a folder a running `continue` had locked; now
-    it takes the same run.lock (rodstab.outputs.run_lock) and exits 2 naming the folder and
+    it takes the same run.lock (rodstab.io.outputs.run_lock) and exits 2 naming the folder and
     the lock, leaving the other run's lock alone."""
     import json
     import os

@@ -427,7 +427,7 @@ def test_split_arc_weld_of_unequal_elements_is_relaxed_and_converges_to_the_clos
     critical load converges at second order to the unsplit arc's closed form (3.7)/(3.8); the
     relaxation is reported (held residual -> relaxed residual, a move of O(l_e^2))."""
     from rodstab.analytic.arc import clamped_arc_stability
-    from rodstab.design import load_design
+    from rodstab.io.design import load_design
 
     path = tmp_path / "split_arc.toml"
     path.write_text(SPLIT_ARC)

@@ -16,8 +16,9 @@ import numpy as np
 import pytest
 import scipy.optimize as so
 
-from rodstab.design import parse_design, set_design_value
 from rodstab.errors import RodstabInputError
+from rodstab.io.design import parse_design
+from rodstab.io.vary import set_design_value
 from rodstab.linear.solve import linear_stability
 from rodstab.model import Assembly, Segment
 from rodstab.nonlinear.continuation import continuation, imperfection_sensitivity

@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 from rodstab import ribbons
-from rodstab.design import load_design
+from rodstab.io.design import load_design
 from rodstab.linear.solve import SegmentMode, linear_stability
 from rodstab.model import held_frame
 from rodstab.nonlinear.discrete import discretise

@@ -16,8 +16,8 @@ import numpy as np
 import pytest
 
 from rodstab.cli import main
-from rodstab.design import load_design, parse_design
 from rodstab.errors import RodstabInputError
+from rodstab.io.design import load_design, parse_design
 from rodstab.model import Assembly
 from rodstab.states import closed_states, ring_assembly, ring_of, uniform_ring
 

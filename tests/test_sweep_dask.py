@@ -28,9 +28,10 @@ import pytest
 import rodstab
 import rodstab.executor
 import rodstab.sweep
-from rodstab.design import load_design, parse_design, set_design_value
 from rodstab.errors import RodstabInputError
 from rodstab.executor import WORKER_ENV, auto_workers, open_executor, task_size
+from rodstab.io.design import load_design, parse_design
+from rodstab.io.vary import set_design_value
 from rodstab.sweep import INVALID, OK, SweepRow, columns, sweep
 
 ROOT = Path(__file__).resolve().parent.parent

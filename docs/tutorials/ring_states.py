@@ -18,7 +18,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from rodstab import atlas
-from rodstab.design import load_design
+from rodstab.io.design import load_design
 from rodstab.states import ring_of, state_centrelines
 
 design = load_design("examples/folded_six_ring.toml")

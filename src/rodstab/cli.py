@@ -45,6 +45,7 @@ from .errors import (
     require_positive_int,
 )
 from .executor import AUTO_MIN_SECONDS
+from .io.outputs import check_output
 from .limits import (
     CONTINUATION_ELEMENTS,
     CONTINUE_DEFAULT_N,
@@ -58,7 +59,6 @@ from .limits import (
     Limits,
     require_steps,
 )
-from .outputs import check_output
 from .results import jsonable
 from .sections import (
     ASPECT_RANGE,
@@ -218,7 +218,7 @@ def _dimensions(shape: str, given: dict[str, str], aspect: float | None,
 def _section_options(f: Callable[..., Any]) -> Callable[..., Any]:
     """Add the common cross-section options and pass a built :class:`Section` as ``section``.
 
-    ``--polygon FILE`` (:func:`~rodstab.design.load_polygon`) builds a
+    ``--polygon FILE`` (:func:`~rodstab.io.outline.load_polygon`) builds a
     :func:`~rodstab.sections.polygon_section` instead, with ``--mesh-size`` and
     ``--orientation-deg``; it cannot be combined with the options of a closed-form shape.
     ``--height``/``--thickness``, ``--diameter``, ``--outer-diameter``/``--inner-diameter``
@@ -283,7 +283,7 @@ def _section_options(f: Callable[..., Any]) -> Callable[..., Any]:
                 if ctx.get_parameter_source(name) == ParameterSource.COMMANDLINE:
                     raise RodstabInputError(f"--{name} cannot be used with --polygon, which "
                                             "gives the section")
-            from .design import load_polygon
+            from .io.outline import load_polygon
 
             spec = load_polygon(polygon_file)
             try:
@@ -412,7 +412,7 @@ def _section_line(s: Section) -> str:
 
 
 def _image_output(option: str, value: str) -> Path:
-    """Check a picture's output path: :func:`~rodstab.outputs.check_output`, matplotlib's types."""
+    """Check a picture's output path: :func:`check_output`, matplotlib's types."""
     from matplotlib.backend_bases import FigureCanvasBase
 
     types = FigureCanvasBase.get_supported_filetypes()
@@ -734,7 +734,7 @@ def analyze(design_file: str, elements: int | None, plot_path: str | None, limit
     Without --elements or [analysis] elements the mesh is refined until the estimated error
     of each end is 2.5e-7 (relative); a mesh given is kept and its estimated error printed.
     """
-    from .design import load_design
+    from .io.design import load_design
     from .linear.solve import FE_TARGET_RTOL, converged_stability, mode_family
 
     d = load_design(design_file)
@@ -879,7 +879,7 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
     """
     import numpy as np
 
-    from .design import load_design, nonlinear_elements
+    from .io.design import load_design, nonlinear_elements
     from .nonlinear.solve import STRAIN_WARN, equilibrium
 
     render = None if render_path is None else _image_output("--render", render_path)
@@ -994,10 +994,11 @@ def continue_cmd(design_file: str, vary: str, out_dir: str | None, elements: int
     """
     from tqdm import tqdm
 
-    from .design import load_design, model_value, parse_vary, value_kind, vary_in_units
     from .errors import require_int
+    from .io.design import load_design
+    from .io.outputs import run_lock
+    from .io.vary import model_value, parse_vary, value_kind, vary_in_units
     from .nonlinear.continuation import continuation
-    from .outputs import run_lock
 
     spec = parse_vary(vary, default_n=CONTINUE_DEFAULT_N)
     key, start, stop, n = spec.key, spec.start, spec.stop, spec.n
@@ -1154,8 +1155,9 @@ def sweep(design_file: str, vary: str, out_dir: str, elements: int | None,
     import numpy as np
     from tqdm import tqdm
 
-    from .design import load_design, parse_vary, vary_in_units
     from .executor import check_workers, task_size
+    from .io.design import load_design
+    from .io.vary import parse_vary, vary_in_units
     from .report.figures import sweep_plot
     from .sweep import CSV_FILE, INVALID, NOT_CONVERGED, PHYSICAL_COLUMN, design_at, write_parquet
     from .sweep import sweep as run_sweep
@@ -1336,7 +1338,7 @@ def states(design_file: str | None, segments: int, cusps: bool, max_turns: float
     """
     import math
 
-    from .design import load_design
+    from .io.design import load_design
     from .states import ring_of, state_centrelines, uniform_ring
 
     plot = None if plot_path is None else _image_output("--plot", plot_path)
@@ -1501,7 +1503,7 @@ def _ring_and_section(design_file: str | None, structure: str, segments: int,
     (``segments`` arcs of radius 1 welded at cusps, the one-loop ring of Section 5, natural
     curvature 1 per unit load: the load is ``kappa_n R0``). With DESIGN, its section and its
     load factor; ``--structure``, ``--segments`` and the section options are refused. The
-    last item is the :class:`~rodstab.design.Design` (None for a built-in structure).
+    last item is the :class:`~rodstab.io.design.Design` (None for a built-in structure).
     """
     import math
 
@@ -1515,7 +1517,7 @@ def _ring_and_section(design_file: str | None, structure: str, segments: int,
             option = {"polygon_file": "polygon"}.get(given[0], given[0]).replace("_", "-")
             raise RodstabInputError(f"--{option} describes a built-in structure; "
                                     f"{design_file} describes its own ring and section")
-        from .design import load_design
+        from .io.design import load_design
 
         design = load_design(design_file)
         a = design.assembly
@@ -1707,7 +1709,7 @@ def transitions(design_file: str | None, section: Section, structure: str,
     units = None if design is None else design.units
     physical: dict[tuple[str, str, str], str] = {}
     if design is not None and units is not None:
-        from .design import value_kind
+        from .io.vary import value_kind
 
         kappa = design.assembly.segment(units.segment).natural_curvature
         thresholds = []
@@ -1970,9 +1972,10 @@ def atlas_cmd(design_file: str, vary: str, out_dir: str, method: str,
     from tqdm import tqdm
 
     from .atlas import LOAD_FACTOR_UNITS, ring_atlas
-    from .design import load_design, parse_vary, vary_in_units
     from .executor import check_workers, task_size
-    from .outputs import run_lock, write_atomic
+    from .io.design import load_design
+    from .io.outputs import run_lock, write_atomic
+    from .io.vary import parse_vary, vary_in_units
     from .states import Ring, ring_of
     from .sweep import design_at
 
