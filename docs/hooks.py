@@ -1,8 +1,8 @@
 """MkDocs hooks: every page of the site that can be generated is generated here, at build time.
 
 * **Gallery** -- every ``examples/*.toml`` is run through ``rodstab analyze FILE --plot``; a
-  design that is a ring of identical rods (:func:`rodstab.states.ring_of` accepts it) also
-  through ``rodstab states FILE --plot``; and every line of its header comment that is a
+  design that is a ring of identical rods (:func:`rodstab.multistable.states.ring_of` accepts it)
+  also through ``rodstab states FILE --plot``; and every line of its header comment that is a
   ``rodstab`` command is run too (``continue`` on a coarse mesh, :data:`FAST_OPTIONS`). One page per
   example: the header, the design file, each command, what it printed and every picture it
   wrote. A command that exits non-zero fails the build.
@@ -53,7 +53,7 @@ from mkdocs.structure.pages import Page
 import rodstab
 from rodstab import checks, cli
 from rodstab.io.design import Design, load_design
-from rodstab.states import ring_of
+from rodstab.multistable.states import ring_of
 
 log = logging.getLogger("mkdocs.hooks.rodstab")
 
@@ -69,6 +69,30 @@ FAST_OPTIONS = {"continue": ["--elements", "8", "--branch-steps", "4", "--no-err
 NOT_IN_API = ("rodstab.cli",)
 #: Placeholder entries of the nav in mkdocs.yml that the hook fills with generated pages.
 GENERATED_SECTIONS = ("gallery/index.md", "tutorials/index.md", "api/index.md")
+
+#: Modules moved in issue 20 (the package's layout), old -> new: a page's cross-reference to an
+#: old path (``[`ring_of`][rodstab.states.ring_of]``) is pointed at the new one
+#: (:func:`moved_identifier`), so that pages written before the move still build.
+MOVED_MODULES = {
+    "rodstab.design": "rodstab.io.design", "rodstab.outputs": "rodstab.io.outputs",
+    "rodstab.states": "rodstab.multistable.states", "rodstab.atlas": "rodstab.multistable.atlas",
+    "rodstab.nonlinear.discover": "rodstab.multistable.discover",
+    "rodstab.nonlinear.mep": "rodstab.multistable.string_method",
+    "rodstab.nonlinear.transitions": "rodstab.multistable.transitions",
+    "rodstab.nonlinear.barrier": "rodstab.multistable.barrier",
+    "rodstab.plots": "rodstab.plot.plots", "rodstab.ribbons": "rodstab.plot.ribbons",
+    "rodstab.transition_plot": "rodstab.plot.transition_graph",
+}
+#: Names that left a module that was split (issue 20): (old module, name) -> new module.
+MOVED_NAMES = {
+    **{("rodstab.design", n): "rodstab.io.outline" for n in ("load_polygon", "DXF_SAGITTA")},
+    **{("rodstab.design", n): "rodstab.io.vary" for n in (
+        "set_design_value", "VarySpec", "parse_vary", "value_kind", "vary_in_units",
+        "model_value")},
+    **{("rodstab.nonlinear.discover", n): "rodstab.nonlinear.constraint" for n in (
+        "chart_size", "restore_positions", "restore_inextensible", "retract_step")},
+}
+_CROSS_REFERENCE = re.compile(r"\]\[(rodstab(?:\.\w+)+)\]")
 
 _CLAIMS_MARK = re.compile(r"^<!-- rodstab:claims (\S+) -->$", re.M)
 _LIVE_BLOCK = re.compile(r"^```rodstab\n(.*?)\n```$", re.M | re.S)
@@ -548,7 +572,10 @@ def on_files(files: Files, config: MkDocsConfig) -> Files:
 
 
 def on_page_markdown(markdown: str, page: Page, config: MkDocsConfig, files: Files) -> str:
-    """Expand ``rodstab`` blocks (run them) and claims markers (the section's rows)."""
+    """Expand ``rodstab`` blocks (run them) and claims markers (the section's rows).
+
+    Cross-references to a module's path before issue 20 are pointed at its new path.
+    """
     def claims(m: re.Match[str]) -> str:
         rows = [r for r in _state["rows"] if in_section(r, m.group(1))]
         if not rows:
@@ -562,8 +589,19 @@ def on_page_markdown(markdown: str, page: Page, config: MkDocsConfig, files: Fil
         return "\n".join(console(run_rodstab(shlex.split(line), _state["work"]))
                          for line in m.group(1).splitlines() if line.strip())
 
+    markdown = _CROSS_REFERENCE.sub(lambda m: f"][{moved_identifier(m.group(1))}]", markdown)
     markdown = _CLAIMS_MARK.sub(claims, markdown)
     return _LIVE_BLOCK.sub(live, markdown)
+
+
+def moved_identifier(dotted: str) -> str:
+    """Return the path that ``dotted`` has since issue 20 (:data:`MOVED_MODULES`), else itself."""
+    for old in sorted(MOVED_MODULES, key=len, reverse=True):
+        if dotted == old or dotted.startswith(old + "."):
+            name = dotted[len(old) + 1:].split(".")[0]
+            new = MOVED_NAMES.get((old, name), MOVED_MODULES[old])
+            return new + dotted[len(old):]
+    return dotted
 
 
 def _exists(dotted: str) -> bool:

@@ -16,8 +16,8 @@ import numpy as np
 import pytest
 
 from rodstab.cli import main
+from rodstab.multistable import discover as dv
 from rodstab.nonlinear import constraint, solve
-from rodstab.nonlinear import discover as dv
 from rodstab.nonlinear.jets import rodrigues
 from rodstab.problems import hexagram as hx
 from rodstab.problems import straightened_rod as sr

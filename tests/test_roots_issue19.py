@@ -146,8 +146,8 @@ def test_matrix_roots_grid_is_validated_and_used():
 
 def test_atlas_interval_carries_the_bloch_methods_non_convergence(monkeypatch):
     """StateInterval.converged (JSON 'converged', CLI exit 3) is the Bloch result's, with why."""
-    from rodstab import atlas
-    from rodstab.states import uniform_ring
+    from rodstab.multistable import atlas
+    from rodstab.multistable.states import uniform_ring
 
     ring = uniform_ring(5, weld="cusp", natural_curvature=1.0, B1=90.0, B2=1.4)
     state = next(s for s in ring.states(max_turns=1.0).states

@@ -1339,7 +1339,7 @@ def states(design_file: str | None, segments: int, cusps: bool, max_turns: float
     import math
 
     from .io.design import load_design
-    from .states import ring_of, state_centrelines, uniform_ring
+    from .multistable.states import ring_of, state_centrelines, uniform_ring
 
     plot = None if plot_path is None else _image_output("--plot", plot_path)
     if design_file is not None:
@@ -1496,7 +1496,7 @@ def reproduce(out_dir: str, no_progress: bool, as_json: bool) -> None:
 
 def _ring_and_section(design_file: str | None, structure: str, segments: int,
                       section: Section) -> tuple[Any, Section, str, Any]:
-    """Return the ring of a ring command: DESIGN's (:func:`rodstab.states.ring_of`) or built in.
+    """Return a ring command's ring: DESIGN's (:func:`~.multistable.states.ring_of`) or built in.
 
     Built-in structures (without DESIGN): ``hexagram`` (six rods of length 1, natural curvature
     ``1/R0`` per unit load, so the load is ``kappa_n R0``, ``R0 = 3 L / 2 pi``) and ``six-ring``
@@ -1507,7 +1507,7 @@ def _ring_and_section(design_file: str | None, structure: str, segments: int,
     """
     import math
 
-    from .states import ring_of, uniform_ring
+    from .multistable.states import ring_of, uniform_ring
 
     if design_file is not None:
         given = [o for o in ("structure", "segments", "shape", "aspect", "nu", "torsion", "b1",
@@ -1579,8 +1579,8 @@ def discover(design_file: str | None, section: Section, structure: str, segments
     built-in structure.
     """
     from .limits import require_nonlinear
-    from .nonlinear.discover import RUNS_PER_START, ring_seeds, shape_2d
-    from .nonlinear.discover import discover as search
+    from .multistable.discover import RUNS_PER_START, ring_seeds, shape_2d
+    from .multistable.discover import discover as search
 
     plot = None if plot_path is None else _image_output("--plot", plot_path)
     mu = require_finite("--load-factor", load_factor)
@@ -1780,7 +1780,7 @@ _BARRIER_STATES = {"six-ring": ("folded", "one-loop"), "hexagram": ("line", "sta
               help="Elements per rod of the discrete rod (>= 4).")
 @click.option("--images", type=int, default=None,
               help="Images of the string, ends included (>= 3; default "
-                   "rodstab.nonlinear.mep.STRING_IMAGES, 17). String method.")
+                   "rodstab.multistable.string_method.STRING_IMAGES, 17). String method.")
 @click.option("--plot", "plot_path", type=click.Path(dir_okay=False), default=None,
               help="Write the energy along the path (saddle marked, barriers annotated).")
 @click.option("--animation", "animation_path", type=click.Path(dir_okay=False), default=None,
@@ -1809,7 +1809,7 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
     k = require_finite("--load-factor", load_factor)
     if method == "continuation" and (images is not None or animation_path is not None):
         raise RodstabInputError("--images and --animation are options of --method string")
-    from .nonlinear.mep import STRING_IMAGES
+    from .multistable.string_method import STRING_IMAGES
 
     n_img = STRING_IMAGES if images is None else require_int("--images", images, 3)
     plot = None if plot_path is None else _image_output("--plot", plot_path)
@@ -1847,13 +1847,13 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
     path: list[Any] = []
     try:
         if method == "string":
-            from .nonlinear.mep import string_barrier
+            from .multistable.string_method import string_barrier
 
             b, path = string_barrier(a, b_asm, mu, elements_per_segment=elements,
                                      images=n_img, name_a=from_state, name_b=to_state,
                                      limits=limits)
         else:
-            from .nonlinear.barrier import barrier_from_bifurcation
+            from .multistable.barrier import barrier_from_bifurcation
 
             b = barrier_from_bifurcation(a, mu, upper=model_load_factor(structure, 4.0),
                                          elements_per_segment=elements, name=from_state,
@@ -1900,7 +1900,7 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
             title=f"{name}, kappa_n R0 = {_fmt(k)}, {elements} el./rod, {method}"))
         lines.append(f"wrote {payload['plot']}")
     if gif is not None:
-        from .nonlinear.discover import common_rod
+        from .multistable.discover import common_rod
         from .plots import animate_shapes
         from .ribbons import RodLayout
 
@@ -1971,12 +1971,12 @@ def atlas_cmd(design_file: str, vary: str, out_dir: str, method: str,
     import numpy as np
     from tqdm import tqdm
 
-    from .atlas import LOAD_FACTOR_UNITS, ring_atlas
     from .executor import check_workers, task_size
     from .io.design import load_design
     from .io.outputs import run_lock, write_atomic
     from .io.vary import parse_vary, vary_in_units
-    from .states import Ring, ring_of
+    from .multistable.atlas import LOAD_FACTOR_UNITS, ring_atlas
+    from .multistable.states import Ring, ring_of
     from .sweep import design_at
 
     spec = parse_vary(vary, default_n=ATLAS_DEFAULT_N)

@@ -515,8 +515,8 @@ def plot_ring_states(shapes: list[list[np.ndarray]], titles: list[str],
     """Draw closed planar states of a ring in a grid, one panel per state.
 
     ``shapes[i]`` holds the centrelines ``(n_points, 2)`` of state ``i``'s rods (lab frame, as
-    :func:`rodstab.states.state_centrelines` gives them); each rod has its own colour, the
-    welds (rod ends) are dots. ``titles[i]`` is written above panel ``i``.
+    :func:`rodstab.multistable.states.state_centrelines` gives them); each rod has its own colour,
+    the welds (rod ends) are dots. ``titles[i]`` is written above panel ``i``.
     """
     n = len(shapes)
     cols = max(1, min(columns, n))

@@ -68,7 +68,7 @@ _SECTIONS_EXTRA = 'polygon sections need sectionproperties: pip install "rodstab
 
 
 #: A closed contour of points (x, y), the closing point not repeated: an outline or a hole
-#: (named so as not to be taken for a ring of rods, :class:`rodstab.states.Ring`).
+#: (named so as not to be taken for a ring of rods, :class:`rodstab.multistable.states.Ring`).
 Contour = tuple[tuple[float, float], ...]
 
 

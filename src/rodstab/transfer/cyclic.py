@@ -2,7 +2,7 @@
 
 Reduced by their n-fold cyclic symmetry to one arc and a Bloch phase per harmonic
 (:func:`cyclic_ring_matrix`), the stable interval by :func:`cyclic_ring_interval` (the
-curved-sided hexagram, the rings of :mod:`rodstab.atlas`).
+curved-sided hexagram, the rings of :mod:`rodstab.multistable.atlas`).
 """
 
 from __future__ import annotations

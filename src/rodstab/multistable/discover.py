@@ -23,11 +23,11 @@ afterwards by energy, Hessian index and the aligned distance minimised over thos
 
 One rod for every state: all equilibria must be states of the *same* discrete model. A rod
 discretised from a curved held state carries that state in its discrete natural curvature (the
-held Cayley curvature, :mod:`.discrete`) and in its edge rest lengths (the arc's chords), both
-``O(k^2 l_e^2)`` away from another state's. :func:`common_rod` replaces them by the state-free
-ones -- rest length = arc length / elements, natural Cayley curvature ``mu kappa_n`` at every
-joint and half-joint (exactly what the straight held state gives) -- so the energy depends only
-on the natural curvature, whichever held state was discretised (tested).
+held Cayley curvature, :mod:`rodstab.nonlinear.discrete`) and in its edge rest lengths (the arc's
+chords), both ``O(k^2 l_e^2)`` away from another state's. :func:`common_rod` replaces them by the
+state-free ones -- rest length = arc length / elements, natural Cayley curvature ``mu kappa_n`` at
+every joint and half-joint (exactly what the straight held state gives) -- so the energy depends
+only on the natural curvature, whichever held state was discretised (tested).
 """
 
 from __future__ import annotations
@@ -42,12 +42,12 @@ import scipy.sparse.linalg as spla
 
 from ..errors import RodstabInputError
 from ..model import Assembly
+from ..nonlinear.constraint import mean_length, restore_positions
+from ..nonlinear.discrete import PENALTY, DiscreteRod, discretise
+from ..nonlinear.solve import NEWTON_RTOL, lowest_eigenvalues, max_strain, zero_eigenvalue_tol
 from ..numerics import jacobi_scaling
 from ..results import Result
-from ..states import Ring
-from .constraint import mean_length, restore_positions
-from .discrete import PENALTY, DiscreteRod, discretise
-from .solve import NEWTON_RTOL, lowest_eigenvalues, max_strain, zero_eigenvalue_tol
+from .states import Ring
 
 #: Deflation power ``p`` and shift of ``M(q) = prod (d^-p + shift)`` (Farrell et al.'s defaults).
 DEFLATION_POWER = 2.0
@@ -178,7 +178,7 @@ class NewtonRun(Result):
 
 
 def _residual_scale(rod: DiscreteRod) -> float:
-    """Force scale of the stiff stretch/shear terms (as :func:`.solve.newton`)."""
+    """Force scale of the stiff stretch/shear terms (as :func:`rodstab.nonlinear.solve.newton`)."""
     return float(PENALTY * np.max(rod.edge_B) / np.min(rod.rest_length))
 
 
@@ -218,10 +218,10 @@ def deflated_newton(rod: DiscreteRod, known: list[Snapshot], *,
     :func:`restore_positions`; it is taken when the merit ``M |S g|`` (``S`` the Jacobi scaling
     of ``H``) falls, else ``lam`` grows. Converged when the *undeflated* residual
     ``max |g_free|`` is below ``NEWTON_RTOL`` times the stiff force scale (as
-    :func:`.solve.newton`) at a point farther than :data:`SAME_STATE_DISTANCE` from every known
-    state: ``M`` is finite there, so the root is an equilibrium. With ``known`` empty this is
-    damped Newton on ``g``, which converges to saddles as well as minima (unlike
-    :func:`.solve.newton`).
+    :func:`rodstab.nonlinear.solve.newton`) at a point farther than :data:`SAME_STATE_DISTANCE` from
+    every known state: ``M`` is finite there, so the root is an equilibrium. With ``known`` empty
+    this is damped Newton on ``g``, which converges to saddles as well as minima (unlike
+    :func:`rodstab.nonlinear.solve.newton`).
     """
     if any(distance_sq(rod, s)[0] <= SAME_STATE_DISTANCE**2 for s in known):
         return NewtonRun(False, 0, math.nan)  # started on a known state: M g is 0 x inf
@@ -320,8 +320,8 @@ class Invariants(Result):
         Weld points more than :data:`WELD_POINT_TOL` x L apart.
     turning_number : float
         Total turning of the rods' tangents in the best-fit plane, in full turns, the cusps'
-        reversals not counted (as :class:`rodstab.states.HeldState`); signed with the plane
-        normal taken along the mean frame normal ``d3``.
+        reversals not counted (as :class:`rodstab.multistable.states.HeldState`); signed with the
+        plane normal taken along the mean frame normal ``d3``.
     max_out_of_plane : float
         Largest distance of a node from the best-fit plane, over ``L``.
     planar : bool
@@ -352,8 +352,8 @@ def invariants(rod: DiscreteRod, s: Snapshot,
     """Distinct weld points, turning number and planarity of state ``s`` of ``rod``.
 
     ``directions``: per segment ``+1``/``-1`` when the ring runs through it forwards/backwards
-    (:attr:`rodstab.states.Ring.order`); the turning is summed along the ring. Default all
-    forwards.
+    (:attr:`rodstab.multistable.states.Ring.order`); the turning is summed along the ring. Default
+    all forwards.
     """
     L = mean_length(rod)
     c, n = _plane(rod, s.x, s.R_edge)
@@ -490,7 +490,7 @@ def _perturbed(rod: DiscreteRod, base: Snapshot, amplitude: float, weights: np.n
     largest node displacement ``|amplitude|`` x L (signed), then put back onto the Kirchhoff
     constraint (frames on their chords, :func:`restore_positions`).
     """
-    from .solve import lowest_modes
+    from ..nonlinear.solve import lowest_modes
 
     trial = rod.copy()
     base.put(trial)
@@ -583,11 +583,11 @@ def ring_seeds(ring: Ring, state: str, elements_per_segment: int, load_factor: f
                                            list[KnownState]]:
     """Return the common rod (built from held state ``state``), the seeds and the known states.
 
-    ``ring``: :func:`rodstab.states.ring_of` of a design, or :func:`rodstab.states.uniform_ring`.
-    Seeds: the held geometry of ``state``, and with ``seed_states`` that of every other closed
-    planar held state of uniform moment with ``|k L| <= 2 pi`` (:meth:`Ring.states`: the basic
-    states, their mirrors and the others), each put into the one common rod. Raises naming
-    ``state`` if it is not a closed state of the ring.
+    ``ring``: :func:`rodstab.multistable.states.ring_of` of a design, or
+    :func:`rodstab.multistable.states.uniform_ring`. Seeds: the held geometry of ``state``, and with
+    ``seed_states`` that of every other closed planar held state of uniform moment with ``|k L| <= 2
+    pi`` (:meth:`Ring.states`: the basic states, their mirrors and the others), each put into the
+    one common rod. Raises naming ``state`` if it is not a closed state of the ring.
     """
     theta = ring.state(state).theta
     listed = ring.states().states
