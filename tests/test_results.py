@@ -31,7 +31,7 @@ def test_plots_return_a_figure_without_a_path(tmp_path):
     from matplotlib.figure import Figure
 
     from rodstab.multistable.states import state_centrelines, uniform_ring
-    from rodstab.plots import plot_ring_states
+    from rodstab.plot.plots import plot_ring_states
 
     ring = uniform_ring(6)
     shapes = [state_centrelines(ring, t) for t in (0.0, 2 * math.pi / 3)]
@@ -47,8 +47,8 @@ def test_the_interactive_view_returns_its_plotly_figure_without_a_path():
     go = pytest.importorskip("plotly.graph_objects")
     from rodstab.multistable.states import ring_assembly
     from rodstab.nonlinear.discrete import discretise
-    from rodstab.plots import html_view
-    from rodstab.ribbons import RodLayout
+    from rodstab.plot.plots import html_view
+    from rodstab.plot.ribbons import RodLayout
 
     rod = discretise(ring_assembly(6, 2 * math.pi / 3), 4, 1.0)
     fig = html_view([rod.x, rod.x], [rod.R_edge, rod.R_edge], RodLayout.from_rod(rod),

@@ -625,7 +625,7 @@ def section(section: Section, dimensions: SectionDimensions | None, young: str |
     if isinstance(section, PolygonSection):
         lines += _polygon_lines(section)
         if plot_path is not None:
-            from .plots import plot_section
+            from .plot.plots import plot_section
             from .sections import polygon_mesh
 
             nodes, triangles, part = polygon_mesh(section)
@@ -768,7 +768,7 @@ def analyze(design_file: str, elements: int | None, plot_path: str | None, limit
         "paper_load_factor_critical": lam,
     }
     if plot is not None:
-        from .plots import plot_mode
+        from .plot.plots import plot_mode
 
         payload["plot"] = str(plot_mode(d.assembly, r, plot))
     lo, hi = r.load_factor_interval
@@ -896,20 +896,20 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
     payload = r.to_dict() | {"design": d.source, "elements_per_segment": n,
                              "max_out_of_plane": float(np.max(np.abs(rod.x[:, 2])))}
     if render is not None or html is not None:
-        from .ribbons import RodLayout
+        from .plot.ribbons import RodLayout
 
         layout = RodLayout.from_rod(rod)
         label, signed = COLOUR_BY[colour]
         values = rod.edge_moments() if colour == "moment" else rod.edge_twist()
         title = f"{d.source}, load factor {load_factor:g}"
     if render is not None:
-        from .plots import plot_equilibrium
+        from .plot.plots import plot_equilibrium
 
         payload["render"] = str(plot_equilibrium(
             rod.x, rod.R_edge, layout, render, edge_values=values, value_label=label,
             diverging=signed, title=title))
     if html is not None:
-        from .plots import html_view
+        from .plot.plots import html_view
 
         payload["html"] = str(html_view(
             [rod.x], [rod.R_edge], layout, html, edge_values=[values], value_label=label,
@@ -1092,8 +1092,8 @@ def _continuation_pictures(r: Any, d: Any, out: Path, elements: int,
     payload["diagram"] = str(continuation_plot(r, out))
     if r.branches and r.branches[0].shapes:
         from .nonlinear.discrete import discretise
-        from .plots import animate_shapes
-        from .ribbons import RodLayout
+        from .plot.plots import animate_shapes
+        from .plot.ribbons import RodLayout
 
         first = r.branches[0]
         rod = discretise(d.assembly, elements)
@@ -1108,7 +1108,7 @@ def _continuation_pictures(r: Any, d: Any, out: Path, elements: int,
                        labels=[f"{r.key} = {v:.6g}" for v in first.shape_values], title=title)
         payload["animation"] = str(gif)
         try:
-            from .plots import html_view
+            from .plot.plots import html_view
 
             payload["interactive"] = str(html_view(
                 list(first.shapes), list(first.frames), layout, out / "branch.html",
@@ -1381,7 +1381,7 @@ def states(design_file: str | None, segments: int, cusps: bool, max_turns: float
                                                "curvature"),
             "energy": units.quantities([row["energy"] for row in rows], "energy")}
     if plot is not None:
-        from .plots import plot_ring_states
+        from .plot.plots import plot_ring_states
 
         payload["plot"] = str(plot_ring_states(
             [state_centrelines(ring, s.theta) for s in r.states],
@@ -1465,7 +1465,7 @@ def hexagram(section: Section, find_threshold: bool, method: str, chart_path: st
             "all four     " + ("never stable together" if at.all_four is None else
                                f"{_fmt(at.all_four[0])} < kappa_n R0 < {_fmt(at.all_four[1])}")]
     if chart is not None:
-        from .plots import plot_stable_bands
+        from .plot.plots import plot_stable_bands
 
         data = problem.chart_data(nu=nu, torsion=torsion, method=method)
         mark = payload["aspect_threshold"] if find_threshold else None
@@ -1605,7 +1605,7 @@ def discover(design_file: str | None, section: Section, structure: str, segments
         payload["units"] = units.reference() | {
             "energy": units.quantities([s.energy for s in found.states], "energy")}
     if plot is not None:
-        from .plots import plot_ring_states
+        from .plot.plots import plot_ring_states
 
         titles = [f"{s.label}: E {s.energy:.4g}, index {s.index}"
                   + ("" if s.invariants.planar else ", 3D") for s in found.states]
@@ -1724,7 +1724,7 @@ def transitions(design_file: str | None, section: Section, structure: str,
         payload["units"] = units.reference() | {"thresholds": thresholds}
     load_name = "kappa_n R0" if design_file is None else "load factor"
     if out is not None:
-        from .transition_plot import plot_transition_graph
+        from .plot.transition_graph import plot_transition_graph
 
         (out / "transitions.json").write_text(json.dumps(jsonable(payload), allow_nan=False))
         payload["figure"] = str(plot_transition_graph(
@@ -1892,7 +1892,7 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
         + ("" if units is None else f" ({_fmt(units.si(b.barrier_backward, 'energy'))} J)"),
         f"converged    {b.converged} ({len(b.energies)} path points)"]
     if plot is not None:
-        from .plots import plot_barrier_path
+        from .plot.plots import plot_barrier_path
 
         payload["plot"] = str(plot_barrier_path(
             b.path_arclength, b.energies, b.saddle_position, plot,
@@ -1901,8 +1901,8 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
         lines.append(f"wrote {payload['plot']}")
     if gif is not None:
         from .multistable.discover import common_rod
-        from .plots import animate_shapes
-        from .ribbons import RodLayout
+        from .plot.plots import animate_shapes
+        from .plot.ribbons import RodLayout
 
         rod = common_rod(a, elements, mu)
         payload["animation"] = str(animate_shapes(
@@ -2045,7 +2045,7 @@ def atlas_cmd(design_file: str, vary: str, out_dir: str, method: str,
         # the varied values are in the unit of --vary.
         payload["units"] = base.units.reference() | {
             "values": {"value": list(at.values), "unit": spec.unit}}
-    from .plots import plot_stable_bands
+    from .plot.plots import plot_stable_bands
 
     png = plot_stable_bands(at.bands(), at.states, out / "atlas.png", x_key="value",
                             xlabel=at.key, ylabel="load factor",
