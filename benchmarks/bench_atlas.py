@@ -16,9 +16,9 @@ from pathlib import Path
 import numpy as np
 from bench_analytic import median_time
 
-from rodstab.atlas import RingAtlas, ring_atlas
-from rodstab.design import load_design
-from rodstab.states import Ring, ring_of
+from rodstab.io.design import load_design
+from rodstab.multistable.atlas import RingAtlas, ring_atlas
+from rodstab.multistable.states import Ring, ring_of
 from rodstab.sweep import design_at
 
 TARGET = 60.0

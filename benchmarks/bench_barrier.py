@@ -1,10 +1,11 @@
 """Benchmark of the energy barrier of the six-sided ring (run on demand).
 
 The folded/one-loop six-ring (rectangle h/t = 4, kappa_n R0 = 1) at 32 elements per rod: the
-string method (:func:`rodstab.nonlinear.mep.string_barrier`, default images) against its 30 s
-target, and the continuation method (:func:`rodstab.nonlinear.barrier.barrier_from_bifurcation`)
-in the same run, with both barriers (they must agree: one saddle). Each timed once per repeat
-(a run is tens of seconds); the median of the repeats is printed.
+string method (:func:`rodstab.multistable.string_method.string_barrier`, default images) against its
+30 s target, and the continuation method
+(:func:`rodstab.multistable.barrier.barrier_from_bifurcation`) in the same run, with both barriers
+(they must agree: one saddle). Each timed once per repeat (a run is tens of seconds); the median of
+the repeats is printed.
 
 Run: ``OMP_NUM_THREADS=1 python benchmarks/bench_barrier.py [elements] [repeats]``.
 """
@@ -15,8 +16,8 @@ import sys
 
 from bench_analytic import median_time
 
-from rodstab.nonlinear.barrier import barrier_from_bifurcation
-from rodstab.nonlinear.mep import string_barrier
+from rodstab.multistable.barrier import barrier_from_bifurcation
+from rodstab.multistable.string_method import string_barrier
 from rodstab.problems import folded_ring
 from rodstab.problems.barrier_states import model_load_factor, one_loop_assembly
 from rodstab.sections import rectangle

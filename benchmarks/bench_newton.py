@@ -36,7 +36,7 @@ from pathlib import Path
 
 import numpy as np
 
-from rodstab.design import load_design
+from rodstab.io.design import load_design
 from rodstab.linear.solve import linear_stability
 from rodstab.model import Assembly, Segment
 from rodstab.nonlinear.discrete import discretise

@@ -49,16 +49,16 @@ from bench_nonlinear import straight_rod
 from rodstab.analytic.arc import clamped_arc_stability
 from rodstab.analytic.michell import michell_stability
 from rodstab.analytic.ring import ring_stability
-from rodstab.atlas import grid_values, ring_atlas
-from rodstab.design import load_design
 from rodstab.executor import cores, open_executor, task_size
+from rodstab.io.design import load_design
 from rodstab.limits import DEFAULT as DEFAULT_LIMITS
 from rodstab.linear.solve import linear_stability
+from rodstab.multistable.atlas import grid_values, ring_atlas
+from rodstab.multistable.states import Ring, ring_of
 from rodstab.nonlinear.discrete import discretise
 from rodstab.nonlinear.solve import equilibrium, lowest_eigenvalues, newton
 from rodstab.problems import folded_ring
 from rodstab.sections import circle, rectangle
-from rodstab.states import Ring, ring_of
 from rodstab.sweep import design_at, sweep
 
 ROOT = Path(__file__).resolve().parent.parent

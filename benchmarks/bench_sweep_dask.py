@@ -47,8 +47,8 @@ from pathlib import Path
 
 import numpy as np
 
-from rodstab.design import load_design
 from rodstab.executor import cores, open_executor
+from rodstab.io.design import load_design
 from rodstab.sweep import sweep
 
 ROOT = Path(__file__).resolve().parent.parent

@@ -51,11 +51,11 @@ from typing import Any  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-from rodstab import atlas, problems, sections  # noqa: E402
+from rodstab import problems, sections  # noqa: E402
 from rodstab.analytic.arc import clamped_arc_stability  # noqa: E402
 from rodstab.checks.rules import FE_RTOL, NONLINEAR_RTOL, ROOT_RTOL  # noqa: E402
-from rodstab.design import parse_design  # noqa: E402
 from rodstab.errors import NotConverged  # noqa: E402
+from rodstab.io.design import parse_design  # noqa: E402
 from rodstab.linear.solve import (  # noqa: E402
     FE_TARGET_RTOL,
     converged_stability,
@@ -63,13 +63,14 @@ from rodstab.linear.solve import (  # noqa: E402
     linear_stability,
 )
 from rodstab.model import Assembly, Segment  # noqa: E402
+from rodstab.multistable import atlas  # noqa: E402
+from rodstab.multistable.states import ring_of  # noqa: E402
 from rodstab.nonlinear.solve import (  # noqa: E402
     CONVERGED_RTOL,
     ConvergedCritical,
     converged_critical_load_factor,
     equilibrium,
 )
-from rodstab.states import ring_of  # noqa: E402
 from rodstab.transfer import cyclic_ring_interval, full_system_critical  # noqa: E402
 
 #: The nonlinear verdict is asked at ``r + (1 -+ VERDICT_MARGIN)(x - r)`` for a limit ``x`` and
@@ -241,8 +242,9 @@ def _mult(r: Any, attr_lo: str, attr_hi: str) -> Values:
 def cusp_rings(rng: np.random.Generator) -> Trial:
     """3-10 identical rods welded at cusps (a design file like examples/hexagram.toml).
 
-    Read by :func:`rodstab.states.ring_of`; up to :data:`MAX_STATES` of its closed held states
-    with ``theta >= 0``, each by the Bloch method and the FE atlas (:mod:`rodstab.atlas`).
+    Read by :func:`rodstab.multistable.states.ring_of`; up to :data:`MAX_STATES` of its closed held
+    states with ``theta >= 0``, each by the Bloch method and the FE atlas
+    (:mod:`rodstab.multistable.atlas`).
     """
     n = int(rng.integers(3, 11))
     kn = _loguniform(rng, 0.5, 3.0)

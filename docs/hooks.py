@@ -1,8 +1,8 @@
 """MkDocs hooks: every page of the site that can be generated is generated here, at build time.
 
 * **Gallery** -- every ``examples/*.toml`` is run through ``rodstab analyze FILE --plot``; a
-  design that is a ring of identical rods (:func:`rodstab.states.ring_of` accepts it) also
-  through ``rodstab states FILE --plot``; and every line of its header comment that is a
+  design that is a ring of identical rods (:func:`rodstab.multistable.states.ring_of` accepts it)
+  also through ``rodstab states FILE --plot``; and every line of its header comment that is a
   ``rodstab`` command is run too (``continue`` on a coarse mesh, :data:`FAST_OPTIONS`). One page per
   example: the header, the design file, each command, what it printed and every picture it
   wrote. A command that exits non-zero fails the build.
@@ -61,9 +61,9 @@ from mkdocs.structure.pages import Page
 
 import rodstab
 from rodstab import checks, cli
-from rodstab.design import Design, load_design
 from rodstab.errors import RodstabInputError
-from rodstab.states import ring_of
+from rodstab.io.design import Design, load_design
+from rodstab.multistable.states import ring_of
 
 log = logging.getLogger("mkdocs.hooks.rodstab")
 
@@ -79,6 +79,32 @@ FAST_OPTIONS = {"continue": ["--elements", "8", "--branch-steps", "4", "--no-err
 NOT_IN_API = ("rodstab.cli",)
 #: Placeholder entries of the nav in mkdocs.yml that the hook fills with generated pages.
 GENERATED_SECTIONS = ("gallery/index.md", "tutorials/index.md", "api/index.md")
+
+# rename_map: off (old paths on purpose)
+#: Modules moved in issue 20 (the package's layout), old -> new: a page's cross-reference to an
+#: old path (``[`ring_of`][rodstab.states.ring_of]``) is pointed at the new one
+#: (:func:`moved_identifier`), so that pages written before the move still build.
+MOVED_MODULES = {
+    "rodstab.design": "rodstab.io.design", "rodstab.outputs": "rodstab.io.outputs",
+    "rodstab.states": "rodstab.multistable.states", "rodstab.atlas": "rodstab.multistable.atlas",
+    "rodstab.nonlinear.discover": "rodstab.multistable.discover",
+    "rodstab.nonlinear.mep": "rodstab.multistable.string_method",
+    "rodstab.nonlinear.transitions": "rodstab.multistable.transitions",
+    "rodstab.nonlinear.barrier": "rodstab.multistable.barrier",
+    "rodstab.plots": "rodstab.plot.plots", "rodstab.ribbons": "rodstab.plot.ribbons",
+    "rodstab.transition_plot": "rodstab.plot.transition_graph",
+}
+#: Names that left a module that was split (issue 20): (old module, name) -> new module.
+MOVED_NAMES = {
+    **{("rodstab.design", n): "rodstab.io.outline" for n in ("load_polygon", "DXF_SAGITTA")},
+    **{("rodstab.design", n): "rodstab.io.vary" for n in (
+        "set_design_value", "VarySpec", "parse_vary", "value_kind", "vary_in_units",
+        "model_value")},
+    **{("rodstab.nonlinear.discover", n): "rodstab.nonlinear.constraint" for n in (
+        "chart_size", "restore_positions", "restore_inextensible", "retract_step")},
+}
+# rename_map: on
+_CROSS_REFERENCE = re.compile(r"\]\[(rodstab(?:\.\w+)+)\]")
 
 _CLAIMS_MARK = re.compile(r"^<!-- rodstab:claims (\S+) -->$", re.M)
 _DOCSTRING_MARK = re.compile(r"^<!-- rodstab:docstring (\S+) -->$", re.M)
@@ -514,17 +540,18 @@ def public_modules() -> list[str]:
 #: goes to the first section one of whose prefixes is its name or a package above it; a module
 #: no section claims goes to "Other modules" (so none is ever left out).
 API_GROUPS: tuple[tuple[str, tuple[str, ...]], ...] = (
-    ("Designs, sections, units", ("rodstab", "rodstab.design", "rodstab.model",
+    ("Designs, sections, units", ("rodstab", "rodstab.io.design", "rodstab.model",
                                   "rodstab.sections", "rodstab.units")),
-    ("Multistable rings", ("rodstab.states", "rodstab.atlas")),
+    ("Multistable rings", ("rodstab.multistable.states", "rodstab.multistable.atlas")),
     ("Closed forms and kinematics", ("rodstab.analytic", "rodstab.kinematics")),
     ("Linear stability", ("rodstab.linear", "rodstab.transfer", "rodstab.numerics")),
     ("Nonlinear rod", ("rodstab.nonlinear",)),
     ("The paper's structures", ("rodstab.problems",)),
     ("Checks and report", ("rodstab.checks", "rodstab.report")),
     ("Sweeps, limits, output", ("rodstab.sweep", "rodstab.executor", "rodstab.limits",
-                                "rodstab.errors", "rodstab.results", "rodstab.outputs",
-                                "rodstab.plots", "rodstab.ribbons", "rodstab.transition_plot")),
+                                "rodstab.errors", "rodstab.results", "rodstab.io.outputs",
+                                "rodstab.plot.plots", "rodstab.plot.ribbons",
+                                "rodstab.plot.transition_graph")),
 )
 _OTHER_GROUP = "Other modules"
 #: API page sections, in page order: griffe's kind of member -> heading.
@@ -754,7 +781,8 @@ def on_page_markdown(markdown: str, page: Page, config: MkDocsConfig, files: Fil
     """Expand ``rodstab`` blocks, claims markers and docstring markers.
 
     A ``rodstab`` block is run and replaced by its output, a claims marker by its section's
-    rows, ``<!-- rodstab:docstring MODULE -->`` by that module's docstring.
+    rows, ``<!-- rodstab:docstring MODULE -->`` by that module's docstring. Cross-references
+    to a module's path before issue 20 are pointed at its new path.
     """
     def claims(m: re.Match[str]) -> str:
         rows = [r for r in _state["rows"] if in_section(r, m.group(1))]
@@ -773,9 +801,20 @@ def on_page_markdown(markdown: str, page: Page, config: MkDocsConfig, files: Fil
         _state.setdefault("docstring_pages", {})[page.file.src_uri] = m.group(1)
         return docstring_markdown(m.group(1))
 
+    markdown = _CROSS_REFERENCE.sub(lambda m: f"][{moved_identifier(m.group(1))}]", markdown)
     markdown = _CLAIMS_MARK.sub(claims, markdown)
     markdown = _DOCSTRING_MARK.sub(docstring, markdown)
     return _LIVE_BLOCK.sub(live, markdown)
+
+
+def moved_identifier(dotted: str) -> str:
+    """Return the path that ``dotted`` has since issue 20 (:data:`MOVED_MODULES`), else itself."""
+    for old in sorted(MOVED_MODULES, key=len, reverse=True):
+        if dotted == old or dotted.startswith(old + "."):
+            name = dotted[len(old) + 1:].split(".")[0]
+            new = MOVED_NAMES.get((old, name), MOVED_MODULES[old])
+            return new + dotted[len(old):]
+    return dotted
 
 
 def _exists(dotted: str) -> bool:

@@ -17,13 +17,13 @@ import numpy as np
 import pytest
 import scipy.linalg
 
-from rodstab import atlas
 from rodstab.linear.assembly import end_term_matrices
 from rodstab.linear.solve import linear_stability
 from rodstab.model import Assembly, Segment
+from rodstab.multistable import atlas
+from rodstab.multistable.states import uniform_ring
 from rodstab.nonlinear.solve import critical_load_factor
 from rodstab.sections import circle
-from rodstab.states import uniform_ring
 from rodstab.transfer import full_system_critical
 
 CIRCLE = circle()

@@ -1,4 +1,4 @@
-"""The stability atlas of a ring's held states (rodstab.atlas, ``rodstab atlas``).
+"""The stability atlas of a ring's held states (rodstab.multistable.atlas, ``rodstab atlas``).
 
 Oracles: the Bloch transfer method against the FE engine on the whole ring (every limit and
 its multiplicity, 1e-6); the six-sided ring's folded state against the full system of general
@@ -19,13 +19,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from rodstab import atlas as A
 from rodstab.cli import main
-from rodstab.design import load_design
 from rodstab.errors import RodstabInputError
+from rodstab.io.design import load_design
+from rodstab.multistable import atlas as A
+from rodstab.multistable.states import ring_of, uniform_ring
 from rodstab.problems import folded_ring, unfolded_ring
 from rodstab.sections import rectangle
-from rodstab.states import ring_of, uniform_ring
 from rodstab.sweep import design_at
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"

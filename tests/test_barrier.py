@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from rodstab.errors import RodstabInputError
-from rodstab.nonlinear.barrier import Barrier, barrier_from_bifurcation, monotone_from_saddle
+from rodstab.multistable.barrier import Barrier, barrier_from_bifurcation, monotone_from_saddle
 from rodstab.problems import folded_ring
 from rodstab.problems.barrier_states import one_loop_assembly, state_assembly
 from rodstab.sections import rectangle
@@ -99,7 +99,7 @@ def test_cli_barrier_json(six_ring: Barrier, capsys: pytest.CaptureFixture[str],
     """``rodstab barrier --json`` prints the library's barrier. The library call is replaced by
     the fixture's result for the same arguments (checked), so the CLI's wiring and JSON are
     tested without the 8 s computation a second time."""
-    import rodstab.nonlinear.barrier as nb
+    import rodstab.multistable.barrier as nb
     from rodstab.cli import main
 
     seen = {}
@@ -153,8 +153,8 @@ def test_a_state_curved_in_its_held_geometry_is_refused_by_the_continuation() ->
 
 def test_the_folded_ring_is_one_model_for_both_discretisations() -> None:
     """The folded ring's held rods are straight: discretise and common_rod agree exactly."""
-    from rodstab.nonlinear.barrier import same_model
-    from rodstab.nonlinear.discover import common_rod
+    from rodstab.multistable.barrier import same_model
+    from rodstab.multistable.discover import common_rod
     from rodstab.nonlinear.discrete import discretise
 
     folded = state_assembly("six-ring", R4, "folded")
@@ -166,8 +166,8 @@ def test_the_folded_ring_is_one_model_for_both_discretisations() -> None:
 @pytest.fixture(scope="module")
 def ends() -> tuple:
     """The folded and one-loop six-rings in the common model, Newton-relaxed, one gauge."""
-    from rodstab.nonlinear.discover import common_rod
-    from rodstab.nonlinear.mep import to_gauge
+    from rodstab.multistable.discover import common_rod
+    from rodstab.multistable.string_method import to_gauge
     from rodstab.nonlinear.solve import newton
 
     rods = [common_rod(state_assembly("six-ring", R4, s), N, THETA)
@@ -181,7 +181,7 @@ def ends() -> tuple:
 def test_to_gauge_is_a_rigid_motion_onto_the_gauge_joint(ends: tuple) -> None:
     """The energy is invariant under rigid motions (so unchanged); the gauge joint's position
     and frame, which no free unknown moves, become the other state's."""
-    from rodstab.nonlinear.discover import common_rod
+    from rodstab.multistable.discover import common_rod
 
     a, b = ends
     fresh = common_rod(state_assembly("six-ring", R4, "one-loop"), N, THETA)
@@ -196,7 +196,7 @@ def test_to_gauge_is_a_rigid_motion_onto_the_gauge_joint(ends: tuple) -> None:
 
 def test_chart_difference_is_inverted_by_apply(ends: tuple) -> None:
     """``a.apply(chart_difference(a, b))`` is ``b`` (rotation vectors of R_a^T R_b < pi)."""
-    from rodstab.nonlinear.mep import chart_difference
+    from rodstab.multistable.string_method import chart_difference
 
     a, b = ends
     r = a.copy()
@@ -212,7 +212,7 @@ def test_belt_path_joins_the_states_inextensibly_with_finite_energy(ends: tuple)
     differs from the one-loop's by two full turns (Dirac's belt trick), which the lift closes;
     with a single geodesic per frame the band's middle image has energy ~7600 (the log's
     branch jumps between neighbouring frames)."""
-    from rodstab.nonlinear.mep import belt_path
+    from rodstab.multistable.string_method import belt_path
     from rodstab.nonlinear.solve import max_strain
 
     a, b = ends
@@ -232,10 +232,10 @@ def test_belt_path_refuses_frame_loops_an_odd_number_of_turns_apart() -> None:
     """No continuous path of frames joins two loops an odd number of turns apart (pi_1(SO(3))
     = Z_2). The hexagram's line (turning number 0) and its 60-degree state (turning number 1:
     six 60-degree arcs) are such a pair; belt_path says so, naming the turns."""
-    from rodstab.nonlinear.discover import common_rod
-    from rodstab.nonlinear.mep import belt_path, to_gauge
+    from rodstab.multistable.discover import common_rod
+    from rodstab.multistable.states import uniform_ring
+    from rodstab.multistable.string_method import belt_path, to_gauge
     from rodstab.problems import hexagram as hx
-    from rodstab.states import uniform_ring
 
     ring = uniform_ring(hx.SEGMENTS, length=1.0, natural_curvature=hx.L_OVER_R0,
                         B1=R4.b1, B2=R4.b2)
@@ -249,7 +249,7 @@ def test_belt_path_refuses_frame_loops_an_odd_number_of_turns_apart() -> None:
 @pytest.fixture(scope="module")
 def string_six() -> tuple:
     """The string method on the folded/one-loop six-ring (11 images): barrier and path."""
-    from rodstab.nonlinear.mep import string_barrier
+    from rodstab.multistable.string_method import string_barrier
 
     p = folded_ring.Params(section=R4)
     return string_barrier(folded_ring.build(p), one_loop_assembly(p), THETA,
@@ -282,7 +282,7 @@ def test_string_saddle_descends_to_both_states(string_six: tuple) -> None:
 
 def _one_loop_energy() -> float:
     """The one-loop ring's energy in the common model at 8 el. (Newton from its held state)."""
-    from rodstab.nonlinear.discover import common_rod
+    from rodstab.multistable.discover import common_rod
     from rodstab.nonlinear.solve import newton
 
     r = common_rod(one_loop_assembly(folded_ring.Params(section=R4)), N, THETA)
@@ -293,7 +293,7 @@ def _one_loop_energy() -> float:
 def test_string_path_runs_from_state_to_state_through_the_saddle(string_six: tuple) -> None:
     """The path's ends are the two states, its arclength grows from 0 to 1, the saddle is an
     interior point and every path state is unstretched to the retraction's accuracy."""
-    from rodstab.nonlinear.discover import common_rod
+    from rodstab.multistable.discover import common_rod
     from rodstab.nonlinear.solve import max_strain
 
     b, path = string_six
@@ -315,7 +315,7 @@ def test_reparametrise_spaces_the_images_equally(ends: tuple) -> None:
     arclength along the old string and are then retracted onto the inextensible states, which
     moves them off it by a little (new segments 0.18 .. 0.21 here, the old 0.12 .. 0.28: the
     spread falls 5.6x). The ends are kept."""
-    from rodstab.nonlinear.mep import arclength, belt_path, reparametrise
+    from rodstab.multistable.string_method import arclength, belt_path, reparametrise
 
     a, b = ends
     band = belt_path(a, b, 7)
@@ -335,7 +335,7 @@ def test_cli_barrier_string_json_plot_and_animation(string_six: tuple, tmp_path,
     replaced by the fixture's result for the same arguments (checked)."""
     from PIL import Image
 
-    import rodstab.nonlinear.mep as mep
+    import rodstab.multistable.string_method as mep
     from rodstab.cli import main
 
     seen = {}
@@ -369,7 +369,7 @@ def test_cli_barrier_unconverged_exits_3_after_the_output(string_six: tuple,
     """A string barrier that did not converge is printed, then exit 3 names why."""
     import dataclasses
 
-    import rodstab.nonlinear.mep as mep
+    import rodstab.multistable.string_method as mep
     from rodstab.cli import main
 
     b, path = string_six
@@ -390,7 +390,7 @@ def test_cli_barrier_reads_the_states_of_a_design_ring(string_six: tuple,
     states of those labels (Ring.held; rodstab states names the folded ring's states line and
     star), at the design's load factor. The library call is replaced (wiring only; the full
     run gives the built-in six-ring's 1.12004, docs/guide/multistable.md)."""
-    import rodstab.nonlinear.mep as mep
+    import rodstab.multistable.string_method as mep
     from rodstab.cli import main
 
     seen = {}

@@ -9,8 +9,9 @@ from pathlib import Path
 import pytest
 
 from rodstab.analytic.ring import ring_stability
-from rodstab.design import load_design, parse_design, parse_vary
 from rodstab.errors import RodstabInputError
+from rodstab.io.design import load_design, parse_design
+from rodstab.io.vary import parse_vary
 from rodstab.linear.solve import linear_stability
 
 EXAMPLES = sorted(Path(__file__).resolve().parent.parent.joinpath("examples").glob("*.toml"))

@@ -8,8 +8,8 @@ from __future__ import annotations
 
 import pytest
 
-from rodstab.design import parse_vary, set_design_value
 from rodstab.errors import RodstabInputError
+from rodstab.io.vary import parse_vary, set_design_value
 
 BASE = """\
 [section]
@@ -209,7 +209,7 @@ def test_bad_design_file_names_the_file(content, words, run_cli, tmp_path):
 
 
 def test_load_design_refuses_a_directory_itself(tmp_path):
-    from rodstab.design import load_design
+    from rodstab.io.design import load_design
 
     with pytest.raises(RodstabInputError, match="is a directory"):
         load_design(tmp_path)
@@ -336,8 +336,8 @@ def test_modulus_range_of_the_warning(E, G, warned):
     import tomllib
     import warnings
 
-    from rodstab.design import parse_design
     from rodstab.errors import RodstabWarning
+    from rodstab.io.design import parse_design
 
     text = UNITS.format(E=E)
     if G is not None:

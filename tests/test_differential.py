@@ -22,10 +22,10 @@ import pytest
 from rodstab import problems
 from rodstab.analytic.ring import ring_stability
 from rodstab.linear.solve import stable_at
+from rodstab.multistable.states import uniform_ring
 from rodstab.nonlinear.solve import equilibrium
 from rodstab.numerics import matrix_roots
 from rodstab.sections import ellipse, from_ratios, rectangle
-from rodstab.states import uniform_ring
 from rodstab.transfer import cyclic_ring_matrix
 
 _PATH = Path(__file__).resolve().parent.parent / "benchmarks" / "differential.py"
@@ -161,8 +161,8 @@ def test_bloch_finds_the_harmonic_0_root_of_a_ring_welded_at_an_angle() -> None:
     grid saw no isolated minimum there (now: the matrix bordered by the rigid null vectors).
     Reference: the FE engine (an independent method).
     """
-    from rodstab import atlas
     from rodstab.linear.solve import linear_stability
+    from rodstab.multistable import atlas
 
     turn, b1, b2 = -0.2418109747006123, 0.3707775156286258, 1.2801355801787586
     ring = uniform_ring(3, weld=turn, natural_curvature=1.0, B1=b1, B2=b2)
@@ -209,7 +209,7 @@ def test_cusp_ring_multiplicities_and_limits_by_bloch_and_fe(n, kn, b1, b2, labe
     References: each other, and the symmetry of a cyclic ring: harmonics ``m`` and ``n - m``
     (``0 < m < n/2``) are complex conjugates, so a limit of such a harmonic is exactly double.
     """
-    from rodstab import atlas
+    from rodstab.multistable import atlas
 
     ring = uniform_ring(n, weld="cusp", length=1.0, natural_curvature=kn, B1=b1, B2=b2)
     state = next(s for s in ring.states(max_turns=1.0).states if s.label == label)
@@ -233,7 +233,7 @@ def test_nonlinear_verdict_past_a_limit_when_lanczos_stalls() -> None:
     to go below them, where the transformed near-zero cluster crowds (now: a short Lanczos
     try, then a dense solve at this size).
     """
-    from rodstab import atlas
+    from rodstab.multistable import atlas
 
     ring = uniform_ring(7, weld="cusp", length=1.0, natural_curvature=2.092, B1=20.83,
                         B2=0.1464)

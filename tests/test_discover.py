@@ -16,8 +16,8 @@ import numpy as np
 import pytest
 
 from rodstab.cli import main
-from rodstab.nonlinear import discover as dv
-from rodstab.nonlinear import solve
+from rodstab.multistable import discover as dv
+from rodstab.nonlinear import constraint, solve
 from rodstab.nonlinear.jets import rodrigues
 from rodstab.problems import hexagram as hx
 from rodstab.problems import straightened_rod as sr
@@ -217,8 +217,8 @@ def test_restore_inextensible_removes_the_strain_restore_positions_leaves(angle)
     restore_positions only; after: restore_inextensible, to Gauss-Newton's quadratic accuracy."""
     _, turned = _turned_folded_ring(angle)
     only_positions = turned.copy()
-    dv.restore_positions(only_positions)
-    dv.restore_inextensible(turned)
+    constraint.restore_positions(only_positions)
+    constraint.restore_inextensible(turned)
     assert solve.max_strain(only_positions) > 1e-5
     assert solve.max_strain(turned) < 1e-8
     assert turned.energy() < only_positions.energy()
@@ -228,7 +228,7 @@ def test_restore_inextensible_leaves_an_unstrained_state_where_it_is():
     """The held folded ring is exactly inextensible (straight rods, rest length = chord)."""
     rod, _ = _turned_folded_ring(0.0)
     moved = rod.copy()
-    dv.restore_inextensible(moved)
+    constraint.restore_inextensible(moved)
     assert solve.max_strain(rod) < 1e-14
     assert moved.x == pytest.approx(rod.x, abs=1e-12)
     assert moved.R_edge == pytest.approx(rod.R_edge, abs=1e-12)

@@ -2,7 +2,7 @@
 it promises: a gallery page with its pictures for every example, a page per tutorial, every
 check id on the paper-vs-rodstab page, every command on the CLI page, every public module in
 the API reference (functions first, grouped by package in the nav), the design-file format
-from ``rodstab.design``'s docstring, and no script loaded from the network (MathJax is served
+from ``rodstab.io.design``'s docstring, and no script loaded from the network (MathJax is served
 by the site). The build runs every example and tutorial, so a broken one fails it.
 
 The README (a designer's first screen, at most 10,000 characters) is checked too: its
@@ -194,12 +194,12 @@ def test_api_nav_groups_every_module_by_package_with_full_names(site):
         for name in names:
             assert f'href="{name}/"' in html
     # the sidebar shows the full dotted name (wrapped by docs/stylesheets/extra.css, not cut)
-    assert "rodstab.nonlinear.continuation.branches" in _page(site, "api/rodstab.design")
+    assert "rodstab.nonlinear.continuation.branches" in _page(site, "api/rodstab.io.design")
     assert (site / "stylesheets" / "extra.css").is_file()
 
 
 def test_design_file_page_renders_the_format_from_the_docstring(site):
-    """The format is rodstab.design's docstring (written once): its literal blocks as TOML
+    """The format is rodstab.io.design's docstring (written once): its literal blocks as TOML
     code, its Sphinx roles as cross-references."""
     html = _page(site, "guide/design-files")
     section = html.split('id="the-format"')[1].split('id="how-a-design-is-solved"')[0]
@@ -285,8 +285,8 @@ def test_readme_ring_is_the_hexagram_and_its_python_prints_what_it_shows(tmp_pat
     import contextlib
     import io
 
-    from rodstab.design import load_design
-    from rodstab.states import ring_of
+    from rodstab.io.design import load_design
+    from rodstab.multistable.states import ring_of
 
     (tmp_path / "ring.toml").write_text(_blocks("toml")[0])
     ours, theirs = (ring_of(load_design(p).assembly) for p in

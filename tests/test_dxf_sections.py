@@ -1,4 +1,4 @@
-"""A section from a DXF file (issue 13): rodstab.design.load_polygon reads closed outlines.
+"""A section from a DXF file (issue 13): rodstab.io.outline.load_polygon reads closed outlines.
 
 The DXF reader hands its vertices to the same :func:`rodstab.sections.polygon_section` as the
 JSON and CSV formats, so a DXF section must equal the polygon section of the same points
@@ -17,8 +17,9 @@ from pathlib import Path
 
 import pytest
 
-from rodstab.design import DXF_SAGITTA, load_design, load_polygon
 from rodstab.errors import RodstabInputError
+from rodstab.io.design import load_design
+from rodstab.io.outline import DXF_SAGITTA, load_polygon
 from rodstab.sections import polygon_section, rectangle
 
 ezdxf = pytest.importorskip("ezdxf")

@@ -14,8 +14,9 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from rodstab import atlas
 from rodstab.linear.solve import converged_stability, linear_stability, with_mesh_error
+from rodstab.multistable import atlas
+from rodstab.multistable.states import uniform_ring
 from rodstab.numerics import (
     MULTIPLICITY_ERROR_FACTOR,
     MULTIPLICITY_RTOL,
@@ -26,7 +27,6 @@ from rodstab.numerics import (
 )
 from rodstab.problems import REGISTRY, agree
 from rodstab.sections import from_ratios
-from rodstab.states import uniform_ring
 
 ARC, RING = REGISTRY["clamped-arc"], REGISTRY["ring"]
 

@@ -19,9 +19,9 @@ import pytest
 from rodstab import problems
 from rodstab.cli import main
 from rodstab.errors import RodstabInputError
+from rodstab.multistable.states import ring_assembly
 from rodstab.problems import hexagram as hx
 from rodstab.sections import circle, rectangle
-from rodstab.states import ring_assembly
 from rodstab.transfer import cyclic_ring_interval
 
 

@@ -125,9 +125,9 @@ def test_not_converged_eigen_solve_exits_3_after_its_output(run_cli, monkeypatch
     mesh up to the unknown limit misses it (residual 2.4e-7 at 10^6 unknowns; it was 2048
     elements of the straight rod under the earlier formulation in w).
     """
-    import rodstab.numerics
+    import rodstab.numerics.eigen
 
-    monkeypatch.setattr(rodstab.numerics, "SPARSE_RESIDUAL_TOL", 0.0)
+    monkeypatch.setattr(rodstab.numerics.eigen, "SPARSE_RESIDUAL_TOL", 0.0)
     r = run_cli(["analyze", E + "straight_clamped_rod.toml", "--elements", "128"])
     assert r.exit_code == 3, (r.exit_code, r.stderr[-2000:])
     lines = r.stderr.strip().splitlines()
@@ -138,7 +138,7 @@ def test_not_converged_eigen_solve_exits_3_after_its_output(run_cli, monkeypatch
 
 def test_atlas_respects_the_lock_of_a_running_continue(run_cli, tmp_path):
     """Issue 19 item 10: atlas --out wrote into a folder a running `continue` had locked; now
-    it takes the same run.lock (rodstab.outputs.run_lock) and exits 2 naming the folder and
+    it takes the same run.lock (rodstab.io.outputs.run_lock) and exits 2 naming the folder and
     the lock, leaving the other run's lock alone."""
     import json
     import os

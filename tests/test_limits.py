@@ -7,8 +7,8 @@ from pathlib import Path
 import pytest
 
 from rodstab import limits
-from rodstab.design import load_design
 from rodstab.errors import RodstabInputError
+from rodstab.io.design import load_design
 from rodstab.linear.assembly import discretise as linear_discretise
 from rodstab.nonlinear.discrete import discretise as nonlinear_discretise
 

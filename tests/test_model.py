@@ -12,8 +12,8 @@ import math
 import numpy as np
 import pytest
 
-from rodstab import design
 from rodstab.errors import RodstabInputError
+from rodstab.io import design, vary
 from rodstab.linear.assembly import discretise as linear_discretise
 from rodstab.linear.assembly import rigid_modes_left
 from rodstab.linear.solve import linear_stability
@@ -83,7 +83,7 @@ def test_one_table_of_support_kinds_and_rotation_axes():
     assert SUPPORTS == tuple(SUPPORT_KINDS)
     assert all(SUPPORT_KINDS[n].name == n for n in SUPPORTS)
     assert ROTATION_AXES == ("normal", "tangent", "binormal")
-    assert design.ROTATION_AXES is ROTATION_AXES  # design files read the model's axes
+    assert vary.ROTATION_AXES is ROTATION_AXES  # --vary support.<i>.rotation.<axis> reads them
     assert kinds_of(LINEAR) == SUPPORTS
     assert kinds_of(NONLINEAR) == ("clamped", "sliding-clamp", "free")
     assert kinds_of(FULL_SYSTEM) == ("clamped", "sliding-clamp", "free")

@@ -427,7 +427,7 @@ def test_split_arc_weld_of_unequal_elements_is_relaxed_and_converges_to_the_clos
     critical load converges at second order to the unsplit arc's closed form (3.7)/(3.8); the
     relaxation is reported (held residual -> relaxed residual, a move of O(l_e^2))."""
     from rodstab.analytic.arc import clamped_arc_stability
-    from rodstab.design import load_design
+    from rodstab.io.design import load_design
 
     path = tmp_path / "split_arc.toml"
     path.write_text(SPLIT_ARC)
@@ -467,7 +467,7 @@ def test_critical_load_factor_refuses_imposed_end_rotations():
 
 def _split_arc(section: dict, lengths: tuple[float, ...]) -> Assembly:
     """A clamped arc of R = 1 (kappa_n = load factor) split at smooth welds, as the harness."""
-    from rodstab.design import parse_design
+    from rodstab.io.design import parse_design
 
     n = len(lengths)
     return parse_design({
@@ -532,7 +532,7 @@ def test_converged_critical_load_of_a_y_joint_matches_the_fine_fe():
     """Assemblies index 68 (Y-joint, b1 = 0.2742, b2 = 6.238, curved, stress-free at load
     factor 1.272): lower limit 0.35008 at 32 elements per segment against the FE's 0.355643
     (5.5e-3); converged, within the error it states."""
-    from rodstab.design import parse_design
+    from rodstab.io.design import parse_design
     from rodstab.nonlinear.solve import converged_critical_load_factor
 
     start = [-0.2578001997223122, -0.4404186930846852]  # a.end

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 import scipy.linalg
 
-from rodstab.design import load_design
+from rodstab.io.design import load_design
 from rodstab.nonlinear.discrete import discretise
 from rodstab.nonlinear.solve import (
     lowest_eigenvalues,

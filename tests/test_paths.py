@@ -16,8 +16,9 @@ import numpy as np
 import pytest
 import scipy.optimize as so
 
-from rodstab.design import parse_design, set_design_value
 from rodstab.errors import RodstabInputError
+from rodstab.io.design import parse_design
+from rodstab.io.vary import set_design_value
 from rodstab.linear.solve import linear_stability
 from rodstab.model import Assembly, Segment
 from rodstab.nonlinear.continuation import continuation, imperfection_sensitivity
@@ -253,7 +254,7 @@ def test_sparse_lowest_eigenvalues_match_the_dense_solver(case, monkeypatch):
     eigenvalues as the dense solver, negative ones included, on the tiny clustered spectrum of
     the penalty-scaled Hessian."""
     import rodstab.nonlinear.solve as S
-    from rodstab import numerics
+    from rodstab.numerics import eigen
 
     C = circle()
     if case == "unstable straight rod":
@@ -267,7 +268,7 @@ def test_sparse_lowest_eigenvalues_match_the_dense_solver(case, monkeypatch):
                      welds=((("ring", "end"), ("ring", "start")),))
         rod = discretise(a, 90, 1.0)
     dense = S.lowest_modes(rod, 4)[0]
-    monkeypatch.setattr(numerics, "DENSE_EIG_MAX", 10)
+    monkeypatch.setattr(eigen, "DENSE_EIG_MAX", 10)
     sparse = S.lowest_modes(rod, 4)[0]
     assert np.allclose(sparse, dense, rtol=1e-6, atol=1e-9 * np.max(np.abs(dense)))
     if case == "unstable straight rod":

@@ -22,8 +22,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from rodstab.design import parse_design, set_design_value
 from rodstab.errors import NotConverged, RodstabInputError
+from rodstab.io.design import parse_design
+from rodstab.io.vary import set_design_value
 from rodstab.model import Assembly, Segment
 from rodstab.nonlinear.continuation import (
     arclength_from_bifurcation,
@@ -217,7 +218,7 @@ KW = dict(elements_per_segment=12, branch_steps=2)
 
 @pytest.fixture(scope="module")
 def twisted():
-    from rodstab.design import load_design
+    from rodstab.io.design import load_design
     return load_design(TWISTED_TOML).assembly
 
 
@@ -392,7 +393,7 @@ def test_continuation_does_not_report_beyond_stop():
     c = continuation(straight(0.0), "support.1.rotation.binormal", 0, 0.3, 1,
                      elements_per_segment=10, branch_steps=0)
     assert c.value[-1] <= 0.3 * (1 + 1e-9), c.value
-    from rodstab.design import load_design
+    from rodstab.io.design import load_design
     a = load_design(TWISTED_TOML).assembly
     c = continuation(a, KEY, 0, 11.3, 2, elements_per_segment=12, branch_steps=0)
     assert all(s["value"] <= 11.3 for s in c.special_points), c.special_points

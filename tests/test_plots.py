@@ -1,4 +1,4 @@
-"""Figure code (``rodstab.plots``, ``rodstab.ribbons``, ``rodstab.report.figures``).
+"""Figure code (``rodstab.plot.plots``, ``rodstab.plot.ribbons``, ``rodstab.report.figures``).
 
 Importing or using it leaves the user's matplotlib backend and pyplot alone (figures are built
 with the object API, :class:`matplotlib.figure.Figure`). The rods' pictures are tested through
@@ -17,12 +17,12 @@ import sys
 import numpy as np
 import pytest
 
-from rodstab import ribbons
-from rodstab.design import load_design
+from rodstab.io.design import load_design
 from rodstab.linear.solve import SegmentMode, linear_stability
 from rodstab.model import held_frame
 from rodstab.nonlinear.discrete import discretise
-from rodstab.plots import (
+from rodstab.plot import ribbons
+from rodstab.plot.plots import (
     GHOST_EDGE,
     animate_shapes,
     html_view,
@@ -30,9 +30,9 @@ from rodstab.plots import (
     plot_mode,
     segment_colours,
 )
+from rodstab.plot.ribbons import RodLayout
 from rodstab.problems import birod
 from rodstab.report.figures import sweep_plot
-from rodstab.ribbons import RodLayout
 from rodstab.sections import circle
 
 KEEPS_BACKEND = """
@@ -40,7 +40,7 @@ import sys
 import matplotlib
 matplotlib.use("svg")
 import numpy as np
-import rodstab.plots, rodstab.report.figures
+import rodstab.plot.plots, rodstab.report.figures
 from rodstab.report.figures import sweep_plot
 sweep_plot([{"k": 1.0, "load_factor_critical": 2.0, "load_factor_lower": -1.0}], "k", sys.argv[1])
 print(matplotlib.get_backend(), "matplotlib.pyplot" in sys.modules)

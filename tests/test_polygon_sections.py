@@ -20,8 +20,8 @@ import numpy as np
 import pytest
 
 from rodstab.analytic.arc import straight_clamped_critical
-from rodstab.design import load_design, parse_design
 from rodstab.errors import RodstabInputError
+from rodstab.io.design import load_design, parse_design
 from rodstab.linear.solve import linear_stability
 from rodstab.sections import (
     POLYGON_MESH_SIZE,
@@ -498,7 +498,7 @@ def test_the_cli_and_the_package_import_sectionproperties_only_when_used():
     """`rodstab --help` and importing the package leave sectionproperties (~1-2 s to import),
     shapely and ezdxf (the DXF reader) unloaded."""
     code = ("import sys; from rodstab.cli import main\n"
-            "import rodstab.design, rodstab.sections, rodstab.plots\n"
+            "import rodstab.io.design, rodstab.sections, rodstab.plot.plots\n"
             "try:\n    main(['--help'])\nexcept SystemExit:\n    pass\n"
             "print(sorted(m for m in ('sectionproperties', 'shapely', 'ezdxf') "
             "if m in sys.modules))")

@@ -11,7 +11,7 @@ import pytest
 def test_results_display_as_html_tables_in_notebooks():
     """Every result has _repr_html_: one row per field, values escaped, long sequences cut."""
     from rodstab.analytic.ring import ring_stability
-    from rodstab.states import closed_states
+    from rodstab.multistable.states import closed_states
 
     r = ring_stability(1.0, 0.75, 3)
     h = r._repr_html_()
@@ -30,8 +30,8 @@ def test_plots_return_a_figure_without_a_path(tmp_path):
     writes the file and returns its path."""
     from matplotlib.figure import Figure
 
-    from rodstab.plots import plot_ring_states
-    from rodstab.states import state_centrelines, uniform_ring
+    from rodstab.multistable.states import state_centrelines, uniform_ring
+    from rodstab.plot.plots import plot_ring_states
 
     ring = uniform_ring(6)
     shapes = [state_centrelines(ring, t) for t in (0.0, 2 * math.pi / 3)]
@@ -45,10 +45,10 @@ def test_the_interactive_view_returns_its_plotly_figure_without_a_path():
     """html_view without a path gives the plotly Figure (inline in a notebook): one frame per
     state, the same traces as the written page."""
     go = pytest.importorskip("plotly.graph_objects")
+    from rodstab.multistable.states import ring_assembly
     from rodstab.nonlinear.discrete import discretise
-    from rodstab.plots import html_view
-    from rodstab.ribbons import RodLayout
-    from rodstab.states import ring_assembly
+    from rodstab.plot.plots import html_view
+    from rodstab.plot.ribbons import RodLayout
 
     rod = discretise(ring_assembly(6, 2 * math.pi / 3), 4, 1.0)
     fig = html_view([rod.x, rod.x], [rod.R_edge, rod.R_edge], RodLayout.from_rod(rod),

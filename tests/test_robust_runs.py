@@ -26,9 +26,9 @@ import rodstab.nonlinear.continuation
 import rodstab.nonlinear.solve
 import rodstab.report.reproduce
 import rodstab.sweep
-from rodstab import outputs
 from rodstab.errors import NotConverged, RodstabInputError, RodstabWarning
-from rodstab.outputs import check_output
+from rodstab.io import outputs
+from rodstab.io.outputs import check_output
 
 ROOT = Path(__file__).resolve().parent.parent
 STRAIGHT = str(ROOT / "examples" / "straight_clamped_rod.toml")
@@ -240,7 +240,7 @@ def test_restart_without_out_exits_2(run_cli):
 
 
 def test_library_restart_and_no_temporaries_left(tmp_path):
-    from rodstab.design import load_design
+    from rodstab.io.design import load_design
 
     a = load_design(STRAIGHT).assembly
     kw = dict(elements_per_segment=6, branch_steps=0, out_dir=tmp_path)
@@ -408,11 +408,11 @@ def test_finished_sweep_csv_is_the_json_rows(run_cli, tmp_path):
 
 def test_check_output_names_a_directory_it_cannot_write(tmp_path, monkeypatch):
     """The read-only case without chmod (ineffective for root): the write probe fails."""
-    import rodstab.outputs
+    import rodstab.io.outputs
 
     def denied(*args, **kwargs):
         raise PermissionError(13, "Permission denied")
-    monkeypatch.setattr(rodstab.outputs.tempfile, "mkstemp", denied)
+    monkeypatch.setattr(rodstab.io.outputs.tempfile, "mkstemp", denied)
     with pytest.raises(RodstabInputError, match=r"--out .*not writable \(Permission denied\)"):
         check_output("--out", tmp_path / "d", directory=True)
     monkeypatch.setattr(Path, "mkdir", denied)

@@ -116,7 +116,7 @@ def test_bloch_ring_finds_the_root_beyond_the_old_span():
 
 def test_bloch_ring_without_a_certified_end_says_so(monkeypatch):
     """A side with no singular load up to the proven bound: converged False, a reason, inf."""
-    monkeypatch.setattr(transfer, "arc_root_window", lambda Lb, b1, b2: (Lb - 3.0, Lb + 3.0))
+    monkeypatch.setattr(transfer.cyclic, "arc_root_window", lambda Lb, b1, b2: (Lb - 3.0, Lb + 3.0))
     r = transfer.cyclic_ring_interval(THETA, 1.0, 90.0, 1.4, 5, "cusp", THETA)
     assert not r.converged and r.lo == -math.inf and "no singular load below" in r.reason
 
@@ -146,12 +146,12 @@ def test_matrix_roots_grid_is_validated_and_used():
 
 def test_atlas_interval_carries_the_bloch_methods_non_convergence(monkeypatch):
     """StateInterval.converged (JSON 'converged', CLI exit 3) is the Bloch result's, with why."""
-    from rodstab import atlas
-    from rodstab.states import uniform_ring
+    from rodstab.multistable import atlas
+    from rodstab.multistable.states import uniform_ring
 
     ring = uniform_ring(5, weld="cusp", natural_curvature=1.0, B1=90.0, B2=1.4)
     state = next(s for s in ring.states(max_turns=1.0).states
                  if abs(s.theta - THETA) < 1e-9)
-    monkeypatch.setattr(transfer, "arc_root_window", lambda Lb, b1, b2: (Lb - 3.0, Lb + 3.0))
+    monkeypatch.setattr(transfer.cyclic, "arc_root_window", lambda Lb, b1, b2: (Lb - 3.0, Lb + 3.0))
     r = atlas.transfer_interval(ring, state)
     assert not r.converged and "no singular load below" in r.reason

@@ -1,4 +1,4 @@
-"""rodstab.states: the closed held states of a ring of welded rods against closed forms.
+"""rodstab.multistable.states: the closed held states of a ring of welded rods against closed forms.
 
 Closed forms (derived in the module docstring): a state turns each rod by ``theta`` with
 ``n psi = 0 (mod 2 pi)``, ``psi = theta + pi`` (cusps) or ``theta`` (smooth), and closes in
@@ -16,10 +16,10 @@ import numpy as np
 import pytest
 
 from rodstab.cli import main
-from rodstab.design import load_design, parse_design
 from rodstab.errors import RodstabInputError
+from rodstab.io.design import load_design, parse_design
 from rodstab.model import Assembly
-from rodstab.states import closed_states, ring_assembly, ring_of, uniform_ring
+from rodstab.multistable.states import closed_states, ring_assembly, ring_of, uniform_ring
 
 
 def _order(psi: float, n: int) -> int:

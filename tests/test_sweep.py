@@ -11,8 +11,9 @@ import numpy as np
 import pytest
 
 from rodstab.analytic.arc import clamped_arc_stability
-from rodstab.design import load_design, parse_design, set_design_value
 from rodstab.errors import RodstabInputError
+from rodstab.io.design import load_design, parse_design
+from rodstab.io.vary import set_design_value
 from rodstab.linear.solve import converged_stability, linear_stability
 from rodstab.sections import rectangle
 from rodstab.sweep import SweepResult, columns, sweep

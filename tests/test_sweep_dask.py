@@ -28,9 +28,10 @@ import pytest
 import rodstab
 import rodstab.executor
 import rodstab.sweep
-from rodstab.design import load_design, parse_design, set_design_value
 from rodstab.errors import RodstabInputError
 from rodstab.executor import WORKER_ENV, auto_workers, open_executor, task_size
+from rodstab.io.design import load_design, parse_design
+from rodstab.io.vary import set_design_value
 from rodstab.sweep import INVALID, OK, SweepRow, columns, sweep
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -130,8 +131,8 @@ def test_atlas_grid_on_the_cluster_gives_the_serial_atlas(client):
     """rodstab atlas uses the same executor, one grid value per point: every interval, mode,
     mutual set and coexistence range equal to the serial atlas (the ring is built on the
     workers by a closure, pickled by value)."""
-    from rodstab.atlas import ring_atlas
-    from rodstab.states import ring_of
+    from rodstab.multistable.atlas import ring_atlas
+    from rodstab.multistable.states import ring_of
     from rodstab.sweep import design_at
 
     base = load_design(ROOT / "examples" / "hexagram.toml")

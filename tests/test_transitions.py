@@ -16,11 +16,11 @@ import numpy as np
 import pytest
 
 from rodstab.cli import main
+from rodstab.multistable.transitions import invariants, pair_distances
 from rodstab.nonlinear.discrete import discretise
 from rodstab.nonlinear.jets import rotation_jet, rotation_vector
 from rodstab.nonlinear.parameters import WeldForce, WeldMoment, WeldRotation, parameter
 from rodstab.nonlinear.solve import newton
-from rodstab.nonlinear.transitions import invariants, pair_distances
 from rodstab.problems import hexagram as hx
 from rodstab.problems import ring_transitions as rt
 from rodstab.sections import rectangle
@@ -186,7 +186,7 @@ def test_pair_distance_of_crossing_segments() -> None:
 
 
 def test_invariants_of_the_basic_states() -> None:
-    """Held states: weld points and turning numbers of rodstab.states (line 2/0 ... eight 1/6)."""
+    """Held states: weld points, turning numbers of multistable.states (line 2/0 .. eight 1/6)."""
     expect = {"line": (2, 0.0), "star": (6, 2.0), "daisy": (6, 4.0), "eight": (1, 6.0)}
     for state, (w, t) in expect.items():
         inv = invariants(_ring(state)[1])

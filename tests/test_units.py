@@ -15,14 +15,9 @@ from pathlib import Path
 
 import pytest
 
-from rodstab.design import (
-    load_design,
-    model_value,
-    parse_design,
-    parse_vary,
-    vary_in_units,
-)
 from rodstab.errors import RodstabInputError
+from rodstab.io.design import load_design, parse_design
+from rodstab.io.vary import model_value, parse_vary, vary_in_units
 from rodstab.linear.solve import linear_stability
 from rodstab.sections import rectangle
 from rodstab.units import as_built, parse_quantity

@@ -2,11 +2,11 @@
 
 `examples/folded_six_ring.toml` describes the folded state of Section 5: six straight rods,
 alternately oriented, of natural curvature -1 and +1 (times the load factor), welded at x = 0 and
-x = L. `rodstab.states.ring_of` reads it as what it is: a ring of six identical rods of natural
-curvature +1 along the ring, welded end to start at cusps. Every closed planar state of uniform
-moment of that ring follows: its label, held curvature, turning number, weld points, covering and
-the load factor at which it is stress-free; the stored energy is given at the load factor of the
-experiment of Fig. 10 (the one-loop state stress-free, kappa_n L = 2 pi / 3).
+x = L. `rodstab.multistable.states.ring_of` reads it as what it is: a ring of six identical rods of
+natural curvature +1 along the ring, welded end to start at cusps. Every closed planar state of
+uniform moment of that ring follows: its label, held curvature, turning number, weld points,
+covering and the load factor at which it is stress-free; the stored energy is given at the load
+factor of the experiment of Fig. 10 (the one-loop state stress-free, kappa_n L = 2 pi / 3).
 
 For the states with kL >= 0 the script also gives the stable interval of the load factor (the
 Bloch method of `rodstab atlas`), and it draws the states.
@@ -17,9 +17,9 @@ import math
 import numpy as np
 from matplotlib.figure import Figure
 
-from rodstab import atlas
-from rodstab.design import load_design
-from rodstab.states import ring_of, state_centrelines
+from rodstab.io.design import load_design
+from rodstab.multistable import atlas
+from rodstab.multistable.states import ring_of, state_centrelines
 
 design = load_design("examples/folded_six_ring.toml")
 ring = ring_of(design.assembly)

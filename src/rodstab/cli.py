@@ -45,6 +45,7 @@ from .errors import (
     require_positive_int,
 )
 from .executor import AUTO_MIN_SECONDS
+from .io.outputs import check_output
 from .limits import (
     CONTINUATION_ELEMENTS,
     CONTINUE_DEFAULT_N,
@@ -58,7 +59,6 @@ from .limits import (
     Limits,
     require_steps,
 )
-from .outputs import check_output
 from .results import jsonable
 from .sections import (
     ASPECT_RANGE,
@@ -219,7 +219,7 @@ def _dimensions(shape: str, given: dict[str, str], aspect: float | None,
 def _section_options(f: Callable[..., Any]) -> Callable[..., Any]:
     """Add the common cross-section options and pass a built :class:`Section` as ``section``.
 
-    ``--polygon FILE`` (:func:`~rodstab.design.load_polygon`) builds a
+    ``--polygon FILE`` (:func:`~rodstab.io.outline.load_polygon`) builds a
     :func:`~rodstab.sections.polygon_section` instead, with ``--mesh-size`` and
     ``--orientation-deg``; it cannot be combined with the options of a closed-form shape.
     ``--height``/``--thickness``, ``--diameter``, ``--outer-diameter``/``--inner-diameter``
@@ -284,7 +284,7 @@ def _section_options(f: Callable[..., Any]) -> Callable[..., Any]:
                 if ctx.get_parameter_source(name) == ParameterSource.COMMANDLINE:
                     raise RodstabInputError(f"--{name} cannot be used with --polygon, which "
                                             "gives the section")
-            from .design import load_polygon
+            from .io.outline import load_polygon
 
             spec = load_polygon(polygon_file)
             try:
@@ -413,7 +413,7 @@ def _section_line(s: Section) -> str:
 
 
 def _image_output(option: str, value: str) -> Path:
-    """Check a picture's output path: :func:`~rodstab.outputs.check_output`, matplotlib's types."""
+    """Check a picture's output path: :func:`check_output`, matplotlib's types."""
     from matplotlib.backend_bases import FigureCanvasBase
 
     types = FigureCanvasBase.get_supported_filetypes()
@@ -626,7 +626,7 @@ def section(section: Section, dimensions: SectionDimensions | None, young: str |
     if isinstance(section, PolygonSection):
         lines += _polygon_lines(section)
         if plot_path is not None:
-            from .plots import plot_section
+            from .plot.plots import plot_section
             from .sections import polygon_mesh
 
             nodes, triangles, part = polygon_mesh(section)
@@ -735,7 +735,7 @@ def analyze(design_file: str, elements: int | None, plot_path: str | None, limit
     Without --elements or [analysis] elements the mesh is refined until the estimated error
     of each end is 2.5e-7 (relative); a mesh given is kept and its estimated error printed.
     """
-    from .design import load_design
+    from .io.design import load_design
     from .linear.solve import FE_TARGET_RTOL, converged_stability, mode_family
 
     d = load_design(design_file)
@@ -769,7 +769,7 @@ def analyze(design_file: str, elements: int | None, plot_path: str | None, limit
         "paper_load_factor_critical": lam,
     }
     if plot is not None:
-        from .plots import plot_mode
+        from .plot.plots import plot_mode
 
         payload["plot"] = str(plot_mode(d.assembly, r, plot))
     lo, hi = r.load_factor_interval
@@ -880,7 +880,7 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
     """
     import numpy as np
 
-    from .design import load_design, nonlinear_elements
+    from .io.design import load_design, nonlinear_elements
     from .nonlinear.solve import STRAIN_WARN, equilibrium
 
     render = None if render_path is None else _image_output("--render", render_path)
@@ -897,20 +897,20 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
     payload = r.to_dict() | {"design": d.source, "elements_per_segment": n,
                              "max_out_of_plane": float(np.max(np.abs(rod.x[:, 2])))}
     if render is not None or html is not None:
-        from .ribbons import RodLayout
+        from .plot.ribbons import RodLayout
 
         layout = RodLayout.from_rod(rod)
         label, signed = COLOUR_BY[colour]
         values = rod.edge_moments() if colour == "moment" else rod.edge_twist()
         title = f"{d.source}, load factor {load_factor:g}"
     if render is not None:
-        from .plots import plot_equilibrium
+        from .plot.plots import plot_equilibrium
 
         payload["render"] = str(plot_equilibrium(
             rod.x, rod.R_edge, layout, render, edge_values=values, value_label=label,
             diverging=signed, title=title))
     if html is not None:
-        from .plots import html_view
+        from .plot.plots import html_view
 
         payload["html"] = str(html_view(
             [rod.x], [rod.R_edge], layout, html, edge_values=[values], value_label=label,
@@ -995,10 +995,11 @@ def continue_cmd(design_file: str, vary: str, out_dir: str | None, elements: int
     """
     from tqdm import tqdm
 
-    from .design import load_design, model_value, parse_vary, value_kind, vary_in_units
     from .errors import require_int
+    from .io.design import load_design
+    from .io.outputs import run_lock
+    from .io.vary import model_value, parse_vary, value_kind, vary_in_units
     from .nonlinear.continuation import continuation
-    from .outputs import run_lock
 
     spec = parse_vary(vary, default_n=CONTINUE_DEFAULT_N)
     key, start, stop, n = spec.key, spec.start, spec.stop, spec.n
@@ -1092,8 +1093,8 @@ def _continuation_pictures(r: Any, d: Any, out: Path, elements: int,
     payload["diagram"] = str(continuation_plot(r, out))
     if r.branches and r.branches[0].shapes:
         from .nonlinear.discrete import discretise
-        from .plots import animate_shapes
-        from .ribbons import RodLayout
+        from .plot.plots import animate_shapes
+        from .plot.ribbons import RodLayout
 
         first = r.branches[0]
         rod = discretise(d.assembly, elements)
@@ -1108,7 +1109,7 @@ def _continuation_pictures(r: Any, d: Any, out: Path, elements: int,
                        labels=[f"{r.key} = {v:.6g}" for v in first.shape_values], title=title)
         payload["animation"] = str(gif)
         try:
-            from .plots import html_view
+            from .plot.plots import html_view
 
             payload["interactive"] = str(html_view(
                 list(first.shapes), list(first.frames), layout, out / "branch.html",
@@ -1155,8 +1156,9 @@ def sweep(design_file: str, vary: str, out_dir: str, elements: int | None,
     import numpy as np
     from tqdm import tqdm
 
-    from .design import load_design, parse_vary, vary_in_units
     from .executor import check_workers, task_size
+    from .io.design import load_design
+    from .io.vary import parse_vary, vary_in_units
     from .report.figures import sweep_plot
     from .sweep import CSV_FILE, INVALID, NOT_CONVERGED, PHYSICAL_COLUMN, design_at, write_parquet
     from .sweep import sweep as run_sweep
@@ -1337,8 +1339,8 @@ def states(design_file: str | None, segments: int, cusps: bool, max_turns: float
     """
     import math
 
-    from .design import load_design
-    from .states import ring_of, state_centrelines, uniform_ring
+    from .io.design import load_design
+    from .multistable.states import ring_of, state_centrelines, uniform_ring
 
     plot = None if plot_path is None else _image_output("--plot", plot_path)
     if design_file is not None:
@@ -1380,7 +1382,7 @@ def states(design_file: str | None, segments: int, cusps: bool, max_turns: float
                                                "curvature"),
             "energy": units.quantities([row["energy"] for row in rows], "energy")}
     if plot is not None:
-        from .plots import plot_ring_states
+        from .plot.plots import plot_ring_states
 
         payload["plot"] = str(plot_ring_states(
             [state_centrelines(ring, s.theta) for s in r.states],
@@ -1464,7 +1466,7 @@ def hexagram(section: Section, find_threshold: bool, method: str, chart_path: st
             "all four     " + ("never stable together" if at.all_four is None else
                                f"{_fmt(at.all_four[0])} < kappa_n R0 < {_fmt(at.all_four[1])}")]
     if chart is not None:
-        from .plots import plot_stable_bands
+        from .plot.plots import plot_stable_bands
 
         data = problem.chart_data(nu=nu, torsion=torsion, method=method)
         mark = payload["aspect_threshold"] if find_threshold else None
@@ -1495,18 +1497,18 @@ def reproduce(out_dir: str, no_progress: bool, as_json: bool) -> None:
 
 def _ring_and_section(design_file: str | None, structure: str, segments: int,
                       section: Section) -> tuple[Any, Section, str, Any]:
-    """Return the ring of a ring command: DESIGN's (:func:`rodstab.states.ring_of`) or built in.
+    """Return a ring command's ring: DESIGN's (:func:`~.multistable.states.ring_of`) or built in.
 
     Built-in structures (without DESIGN): ``hexagram`` (six rods of length 1, natural curvature
     ``1/R0`` per unit load, so the load is ``kappa_n R0``, ``R0 = 3 L / 2 pi``) and ``six-ring``
     (``segments`` arcs of radius 1 welded at cusps, the one-loop ring of Section 5, natural
     curvature 1 per unit load: the load is ``kappa_n R0``). With DESIGN, its section and its
     load factor; ``--structure``, ``--segments`` and the section options are refused. The
-    last item is the :class:`~rodstab.design.Design` (None for a built-in structure).
+    last item is the :class:`~rodstab.io.design.Design` (None for a built-in structure).
     """
     import math
 
-    from .states import ring_of, uniform_ring
+    from .multistable.states import ring_of, uniform_ring
 
     if design_file is not None:
         given = [o for o in ("structure", "segments", "shape", "aspect", "nu", "torsion", "b1",
@@ -1516,7 +1518,7 @@ def _ring_and_section(design_file: str | None, structure: str, segments: int,
             option = {"polygon_file": "polygon"}.get(given[0], given[0]).replace("_", "-")
             raise RodstabInputError(f"--{option} describes a built-in structure; "
                                     f"{design_file} describes its own ring and section")
-        from .design import load_design
+        from .io.design import load_design
 
         design = load_design(design_file)
         a = design.assembly
@@ -1578,8 +1580,8 @@ def discover(design_file: str | None, section: Section, structure: str, segments
     built-in structure.
     """
     from .limits import require_nonlinear
-    from .nonlinear.discover import RUNS_PER_START, ring_seeds, shape_2d
-    from .nonlinear.discover import discover as search
+    from .multistable.discover import RUNS_PER_START, ring_seeds, shape_2d
+    from .multistable.discover import discover as search
 
     plot = None if plot_path is None else _image_output("--plot", plot_path)
     mu = require_finite("--load-factor", load_factor)
@@ -1604,7 +1606,7 @@ def discover(design_file: str | None, section: Section, structure: str, segments
         payload["units"] = units.reference() | {
             "energy": units.quantities([s.energy for s in found.states], "energy")}
     if plot is not None:
-        from .plots import plot_ring_states
+        from .plot.plots import plot_ring_states
 
         titles = [f"{s.label}: E {s.energy:.4g}, index {s.index}"
                   + ("" if s.invariants.planar else ", 3D") for s in found.states]
@@ -1708,7 +1710,7 @@ def transitions(design_file: str | None, section: Section, structure: str,
     units = None if design is None else design.units
     physical: dict[tuple[str, str, str], str] = {}
     if design is not None and units is not None:
-        from .design import value_kind
+        from .io.vary import value_kind
 
         kappa = design.assembly.segment(units.segment).natural_curvature
         thresholds = []
@@ -1723,7 +1725,7 @@ def transitions(design_file: str | None, section: Section, structure: str,
         payload["units"] = units.reference() | {"thresholds": thresholds}
     load_name = "kappa_n R0" if design_file is None else "load factor"
     if out is not None:
-        from .transition_plot import plot_transition_graph
+        from .plot.transition_graph import plot_transition_graph
 
         (out / "transitions.json").write_text(json.dumps(jsonable(payload), allow_nan=False))
         payload["figure"] = str(plot_transition_graph(
@@ -1779,7 +1781,7 @@ _BARRIER_STATES = {"six-ring": ("folded", "one-loop"), "hexagram": ("line", "sta
               help="Elements per rod of the discrete rod (>= 4).")
 @click.option("--images", type=int, default=None,
               help="Images of the string, ends included (>= 3; default "
-                   "rodstab.nonlinear.mep.STRING_IMAGES, 17). String method.")
+                   "rodstab.multistable.string_method.STRING_IMAGES, 17). String method.")
 @click.option("--plot", "plot_path", type=click.Path(dir_okay=False), default=None,
               help="Write the energy along the path (saddle marked, barriers annotated).")
 @click.option("--animation", "animation_path", type=click.Path(dir_okay=False), default=None,
@@ -1808,7 +1810,7 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
     k = require_finite("--load-factor", load_factor)
     if method == "continuation" and (images is not None or animation_path is not None):
         raise RodstabInputError("--images and --animation are options of --method string")
-    from .nonlinear.mep import STRING_IMAGES
+    from .multistable.string_method import STRING_IMAGES
 
     n_img = STRING_IMAGES if images is None else require_int("--images", images, 3)
     plot = None if plot_path is None else _image_output("--plot", plot_path)
@@ -1846,13 +1848,13 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
     path: list[Any] = []
     try:
         if method == "string":
-            from .nonlinear.mep import string_barrier
+            from .multistable.string_method import string_barrier
 
             b, path = string_barrier(a, b_asm, mu, elements_per_segment=elements,
                                      images=n_img, name_a=from_state, name_b=to_state,
                                      limits=limits)
         else:
-            from .nonlinear.barrier import barrier_from_bifurcation
+            from .multistable.barrier import barrier_from_bifurcation
 
             b = barrier_from_bifurcation(a, mu, upper=model_load_factor(structure, 4.0),
                                          elements_per_segment=elements, name=from_state,
@@ -1891,7 +1893,7 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
         + ("" if units is None else f" ({_fmt(units.si(b.barrier_backward, 'energy'))} J)"),
         f"converged    {b.converged} ({len(b.energies)} path points)"]
     if plot is not None:
-        from .plots import plot_barrier_path
+        from .plot.plots import plot_barrier_path
 
         payload["plot"] = str(plot_barrier_path(
             b.path_arclength, b.energies, b.saddle_position, plot,
@@ -1899,9 +1901,9 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
             title=f"{name}, kappa_n R0 = {_fmt(k)}, {elements} el./rod, {method}"))
         lines.append(f"wrote {payload['plot']}")
     if gif is not None:
-        from .nonlinear.discover import common_rod
-        from .plots import animate_shapes
-        from .ribbons import RodLayout
+        from .multistable.discover import common_rod
+        from .plot.plots import animate_shapes
+        from .plot.ribbons import RodLayout
 
         rod = common_rod(a, elements, mu)
         payload["animation"] = str(animate_shapes(
@@ -1970,11 +1972,12 @@ def atlas_cmd(design_file: str, vary: str, out_dir: str, method: str,
     import numpy as np
     from tqdm import tqdm
 
-    from .atlas import LOAD_FACTOR_UNITS, ring_atlas
-    from .design import load_design, parse_vary, vary_in_units
     from .executor import check_workers, task_size
-    from .outputs import run_lock, write_atomic
-    from .states import Ring, ring_of
+    from .io.design import load_design
+    from .io.outputs import run_lock, write_atomic
+    from .io.vary import parse_vary, vary_in_units
+    from .multistable.atlas import LOAD_FACTOR_UNITS, ring_atlas
+    from .multistable.states import Ring, ring_of
     from .sweep import design_at
 
     spec = parse_vary(vary, default_n=ATLAS_DEFAULT_N)
@@ -2043,7 +2046,7 @@ def atlas_cmd(design_file: str, vary: str, out_dir: str, method: str,
         # the varied values are in the unit of --vary.
         payload["units"] = base.units.reference() | {
             "values": {"value": list(at.values), "unit": spec.unit}}
-    from .plots import plot_stable_bands
+    from .plot.plots import plot_stable_bands
 
     png = plot_stable_bands(at.bands(), at.states, out / "atlas.png", x_key="value",
                             xlabel=at.key, ylabel="load factor",

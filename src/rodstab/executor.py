@@ -4,8 +4,8 @@ One abstraction, :class:`Executor`: ``map_unordered(fn, items)`` runs ``fn`` on 
 yields the results as they complete. :func:`run_points` is how the commands use it: points
 (independent solves) grouped into tasks, on the executor the options name or the default
 chooses (:func:`auto_workers`), each task's results handed back as it completes. Used by
-:func:`rodstab.sweep.sweep` and :func:`rodstab.atlas.ring_atlas` (one point = one value of
-the varied parameter).
+:func:`rodstab.sweep.sweep` and :func:`rodstab.multistable.atlas.ring_atlas` (one point = one value
+of the varied parameter).
 
 * :class:`SerialExecutor` -- in order, in this process (``--workers 0``);
 * :class:`DaskExecutor` -- ``client.map`` + ``as_completed`` on a ``dask.distributed``

@@ -182,7 +182,7 @@ def require_steps(n: int, cause: str, what: str = "steps", limits: Limits = DEFA
     return int(n)
 
 
-# Defaults and accepted ranges of a design's runs (named by rodstab.design; here so that the
+# Defaults and accepted ranges of a design's runs (named by rodstab.io.design; here so that the
 # command line reads them without importing the design module).
 
 #: Accepted segment lengths and stiffnesses B3, in the file's own (consistent) units: wide

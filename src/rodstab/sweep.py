@@ -1,8 +1,8 @@
 """Design sweeps of the linear engine (``rodstab sweep``), serial or on dask.distributed.
 
 The critical load factor of a design while one design value varies. Each value is a *point*:
-an independent design (:func:`design_at`: :func:`rodstab.design.set_design_value` validated by
-:func:`rodstab.design.parse_design`) and one linear stability solve
+an independent design (:func:`design_at`: :func:`rodstab.io.vary.set_design_value` validated by
+:func:`rodstab.io.design.parse_design`) and one linear stability solve
 (:func:`rodstab.linear.solve.linear_stability`). Nothing is carried from one point to the
 next, so the points are independent tasks, run where :mod:`rodstab.executor` says: in this
 process, or on the workers of a dask.distributed cluster. Both run the same function
@@ -47,16 +47,10 @@ from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from .design import (
-    SWEEP_DEFAULT_N,
-    Design,
-    load_design,
-    parse_design,
-    parse_vary,
-    set_design_value,
-)
 from .errors import NotConverged, RodstabInputError, require_finite, require_positive_int
 from .executor import check_workers, run_points, task_size
+from .io.design import SWEEP_DEFAULT_N, Design, load_design, parse_design
+from .io.vary import parse_vary, set_design_value
 from .limits import DEFAULT as DEFAULT_LIMITS
 from .limits import Limits, require_steps
 from .linear.solve import converged_stability
@@ -190,11 +184,11 @@ def design_at(design: Design, key: str, value: float, unit: str | None = None) -
     design : Design
         The base design (not modified).
     key : str
-        A key of :func:`rodstab.design.set_design_value`.
+        A key of :func:`rodstab.io.vary.set_design_value`.
     value : float
         Its new value.
     unit : str, optional
-        Its unit (a design with units: :func:`rodstab.design.vary_in_units`).
+        Its unit (a design with units: :func:`rodstab.io.vary.vary_in_units`).
 
     Returns
     -------
@@ -312,7 +306,7 @@ def sweep(design: Design, key: str, values: Iterable[float], *, elements: int | 
     design : Design
         The base design (its ``raw`` data is copied and modified, never changed in place).
     key : str
-        A dotted design key accepted by :func:`rodstab.design.set_design_value`, e.g.
+        A dotted design key accepted by :func:`rodstab.io.vary.set_design_value`, e.g.
         ``section.aspect`` or ``segment.arc.length``.
     values : iterable of float
         One or more finite values of ``key``.
@@ -343,7 +337,7 @@ def sweep(design: Design, key: str, values: Iterable[float], *, elements: int | 
     out_option : str
         How to name ``out`` in messages (the CLI: ``--out``).
     unit : str, optional
-        The unit of ``values`` (a design with units, :func:`rodstab.design.vary_in_units`).
+        The unit of ``values`` (a design with units, :func:`rodstab.io.vary.vary_in_units`).
 
     Returns
     -------
@@ -426,7 +420,7 @@ class SweepTable:
 
     def finish(self, rows: Sequence[SweepRow]) -> None:
         """Replace ``sweep.csv`` atomically by ``rows`` (all points, in point order)."""
-        from .outputs import write_atomic
+        from .io.outputs import write_atomic
 
         self._fh.close()
         write_atomic(self.out / CSV_FILE, _csv_lines(self.key, rows, header=True,
@@ -547,7 +541,7 @@ def open_table(out: str | os.PathLike[str], run: dict, *, restart: bool,
         another sweep, a ``sweep.csv`` without ``run.json``, or a table that is not this
         sweep's (its line is named); the message says what differs and how to proceed.
     """
-    from .outputs import check_output, run_lock, write_atomic
+    from .io.outputs import check_output, run_lock, write_atomic
 
     label = f"{option} {os.fspath(out)!r}"
     out = check_output(option, out, directory=True)
@@ -631,12 +625,12 @@ def _vary_values(vary: Mapping[str, Any], default_n: int, design: Design
                  ) -> tuple[str, list[float], str | None]:
     """Return the key, the values and their unit of ``vary`` (values or "START:STOP[:N]").
 
-    A string is read as the CLI's ``--vary`` (:func:`rodstab.design.parse_vary`, units checked
-    against ``design`` by :func:`rodstab.design.vary_in_units`); a sequence is plain numbers.
+    A string is read as the CLI's ``--vary`` (:func:`rodstab.io.vary.parse_vary`, units checked
+    against ``design`` by :func:`rodstab.io.vary.vary_in_units`); a sequence is plain numbers.
     """
     import numpy as np
 
-    from .design import vary_in_units
+    from .io.vary import vary_in_units
 
     if not isinstance(vary, Mapping) or len(vary) != 1:
         keys = list(vary) if isinstance(vary, Mapping) else vary
@@ -704,7 +698,7 @@ def run(design: Design | str | os.PathLike[str], vary: Mapping[str, Any], *,
 
 def write_parquet(df: pd.DataFrame, out: Path) -> Path:
     """Write ``out/sweep.parquet`` (pyarrow) of a finished sweep's table, atomically."""
-    from .outputs import replace_atomic
+    from .io.outputs import replace_atomic
 
     path = out / PARQUET_FILE
     replace_atomic(path, lambda fh: df.to_parquet(fh, engine="pyarrow", index=False))

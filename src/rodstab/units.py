@@ -1,7 +1,7 @@
 """Physical units: quantities such as ``"235.6 mm"`` in design files, and results in SI.
 
 A design file that gives its dimensional values as quantity strings (``length = "235.6 mm"``,
-``[material] E = "200 GPa"``) is a *design with units* (:mod:`rodstab.design`). Its values are
+``[material] E = "200 GPa"``) is a *design with units* (:mod:`rodstab.io.design`). Its values are
 read here, checked for their dimension and converted to SI; the design is then handed to the
 solvers in rodstab's usual non-dimensional form, and every result is converted back.
 
@@ -197,7 +197,7 @@ def split_quantity(value: Any) -> tuple[float, str] | None:
     """Return ``(number, unit text)`` of a string shaped as a quantity (``"5 mm"``), else None.
 
     A string, a number, then non-empty unit text. What makes a design one with units
-    (:mod:`rodstab.design`); whether the unit exists and has the right dimension is checked
+    (:mod:`rodstab.io.design`); whether the unit exists and has the right dimension is checked
     where the value is read (:func:`parse_quantity`).
     """
     if not isinstance(value, str) or len(value) > MAX_QUANTITY_CHARS:
@@ -466,7 +466,7 @@ def path_units(units: Units, kind: str | None, values: list[float], energies: li
     units : Units
         The design's scales.
     kind : str or None
-        The kind of the continuation parameter (:func:`rodstab.design.value_kind`); None for
+        The kind of the continuation parameter (:func:`rodstab.io.vary.value_kind`); None for
         the load factor.
     values, energies : list of float
         The path's parameter values and energies (model units).

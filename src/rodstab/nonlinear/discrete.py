@@ -533,8 +533,8 @@ def element_counts(a: Assembly, elements_per_segment: int | dict[str, int]) -> d
     """Return the elements of each segment (by name): one count for all, or one per segment.
 
     As the linear engine's ``elements_per_segment``
-    (:func:`rodstab.linear.solve.linear_stability`). Raises :class:`RodstabInputError` naming a count that is not an
-    integer >= 2, or a segment without one.
+    (:func:`rodstab.linear.solve.linear_stability`). Raises :class:`RodstabInputError` naming
+    a count that is not an integer >= 2, or a segment without one.
     """
     if isinstance(elements_per_segment, dict):
         missing = [s.name for s in a.segments if s.name not in elements_per_segment]

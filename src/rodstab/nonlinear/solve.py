@@ -540,7 +540,7 @@ def lm_step(rod: DiscreteRod, free: np.ndarray, E: float, gf: np.ndarray, Hf: sp
     terms ``(E, g, H)`` at the new state and ``lam``, or ``(None, lam)`` after ``tries``
     rejections (the state is then unchanged). ``retract(trial, dq)``: applied to each trial
     state after the step ``dq``, before its energy is evaluated (e.g.
-    :func:`.discover.retract_step`, which removes the closure strain of the stiff penalty that
+    :func:`.constraint.retract_step`, which removes the closure strain of the stiff penalty that
     a large step leaves; the prediction stays the model's). Shared by
     :func:`newton` and the barrier's steepest descent.
     """
@@ -575,7 +575,7 @@ def lm_step(rod: DiscreteRod, free: np.ndarray, E: float, gf: np.ndarray, Hf: sp
 
 
 def _retract_if_lower(trial: DiscreteRod, dq: np.ndarray) -> None:
-    """:func:`.discover.retract_step` on a trial state, kept only if it lowers the energy.
+    """:func:`.constraint.retract_step` on a trial state, kept only if it lowers the energy.
 
     A large step in the chart (``R exp(hat(phi))``, ``x + dx``) leaves a stretch/shear misfit of
     second order in the step, which the quadratic model does not see and whose stiffness grows
@@ -584,7 +584,7 @@ def _retract_if_lower(trial: DiscreteRod, dq: np.ndarray) -> None:
     it). Where the supports impose a strain (an end turned between two clamps) the retraction,
     which removes all strain, would raise the energy: the plain step is kept.
     """
-    from .discover import retract_step
+    from .constraint import retract_step
 
     plain = trial.copy()
     retract_step(trial, dq)

@@ -2,7 +2,7 @@
 
 Two structures, each a ring of six cusp-welded rods whose states are held geometries of ONE
 assembly (same segments, orientations, welds and natural curvature), so that
-:func:`rodstab.nonlinear.barrier.barrier_from_bifurcation` can name the states its path
+:func:`rodstab.multistable.barrier.barrier_from_bifurcation` can name the states its path
 reaches in one discrete model:
 
 * ``hexagram`` (:mod:`.hexagram`): ``line``, ``star``, ``daisy``, ``eight``; load factor
@@ -22,8 +22,8 @@ from __future__ import annotations
 
 from ..errors import RodstabInputError
 from ..model import Assembly
+from ..multistable.states import ring_of
 from ..sections import Section
-from ..states import ring_of
 from . import folded_ring, hexagram
 
 #: States of each structure.
@@ -37,8 +37,8 @@ def one_loop_assembly(params: folded_ring.Params) -> Assembly:
 
     Each rod's held curvature is ``sign(kappa_n) theta / L``: stress-free at ``kappa_n L =
     theta`` (``kappa_n R0 = 1``), the experiment's one-loop ring (Fig. 10). The folded ring is
-    read as a ring (:func:`rodstab.states.ring_of`: its natural curvature is positive along
-    the ring) and held with every rod turning by ``theta`` along it (:meth:`.Ring.held`), in
+    read as a ring (:func:`rodstab.multistable.states.ring_of`: its natural curvature is positive
+    along the ring) and held with every rod turning by ``theta`` along it (:meth:`.Ring.held`), in
     the folded ring's own segments, ends and welds.
     """
     folded = folded_ring.build(params)

@@ -2,9 +2,9 @@
 
 Lu, Leanza, Zhao and Hutchinson, *Multiple equilibrium states of a curved-sided hexagram*: six
 identical naturally curved rods of length ``L``, rod ``i``'s end welded to rod ``i + 1``'s start
-at a cusp. The closed held states of uniform moment (:mod:`rodstab.states`) include four basic
-ones: ``line`` (straight rods folded, the folded 3-loop state of Section 5), ``star`` (120-degree
-arcs), ``daisy`` (240 degrees) and ``eight`` (full circles, all welds at one point).
+at a cusp. The closed held states of uniform moment (:mod:`rodstab.multistable.states`) include four
+basic ones: ``line`` (straight rods folded, the folded 3-loop state of Section 5), ``star``
+(120-degree arcs), ``daisy`` (240 degrees) and ``eight`` (full circles, all welds at one point).
 
 Units: ``B3 = 1``; the load factor is ``mu = kappa_n R0`` with ``R0 = 3 L / (2 pi)`` the star's
 arc radius (natural curvature ``1 / R0`` per unit ``mu``), so a state of held curvature ``k``
@@ -12,9 +12,9 @@ is stress-free at ``mu = k R0``: 0 (line), 1 (star), 2 (daisy), 3 (eight), the r
 of its stable interval. The paper's load (5.7) is ``lambda = kappa_n L / sqrt(b1 b2)``.
 
 Two methods: the FE engine on the whole ring (:mod:`rodstab.linear`, its mesh refined from
-:data:`FE_MESHES` to the FE's target error, :func:`rodstab.atlas.fe_interval`) and the exact
-general solution of P2 on one arc with the cusp joint map and a Bloch phase per harmonic
-(:func:`rodstab.transfer.cyclic_ring_interval`).
+:data:`FE_MESHES` to the FE's target error, :func:`rodstab.multistable.atlas.fe_interval`)
+and the exact general solution of P2 on one arc with the cusp joint map and a Bloch phase per
+harmonic (:func:`rodstab.transfer.cyclic_ring_interval`).
 """
 
 from __future__ import annotations
@@ -23,15 +23,15 @@ import dataclasses
 import functools
 import math
 
-from .. import atlas as ring_atlas
 from ..errors import NotConverged, RodstabInputError, require_positive
 from ..limits import DEFAULT as DEFAULT_LIMITS
 from ..limits import Limits
 from ..linear.solve import LinearStability
 from ..model import Assembly
+from ..multistable import atlas as ring_atlas
+from ..multistable.states import HeldState, Ring, uniform_ring
 from ..results import Result
 from ..sections import Section, circle, rectangle
-from ..states import HeldState, Ring, uniform_ring
 from ..transfer import CyclicRingInterval
 from ._common import Method, engine
 
@@ -45,11 +45,12 @@ STATES = tuple(STATE_TURNING)
 L_OVER_R0 = 2 * math.pi / 3
 #: Elements per rod of the linear engine for one solve (e.g. ``rodstab hexagram``'s mode).
 DEFAULT_ELEMENTS = 64
-#: Starting meshes (elements per rod) of the FE method (:data:`rodstab.atlas.FE_MESHES`): its
-#: limits converge as h^4 (measured: the error falls 15-16x per halving from 16 to 96
-#: elements; against the Bloch method at h/t = 4: 3.6e-4 at 32 and 2.1e-5 at 64 elements, the
-#: eight's limits), so the mesh is refined from this pair until the Richardson estimate of
-#: each end's error is :data:`rodstab.linear.solve.FE_TARGET_RTOL`.
+#: Starting meshes (elements per rod) of the FE method
+#: (:data:`rodstab.multistable.atlas.FE_MESHES`): its limits converge as h^4 (measured: the
+#: error falls 15-16x per halving from 16 to 96 elements; against the Bloch method at
+#: h/t = 4: 3.6e-4 at 32 and 2.1e-5 at 64 elements, the eight's limits), so the mesh is refined
+#: from this pair until the Richardson estimate of each end's error is
+#: :data:`rodstab.linear.solve.FE_TARGET_RTOL`.
 FE_MESHES = ring_atlas.FE_MESHES
 #: Order of the FE error in the mesh size (above).
 FE_ORDER = ring_atlas.FE_ORDER
@@ -96,15 +97,15 @@ def ring(section: Section, length: float = 1.0) -> Ring:
 
 
 def _held_state(rg: Ring, state: str) -> HeldState:
-    """Return the ring's held state called ``state`` (:func:`rodstab.atlas.select_states`)."""
+    """Return the ring's held state called ``state`` (:func:`..multistable.atlas.select_states`)."""
     return ring_atlas.select_states(rg, (state,))[0]
 
 
 def build(params: Params) -> Assembly:
     """Return the ring of six rods in ``params.state`` (natural curvature ``1/R0`` per unit mu).
 
-    :meth:`rodstab.states.Ring.held` of :func:`ring`, which the model validates (ends meet at
-    the cusps, moments balance); the reference load is the state's stress-free ``mu``.
+    :meth:`rodstab.multistable.states.Ring.held` of :func:`ring`, which the model validates (ends
+    meet at the cusps, moments balance); the reference load is the state's stress-free ``mu``.
     """
     return ring(params.section, params.length).held(STATE_TURNING[params.state],
                                                     reference_load=params.reference_load)
@@ -122,7 +123,7 @@ def engine_stability(params: Params, elements: int = DEFAULT_ELEMENTS,
 
 
 def fe_interval(params: Params, limits: Limits = DEFAULT_LIMITS) -> tuple[float, float]:
-    """FE stable interval of ``kappa_n R0`` (:func:`rodstab.atlas.fe_interval`, order 4)."""
+    """FE stable interval of ``kappa_n R0`` (:func:`..multistable.atlas.fe_interval`, order 4)."""
     rg = ring(params.section, params.length)
     return ring_atlas.fe_interval(rg, _held_state(rg, params.state), limits).interval
 
@@ -184,7 +185,7 @@ def binding_limits(atlas_: Atlas) -> tuple[str, str]:
 def rectangle_atlas(values: list[float], *, nu: float = 1 / 3, torsion: str = "exact",
                     method: str = "transfer", ks: tuple[int, ...] | None = None
                     ) -> ring_atlas.RingAtlas:
-    """:func:`rodstab.atlas.ring_atlas` of the four states over rectangles' h/t ``values``.
+    """:func:`..multistable.atlas.ring_atlas` of the four states over rectangles' h/t ``values``.
 
     ``ks``: the numbers of mutually stable states whose h/t ranges are solved for (default
     all; each range end costs a root search).

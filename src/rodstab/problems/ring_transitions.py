@@ -2,10 +2,10 @@
 
 Each state is loaded, at one load factor where it is stable, by stimuli (tried in order until
 one takes it to another state) and followed to where it snaps
-(:mod:`rodstab.nonlinear.transitions`). The ring is a :class:`rodstab.states.Ring`: the
-hexagram's (:func:`hexagram_ring`) or a design's (:func:`rodstab.states.ring_of`), walked
-forwards (:meth:`~rodstab.states.Ring.forward`). Weld ``i`` joins the ``i``-th rod along the ring
-to the next one; for six rods welds 0 and 3 are opposite.
+(:mod:`rodstab.multistable.transitions`). The ring is a :class:`rodstab.multistable.states.Ring`:
+the hexagram's (:func:`hexagram_ring`) or a design's (:func:`rodstab.multistable.states.ring_of`),
+walked forwards (:meth:`~rodstab.multistable.states.Ring.forward`). Weld ``i`` joins the ``i``-th
+rod along the ring to the next one; for six rods welds 0 and 3 are opposite.
 
 Default stimuli (:func:`default_stimuli`) are the hexagram's :data:`HEXAGRAM_STIMULI`, written in
 ``kappa_n R0`` (``R0`` the star's arc radius) and carried to any ring of cusp-welded rods that
@@ -29,11 +29,11 @@ import numpy as np
 from ..errors import RodstabInputError
 from ..limits import DEFAULT as DEFAULT_LIMITS
 from ..limits import Limits, require_nonlinear
+from ..multistable.states import Ring, uniform_ring
+from ..multistable.transitions import TransitionGraph, ring_nodes, transition_graph
 from ..nonlinear.discrete import discretise
 from ..nonlinear.parameters import parameter
-from ..nonlinear.transitions import TransitionGraph, ring_nodes, transition_graph
 from ..sections import Section
-from ..states import Ring, uniform_ring
 from . import hexagram as hx
 
 #: The basic states whose transitions are followed by default (those the ring has).
@@ -140,7 +140,7 @@ def transitions(ring: Ring, *, load_factor: float, elements: int = 8,
                 limits: Limits = DEFAULT_LIMITS) -> RingTransitions:
     """Transition graph of the states ``load`` of ``ring`` at ``load_factor`` (module docstring).
 
-    ``load``: labels of :meth:`~rodstab.states.Ring.states` (default: its basic states);
+    ``load``: labels of :meth:`~rodstab.multistable.states.Ring.states` (default: its basic states);
     ``stimuli``: per loaded state, ``(key, stop)`` pairs (default :func:`default_stimuli`; a
     state without any is refused, naming it). The basic states and the loaded ones are the
     references for the identification, whichever are loaded. A model past

@@ -222,7 +222,7 @@ def fig_beyond(data: dict, out: Path) -> list[Path]:
 
 def fig_hexagram(data: dict, out: Path) -> list[Path]:
     """Stable bands of kappa_n R0 of the hexagram's four states against h/t, with h/t*."""
-    from ..plots import plot_stable_bands
+    from ..plot.plots import plot_stable_bands
     from ..problems.hexagram import STATES
 
     png = plot_stable_bands(data["bands"], STATES, out / "fig_hexagram.png",

@@ -15,10 +15,10 @@ from pathlib import Path as FsPath
 import numpy as np
 
 from ...errors import NotConverged, RodstabInputError, require_finite, require_int
+from ...io.outputs import run_lock
 from ...limits import DEFAULT as DEFAULT_LIMITS
 from ...limits import Limits, require_nonlinear, require_steps
 from ...model import MAX_END_ROTATION, Assembly
-from ...outputs import run_lock
 from ..discrete import MAX_NATURAL_TURNING, DiscreteRod, check_mesh, discretise
 from ..parameters import EndRotation, Parameter, SegmentValue, parameter
 from ..solve import newton, settle
@@ -96,7 +96,7 @@ def continuation(a: Assembly, key: str, start: float, stop: float, n_steps: int,
 
     With ``out_dir``: the run is stored after every step (:mod:`.storage`); a rerun with the
     same design and arguments continues from the last completed step, unless ``restart``. The
-    run holds the directory's lock (:func:`rodstab.outputs.run_lock`: a concurrent run into it
+    run holds the directory's lock (:func:`rodstab.io.outputs.run_lock`: a concurrent run into it
     raises :class:`~rodstab.errors.RodstabInputError`); a saved state that cannot be used is set
     aside with a :class:`~rodstab.errors.RodstabWarning` and the run starts afresh. A run past
     ``limits`` (steps, unknowns; :mod:`rodstab.limits`) is refused before it starts.

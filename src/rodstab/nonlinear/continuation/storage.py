@@ -10,7 +10,7 @@ starts afresh (:func:`set_aside`). ``primary.csv``, ``special_points.json`` and
 ``branches.csv`` are rebuilt from the run in memory after each step. Every file is written to a
 uniquely named sibling and renamed over the old one.
 
-``run.lock`` (:func:`rodstab.outputs.run_lock`) holds the process id and host of the run
+``run.lock`` (:func:`rodstab.io.outputs.run_lock`) holds the process id and host of the run
 writing into the directory: a second run into the same directory is refused (exit 2) while
 that process lives; the lock of a process that is gone (killed) is taken over with a warning.
 """
@@ -28,8 +28,8 @@ from typing import Any
 import numpy as np
 
 from ...errors import RodstabWarning
+from ...io.outputs import replace_atomic, write_atomic
 from ...model import Assembly
-from ...outputs import replace_atomic, write_atomic
 from ..discrete import DiscreteRod
 
 #: Output files of a continuation run (removed when a run starts afresh in the directory).

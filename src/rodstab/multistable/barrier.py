@@ -18,16 +18,16 @@ state the branch connects it to. So:
    Jacobi-preconditioned steepest descent crawls: the stretch/shear penalty makes the scaled
    bending eigenvalues ~1e-8). The energy is recorded after every step, so the path's energies
    fall monotonically from the saddle on both sides. Each end is Newton-refined, checked to be
-   a minimum, and named by :func:`~rodstab.nonlinear.discover.same_state` against A and the
+   a minimum, and named by :func:`~rodstab.multistable.discover.same_state` against A and the
    other named states (held states put in the same discrete model by
-   :func:`~rodstab.nonlinear.discover.common_rod`).
+   :func:`~rodstab.multistable.discover.common_rod`).
 
 ``barrier_forward = E_saddle - E_A``, ``barrier_backward = E_saddle - E_B``.
 
-A second, independent method is the string method (:func:`~.mep.string_barrier`, module
-:mod:`.mep`): a path relaxed between the two minima, its saddle refined by Newton from a local
-maximum of the path's energies, checked by the same descents (:func:`descents_from_saddle`, there
-with retracted steps). It needs no bifurcation and no continuation, names both ends in one
+A second, independent method is the string method (:func:`~.string_method.string_barrier`, module
+:mod:`.string_method`): a path relaxed between the two minima, its saddle refined by Newton from a
+local maximum of the path's energies, checked by the same descents (:func:`descents_from_saddle`,
+there with retracted steps). It needs no bifurcation and no continuation, names both ends in one
 discrete model and is what ``rodstab barrier`` uses by default; on the folded/one-loop six-ring
 at 8 el./rod the two saddles' energies agree to 3e-13 relative (asserted to 1e-8,
 ``tests/test_barrier.py``). Retired (in the
@@ -35,13 +35,13 @@ branch's history): an earlier string method whose initial path interpolated the 
 linearly (non-finite energies: the held states put the gauge joint in frames 120 degrees apart,
 and the frames' loops round the ring differ by whole turns); minimum-mode following from the
 folded six-ring, which wandered in its nearly double lowest eigenpair; and a nudged elastic
-band from the belt path of :mod:`.mep`, whose highest image stalled at ~40 B3/L (its images
-carried the gauge joint's full turn, and its unretracted steps were accepted only below
+band from the belt path of :mod:`.string_method`, whose highest image stalled at ~40 B3/L (its
+images carried the gauge joint's full turn, and its unretracted steps were accepted only below
 ~0.03 rad).
 
 A held state curved in its own geometry (the hexagram's) is refused here: the continuation
-discretises the held state (:func:`~.discrete.discretise`), whose model is not the common one
-(:func:`same_model`); the string method puts every state in the common model.
+discretises the held state (:func:`~rodstab.nonlinear.discrete.discretise`), whose model is not the
+common one (:func:`same_model`); the string method puts every state in the common model.
 """
 
 from __future__ import annotations
@@ -57,10 +57,11 @@ from ..errors import RodstabInputError, require_finite, require_int
 from ..limits import DEFAULT as DEFAULT_LIMITS
 from ..limits import Limits, require_nonlinear
 from ..model import Assembly
+from ..nonlinear.constraint import retract_step
+from ..nonlinear.discrete import PENALTY, DiscreteRod, discretise
+from ..nonlinear.solve import NEWTON_RTOL, lm_step, lowest_modes, newton, zero_eigenvalue_tol
 from ..results import Result
-from .discover import Snapshot, common_rod, retract_step, same_state
-from .discrete import PENALTY, DiscreteRod, discretise
-from .solve import NEWTON_RTOL, lm_step, lowest_modes, newton, zero_eigenvalue_tol
+from .discover import Snapshot, common_rod, same_state
 
 #: Arclength step of the saddle branch (length units) and most steps (as row T-six).
 SADDLE_DS = 0.25
@@ -70,7 +71,7 @@ LOAD_TOL = 1e-9
 #: First step off the saddle along its unstable eigenvector (largest component, length units,
 #: times the mean segment length); halved until the energy is below the saddle's.
 KICK = 1e-3
-#: Most accepted descent steps per side (each a :func:`.solve.lm_step`).
+#: Most accepted descent steps per side (each a :func:`rodstab.nonlinear.solve.lm_step`).
 DESCENT_MAX_STEPS = 3000
 #: Lowest eigenvalues computed to count the saddle's index.
 INDEX_EIGS = 4
@@ -111,7 +112,8 @@ def descend(rod: DiscreteRod, lam0: float, *, max_steps: int = DESCENT_MAX_STEPS
     past the lowest scaled eigenvalue when ``s`` is not a descent direction) and shrinks by 4
     after a step the model predicted well. Ends with :func:`newton` once the gradient is below
     its tolerance. ``retract``: large trial steps are retracted onto the inextensible states
-    (:func:`~.discover.retract_step`), which lets them be larger (module :mod:`.mep`).
+    (:func:`~rodstab.nonlinear.constraint.retract_step`), which lets them be larger (module
+    :mod:`.string_method`).
     """
     free = rod.free_dofs()
     tol = NEWTON_RTOL * _residual_scale(rod)
@@ -140,7 +142,7 @@ class Barrier(Result):
     """Energy barrier between stable state ``from_state`` (A) and ``to_state`` (B).
 
     Two methods fill it: the continuation (:func:`barrier_from_bifurcation`) and the string
-    (:func:`~.mep.string_barrier`), ``method`` says which.
+    (:func:`~.string_method.string_barrier`), ``method`` says which.
 
     ``barrier_forward = E_saddle - E_A``, ``barrier_backward = E_saddle - E_B`` (energy units of
     the model: B3 / L with B3 = 1, L = 1); ``saddle_index``: negative scaled Hessian eigenvalues
@@ -153,7 +155,7 @@ class Barrier(Result):
     ``residual``: the saddle's free-gradient max-norm (tolerance ``NEWTON_RTOL`` x the penalty
     scale). ``load_factor_critical``: the bifurcation the continuation's branch leaves (NaN for
     the string). ``images``, ``iterations``: the string's (0 for the continuation);
-    ``string_run``: its :class:`~.mep.StringRun` (``None`` for the continuation).
+    ``string_run``: its :class:`~.string_method.StringRun` (``None`` for the continuation).
     """
 
     barrier_forward: float
@@ -202,7 +204,7 @@ def descents_from_saddle(saddle: DiscreteRod, vals: np.ndarray, vecs: np.ndarray
         The saddle (not changed).
     vals, vecs : numpy.ndarray
         Its lowest scaled eigenvalues and eigenvectors (free unknowns), as
-        :func:`~.solve.lowest_modes` returns them; the first is the unstable one.
+        :func:`~rodstab.nonlinear.solve.lowest_modes` returns them; the first is the unstable one.
     retract : bool
         Passed to :func:`descend`.
 
@@ -301,7 +303,7 @@ def barrier_from_bifurcation(a: Assembly, load_factor: float, *, upper: float,
     require_nonlinear([n] * len(a.segments), len(a.joints()), f"{n} elements per rod", limits)
     if not upper > mu0:
         raise RodstabInputError(f"upper must exceed load_factor {mu0!r}, got {upper!r}")
-    from .continuation import arclength_from_bifurcation
+    from ..nonlinear.continuation import arclength_from_bifurcation
 
     rod_a = discretise(a, n, mu0)
     if not same_model(rod_a, common_rod(a, n, mu0)):

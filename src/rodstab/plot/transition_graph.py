@@ -3,7 +3,7 @@
 States sit on a circle, each drawn as its centreline (a small inset); every transition is an
 arrow from the loaded state to the state reached, labelled with the stimulus and its threshold.
 An arrow is solid when no pass-through of rods was found along the transition, dashed red when
-one was (:mod:`rodstab.nonlinear.transitions`: the model has no contact, so that transition is
+one was (:mod:`rodstab.multistable.transitions`: the model has no contact, so that transition is
 not physical as computed).
 """
 

@@ -36,9 +36,9 @@ import math
 
 import numpy as np
 
-from .errors import RodstabInputError, require_finite, require_positive, require_positive_int
-from .model import Assembly, Segment
-from .results import Result
+from ..errors import RodstabInputError, require_finite, require_positive, require_positive_int
+from ..model import Assembly, Segment
+from ..results import Result
 
 #: The chain of rods closes when its end is within this times the ring's total length of its
 #: start and the tangents agree to this (radians).

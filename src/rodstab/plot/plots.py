@@ -5,7 +5,7 @@ importing or using this module never selects a backend or touches pyplot's globa
 writing a file needs no display.
 
 Rods are drawn as boxes of their section's proportions along their material frames
-(:mod:`rodstab.ribbons`), so that a twist shows as the ribbon turning; each segment is outlined
+(:mod:`rodstab.plot.ribbons`), so that a twist shows as the ribbon turning; each segment is outlined
 in its own colour (welded and stacked rods are told apart), the faces are coloured by a value
 per edge, the axes are equal and the camera sees the ring's plane obliquely.
 """
@@ -25,9 +25,9 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.ticker import MaxNLocator
 
+from ..linear.solve import LinearStability, SegmentMode
+from ..model import Assembly
 from . import ribbons
-from .linear.solve import LinearStability, SegmentMode
-from .model import Assembly
 from .ribbons import RodLayout
 
 #: Brightness of a face seen edge-on, relative to one facing the camera (a headlight): the
@@ -175,10 +175,10 @@ def plot_mode(assembly: Assembly, result: LinearStability, path: str | Path | No
     """Draw the critical mode over the held state, rods as boxes of their sections.
 
     The held state is a light ghost; over it the held state moved by the mode
-    (:func:`rodstab.ribbons.mode_drawing`): ``w`` along e3 and the twist ``omega`` turning the
-    section about the tangent, with one multiplier (:func:`rodstab.ribbons.mode_scale`: the
+    (:func:`rodstab.plot.ribbons.mode_drawing`): ``w`` along e3 and the twist ``omega`` turning the
+    section about the tangent, with one multiplier (:func:`rodstab.plot.ribbons.mode_scale`: the
     largest displacement ``amplitude`` times the assembly's size, no section turned by more
-    than :data:`rodstab.ribbons.MODE_MAX_TURN`). Faces are coloured by the drawn turn, so
+    than :data:`rodstab.plot.ribbons.MODE_MAX_TURN`). Faces are coloured by the drawn turn, so
     opposite twists show in opposite colours; outlines in each segment's colour.
 
     Parameters
@@ -193,7 +193,7 @@ def plot_mode(assembly: Assembly, result: LinearStability, path: str | Path | No
         Largest drawn displacement over the assembly's size.
     width : float, optional
         Drawn size of the sections' larger side (default
-        :data:`rodstab.ribbons.RIBBON_FRACTION` of the assembly's size).
+        :data:`rodstab.plot.ribbons.RIBBON_FRACTION` of the assembly's size).
     title : str, optional
         Figure title (default: the critical load factor and what is drawn).
 
@@ -261,7 +261,7 @@ def plot_equilibrium(x: np.ndarray, frames: np.ndarray, layout: RodLayout,
         Edge frames, columns ``d1``, ``d2`` (tangent), ``d3`` (the section's ``h``).
     layout : RodLayout
         Edges, their segments and section proportions
-        (:meth:`rodstab.ribbons.RodLayout.from_rod`).
+        (:meth:`rodstab.plot.ribbons.RodLayout.from_rod`).
     path : str or Path, optional
         Output file; without it the figure is returned.
     edge_values : ndarray, shape (n_edges,), optional
@@ -272,7 +272,7 @@ def plot_equilibrium(x: np.ndarray, frames: np.ndarray, layout: RodLayout,
         A signed value (e.g. the twist): a colour scale symmetric about 0.
     width : float, optional
         Drawn size of the sections' larger side (default
-        :data:`rodstab.ribbons.RIBBON_FRACTION` of the assembly's size).
+        :data:`rodstab.plot.ribbons.RIBBON_FRACTION` of the assembly's size).
     title : str
         Figure title.
 
@@ -427,7 +427,7 @@ def html_view(shapes: Sequence[np.ndarray], frames: Sequence[np.ndarray], layout
     try:
         import plotly.graph_objects as go
     except ImportError as exc:  # pragma: no cover - depends on the environment
-        from .errors import RodstabInputError
+        from ..errors import RodstabInputError
 
         raise RodstabInputError("an interactive HTML view needs plotly: "
                                 'pip install "rodstab[viz]"') from exc
@@ -515,8 +515,8 @@ def plot_ring_states(shapes: list[list[np.ndarray]], titles: list[str],
     """Draw closed planar states of a ring in a grid, one panel per state.
 
     ``shapes[i]`` holds the centrelines ``(n_points, 2)`` of state ``i``'s rods (lab frame, as
-    :func:`rodstab.states.state_centrelines` gives them); each rod has its own colour, the
-    welds (rod ends) are dots. ``titles[i]`` is written above panel ``i``.
+    :func:`rodstab.multistable.states.state_centrelines` gives them); each rod has its own colour,
+    the welds (rod ends) are dots. ``titles[i]`` is written above panel ``i``.
     """
     n = len(shapes)
     cols = max(1, min(columns, n))

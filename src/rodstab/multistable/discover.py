@@ -23,11 +23,11 @@ afterwards by energy, Hessian index and the aligned distance minimised over thos
 
 One rod for every state: all equilibria must be states of the *same* discrete model. A rod
 discretised from a curved held state carries that state in its discrete natural curvature (the
-held Cayley curvature, :mod:`.discrete`) and in its edge rest lengths (the arc's chords), both
-``O(k^2 l_e^2)`` away from another state's. :func:`common_rod` replaces them by the state-free
-ones -- rest length = arc length / elements, natural Cayley curvature ``mu kappa_n`` at every
-joint and half-joint (exactly what the straight held state gives) -- so the energy depends only
-on the natural curvature, whichever held state was discretised (tested).
+held Cayley curvature, :mod:`rodstab.nonlinear.discrete`) and in its edge rest lengths (the arc's
+chords), both ``O(k^2 l_e^2)`` away from another state's. :func:`common_rod` replaces them by the
+state-free ones -- rest length = arc length / elements, natural Cayley curvature ``mu kappa_n`` at
+every joint and half-joint (exactly what the straight held state gives) -- so the energy depends
+only on the natural curvature, whichever held state was discretised (tested).
 """
 
 from __future__ import annotations
@@ -42,12 +42,12 @@ import scipy.sparse.linalg as spla
 
 from ..errors import RodstabInputError
 from ..model import Assembly
+from ..nonlinear.constraint import mean_length, restore_positions
+from ..nonlinear.discrete import PENALTY, DiscreteRod, discretise
+from ..nonlinear.solve import NEWTON_RTOL, lowest_eigenvalues, max_strain, zero_eigenvalue_tol
 from ..numerics import jacobi_scaling
 from ..results import Result
-from ..states import Ring
-from .discrete import PENALTY, DiscreteRod, discretise
-from .jets import rodrigues
-from .solve import NEWTON_RTOL, lowest_eigenvalues, max_strain, zero_eigenvalue_tol
+from .states import Ring
 
 #: Deflation power ``p`` and shift of ``M(q) = prod (d^-p + shift)`` (Farrell et al.'s defaults).
 DEFLATION_POWER = 2.0
@@ -120,10 +120,6 @@ class Snapshot:
         rod.x, rod.R_edge, rod.R_joint = self.x.copy(), self.R_edge.copy(), self.R_joint.copy()
 
 
-def _mean_length(rod: DiscreteRod) -> float:
-    return rod.assembly.total_length / len(rod.assembly.segments)
-
-
 # ---------------------------------------------------------------------------------------------
 # Deflation operator
 def _vee_skew(A: np.ndarray) -> np.ndarray:
@@ -140,7 +136,7 @@ def distance_sq(rod: DiscreteRod, ref: Snapshot) -> tuple[float, np.ndarray]:
     from ``|R - R_i|^2 = 6 - 2 tr(R_i^T R)``, ``vee(A - A^T) / (2 n_f)`` with ``A = R_i^T R``
     for a frame.
     """
-    L = _mean_length(rod)
+    L = mean_length(rod)
     nx, nf = len(rod.x), len(rod.R_edge) + len(rod.R_joint)
     dx = rod.x - ref.x
     R = np.concatenate([rod.R_edge, rod.R_joint])
@@ -182,7 +178,7 @@ class NewtonRun(Result):
 
 
 def _residual_scale(rod: DiscreteRod) -> float:
-    """Force scale of the stiff stretch/shear terms (as :func:`.solve.newton`)."""
+    """Force scale of the stiff stretch/shear terms (as :func:`rodstab.nonlinear.solve.newton`)."""
     return float(PENALTY * np.max(rod.edge_B) / np.min(rod.rest_length))
 
 
@@ -202,154 +198,14 @@ def _solve(Hf: sp.spmatrix, rhs: np.ndarray, dg: np.ndarray, lam_floor: float) -
     raise FloatingPointError("the Hessian stayed singular under shifts")
 
 
-def chart_size(rod: DiscreteRod, dq: np.ndarray) -> float:
-    """Largest node move (over the mean segment length ``L``) or frame turn (rad) of ``dq``."""
-    nx = 3 * len(rod.x)
-    disp = np.linalg.norm(dq[:nx].reshape(-1, 3), axis=1) / _mean_length(rod)
-    rot = np.linalg.norm(dq[nx:].reshape(-1, 3), axis=1)
-    return float(max(np.max(disp, initial=0.0), np.max(rot, initial=0.0)))
-
-
 def _cap(rod: DiscreteRod, dq: np.ndarray) -> float:
     """Largest factor <= 1 keeping ``dq`` within the step caps."""
     nx = len(rod.x)
     disp = float(np.max(np.linalg.norm(dq[: 3 * nx].reshape(-1, 3), axis=1)))
     rot = float(np.max(np.linalg.norm(dq[3 * nx:].reshape(-1, 3), axis=1)))
-    L = _mean_length(rod)
+    L = mean_length(rod)
     return min(1.0, MAX_STEP_DISPLACEMENT * L / max(disp, 1e-300),
                MAX_STEP_ROTATION / max(rot, 1e-300))
-
-
-def restore_positions(rod: DiscreteRod) -> None:
-    """Move the free nodes to the minimum of the stretch/shear energy for the current frames.
-
-    With the frames fixed, the stretch/shear energy ``sum_e K_e / (2 l_e) |x_j - x_i - l_e
-    d2_e|^2`` is the only term that depends on the positions, and it is quadratic in them: one
-    weighted graph-Laplacian solve per coordinate (held nodes and components kept). The energy
-    can only fall, and a step that turned frames far is brought back onto the Kirchhoff
-    constraint (edges along their frames' tangents, at their rest lengths) instead of leaving
-    stretched chords for Newton to crawl out of.
-    """
-    i, j = rod.edge_nodes[:, 0], rod.edge_nodes[:, 1]
-    le = rod.rest_length
-    w = PENALTY * rod.edge_B.max(axis=1) / le**3  # K_e / l_e
-    b = le[:, None] * rod.R_edge[:, :, 1]  # target edge vectors (n_edges, 3)
-    n = len(rod.x)
-    L = sp.coo_matrix((np.concatenate([w, w, -w, -w]),
-                       (np.concatenate([i, j, i, j]), np.concatenate([i, j, j, i]))),
-                      shape=(n, n)).tocsr()
-    f = np.zeros((n, 3))
-    np.add.at(f, j, w[:, None] * b)
-    np.add.at(f, i, -w[:, None] * b)
-    held_comp = {c: set(int(k) for k in rod.fixed_nodes) for c in range(3)}
-    for k, comps in rod.fixed_components:
-        for c in comps:
-            held_comp[c].add(int(k))
-    for c in range(3):
-        held = np.array(sorted(held_comp[c]), int)
-        free = np.setdiff1d(np.arange(n), held)
-        if not len(held) or not len(free):
-            continue  # no gauge in this coordinate: leave it (never the case for a built rod)
-        rhs = f[free, c] - L[free][:, held] @ rod.x[held, c]
-        rod.x[free, c] = spla.spsolve(L[free][:, free].tocsc(), rhs)
-
-
-#: Gauss-Newton iterations of :func:`restore_inextensible`. The misfit is zero at the solution,
-#: so the iteration converges quadratically: two leave a strain energy of 1e-22 .. 5e-12 B3/L
-#: after frame steps of 0.01 .. 1 rad (the folded/one-loop six-ring, 8 el./rod, measured).
-INEXTENSIBLE_ITER = 2
-#: Tikhonov weight of the frame turns in :func:`restore_inextensible`, relative to the edge's
-#: stretch stiffness: small, so the misfit is removed to this relative accuracy, and positive,
-#: so the turn is the least one (the twist about ``d2``, which no misfit sees, stays zero).
-INEXTENSIBLE_REG = 1e-6
-
-
-def _skew(v: np.ndarray) -> np.ndarray:
-    """Cross-product matrices ``[v]x`` of vectors ``v`` (n, 3), shape (n, 3, 3)."""
-    z = np.zeros(v.shape[:-1])
-    return np.stack([np.stack([z, -v[..., 2], v[..., 1]], -1),
-                     np.stack([v[..., 2], z, -v[..., 0]], -1),
-                     np.stack([-v[..., 1], v[..., 0], z], -1)], -2)
-
-
-def restore_inextensible(rod: DiscreteRod) -> None:
-    """Turn the edge frames by the least rotations that make the rod unstretched and unsheared.
-
-    :func:`restore_positions` moves only the nodes, so where the frames' tangents do not close
-    (round a ring: ``sum l_e d2_e != 0``) the misfit stays, spread over the edges as strain of
-    the stiff penalty. A step in the chart (``R exp(hat(phi))``) leaves such a misfit of second
-    order in the step, which the quadratic model of the step does not see: at 8 el./rod a
-    0.1 rad step of the six-ring leaves 0.83 B3/L of strain energy against a predicted change
-    of 0.04. Here the misfit ``r_e = x_j - x_i - l_e d2_e`` is removed by Gauss-Newton on
-    ``sum_e (K_e / 2 l_e) |r_e|^2`` over node moves and lab-frame turns ``w_e`` of the edge
-    frames (``d2_e -> d2_e + w_e x d2_e``), with the Tikhonov term ``INEXTENSIBLE_REG
-    (K_e l_e / 2) |w_e|^2`` that picks the least turn; then :func:`restore_positions`. In place.
-
-    Joint frames are not moved (no stiff term involves them). An equilibrium carries a strain of
-    ``O(1 / PENALTY)`` (its shear forces), which this removes: it is a retraction for steps far
-    from equilibrium, not a step of Newton's method.
-
-    Parameters
-    ----------
-    rod : DiscreteRod
-        The state to correct (changed in place): edge frames and free node positions.
-    """
-    restore_positions(rod)
-    n, ne = len(rod.x), len(rod.R_edge)
-    i, j = rod.edge_nodes[:, 0], rod.edge_nodes[:, 1]
-    le = rod.rest_length
-    w = PENALTY * rod.edge_B.max(axis=1) / le**3  # K_e / l_e, as in restore_positions
-    held = np.zeros((n, 3), bool)
-    held[list(rod.fixed_nodes)] = True
-    for k, comps in rod.fixed_components:
-        held[k, comps] = True
-    col = np.full((n, 3), -1)
-    col[~held] = np.arange(int(np.sum(~held)))
-    nx = int(np.sum(~held))
-    edges = np.arange(ne)
-    # Rows 3e + c of the misfit's Jacobian: +I at node j, -I at node i, l_e [d2_e]x at w_e.
-    rows, cols, vals = [], [], []
-    for c in range(3):
-        for node, sign in ((j, 1.0), (i, -1.0)):
-            keep = col[node, c] >= 0
-            rows.append(3 * edges[keep] + c)
-            cols.append(col[node, c][keep])
-            vals.append(np.full(int(np.sum(keep)), sign))
-    rows.append(np.repeat(3 * edges, 9) + np.tile(np.repeat(np.arange(3), 3), ne))
-    cols.append(nx + np.repeat(3 * edges, 9) + np.tile(np.tile(np.arange(3), 3), ne))
-    W = sp.diags(np.repeat(w, 3))
-    reg = sp.diags(np.concatenate([np.zeros(nx), np.repeat(INEXTENSIBLE_REG * w * le**2, 3)]))
-    for _ in range(INEXTENSIBLE_ITER):
-        d2 = rod.R_edge[:, :, 1]
-        misfit = (rod.x[j] - rod.x[i] - le[:, None] * d2).ravel()
-        J = sp.csr_matrix((np.concatenate(vals + [(le[:, None, None] * _skew(d2)).ravel()]),
-                           (np.concatenate(rows), np.concatenate(cols))),
-                          shape=(3 * ne, nx + 3 * ne))
-        z = spla.spsolve((J.T @ W @ J + reg).tocsc(), -(J.T @ (W @ misfit)))
-        rod.x[~held] += z[:nx]
-        rod.R_edge = rodrigues(z[nx:].reshape(-1, 3)) @ rod.R_edge  # lab-frame turn
-        restore_positions(rod)
-
-
-#: Steps that move nothing by more than this (:func:`chart_size`) are not retracted by
-#: :func:`retract_step`: their closure misfit is below ~1e-8 (second order in the step), while
-#: an equilibrium may carry a shear strain of ~(l_e / L)^2 / PENALTY, which the retraction
-#: would remove -- the last steps of Newton's method then stay plain Newton steps.
-RETRACT_ABOVE = 1e-3
-
-
-def retract_step(rod: DiscreteRod, dq: np.ndarray) -> None:
-    """After ``rod.apply(dq)``: :func:`restore_inextensible` if ``dq`` is a large step.
-
-    Parameters
-    ----------
-    rod : DiscreteRod
-        The state just moved by ``dq`` (changed in place).
-    dq : numpy.ndarray
-        The step, ``(n_dof,)``; large when :func:`chart_size` exceeds :data:`RETRACT_ABOVE`.
-    """
-    if chart_size(rod, dq) > RETRACT_ABOVE:
-        restore_inextensible(rod)
 
 
 def deflated_newton(rod: DiscreteRod, known: list[Snapshot], *,
@@ -362,10 +218,10 @@ def deflated_newton(rod: DiscreteRod, known: list[Snapshot], *,
     :func:`restore_positions`; it is taken when the merit ``M |S g|`` (``S`` the Jacobi scaling
     of ``H``) falls, else ``lam`` grows. Converged when the *undeflated* residual
     ``max |g_free|`` is below ``NEWTON_RTOL`` times the stiff force scale (as
-    :func:`.solve.newton`) at a point farther than :data:`SAME_STATE_DISTANCE` from every known
-    state: ``M`` is finite there, so the root is an equilibrium. With ``known`` empty this is
-    damped Newton on ``g``, which converges to saddles as well as minima (unlike
-    :func:`.solve.newton`).
+    :func:`rodstab.nonlinear.solve.newton`) at a point farther than :data:`SAME_STATE_DISTANCE` from
+    every known state: ``M`` is finite there, so the root is an equilibrium. With ``known`` empty
+    this is damped Newton on ``g``, which converges to saddles as well as minima (unlike
+    :func:`rodstab.nonlinear.solve.newton`).
     """
     if any(distance_sq(rod, s)[0] <= SAME_STATE_DISTANCE**2 for s in known):
         return NewtonRun(False, 0, math.nan)  # started on a known state: M g is 0 x inf
@@ -451,7 +307,7 @@ def aligned_distance(rod: DiscreteRod, a: Snapshot, b: Snapshot) -> float:
         for r in range(len(seg)):
             Q = np.roll(images, r, axis=0).reshape(-1, 3)
             best = min(best, _kabsch_rms(Pa.reshape(-1, 3), Q))
-    return best / _mean_length(rod)
+    return best / mean_length(rod)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -464,8 +320,8 @@ class Invariants(Result):
         Weld points more than :data:`WELD_POINT_TOL` x L apart.
     turning_number : float
         Total turning of the rods' tangents in the best-fit plane, in full turns, the cusps'
-        reversals not counted (as :class:`rodstab.states.HeldState`); signed with the plane
-        normal taken along the mean frame normal ``d3``.
+        reversals not counted (as :class:`rodstab.multistable.states.HeldState`); signed with the
+        plane normal taken along the mean frame normal ``d3``.
     max_out_of_plane : float
         Largest distance of a node from the best-fit plane, over ``L``.
     planar : bool
@@ -496,10 +352,10 @@ def invariants(rod: DiscreteRod, s: Snapshot,
     """Distinct weld points, turning number and planarity of state ``s`` of ``rod``.
 
     ``directions``: per segment ``+1``/``-1`` when the ring runs through it forwards/backwards
-    (:attr:`rodstab.states.Ring.order`); the turning is summed along the ring. Default all
-    forwards.
+    (:attr:`rodstab.multistable.states.Ring.order`); the turning is summed along the ring. Default
+    all forwards.
     """
-    L = _mean_length(rod)
+    L = mean_length(rod)
     c, n = _plane(rod, s.x, s.R_edge)
     out = float(np.max(np.abs((s.x - c) @ n))) / L
     welds: list[np.ndarray] = []
@@ -533,7 +389,7 @@ def same_state(rod: DiscreteRod, a: Snapshot, b: Snapshot, Ea: float, Eb: float)
     Energies within :data:`SAME_STATE_ENERGY` and :func:`aligned_distance` below
     :data:`SAME_STATE_DISTANCE`.
     """
-    scale = max(abs(Ea), abs(Eb), float(np.max(rod.edge_B[:, 2])) / _mean_length(rod))
+    scale = max(abs(Ea), abs(Eb), float(np.max(rod.edge_B[:, 2])) / mean_length(rod))
     if abs(Ea - Eb) > SAME_STATE_ENERGY * scale:
         return False
     return aligned_distance(rod, a, b) < SAME_STATE_DISTANCE
@@ -634,7 +490,7 @@ def _perturbed(rod: DiscreteRod, base: Snapshot, amplitude: float, weights: np.n
     largest node displacement ``|amplitude|`` x L (signed), then put back onto the Kirchhoff
     constraint (frames on their chords, :func:`restore_positions`).
     """
-    from .solve import lowest_modes
+    from ..nonlinear.solve import lowest_modes
 
     trial = rod.copy()
     base.put(trial)
@@ -643,7 +499,7 @@ def _perturbed(rod: DiscreteRod, base: Snapshot, amplitude: float, weights: np.n
     dq = np.zeros(rod.n_dof)
     dq[trial.free_dofs()] = v
     disp = float(np.max(np.linalg.norm(dq[: 3 * len(rod.x)].reshape(-1, 3), axis=1)))
-    trial.apply(dq * (amplitude * _mean_length(rod) / max(disp, 1e-300)))
+    trial.apply(dq * (amplitude * mean_length(rod) / max(disp, 1e-300)))
     trial.align_frames()
     restore_positions(trial)
     return Snapshot.of(trial)
@@ -727,11 +583,11 @@ def ring_seeds(ring: Ring, state: str, elements_per_segment: int, load_factor: f
                                            list[KnownState]]:
     """Return the common rod (built from held state ``state``), the seeds and the known states.
 
-    ``ring``: :func:`rodstab.states.ring_of` of a design, or :func:`rodstab.states.uniform_ring`.
-    Seeds: the held geometry of ``state``, and with ``seed_states`` that of every other closed
-    planar held state of uniform moment with ``|k L| <= 2 pi`` (:meth:`Ring.states`: the basic
-    states, their mirrors and the others), each put into the one common rod. Raises naming
-    ``state`` if it is not a closed state of the ring.
+    ``ring``: :func:`rodstab.multistable.states.ring_of` of a design, or
+    :func:`rodstab.multistable.states.uniform_ring`. Seeds: the held geometry of ``state``, and with
+    ``seed_states`` that of every other closed planar held state of uniform moment with ``|k L| <= 2
+    pi`` (:meth:`Ring.states`: the basic states, their mirrors and the others), each put into the
+    one common rod. Raises naming ``state`` if it is not a closed state of the ring.
     """
     theta = ring.state(state).theta
     listed = ring.states().states

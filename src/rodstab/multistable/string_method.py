@@ -11,10 +11,10 @@ steepest descents to end on the two states. Entry point: :func:`string_barrier`.
 **Chart.** Images live on ``R^(3 N) x SO(3)^M`` (node positions, edge and joint frames). The
 difference of two images is taken in the chart of the first (:func:`chart_difference`:
 ``x_b - x_a`` and the rotation vectors of ``R_a^T R_b``), updates by
-:meth:`~.discrete.DiscreteRod.apply` (``R exp(hat(phi))``), the chart in which
-:meth:`~.discrete.DiscreteRod.energy_terms` gives the exact gradient and Hessian. Chart sizes
-(:func:`~rodstab.nonlinear.discover.chart_size`) are the largest node move over the mean rod
-length ``L`` or frame turn in radians; arclength is the Euclidean norm of the free unknowns
+:meth:`~rodstab.nonlinear.discrete.DiscreteRod.apply` (``R exp(hat(phi))``), the chart in which
+:meth:`~rodstab.nonlinear.discrete.DiscreteRod.energy_terms` gives the exact gradient and Hessian.
+Chart sizes (:func:`~rodstab.nonlinear.constraint.chart_size`) are the largest node move over the
+mean rod length ``L`` or frame turn in radians; arclength is the Euclidean norm of the free unknowns
 with positions over ``L``. All images are in one gauge (:func:`to_gauge`): the gauge joint's
 frame and node are the same in every image, so no rigid motion -- a direction of zero energy --
 enters the string.
@@ -40,7 +40,7 @@ by ``R_m(2 pi t)``: each image is moved back into A's gauge rigidly. (Without th
 images of the relaxed string were A itself turned about its own line, a detour of zero energy
 18 chart units long, six-ring at 8 el./rod: the band of the retired nudged elastic band had the
 same defect.) Each image is then made inextensible
-(:func:`~rodstab.nonlinear.discover.restore_inextensible`: where the turned frames' tangents do
+(:func:`~rodstab.nonlinear.constraint.restore_inextensible`: where the turned frames' tangents do
 not close round the ring, positions alone leave a penalty strain -- 7.5e5 B3/L on the hexagram's
 star -> daisy path -- which least frame turns remove). Highest initial energies: 99 B3/L
 (six-ring), 283 (star -> daisy), against saddles at 14.3 and 7.9.
@@ -52,14 +52,14 @@ plane the Levenberg shift ``H + lam D`` (``D = |diag H|``) is raised until it is
 has to be convex, not the string's own direction: ``H + lam D`` may keep one negative eigenvalue
 if ``tau . (H + lam D)^-1 tau < 0`` (the inertia of the bordered matrix), both read off the
 pivots of a symmetric factorisation. (Along the six-ring's string at 8 el./rod the unshifted
-``H`` had no negative eigenvalue at 134 of 360 steps, one at 53, more at 173.) Every trial
-state is retracted onto the inextensible states (:func:`~rodstab.nonlinear.discover.retract_step`):
-a chart step opens the ring's closure at second order, and at 0.1 rad the penalty strain that leaves
-(0.83 B3/L on the six-ring) swamps the predicted change (0.04), so unretracted steps were accepted
-only below ~0.03 rad and a version of this loop without the retraction needed 190 iterations where
-it needs 40. The step is accepted when the energy falls by a quarter of the model's prediction, else
-``lam`` grows 4x (Levenberg-Marquardt, as :func:`~.solve.lm_step`). A step moves nothing by more
-than :data:`STEP_FRACTION` of the
+``H`` had no negative eigenvalue at 134 of 360 steps, one at 53, more at 173.) Every trial state is
+retracted onto the inextensible states (:func:`~rodstab.nonlinear.constraint.retract_step`): a chart
+step opens the ring's closure at second order, and at 0.1 rad the penalty strain that leaves (0.83
+B3/L on the six-ring) swamps the predicted change (0.04), so unretracted steps were accepted only
+below ~0.03 rad and a version of this loop without the retraction needed 190 iterations where it
+needs 40. The step is accepted when the energy falls by a quarter of the model's prediction, else
+``lam`` grows 4x (Levenberg-Marquardt, as :func:`~rodstab.nonlinear.solve.lm_step`). A step moves
+nothing by more than :data:`STEP_FRACTION` of the
 image's smaller chart gap to its neighbours (images do not overtake each other). No springs:
 when the longest chart segment of the string exceeds :data:`REPARAM_RATIO` times the shortest,
 the string is reparametrised to equal arclength (:func:`reparametrise`: piecewise geodesic in
@@ -74,10 +74,10 @@ near half a turn flips the branch of the log: energies of 1e7 seen).
 **Saddle** (:func:`refine_saddle`). Once the string has settled (:data:`SETTLE_RTOL`), every
 :data:`SADDLE_TRY_EVERY` iterations copies of the local maxima of its energies are refined by
 Newton's method on the gradient, ``s = -H^-1 g``: no merit function, a saddle being no minimum
-of the energy (the gradient-norm merit of :func:`~rodstab.nonlinear.discover.deflated_newton`
+of the energy (the gradient-norm merit of :func:`~rodstab.multistable.discover.deflated_newton`
 stalls at a non-stationary point, residual 0.054 B3/L^2, from the six-ring string's highest
 image). Steps are capped at :data:`SADDLE_STEP` and retracted while larger than
-:data:`~rodstab.nonlinear.discover.RETRACT_ABOVE` (the last, small steps are plain Newton,
+:data:`~rodstab.nonlinear.constraint.RETRACT_ABOVE` (the last, small steps are plain Newton,
 quadratically convergent; the retraction would remove an equilibrium's own shear strain).
 Without the retraction the same iteration converged only with steps capped at 0.01 rad.
 Converged at :data:`~rodstab.nonlinear.solve.NEWTON_RTOL` times the stiff force scale, as
@@ -86,7 +86,7 @@ eigenvalues, :func:`~rodstab.nonlinear.solve.lowest_modes`) is not one is passed
 six-ring has one of index 2 at 14.6766 B3/L next to the path, where Newton goes from a string
 whose top is still above 14.5), and so is a saddle whose two steepest descents
 (:func:`~.barrier.descents_from_saddle`, retracted: 16 .. 24 steps against 458 .. 934
-unretracted) do not end on the two states (:func:`~rodstab.nonlinear.discover.same_state`,
+unretracted) do not end on the two states (:func:`~rodstab.multistable.discover.same_state`,
 modulo the ring's symmetry).
 
 **What converges.** Not the images' positions: near a state of nearly uniform curvature they
@@ -118,20 +118,14 @@ from ..errors import RodstabInputError, require_finite, require_int
 from ..limits import DEFAULT as DEFAULT_LIMITS
 from ..limits import Limits, require_nonlinear
 from ..model import Assembly
+from ..nonlinear.constraint import chart_size, restore_inextensible, retract_step
+from ..nonlinear.discrete import PENALTY, DiscreteRod
+from ..nonlinear.jets import rodrigues
+from ..nonlinear.solve import NEWTON_RTOL, lowest_modes, newton, vee_log, zero_eigenvalue_tol
 from ..numerics import jacobi_scaling
 from ..results import Result
 from .barrier import MIN_ELEMENTS, Barrier, descents_from_saddle, same_model, state_label
-from .discover import (
-    NewtonRun,
-    Snapshot,
-    chart_size,
-    common_rod,
-    restore_inextensible,
-    retract_step,
-)
-from .discrete import PENALTY, DiscreteRod
-from .jets import rodrigues
-from .solve import NEWTON_RTOL, lowest_modes, newton, vee_log, zero_eigenvalue_tol
+from .discover import NewtonRun, Snapshot, common_rod
 
 #: Lowest eigenvalues computed to count a stationary point's index.
 INDEX_EIGS = 4
@@ -190,8 +184,8 @@ def to_gauge(b: DiscreteRod, a: DiscreteRod) -> None:
     """Move ``b`` rigidly (in place) so that its gauge joint sits where ``a``'s does.
 
     Held states of one ring built from different assemblies place the gauge joint (held
-    position and frame, :func:`~.discrete.discretise`) differently; a path between them must
-    start and end in one gauge, which no free unknown can change.
+    position and frame, :func:`~rodstab.nonlinear.discrete.discretise`) differently; a path between
+    them must start and end in one gauge, which no free unknown can change.
     """
     j, nd = a.fixed_joints[0], a.fixed_nodes[0]
     Rg = a.R_joint[j] @ b.R_joint[j].T
@@ -331,8 +325,8 @@ def _perpendicular_step(r: DiscreteRod, free: np.ndarray, E: float, gf: np.ndarr
     the model ``g . s + 1/2 s^T H s`` on the plane, ``P = H + lam D`` with ``lam`` (from the
     given one) the smallest 4x step up for which ``P`` is positive definite on the plane
     (module docstring). The step is scaled to move nothing by more than ``cap``
-    (:func:`chart_size`), retracted (:func:`~.discover.restore_inextensible`) and accepted
-    when the energy falls by a quarter of the model's prediction; else ``lam`` grows 4x.
+    (:func:`chart_size`), retracted (:func:`~rodstab.nonlinear.constraint.restore_inextensible`) and
+    accepted when the energy falls by a quarter of the model's prediction; else ``lam`` grows 4x.
 
     Returns the energy terms ``(E, g, H)`` of the new state and the ``lam`` to start the next
     step from (4x smaller after a well predicted step), or ``(None, lam)`` when no step was
@@ -377,8 +371,9 @@ def reparametrise(band: list[DiscreteRod], free: np.ndarray) -> list[DiscreteRod
     Arclength: the Euclidean chart norm (positions over ``L``, radians) of the free parts of
     consecutive differences. A new image at arclength ``s`` between images ``k`` and ``k + 1``
     is ``band[k]`` moved by the fraction of :func:`chart_difference` ``(band[k], band[k + 1])``
-    (piecewise geodesic), then retracted (:func:`~.discover.restore_inextensible`). The ends
-    are kept (the same objects).
+    (piecewise geodesic), then retracted
+    (:func:`~rodstab.nonlinear.constraint.restore_inextensible`). The ends are kept (the same
+    objects).
     """
     scale = _chart_scale(band[0])
     mask = np.zeros(band[0].n_dof)
@@ -448,18 +443,20 @@ def refine_saddle(r: DiscreteRod, *, max_iter: int = SADDLE_MAX_ITER) -> NewtonR
 
     Steps ``s = -H^-1 g`` on the free unknowns, scaled to move nothing by more than
     :data:`SADDLE_STEP`, and retracted onto the inextensible states while larger than
-    :data:`~.discover.RETRACT_ABOVE` (:func:`~.discover.retract_step`, module docstring). No
-    merit function: it converges to saddles as well as minima, from their basin. Once the
-    residual is below the tolerance, up to :data:`POLISH_STEPS` more plain Newton steps are
-    taken while each lowers it: near soft modes the energy error is ~``g^2 / lambda``, 1e-6
-    B3/L at the tolerance (hexagram daisy -> eight, 8 el.: saddle energies 8.7e-7 apart at
-    residuals 5e-6 and 3e-9), and Newton's quadratic convergence removes it in a step or two.
+    :data:`~rodstab.nonlinear.constraint.RETRACT_ABOVE`
+    (:func:`~rodstab.nonlinear.constraint.retract_step`, module docstring). No merit function: it
+    converges to saddles as well as minima, from their basin. Once the residual is below the
+    tolerance, up to :data:`POLISH_STEPS` more plain Newton steps are taken while each lowers it:
+    near soft modes the energy error is ~``g^2 / lambda``, 1e-6 B3/L at the tolerance (hexagram
+    daisy -> eight, 8 el.: saddle energies 8.7e-7 apart at residuals 5e-6 and 3e-9), and Newton's
+    quadratic convergence removes it in a step or two.
 
     Returns
     -------
     NewtonRun
         ``converged``: the free gradient's max-norm fell below ``NEWTON_RTOL`` times the stiff
-        force scale (as :func:`~.solve.newton`); its iterations and the final residual.
+        force scale (as :func:`~rodstab.nonlinear.solve.newton`); its iterations and the final
+        residual.
     """
     free = r.free_dofs()
     tol = NEWTON_RTOL * float(PENALTY * np.max(r.edge_B) / np.min(r.rest_length))
@@ -500,8 +497,8 @@ class StringRun(Result):
     ``converged``: Newton from a local maximum of the string's energies converged to a
     stationary point of index one that the caller accepted; ``iterations``: string iterations
     done; ``displacement``: largest chart move of an image in the last iteration (over ``L``,
-    rad); ``largest_gap``: largest chart gap (:func:`~.discover.chart_size`) between
-    neighbouring images at the end; ``too_coarse``: stopped because a gap exceeded
+    rad); ``largest_gap``: largest chart gap (:func:`~rodstab.nonlinear.constraint.chart_size`)
+    between neighbouring images at the end; ``too_coarse``: stopped because a gap exceeded
     :data:`MAX_GAP`; ``top_energies``: the highest interior image's energy after each iteration;
     ``saddle_image``: the image the saddle was refined from (-1: none); ``saddle_index``,
     ``residual``: of the last converged Newton run (-1, NaN if none); ``attempts``: Newton runs;

@@ -26,7 +26,7 @@ from collections.abc import Callable, Collection, Iterator
 from pathlib import Path
 from typing import IO, Any
 
-from .errors import RodstabInputError, RodstabWarning
+from ..errors import RodstabInputError, RodstabWarning
 
 
 def _blocker(d: Path) -> Path | None:

@@ -1,8 +1,8 @@
 """Stability atlas of a ring's closed held states against a design parameter (issue 11).
 
-For a ring of ``n`` identical welded rods (:func:`rodstab.states.ring_of`) and each chosen
-closed held state of uniform moment (:meth:`rodstab.states.Ring.states`), the stable interval
-of the load factor around the state's stress-free load, by two independent methods:
+For a ring of ``n`` identical welded rods (:func:`rodstab.multistable.states.ring_of`) and each
+chosen closed held state of uniform moment (:meth:`rodstab.multistable.states.Ring.states`), the
+stable interval of the load factor around the state's stress-free load, by two independent methods:
 
 * ``transfer`` -- the exact solution of P2 on one rod with the weld's joint map and a Bloch
   phase per harmonic ``m = 0 .. n/2`` (:func:`rodstab.transfer.cyclic_ring_interval`; cusp
@@ -38,15 +38,15 @@ import math
 from collections.abc import Callable, Sequence
 from typing import Any
 
-from .errors import RodstabInputError
-from .executor import run_points
-from .limits import DEFAULT as DEFAULT_LIMITS
-from .limits import Limits
-from .linear.solve import FE_ORDER, converged_stability
-from .numerics import refine_root
-from .results import Result
+from ..errors import RodstabInputError
+from ..executor import run_points
+from ..limits import DEFAULT as DEFAULT_LIMITS
+from ..limits import Limits
+from ..linear.solve import FE_ORDER, converged_stability
+from ..numerics import refine_root
+from ..results import Result
+from ..transfer import CyclicRingInterval, cyclic_ring_interval
 from .states import HeldState, Ring, step_angle, weld_name
-from .transfer import CyclicRingInterval, cyclic_ring_interval
 
 #: Mode types at a limit, by Bloch harmonic ``m`` of an ``n``-rod ring.
 ALL_ALIKE = "all rods alike"

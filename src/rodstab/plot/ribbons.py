@@ -13,7 +13,7 @@ The sizes are drawing sizes: the section's larger side is drawn ``width`` long (
 (:func:`section_sizes`), so that a thin strip looks like a strip and a round rod like a square
 bar, whatever the rod's real slenderness.
 
-Figures (:mod:`rodstab.plots`) take these arrays and only colour and project them.
+Figures (:mod:`rodstab.plot.plots`) take these arrays and only colour and project them.
 """
 
 from __future__ import annotations
@@ -25,11 +25,11 @@ from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
-from .model import Assembly, held_frame
+from ..model import Assembly, held_frame
 
 if TYPE_CHECKING:  # only for the annotations: no import of the engines at run time
-    from .linear.solve import SegmentMode
-    from .nonlinear.discrete import DiscreteRod
+    from ..linear.solve import SegmentMode
+    from ..nonlinear.discrete import DiscreteRod
 
 #: Drawn size of a section's larger side, as a fraction of the assembly's size (the largest
 #: extent of its centreline): large enough to see a ribbon turn, small enough not to hide it.

@@ -1,12 +1,13 @@
 """Transitions under a stimulus: load a stable state until it snaps, see where it goes.
 
 From a stable equilibrium ``A`` the stimulus (any continuation parameter,
-:mod:`.parameters`) is increased by :func:`.continuation.continuation` until the path first loses
-stability (a fold or a branch point, ``stop_at_first``). Just past that threshold the state is
-perturbed along its critical mode and relaxed (:func:`.solve.relax`) to a stable state, the
-stimulus is taken back to its start in small steps (relaxing again if stability is lost on the
-way), the welds are let go (a free ring again: the weld parameters' constraints removed), and
-the state reached ``B`` is identified by its invariants (:func:`invariants`, :func:`identify`).
+:mod:`rodstab.nonlinear.parameters`) is increased by
+:func:`rodstab.nonlinear.continuation.continuation` until the path first loses stability (a fold or
+a branch point, ``stop_at_first``). Just past that threshold the state is perturbed along its
+critical mode and relaxed (:func:`rodstab.nonlinear.solve.relax`) to a stable state, the stimulus is
+taken back to its start in small steps (relaxing again if stability is lost on the way), the welds
+are let go (a free ring again: the weld parameters' constraints removed), and the state reached
+``B`` is identified by its invariants (:func:`invariants`, :func:`identify`).
 
 No contact model exists in rodstab: rods pass through each other freely. Along every sampled
 state (the loading path, the snap -- only its two ends and the straight interpolation of the node
@@ -44,11 +45,11 @@ import numpy as np
 
 from ..errors import NotConverged, RodstabInputError
 from ..model import Assembly
+from ..nonlinear.continuation import continuation
+from ..nonlinear.discrete import DiscreteRod, discretise
+from ..nonlinear.parameters import parameter
+from ..nonlinear.solve import lowest_modes, newton, relax, zero_eigenvalue_tol
 from ..results import Result
-from .continuation import continuation
-from .discrete import DiscreteRod, discretise
-from .parameters import parameter
-from .solve import lowest_modes, newton, relax, zero_eigenvalue_tol
 
 #: Elements of one rod closer than this many elements along it are not judged for contact.
 SAME_ROD_GAP = 3
