@@ -70,6 +70,7 @@ from rodstab.nonlinear.solve import (  # noqa: E402
     ConvergedCritical,
     converged_critical_load_factor,
     equilibrium,
+    resolving_elements,
 )
 from rodstab.transfer import cyclic_ring_interval, full_system_critical  # noqa: E402
 
@@ -511,6 +512,9 @@ def run_trial(family: str, seed: int, index: int, only: frozenset[str] | None = 
             for side, f in (("inside", 1 - VERDICT_MARGIN), ("outside", 1 + VERDICT_MARGIN)):
                 mu = ref + f * (x - ref)
                 try:
+                    # the family's mesh, or finer where the held state needs it (the
+                    # default rule of equilibrium)
+                    n_el = resolving_elements(a, mu, n_el)
                     eq, _ = equilibrium(a, load_factor=mu, elements_per_segment=n_el)
                     ok = eq.converged and eq.stability_resolved and eq.stable == (side ==
                                                                                    "inside")

@@ -858,8 +858,9 @@ def _analyze_unit_lines(block: dict[str, Any], units: Units, stable: bool) -> li
 @click.option("--load-factor", type=float, default=1.0, show_default=True,
               help="Natural curvatures = load factor x the design's natural_curvature.")
 @click.option("--elements", type=int, default=None,
-              help=f"Elements per segment (default: the design's, at least "
-                   f"{NONLINEAR_MIN_ELEMENTS}).")
+              help=f"Elements per segment (default: the design's [analysis] elements, at "
+                   f"least {NONLINEAR_MIN_ELEMENTS}; without them, enough to resolve the held "
+                   "state at this load, at least 32).")
 @click.option("--perturb", type=float, default=0.0, show_default=True,
               help="Start from the held state plus a seeded random mix of its softest modes, "
                    "largest displacement PERTURB x total length, and relax to a stable state.")
@@ -881,17 +882,19 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
     import numpy as np
 
     from .io.design import load_design, nonlinear_elements
-    from .nonlinear.solve import STRAIN_WARN, equilibrium
+    from .nonlinear.solve import STRAIN_WARN, equilibrium, resolving_elements
 
     render = None if render_path is None else _image_output("--render", render_path)
     html = None if html_path is None else _html_output("--html", html_path)
 
     d = load_design(design_file)
-    n = (nonlinear_elements(d) if elements is None
-         else require_positive_int("--elements", elements))
-    r, rod = equilibrium(d.assembly, load_factor=require_finite("--load-factor", load_factor),
-                         elements_per_segment=n, perturb=require_finite("--perturb", perturb),
-                         limits=limits)
+    mu = require_finite("--load-factor", load_factor)
+    # a mesh given is kept; otherwise one that resolves the held state at this load
+    n = (require_positive_int("--elements", elements) if elements is not None
+         else nonlinear_elements(d) if d.elements_given
+         else resolving_elements(d.assembly, mu, nonlinear_elements(d)))
+    r, rod = equilibrium(d.assembly, load_factor=mu, elements_per_segment=n,
+                         perturb=require_finite("--perturb", perturb), limits=limits)
     ok, its, res = r.converged, r.iterations, r.residual
     ev = r.lowest_eigenvalues
     payload = r.to_dict() | {"design": d.source, "elements_per_segment": n,
