@@ -607,3 +607,15 @@ def test_uniform_elements_share_one_element_size():
         discretise(a, {"s0": 4, "s1": 4})
     with pytest.raises(RodstabInputError, match="integer >= 2, got 1 for segment 's1'"):
         discretise(a, {"s0": 4, "s1": 1, "s2": 4})
+
+
+def test_hat_is_the_cross_product_and_vee_skew_inverts_it_twice():
+    """The one skew map (jets.hat) and its inverse (jets.vee_skew) against numpy's cross."""
+    from rodstab.nonlinear.jets import hat, vee_skew
+
+    rng = np.random.default_rng(3)
+    a, b = rng.standard_normal((2, 7, 3))
+    assert np.allclose(np.einsum("nij,nj->ni", hat(a), b), np.cross(a, b), atol=1e-14)
+    assert np.allclose(vee_skew(hat(a)), 2 * a, atol=1e-14)
+    M = rng.standard_normal((7, 3, 3))
+    assert np.allclose(vee_skew(M), vee_skew(M - np.swapaxes(M, -1, -2)) / 2, atol=1e-14)

@@ -11,6 +11,7 @@ from collections.abc import Iterator
 import numpy as np
 
 from ..model import Assembly
+from ..numerics import richardson
 from ..problems import folded_ring, ring, unfolded_ring
 from ..sections import circle, rectangle
 from .core import Claim, Run, fmt
@@ -108,8 +109,11 @@ def _saddle(folded: Assembly, n: int, window: tuple[float, float], n_steps: int,
 
 
 def _richardson(coarse: float, fine: float, n0: int, n1: int) -> float:
-    """Second-order Richardson extrapolation from meshes of n0 < n1 elements."""
-    return fine + (fine - coarse) * n0**2 / (n1**2 - n0**2)
+    """Second-order Richardson extrapolation from meshes of n0 < n1 elements.
+
+    :func:`rodstab.numerics.richardson` with the meshes' ratio ``n1 / n0``.
+    """
+    return richardson(coarse, fine, n1 / n0, 2)[0]
 
 
 def _six_ring_transition_claim(run: Run) -> Claim:

@@ -44,6 +44,7 @@ from ..errors import RodstabInputError
 from ..model import Assembly
 from ..nonlinear.constraint import mean_length, restore_positions
 from ..nonlinear.discrete import PENALTY, DiscreteRod, discretise
+from ..nonlinear.jets import vee_skew
 from ..nonlinear.solve import NEWTON_RTOL, lowest_eigenvalues, max_strain, zero_eigenvalue_tol
 from ..numerics import jacobi_scaling
 from ..results import Result
@@ -122,12 +123,6 @@ class Snapshot:
 
 # ---------------------------------------------------------------------------------------------
 # Deflation operator
-def _vee_skew(A: np.ndarray) -> np.ndarray:
-    """``vee(A - A^T)`` of matrices ``A`` (..., 3, 3)."""
-    return np.stack([A[..., 2, 1] - A[..., 1, 2], A[..., 0, 2] - A[..., 2, 0],
-                     A[..., 1, 0] - A[..., 0, 1]], axis=-1)
-
-
 def distance_sq(rod: DiscreteRod, ref: Snapshot) -> tuple[float, np.ndarray]:
     """``d^2`` from ``rod``'s state to ``ref`` (module docstring) and its gradient (n_dof,).
 
@@ -144,7 +139,7 @@ def distance_sq(rod: DiscreteRod, ref: Snapshot) -> tuple[float, np.ndarray]:
     d2 = float(np.sum(dx**2)) / (nx * L**2) + float(np.sum((R - Ri) ** 2)) / (4 * nf)
     A = np.swapaxes(Ri, 1, 2) @ R
     grad = np.concatenate([(2.0 / (nx * L**2)) * dx.ravel(),
-                           (_vee_skew(A) / (2.0 * nf)).ravel()])
+                           (vee_skew(A) / (2.0 * nf)).ravel()])
     return d2, grad
 
 

@@ -17,7 +17,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from .discrete import PENALTY, DiscreteRod
-from .jets import rodrigues
+from .jets import hat, rodrigues
 
 
 def mean_length(rod: DiscreteRod) -> float:
@@ -77,14 +77,6 @@ INEXTENSIBLE_ITER = 2
 INEXTENSIBLE_REG = 1e-6
 
 
-def _skew(v: np.ndarray) -> np.ndarray:
-    """Cross-product matrices ``[v]x`` of vectors ``v`` (n, 3), shape (n, 3, 3)."""
-    z = np.zeros(v.shape[:-1])
-    return np.stack([np.stack([z, -v[..., 2], v[..., 1]], -1),
-                     np.stack([v[..., 2], z, -v[..., 0]], -1),
-                     np.stack([-v[..., 1], v[..., 0], z], -1)], -2)
-
-
 def restore_inextensible(rod: DiscreteRod) -> None:
     """Turn the edge frames by the least rotations that make the rod unstretched and unsheared.
 
@@ -135,7 +127,7 @@ def restore_inextensible(rod: DiscreteRod) -> None:
     for _ in range(INEXTENSIBLE_ITER):
         d2 = rod.R_edge[:, :, 1]
         misfit = (rod.x[j] - rod.x[i] - le[:, None] * d2).ravel()
-        J = sp.csr_matrix((np.concatenate(vals + [(le[:, None, None] * _skew(d2)).ravel()]),
+        J = sp.csr_matrix((np.concatenate(vals + [(le[:, None, None] * hat(d2)).ravel()]),
                            (np.concatenate(rows), np.concatenate(cols))),
                           shape=(3 * ne, nx + 3 * ne))
         z = spla.spsolve((J.T @ W @ J + reg).tocsc(), -(J.T @ (W @ misfit)))

@@ -174,6 +174,15 @@ def hat(a: np.ndarray) -> np.ndarray:
     return np.einsum("...k,kij->...ij", a, _HAT)
 
 
+def vee_skew(A: np.ndarray) -> np.ndarray:
+    """``vee(A - A^T)`` of matrices ``A`` (..., 3, 3): twice the axial vector of the skew part.
+
+    On a skew matrix, twice the inverse of :func:`hat`: ``vee_skew(hat(a)) = 2 a``.
+    """
+    return np.stack([A[..., 2, 1] - A[..., 1, 2], A[..., 0, 2] - A[..., 2, 0],
+                     A[..., 1, 0] - A[..., 0, 1]], axis=-1)
+
+
 def rotation_jet(R: np.ndarray, n: int, offset: int, order: int = 2) -> JetMat:
     """``R exp(hat(phi))`` at ``phi = 0`` as a jet in local variables ``offset..offset+2``.
 

@@ -32,6 +32,7 @@ from ..numerics import (
 )
 from ..results import Result
 from .discrete import MAX_ELEMENT_TURNING, PENALTY, DiscreteRod, discretise, element_counts
+from .jets import vee_skew
 
 #: Newton stops when the free gradient's max-norm falls below this times the largest
 #: generalised force scale (PENALTY max |B| / l_e, the stretch/shear terms) of the model.
@@ -310,8 +311,7 @@ def vee_log(P: np.ndarray) -> np.ndarray:
     """Rotation vectors of rotation matrices ``P`` (..., 3, 3) (exact log map)."""
     c = np.clip(0.5 * (np.trace(P, axis1=-2, axis2=-1) - 1.0), -1.0, 1.0)
     th = np.arccos(c)
-    v = np.stack([P[..., 2, 1] - P[..., 1, 2], P[..., 0, 2] - P[..., 2, 0],
-                  P[..., 1, 0] - P[..., 0, 1]], axis=-1)
+    v = vee_skew(P)
     f = np.where(th < 1e-8, 0.5, th / (2 * np.sin(np.where(th < 1e-8, 1.0, th))))
     return v * f[..., None]
 

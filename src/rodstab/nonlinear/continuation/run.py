@@ -19,6 +19,7 @@ from ...io.outputs import run_lock
 from ...limits import DEFAULT as DEFAULT_LIMITS
 from ...limits import Limits, require_nonlinear, require_steps
 from ...model import MAX_END_ROTATION, Assembly
+from ...numerics import richardson
 from ..discrete import MAX_NATURAL_TURNING, DiscreteRod, check_mesh, discretise
 from ..parameters import EndRotation, Parameter, SegmentValue, parameter
 from ..solve import newton, settle
@@ -293,7 +294,6 @@ def special_point_errors(a: Assembly, key: str, start: float, path: Path, n_step
                         branch_steps=0, limits=limits)
     theirs = list(fine.special_points)
     out: list[dict] = []
-    r = 2.0**MESH_ORDER - 1.0
     for i, p in enumerate(specials):
         kinds = [q["kind"] for q in specials[: i + 1]]
         match = [q for q in theirs if q["kind"] == p["kind"]]
@@ -303,7 +303,7 @@ def special_point_errors(a: Assembly, key: str, start: float, path: Path, n_step
                         "why": f"no {p['kind']} found on the finer mesh ({fine_n} elements)"})
             continue
         vf = float(match[k]["value"])
-        vr = vf + (vf - float(p["value"])) / r
+        vr = richardson(float(p["value"]), vf, 2.0, MESH_ORDER)[0]
         out.append({"value_fine": vf, "value_extrapolated": vr,
                     "error_estimate": abs(float(p["value"]) - vr), "elements_fine": fine_n})
     return tuple(out)
