@@ -418,3 +418,17 @@ def test_check_output_names_a_directory_it_cannot_write(tmp_path, monkeypatch):
     monkeypatch.setattr(Path, "mkdir", denied)
     with pytest.raises(RodstabInputError, match=r"--plot .*cannot create the directory"):
         check_output("--plot", tmp_path / "e" / "x.png", directory=False)
+
+
+def test_outputs_get_the_users_umask_not_mkstemps_0600(tmp_path, monkeypatch, run_cli):
+    """An output written atomically is readable as a plain ``open`` would leave it (0o666 less
+    the umask): mkstemp's 0600 hid a sweep's CSV from the user's group (issue 20)."""
+    for mask in (0o022, 0o077):
+        monkeypatch.setattr(outputs, "_UMASK", mask)
+        outputs.write_atomic(tmp_path / f"m{mask:o}.csv", "x\n")
+        assert (tmp_path / f"m{mask:o}.csv").stat().st_mode & 0o777 == 0o666 & ~mask
+    monkeypatch.setattr(outputs, "_UMASK", 0o022)
+    r = run_cli(["sweep", "examples/clamped_arc.toml", "--vary", "section.aspect=1:2:2",
+                 "--elements", "8", "--out", str(tmp_path / "sw"), "--no-progress"])
+    assert r.exit_code == 0, r.stderr
+    assert (tmp_path / "sw" / "sweep.csv").stat().st_mode & 0o777 == 0o644

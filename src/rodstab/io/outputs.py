@@ -111,10 +111,27 @@ def check_output(option: str, value: str | os.PathLike[str], *, directory: bool,
 LOCK = "run.lock"
 
 
+def _read_umask() -> int:
+    """Return the process's file-creation mask (read by setting it, then restored at once)."""
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
+
+
+#: Read once, at import: reading it means setting it, which is not safe while other threads
+#: create files (two runs writing one output, tests/test_robust_runs.py).
+_UMASK = _read_umask()
+
+
 def replace_atomic(path: Path, write: Callable[[IO[bytes]], Any]) -> None:
-    """Write ``path`` through ``write(file)`` into a uniquely named sibling, then rename it."""
+    """Write ``path`` through ``write(file)`` into a uniquely named sibling, then rename it.
+
+    The file gets the mode an ordinary ``open(path, "w")`` would give (``0o666`` less the
+    umask; ``mkstemp``'s own 0600 would hide a sweep's CSV from the user's group).
+    """
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
     try:
+        os.fchmod(fd, 0o666 & ~_UMASK)
         with os.fdopen(fd, "wb") as fh:
             write(fh)
         os.replace(tmp, path)
