@@ -279,3 +279,17 @@ def test_cli_states_design_misuse_exits_2(capsys, argv, name):
         main(["states", *argv, "--json"])
     assert exc.value.code == 2
     assert name in capsys.readouterr().err
+
+
+def test_ring_of_takes_a_loaded_design_and_names_what_it_needs():
+    """``ring_of(load_design(...))`` reads the design's assembly (it raised a bare
+    AttributeError); anything else is an input error naming what it needs (issue 20)."""
+    from pathlib import Path
+
+    from rodstab.io.design import load_design
+    from rodstab.multistable.states import ring_of as read
+
+    d = load_design(Path(__file__).resolve().parent.parent / "examples" / "hexagram.toml")
+    assert read(d) == read(d.assembly)
+    with pytest.raises(RodstabInputError, match="needs an Assembly or a design"):
+        read("examples/hexagram.toml")

@@ -33,6 +33,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from typing import Any
 
 import numpy as np
 
@@ -342,8 +343,11 @@ def _tangent_angle(seg: Segment, end: str, direction: int) -> float:
     return math.atan2(float(t[1]), float(t[0]))
 
 
-def ring_of(a: Assembly) -> Ring:
+def ring_of(a: Any) -> Ring:
     """Read the ring of a design: identical rods, each welded to the next, all welds alike.
+
+    ``a``: an :class:`~rodstab.model.Assembly`, or a parsed design
+    (:class:`rodstab.io.design.Design`, from ``load_design``), whose assembly is read.
 
     The assembly must have no supports or imposed end rotations, every weld must join two
     ends, and following the welds from the first segment must visit every segment once and
@@ -353,6 +357,11 @@ def ring_of(a: Assembly) -> Ring:
     design's held geometry; its held curvatures do not matter otherwise). Each violation is a
     :class:`RodstabInputError` naming the segment or weld and its value.
     """
+    if not isinstance(a, Assembly) and isinstance(getattr(a, "assembly", None), Assembly):
+        a = a.assembly
+    if not isinstance(a, Assembly):
+        raise RodstabInputError(f"ring_of needs an Assembly or a design from load_design, got "
+                                f"{type(a).__name__}")
     if a.supports or a.end_rotations:
         raise RodstabInputError(f"a ring has no supports; the design has {list(a.supports)!r}")
     for w in a.welds:
