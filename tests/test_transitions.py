@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 
 from rodstab.cli import main
+from rodstab.errors import RodstabInputError
 from rodstab.multistable.transitions import invariants, pair_distances
 from rodstab.nonlinear.discrete import discretise
 from rodstab.nonlinear.jets import rotation_jet, rotation_vector
@@ -255,3 +256,27 @@ def test_bad_inputs_exit_2_naming_the_value(args, named, capsys) -> None:
     assert exc.value.code == 2
     err = capsys.readouterr().err
     assert named in err and len(err.strip().splitlines()) == 1
+
+
+def test_a_state_unstable_at_the_load_is_skipped_with_a_line_not_a_failure() -> None:
+    """Every state loaded by default: one unstable at the chosen load is listed in ``skipped``
+    (it made the whole run exit 2, issue 20); one asked for by name must be stable.
+
+    Six cusp rods, circle section (nu = 1/3): at kappa_n R0 = 1 the line is unstable (its
+    interval is +-0.43301 by Bloch and the FE, docs/guide/multistable.md) and the star stable
+    (0.57569, 1.43004). No stimuli: only the states' stability is asked.
+    """
+    from rodstab.multistable.states import uniform_ring
+    from rodstab.multistable.transitions import transition_graph
+    from rodstab.sections import circle
+
+    sec = circle()
+    kn = 2 * math.pi / 3  # kappa_n R0 = 1 with R0 = 3 L / 2 pi, L = 1
+    ring = uniform_ring(6, weld="cusp", length=1.0, natural_curvature=kn, B1=sec.b1, B2=sec.b2)
+    states = {s: ring.held(ring.state(s).theta) for s in ("line", "star")}
+    g = transition_graph(states, {}, load_factor=1.0, thickness=0.02)
+    assert [s for s, _ in g.skipped] == ["line"]
+    assert g.to_json()["skipped"][0]["why"].startswith("not stable at load factor 1")
+    with pytest.raises(RodstabInputError, match="not stable"):
+        transition_graph(states, {"line": [("load_factor", 2.0)]}, load_factor=1.0,
+                         thickness=0.02, load=["line"])

@@ -1748,6 +1748,7 @@ def transitions(design_file: str | None, section: Section, structure: str,
                         "physical as computed"))
     lines += [f"{e['from']:>6}    none     {e['stimulus']} up to {_fmt(e['stop'])}: "
               f"{e['message']}" for e in payload["no_transition"]]
+    lines += [f"{s['state']:>6}    skipped: {s['why']}" for s in payload["skipped"]]
     lines += [f"wrote {payload['figure']}, {payload['json_file']}"] if out is not None else []
     _emit(payload, as_json, lines)
     unconverged = [f"{e['from']} -> {e['to']}" for e in payload["edges"] if not e["converged"]]

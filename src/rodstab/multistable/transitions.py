@@ -398,6 +398,9 @@ class TransitionGraph(Result):
     elements_per_segment: int
     thickness: float
     method: str
+    #: States not loaded, with why: unstable at ``load_factor`` (only when every state is
+    #: loaded by default; a state asked for by name that is unstable is an input error).
+    skipped: tuple[tuple[str, str], ...] = ()
 
     def to_json(self) -> dict:
         """Return the ``rodstab transitions --json`` form: states and edges (from, to, ...)."""
@@ -413,6 +416,7 @@ class TransitionGraph(Result):
                 "no_transition": [{"from": e.source, "stimulus": e.stimulus, "stop": e.stop,
                                    "message": e.message} for e in self.edges
                                   if e.target is None],
+                "skipped": [{"state": s, "why": why} for s, why in self.skipped],
                 "load_factor": self.load_factor,
                 "elements_per_segment": self.elements_per_segment,
                 "thickness": self.thickness, "method": self.method}
@@ -428,16 +432,21 @@ def transition_graph(assemblies: dict[str, Assembly],
     ``stimuli[state]``: ``(key, stop)`` tried in order until one gives a transition to another
     state (all of them with ``all_stimuli``); a loading that stays stable is kept as an edge
     without a target (reported under ``no_transition``). ``load``: the states loaded (default
-    all); every state of ``assemblies`` is a reference for the identification.
+    all: then a state unstable at ``load_factor`` is skipped and listed in ``skipped``; one
+    named in ``load`` must be stable); every state of ``assemblies`` is a reference for the
+    identification.
     """
     refs = {}
     for name, a in assemblies.items():
         r = discretise(a, elements_per_segment, load_factor)
         newton(r)
         refs[name] = r
-    edges, states = [], list(assemblies)
+    edges, states, skipped = [], list(assemblies), []
     for name in (list(assemblies) if load is None else load):
         a = assemblies[name]
+        if load is None and lowest_modes(refs[name], 1)[0][0] <= zero_eigenvalue_tol(refs[name]):
+            skipped.append((name, f"not stable at load factor {load_factor:g}"))
+            continue
         for key, stop in stimuli.get(name, ()):
             t = transition(a, name, key, stop, load_factor=load_factor, references=refs,
                            thickness=thickness, elements_per_segment=elements_per_segment,
@@ -447,8 +456,13 @@ def transition_graph(assemblies: dict[str, Assembly],
                 states.append(t.target)
             if not all_stimuli and t.target is not None and t.target != name:
                 break
+    if skipped and len(skipped) == len(assemblies):
+        raise RodstabInputError(f"no state is stable at load factor {load_factor:g} (states "
+                                f"{list(assemblies)}): choose a load inside a stable interval "
+                                "(rodstab atlas lists them)")
     return TransitionGraph(tuple(states), tuple(edges), load_factor, elements_per_segment,
                            thickness,
                            "pseudo-arclength continuation to the first loss of stability, "
                            "relaxation along the critical mode past it, release of the "
-                           "stimulus, identification by aligned geometry and invariants")
+                           "stimulus, identification by aligned geometry and invariants",
+                           tuple(skipped))
