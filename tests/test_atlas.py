@@ -233,3 +233,28 @@ def test_hexagram_example_is_the_star_of_the_hexagram_module(run_cli):
     lo, hi = json.loads(r.stdout)["load_factor_interval"]
     want = hx.transfer_interval(hx.Params(section=rectangle(aspect=4.0), state="star"))
     assert (lo, hi) == pytest.approx(want, rel=1e-3, abs=1e-3)
+
+
+def test_common_load_is_the_middle_of_the_states_overlap_by_an_independent_method():
+    """``rodstab barrier DESIGN`` without --load-factor takes the middle of the two states'
+    common stable interval (it exited 2 at a default 1.0, issue 20). Reference: the same
+    overlap from the FE atlas (an independent method); states never stable together are an
+    input error naming both intervals (the hexagram's star and daisy, circle section)."""
+    from rodstab.multistable.atlas import common_load, select_states, state_interval
+    from rodstab.multistable.states import uniform_ring
+    from rodstab.sections import circle, rectangle
+
+    sec = rectangle(aspect=4.0)
+    ring = uniform_ring(4, weld="cusp", length=1.0, natural_curvature=math.pi / 2, B1=sec.b1,
+                        B2=sec.b2)
+    mu, (lo, hi) = common_load(ring, ("star", "daisy"))
+    fe = [state_interval(ring, s, "fe").interval
+          for s in select_states(ring, ("star", "daisy"))]
+    assert lo == pytest.approx(max(i[0] for i in fe), rel=1e-6)
+    assert hi == pytest.approx(min(i[1] for i in fe), rel=1e-6)
+    assert mu == pytest.approx(0.5 * (lo + hi), rel=1e-12) and lo < mu < hi
+    sec = circle()
+    hexagram = uniform_ring(6, weld="cusp", length=1.0, natural_curvature=2 * math.pi / 3,
+                            B1=sec.b1, B2=sec.b2)
+    with pytest.raises(RodstabInputError, match="never stable together.*star.*daisy"):
+        common_load(hexagram, ("star", "daisy"))

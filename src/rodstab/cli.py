@@ -1777,10 +1777,11 @@ _BARRIER_STATES = {"six-ring": ("folded", "one-loop"), "hexagram": ("line", "sta
                    "DESIGN`, required).")
 @click.option("--to", "to_state", default=None,
               help="The other state (default: one-loop, star; with DESIGN required).")
-@click.option("--load-factor", type=float, default=1.0, show_default=True,
+@click.option("--load-factor", type=float, default=None,
               help="Without DESIGN kappa_n R0 (six-ring: R0 = L / theta, the one-loop radius; "
-                   "hexagram: R0 = 3L/2pi); with DESIGN the multiplier of its natural "
-                   "curvature. Both states must be stable there.")
+                   "hexagram: R0 = 3L/2pi; default 1); with DESIGN the multiplier of its "
+                   "natural curvature (default: the middle of the two states' common stable "
+                   "interval). Both states must be stable there.")
 @click.option("--elements", type=int, default=8, show_default=True,
               help="Elements per rod of the discrete rod (>= 4).")
 @click.option("--images", type=int, default=None,
@@ -1794,7 +1795,8 @@ _BARRIER_STATES = {"six-ring": ("folded", "one-loop"), "hexagram": ("line", "sta
 @_limit_options
 @_json_option
 def barrier(design_file: str | None, section: Section, method: str, structure: str,
-            from_state: str | None, to_state: str | None, load_factor: float, elements: int,
+            from_state: str | None, to_state: str | None, load_factor: float | None,
+            elements: int,
             images: int | None, plot_path: str | None, animation_path: str | None,
             limits: Limits, as_json: bool) -> None:
     """Energy barrier between two stable states of a ring: the saddle and the path through it.
@@ -1811,7 +1813,8 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
     from .limits import require_nonlinear
 
     elements = require_int("--elements", elements, 4)
-    k = require_finite("--load-factor", load_factor)
+    k = None if load_factor is None else require_finite("--load-factor", load_factor)
+    chosen: tuple[float, float] | None = None
     if method == "continuation" and (images is not None or animation_path is not None):
         raise RodstabInputError("--images and --animation are options of --method string")
     from .multistable.string_method import STRING_IMAGES
@@ -1830,10 +1833,15 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
                                     "`rodstab states DESIGN`)")
         ring, section, name, design = _ring_and_section(design_file, structure, 6, section)
         a, b_asm = (ring.held(ring.state(s).theta) for s in (from_state, to_state))
+        if k is None:
+            from .multistable.atlas import common_load
+
+            k, chosen = common_load(ring, (from_state, to_state))
         mu = k
     else:
         from .problems.barrier_states import check_state, model_load_factor, state_assembly
 
+        k = 1.0 if k is None else k
         name = structure
         from_state = from_state or _BARRIER_STATES[structure][0]
         to_state = to_state or _BARRIER_STATES[structure][1]
@@ -1867,6 +1875,8 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
         raise RodstabInputError(f"--load-factor {k!r}, --from {from_state!r}: {exc}") from exc
     payload = b.to_dict()
     payload.update(structure=name, kappa_R0=k, section=section.to_dict(), method=method)
+    if chosen is not None:
+        payload["load_factor_chosen_in"] = list(chosen)
     if method == "string":
         payload.update(images=b.images)
     units = None if design_file is None else design.units
@@ -1878,7 +1888,9 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
                                                                         "energy")}
     lines = [_section_line(section),
              f"{name} at {'kappa_n R0' if design_file is None else 'load factor'} = {_fmt(k)}, "
-             f"{elements} elements per rod (B3 = 1, L = 1), method {method}"]
+             f"{elements} elements per rod (B3 = 1, L = 1), method {method}"
+             + ("" if chosen is None else f" (chosen: the middle of the states' common stable "
+                                          f"interval ({_fmt(chosen[0])}, {_fmt(chosen[1])}))")]
     if units is not None:
         lines.insert(1, _units_line(units))
     run: Any = b.string_run

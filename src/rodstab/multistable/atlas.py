@@ -298,6 +298,26 @@ def best_overlap(intervals: dict[str, tuple[float, float]], k: int) -> Overlap:
     return best
 
 
+def common_load(ring: Ring, labels: Sequence[str]) -> tuple[float, tuple[float, float]]:
+    """Return a load factor at which every state ``labels`` of ``ring`` is stable, and the overlap.
+
+    The middle of the common part of their stable intervals by the transfer (Bloch) method
+    (:func:`transfer_interval`): the default load of a command that needs the states together
+    (``rodstab barrier DESIGN``), away from either end so that a discrete rod's mesh error
+    does not decide it. Raises naming each state's interval when they have no common part.
+    """
+    states = select_states(ring, labels)
+    found = {s.label: transfer_interval(ring, s) for s in states}
+    intervals = {k: v.interval for k, v in found.items()}
+    over = best_overlap(intervals, len(labels))
+    if not over.width > 0 or not all(math.isfinite(x) for x in over.load_interval):
+        shown = ", ".join(f"{k} ({lo:.6g}, {hi:.6g})" for k, (lo, hi) in intervals.items())
+        raise RodstabInputError(f"states {list(labels)} are never stable together: stable "
+                                f"intervals of the load factor {shown}")
+    lo, hi = over.load_interval
+    return 0.5 * (lo + hi), (lo, hi)
+
+
 def mutual_sets(intervals: dict[str, tuple[float, float]]) -> tuple[Overlap, ...]:
     """Every maximal set of mutually stable states, by increasing common load interval.
 
