@@ -893,8 +893,17 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
     n = (require_positive_int("--elements", elements) if elements is not None
          else nonlinear_elements(d) if d.elements_given
          else resolving_elements(d.assembly, mu, nonlinear_elements(d)))
-    r, rod = equilibrium(d.assembly, load_factor=mu, elements_per_segment=n,
-                         perturb=require_finite("--perturb", perturb), limits=limits)
+    try:
+        r, rod = equilibrium(d.assembly, load_factor=mu, elements_per_segment=n,
+                             perturb=require_finite("--perturb", perturb), limits=limits)
+    except RodstabInputError as exc:
+        # a mesh the rule chose (not the user) past the size limits: say that the load set it
+        size = f"{n} elements per segment: "
+        if elements is not None or d.elements_given or not str(exc).startswith(size):
+            raise
+        raise RodstabInputError(f"load factor {mu:g}: the mesh that resolves the held state "
+                                f"there is {n:.4g} elements per segment: "
+                                f"{str(exc)[len(size):]}") from None
     ok, its, res = r.converged, r.iterations, r.residual
     ev = r.lowest_eigenvalues
     payload = r.to_dict() | {"design": d.source, "elements_per_segment": n,
