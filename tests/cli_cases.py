@@ -2,6 +2,12 @@
 
 Shared by ``tests/test_cli_outputs.py`` (which compares the current output with the recorded
 one) and ``tests/data/record_cli_outputs.py`` (which records them from a given checkout).
+Both recordings are **regression checks against earlier commits of this project**, not
+independent references: they catch a refactoring that changes a number, not a number that was
+wrong when recorded (each command's correctness is tested against closed forms, limits and
+other methods in its own test module). ``CASES`` were recorded at 07ed206, ``LATER_CASES``
+(the multistable commands and the examples 07ed206 could not read) at e0b77e8, the last
+commit before the issue-20 split of the command line.
 Every subcommand except ``reproduce`` (its numbers are the report's, compared row by row by
 ``tests/test_checks.py``) appears, and the design-file commands run on every example.
 Output paths (``--out``) are written under a temporary directory named by ``{tmp}``.
@@ -51,6 +57,32 @@ CASES: list[list[str]] = (
        ["continue", "examples/twisted_rod.toml", "--vary",
         "support.1.rotation.tangent=0:14:7", "--elements", "8", "--branch-steps", "0",
         "--no-progress"]]
+)
+
+
+#: Recorded at e0b77e8 (``tests/data/cli_outputs_e0b77e8.json``): the multistable commands
+#: and the examples added after 07ed206. Sections where the states are stable at the default
+#: loads (the circle's hexagram line is not stable at kappa_n R0 = 2).
+_RECT4 = ["--shape", "rectangle", "--aspect", "4"]
+LATER_CASES: list[list[str]] = (
+    [["states"], ["states", "--segments", "4", "--smooth", "--max-turns", "2"],
+     ["states", "examples/hexagram.toml"], ["states", "examples/hexagram.toml",
+                                            "--load-factor", "2"],
+     ["states", "examples/unfolded_six_ring.toml"],
+     ["hexagram"], ["hexagram", *_RECT4], ["hexagram", "--method", "fe", *_RECT4],
+     ["hexagram", "--threshold", "--shape", "rectangle"],
+     ["atlas", "examples/hexagram.toml", "--vary", "section.aspect=2:4:2", "--workers", "0",
+      "--no-progress", "--out", "{tmp}/atlas"],
+     ["transitions", "--elements", "6", *_RECT4, "--out", "{tmp}/transitions"],
+     ["barrier", "--elements", "6", "--images", "7", *_RECT4],
+     ["barrier", "--method", "continuation", "--elements", "6", *_RECT4],
+     ["barrier", "examples/hexagram.toml", "--from", "star", "--to", "daisy", "--elements",
+      "6"],
+     ["discover", "--starts", "2", "--elements", "8"],
+     ["discover", "examples/hexagram.toml", "--starts", "2", "--elements", "8",
+      "--no-seed-states"]]
+    + [["analyze", e] for e in sorted(NEW_EXAMPLES)]
+    + [["equilibrium", e] for e in sorted(NEW_EXAMPLES)]
 )
 
 

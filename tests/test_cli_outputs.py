@@ -1,10 +1,13 @@
-"""Every CLI command prints the same numbers as before the issue-9 redesign.
+"""Every CLI command prints the same numbers as the earlier commits recorded: a regression test.
 
-The reference outputs were recorded from commit 07ed206 (an independent, older implementation:
-before the problems registry, the checks split, the new continuation core and the error
-contract) by ``tests/data/record_cli_outputs.py``; the command lines are in
-``tests/cli_cases.py``: every subcommand but ``reproduce``, the design-file commands on every
-example. Compared: the exit status, every JSON key recorded then (new keys may be added), and
+The reference outputs are this project's own earlier output, recorded by
+``tests/data/record_cli_outputs.py``: ``CASES`` from commit 07ed206 (before the issue-9
+redesign: the problems registry, the checks split, the new continuation core and the error
+contract), ``LATER_CASES`` (the multistable commands, the later examples) from e0b77e8 (before
+the issue-20 split of the command line). They check that a refactoring changed no number; that
+the numbers are right is each command's own test module's job (closed forms, limits, other
+methods). The command lines are in ``tests/cli_cases.py``: every subcommand but ``reproduce``,
+the design-file commands on every example. Compared: the exit status, every JSON key recorded then (new keys may be added), and
 every number, to ``RTOL`` relative (``ATOL`` absolute for values at round-off level, e.g. the
 zero eigenvalues of a free rod). The few differences that are intended are listed in
 ``CHANGED`` with their reason and their own bound; nothing else may differ.
@@ -18,10 +21,12 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from cli_cases import CASES, case_id
+from cli_cases import CASES, LATER_CASES, case_id
 
 RECORDED = json.loads((Path(__file__).parent / "data" / "cli_outputs_07ed206.json")
                       .read_text())["outputs"]
+RECORDED_LATER = json.loads((Path(__file__).parent / "data" / "cli_outputs_e0b77e8.json")
+                            .read_text())["outputs"]
 #: Same numbers: relative tolerance (solvers' own convergence tolerances are 1e-10 or finer;
 #: Newton and ARPACK start from the same points, so 1e-7 leaves room for a different BLAS).
 RTOL = 1e-7
@@ -47,7 +52,9 @@ CHANGED: dict[str, str] = {
     # since 741431b ("Newton + line search" before).
     "method": "text",
     # Files written under a fresh temporary directory each run.
-    "csv": "path", "plot": "path",
+    "csv": "path", "plot": "path", "figure": "path", "json_file": "path", "json": "path",
+    # How the atlas's points were run (serial or a cluster): the run, not the result.
+    "executor": "text",
     # Residuals of converged solves are round-off or the solver's stopping level: a different
     # start vector (fixed ARPACK v0) or path to convergence gives another value at that level.
     "residual": "no worse",
@@ -116,9 +123,7 @@ def _compare(old: Any, new: Any, path: str, errors: list[str], context: dict[str
             errors.append(f"{path}: {new!r} (was {old!r}, tolerance {tol:.2g})")
 
 
-@pytest.mark.parametrize("args", CASES, ids=[case_id(a) for a in CASES])
-def test_cli_prints_the_numbers_of_07ed206(args, run_cli, tmp_path):
-    recorded = RECORDED[case_id(args)]
+def _check_recorded(args: list[str], recorded: dict[str, Any], run_cli, tmp_path) -> None:
     argv = [a.replace("{tmp}", str(tmp_path)) for a in args] + ["--json"]
     r = run_cli(argv)
     assert r.exit_code == recorded["exit"], r.stderr
@@ -129,6 +134,16 @@ def test_cli_prints_the_numbers_of_07ed206(args, run_cli, tmp_path):
     _compare(recorded["json"], json.loads(r.stdout), args[0], errors, {},
              MESH_REFINED.get(case_id(args)))
     assert not errors, "\n".join(errors)
+
+
+@pytest.mark.parametrize("args", CASES, ids=[case_id(a) for a in CASES])
+def test_cli_prints_the_numbers_of_07ed206(args, run_cli, tmp_path):
+    _check_recorded(args, RECORDED[case_id(args)], run_cli, tmp_path)
+
+
+@pytest.mark.parametrize("args", LATER_CASES, ids=[case_id(a) for a in LATER_CASES])
+def test_cli_prints_the_numbers_of_e0b77e8(args, run_cli, tmp_path):
+    _check_recorded(args, RECORDED_LATER[case_id(args)], run_cli, tmp_path)
 
 
 def test_a_refined_analyze_meets_the_closed_form(run_cli):
@@ -150,14 +165,9 @@ def test_a_refined_analyze_meets_the_closed_form(run_cli):
         out8["mesh_error_relative"], rel=0.5)
 
 
-#: Commands added after 07ed206 (nothing recorded to compare with), each with its own tests.
-NEW_COMMANDS = {"states": "tests/test_states.py", "hexagram": "tests/test_hexagram.py",
-                "discover": "tests/test_discover.py", "transitions": "tests/test_transitions.py",
-                "barrier": "tests/test_barrier.py", "atlas": "tests/test_atlas.py"}
-
-
 def test_every_subcommand_but_reproduce_is_compared():
     from rodstab.cli import cli
 
-    assert set(cli.commands) - {a[0] for a in CASES} - set(NEW_COMMANDS) == {"reproduce"}
+    assert set(cli.commands) - {a[0] for a in CASES + LATER_CASES} == {"reproduce"}
     assert set(RECORDED) == {case_id(a) for a in CASES}
+    assert set(RECORDED_LATER) == {case_id(a) for a in LATER_CASES}

@@ -2,11 +2,13 @@
 
 Run it with the checkout to record on ``PYTHONPATH``::
 
-    PYTHONPATH=/path/to/old/checkout/src python tests/data/record_cli_outputs.py OUT.json
+    PYTHONPATH=/path/to/old/checkout/src python tests/data/record_cli_outputs.py OUT.json [later]
 
 ``tests/data/cli_outputs_07ed206.json`` was recorded this way from commit 07ed206 (the last
-commit before the issue-9 redesign), so ``tests/test_cli_outputs.py`` compares the redesigned
-code with an independent, older implementation, not with itself.
+commit before the issue-9 redesign) and ``cli_outputs_e0b77e8.json`` (``later``: the
+``LATER_CASES``) from e0b77e8 (the last before the issue-20 split of the command line). They
+are regression records of this project's own earlier output: ``tests/test_cli_outputs.py``
+checks that a refactoring changed no number, not that the numbers are right.
 """
 
 from __future__ import annotations
@@ -21,16 +23,16 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
 
-from cli_cases import CASES, ROOT, case_id  # noqa: E402
+from cli_cases import CASES, LATER_CASES, ROOT, case_id  # noqa: E402
 
 
-def main(out: str) -> None:
+def main(out: str, cases: list[list[str]] = CASES) -> None:
     """Run every case in a fresh interpreter and write ``{case id: {exit, json}}``."""
     import rodstab
 
     rows: dict[str, dict[str, object]] = {}
     with tempfile.TemporaryDirectory() as tmp:
-        for args in CASES:
+        for args in cases:
             argv = [a.replace("{tmp}", tmp) for a in args] + ["--json"]
             p = subprocess.run([sys.executable, "-c", "from rodstab.cli import main; main()",
                                 *argv], cwd=ROOT, capture_output=True, text=True, check=False)
@@ -46,4 +48,4 @@ def main(out: str) -> None:
 
 
 if __name__ == "__main__":
-    main(sys.argv[1])
+    main(sys.argv[1], LATER_CASES if sys.argv[2:] == ["later"] else CASES)
