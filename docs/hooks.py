@@ -18,6 +18,9 @@
 * **API reference** -- one mkdocstrings page per public module of the package: its docstring,
   then its public functions, classes (the result types among them) and constants, in that
   order (:func:`api_page`); the nav groups the pages by package (:data:`API_GROUPS`).
+* **Design-file format** -- the reference of every table and key a design file may hold,
+  generated from the schema the design reader validates against
+  (:func:`rodstab.io.schema.reference_markdown`), as ``design-format.md``.
 * **Math** -- MathJax is served from the site itself: the hook copies it from the installed
   ``django-static-mathjax`` package (the docs extra; MathJax 3 only, no Django), so pages
   render their equations without the network (:func:`mathjax_files`).
@@ -63,6 +66,7 @@ import rodstab
 from rodstab import checks, cli
 from rodstab.errors import RodstabInputError
 from rodstab.io.design import Design, load_design
+from rodstab.io.schema import reference_markdown
 from rodstab.multistable.states import ring_of
 
 log = logging.getLogger("mkdocs.hooks.rodstab")
@@ -77,6 +81,8 @@ FAST_OPTIONS = {"continue": ["--elements", "8", "--branch-steps", "4", "--no-err
                              "--no-progress"]}
 #: Modules left out of the API reference: the CLI has its own page, generated from click.
 NOT_IN_API = ("rodstab.cli",)
+#: The design-file format reference, generated from rodstab.io.schema.
+DESIGN_FORMAT = "design-format.md"
 #: Placeholder entries of the nav in mkdocs.yml that the hook fills with generated pages.
 GENERATED_SECTIONS = ("gallery/index.md", "tutorials/index.md", "api/index.md")
 
@@ -635,7 +641,8 @@ def build_api(config: MkDocsConfig, files: Files) -> list[str]:
              "Generated from the docstrings (numpy style) of every public module. Each page "
              "gives the module's docstring, then its public functions, classes (the result "
              "types among them) and constants. The command line is documented in the "
-             "[CLI reference](../cli.md).", ""]
+             "[CLI reference](../cli.md), design files in the "
+             "[design-file format reference](../design-format.md).", ""]
     for name in modules:
         files.append(File.generated(config, f"api/{name}.md", content=api_page(name)))
     for title, names in api_groups():
@@ -748,6 +755,7 @@ def on_files(files: Files, config: MkDocsConfig) -> Files:
         build_tutorials(config, files, work)
         results = results_path()
         files.append(File.generated(config, "paper-vs-rodstab.md", content=paper_page(results)))
+        files.append(File.generated(config, DESIGN_FORMAT, content=reference_markdown()))
         build_api(config, files)
         for f in mathjax_files(config):
             files.append(f)

@@ -2,8 +2,9 @@
 it promises: a gallery page with its pictures for every example, a page per tutorial, every
 check id on the paper-vs-rodstab page, every command on the CLI page, every public module in
 the API reference (functions first, grouped by package in the nav), the design-file format
-from ``rodstab.io.design``'s docstring, and no script loaded from the network (MathJax is served
-by the site). The build runs every example and tutorial, so a broken one fails it.
+reference generated from ``rodstab.io.schema`` with every key, ``rodstab.io.design``'s
+docstring on the guide's page, and no script loaded from the network (MathJax is served by
+the site). The build runs every example and tutorial, so a broken one fails it.
 
 The README (a designer's first screen, at most 10,000 characters) is checked too: its
 design file is the hexagram of ``examples/``, its Python block prints what it shows, and its
@@ -199,15 +200,33 @@ def test_api_nav_groups_every_module_by_package_with_full_names(site):
 
 
 def test_design_file_page_renders_the_format_from_the_docstring(site):
-    """The format is rodstab.io.design's docstring (written once): its literal blocks as TOML
-    code, its Sphinx roles as cross-references."""
+    """The guide shows rodstab.io.design's docstring (its examples): literal blocks as TOML
+    code, Sphinx roles as cross-references; it links to the generated format reference."""
     html = _page(site, "guide/design-files")
     section = html.split('id="the-format"')[1].split('id="how-a-design-is-solved"')[0]
     text = re.sub(r"<[^>]+>", "", section)
-    assert "load_factor_segment" in text and "natural_radius" in text
+    assert "natural_radius" in text and "examples/steel_birod_fig7a.toml" in text
     assert '<div class="highlight">' in section and '<span class="k">[section]</span>' in section
     assert "::" not in text and ":class:" not in text and "``" not in text
     assert 'href="../../api/rodstab.model/#rodstab.model.Assembly"' in section
+    assert 'href="../../design-format/"' in section
+
+
+def test_design_format_page_lists_every_key_of_the_schema(site):
+    """The generated reference: a section per table of rodstab.io.schema, every key in it
+    (tests/test_design_schema.py: the schema's keys are the reader's)."""
+    from rodstab.io.schema import TABLES
+
+    html = _page(site, "design-format")
+    parts = re.split(r"<h2 [^>]*>", html)[1:]
+    assert len(parts) == len(TABLES)
+    for table, part in zip(TABLES, parts, strict=True):
+        heading = re.sub(r"<[^>]+>|&para;", "", part.split("</h2>")[0]).strip()
+        assert heading == (table.header if table.name else "The file's top level"), heading
+        cells = set(re.findall(r"<tr>\s*<td><code>([^<]+)</code></td>", part))
+        assert cells == set(table.names), table.name
+    assert 'href="../api/rodstab.units/' in html  # the autorefs link resolved
+    assert "Design-file format" in _page(site, "cli")  # in the nav (Reference)
 
 
 def test_built_pages_load_no_script_from_the_network(site):
