@@ -1,7 +1,7 @@
 """The documentation site (mkdocs.yml, docs/hooks.py) builds with ``--strict`` and holds what
 it promises: a gallery page with its pictures for every example, a page per tutorial, every
 check id on the paper-vs-rodstab page, every command on the CLI page, every public module in
-the API reference (functions first, grouped by package in the nav), the design-file format
+the API reference (functions first, grouped by layer in the nav), the design-file format
 reference generated from ``rodstab.io.schema`` with every key, ``rodstab.io.design``'s
 docstring on the guide's page, and no script loaded from the network (MathJax is served by
 the site). The build runs every example and tutorial, so a broken one fails it.
@@ -183,20 +183,34 @@ def test_api_pages_lead_with_functions_then_classes_then_constants(site):
     assert "rodstab.linear.solve.LinearStability" in ids
 
 
-def test_api_nav_groups_every_module_by_package_with_full_names(site):
+def test_api_nav_groups_every_module_by_layer_with_readable_titles(site):
     groups = hooks.api_groups()
-    listed = [m for _, names in groups for m in names]
+    listed = [m for _, _, names in groups for m in names]
     assert sorted(listed) == sorted(hooks.public_modules())  # each once, none left out
-    assert dict(groups)["Nonlinear rod"][0] == "rodstab.nonlinear"
-    assert "rodstab.linear.solve" in dict(groups)["Linear stability"]
+    assert hooks._OTHER_GROUP not in [(layer, part) for layer, part, _ in groups]
+    layers = list(dict.fromkeys(layer for layer, _, _ in groups))
+    assert layers[:7] == ["Numerics", "Cross-sections", "Model, designs and units", "Engines",
+                          "Multistable rings", "The paper's structures", "Pictures"]
+    by_part = {(layer, part): names for layer, part, names in groups}
+    assert by_part["Engines", "Nonlinear rod"][0] == "rodstab.nonlinear"
+    assert "rodstab.linear.solve" in by_part["Engines", "Linear FE"]
+    assert "rodstab.io.schema" in by_part["Model, designs and units", ""]
+    assert hooks.api_title("rodstab.nonlinear.continuation.branches") == "continuation.branches"
+    assert hooks.api_title("rodstab.nonlinear") == "rodstab.nonlinear"
+    assert hooks.api_title("rodstab.model") == "rodstab.model"
     html = _page(site, "api").replace("&#39;", "'")
-    for title, names in groups:
-        assert title in html, title
+    for layer, part, names in groups:
+        assert layer in html and part in html, (layer, part)
         for name in names:
             assert f'href="{name}/"' in html
-    # the sidebar shows the full dotted name (wrapped by docs/stylesheets/extra.css, not cut)
-    assert "rodstab.nonlinear.continuation.branches" in _page(site, "api/rodstab.io.design")
-    assert (site / "stylesheets" / "extra.css").is_file()
+    # the sidebar: layers and parts as sections, each page titled below its section's package
+    nav = _page(site, "api/rodstab.io.design").replace("&#39;", "'")
+    assert re.search(r'href="\.\./rodstab\.nonlinear\.continuation\.branches/"[^>]*>\s*'
+                     r'<span class="md-ellipsis">\s*continuation\.branches\s*</span>', nav)
+    for layer in layers:
+        assert f"{layer}\n" in re.sub(r"<[^>]+>", "", nav).replace("\n ", "\n").replace(
+            "  ", ""), layer
+    assert (site / "stylesheets" / "extra.css").is_file()  # long titles wrap, not cut
 
 
 def test_design_file_page_renders_the_format_from_the_docstring(site):
