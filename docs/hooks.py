@@ -17,7 +17,11 @@
   line, without the leading ``rodstab``) is replaced by the command and what it printed.
 * **API reference** -- one mkdocstrings page per public module of the package: its docstring,
   then its public functions, classes (the result types among them) and constants, in that
-  order (:func:`api_page`); the nav groups the pages by package (:data:`API_GROUPS`).
+  order (:func:`api_page`); the nav groups the pages by layer (:data:`API_GROUPS`), each
+  titled by its name below its section's package (:func:`api_title`).
+* **Design-file format** -- the reference of every table and key a design file may hold,
+  generated from the schema the design reader validates against
+  (:func:`rodstab.io.schema.reference_markdown`), as ``design-format.md``.
 * **Math** -- MathJax is served from the site itself: the hook copies it from the installed
   ``django-static-mathjax`` package (the docs extra; MathJax 3 only, no Django), so pages
   render their equations without the network (:func:`mathjax_files`).
@@ -63,6 +67,7 @@ import rodstab
 from rodstab import checks, cli
 from rodstab.errors import RodstabInputError
 from rodstab.io.design import Design, load_design
+from rodstab.io.schema import reference_markdown
 from rodstab.multistable.states import ring_of
 
 log = logging.getLogger("mkdocs.hooks.rodstab")
@@ -77,6 +82,8 @@ FAST_OPTIONS = {"continue": ["--elements", "8", "--branch-steps", "4", "--no-err
                              "--no-progress"]}
 #: Modules left out of the API reference: the CLI has its own page, generated from click.
 NOT_IN_API = ("rodstab.cli",)
+#: The design-file format reference, generated from rodstab.io.schema.
+DESIGN_FORMAT = "design-format.md"
 #: Placeholder entries of the nav in mkdocs.yml that the hook fills with generated pages.
 GENERATED_SECTIONS = ("gallery/index.md", "tutorials/index.md", "api/index.md")
 
@@ -536,46 +543,76 @@ def public_modules() -> list[str]:
                                 and n not in NOT_IN_API)
 
 
-#: The API reference's sections in the nav and on its index: (title, module prefixes). A module
-#: goes to the first section one of whose prefixes is its name or a package above it; a module
-#: no section claims goes to "Other modules" (so none is ever left out).
-API_GROUPS: tuple[tuple[str, tuple[str, ...]], ...] = (
-    ("Designs, sections, units", ("rodstab", "rodstab.io.design", "rodstab.model",
-                                  "rodstab.sections", "rodstab.units")),
-    ("Multistable rings", ("rodstab.multistable.states", "rodstab.multistable.atlas")),
-    ("Closed forms and kinematics", ("rodstab.analytic", "rodstab.kinematics")),
-    ("Linear stability", ("rodstab.linear", "rodstab.transfer", "rodstab.numerics")),
-    ("Nonlinear rod", ("rodstab.nonlinear",)),
-    ("The paper's structures", ("rodstab.problems",)),
-    ("Checks and report", ("rodstab.checks", "rodstab.report")),
-    ("Sweeps, limits, output", ("rodstab.sweep", "rodstab.executor", "rodstab.limits",
-                                "rodstab.errors", "rodstab.results", "rodstab.io.outputs",
-                                "rodstab.plot.plots", "rodstab.plot.ribbons",
-                                "rodstab.plot.transition_graph")),
+#: The API reference's sections in the nav and on its index, by layer from the bottom up:
+#: (layer, part of the layer or "", module prefixes). A module goes to the first row one of
+#: whose prefixes is its name or a package above it; a module no row claims goes to "Other
+#: modules" (so none is ever left out; tests/test_docs.py checks that none is there).
+API_GROUPS: tuple[tuple[str, str, tuple[str, ...]], ...] = (
+    ("Numerics", "", ("rodstab.numerics",)),
+    ("Cross-sections", "", ("rodstab.sections",)),
+    ("Model, designs and units", "", ("rodstab", "rodstab.model", "rodstab.kinematics",
+                                      "rodstab.units", "rodstab.io", "rodstab.results",
+                                      "rodstab.errors")),
+    ("Engines", "Closed forms", ("rodstab.analytic",)),
+    ("Engines", "Transfer matrices", ("rodstab.transfer",)),
+    ("Engines", "Linear FE", ("rodstab.linear",)),
+    ("Engines", "Nonlinear rod", ("rodstab.nonlinear",)),
+    ("Multistable rings", "", ("rodstab.multistable",)),
+    ("The paper's structures", "", ("rodstab.problems",)),
+    ("Pictures", "", ("rodstab.plot",)),
+    ("Checks and report", "", ("rodstab.checks", "rodstab.report")),
+    ("Sweeps, limits, execution", "", ("rodstab.sweep", "rodstab.executor", "rodstab.limits")),
 )
-_OTHER_GROUP = "Other modules"
+_OTHER_GROUP = ("Other modules", "")
 #: API page sections, in page order: griffe's kind of member -> heading.
 API_KINDS = (("function", "Functions"), ("class", "Classes"), ("type alias", "Type aliases"),
              ("attribute", "Constants and attributes"))
 
 
-def api_group(module: str) -> str:
-    """Return the API section (:data:`API_GROUPS`) of ``module``."""
-    for title, prefixes in API_GROUPS:
-        for prefix in prefixes:
-            # "rodstab" claims the package page only, not every module under it
-            if module == prefix or (prefix != "rodstab" and module.startswith(prefix + ".")):
-                return title
+def _claims(prefix: str, module: str) -> bool:
+    """Whether ``prefix`` is ``module`` or a package above it ("rodstab": the package only)."""
+    return module == prefix or (prefix != "rodstab" and module.startswith(prefix + "."))
+
+
+def api_group(module: str) -> tuple[str, str]:
+    """Return the API section ``(layer, part)`` (:data:`API_GROUPS`) of ``module``."""
+    for layer, part, prefixes in API_GROUPS:
+        if any(_claims(p, module) for p in prefixes):
+            return layer, part
     return _OTHER_GROUP
 
 
-def api_groups() -> list[tuple[str, list[str]]]:
+def api_groups() -> list[tuple[str, str, list[str]]]:
     """Return the public modules by API section, in :data:`API_GROUPS` order (none empty)."""
-    titles = [t for t, _ in API_GROUPS] + [_OTHER_GROUP]
-    grouped: dict[str, list[str]] = {t: [] for t in titles}
+    sections = [(layer, part) for layer, part, _ in API_GROUPS] + [_OTHER_GROUP]
+    grouped: dict[tuple[str, str], list[str]] = {s: [] for s in sections}
     for name in public_modules():
         grouped[api_group(name)].append(name)
-    return [(t, grouped[t]) for t in titles if grouped[t]]
+    order = {(layer, part): prefixes for layer, part, prefixes in API_GROUPS}
+
+    def rank(module: str, prefixes: tuple[str, ...]) -> tuple[int, str]:
+        """Modules in the order of their section's prefixes, then by name."""
+        return next((i for i, p in enumerate(prefixes) if _claims(p, module)), 0), module
+
+    return [(layer, part, sorted(grouped[layer, part],
+                                 key=lambda m, s=(layer, part): rank(m, order.get(s, ()))))
+            for layer, part in sections if grouped[layer, part]]
+
+
+def api_title(module: str) -> str:
+    """Return the nav title of ``module``'s page: its name below the package of its section.
+
+    ``rodstab.nonlinear.continuation.branches`` is ``continuation.branches`` under the
+    section of ``rodstab.nonlinear``; a package and a module of its own row keep their full
+    name (``rodstab.nonlinear``, ``rodstab.model``).
+    """
+    for _, _, prefixes in API_GROUPS:
+        above = [p for p in prefixes if p != "rodstab" and module.startswith(p + ".")]
+        if above:
+            return module[len(max(above, key=len)) + 1:]
+        if any(_claims(p, module) for p in prefixes):
+            return module
+    return module
 
 
 @functools.cache
@@ -634,12 +671,19 @@ def build_api(config: MkDocsConfig, files: Files) -> list[str]:
     index = ["# API reference", "",
              "Generated from the docstrings (numpy style) of every public module. Each page "
              "gives the module's docstring, then its public functions, classes (the result "
-             "types among them) and constants. The command line is documented in the "
-             "[CLI reference](../cli.md).", ""]
+             "types among them) and constants. The modules are grouped by layer, each using "
+             "only the layers above it here. The command line is documented in the "
+             "[CLI reference](../cli.md), design files in the "
+             "[design-file format reference](../design-format.md).", ""]
     for name in modules:
         files.append(File.generated(config, f"api/{name}.md", content=api_page(name)))
-    for title, names in api_groups():
-        index += [f"## {title}", ""]
+    layer = None
+    for this, part, names in api_groups():
+        if this != layer:
+            index += [f"## {this}", ""]
+            layer = this
+        if part:
+            index += [f"### {part}", ""]
         for name in names:
             summary = (importlib.import_module(name).__doc__ or "").strip().split("\n")[0]
             index.append(f"- [`{name}`]({name}.md): {_escape(summary)}")
@@ -708,9 +752,19 @@ def _generated_nav() -> dict[str, list[dict[str, Any]]]:
                              for p in sorted(EXAMPLES.glob("*.toml"))],
         "tutorials/index.md": [{_tutorial_title(p): f"tutorials/{p.stem}.md"}
                                for p in sorted(TUTORIALS.glob("*.py"))],
-        "api/index.md": [{title: [{m: f"api/{m}.md"} for m in names]}
-                         for title, names in api_groups()],
+        "api/index.md": _api_nav(),
     }
+
+
+def _api_nav() -> list[dict[str, Any]]:
+    """Return the API section of the nav: a section per layer, a subsection per part."""
+    nav: list[dict[str, Any]] = []
+    for layer, part, names in api_groups():
+        pages = [{api_title(m): f"api/{m}.md"} for m in names]
+        if not nav or layer not in nav[-1]:
+            nav.append({layer: []})
+        nav[-1][layer] += [{part: pages}] if part else pages
+    return nav
 
 
 def on_config(config: MkDocsConfig) -> MkDocsConfig:
@@ -748,6 +802,7 @@ def on_files(files: Files, config: MkDocsConfig) -> Files:
         build_tutorials(config, files, work)
         results = results_path()
         files.append(File.generated(config, "paper-vs-rodstab.md", content=paper_page(results)))
+        files.append(File.generated(config, DESIGN_FORMAT, content=reference_markdown()))
         build_api(config, files)
         for f in mathjax_files(config):
             files.append(f)

@@ -7,10 +7,11 @@ contract), ``LATER_CASES`` (the multistable commands, the later examples) from e
 the issue-20 split of the command line). They check that a refactoring changed no number; that
 the numbers are right is each command's own test module's job (closed forms, limits, other
 methods). The command lines are in ``tests/cli_cases.py``: every subcommand but ``reproduce``,
-the design-file commands on every example. Compared: the exit status, every JSON key recorded then (new keys may be added), and
-every number, to ``RTOL`` relative (``ATOL`` absolute for values at round-off level, e.g. the
-zero eigenvalues of a free rod). The few differences that are intended are listed in
-``CHANGED`` with their reason and their own bound; nothing else may differ.
+the design-file commands on every example. Compared: the exit status, every JSON key recorded
+then (new keys may be added), and every number, to ``RTOL`` relative (``ATOL`` absolute for
+values at round-off level, e.g. the zero eigenvalues of a free rod). The few differences that
+are intended are listed in ``CHANGED`` with their reason and their own bound; nothing else may
+differ.
 """
 
 from __future__ import annotations

@@ -1,9 +1,10 @@
 """The documentation site (mkdocs.yml, docs/hooks.py) builds with ``--strict`` and holds what
 it promises: a gallery page with its pictures for every example, a page per tutorial, every
 check id on the paper-vs-rodstab page, every command on the CLI page, every public module in
-the API reference (functions first, grouped by package in the nav), the design-file format
-from ``rodstab.io.design``'s docstring, and no script loaded from the network (MathJax is served
-by the site). The build runs every example and tutorial, so a broken one fails it.
+the API reference (functions first, grouped by layer in the nav), the design-file format
+reference generated from ``rodstab.io.schema`` with every key, ``rodstab.io.design``'s
+docstring on the guide's page, and no script loaded from the network (MathJax is served by
+the site). The build runs every example and tutorial, so a broken one fails it.
 
 The README (a designer's first screen, at most 10,000 characters) is checked too: its
 design file is the hexagram of ``examples/``, its Python block prints what it shows, and its
@@ -182,32 +183,64 @@ def test_api_pages_lead_with_functions_then_classes_then_constants(site):
     assert "rodstab.linear.solve.LinearStability" in ids
 
 
-def test_api_nav_groups_every_module_by_package_with_full_names(site):
+def test_api_nav_groups_every_module_by_layer_with_readable_titles(site):
     groups = hooks.api_groups()
-    listed = [m for _, names in groups for m in names]
+    listed = [m for _, _, names in groups for m in names]
     assert sorted(listed) == sorted(hooks.public_modules())  # each once, none left out
-    assert dict(groups)["Nonlinear rod"][0] == "rodstab.nonlinear"
-    assert "rodstab.linear.solve" in dict(groups)["Linear stability"]
+    assert hooks._OTHER_GROUP not in [(layer, part) for layer, part, _ in groups]
+    layers = list(dict.fromkeys(layer for layer, _, _ in groups))
+    assert layers[:7] == ["Numerics", "Cross-sections", "Model, designs and units", "Engines",
+                          "Multistable rings", "The paper's structures", "Pictures"]
+    by_part = {(layer, part): names for layer, part, names in groups}
+    assert by_part["Engines", "Nonlinear rod"][0] == "rodstab.nonlinear"
+    assert "rodstab.linear.solve" in by_part["Engines", "Linear FE"]
+    assert "rodstab.io.schema" in by_part["Model, designs and units", ""]
+    assert hooks.api_title("rodstab.nonlinear.continuation.branches") == "continuation.branches"
+    assert hooks.api_title("rodstab.nonlinear") == "rodstab.nonlinear"
+    assert hooks.api_title("rodstab.model") == "rodstab.model"
     html = _page(site, "api").replace("&#39;", "'")
-    for title, names in groups:
-        assert title in html, title
+    for layer, part, names in groups:
+        assert layer in html and part in html, (layer, part)
         for name in names:
             assert f'href="{name}/"' in html
-    # the sidebar shows the full dotted name (wrapped by docs/stylesheets/extra.css, not cut)
-    assert "rodstab.nonlinear.continuation.branches" in _page(site, "api/rodstab.io.design")
-    assert (site / "stylesheets" / "extra.css").is_file()
+    # the sidebar: layers and parts as sections, each page titled below its section's package
+    nav = _page(site, "api/rodstab.io.design").replace("&#39;", "'")
+    assert re.search(r'href="\.\./rodstab\.nonlinear\.continuation\.branches/"[^>]*>\s*'
+                     r'<span class="md-ellipsis">\s*continuation\.branches\s*</span>', nav)
+    for layer in layers:
+        assert f"{layer}\n" in re.sub(r"<[^>]+>", "", nav).replace("\n ", "\n").replace(
+            "  ", ""), layer
+    assert (site / "stylesheets" / "extra.css").is_file()  # long titles wrap, not cut
 
 
 def test_design_file_page_renders_the_format_from_the_docstring(site):
-    """The format is rodstab.io.design's docstring (written once): its literal blocks as TOML
-    code, its Sphinx roles as cross-references."""
+    """The guide shows rodstab.io.design's docstring (its examples): literal blocks as TOML
+    code, Sphinx roles as cross-references; it links to the generated format reference."""
     html = _page(site, "guide/design-files")
     section = html.split('id="the-format"')[1].split('id="how-a-design-is-solved"')[0]
     text = re.sub(r"<[^>]+>", "", section)
-    assert "load_factor_segment" in text and "natural_radius" in text
+    assert "natural_radius" in text and "examples/steel_birod_fig7a.toml" in text
     assert '<div class="highlight">' in section and '<span class="k">[section]</span>' in section
     assert "::" not in text and ":class:" not in text and "``" not in text
     assert 'href="../../api/rodstab.model/#rodstab.model.Assembly"' in section
+    assert 'href="../../design-format/"' in section
+
+
+def test_design_format_page_lists_every_key_of_the_schema(site):
+    """The generated reference: a section per table of rodstab.io.schema, every key in it
+    (tests/test_design_schema.py: the schema's keys are the reader's)."""
+    from rodstab.io.schema import TABLES
+
+    html = _page(site, "design-format")
+    parts = re.split(r"<h2 [^>]*>", html)[1:]
+    assert len(parts) == len(TABLES)
+    for table, part in zip(TABLES, parts, strict=True):
+        heading = re.sub(r"<[^>]+>|&para;", "", part.split("</h2>")[0]).strip()
+        assert heading == (table.header if table.name else "The file's top level"), heading
+        cells = set(re.findall(r"<tr>\s*<td><code>([^<]+)</code></td>", part))
+        assert cells == set(table.names), table.name
+    assert 'href="../api/rodstab.units/' in html  # the autorefs link resolved
+    assert "Design-file format" in _page(site, "cli")  # in the nav (Reference)
 
 
 def test_built_pages_load_no_script_from_the_network(site):

@@ -1,106 +1,76 @@
 """Design files (TOML) -> :class:`rodstab.model.Assembly`, with strict validation.
 
-Format (every key optional unless marked; unknown keys are errors)::
-
-    [section]                 # default section of every segment (as the CLI options)
-    shape = "rectangle"       # circle | ellipse | rectangle | tube | polygon  (or b1, b2)
-    aspect = 2.0
-    nu = 0.3333
-    torsion = "exact"
-    B3 = 1.0                  # in-plane bending stiffness (sets the units of B1, B2)
-    # shape = "polygon" (implied by polygon = ...): any section, y out of the ring's plane
-    # polygon = [[0, 0], [1, 0], [1, 2], [0, 2]]    # outline, any length unit
-    # holes = [[[0.3, 0.3], [0.7, 0.3], [0.7, 0.6]]]  # optional
-    # dxf = "tee.dxf"         # or: outline and holes from a DXF file's closed outlines:
-    #                         # polylines (bulges too), circles, lines and arcs joined, blocks;
-    #                         # curves flattened to DXF_SAGITTA of the size (path relative to
-    #                         # the design file; load_polygon)
-    # mesh_size = 1e-3        # optional: largest triangle area / section area
-    # orientation_deg = 90    # optional: direction of the ring's normal (a principal axis)
-    # shape = "composite" (implied by parts = ...): several materials, bonded
-    # parts = [{polygon = [[0, 0], [1, 0], [1, 1], [0, 1]], E = 1.0, nu = 0.3},
-    #          {polygon = [[0, 1], [1, 1], [1, 2], [0, 2]], E = 3.0, nu = 0.45}]
-
-    [[segment]]               # required, one table per segment, in order
-    name = "a"                # required, unique
-    length = 1.0              # required, > 0
-    curvature = 0.0           # held state 1/R (signed, + turning left); 0 = straight
-    natural_curvature = 1.0   # at load factor 1 (signed, same convention)
-    natural_twist = 0.0       # at load factor 1 (nonlinear model only)
-    start = [0.0, 0.0]        # default: end of the previous segment (origin for the first)
-    angle_deg = 0.0           # start tangent; default: previous end tangent
-    cusp = false              # with default angle: reverse the previous end tangent
-    section = { shape = "circle" }   # per-segment override (same keys as [section])
-
-    [[weld]]
-    ends = ["a.end", "b.start"]
-
-    [[support]]
-    end = "a.start"
-    type = "clamped"          # clamped | sliding-clamp | fork | pinned | free
-    rotation = [0.0, 0.0, 0.0] # imposed end rotation (rad) about the end's normal, tangent,
-                              # binormal (clamps only; nonlinear model only)
-
-    [analysis]
-    elements = 32             # per segment; absent: the FE starts at 32 and refines its
-                              # mesh until the estimated error is 2.5e-7 (relative)
-    reference_load = 0.0      # a load factor at which the held state is stable
-    load_factor_segment = "a" # report lam = B3 kappa_n L / sqrt(B1 B2) of this segment
-
-Physical units (a *design with units*, :mod:`rodstab.units`): dimensional values may be
-given as quantity strings instead of plain numbers, converted to SI::
-
-    [material]                # required with section dimensions
-    E = "200 GPa"             # Young's modulus
-    nu = 0.3                  # Poisson's ratio in (-1, 0.5]; or G = "76.9 GPa" (not both)
+A design file holds a default ``[section]``, one ``[[segment]]`` table per rod, ``[[weld]]``
+and ``[[support]]`` tables, ``[analysis]`` settings and, in a design with physical units,
+``[material]``. Every table and key -- its type, unit, accepted range, default and meaning
+-- is declared once, in :mod:`.schema`: this reader takes each table's keys and each value's
+bounds from there, and the documentation's format reference is generated from it
+(:func:`.schema.reference_markdown`). The clamped arc of ``examples/clamped_arc.toml``::
 
     [section]
     shape = "rectangle"
-    height = "5 mm"           # h, along e3: out of the ring's plane (rectangle, ellipse axis)
-    thickness = "0.5 mm"      # t, along e1: in the ring's plane (h/t is the aspect)
-    # circle: diameter = "1 mm"; tube: outer_diameter, inner_diameter;
-    # polygon: coordinates as plain numbers in unit = "mm";
-    # composite: parts = [{polygon = ..., E = "200 GPa", nu = 0.3}, ...] (or G = "77 GPa"),
-    #   coordinates in unit = "mm" ([material] not needed: each part has its own)
-    # or, instead of [material] and dimensions: B3 = "0.06 N*m^2" with shape/aspect or b1, b2
+    aspect = 2.0
 
     [[segment]]
-    length = "235.6 mm"
-    natural_radius = "75 mm"  # or natural_curvature = "13.3 1/m" (signed as the curvature)
-    curvature = "0 1/m"       # also start = ["0 mm", "0 mm"], natural_twist = "2 1/m"
+    name = "arc"
+    length = 2.0
+    curvature = 1.0                # held state 1/R (signed, + turning left)
+    natural_curvature = 1.0        # at load factor 1
 
-A design has units when any of these keys holds a string, or it has ``[material]``, a
-section dimension or ``unit``; then every dimensional key (length, curvature,
-natural_curvature, natural_radius, natural_twist, start, B3, the section dimensions, E, G)
-must be a quantity: a plain number there is refused naming the key (plain numbers keep their
-non-dimensional meaning only in a design without units). Ratios, angles, load factors and
-counts (aspect, nu, b1, b2, angle_deg, rotation, reference_load, elements) are plain numbers
-in both. ``natural_radius`` (1/natural_curvature) is accepted in both kinds of design.
-A design with units is solved in the units of its load-factor segment (its length and B3 are
-1; :mod:`rodstab.units` states the conversion) and :attr:`Design.units` converts results back.
-A composite section (``parts``) with units takes each part's ``E`` (and ``G``, or ``nu``) as
-quantities and its coordinates in ``unit``: ``B3 = sum E_i I3_i`` about the modulus-weighted
-centroid, ``B1``, ``B2`` likewise (:func:`rodstab.sections.composite_section`); ``[material]``
-is not used by it.
+    [[support]]
+    end = "arc.start"
+    type = "clamped"
 
-Plain data only: parsed with :mod:`tomllib`; nothing is evaluated.
+    [[support]]
+    end = "arc.end"
+    type = "clamped"
+
+and, with physical units, the steel bi-rod of ``examples/steel_birod_fig7a.toml`` (two arcs
+held straight, welded at both ends)::
+
+    [material]
+    E = "200 GPa"
+    nu = 0.3
+
+    [section]
+    shape = "circle"
+    diameter = "1 mm"
+
+    [[segment]]
+    name = "upper"
+    length = "117.80972450961724 mm"
+    natural_radius = "75 mm"       # held straight: curvature 0 (the default)
+
+    [[segment]]
+    name = "lower"
+    length = "117.80972450961724 mm"
+    natural_radius = "-75 mm"
+    start = ["0 mm", "0 mm"]       # default: where the previous segment ends
+    angle_deg = 0.0
+
+    [[weld]]
+    ends = ["upper.start", "lower.start"]
+
+    [[weld]]
+    ends = ["upper.end", "lower.end"]
+
+    [[support]]
+    end = "upper.start"
+    type = "clamped"
+
+Plain data only: parsed with :mod:`tomllib`; nothing is evaluated. A design has units when a
+dimensional key holds a quantity string, or it has ``[material]``, a section dimension or
+``unit``; it is solved in the units of its load-factor segment (its length and B3 are 1;
+:mod:`rodstab.units` states the conversion) and :attr:`Design.units` converts results back.
 
 Validation happens once, here, at the boundary: every value is read by one of a small set of
-typed readers (``_number``, ``_int``, ``_bool``, ``_str``, ``_table``, ``_list``; :mod:`.fields`;
-section tables by :mod:`.section_table`, polygon files by :mod:`.outline`) with its full
-key path (``segment[2].natural_curvature``, ``segment[0].section.aspect``,
-``support[1].rotation[1]``, ``weld[0].ends[1]``, ``analysis.elements``). A boolean is not a
-number, a float is not an integer, an array is not a table. Ranges: lengths in
-:data:`LENGTH_RANGE`, ``B3`` in :data:`STIFFNESS_RANGE`, ``|curvature|``, ``|natural_curvature|``
-and ``|natural_twist|`` times the length at most :data:`MAX_TURNING`, ``angle_deg`` in
-:data:`ANGLE_RANGE_DEG`, rotations within :data:`MAX_END_ROTATION`, ``nu`` in (-1, 0.5],
-``aspect``, ``b1``, ``b2`` as :mod:`rodstab.sections` accepts them; a polygon's points are
-numbers (``section.polygon[3][1]``) and its geometry is checked by
-:func:`rodstab.sections.polygon_section` (the message names the table, e.g. ``section: holes[0]
-... is not inside the polygon``). Messages start with the file's name. A modulus (``E``, ``G``)
-with a unit outside :data:`MODULUS_WARN_RANGE` is accepted with a warning
-(:attr:`Design.warnings`, a :class:`~rodstab.errors.RodstabWarning`). An end in two welds is
-refused (:func:`rodstab.model.validate`).
+typed readers (:mod:`.fields`; section tables by :mod:`.section_table`, polygon files by
+:mod:`.outline`) with its full key path (``segment[2].natural_curvature``,
+``segment[0].section.aspect``, ``support[1].rotation[1]``, ``weld[0].ends[1]``,
+``analysis.elements``). Messages start with the file's name. A modulus with a unit outside
+:data:`.schema.MODULUS_WARN_RANGE` is accepted with a warning (:attr:`Design.warnings`, a
+:class:`~rodstab.errors.RodstabWarning`). An end in two welds is refused
+(:func:`rodstab.model.validate`).
 """
 
 from __future__ import annotations
@@ -121,11 +91,10 @@ from ..limits import (  # noqa: F401 -- defined there (light imports for the CLI
     STIFFNESS_RANGE,
     SWEEP_DEFAULT_N,
 )
-from ..model import MAX_END_ROTATION, SUPPORTS, Assembly, Segment
+from ..model import Assembly, Segment
 from ..units import Units, looks_like_quantity
 from .fields import (
     _REQUIRED,
-    ANGLE_RANGE_DEG,
     _as_number,
     _as_str,
     _as_table,
@@ -142,27 +111,14 @@ from .fields import (
     _table,
     _tables,
 )
+from .schema import ANALYSIS, DESIGN, MAX_TURNING, SEGMENT, SUPPORT, WELD
 from .section_table import _DIMENSION_KEYS, _SECTION, _section_table, _stiffness
 
-_TOP = {"section", "segment", "weld", "support", "analysis", "material"}
+# The keys each table accepts (.schema: the one declaration of the format).
+_TOP, _SEGMENT, _WELD = DESIGN.names, SEGMENT.names, WELD.names
+_SUPPORT, _ANALYSIS = SUPPORT.names, ANALYSIS.names
 #: Keys of a segment that are lengths or curvatures: quantities in a design with units.
-_SEGMENT_KINDS = {"length": "length", "curvature": "curvature",
-                  "natural_curvature": "curvature", "natural_radius": "length",
-                  "natural_twist": "curvature"}
-_SEGMENT = {"name", "length", "curvature", "natural_curvature", "natural_radius",
-            "natural_twist", "start", "angle_deg", "cusp", "section"}
-_WELD = {"ends"}
-_SUPPORT = {"end", "type", "rotation"}
-#: Support type of a ``[[support]]`` table that gives none (a key of ``SUPPORT_KINDS``).
-DEFAULT_SUPPORT = "clamped"
-_ANALYSIS = {"elements", "reference_load", "load_factor_segment"}
-#: Largest |curvature x length|, |natural_curvature x length| and |natural_twist x length| of
-#: a segment (radians): a thousand turns. Beyond it no mesh of a design resolves the segment.
-MAX_TURNING = 2000 * math.pi
-#: Largest |start| coordinate, in units of the largest accepted length.
-MAX_COORDINATE = 1e12
-#: Largest |reference_load| (a load factor; the design's natural curvatures are at 1).
-MAX_REFERENCE_LOAD = 1e6
+_SEGMENT_KINDS = {k.name: k.kind for k in SEGMENT.keys if k.kind and k.type == "number"}
 _TURNING_WHY = "at most a thousand turns (2000 pi rad) of the segment"
 
 
@@ -271,8 +227,8 @@ def _segment(raw: dict[str, Any], where: str, default: dict[str, tuple[Any, str]
         raise RodstabInputError(f"{where}.name {_show(name)} is a duplicate segment name "
                                 f"(segment[{known[name]}] has it): names are unique")
     length = reader.value(_get(raw, "length", where, _REQUIRED)[0], f"{where}.length",
-                          "length", lo=LENGTH_RANGE[0], hi=LENGTH_RANGE[1],
-                          why="a rod length in the file's units", remember_unit=True)
+                          SEGMENT["length"].kind, **SEGMENT["length"].bounds,
+                          remember_unit=True)
     spec = default
     if "section" in raw:
         own = _section_table(_table(raw, "section", where, _SECTION), f"{where}.section",
@@ -289,15 +245,16 @@ def _segment(raw: dict[str, Any], where: str, default: dict[str, tuple[Any, str]
         if source not in raw:
             v = 0.0
         elif source == "natural_radius":
-            r = reader.value(raw[source], f"{where}.{source}", "length",
-                             why="the signed radius of the natural arc, 1/natural_curvature")
+            r = reader.value(raw[source], f"{where}.{source}", SEGMENT[source].kind,
+                             **SEGMENT[source].bounds)
             v = 1.0 / r if r != 0.0 else math.inf
             if not math.isfinite(v):
                 raise RodstabInputError(f"{where}.natural_radius = {_show(raw[source])} gives "
                                         "no finite curvature; a naturally straight rod has "
                                         "natural_curvature = 0")
         else:
-            v = reader.value(raw[key], f"{where}.{key}", _SEGMENT_KINDS[key])
+            v = reader.value(raw[key], f"{where}.{key}", SEGMENT[key].kind,
+                             **SEGMENT[key].bounds)
         if abs(v) * length > MAX_TURNING:
             raise RodstabInputError(
                 f"{where}.{source} = {_show(raw[source])} turns the segment of length "
@@ -307,19 +264,16 @@ def _segment(raw: dict[str, Any], where: str, default: dict[str, tuple[Any, str]
         values[key] = v
     if "start" in raw:
         xy = _list(raw, "start", where, "an array of two numbers [x, y]", length=2)
-        bound = MAX_COORDINATE * LENGTH_RANGE[1]
-        start = tuple(reader.value(v, f"{where}.start[{i}]", "length", lo=-bound, hi=bound,
-                                   why="a coordinate in the file's length unit")
-                      for i, v in enumerate(xy))
+        start = tuple(reader.value(v, f"{where}.start[{i}]", SEGMENT["start"].kind,
+                                   **SEGMENT["start"].bounds) for i, v in enumerate(xy))
     else:
         start = tuple(float(v) for v in prev.end_point("end")) if prev else (0.0, 0.0)
-    cusp = _bool(raw, "cusp", where, False)
+    cusp = _bool(raw, "cusp", where, SEGMENT["cusp"].default)
     if "angle_deg" in raw:
         if cusp:
             raise RodstabInputError(f"{where}: give either angle_deg or cusp, not both")
         angle = math.radians(_as_number(raw["angle_deg"], f"{where}.angle_deg",
-                                        lo=ANGLE_RANGE_DEG[0], hi=ANGLE_RANGE_DEG[1],
-                                        why="the start tangent's direction in degrees"))
+                                        **SEGMENT["angle_deg"].bounds))
     elif prev is not None:
         t = prev.tangent(prev.length)
         angle = math.atan2(t[1], t[0]) + (math.pi if cusp else 0.0)
@@ -366,19 +320,19 @@ def _parse(data: Any, base: Path, reader: _Reader | None = None
     for i, s in enumerate(_tables(top, "support", _SUPPORT)):
         where = f"support[{i}]"
         name, end = _end(_get(s, "end", where, _REQUIRED)[0], f"{where}.end", known)
-        kind = _str(s, "type", where, DEFAULT_SUPPORT, SUPPORTS)
+        kind = _str(s, "type", where, SUPPORT["type"].default, SUPPORT["type"].choices)
         supports.append((name, end, kind))
         if "rotation" in s:
             rot = _list(s, "rotation", where, "three numbers [normal, tangent, binormal] in "
                         "radians", length=3)
-            r = tuple(_as_number(v, f"{where}.rotation[{j}]", lo=-MAX_END_ROTATION,
-                                 hi=MAX_END_ROTATION, why="radians, at most a hundred turns")
+            r = tuple(_as_number(v, f"{where}.rotation[{j}]", **SUPPORT["rotation"].bounds)
                       for j, v in enumerate(rot))
             rotations.append((name, end, (r[0], r[1], r[2])))
     analysis = _table(top, "analysis", "", _ANALYSIS)
-    elements = _int(analysis, "elements", "analysis", 32, lo=1, why="elements per segment")
-    ref = _number(analysis, "reference_load", "analysis", None, lo=-MAX_REFERENCE_LOAD,
-                  hi=MAX_REFERENCE_LOAD, why="a load factor at which the held state is stable")
+    el = ANALYSIS["elements"]
+    elements = _int(analysis, "elements", "analysis", el.default, lo=int(el.lo), why=el.why)
+    ref = _number(analysis, "reference_load", "analysis", None,
+                  **ANALYSIS["reference_load"].bounds)
     lf = _str(analysis, "load_factor_segment", "analysis", segments[0].name)
     if lf not in known:
         raise RodstabInputError(f"analysis.load_factor_segment = {_show(lf)}: "

@@ -14,29 +14,22 @@ from __future__ import annotations
 import dataclasses
 import math
 from collections.abc import Mapping
+from collections.abc import Set as AbstractSet
 from pathlib import Path
 from typing import Any
 
 from ..errors import RodstabInputError
-from ..limits import STIFFNESS_RANGE
 from ..sections import MAX_POLYGON_VERTICES
 from ..units import EXAMPLES, SI_UNITS, parse_quantity
+from .schema import MATERIAL, MODULUS_WARN_RANGE, NU_RANGE, PART
 
-#: Keys of ``[material]`` (a design with units).
-_MATERIAL = {"E", "nu", "G"}
-#: Keys of one part of a composite section (``parts = [{...}, ...]``).
-_PART = {"polygon", "holes", "E", "nu", "G"}
+#: Keys of ``[material]`` (a design with units): :data:`.schema.MATERIAL`.
+_MATERIAL = MATERIAL.names
+#: Keys of one part of a composite section (``parts = [{...}, ...]``): :data:`.schema.PART`.
+_PART = PART.names
 
 #: Largest design file read (bytes): a design is a few kB; beyond this it is not a design.
 MAX_FILE_BYTES = 16 * 2**20
-#: Accepted ``angle_deg``: a direction in degrees.
-ANGLE_RANGE_DEG = (-360.0, 360.0)
-_NU_RANGE = (-1.0, 0.5)
-#: Young's and shear moduli of engineering materials (Pa): soft elastomers and gels from
-#: ~10 kPa to diamond's ~1.2 TPa. A modulus with a unit outside this range is accepted with a
-#: warning (:attr:`Design.warnings`): most likely a wrong prefix ("200 Pa" for 200 GPa puts
-#: every energy off by 1e9).
-MODULUS_WARN_RANGE = (1e4, 2e12)
 
 _REQUIRED = object()
 
@@ -183,7 +176,7 @@ def _str(table: Mapping, key: str, where: str, default: Any = _REQUIRED,
     return value if value is default else _as_str(value, path, choices)
 
 
-def _as_table(value: Any, path: str, allowed: set[str]) -> dict[str, Any]:
+def _as_table(value: Any, path: str, allowed: AbstractSet[str]) -> dict[str, Any]:
     """``value`` as a table whose keys are all in ``allowed``."""
     if not isinstance(value, Mapping):
         raise RodstabInputError(f"{path or 'the design file'} must be a table, {_got(value)}")
@@ -194,7 +187,7 @@ def _as_table(value: Any, path: str, allowed: set[str]) -> dict[str, Any]:
     return dict(value)
 
 
-def _table(table: Mapping, key: str, where: str, allowed: set[str]) -> dict[str, Any]:
+def _table(table: Mapping, key: str, where: str, allowed: AbstractSet[str]) -> dict[str, Any]:
     """Read ``table[key]`` with :func:`_as_table`; absent: an empty table."""
     value, path = _get(table, key, where, {})
     return _as_table(value, path, allowed)
@@ -215,7 +208,7 @@ def _list(table: Mapping, key: str, where: str, what: str, **size: Any) -> list[
     return _as_list(value, path, what, **size)
 
 
-def _tables(data: Mapping, key: str, allowed: set[str]) -> list[dict[str, Any]]:
+def _tables(data: Mapping, key: str, allowed: AbstractSet[str]) -> list[dict[str, Any]]:
     """Read the array of tables ``[[key]]``, each table checked against ``allowed``."""
     items = _list(data, key, "", f"an array of tables [[{key}]]")
     return [_as_table(t, f"{key}[{i}]", allowed) for i, t in enumerate(items)]
@@ -247,12 +240,14 @@ class _Reader:
     base: Path = Path(".")  # the design file's folder: section.dxf paths are relative to it
     warnings: list[str] = dataclasses.field(default_factory=list)  # see Design.warnings
 
-    def value(self, value: Any, path: str, kind: str, *, lo: float = -math.inf,
-              hi: float = math.inf, lo_open: bool = False, why: str = "",
-              remember_unit: bool = False) -> float:
+    def value(self, value: Any, path: str, kind: str | None, *, lo: float = -math.inf,
+              hi: float = math.inf, lo_open: bool = False, hi_open: bool = False,
+              why: str = "", remember_unit: bool = False) -> float:
         """Read a dimensional value: a quantity (SI) with units, a plain number without."""
         if self.marker is None:
-            return _as_number(value, path, lo=lo, hi=hi, lo_open=lo_open, why=why)
+            return _as_number(value, path, lo=lo, hi=hi, lo_open=lo_open, hi_open=hi_open,
+                              why=why)
+        assert kind is not None, path  # a dimensional key (.schema: Key.kind)
         if isinstance(value, (int, float)) and not isinstance(value, bool):
             raise RodstabInputError(
                 f"{path} = {_show(value)} is a plain number, but this design has units "
@@ -262,8 +257,8 @@ class _Reader:
             raise RodstabInputError(f"{path} must be a quantity with a unit (e.g. "
                                     f"{EXAMPLES[kind]!r}), {_got(value)}")
         q = parse_quantity(value, path, kind)
-        if q.si < lo or q.si > hi or (lo_open and q.si == lo):
-            span = _interval(lo, hi, lo_open, False)
+        if q.si < lo or q.si > hi or (lo_open and q.si == lo) or (hi_open and q.si == hi):
+            span = _interval(lo, hi, lo_open, hi_open)
             raise RodstabInputError(f"{path} = {_show(value)} must lie in {span} "
                                     f"{SI_UNITS[kind]}{f' ({why})' if why else ''}, got "
                                     f"{q.si:g} {SI_UNITS[kind]}")
@@ -286,21 +281,20 @@ def _elastic(table: Mapping, where: str, reader: _Reader, owner: str) -> _Materi
     E and G are moduli: quantities (to Pa) in a design with units, plain numbers (any one
     unit) without. ``owner`` names the table in messages ("[material]", "section.parts[0]").
     """
-    E = reader.value(_get(table, "E", where, _REQUIRED)[0], _path(where, "E"), "modulus",
-                     lo=STIFFNESS_RANGE[0], hi=STIFFNESS_RANGE[1], why="Young's modulus")
+    E = reader.value(_get(table, "E", where, _REQUIRED)[0], _path(where, "E"),
+                     MATERIAL["E"].kind, **MATERIAL["E"].bounds)
     _check_modulus(E, _get(table, "E", where, _REQUIRED)[0], _path(where, "E"), reader)
     if ("nu" in table) == ("G" in table):
         raise RodstabInputError(f"{owner} needs exactly one of nu (Poisson's ratio) and G "
                                 f"(the shear modulus) beside E, got {sorted(table)}")
     if "nu" in table:
-        nu = _as_number(table["nu"], _path(where, "nu"), lo=_NU_RANGE[0], hi=_NU_RANGE[1],
-                        lo_open=True, why="Poisson's ratio")
+        nu = _as_number(table["nu"], _path(where, "nu"), **MATERIAL["nu"].bounds)
         return _Material(E=E, nu=nu, G=E / (2.0 * (1.0 + nu)))
-    G = reader.value(table["G"], _path(where, "G"), "modulus", lo=STIFFNESS_RANGE[0],
-                     hi=STIFFNESS_RANGE[1], why="the shear modulus")
+    G = reader.value(table["G"], _path(where, "G"), MATERIAL["G"].kind,
+                     **MATERIAL["G"].bounds)
     _check_modulus(G, table["G"], _path(where, "G"), reader)
     nu = E / (2.0 * G) - 1.0  # isotropy: G = E / (2 (1 + nu))
-    if not (_NU_RANGE[0] < nu <= _NU_RANGE[1]):
+    if not (NU_RANGE[0] < nu <= NU_RANGE[1]):
         raise RodstabInputError(f"{_path(where, 'G')} = {_show(table['G'])} with "
                                 f"{_path(where, 'E')} = {_show(table['E'])} gives nu = "
                                 f"E/(2G) - 1 = {nu:.6g}, outside (-1, 0.5] (Poisson's ratio "
@@ -309,7 +303,7 @@ def _elastic(table: Mapping, where: str, reader: _Reader, owner: str) -> _Materi
 
 
 def _check_modulus(si: float, raw: Any, path: str, reader: _Reader) -> None:
-    """Note (not refuse) a modulus with a unit outside :data:`MODULUS_WARN_RANGE`.
+    """Note (not refuse) a modulus with a unit outside :data:`.schema.MODULUS_WARN_RANGE`.
 
     Plain numbers are in the file's own unit system and are not judged.
     """

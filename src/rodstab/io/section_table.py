@@ -13,16 +13,12 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import RodstabInputError
-from ..limits import LENGTH_RANGE, STIFFNESS_RANGE
+from ..limits import STIFFNESS_RANGE
 from ..sections import (
     ASPECT_RANGE,
     COMPOSITE,
-    MESH_SIZE_RANGE,
     POLYGON,
-    RATIO_RANGE,
     SECTION_DIMENSIONS,
-    SHAPES,
-    TORSION_OPTIONS,
     Section,
     circle,
     composite_section,
@@ -34,8 +30,6 @@ from ..sections import (
 )
 from ..units import EXAMPLES, parse_unit
 from .fields import (
-    _NU_RANGE,
-    ANGLE_RANGE_DEG,
     _as_list,
     _as_number,
     _as_str,
@@ -46,12 +40,16 @@ from .fields import (
     _show,
 )
 from .outline import load_polygon
+from .schema import SECTION
 
-_DIMENSION_KEYS = ("diameter", "outer_diameter", "inner_diameter", "height", "thickness")
+#: The section dimensions of a design with units (lengths; :data:`.schema.SECTION`).
+_DIMENSION_KEYS = tuple(k.name for k in SECTION.keys if k.kind == "length")
 #: Keys of a polygon section (shape "polygon", rodstab.sections.polygon_section).
 _POLYGON_KEYS = ("polygon", "holes", "parts", "mesh_size", "orientation_deg")
-_SECTION = {"shape", "aspect", "nu", "torsion", "b1", "b2", "B3", *_POLYGON_KEYS,
-            *_DIMENSION_KEYS, "unit", "dxf"}
+#: Keys of a section table (``[section]``, ``segment.section``): :data:`.schema.SECTION`.
+_SECTION = SECTION.names
+#: Defaults of a section's keys (:data:`.schema.SECTION`).
+_DEFAULT = {k.name: k.default for k in SECTION.keys}
 
 
 # ------------------------------------------------------------------------ section tables
@@ -82,14 +80,11 @@ def _section_table(table: dict[str, Any], where: str,
     """
     out: dict[str, tuple[Any, str]] = {}
     for key, value in table.items():
-        path = _path(where, key)
+        path, spec = _path(where, key), SECTION[key]
         if key == "shape":
-            value = _as_str(value, path, (*SHAPES, POLYGON, COMPOSITE))
+            value = _as_str(value, path, spec.choices)
         elif key in _DIMENSION_KEYS:
-            inner = key == "inner_diameter"  # 0: a solid tube
-            value = _Dim(reader.value(value, path, "length", lo=0.0 if inner else
-                                      LENGTH_RANGE[0], hi=LENGTH_RANGE[1],
-                                      why="a dimension of the cross-section"), str(value))
+            value = _Dim(reader.value(value, path, spec.kind, **spec.bounds), str(value))
         elif key == "unit":
             value = parse_unit(value, path, "length")
         elif key == "parts":
@@ -103,27 +98,13 @@ def _section_table(table: dict[str, Any], where: str,
         elif key == "holes":
             value = [_points(h, _path(path, k)) for k, h in enumerate(_as_list(
                 value, path, "an array of polygons [[[x, y], ...], ...]"))]
-        elif key == "mesh_size":
-            value = _as_number(value, path, lo=MESH_SIZE_RANGE[0], hi=MESH_SIZE_RANGE[1],
-                               why="the largest triangle's area over the section's area")
-        elif key == "orientation_deg":
-            value = _as_number(value, path, lo=ANGLE_RANGE_DEG[0], hi=ANGLE_RANGE_DEG[1],
-                               why="the direction of the ring's normal in the polygon, degrees")
         elif key == "torsion":
-            value = _as_str(value, path, TORSION_OPTIONS)
-        elif key == "nu":
-            value = _as_number(value, path, lo=_NU_RANGE[0], hi=_NU_RANGE[1], lo_open=True,
-                               why="Poisson's ratio")
-        elif key in ("b1", "b2"):
-            value = _as_number(value, path, lo=RATIO_RANGE[0], hi=RATIO_RANGE[1],
-                               why=f"the stiffness ratio {key[0].upper()}{key[1]}/B3")
+            value = _as_str(value, path, spec.choices)
         elif key == "B3":
-            B3 = reader.value(value, path, "stiffness", lo=STIFFNESS_RANGE[0],
-                              hi=STIFFNESS_RANGE[1],
-                              why="the in-plane bending stiffness, force x length^2")
+            B3 = reader.value(value, path, spec.kind, **spec.bounds)
             value = B3 if reader.marker is None else _Dim(B3, str(value))
-        else:  # aspect: its range depends on the shape (_stiffness)
-            value = _as_number(value, path)
+        else:  # nu, b1, b2, mesh_size, orientation_deg; aspect: its range by shape (_stiffness)
+            value = _as_number(value, path, **spec.bounds)
         out[key] = (value, path)
     if "dxf" in out:
         _dxf_outline(out, reader.base)
@@ -179,7 +160,7 @@ def _polygon_stiffness(spec: dict[str, tuple[Any, str]], where: str,
                                     orientation_deg=val("orientation_deg"))
         else:
             sec = polygon_section(val("polygon"), val("holes") or (),
-                                  nu=1 / 3 if val("nu") is None else val("nu"),
+                                  nu=_DEFAULT["nu"] if val("nu") is None else val("nu"),
                                   mesh_size=val("mesh_size"),
                                   orientation_deg=val("orientation_deg"))
     except RodstabInputError as exc:  # the geometry: name the table
@@ -208,7 +189,8 @@ def _stiffness(spec: dict[str, tuple[Any, str]], where: str,
         given, missing = ("b1", "b2") if b2 is None else ("b2", "b1")
         raise RodstabInputError(f"{path(given)} = {_show(val(given))} is given without "
                                 f"{missing}: give both b1 and b2, or neither")
-    implied = COMPOSITE if "parts" in spec else POLYGON if "polygon" in spec else "circle"
+    implied = COMPOSITE if "parts" in spec else POLYGON if "polygon" in spec else \
+        _DEFAULT["shape"]
     shape = None if b1 is not None else val("shape", implied)
     stray = [k for k in _POLYGON_KEYS if k in spec]
     if shape in (POLYGON, COMPOSITE):
@@ -232,10 +214,10 @@ def _stiffness(spec: dict[str, tuple[Any, str]], where: str,
         else:
             _as_number(aspect, path("aspect"), lo=ASPECT_RANGE[0], hi=ASPECT_RANGE[1],
                        why=f"the h/t of a rod's {shape} cross-section")
-    B3 = _si(val("B3", 1.0))
+    B3 = _si(val("B3", _DEFAULT["B3"]))
     try:
-        sec = make_section(shape, aspect=aspect, nu=val("nu", 1 / 3),
-                           torsion=val("torsion", "exact"), b1=b1, b2=b2)
+        sec = make_section(shape, aspect=aspect, nu=val("nu", _DEFAULT["nu"]),
+                           torsion=val("torsion", _DEFAULT["torsion"]), b1=b1, b2=b2)
     except RodstabInputError as exc:  # a combination not caught above: name the table
         raise RodstabInputError(f"{where}: {exc}") from None
     return sec.b1 * B3, sec.b2 * B3, B3
@@ -280,7 +262,7 @@ def _stiffness_with_units(spec: dict[str, tuple[Any, str]], where: str,
                    "with [material], the section's dimensions give the ratios")
             raise RodstabInputError(f"{path(key)} = {_show(val(key))} cannot be used in a "
                                     f"design with [material]: {why}")
-    shape = val("shape", POLYGON if "polygon" in spec else "circle")
+    shape = val("shape", POLYGON if "polygon" in spec else _DEFAULT["shape"])
     sec: Section
     if shape == POLYGON:
         if dims:
@@ -342,7 +324,7 @@ def _stiffness_with_units(spec: dict[str, tuple[Any, str]], where: str,
                         "cross-section)")
                 build = rectangle if shape == "rectangle" else ellipse
                 sec = build(aspect=aspect, thickness=size["thickness"], nu=mat.nu,
-                            torsion=val("torsion", "exact"))
+                            torsion=val("torsion", _DEFAULT["torsion"]))
         except RodstabInputError as exc:
             msg = str(exc)
             raise RodstabInputError(msg if msg.startswith(where) else f"{where}: {msg}") from None
