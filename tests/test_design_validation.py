@@ -111,6 +111,9 @@ CASES = [
     (_design(seg2="section = { b1 = 1e308, b2 = 1.0 }"), ["segment[2].section.b1", "1e+308"]),
     (_design(seg2="section = { b1 = 2.0 }"), ["segment[2].section.b1", "without b2"]),
     (_design(seg2="section = { B3 = 1e308 }"), ["segment[2].section.B3", "1e+308"]),
+    # a shape beside b1/b2 would be ignored: refused (found by the issue-20 schema work)
+    (_design(seg2="section = { shape = 'circle', b1 = 2.0, b2 = 1.0 }"),
+     ["segment[2].section.shape", "'circle'", "b1 and b2"]),
     (_design(seg2="section = { shape = 'circle', aspect = 3.0 }"),
      ["segment[2].section.aspect", "circle"]),
     (_design(seg2="section = { shape = 'tube', aspect = 1.0 }"),

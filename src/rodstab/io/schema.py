@@ -229,8 +229,8 @@ SECTION = Table("section", "[section]", "The default cross-section of every segm
             meaning="rectangle, ellipse: t, along e1 (in the ring's plane); h/t is the aspect"),
     Key("unit", "string", "the length unit of a polygon's or composite's coordinates "
         "(`\"mm\"`)", with_units_only=True, range="a length unit"),
-), rules=("`b1` and `b2` together or neither; they fix the section (a `shape` beside them "
-          "is overridden), so no `aspect`, `torsion = \"paper\"` or polygon keys with them",
+), rules=("`b1` and `b2` together or neither; they fix the section, so no `shape`, "
+          "`aspect`, `torsion = \"paper\"` or polygon keys with them",
           "polygon keys (`polygon`, `holes`, `parts`, `mesh_size`, `orientation_deg`) only "
           "for shape polygon or composite; a composite takes no `nu`, `aspect`, `torsion`, "
           "`polygon` or `holes`; `dxf` excludes `polygon`, `holes`, `parts` and `b1`",

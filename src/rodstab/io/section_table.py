@@ -200,7 +200,9 @@ def _stiffness(spec: dict[str, tuple[Any, str]], where: str,
         raise RodstabInputError(f"{path(stray[0])} = {_show(val(stray[0]))} has no meaning for "
                                 f"{owner} (polygon keys need shape = 'polygon')")
     if b1 is not None:
-        for key in ("aspect", "torsion"):
+        # A shape beside b1/b2 would be ignored (the ratios fix the section): say so rather
+        # than silently use the ratios for a section the user named otherwise.
+        for key in ("shape", "aspect", "torsion"):
             if key in spec and not (key == "torsion" and val(key) == "exact"):
                 raise RodstabInputError(f"{path(key)} = {_show(val(key))} cannot be used with "
                                         "b1 and b2, which fix the section")
