@@ -78,7 +78,7 @@ class LinearStability(Result):
 
 #: A stress-free load factor beyond this is not used as the reference (the pencil would be
 #: evaluated at a load where K0 is lost to round-off); 0 is used instead.
-MAX_REFERENCE_LOAD = 1e8
+MAX_STRESS_FREE_LOAD = 1e8
 
 
 def default_reference_load(a: Assembly) -> float:
@@ -92,7 +92,7 @@ def default_reference_load(a: Assembly) -> float:
                 return 0.0
             continue
         ratio = s.curvature / s.natural_curvature
-        if not math.isfinite(ratio) or abs(ratio) > MAX_REFERENCE_LOAD:
+        if not math.isfinite(ratio) or abs(ratio) > MAX_STRESS_FREE_LOAD:
             # A natural curvature so small that the stress-free load factor is out of reach
             # (subnormal: it overflows): no usable stress-free state.
             return 0.0
