@@ -1032,6 +1032,13 @@ CONVERGED_RTOL = 1e-3
 #: The finest mesh :func:`converged_critical_load_factor` goes to, in elements per segment on
 #: average (``this x S`` elements in all for ``S`` segments).
 CONVERGED_MAX_ELEMENTS = 1024
+#: Ratio of successive load differences of three doubled meshes that the O(l_e^2) error
+#: predicts (4), within which :func:`converged_critical_load_factor` trusts Richardson. Two
+#: meshes alone cannot tell the asymptotic range: a split arc (rectangle h/t = 9.547, four
+#: arcs of 18.8 in all; differential test seed 1, assemblies index 183) gave 2.06487,
+#: 2.06770, 2.06528, 2.06527 on 128 ... 1024 elements, and the first two extrapolated to
+#: 2.06864 +- 9.4e-4, 1.6e-3 off the closed form 2.0653186.
+ASYMPTOTIC_RATIO = (2.0, 8.0)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -1058,6 +1065,21 @@ class ConvergedCritical(Result):
     finest: NonlinearCritical
 
 
+def _asymptotic(loads: Sequence[float], tol: float) -> bool:
+    """Whether the last three loads of doubled meshes show the O(l_e^2) error's behaviour.
+
+    The successive differences must shrink by :data:`ASYMPTOTIC_RATIO` (4 predicted), or both
+    lie below a quarter of the tolerance ``tol`` (the sequence has settled within it, which a
+    difference at round-off level makes any ratio of).
+    """
+    if len(loads) < 3:
+        return False
+    d1, d2 = loads[-2] - loads[-3], loads[-1] - loads[-2]
+    if max(abs(d1), abs(d2)) <= tol / 4.0:
+        return True
+    return d2 != 0.0 and ASYMPTOTIC_RATIO[0] <= d1 / d2 <= ASYMPTOTIC_RATIO[1]
+
+
 def converged_critical_load_factor(a: Assembly, lo: float, hi: float, *,
                                    elements_per_segment: int = 32,
                                    rtol: float = CONVERGED_RTOL,
@@ -1069,7 +1091,8 @@ def converged_critical_load_factor(a: Assembly, lo: float, hi: float, *,
     element size: every count doubles, so the error ``~ C l_e^2`` of the discrete rod, second
     order, is extrapolated by :func:`rodstab.numerics.richardson` with ratio 2, order 2).
     Stops when the error estimate (:class:`ConvergedCritical`) is at most ``rtol max(|value|,
-    1)`` and returns the extrapolated value with it; stops unconverged (``converged`` False,
+    1)`` and the last three meshes are in the asymptotic range (:func:`_asymptotic`: their
+    differences shrink about fourfold) and returns the extrapolated value with it; stops unconverged (``converged`` False,
     the estimate reached in ``error``) when the next mesh would pass ``max_elements`` per
     segment on average or ``limits``, or when two meshes running find no loss of stability in
     the window. A fixed 32 elements per segment was 52 % off on a clamped arc of L/R = 16 with
@@ -1114,7 +1137,8 @@ def converged_critical_load_factor(a: Assembly, lo: float, hi: float, *,
             # Newton's tolerance moves each load by up to its spread; the extrapolation
             # (4 fine - coarse) / 3 carries 4/3 and 1/3 of them.
             err += (4.0 * results[-1].load_spread + results[-2].load_spread) / 3.0
-            if math.isfinite(err) and err <= rtol * max(abs(value), 1.0):
+            tol = rtol * max(abs(value), 1.0)
+            if math.isfinite(err) and err <= tol and _asymptotic(loads, tol):
                 return finish(True, f"error estimate {err:.2g}")
             if not any(math.isfinite(x) for x in loads[-2:]):
                 value, err = math.nan, math.nan
