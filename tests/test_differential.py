@@ -276,12 +276,12 @@ def test_nonlinear_certifies_no_pre_asymptotic_pair_on_a_long_split_arc() -> Non
     value is certified only when three meshes show the O(l_e^2) ratio of differences: here
     the discrete rod's fine meshes lose accuracy (2048 elements: 8e-4 off), so it must either
     not certify or agree within its own error plus the harness's 1e-3."""
+    import tomllib
+
     from rodstab.analytic.arc import clamped_arc_stability
     from rodstab.errors import NotConverged
     from rodstab.nonlinear.solve import converged_critical_load_factor
     from rodstab.sections import rectangle
-
-    import tomllib
 
     res = differential.run_trial("assemblies", 1, 183, frozenset({"analytic"}))
     a = differential.parse_design(tomllib.loads(res["snippet"])).assembly

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from typing import Any
 
 import numpy as np
@@ -1092,8 +1092,8 @@ def converged_critical_load_factor(a: Assembly, lo: float, hi: float, *,
     order, is extrapolated by :func:`rodstab.numerics.richardson` with ratio 2, order 2).
     Stops when the error estimate (:class:`ConvergedCritical`) is at most ``rtol max(|value|,
     1)`` and the last three meshes are in the asymptotic range (:func:`_asymptotic`: their
-    differences shrink about fourfold) and returns the extrapolated value with it; stops unconverged (``converged`` False,
-    the estimate reached in ``error``) when the next mesh would pass ``max_elements`` per
+    differences shrink about fourfold) and returns the extrapolated value with it; stops
+    unconverged (``converged`` False, the estimate reached in ``error``) when the next mesh would pass ``max_elements`` per
     segment on average or ``limits``, or when two meshes running find no loss of stability in
     the window. A fixed 32 elements per segment was 52 % off on a clamped arc of L/R = 16 with
     b1 = 100, b2 = 30 (too few elements per mode wavelength to be in the asymptotic range), and
