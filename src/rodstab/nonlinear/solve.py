@@ -1093,12 +1093,12 @@ def converged_critical_load_factor(a: Assembly, lo: float, hi: float, *,
     Stops when the error estimate (:class:`ConvergedCritical`) is at most ``rtol max(|value|,
     1)`` and the last three meshes are in the asymptotic range (:func:`_asymptotic`: their
     differences shrink about fourfold) and returns the extrapolated value with it; stops
-    unconverged (``converged`` False, the estimate reached in ``error``) when the next mesh would pass ``max_elements`` per
-    segment on average or ``limits``, or when two meshes running find no loss of stability in
-    the window. A fixed 32 elements per segment was 52 % off on a clamped arc of L/R = 16 with
-    b1 = 100, b2 = 30 (too few elements per mode wavelength to be in the asymptotic range), and
-    1.2e-2 on a split arc of L/R = 6.667 at load factor -18.9 (differential test, assemblies
-    index 7).
+    unconverged (``converged`` False, the estimate reached in ``error``) when the next mesh
+    would pass ``max_elements`` per segment on average or ``limits``, or when two meshes running
+    find no loss of stability in the window. A fixed 32 elements per segment was 52 % off on a
+    clamped arc of L/R = 16 with b1 = 100, b2 = 30 (too few elements per mode wavelength to be
+    in the asymptotic range), and 1.2e-2 on a split arc of L/R = 6.667 at load factor -18.9
+    (differential test, assemblies index 7).
     """
     from ..numerics import richardson
 
