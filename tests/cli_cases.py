@@ -74,8 +74,10 @@ LATER_CASES: list[list[str]] = (
      ["atlas", "examples/hexagram.toml", "--vary", "section.aspect=2:4:2", "--workers", "0",
       "--no-progress", "--out", "{tmp}/atlas"],
      ["transitions", "--elements", "6", *_RECT4, "--out", "{tmp}/transitions"],
-     ["barrier", "--elements", "6", "--images", "7", *_RECT4],
-     ["barrier", "--method", "continuation", "--elements", "6", *_RECT4],
+     # --load-factor 1: e0b77e8's default (now the middle of the states' common interval)
+     ["barrier", "--elements", "6", "--images", "7", *_RECT4, "--load-factor", "1"],
+     ["barrier", "--method", "continuation", "--elements", "6", *_RECT4, "--load-factor",
+      "1"],
      ["barrier", "examples/hexagram.toml", "--from", "star", "--to", "daisy", "--elements",
       "6"],
      ["discover", "--starts", "2", "--elements", "8"],

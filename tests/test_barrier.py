@@ -346,8 +346,9 @@ def test_cli_barrier_string_json_plot_and_animation(string_six: tuple, tmp_path,
 
     monkeypatch.setattr(mep, "string_barrier", same)
     png, gif = tmp_path / "e.png", tmp_path / "p.gif"
+    # --load-factor 1: the fixture's load (the default is now the common interval's middle)
     main(["barrier", "--shape", "rectangle", "--aspect", "4", "--images", "11", "--plot",
-          str(png), "--animation", str(gif), "--json"])
+          str(png), "--animation", str(gif), "--load-factor", "1", "--json"])
     out = json.loads(capsys.readouterr().out)
     b, path = string_six
     assert (out["method"], out["images"], out["converged"]) == ("string", 11, True)

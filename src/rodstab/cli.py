@@ -1788,9 +1788,9 @@ _BARRIER_STATES = {"six-ring": ("folded", "one-loop"), "hexagram": ("line", "sta
               help="The other state (default: one-loop, star; with DESIGN required).")
 @click.option("--load-factor", type=float, default=None,
               help="Without DESIGN kappa_n R0 (six-ring: R0 = L / theta, the one-loop radius; "
-                   "hexagram: R0 = 3L/2pi; default 1); with DESIGN the multiplier of its "
-                   "natural curvature (default: the middle of the two states' common stable "
-                   "interval). Both states must be stable there.")
+                   "hexagram: R0 = 3L/2pi); with DESIGN the multiplier of its natural "
+                   "curvature. Default: the middle of the two states' common stable interval "
+                   "(Bloch). Both states must be stable there.")
 @click.option("--elements", type=int, default=8, show_default=True,
               help="Elements per rod of the discrete rod (>= 4).")
 @click.option("--images", type=int, default=None,
@@ -1850,14 +1850,15 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
     else:
         from .problems.barrier_states import check_state, model_load_factor, state_assembly
 
-        k = 1.0 if k is None else k
         name = structure
         from_state = from_state or _BARRIER_STATES[structure][0]
         to_state = to_state or _BARRIER_STATES[structure][1]
         check_state(structure, from_state, "--from")
         check_state(structure, to_state, "--to")
+        if from_state == to_state:
+            raise RodstabInputError(f"--to {to_state!r} is the --from state: a barrier joins "
+                                    "two different states")
         a, b_asm = (state_assembly(structure, section, s) for s in (from_state, to_state))
-        mu = model_load_factor(structure, k)
     if from_state == to_state:
         raise RodstabInputError(f"--to {to_state!r} is the --from state: a barrier joins two "
                                 "different states")
@@ -1866,6 +1867,15 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
     require_nonlinear([elements] * len(a.segments), len(a.joints()),
                       f"--images {n_img}, --elements {elements}" if string else
                       f"--elements {elements}", limits, copies=n_img if string else 1)
+    if design_file is None:
+        from .problems.barrier_states import model_load_factor
+
+        if k is None:
+            from .problems.barrier_states import common_load as structure_common_load
+
+            hexagram_ring = _ring_and_section(None, "hexagram", 6, section)[0]
+            k, chosen = structure_common_load(structure, hexagram_ring, (from_state, to_state))
+        mu = model_load_factor(structure, k)
     path: list[Any] = []
     try:
         if method == "string":

@@ -48,6 +48,34 @@ def one_loop_assembly(params: folded_ring.Params) -> Assembly:
                     welds=folded.welds, reference_load=folded.reference_load)
 
 
+#: The hexagram state each state is (mirrored, at the same ``kappa_n R0``: module docstring),
+#: so that both structures take their stable intervals from the hexagram's ring.
+HEXAGRAM_STATE = {"six-ring": {"folded": "line", "one-loop": "star"},
+                  "hexagram": {s: s for s in hexagram.STATES}}
+
+
+def common_load(structure: str, ring: object, states: tuple[str, str]
+                ) -> tuple[float, tuple[float, float]]:
+    """Return the default ``kappa_n R0`` of a barrier between ``states``: both stable there.
+
+    The middle of their common stable interval (:func:`rodstab.multistable.atlas.common_load`
+    on ``ring``, the hexagram's ring of the section: the six-ring's folded and one-loop states
+    are its line and star mirrored, with the same intervals in ``kappa_n R0``). States never
+    stable together are an input error naming both intervals, in this structure's labels.
+    """
+    from ..multistable.atlas import common_load as ring_common_load
+
+    names = HEXAGRAM_STATE[structure]
+    try:
+        return ring_common_load(ring, tuple(names[s] for s in states))  # type: ignore[arg-type]
+    except RodstabInputError as exc:
+        text = str(exc)
+        for own, hexa in names.items():
+            text = text.replace(f"'{hexa}'", f"'{own}'").replace(f"{hexa} (", f"{own} (")
+        text = text.replace("of the load factor", "of kappa_n R0")
+        raise RodstabInputError(f"the {structure}'s {text}") from None
+
+
 def check_state(structure: str, state: str, option: str = "state") -> str:
     """Return ``state`` if ``structure`` has it, else raise naming both."""
     if structure not in STRUCTURE_STATES:

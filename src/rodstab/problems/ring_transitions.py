@@ -140,7 +140,9 @@ def transitions(ring: Ring, *, load_factor: float, elements: int = 8,
                 limits: Limits = DEFAULT_LIMITS) -> RingTransitions:
     """Transition graph of the states ``load`` of ``ring`` at ``load_factor`` (module docstring).
 
-    ``load``: labels of :meth:`~rodstab.multistable.states.Ring.states` (default: its basic states);
+    ``load``: labels of :meth:`~rodstab.multistable.states.Ring.states`, each of which must be
+    stable at ``load_factor`` (default: its basic states, those unstable there skipped and
+    listed in the graph's ``skipped``);
     ``stimuli``: per loaded state, ``(key, stop)`` pairs (default :func:`default_stimuli`; a
     state without any is refused, naming it). The basic states and the loaded ones are the
     references for the identification, whichever are loaded. A model past
@@ -151,6 +153,7 @@ def transitions(ring: Ring, *, load_factor: float, elements: int = 8,
                       limits)
     ring = ring.forward()
     basic = ring_basic_states(ring)
+    named = load is not None
     load = basic if load is None else load
     if not load:
         raise RodstabInputError("this ring has none of the states "
@@ -169,7 +172,7 @@ def transitions(ring: Ring, *, load_factor: float, elements: int = 8,
     assemblies = {s: ring.held(ring.state(s).theta) for s in refs}
     graph = transition_graph(assemblies, stim, load_factor=load_factor, thickness=thickness,
                              elements_per_segment=elements, all_stimuli=all_stimuli,
-                             load=load)
+                             load=load if named else None)
     shapes = {}
     for s, a in assemblies.items():
         r = discretise(a, elements, load_factor)
