@@ -1876,6 +1876,7 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
             hexagram_ring = _ring_and_section(None, "hexagram", 6, section)[0]
             k, chosen = structure_common_load(structure, hexagram_ring, (from_state, to_state))
         mu = model_load_factor(structure, k)
+    assert k is not None  # set above on every path (given, DESIGN's or the structure's default)
     path: list[Any] = []
     try:
         if method == "string":
