@@ -536,33 +536,92 @@ def plot_ring_states(shapes: list[list[np.ndarray]], titles: list[str],
     return _finish(fig, path, dpi=110, tight=False)
 
 
+#: Keys of a bands chart's data holding where all its states are stable together, as computed
+#: (the starts and ends of the ranges, :meth:`rodstab.multistable.atlas.RingAtlas.bands`).
+ALL_STABLE_KEYS = ("all_stable.start", "all_stable.end")
+
+
+def _all_stable_ranges(data: dict[str, list[float]], x: np.ndarray, overlap: np.ndarray,
+                       threshold: float | None) -> list[tuple[float, float]] | None:
+    """Ranges of the abscissa where all states are stable together, as computed.
+
+    From ``data``'s :data:`ALL_STABLE_KEYS`, else from ``threshold`` to the grid's end when the
+    bands overlap there, else None (the overlap is known on the grid only).
+    """
+    start, end = ALL_STABLE_KEYS
+    if start in data and end in data:
+        return [(float(a), float(b)) for a, b in zip(data[start], data[end], strict=True)]
+    if threshold is not None and overlap[np.argmax(x)]:
+        return [(float(threshold), float(np.max(x)))]
+    return None
+
+
+def _hatch_outline(x: np.ndarray, lows: np.ndarray, highs: np.ndarray, lo_lines: np.ndarray,
+                   hi_lines: np.ndarray, a: float, b: float
+                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Abscissae, lower and upper edges of the overlap from ``a`` to ``b`` exactly.
+
+    Inside the grid the edges are ``lows``/``highs``; at ``a`` and ``b`` (roots of the overlap
+    width, between grid values) they are those of the bands as drawn, the states' limit
+    lines ``lo_lines``/``hi_lines`` (n_states, n_x) joined straight between grid values; where
+    the straight lines already cross there, the edges meet at their midpoint.
+    """
+    order = np.argsort(x)
+    inside = order[(x[order] > a) & (x[order] < b)]
+    ends = []
+    for end in (a, b):
+        lo = float(np.nanmax([np.interp(end, x[order], row[order]) for row in lo_lines]))
+        hi = float(np.nanmin([np.interp(end, x[order], row[order]) for row in hi_lines]))
+        ends.append((lo, hi) if hi >= lo else (0.5 * (lo + hi),) * 2)
+    xs = np.concatenate([[a], x[inside], [b]])
+    return (xs, np.concatenate([[ends[0][0]], lows[inside], [ends[1][0]]]),
+            np.concatenate([[ends[0][1]], highs[inside], [ends[1][1]]]))
+
+
 def plot_stable_bands(data: dict[str, list[float]], states: tuple[str, ...],
                       path: str | Path | None = None, *, threshold: float | None = None,
                       title: str = "", x_key: str = "aspect", xlabel: str = "h / t",
-                      ylabel: str = "kappa_n R0") -> Any:
+                      ylabel: str = "kappa_n R0",
+                      all_stable: Sequence[tuple[float, float]] | None = None) -> Any:
     """Draw each state's stable band of the load between ``<state>.lower`` and ``.upper``.
 
     ``data[x_key]`` is the abscissa (default h/t); the bands are filled, translucent, one
-    colour per state; the band where all are stable together is hatched, and ``threshold`` (if
-    given) is a vertical dotted line. An infinite limit (none found) is left out of the band.
+    colour per state, their limits joined straight between grid values; the band where all
+    are stable together is hatched, and ``threshold`` (if given) is a vertical dotted line.
+    An infinite limit (none found) is left out of the band.
+
+    The hatch spans the computed ranges where all states are stable together (``all_stable``,
+    default ``data``'s :data:`ALL_STABLE_KEYS`; without them the range from ``threshold`` to
+    the grid's end): it begins at the root of the overlap width, not at the next grid value.
+    Without ranges or threshold it covers the grid values where the bands overlap.
     """
     x = np.asarray(data[x_key], dtype=float)
     fig = Figure(figsize=(6.4, 4.6))
     ax = fig.subplots()
     cmap = matplotlib.colormaps["tab20" if len(states) > 10 else "tab10"]
+    lo_lines, hi_lines = [], []
     for i, state in enumerate(states):
         lo = np.asarray(data[f"{state}.lower"], dtype=float)
         hi = np.asarray(data[f"{state}.upper"], dtype=float)
         lo, hi = np.where(np.isfinite(lo), lo, np.nan), np.where(np.isfinite(hi), hi, np.nan)
+        lo_lines.append(lo)
+        hi_lines.append(hi)
         ax.fill_between(x, lo, hi, color=cmap(i), alpha=0.25, label=state)
         ax.plot(x, lo, color=cmap(i), lw=1)
         ax.plot(x, hi, color=cmap(i), lw=1)
     lows = np.max([data[f"{s}.lower"] for s in states], axis=0)
     highs = np.min([data[f"{s}.upper"] for s in states], axis=0)
-    ax.fill_between(x, lows, highs,
-                    where=(highs > lows) & np.isfinite(lows) & np.isfinite(highs),
-                    facecolor="none", hatch="//",
-                    edgecolor="k", lw=0, label="all stable")
+    overlap = (highs > lows) & np.isfinite(lows) & np.isfinite(highs)
+    hatch: dict[str, Any] = dict(facecolor="none", hatch="//", edgecolor="k", lw=0)
+    label = f"all {len(states)} stable" if len(states) > 1 else "stable"
+    ranges = (list(all_stable) if all_stable is not None
+              else _all_stable_ranges(data, x, overlap, threshold))
+    if ranges is None:
+        ax.fill_between(x, lows, highs, where=overlap, label=label, **hatch)
+    for k, (a, b) in enumerate(ranges or ()):
+        xs, lo_edge, hi_edge = _hatch_outline(x, lows, highs, np.array(lo_lines),
+                                              np.array(hi_lines), a, b)
+        ax.fill_between(xs, lo_edge, hi_edge, label=label if k == 0 else None, **hatch)
     if threshold is not None:
         ax.axvline(threshold, color="k", ls=":", lw=1, label=f"h/t* = {threshold:.4g}")
     ax.set_xlabel(xlabel)
