@@ -7,12 +7,15 @@ entries, the window extents of tick labels, offset texts and titles after a draw
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 import pytest
 from matplotlib.collections import PolyCollection
 
 from rodstab.multistable import atlas as A
 from rodstab.plot.plots import plot_stable_bands
+from rodstab.report import figures
 
 GRID = [1.0, 2.0, 3.0, 4.0, 5.0, 6.0]
 #: A's interval (0, p) and B's (ROOT, 10): both stable together for p > ROOT, between grid values.
@@ -81,3 +84,93 @@ def test_without_a_computed_range_the_hatch_covers_the_overlapping_grid_values()
     xs = np.vstack([p.vertices for p in hatch.get_paths()])[:, 0]
     assert (xs.min(), xs.max()) == (4.0, 6.0)
 
+
+
+def _agg(fig):
+    """Draw ``fig`` on an Agg canvas and return its renderer (window extents in pixels)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    FigureCanvasAgg(fig).draw()
+    return fig.canvas.get_renderer()
+
+
+def _drawn_tick_labels(axis):
+    """The tick labels drawn on ``axis``: a text, and a location inside the view."""
+    lo, hi = sorted(axis.get_view_interval())
+    return [t.label1 for t in (*axis.get_major_ticks(), *axis.get_minor_ticks())
+            if t.label1.get_visible() and t.label1.get_text() and lo <= t.get_loc() <= hi]
+
+
+def _collisions(fig) -> list[tuple[str, str]]:
+    """Pairs of tick labels of one axis whose window extents overlap (after a draw)."""
+    renderer = _agg(fig)
+    out = []
+    for ax in fig.axes:
+        for axis in (ax.xaxis, ax.yaxis):
+            boxes = [(t.get_text(), t.get_window_extent(renderer))
+                     for t in _drawn_tick_labels(axis)]
+            out += [(a, b) for (a, ba), (b, bb) in itertools.combinations(boxes, 2)
+                    if ba.overlaps(bb)]
+    return out
+
+
+@pytest.fixture
+def drawn(monkeypatch, tmp_path):
+    """Call a report figure function; return the figure it wrote (and wrote it to tmp)."""
+    figs = []
+    save = figures._save
+
+    def keep(fig, out, stem):
+        figs.append(fig)
+        return save(fig, out, stem)
+
+    monkeypatch.setattr(figures, "_save", keep)
+
+    def draw(fn, data):
+        fn(data, tmp_path)
+        return figs[-1]
+    return draw
+
+
+def _rings_data() -> dict:
+    """As sec3_1.rings_data: 50 aspects log-spaced over [0.5, 8], bands of N = 1, 3, 5."""
+    h = np.geomspace(0.5, 8.0, 50)
+    return {"h_over_t": h.tolist(), "loops": [1, 3, 5], "overlap_threshold_exact": 1.2144,
+            "intervals": {str(n): [[n - 1 - 0.3 * a, n + 0.2 * a] for a in h]
+                          for n in (1, 3, 5)}}
+
+
+def _beyond_data() -> dict:
+    """As the beyond_* checks store it, with the report's ranges (imperfections 2.5e-4 to
+    4e-3 L: a log axis spanning about a decade, where matplotlib labels the minor ticks)."""
+    eps = [0.00025, 0.0005, 0.001, 0.002, 0.004]
+    xi = np.linspace(-0.02, 0.02, 21)
+    k = np.linspace(0.07, 2.2, 20)
+    return {
+        "branches": {name: {"amplitude": xi.tolist(), "mu_over_mu_c": (1 + b * xi**2).tolist()}
+                     for name, b in (("rod", 1.0), ("bi-rod", 0.1), ("ring", 0.35))},
+        "imperfection": {"mu_c": 5.56, "epsilon": [0.001, 0.004],
+                         "paths": [[[5.56 * f, 0.3 * f * f] for f in np.linspace(0.2, 1.1, 9)]
+                                   for _ in range(2)]},
+        "imperfection_folded": {"mu_c": 4.71, "epsilon": eps,
+                                "limit": [4.71 * (1 - 0.6 * e ** (2 / 3)) for e in eps]},
+        "twisted": {"phi_c": 11.46, "epsilon": eps, "exponent": 0.6657,
+                    "limit": [11.46 * (1 - 0.09 * e ** (2 / 3)) for e in eps]},
+        "ring_path": {"mu": k.tolist(), "energy": (3 - (k - 2) ** 2).tolist()},
+        "six_path": {"theta": 2 * np.pi / 3, "kappa_R0": k.tolist(),
+                     "energy": (10 + 3 * k**2).tolist(), "bistable": [0.07, 2.25],
+                     "barrier_at_1": 1.1},
+    }
+
+
+@pytest.mark.parametrize("name", ["fig_rings", "fig_beyond"])
+def test_report_figures_tick_labels_do_not_collide(drawn, name):
+    """N-loop rings (log h/t over [0.5, 8]) and the imperfection panel (log eps over a
+    decade): no two drawn tick labels of one axis overlap; no offset text is left above any
+    panel (the post-buckled panel's '+1': its ticks are written in full)."""
+    fig = drawn(getattr(figures, name), _rings_data() if name == "fig_rings" else
+                _beyond_data())
+    assert _collisions(fig) == []
+    for ax in fig.axes:
+        for axis in (ax.xaxis, ax.yaxis):
+            assert not axis.get_offset_text().get_text(), (ax.get_title(), axis)

@@ -23,7 +23,13 @@ from matplotlib.cm import ScalarMappable
 from matplotlib.colors import Colormap, Normalize, to_hex
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
-from matplotlib.ticker import MaxNLocator
+from matplotlib.ticker import (
+    FuncFormatter,
+    LogLocator,
+    MaxNLocator,
+    NullFormatter,
+    ScalarFormatter,
+)
 
 from ..linear.solve import LinearStability, SegmentMode
 from ..model import Assembly
@@ -48,12 +54,54 @@ EYE_DISTANCE = 2.4
 LEGEND_MAX = 12
 
 
+def exponents_in_labels(fig: Figure) -> None:
+    """Write every plain axis's ticks in full, a power of ten in its label, no offset text.
+
+    Matplotlib writes the ticks of values that vary little about a large mean as an offset
+    ("+2.8388") and those of small or large values with a multiplier ("1e-6"), both as a text
+    above the axes, where it sits on the title. Here offsets are off (the ticks are written
+    in full) and a multiplier moves into the axis label (``"... (x1e-6)"``, the ticks then
+    fixed to that power). 2D axes only, colour bars left as they are (they write in full).
+    Draws the figure once (no rendering) to learn the powers.
+    """
+    axes = [ax for ax in fig.axes if not hasattr(ax, "zaxis") and not hasattr(ax, "_colorbar")]
+    plain = [axis for ax in axes for axis in (ax.xaxis, ax.yaxis)
+             if isinstance(axis.get_major_formatter(), ScalarFormatter)]
+    if not plain:
+        return
+    for axis in plain:
+        axis.get_major_formatter().set_useOffset(False)  # type: ignore[attr-defined]
+    fig.draw_without_rendering()
+    for axis in plain:
+        multiplier = axis.get_major_formatter().get_offset()  # "1e\u22126" after the draw
+        try:
+            power = round(math.log10(float(multiplier.replace("\N{MINUS SIGN}", "-"))))
+        except ValueError:  # none, or mathtext (rcParams): left as matplotlib draws it
+            continue
+        scale = 10.0 ** power
+        axis.set_major_formatter(FuncFormatter(lambda v, _pos, s=scale: f"{v / s:g}"))
+        axis.set_label_text(f"{axis.get_label_text()} (x1e{power})")
+
+
+def plain_log_ticks(axis: Any) -> None:
+    """Label a log axis at 1, 2 and 5 of each decade, written as plain numbers ("0.002").
+
+    Matplotlib labels the minor ticks of an axis spanning about a decade in scientific
+    notation ("3x10^-4 4x10^-4"), and the labels run into each other.
+    """
+    axis.set_major_locator(LogLocator(base=10.0, subs=(1.0, 2.0, 5.0)))
+    axis.set_major_formatter(FuncFormatter(lambda v, _pos: f"{v:g}"))
+    axis.set_minor_formatter(NullFormatter())
+
+
 def _finish(fig: Figure, path: str | Path | None, *, dpi: int, tight: bool = True) -> Any:
     """Write ``fig`` to ``path`` and return the path; without a path return the figure.
 
-    The figure (matplotlib's object API) shows itself in a notebook cell; a script saves it with
-    ``fig.savefig``.
+    Offsets and multipliers of the ticks go into the axis labels first
+    (:func:`exponents_in_labels`). The figure (matplotlib's object API) shows itself in a
+    notebook cell; a script saves it with ``fig.savefig``.
     """
+    exponents_in_labels(fig)
     if path is None:
         return fig
     out = Path(path)

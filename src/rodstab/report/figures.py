@@ -13,8 +13,11 @@ from pathlib import Path
 import numpy as np
 from matplotlib.figure import Figure
 
+from ..plot.plots import exponents_in_labels, plain_log_ticks
+
 
 def _save(fig, out: Path, stem: str) -> list[Path]:
+    exponents_in_labels(fig)
     paths = []
     for ext in ("png", "svg"):
         p = out / f"{stem}.{ext}"
@@ -85,6 +88,7 @@ def fig_rings(data: dict, out: Path) -> list[Path]:
     if thr is not None and math.isfinite(thr):
         ax.axvline(thr, color="k", lw=0.8, ls=":", label=f"1/3-loop overlap from h/t = {thr:.3g}")
     ax.set_xscale("log")
+    plain_log_ticks(ax.xaxis)  # the minor ticks' 2x10^0 3x10^0 4x10^0 ran together
     # The 1-loop lower end falls to 1 - b1 = 1 - (h/t)^2 (uniform twist); clip to keep the
     # N-loop bands readable and say so in the label.
     ax.set_ylim(-2.0, max(max(iv[1] for iv in data["intervals"][str(N)]) for N in data["loops"])
@@ -128,6 +132,7 @@ def sweep_plot(rows: list[dict], key: str, out: Path) -> Path:
     ax.legend(fontsize=8)
     ax.set_title("stable between the two curves")
     p = Path(out) / "sweep.png"
+    exponents_in_labels(fig)
     fig.savefig(p, dpi=120, bbox_inches="tight")
     return p
 
@@ -172,6 +177,8 @@ def fig_beyond(data: dict, out: Path) -> list[Path]:
         kf = 1.0 - np.array(fo["limit"]) / fo["mu_c"]
         ax.loglog(ef, kf, "s", label="folded six-sided ring (load factor)")
         ax.loglog(ef, kf[0] * (ef / ef[0]) ** (2 / 3), "k:", lw=0.8)
+    plain_log_ticks(ax.xaxis)  # the minor ticks' 3x10^-4 4x10^-4 ran together
+    plain_log_ticks(ax.yaxis)
     ax.set_xlabel("imperfection amplitude eps (x L)")
     ax.set_ylabel("knock-down 1 - p_max / p_c")
     ax.set_title(f"imperfection sensitivity (twisted rod: exponent {tw['exponent']:.4f})")
@@ -271,5 +278,6 @@ def continuation_plot(result, out: Path) -> Path:
     axes[1].set_title("primary path (stable where > 0)")
     axes[1].grid(alpha=0.3)
     p = Path(out) / "diagram.png"
+    exponents_in_labels(fig)
     fig.savefig(p, dpi=120, bbox_inches="tight")
     return p
