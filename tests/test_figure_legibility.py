@@ -8,10 +8,12 @@ entries, the window extents of tick labels, offset texts and titles after a draw
 from __future__ import annotations
 
 import itertools
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
 from matplotlib.collections import PolyCollection
+from matplotlib.figure import Figure
 
 from rodstab.multistable import atlas as A
 from rodstab.plot.plots import plot_stable_bands
@@ -174,3 +176,72 @@ def test_report_figures_tick_labels_do_not_collide(drawn, name):
     for ax in fig.axes:
         for axis in (ax.xaxis, ax.yaxis):
             assert not axis.get_offset_text().get_text(), (ax.get_title(), axis)
+
+
+@pytest.fixture
+def made(monkeypatch):
+    """Every Figure the report's figure module creates (to read back what it drew)."""
+    figs: list[Figure] = []
+
+    class Kept(Figure):
+        def __init__(self, *args, **kwargs):
+            super().__init__(*args, **kwargs)
+            figs.append(self)
+
+    monkeypatch.setattr(figures, "Figure", Kept)
+    return figs
+
+
+def _supercritical_path(eigen_scale: float = 1e-6) -> SimpleNamespace:
+    """A continuation result shaped as rodstab.nonlinear.continuation.Path: the bi-rod's
+    primary path (lowest eigenvalue ~1e-6 crossing 0 at 2.8388) and its supercritical branch
+    p/p_c = 1 + b xi^2, b = 0.132, over |xi| <= 0.02 (a parameter change of 1.5e-4)."""
+    value = np.linspace(1.0, 4.0, 13)
+    xi = np.array([-0.0203, -0.0119, -0.0062, -0.0025, 0.0, 0.0025, 0.0062, 0.0119, 0.0203])
+    pc, b = 2.8388106, 0.132
+    branch = SimpleNamespace(value=tuple(pc * (1 + b * xi**2)), amplitude=tuple(xi),
+                             value_critical=pc, coefficients=(0.0, b),
+                             verdict="stable symmetric (supercritical): the branch lies where "
+                                     "the primary is unstable")
+    return SimpleNamespace(key="load_factor", value=tuple(value),
+                           lowest_eigenvalue=tuple(eigen_scale * (pc - value)),
+                           amplitude=tuple(np.zeros_like(value)), branches=(branch,),
+                           special_points=({"value": pc},))
+
+
+def test_continuation_diagram_draws_the_branch_against_its_amplitude(made, tmp_path):
+    """A supercritical branch changes the parameter by b p_c xi^2 = 1.5e-4: against the
+    parameter it is a vertical line, so a panel draws the parameter's change against xi:
+    the line's x data is the branch's amplitude in order, its y data value - value_c."""
+    r = _supercritical_path()
+    assert figures.continuation_plot(r, tmp_path).stat().st_size > 0
+    (fig,) = made
+    b = r.branches[0]
+    lines = [ln for ax in fig.axes for ln in ax.get_lines()
+             if np.array_equal(ln.get_xdata(), np.sort(b.amplitude))]
+    assert len(lines) == 1
+    np.testing.assert_allclose(lines[0].get_ydata(), np.array(b.value) - b.value_critical,
+                               atol=1e-15)
+    assert np.ptp(lines[0].get_ydata()) > 1e-4  # not a line along the parameter axis
+
+
+def test_continuation_diagram_has_no_offset_text_on_a_title_and_no_colliding_labels(
+        made, tmp_path):
+    """Eigenvalues of ~1e-6: the multiplier is in the axis label ('(x1e-6)'), no offset text
+    is drawn above a panel, no title overlaps a tick label, axis label or offset text of its
+    panel, and no two tick labels of an axis overlap."""
+    figures.continuation_plot(_supercritical_path(1e-6), tmp_path)
+    (fig,) = made
+    renderer = _agg(fig)
+    eigen = next(ax for ax in fig.axes if "eigenvalue" in ax.get_ylabel())
+    assert eigen.get_ylabel().endswith("(x1e-6)")
+    for ax in fig.axes:
+        title = ax.title.get_window_extent(renderer)
+        others = [t for axis in (ax.xaxis, ax.yaxis)
+                  for t in (*_drawn_tick_labels(axis), axis.label, axis.get_offset_text())
+                  if t.get_visible() and t.get_text()]
+        assert not [t.get_text() for t in others if t.get_window_extent(renderer)
+                    .overlaps(title)], ax.get_title()
+        for axis in (ax.xaxis, ax.yaxis):
+            assert not axis.get_offset_text().get_text(), ax.get_title()
+    assert _collisions(fig) == []
