@@ -245,3 +245,87 @@ def test_continuation_diagram_has_no_offset_text_on_a_title_and_no_colliding_lab
         for axis in (ax.xaxis, ax.yaxis):
             assert not axis.get_offset_text().get_text(), ax.get_title()
     assert _collisions(fig) == []
+
+
+def _graph() -> tuple[dict, dict]:
+    """Four states on the circle (line at the top), transitions with and without a
+    pass-through, and self-loops: two on the top state, one on a side state."""
+    def edge(a, b, stimulus, threshold, physical):
+        return {"from": a, "to": b, "stimulus": stimulus, "threshold": threshold,
+                "physical": physical}
+
+    edges = [edge("line", "star", "load_factor", 2.2533, True),
+             edge("eight", "daisy", "load_factor", 1.875, False),
+             edge("line", "line", "welds.0,3.rotation.normal", 1.2346, True),
+             edge("line", "line", "weld.0.moment.binormal", -0.5, False),
+             edge("eight", "eight", "weld.2.force.tangent", 12.5, True)]
+    t = np.linspace(0.0, 2 * np.pi, 13)[:-1]
+    ring = np.column_stack([np.cos(t), np.sin(t), np.zeros_like(t)])
+    return ({"states": ["line", "star", "daisy", "eight"], "edges": edges},
+            {s: ring for s in ("line", "star", "daisy", "eight")})
+
+
+@pytest.fixture
+def graph_figure(monkeypatch, tmp_path):
+    """The transition graph of :func:`_graph`, drawn to a file; its Figure, read back."""
+    from rodstab.plot import transition_graph as tg
+
+    figs: list[Figure] = []
+
+    class Kept(Figure):
+        def __init__(self, *args, **kwargs):
+            super().__init__(*args, **kwargs)
+            figs.append(self)
+
+    monkeypatch.setattr(tg, "Figure", Kept)
+    graph, shapes = _graph()
+    assert tg.plot_transition_graph(graph, shapes, tmp_path / "g.png",
+                                    title="a title").stat().st_size > 0
+    return figs[0]
+
+
+def _style(artist) -> tuple[tuple[float, ...], str]:
+    from matplotlib.colors import to_rgba
+
+    colour = artist.get_color() if hasattr(artist, "get_color") else artist.get_edgecolor()
+    return tuple(np.round(to_rgba(colour), 6)), artist.get_linestyle()
+
+
+def _grey():
+    """A line in the states' colour (their drawn shapes are not edges)."""
+    from matplotlib.lines import Line2D
+
+    return Line2D([], [], color="0.2")
+
+
+def test_transition_graph_legend_names_every_edge_style(graph_figure):
+    """Every drawn edge style (arrows and loops: colour and line style) has a legend entry,
+    and the legend has one entry per style: solid green and dashed red."""
+    (ax,) = graph_figure.axes
+    arrows = [t.arrow_patch for t in ax.texts if getattr(t, "arrow_patch", None) is not None]
+    loops = [ln for ln in ax.get_lines() if _style(ln)[0] != _style(_grey())[0]]
+    drawn = {_style(a) for a in (*arrows, *loops)}
+    (legend,) = graph_figure.legends
+    entries = {_style(h) for h in legend.legend_handles}
+    assert len(drawn) == 2 and drawn == entries
+    assert len(legend.get_texts()) == 2 and "pass through" in legend.get_texts()[1].get_text()
+
+
+def test_transition_graph_keeps_every_label_inside_the_figure(graph_figure):
+    """Every label (states, edges, the self-loops' stacked labels) lies inside the figure
+    after a draw, no two labels overlap, and none overlaps the title or the legend."""
+    renderer = _agg(graph_figure)
+    (ax,) = graph_figure.axes
+    fig_box = graph_figure.bbox
+    boxes = [(t.get_text(), t.get_window_extent(renderer)) for t in ax.texts if t.get_text()]
+    assert len(boxes) == 4 + 5
+    for text, box in boxes:
+        assert (fig_box.x0 <= box.x0 and box.x1 <= fig_box.x1 and fig_box.y0 <= box.y0
+                and box.y1 <= fig_box.y1), text
+    assert [(a, b) for (a, ba), (b, bb) in itertools.combinations(boxes, 2)
+            if ba.overlaps(bb)] == []
+    (legend,) = graph_figure.legends
+    (title,) = [t for t in graph_figure.texts if t.get_text() == "a title"]
+    for other in (title, legend):
+        box = other.get_window_extent(renderer)
+        assert [t for t, b in boxes if b.overlaps(box)] == []
