@@ -667,8 +667,10 @@ def plot_stable_bands(data: dict[str, list[float]], states: tuple[str, ...],
     if ranges is None:
         ax.fill_between(x, lows, highs, where=overlap, label=label, **hatch)
     for k, (a, b) in enumerate(ranges or ()):
-        xs, lo_edge, hi_edge = _hatch_outline(x, lows, highs, np.array(lo_lines),
-                                              np.array(hi_lines), a, b)
+        # an infinite limit (none found) leaves a gap, as in the bands
+        xs, lo_edge, hi_edge = _hatch_outline(x, np.where(np.isfinite(lows), lows, np.nan),
+                                              np.where(np.isfinite(highs), highs, np.nan),
+                                              np.array(lo_lines), np.array(hi_lines), a, b)
         ax.fill_between(xs, lo_edge, hi_edge, label=label if k == 0 else None, **hatch)
     if threshold is not None:
         ax.axvline(threshold, color="k", ls=":", lw=1, label=f"h/t* = {threshold:.4g}")
