@@ -399,11 +399,21 @@ class RingAtlas(Result):
         return runs
 
     def bands(self) -> dict[str, list[float]]:
-        """``{"value": [...], "<state>.lower": [...], "<state>.upper": [...]}`` for a chart."""
+        """``{"value": [...], "<state>.lower": [...], "<state>.upper": [...]}`` for a chart.
+
+        When the ranges of all the states mutually stable were solved for (``k`` =
+        ``len(states)`` in ``coexistence``), their refined ends as well:
+        ``"all_stable.start"``, ``"all_stable.end"`` (a chart hatches from the root, not
+        from the next grid value).
+        """
         data: dict[str, list[float]] = {"value": list(self.values)}
         for j, s in enumerate(self.states):
             data[f"{s}.lower"] = [row[j].lower.load_factor for row in self.intervals]
             data[f"{s}.upper"] = [row[j].upper.load_factor for row in self.intervals]
+        for c in self.coexistence:
+            if c.k == len(self.states):
+                data["all_stable.start"] = [r[0] for r in c.ranges]
+                data["all_stable.end"] = [r[1] for r in c.ranges]
         return data
 
 

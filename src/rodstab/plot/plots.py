@@ -23,7 +23,13 @@ from matplotlib.cm import ScalarMappable
 from matplotlib.colors import Colormap, Normalize, to_hex
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
-from matplotlib.ticker import MaxNLocator
+from matplotlib.ticker import (
+    FuncFormatter,
+    LogLocator,
+    MaxNLocator,
+    NullFormatter,
+    ScalarFormatter,
+)
 
 from ..linear.solve import LinearStability, SegmentMode
 from ..model import Assembly
@@ -48,12 +54,54 @@ EYE_DISTANCE = 2.4
 LEGEND_MAX = 12
 
 
+def exponents_in_labels(fig: Figure) -> None:
+    """Write every plain axis's ticks in full, a power of ten in its label, no offset text.
+
+    Matplotlib writes the ticks of values that vary little about a large mean as an offset
+    ("+2.8388") and those of small or large values with a multiplier ("1e-6"), both as a text
+    above the axes, where it sits on the title. Here offsets are off (the ticks are written
+    in full) and a multiplier moves into the axis label (``"... (x1e-6)"``, the ticks then
+    fixed to that power). 2D axes only, colour bars left as they are (they write in full).
+    Draws the figure once (no rendering) to learn the powers.
+    """
+    axes = [ax for ax in fig.axes if not hasattr(ax, "zaxis") and not hasattr(ax, "_colorbar")]
+    plain = [axis for ax in axes for axis in (ax.xaxis, ax.yaxis)
+             if isinstance(axis.get_major_formatter(), ScalarFormatter)]
+    if not plain:
+        return
+    for axis in plain:
+        axis.get_major_formatter().set_useOffset(False)  # type: ignore[attr-defined]
+    fig.draw_without_rendering()
+    for axis in plain:
+        multiplier = axis.get_major_formatter().get_offset()  # "1e\u22126" after the draw
+        try:
+            power = round(math.log10(float(multiplier.replace("\N{MINUS SIGN}", "-"))))
+        except ValueError:  # none, or mathtext (rcParams): left as matplotlib draws it
+            continue
+        scale = 10.0 ** power
+        axis.set_major_formatter(FuncFormatter(lambda v, _pos, s=scale: f"{v / s:g}"))
+        axis.set_label_text(f"{axis.get_label_text()} (x1e{power})")
+
+
+def plain_log_ticks(axis: Any) -> None:
+    """Label a log axis at 1, 2 and 5 of each decade, written as plain numbers ("0.002").
+
+    Matplotlib labels the minor ticks of an axis spanning about a decade in scientific
+    notation ("3x10^-4 4x10^-4"), and the labels run into each other.
+    """
+    axis.set_major_locator(LogLocator(base=10.0, subs=(1.0, 2.0, 5.0)))
+    axis.set_major_formatter(FuncFormatter(lambda v, _pos: f"{v:g}"))
+    axis.set_minor_formatter(NullFormatter())
+
+
 def _finish(fig: Figure, path: str | Path | None, *, dpi: int, tight: bool = True) -> Any:
     """Write ``fig`` to ``path`` and return the path; without a path return the figure.
 
-    The figure (matplotlib's object API) shows itself in a notebook cell; a script saves it with
-    ``fig.savefig``.
+    Offsets and multipliers of the ticks go into the axis labels first
+    (:func:`exponents_in_labels`). The figure (matplotlib's object API) shows itself in a
+    notebook cell; a script saves it with ``fig.savefig``.
     """
+    exponents_in_labels(fig)
     if path is None:
         return fig
     out = Path(path)
@@ -536,33 +584,94 @@ def plot_ring_states(shapes: list[list[np.ndarray]], titles: list[str],
     return _finish(fig, path, dpi=110, tight=False)
 
 
+#: Keys of a bands chart's data holding where all its states are stable together, as computed
+#: (the starts and ends of the ranges, :meth:`rodstab.multistable.atlas.RingAtlas.bands`).
+ALL_STABLE_KEYS = ("all_stable.start", "all_stable.end")
+
+
+def _all_stable_ranges(data: dict[str, list[float]], x: np.ndarray, overlap: np.ndarray,
+                       threshold: float | None) -> list[tuple[float, float]] | None:
+    """Ranges of the abscissa where all states are stable together, as computed.
+
+    From ``data``'s :data:`ALL_STABLE_KEYS`, else from ``threshold`` to the grid's end when the
+    bands overlap there, else None (the overlap is known on the grid only).
+    """
+    start, end = ALL_STABLE_KEYS
+    if start in data and end in data:
+        return [(float(a), float(b)) for a, b in zip(data[start], data[end], strict=True)]
+    if threshold is not None and overlap[np.argmax(x)]:
+        return [(float(threshold), float(np.max(x)))]
+    return None
+
+
+def _hatch_outline(x: np.ndarray, lows: np.ndarray, highs: np.ndarray, lo_lines: np.ndarray,
+                   hi_lines: np.ndarray, a: float, b: float
+                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Abscissae, lower and upper edges of the overlap from ``a`` to ``b`` exactly.
+
+    Inside the grid the edges are ``lows``/``highs``; at ``a`` and ``b`` (roots of the overlap
+    width, between grid values) they are those of the bands as drawn, the states' limit
+    lines ``lo_lines``/``hi_lines`` (n_states, n_x) joined straight between grid values; where
+    the straight lines already cross there, the edges meet at their midpoint.
+    """
+    order = np.argsort(x)
+    inside = order[(x[order] > a) & (x[order] < b)]
+    ends = []
+    for end in (a, b):
+        lo = float(np.nanmax([np.interp(end, x[order], row[order]) for row in lo_lines]))
+        hi = float(np.nanmin([np.interp(end, x[order], row[order]) for row in hi_lines]))
+        ends.append((lo, hi) if hi >= lo else (0.5 * (lo + hi),) * 2)
+    xs = np.concatenate([[a], x[inside], [b]])
+    return (xs, np.concatenate([[ends[0][0]], lows[inside], [ends[1][0]]]),
+            np.concatenate([[ends[0][1]], highs[inside], [ends[1][1]]]))
+
+
 def plot_stable_bands(data: dict[str, list[float]], states: tuple[str, ...],
                       path: str | Path | None = None, *, threshold: float | None = None,
                       title: str = "", x_key: str = "aspect", xlabel: str = "h / t",
-                      ylabel: str = "kappa_n R0") -> Any:
+                      ylabel: str = "kappa_n R0",
+                      all_stable: Sequence[tuple[float, float]] | None = None) -> Any:
     """Draw each state's stable band of the load between ``<state>.lower`` and ``.upper``.
 
     ``data[x_key]`` is the abscissa (default h/t); the bands are filled, translucent, one
-    colour per state; the band where all are stable together is hatched, and ``threshold`` (if
-    given) is a vertical dotted line. An infinite limit (none found) is left out of the band.
+    colour per state, their limits joined straight between grid values; the band where all
+    are stable together is hatched, and ``threshold`` (if given) is a vertical dotted line.
+    An infinite limit (none found) is left out of the band.
+
+    The hatch spans the computed ranges where all states are stable together (``all_stable``,
+    default ``data``'s :data:`ALL_STABLE_KEYS`; without them the range from ``threshold`` to
+    the grid's end): it begins at the root of the overlap width, not at the next grid value.
+    Without ranges or threshold it covers the grid values where the bands overlap.
     """
     x = np.asarray(data[x_key], dtype=float)
     fig = Figure(figsize=(6.4, 4.6))
     ax = fig.subplots()
     cmap = matplotlib.colormaps["tab20" if len(states) > 10 else "tab10"]
+    lo_lines, hi_lines = [], []
     for i, state in enumerate(states):
         lo = np.asarray(data[f"{state}.lower"], dtype=float)
         hi = np.asarray(data[f"{state}.upper"], dtype=float)
         lo, hi = np.where(np.isfinite(lo), lo, np.nan), np.where(np.isfinite(hi), hi, np.nan)
+        lo_lines.append(lo)
+        hi_lines.append(hi)
         ax.fill_between(x, lo, hi, color=cmap(i), alpha=0.25, label=state)
         ax.plot(x, lo, color=cmap(i), lw=1)
         ax.plot(x, hi, color=cmap(i), lw=1)
     lows = np.max([data[f"{s}.lower"] for s in states], axis=0)
     highs = np.min([data[f"{s}.upper"] for s in states], axis=0)
-    ax.fill_between(x, lows, highs,
-                    where=(highs > lows) & np.isfinite(lows) & np.isfinite(highs),
-                    facecolor="none", hatch="//",
-                    edgecolor="k", lw=0, label="all stable")
+    overlap = (highs > lows) & np.isfinite(lows) & np.isfinite(highs)
+    hatch: dict[str, Any] = dict(facecolor="none", hatch="//", edgecolor="k", lw=0)
+    label = f"all {len(states)} stable" if len(states) > 1 else "stable"
+    ranges = (list(all_stable) if all_stable is not None
+              else _all_stable_ranges(data, x, overlap, threshold))
+    if ranges is None:
+        ax.fill_between(x, lows, highs, where=overlap, label=label, **hatch)
+    for k, (a, b) in enumerate(ranges or ()):
+        # an infinite limit (none found) leaves a gap, as in the bands
+        xs, lo_edge, hi_edge = _hatch_outline(x, np.where(np.isfinite(lows), lows, np.nan),
+                                              np.where(np.isfinite(highs), highs, np.nan),
+                                              np.array(lo_lines), np.array(hi_lines), a, b)
+        ax.fill_between(xs, lo_edge, hi_edge, label=label if k == 0 else None, **hatch)
     if threshold is not None:
         ax.axvline(threshold, color="k", ls=":", lw=1, label=f"h/t* = {threshold:.4g}")
     ax.set_xlabel(xlabel)

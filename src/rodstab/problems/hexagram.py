@@ -276,8 +276,10 @@ def chart_data(*, nu: float = 1 / 3, torsion: str = "exact", method: str = "tran
 
     Returns ``{"aspect": [...], "<state>.lower": [...], "<state>.upper": [...]}`` for
     ``n_points`` aspects evenly spaced over :data:`ASPECT_RANGE`, by ``method``
-    (:func:`rectangle_atlas`).
+    (:func:`rectangle_atlas`), and the h/t ranges of all four mutually stable
+    (``"all_stable.start"``, ``"all_stable.end"``; each end between grid values a root, as
+    :func:`threshold`'s).
     """
     bands = rectangle_atlas(_grid(*ASPECT_RANGE, n_points), nu=nu, torsion=torsion,
-                            method=method, ks=()).bands()
+                            method=method, ks=(len(STATES),)).bands()
     return {"aspect": bands.pop("value"), **bands}

@@ -12,9 +12,13 @@ from pathlib import Path
 
 import numpy as np
 from matplotlib.figure import Figure
+from matplotlib.ticker import MaxNLocator
+
+from ..plot.plots import exponents_in_labels, plain_log_ticks
 
 
 def _save(fig, out: Path, stem: str) -> list[Path]:
+    exponents_in_labels(fig)
     paths = []
     for ext in ("png", "svg"):
         p = out / f"{stem}.{ext}"
@@ -85,6 +89,7 @@ def fig_rings(data: dict, out: Path) -> list[Path]:
     if thr is not None and math.isfinite(thr):
         ax.axvline(thr, color="k", lw=0.8, ls=":", label=f"1/3-loop overlap from h/t = {thr:.3g}")
     ax.set_xscale("log")
+    plain_log_ticks(ax.xaxis)  # the minor ticks' 2x10^0 3x10^0 4x10^0 ran together
     # The 1-loop lower end falls to 1 - b1 = 1 - (h/t)^2 (uniform twist); clip to keep the
     # N-loop bands readable and say so in the label.
     ax.set_ylim(-2.0, max(max(iv[1] for iv in data["intervals"][str(N)]) for N in data["loops"])
@@ -128,6 +133,7 @@ def sweep_plot(rows: list[dict], key: str, out: Path) -> Path:
     ax.legend(fontsize=8)
     ax.set_title("stable between the two curves")
     p = Path(out) / "sweep.png"
+    exponents_in_labels(fig)
     fig.savefig(p, dpi=120, bbox_inches="tight")
     return p
 
@@ -172,6 +178,8 @@ def fig_beyond(data: dict, out: Path) -> list[Path]:
         kf = 1.0 - np.array(fo["limit"]) / fo["mu_c"]
         ax.loglog(ef, kf, "s", label="folded six-sided ring (load factor)")
         ax.loglog(ef, kf[0] * (ef / ef[0]) ** (2 / 3), "k:", lw=0.8)
+    plain_log_ticks(ax.xaxis)  # the minor ticks' 3x10^-4 4x10^-4 ran together
+    plain_log_ticks(ax.yaxis)
     ax.set_xlabel("imperfection amplitude eps (x L)")
     ax.set_ylabel("knock-down 1 - p_max / p_c")
     ax.set_title(f"imperfection sensitivity (twisted rod: exponent {tw['exponent']:.4f})")
@@ -232,14 +240,26 @@ def fig_hexagram(data: dict, out: Path) -> list[Path]:
     return [png]
 
 
-def continuation_plot(result, out: Path) -> Path:
-    """Draw the bifurcation diagram and the lowest eigenvalue along the path.
+def _branch_style(verdict: str) -> str:
+    """Return the line style of a branch: dashed when its verdict says it is unstable.
 
-    The primary path (solid where stable, dashed where not) and the secondary branches (amplitude vs
-    parameter).
+    Stability from the verdict: on a rotationally symmetric structure the lowest eigenvalue
+    along a branch is the symmetry's zero mode, whose sign is noise.
     """
-    fig = Figure(figsize=(10, 4))
-    axes = fig.subplots(1, 2)
+    return "--" if verdict.startswith(("unstable", "asymmetric")) else "-"
+
+
+def continuation_plot(result, out: Path) -> Path:
+    """Draw the bifurcation diagram, the branches against their amplitude, the lowest eigenvalue.
+
+    Left: the primary path (solid where stable, dashed where not) and the secondary branches
+    (amplitude vs parameter). Middle: each branch's parameter change from its branch point
+    against its amplitude xi, with the fitted initial post-buckling curve p/p_c = 1 + a xi +
+    b xi^2 (a supercritical pitchfork changes the parameter by ~b xi^2, so little that on the
+    left it is a vertical line). Right: the lowest eigenvalue along the primary path.
+    """
+    fig = Figure(figsize=(15, 4.4), layout="constrained")
+    axes = fig.subplots(1, 3)
     val = np.array(result.value)
     ev = np.array(result.lowest_eigenvalue)
     amp = np.array(result.amplitude)
@@ -248,28 +268,44 @@ def continuation_plot(result, out: Path) -> Path:
         axes[0].plot(np.where(mask, val, np.nan), np.where(mask, amp, np.nan), style,
                      color="C0", label=f"primary ({label})")
     for i, b in enumerate(result.branches):
-        # Branch stability from the verdict: on a rotationally symmetric structure the lowest
-        # eigenvalue along a branch is the symmetry's zero mode, whose sign is noise.
-        style = "--" if b.verdict.startswith(("unstable", "asymmetric")) else "-"
+        style = _branch_style(b.verdict)
         order = np.argsort(b.amplitude)
-        axes[0].plot(np.array(b.value)[order], np.array(b.amplitude)[order], style,
-                     color=f"C{i + 1}", label=f"branch from {b.value_critical:.5g}: "
-                     + b.verdict.split(":")[0])
+        xi, value = np.array(b.amplitude)[order], np.array(b.value)[order]
+        label = f"branch from {b.value_critical:.5g}: " + b.verdict.split(":")[0]
+        axes[0].plot(value, xi, style, color=f"C{i + 1}", label=label)
+        axes[1].plot(xi, value - b.value_critical, style, marker="o", ms=3,
+                     color=f"C{i + 1}", label=label)
+        a2, b2 = getattr(b, "coefficients", (math.nan, math.nan))
+        if len(xi) > 1 and math.isfinite(a2) and math.isfinite(b2):
+            s = np.linspace(xi.min(), xi.max(), 101)
+            axes[1].plot(s, b.value_critical * (a2 * s + b2 * s**2), ":", color="k", lw=1,
+                         label=f"p/p_c = 1 + a xi + b xi^2: a = {a2:.3g}, b = {b2:.4g}")
     for p in result.special_points:
         axes[0].axvline(p["value"], color="r", ls=":", lw=0.8)
-        axes[1].axvline(p["value"], color="r", ls=":", lw=0.8)
+        axes[2].axvline(p["value"], color="r", ls=":", lw=0.8)
     axes[0].set_xlabel(result.key)
     axes[0].set_ylabel("amplitude (primary: largest node displacement;\n"
                        "branch: xi, out-of-plane / L)")
-    axes[0].set_title("bifurcation diagram (dashed: unstable)")
+    axes[0].set_title("bifurcation diagram (dashed: unstable)", fontsize=10)
     axes[0].legend(fontsize=7)
     axes[0].grid(alpha=0.3)
-    axes[1].plot(val, ev, "o-", ms=3)
-    axes[1].axhline(0.0, color="k", lw=0.8)
-    axes[1].set_xlabel(result.key)
-    axes[1].set_ylabel("lowest scaled Hessian eigenvalue")
-    axes[1].set_title("primary path (stable where > 0)")
+    axes[1].axhline(0.0, color="k", lw=0.6)
+    axes[1].xaxis.set_major_locator(MaxNLocator(nbins=5, steps=[1, 2, 5, 10]))  # "-0.015" is wide
+    axes[1].set_xlabel("branch amplitude xi (out-of-plane / L)")
+    axes[1].set_ylabel(f"{result.key} - its value at the branch point")
+    if result.branches:
+        axes[1].set_title("branches against their amplitude (dashed: unstable)", fontsize=10)
+        axes[1].legend(fontsize=7)
+    else:
+        axes[1].set_title("no branch was traced", fontsize=10)
     axes[1].grid(alpha=0.3)
+    axes[2].plot(val, ev, "o-", ms=3)
+    axes[2].axhline(0.0, color="k", lw=0.8)
+    axes[2].set_xlabel(result.key)
+    axes[2].set_ylabel("lowest scaled Hessian eigenvalue")
+    axes[2].set_title("primary path (stable where > 0)", fontsize=10)
+    axes[2].grid(alpha=0.3)
     p = Path(out) / "diagram.png"
+    exponents_in_labels(fig)
     fig.savefig(p, dpi=120, bbox_inches="tight")
     return p
