@@ -559,7 +559,8 @@ def test_elapsed_indicator_shows_after_its_delay_on_a_terminal_and_clears_its_li
     seconds, on a terminal only, and clears the line before any output and at its end."""
     import time
 
-    from rodstab.cli import _quiet_indicator, elapsed_indicator
+    from rodstab.cli.output import elapsed_indicator
+    from rodstab.cli.output import quiet_indicator as _quiet_indicator
 
     tty = _Tty()
     with elapsed_indicator("rodstab x: working", tty, after=0.05, tick=0.01):
