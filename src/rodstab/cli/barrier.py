@@ -124,7 +124,7 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
                       f"--images {n_img}, --elements {elements}" if string else
                       f"--elements {elements}", limits, copies=n_img if string else 1)
     if design_file is None:
-        from ..problems.barrier_states import model_load_factor
+        from ..problems.barrier_states import model_load_factor, structure_load
 
         if k is None:
             from ..problems.barrier_states import common_load as structure_common_load
@@ -157,11 +157,10 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
         payload.update(images=b.images)
     units = None if design_file is None else design.units
     if units is not None:
-        payload["units"] = units.reference() | {
-            key: units.quantity(getattr(b, key), "energy")
-            for key in ("barrier_forward", "barrier_backward", "energy_from", "energy_to",
-                        "energy_saddle")} | {"energies": units.quantities(list(b.energies),
-                                                                        "energy")}
+        payload["units"] = units.block(
+            **{key: (getattr(b, key), "energy") for key in (
+                "barrier_forward", "barrier_backward", "energy_from", "energy_to",
+                "energy_saddle", "energies")})
     lines = [section_line(section),
              f"{name} at {'kappa_n R0' if design_file is None else 'load factor'} = {fmt(k)}, "
              f"{elements} elements per rod (B3 = 1, L = 1), method {method}"
@@ -175,7 +174,7 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
                      f"image {b.saddle_position} of the path")
     else:
         lines.append(f"branch       from kappa_n R0 = "
-                     f"{fmt(b.load_factor_critical / model_load_factor(structure, 1.0))}")
+                     f"{fmt(structure_load(structure, b.load_factor_critical))}")
     lines += [
         f"saddle       index {b.saddle_index}, energy {fmt(b.energy_saddle)}, descents end on "
         f"{', '.join(b.descent_ends) or 'not run'}",

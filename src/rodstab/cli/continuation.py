@@ -102,7 +102,7 @@ def continue_cmd(design_file: str, vary: str, out_dir: str | None, elements: int
                 p.update(err)
         payload = {"key": r.key, "value": list(r.value), "energy": list(r.energy),
                    "lowest_eigenvalue": list(r.lowest_eigenvalue),
-                   "stable": [e > 0 for e in r.lowest_eigenvalue], "special_points": specials,
+                   "stable": list(r.stable), "special_points": specials,
                    "resumed_steps": r.resumed_steps, "converged": r.converged}
         if out is not None:
             _continuation_pictures(r, d, out, elements, payload, colour=colour)
@@ -128,7 +128,7 @@ def continue_cmd(design_file: str, vary: str, out_dir: str | None, elements: int
               + _mesh_error_text(p, elements)
               for p, phys in zip(specials, physical, strict=True)] or [
         "special      none: the path stays "
-        + ("stable" if r.lowest_eigenvalue[-1] > 0 else "unstable")]
+        + ("stable" if r.stable[-1] else "unstable")]
     emit(payload, as_json, lines)
     if not r.converged:
         where = "" if spec.unit is None else \

@@ -61,7 +61,7 @@ def analyze(design_file: str, elements: int | None, plot_path: str | None, limit
     r = converged_stability(d.assembly, n, refine=refine, limits=limits)
     n = r.elements
     lam = d.paper_load_factor(r.load_factor_critical)
-    rel_err = _relative_mesh_error(r)
+    rel_err = r.mesh_error_relative
     payload = {
         "design": d.source,
         "load_factor_critical": r.load_factor_critical,
@@ -113,17 +113,6 @@ def analyze(design_file: str, elements: int | None, plot_path: str | None, limit
                            "its error")
     require_converged(r, f"the FE eigen solve at {n} elements per segment (the residual's "
                           "round-off grows with the mesh, as h^-2: try fewer elements)")
-
-
-def _relative_mesh_error(r: Any) -> float | None:
-    """Largest estimated mesh error of ``r``'s finite ends, relative to ``max(|end|, 1)``."""
-    import math
-
-    if r.mesh_error is None:
-        return None
-    errs = [e / max(abs(x), 1.0) for x, e in zip(r.load_factor_interval, r.mesh_error,
-                                                 strict=True) if math.isfinite(x)]
-    return max(errs, default=0.0)
 
 
 def _arc_text(block: dict[str, Any], prefix: str, units: Units) -> str:
@@ -239,14 +228,11 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
     unit_lines = []
     if d.units is not None:
         u = d.units
-        kappa = abs(u.si(load_factor * d.assembly.segment(u.segment).natural_curvature,
-                         "curvature"))
-        payload["units"] = u.reference() | {
-            "energy": u.quantity(r.energy, "energy"),
-            "natural_curvature": {"value": kappa, "unit": "1/m"},
-            "max_out_of_plane": u.quantity(payload["max_out_of_plane"], "length"),
-            "max_internal_moment": u.quantity(float(np.max(rod.edge_moments(), initial=0.0)),
-                                              "moment")}
+        kappa = u.natural_curvature(d.assembly, load_factor)
+        payload["units"] = u.block(
+            energy=(r.energy, "energy"), natural_curvature={"value": kappa, "unit": "1/m"},
+            max_out_of_plane=(payload["max_out_of_plane"], "length"),
+            max_internal_moment=(float(np.max(rod.edge_moments(), initial=0.0)), "moment"))
         energy += f" ({fmt(payload['units']['energy']['value'])} J)"
         unit_lines = [units_line(u),
                       f"physical     natural curvature {fmt(kappa)} 1/m of segment "
@@ -349,10 +335,10 @@ def sweep(design_file: str, vary: str, out_dir: str, elements: int | None,
     physical = result.physical
     if physical:
         assert base.units is not None
-        payload["units"] = base.units.reference() | {
-            "values": {"value": payload["values"], "unit": spec.unit},
-            "critical_natural_curvature": {"value": [r[PHYSICAL_COLUMN] for r in rows],
-                                           "unit": "1/m"}}
+        payload["units"] = base.units.block(
+            values={"value": payload["values"], "unit": spec.unit},
+            critical_natural_curvature={"value": [r[PHYSICAL_COLUMN] for r in rows],
+                                        "unit": "1/m"})
 
     def kappa(r: dict[str, Any]) -> str:
         v = r.get(PHYSICAL_COLUMN)

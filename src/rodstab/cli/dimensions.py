@@ -180,8 +180,9 @@ def dimension_lines(section: Section, dims: SectionDimensions, young: str | None
         if not E > 0.0:
             raise RodstabInputError(f"--E {young!r} must be a positive modulus (e.g. "
                                     "'200 GPa')")
-        B3 = E * sized.I3  # B3 = E I3; B1 = b1 B3, B2 = b2 B3 (b1, b2 of the table above)
-        B = {"B1": section.b1 * B3, "B2": section.b2 * B3, "B3": B3}
+        # the ratios b1, b2 of the table above, I3 of these dimensions
+        B = dict(zip(("B1", "B2", "B3"), section.stiffnesses(E, sized.I3), strict=True))
+        B3 = B["B3"]
         payload["stiffness"] = {k: {"value": v, "unit": "N*m^2"} for k, v in B.items()}
         payload["E"] = {"value": E, "unit": "Pa", "text": young}
         lines.append(f"stiffness    B1 = {B['B1']:.6g}, B2 = {B['B2']:.6g}, B3 = {B3:.6g} "

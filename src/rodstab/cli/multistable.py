@@ -27,7 +27,15 @@ from .options import (
     ring_and_section,
     section_options,
 )
-from .output import emit, fmt, image_output, section_line, units_line, warnings_as_lines
+from .output import (
+    emit,
+    fmt,
+    image_output,
+    section_label,
+    section_line,
+    units_line,
+    warnings_as_lines,
+)
 
 
 @click.command()
@@ -88,8 +96,7 @@ def discover(design_file: str | None, section: Section, structure: str, segments
                                  "section": section.to_dict()}
     units = None if design is None else design.units
     if units is not None:
-        payload["units"] = units.reference() | {
-            "energy": units.quantities([s.energy for s in found.states], "energy")}
+        payload["units"] = units.block(energy=([s.energy for s in found.states], "energy"))
     if plot is not None:
         from ..plot.plots import plot_ring_states
 
@@ -160,11 +167,10 @@ def transitions(design_file: str | None, section: Section, structure: str,
     thickness = require_positive("--contact-thickness", contact_thickness)
     ring, section, name, design = ring_and_section(design_file, structure, 6, section)
     if load_factor is None:
-        unit = rt.star_load(ring)
-        if unit is None:
+        load_factor = rt.default_load_factor(ring)
+        if load_factor is None:
             raise RodstabInputError(f"{name}: the ring has no star to set the default load "
                                     "factor; give --load-factor")
-        load_factor = 2.0 * unit
     labels = tuple(st.label for st in ring.states().states)
     for state in states_:
         if state not in labels:
@@ -186,19 +192,12 @@ def transitions(design_file: str | None, section: Section, structure: str,
     units = None if design is None else design.units
     physical: dict[tuple[str, str, str], str] = {}
     if design is not None and units is not None:
-        from ..io.vary import value_kind
-
-        kappa = design.assembly.segment(units.segment).natural_curvature
-        thresholds = []
-        for e in payload["edges"]:
-            kind = value_kind(e["stimulus"])
-            q = (units.quantity(e["threshold"], kind) if kind is not None else
-                 units.quantity(abs(e["threshold"] * kappa), "curvature"))
-            thresholds.append({"from": e["from"], "to": e["to"], "stimulus": e["stimulus"],
-                               "quantity": "value" if kind else "natural_curvature", **q})
-            physical[(e["from"], e["to"], e["stimulus"])] = \
-                f" ({'' if kind else 'natural curvature '}{fmt(q['value'])} {q['unit']})"
-        payload["units"] = units.reference() | {"thresholds": thresholds}
+        thresholds = rt.threshold_units(units, design.assembly, payload["edges"])
+        for q in thresholds:
+            what = "" if q["quantity"] == "value" else "natural curvature "
+            physical[(q["from"], q["to"], q["stimulus"])] = \
+                f" ({what}{fmt(q['value'])} {q['unit']})"
+        payload["units"] = units.block(thresholds=thresholds)
     load_name = "kappa_n R0" if design_file is None else "load factor"
     if out is not None:
         from ..plot.transition_graph import plot_transition_graph
@@ -206,7 +205,7 @@ def transitions(design_file: str | None, section: Section, structure: str,
         (out / "transitions.json").write_text(json.dumps(jsonable(payload), allow_nan=False))
         payload["figure"] = str(plot_transition_graph(
             payload, res.shapes, out / "transitions.png",
-            title=f"{name}, {section_line(section).split(':', 1)[0].split(None, 1)[1]}, "
+            title=f"{name}, {section_label(section)}, "
                   f"{load_name} = {load_factor:g}, {elements} elements per rod, h/L = "
                   f"{thickness:g}"))
         payload["json_file"] = str(out / "transitions.json")

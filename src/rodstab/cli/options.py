@@ -258,9 +258,7 @@ def ring_and_section(design_file: str | None, structure: str, segments: int,
     load factor; ``--structure``, ``--segments`` and the section options are refused. The
     last item is the :class:`~rodstab.io.design.Design` (None for a built-in structure).
     """
-    import math
-
-    from ..multistable.states import ring_of, uniform_ring
+    from ..multistable.states import ring_of
 
     if design_file is not None:
         named = [o for o in ("structure", "segments", "shape", "aspect", "nu", "torsion", "b1",
@@ -283,12 +281,12 @@ def ring_and_section(design_file: str | None, structure: str, segments: int,
         if given("segments"):
             raise RodstabInputError(f"--segments {segments!r} is for --structure six-ring "
                                     "(the hexagram has six rods)")
-        from ..problems import hexagram as hx
+        from ..problems import hexagram
 
-        return (uniform_ring(hx.SEGMENTS, length=1.0, natural_curvature=hx.L_OVER_R0,
-                             B1=section.b1, B2=section.b2), section, structure, None)
+        return hexagram.ring(section), section, structure, None
     n = require_positive_int("--segments", segments)
     if n < 4 or n % 2:
         raise RodstabInputError(f"--segments must be an even number >= 4, got {segments!r}")
-    return (uniform_ring(n, length=math.pi - 2 * math.pi / n, natural_curvature=1.0,
-                         B1=section.b1, B2=section.b2), section, structure, None)
+    from ..problems.unfolded_ring import one_loop_ring
+
+    return one_loop_ring(section, n), section, structure, None
