@@ -97,12 +97,10 @@ def states(design_file: str | None, segments: int, cusps: bool, max_turns: float
     if design_file is not None:
         payload["design"] = design_file
     if units is not None:
-        payload["units"] = units.reference() | {
-            "length": units.quantity(r.length, "length"),
-            "natural_curvature": units.quantity(r.natural_curvature, "curvature"),
-            "held_curvature": units.quantities([row["held_curvature"] for row in rows],
-                                               "curvature"),
-            "energy": units.quantities([row["energy"] for row in rows], "energy")}
+        payload["units"] = units.block(
+            length=(r.length, "length"), natural_curvature=(r.natural_curvature, "curvature"),
+            held_curvature=([row["held_curvature"] for row in rows], "curvature"),
+            energy=([row["energy"] for row in rows], "energy"))
     if plot is not None:
         from ..plot.plots import plot_ring_states
 
@@ -237,8 +235,6 @@ def atlas_cmd(design_file: str, vary: str, out_dir: str, method: str,
     The grid values are solved as sweep's points are (--workers, --scheduler); the root
     refinement of the ranges runs in this process.
     """
-    import math
-
     import numpy as np
     from tqdm import tqdm
 
@@ -246,9 +242,8 @@ def atlas_cmd(design_file: str, vary: str, out_dir: str, method: str,
     from ..io.design import load_design
     from ..io.outputs import run_lock, write_atomic
     from ..io.vary import vary_in_units
-    from ..multistable.atlas import LOAD_FACTOR_UNITS, ring_atlas
-    from ..multistable.states import Ring, ring_of
-    from ..sweep import design_at
+    from ..multistable.atlas import LOAD_FACTOR_UNITS, DesignRings, ring_atlas
+    from ..multistable.states import ring_of
 
     spec = read_vary(vary, ATLAS_DEFAULT_N, "atlas points", limits)
     if spec.n < 2:
@@ -266,14 +261,7 @@ def atlas_cmd(design_file: str, vary: str, out_dir: str, method: str,
     except RodstabInputError as exc:
         raise RodstabInputError(f"{design_file} is not a ring of identical welded rods: "
                                 f"{exc}") from None
-
-    def ring_at(value: float) -> Ring:
-        try:
-            return ring_of(design_at(base, spec.key, value, spec.unit).assembly)
-        except RodstabInputError as exc:
-            msg = str(exc)
-            raise RodstabInputError(msg if msg.startswith("--vary") else
-                                    f"--vary {spec.key} = {value:g}: {msg}") from None
+    ring_at = DesignRings(base, spec.key, spec.unit)
 
     for value in (spec.start, spec.stop):  # both ends of the range, before the bar
         ring_at(value)
@@ -287,34 +275,16 @@ def atlas_cmd(design_file: str, vary: str, out_dir: str, method: str,
                         state_labels or None, key=spec.key, method=method,
                         max_turns=max_turns, limits=limits, progress=lambda: bar.update(1),
                         workers=workers, scheduler=scheduler, points_per_task=points_per_task)
-    states: dict[str, Any] = {}
-    for j, label in enumerate(at.states):
-        col = [row[j] for row in at.intervals]
-        entry: dict[str, Any] = {"theta_deg": math.degrees(col[0].theta),
-                                 "stress_free_load": col[0].stress_free_load,
-                                 "stable_at_stress_free": [c.stable_at_stress_free for c in col],
-                                 "converged": [c.converged for c in col]}
-        for side in ("lower", "upper"):
-            lims = [getattr(c, side) for c in col]
-            entry[side] = [lim.load_factor for lim in lims]
-            entry[f"{side}_multiplicity"] = [lim.multiplicity for lim in lims]
-            entry[f"{side}_harmonic"] = [lim.harmonic for lim in lims]
-            entry[f"{side}_mode"] = [lim.mode_type for lim in lims]
-        states[label] = entry
     json_path = out / "atlas.json"
     payload: dict[str, Any] = {
         "design": design_file, "key": at.key, "values": list(at.values),
         "load_factor": LOAD_FACTOR_UNITS, "method": at.method, "executor": at.executor,
-        "states": states,
-        "mutually_stable": [[{"states": list(o.members), "load_factor": list(o.load_interval)}
-                             for o in sets] for sets in at.mutual],
-        "coexistence": [{"k": c.k, "ranges": [list(r) for r in c.ranges],
-                         "tolerance": c.tolerance} for c in at.coexistence]}
+        **at.tables()}
     if base.units is not None:
         # The load factors stay the design's (natural curvatures are load factor x its own);
         # the varied values are in the unit of --vary.
-        payload["units"] = base.units.reference() | {
-            "values": {"value": list(at.values), "unit": spec.unit}}
+        payload["units"] = base.units.block(values={"value": list(at.values),
+                                                    "unit": spec.unit})
     from ..plot.plots import plot_stable_bands
 
     png = plot_stable_bands(at.bands(), at.states, out / "atlas.png", x_key="value",
