@@ -46,9 +46,9 @@ _BARRIER_STATES = {"six-ring": ("folded", "one-loop"), "hexagram": ("line", "sta
 @load_factor_option(
     default=None,
     help="Without DESIGN kappa_n R0 (six-ring: R0 = L / theta, the one-loop radius; "
-                   "hexagram: R0 = 3L/2pi); with DESIGN the multiplier of its natural "
-                   "curvature. Default: the middle of the two states' common stable interval "
-                   "(Bloch). Both states must be stable there.")
+         "hexagram: R0 = 3L/2pi); with DESIGN the multiplier of its natural "
+         "curvature. Default: the middle of the two states' common stable interval "
+         "(Bloch). Both states must be stable there.")
 @elements_option(default=8, minimum=4, help="Elements per rod of the discrete rod (>= 4).")
 @click.option("--images", type=int, default=None,
               help="Images of the string, ends included (>= 3; default "

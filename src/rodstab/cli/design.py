@@ -176,8 +176,6 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
     If Newton does not converge, the table (or JSON, converged: false) is still printed and
     the exit status is 3.
     """
-    import numpy as np
-
     from ..io.design import load_design, nonlinear_elements
     from ..nonlinear.solve import STRAIN_WARN, equilibrium, resolving_elements
 
@@ -204,7 +202,7 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
     ok, its, res = r.converged, r.iterations, r.residual
     ev = r.lowest_eigenvalues
     payload = r.to_dict() | {"design": d.source, "elements_per_segment": n,
-                             "max_out_of_plane": float(np.max(np.abs(rod.x[:, 2])))}
+                             "max_out_of_plane": rod.max_out_of_plane()}
     if render is not None or html is not None:
         from ..plot.ribbons import RodLayout
 
@@ -232,7 +230,7 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
         payload["units"] = u.block(
             energy=(r.energy, "energy"), natural_curvature={"value": kappa, "unit": "1/m"},
             max_out_of_plane=(payload["max_out_of_plane"], "length"),
-            max_internal_moment=(float(np.max(rod.edge_moments(), initial=0.0)), "moment"))
+            max_internal_moment=(rod.max_internal_moment(), "moment"))
         energy += f" ({fmt(payload['units']['energy']['value'])} J)"
         unit_lines = [units_line(u),
                       f"physical     natural curvature {fmt(kappa)} 1/m of segment "

@@ -53,7 +53,7 @@ from .output import (
 @load_factor_option(
     default=2.0,
     help="Without DESIGN kappa_n R0; with DESIGN the multiplier of its natural "
-                   "curvature.")
+         "curvature.")
 @click.option("--starts", type=int, default=8, show_default=True,
               help="Perturbed starts (in +/- pairs) besides the seeds.")
 @elements_option(default=16, minimum=2, help="Elements per rod.")
@@ -128,7 +128,7 @@ def discover(design_file: str | None, section: Section, structure: str, segments
 @load_factor_option(
     default=None,
     help="Load factor at which every state loaded must be stable [default: twice the "
-                   "star's stress-free load: kappa_n R0 = 2 for the hexagram].")
+         "star's stress-free load: kappa_n R0 = 2 for the hexagram].")
 @elements_option(default=8, minimum=2, help="Elements per rod of the discrete rod.")
 @click.option("--contact-thickness", "contact_thickness", type=float, default=0.02,
               show_default=True,

@@ -46,7 +46,7 @@ from .output import emit, fmt, image_output, section_line, units_line
 @load_factor_option(
     default=None,
     help="With DESIGN: the load factor (scaling the design's natural curvature) at "
-                   "which the energy is given [default: the design's reference_load, else 1].")
+         "which the energy is given [default: the design's reference_load, else 1].")
 @click.option("--plot", "plot_path", type=click.Path(dir_okay=False), default=None,
               help="Write the planar shapes of the states in a grid (PNG).")
 @json_option
