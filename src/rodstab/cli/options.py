@@ -247,8 +247,10 @@ def given(option: str) -> bool:
     """Whether ``option`` (a parameter name) was given on the command line, not defaulted."""
     src = click.get_current_context().get_parameter_source(option)
     return src is not None and src.name != "DEFAULT"
+
+
 def ring_and_section(design_file: str | None, structure: str, segments: int,
-                      section: Section) -> tuple[Any, Section, str, Any]:
+                     section: Section) -> tuple[Any, Section, str, Any]:
     """Return a ring command's ring: DESIGN's (:func:`~.multistable.states.ring_of`) or built in.
 
     Built-in structures (without DESIGN): ``hexagram`` (six rods of length 1, natural curvature
