@@ -540,7 +540,8 @@ def public_modules() -> list[str]:
     names = [m.name for m in pkgutil.walk_packages(rodstab.__path__, "rodstab.")]
     return ["rodstab"] + sorted(n for n in names if not any(p.startswith("_")
                                                              for p in n.split("."))
-                                and n not in NOT_IN_API)
+                                and not any(n == m or n.startswith(m + ".")
+                                            for m in NOT_IN_API))
 
 
 #: The API reference's sections in the nav and on its index, by layer from the bottom up:

@@ -559,7 +559,8 @@ def test_elapsed_indicator_shows_after_its_delay_on_a_terminal_and_clears_its_li
     seconds, on a terminal only, and clears the line before any output and at its end."""
     import time
 
-    from rodstab.cli import _quiet_indicator, elapsed_indicator
+    from rodstab.cli.output import elapsed_indicator
+    from rodstab.cli.output import quiet_indicator as _quiet_indicator
 
     tty = _Tty()
     with elapsed_indicator("rodstab x: working", tty, after=0.05, tick=0.01):
@@ -582,3 +583,28 @@ def test_elapsed_indicator_shows_after_its_delay_on_a_terminal_and_clears_its_li
     with elapsed_indicator("rodstab z", pipe, after=0.0, tick=0.01):
         time.sleep(0.1)
     assert pipe.getvalue() == ""  # not a terminal: nothing
+
+
+#: The commands that solve no FE or nonlinear model (closed forms, or a list of held states):
+#: they take no size limits. Every other command takes --max-dof, --max-steps, --max-memory.
+WITHOUT_LIMITS = {"section", "arc", "arc-max-length", "states", "reproduce"}
+
+
+def test_every_solving_command_has_the_limit_options():
+    """Issue 20: one definition of the limit options (cli.options.limit_options), on every
+    command that solves, barrier and transitions included."""
+    from rodstab.cli import cli
+
+    for name, command in cli.commands.items():
+        options = {o for p in command.params for o in p.opts}
+        has = {"--max-dof", "--max-steps", "--max-memory"} <= options
+        assert has == (name not in WITHOUT_LIMITS), name
+
+
+@pytest.mark.parametrize("argv", [
+    ["transitions", "--elements", "6", "--shape", "rectangle", "--aspect", "4"],
+    ["barrier", "--elements", "6", "--shape", "rectangle", "--aspect", "4", "--load-factor", "1"]])
+def test_barrier_and_transitions_are_sized_against_max_dof_before_solving(argv, run_cli):
+    r = run_cli([*argv, "--max-dof", "10"])
+    assert r.exit_code == 2 and not r.stdout
+    assert "unknowns" in r.stderr and "--max-dof" in r.stderr, r.stderr

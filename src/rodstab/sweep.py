@@ -49,8 +49,8 @@ from typing import TYPE_CHECKING, Any
 
 from .errors import NotConverged, RodstabInputError, require_finite, require_positive_int
 from .executor import check_workers, run_points, task_size
-from .io.design import SWEEP_DEFAULT_N, Design, load_design, parse_design
-from .io.vary import parse_vary, set_design_value
+from .io.design import SWEEP_DEFAULT_N, Design, load_design
+from .io.vary import design_at, parse_vary, set_design_value
 from .limits import DEFAULT as DEFAULT_LIMITS
 from .limits import Limits, require_steps
 from .linear.solve import converged_stability
@@ -174,39 +174,6 @@ class SweepResult(Result):
             df[c] = df[c].astype(float)
         df.attrs.update(key=self.key, executor=self.executor, resumed=self.resumed)
         return df
-
-
-def design_at(design: Design, key: str, value: float, unit: str | None = None) -> Design:
-    """Return ``design`` with the design value ``key`` set to ``value``, validated.
-
-    Parameters
-    ----------
-    design : Design
-        The base design (not modified).
-    key : str
-        A key of :func:`rodstab.io.vary.set_design_value`.
-    value : float
-        Its new value.
-    unit : str, optional
-        Its unit (a design with units: :func:`rodstab.io.vary.vary_in_units`).
-
-    Returns
-    -------
-    Design
-        The modified design.
-
-    Raises
-    ------
-    RodstabInputError
-        If ``key`` names no design value, or the design is invalid at ``value``; the message
-        names the key and the value (``--vary KEY = VALUE: ...``).
-    """
-    data = set_design_value(design.raw, key, value, unit)
-    try:
-        return parse_design(data, design.source)
-    except RodstabInputError as exc:
-        shown = f"{value:g}" if unit is None else f"{value:g} {unit}"
-        raise RodstabInputError(f"--vary {key} = {shown}: {exc}") from None
 
 
 def _one_line(exc: BaseException) -> str:

@@ -313,6 +313,32 @@ class Units(Result):
         """Return ``metres`` as text in the file's length unit, e.g. ``"174.4 mm"``."""
         return f"{metres / self.length_unit_m:.6g} {self.length_unit}"
 
+    def natural_curvature(self, assembly: Assembly, load_factor: float = 1.0) -> float:
+        """Return ``|kappa_n|`` (1/m) of the reference segment of ``assembly`` at ``load_factor``.
+
+        The natural curvatures are the load factor times the design's (``natural_curvature``
+        of :attr:`segment`, model units).
+        """
+        return abs(self.si(load_factor * assembly.segment(self.segment).natural_curvature,
+                           "curvature"))
+
+    def block(self, **entries: Any) -> dict[str, Any]:
+        """Return a command's ``"units"`` block: :meth:`reference`, then ``entries`` in SI.
+
+        An entry ``(model value, kind)`` becomes :meth:`quantity`, ``(list of model values,
+        kind)`` :meth:`quantities`; any other entry (a ``{"value", "unit"}`` already in SI, a
+        list of them) is kept as given.
+        """
+        out = self.reference()
+        for key, entry in entries.items():
+            if not isinstance(entry, tuple):
+                out[key] = entry
+            else:
+                value, kind = entry
+                out[key] = (self.quantities(list(value), kind) if isinstance(value, list | tuple)
+                            else self.quantity(value, kind))
+        return out
+
     def reference(self) -> dict[str, Any]:
         """Return the JSON form of the scales: what one model unit is in SI."""
         out: dict[str, Any] = {

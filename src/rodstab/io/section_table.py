@@ -332,11 +332,11 @@ def _stiffness_with_units(spec: dict[str, tuple[Any, str]], where: str,
             raise RodstabInputError(msg if msg.startswith(where) else f"{where}: {msg}") from None
         assert sec.I3 is not None
         I3 = sec.I3
-    B3 = mat.E * I3
+    B1, B2, B3 = sec.stiffnesses(mat.E, I3)
     if not STIFFNESS_RANGE[0] <= B3 <= STIFFNESS_RANGE[1]:
         raise RodstabInputError(f"{where}: B3 = E I3 = {B3:g} N*m^2 is outside "
                                 f"[{STIFFNESS_RANGE[0]:g}, {STIFFNESS_RANGE[1]:g}]")
-    return sec.b1 * B3, sec.b2 * B3, B3
+    return B1, B2, B3
 
 
 def _composite_with_units(spec: dict[str, tuple[Any, str]],

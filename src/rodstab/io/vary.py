@@ -15,7 +15,7 @@ from typing import Any
 from ..errors import RodstabInputError, require_positive_int
 from ..model import ROTATION_AXES
 from ..units import EXAMPLES, convert, parse_unit, split_quantity
-from .design import _SEGMENT_KINDS, Design
+from .design import _SEGMENT_KINDS, Design, parse_design
 from .fields import _show
 from .section_table import _DIMENSION_KEYS
 
@@ -316,3 +316,36 @@ def model_value(design: Design, key: str, value: float, unit: str | None) -> flo
         return value
     si = value * parse_unit(unit, f"--vary {key}", kind)
     return si / design.units.si(1.0, kind)
+
+
+def design_at(design: Design, key: str, value: float, unit: str | None = None) -> Design:
+    """Return ``design`` with the design value ``key`` set to ``value``, validated.
+
+    Parameters
+    ----------
+    design : Design
+        The base design (not modified).
+    key : str
+        A key of :func:`rodstab.io.vary.set_design_value`.
+    value : float
+        Its new value.
+    unit : str, optional
+        Its unit (a design with units: :func:`rodstab.io.vary.vary_in_units`).
+
+    Returns
+    -------
+    Design
+        The modified design.
+
+    Raises
+    ------
+    RodstabInputError
+        If ``key`` names no design value, or the design is invalid at ``value``; the message
+        names the key and the value (``--vary KEY = VALUE: ...``).
+    """
+    data = set_design_value(design.raw, key, value, unit)
+    try:
+        return parse_design(data, design.source)
+    except RodstabInputError as exc:
+        shown = f"{value:g}" if unit is None else f"{value:g} {unit}"
+        raise RodstabInputError(f"--vary {key} = {shown}: {exc}") from None

@@ -75,6 +75,19 @@ class LinearStability(Result):
     #: is above the target of :func:`converged_stability` (empty otherwise).
     reason: str = ""
 
+    @property
+    def mesh_error_relative(self) -> float | None:
+        """Largest estimated mesh error of the finite ends, relative to ``max(|end|, 1)``.
+
+        None when the error was not estimated (``mesh_error`` None); 0 with no finite end.
+        """
+        if self.mesh_error is None:
+            return None
+        errs = [e / max(abs(x), 1.0) for x, e in zip(self.load_factor_interval,
+                                                     self.mesh_error, strict=True)
+                if math.isfinite(x)]
+        return max(errs, default=0.0)
+
 
 #: A stress-free load factor beyond this is not used as the reference (the pencil would be
 #: evaluated at a load where K0 is lost to round-off); 0 is used instead.

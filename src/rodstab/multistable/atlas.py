@@ -40,13 +40,15 @@ from typing import Any
 
 from ..errors import RodstabInputError
 from ..executor import run_points
+from ..io.design import Design
+from ..io.vary import design_at
 from ..limits import DEFAULT as DEFAULT_LIMITS
 from ..limits import Limits
 from ..linear.solve import FE_ORDER, converged_stability
 from ..numerics import refine_root
 from ..results import Result
 from ..transfer import CyclicRingInterval, cyclic_ring_interval
-from .states import HeldState, Ring, step_angle, weld_name
+from .states import HeldState, Ring, ring_of, step_angle, weld_name
 
 #: Mode types at a limit, by Bloch harmonic ``m`` of an ``n``-rod ring.
 ALL_ALIKE = "all rods alike"
@@ -398,6 +400,37 @@ class RingAtlas(Result):
                 runs.append((p, p, kind))
         return runs
 
+    def tables(self) -> dict[str, Any]:
+        """Return the atlas as columns over the grid (atlas.json's ``states``, ...).
+
+        ``states``: per state, ``theta_deg`` and ``stress_free_load``, and per grid value
+        ``stable_at_stress_free``, ``converged`` and for each limit (``lower``, ``upper``) the
+        load factor, ``*_multiplicity``, ``*_harmonic`` and ``*_mode``; ``mutually_stable``:
+        per value the maximal sets of mutually stable states and their common load interval;
+        ``coexistence``: per ``k`` its parameter ranges and their tolerance.
+        """
+        states: dict[str, Any] = {}
+        for j, label in enumerate(self.states):
+            col = [row[j] for row in self.intervals]
+            entry: dict[str, Any] = {
+                "theta_deg": math.degrees(col[0].theta),
+                "stress_free_load": col[0].stress_free_load,
+                "stable_at_stress_free": [c.stable_at_stress_free for c in col],
+                "converged": [c.converged for c in col]}
+            for side in ("lower", "upper"):
+                lims = [getattr(c, side) for c in col]
+                entry[side] = [lim.load_factor for lim in lims]
+                entry[f"{side}_multiplicity"] = [lim.multiplicity for lim in lims]
+                entry[f"{side}_harmonic"] = [lim.harmonic for lim in lims]
+                entry[f"{side}_mode"] = [lim.mode_type for lim in lims]
+            states[label] = entry
+        return {"states": states,
+                "mutually_stable": [[{"states": list(o.members),
+                                      "load_factor": list(o.load_interval)} for o in sets]
+                                    for sets in self.mutual],
+                "coexistence": [{"k": c.k, "ranges": [list(r) for r in c.ranges],
+                                 "tolerance": c.tolerance} for c in self.coexistence]}
+
     def bands(self) -> dict[str, list[float]]:
         """``{"value": [...], "<state>.lower": [...], "<state>.upper": [...]}`` for a chart.
 
@@ -549,6 +582,36 @@ def ring_atlas(ring_at: Callable[[float], Ring], values: Sequence[float],
                      mutual=tuple(mutual_sets(as_dict(r)) for r in rows),
                      coexistence=tuple(coexistence), load_factor=LOAD_FACTOR_UNITS,
                      method=rows[0][0].method if rows[0] else method, executor=where)
+
+
+@dataclasses.dataclass
+class DesignRings:
+    """The ring of ``design`` with the design value ``key`` set to each value (callable).
+
+    What :func:`ring_atlas` solves at a grid value: ``rings(value)`` is
+    :func:`~rodstab.multistable.states.ring_of` of :func:`~rodstab.io.vary.design_at`, each
+    value's design parsed once and its ring kept (the ends checked before a run, the first
+    value read twice, are not parsed again). Picklable, for a dask worker. An invalid design
+    at a value raises :class:`RodstabInputError` naming ``--vary KEY = VALUE``.
+    """
+
+    design: Design
+    key: str
+    unit: str | None = None
+    _rings: dict[float, Ring] = dataclasses.field(default_factory=dict, repr=False,
+                                                  compare=False)
+
+    def __call__(self, value: float) -> Ring:
+        """Return the ring at ``value`` (in ``unit``)."""
+        if value not in self._rings:
+            try:
+                self._rings[value] = ring_of(design_at(self.design, self.key, value,
+                                                       self.unit).assembly)
+            except RodstabInputError as exc:
+                msg = str(exc)
+                raise RodstabInputError(msg if msg.startswith("--vary") else
+                                        f"--vary {self.key} = {value:g}: {msg}") from None
+        return self._rings[value]
 
 
 def grid_values(ring_at: Callable[[float], Ring], labels: Sequence[str], method: str,

@@ -415,6 +415,20 @@ class DiscreteRod:
                 np.add.at(cnt, idx, 1.0)
         return mom / np.maximum(cnt, 1.0)
 
+    def max_internal_moment(self) -> float:
+        """Return the largest internal moment magnitude of an edge (0 without edges).
+
+        The largest of :meth:`edge_moments`, lab units of B x curvature.
+        """
+        return float(np.max(self.edge_moments(), initial=0.0))
+
+    def max_out_of_plane(self) -> float:
+        """Return the largest ``|z|`` of a node (length units).
+
+        How far the rod leaves the plane ``z = 0`` of a planar design's held state.
+        """
+        return float(np.max(np.abs(self.x[:, 2])))
+
     def edge_twist(self, R_edge: np.ndarray | None = None) -> np.ndarray:
         """Return the rate of twist per edge (n_edges,), radians per length.
 

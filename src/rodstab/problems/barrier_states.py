@@ -100,3 +100,11 @@ def model_load_factor(structure: str, kappa_R0: float) -> float:
     if structure == "hexagram":
         return kappa_R0
     return kappa_R0 * folded_ring.Params().theta / folded_ring.Params().length
+
+
+def structure_load(structure: str, load_factor: float) -> float:
+    """Return ``kappa_n R0`` at the discrete model's ``load_factor``.
+
+    :func:`model_load_factor` inverted: it is proportional, so divided by its value at 1.
+    """
+    return load_factor / model_load_factor(structure, 1.0)

@@ -23,17 +23,20 @@ aspect, not its size relative to the rods.
 from __future__ import annotations
 
 import dataclasses
+from typing import Any
 
 import numpy as np
 
 from ..errors import RodstabInputError
 from ..limits import DEFAULT as DEFAULT_LIMITS
 from ..limits import Limits, require_nonlinear
+from ..model import Assembly
 from ..multistable.states import Ring, uniform_ring
 from ..multistable.transitions import TransitionGraph, ring_nodes, transition_graph
 from ..nonlinear.discrete import discretise
 from ..nonlinear.parameters import parameter
 from ..sections import Section
+from ..units import SI_UNITS, Units
 from . import hexagram as hx
 
 #: The basic states whose transitions are followed by default (those the ring has).
@@ -56,6 +59,28 @@ HEXAGRAM_STIMULI: dict[str, tuple[tuple[str, float], ...]] = {
 DEFAULT_THICKNESS = 0.02
 
 
+def threshold_units(units: Units, assembly: Assembly,
+                    edges: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    """Return each edge's threshold in SI (a design with units).
+
+    ``edges`` are :meth:`TransitionGraph.to_json`'s; each result has ``from``, ``to``,
+    ``stimulus``, ``quantity`` and ``value``, ``unit``: the stimulus in its own SI unit
+    (``quantity: "value"``, :func:`rodstab.io.vary.value_kind`), or for the load factor
+    ``|kappa_n|`` (1/m) of the reference segment there (``quantity: "natural_curvature"``).
+    """
+    from ..io.vary import value_kind
+
+    out = []
+    for e in edges:
+        kind = value_kind(e["stimulus"])
+        q = (units.quantity(e["threshold"], kind) if kind is not None else
+             {"value": units.natural_curvature(assembly, e["threshold"]),
+              "unit": SI_UNITS["curvature"]})
+        out.append({"from": e["from"], "to": e["to"], "stimulus": e["stimulus"],
+                    "quantity": "value" if kind else "natural_curvature", **q})
+    return out
+
+
 def hexagram_ring(section: Section) -> Ring:
     """Return the hexagram's ring: six rods of length 1 at cusps, load factor ``kappa_n R0``."""
     return uniform_ring(hx.SEGMENTS, weld="cusp", length=1.0, natural_curvature=hx.L_OVER_R0,
@@ -73,6 +98,16 @@ def star_load(ring: Ring) -> float | None:
     if "star" not in ring_basic_states(ring):
         return None
     return ring.stress_free_load(ring.state("star").theta)
+
+
+def default_load_factor(ring: Ring) -> float | None:
+    """Return the default load factor of :func:`transitions`: twice the star's stress-free load.
+
+    ``kappa_n R0 = 2`` for the hexagram, where its basic states are stable on a section of
+    h/t above the threshold; None when the ring has no star (:func:`star_load`).
+    """
+    unit = star_load(ring)
+    return None if unit is None else 2.0 * unit
 
 
 def default_stimuli(ring: Ring) -> dict[str, tuple[tuple[str, float], ...]]:

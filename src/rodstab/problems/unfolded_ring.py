@@ -14,8 +14,22 @@ import math
 from ..errors import require_positive, require_positive_int
 from ..linear.solve import LinearStability
 from ..model import Assembly
+from ..multistable.states import Ring, uniform_ring
 from ..sections import Section, circle
 from ._common import Method, engine, nonlinear_critical, segment
+
+
+def one_loop_ring(section: Section, segments: int = 6) -> Ring:
+    """Return the one-loop ring of ``segments`` arcs of radius 1 welded at cusps, as a ring.
+
+    Each rod turns by ``theta = pi - 2 pi / n``, the turning at which ``n`` cusps close one
+    loop (120 degrees for the six-ring), so its length on radius 1 is ``theta``; natural
+    curvature 1 per unit load (``B3 = 1``): the load factor is ``kappa_n R0``.
+    """
+    n = require_positive_int("segments", segments)
+    return uniform_ring(n, length=math.pi - 2 * math.pi / n, natural_curvature=1.0,
+                        B1=section.b1, B2=section.b2)
+
 
 #: Elements per segment of the linear engine (the report's B.unfold row).
 DEFAULT_ELEMENTS = 24

@@ -115,6 +115,19 @@ class Section(Result):
         """sqrt(b1 b2) = sqrt(B1 B2)/B3, the stiffness combination of eq. (3.9) and Fig. 4."""
         return math.sqrt(self.b1 * self.b2)
 
+    def stiffnesses(self, E: float, I3: float | None = None) -> tuple[float, float, float]:
+        """Return ``(B1, B2, B3)`` of this section in a material of Young's modulus ``E``.
+
+        ``B3 = E I3`` (in-plane bending), ``B1 = b1 B3``, ``B2 = b2 B3``: in N m^2 for ``E``
+        in Pa and ``I3`` in m^4. ``I3`` defaults to the section's own (None for ratios).
+        """
+        I3 = self.I3 if I3 is None else I3
+        if I3 is None:
+            raise RodstabInputError(f"a {self.shape!r} section has no I3: its stiffnesses need "
+                                    "its geometry")
+        B3 = E * I3
+        return self.b1 * B3, self.b2 * B3, B3
+
 
 def _check_torsion(torsion: str) -> str:
     if not isinstance(torsion, str) or torsion not in TORSION_OPTIONS:

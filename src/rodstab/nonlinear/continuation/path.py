@@ -89,6 +89,11 @@ class Path(Result):
                                   "shape_moments", "landed")}
 
     @property
+    def stable(self) -> tuple[bool, ...]:
+        """Whether each point is stable: its lowest scaled Hessian eigenvalue is > 0."""
+        return tuple(e > 0 for e in self.lowest_eigenvalue)
+
+    @property
     def radius(self) -> tuple[float, ...]:
         """Largest distance of a node from the centroid, per point (needs ``shapes``)."""
         return tuple(float(np.max(np.linalg.norm(x - x.mean(axis=0), axis=1)))

@@ -1,0 +1,5 @@
+"""``python -m rodstab.cli``: the ``rodstab`` command."""
+
+from .main import main
+
+main()

@@ -1,0 +1,217 @@
+"""The ``barrier`` command: the energy barrier between two stable states of a ring.
+
+Parsing and printing only.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import click
+
+from ..errors import NotConverged, RodstabInputError
+from ..io.outputs import check_output
+from ..limits import Limits
+from ..sections import Section
+from .options import (
+    elements_option,
+    json_option,
+    limit_options,
+    load_factor_option,
+    ring_and_section,
+    section_options,
+)
+from .output import emit, fmt, image_output, section_line, units_line
+
+#: Default ``--from`` / ``--to`` of ``rodstab barrier`` per built-in structure.
+_BARRIER_STATES = {"six-ring": ("folded", "one-loop"), "hexagram": ("line", "star")}
+
+
+@click.command()
+@click.argument("design_file", required=False, type=click.Path(dir_okay=False))
+@click.option("--method", type=click.Choice(["string", "continuation"]), default="string",
+              show_default=True,
+              help="string: minimum energy path between the two states, saddle refined from "
+                   "it; continuation: saddle from the --from state's bifurcation (built-in, "
+                   "straight held states only).")
+@click.option("--structure", type=click.Choice(["six-ring", "hexagram"]), default="six-ring",
+              show_default=True, help="Without DESIGN: the structure (six-ring: folded, "
+                                      "one-loop; hexagram: line, star, daisy, eight).")
+@click.option("--from", "from_state", default=None,
+              help="The stable state the barrier is climbed from (default: folded for the "
+                   "six-ring, line for the hexagram; with DESIGN a label of `rodstab states "
+                   "DESIGN`, required).")
+@click.option("--to", "to_state", default=None,
+              help="The other state (default: one-loop, star; with DESIGN required).")
+@load_factor_option(
+    default=None,
+    help="Without DESIGN kappa_n R0 (six-ring: R0 = L / theta, the one-loop radius; "
+         "hexagram: R0 = 3L/2pi); with DESIGN the multiplier of its natural "
+         "curvature. Default: the middle of the two states' common stable interval "
+         "(Bloch). Both states must be stable there.")
+@elements_option(default=8, minimum=4, help="Elements per rod of the discrete rod (>= 4).")
+@click.option("--images", type=int, default=None,
+              help="Images of the string, ends included (>= 3; default "
+                   "rodstab.multistable.string_method.STRING_IMAGES, 17). String method.")
+@click.option("--plot", "plot_path", type=click.Path(dir_okay=False), default=None,
+              help="Write the energy along the path (saddle marked, barriers annotated).")
+@click.option("--animation", "animation_path", type=click.Path(dir_okay=False), default=None,
+              help="Write a GIF of the path's states (.gif). String method.")
+@section_options
+@limit_options
+@json_option
+def barrier(design_file: str | None, section: Section, method: str, structure: str,
+            from_state: str | None, to_state: str | None, load_factor: float | None,
+            elements: int,
+            images: int | None, plot_path: str | None, animation_path: str | None,
+            limits: Limits, as_json: bool) -> None:
+    """Energy barrier between two stable states of a ring: the saddle and the path through it.
+
+    string (default): the minimum energy path between the two states by the string method
+    (images relaxed from a path that turns the frames through 3D), the saddle refined from it
+    by Newton, index 1, and checked by the steepest descents from it, which must end on the two
+    states. continuation: the saddle is the subcritical branch from the --from state's
+    bifurcation, traced back to the load; the path is the steepest descent from it on both
+    sides; a state curved in its held geometry (the hexagram's) is refused (exit 2). An
+    unconverged barrier exits 3 after the output.
+    """
+    from ..errors import require_int
+    from ..limits import require_nonlinear
+
+    k = load_factor
+    chosen: tuple[float, float] | None = None
+    if method == "continuation" and (images is not None or animation_path is not None):
+        raise RodstabInputError("--images and --animation are options of --method string")
+    from ..multistable.string_method import STRING_IMAGES
+
+    n_img = STRING_IMAGES if images is None else require_int("--images", images, 3)
+    plot = None if plot_path is None else image_output("--plot", plot_path)
+    gif = None if animation_path is None else check_output("--animation", animation_path,
+                                                           directory=False, suffixes={".gif"})
+    if design_file is not None:
+        if method == "continuation":
+            raise RodstabInputError("--method continuation is for the built-in structures "
+                                    "(it needs their load range); use --method string with "
+                                    f"{design_file}")
+        if from_state is None or to_state is None:
+            raise RodstabInputError(f"--from and --to name two states of {design_file} (see "
+                                    "`rodstab states DESIGN`)")
+        ring, section, name, design = ring_and_section(design_file, structure, 6, section)
+        a, b_asm = (ring.held(ring.state(s).theta) for s in (from_state, to_state))
+        if k is None:
+            from ..multistable.atlas import common_load
+
+            k, chosen = common_load(ring, (from_state, to_state))
+        mu = k
+    else:
+        from ..problems.barrier_states import check_state, model_load_factor, state_assembly
+
+        name = structure
+        from_state = from_state or _BARRIER_STATES[structure][0]
+        to_state = to_state or _BARRIER_STATES[structure][1]
+        check_state(structure, from_state, "--from")
+        check_state(structure, to_state, "--to")
+        if from_state == to_state:
+            raise RodstabInputError(f"--to {to_state!r} is the --from state: a barrier joins "
+                                    "two different states")
+        a, b_asm = (state_assembly(structure, section, s) for s in (from_state, to_state))
+    if from_state == to_state:
+        raise RodstabInputError(f"--to {to_state!r} is the --from state: a barrier joins two "
+                                "different states")
+    # Sized before anything is built: the string relaxes its images together.
+    string = method == "string"
+    require_nonlinear([elements] * len(a.segments), len(a.joints()),
+                      f"--images {n_img}, --elements {elements}" if string else
+                      f"--elements {elements}", limits, copies=n_img if string else 1)
+    if design_file is None:
+        from ..problems.barrier_states import model_load_factor, structure_load
+
+        if k is None:
+            from ..problems.barrier_states import common_load as structure_common_load
+
+            hexagram_ring = ring_and_section(None, "hexagram", 6, section)[0]
+            k, chosen = structure_common_load(structure, hexagram_ring, (from_state, to_state))
+        mu = model_load_factor(structure, k)
+    assert k is not None  # set above on every path (given, DESIGN's or the structure's default)
+    path: list[Any] = []
+    try:
+        if method == "string":
+            from ..multistable.string_method import string_barrier
+
+            b, path = string_barrier(a, b_asm, mu, elements_per_segment=elements,
+                                     images=n_img, name_a=from_state, name_b=to_state,
+                                     limits=limits)
+        else:
+            from ..multistable.barrier import barrier_from_bifurcation
+
+            b = barrier_from_bifurcation(a, mu, upper=model_load_factor(structure, 4.0),
+                                         elements_per_segment=elements, name=from_state,
+                                         named={to_state: b_asm}, limits=limits)
+    except RodstabInputError as exc:
+        raise RodstabInputError(f"--load-factor {k!r}, --from {from_state!r}: {exc}") from exc
+    payload = b.to_dict()
+    payload.update(structure=name, kappa_R0=k, section=section.to_dict(), method=method)
+    if chosen is not None:
+        payload["load_factor_chosen_in"] = list(chosen)
+    if method == "string":
+        payload.update(images=b.images)
+    units = None if design_file is None else design.units
+    if units is not None:
+        payload["units"] = units.block(
+            **{key: (getattr(b, key), "energy") for key in (
+                "barrier_forward", "barrier_backward", "energy_from", "energy_to",
+                "energy_saddle", "energies")})
+    lines = [section_line(section),
+             f"{name} at {'kappa_n R0' if design_file is None else 'load factor'} = {fmt(k)}, "
+             f"{elements} elements per rod (B3 = 1, L = 1), method {method}"
+             + ("" if chosen is None else f" (chosen: the middle of the states' common stable "
+                                          f"interval ({fmt(chosen[0])}, {fmt(chosen[1])}))")]
+    if units is not None:
+        lines.insert(1, units_line(units))
+    run: Any = b.string_run
+    if method == "string":
+        lines.append(f"string       {b.images} images, {b.iterations} iterations; saddle from "
+                     f"image {b.saddle_position} of the path")
+    else:
+        lines.append(f"branch       from kappa_n R0 = "
+                     f"{fmt(structure_load(structure, b.load_factor_critical))}")
+    lines += [
+        f"saddle       index {b.saddle_index}, energy {fmt(b.energy_saddle)}, descents end on "
+        f"{', '.join(b.descent_ends) or 'not run'}",
+        f"forward      {b.from_state} -> {b.to_state}: {fmt(b.barrier_forward)}"
+        + ("" if units is None else f" ({fmt(units.si(b.barrier_forward, 'energy'))} J)"),
+        f"backward     {b.to_state} -> {b.from_state}: {fmt(b.barrier_backward)}"
+        + ("" if units is None else f" ({fmt(units.si(b.barrier_backward, 'energy'))} J)"),
+        f"converged    {b.converged} ({len(b.energies)} path points)"]
+    if plot is not None:
+        from ..plot.plots import plot_barrier_path
+
+        payload["plot"] = str(plot_barrier_path(
+            b.path_arclength, b.energies, b.saddle_position, plot,
+            labels=(b.from_state, b.to_state),
+            title=f"{name}, kappa_n R0 = {fmt(k)}, {elements} el./rod, {method}"))
+        lines.append(f"wrote {payload['plot']}")
+    if gif is not None:
+        from ..multistable.discover import common_rod
+        from ..plot.plots import animate_shapes
+        from ..plot.ribbons import RodLayout
+
+        rod = common_rod(a, elements, mu)
+        payload["animation"] = str(animate_shapes(
+            [snap.x for snap in path], [snap.R_edge for snap in path], RodLayout.from_rod(rod),
+            gif, edge_values=[rod.edge_twist(snap.R_edge) for snap in path],
+            value_label="rate of twist (rad / length)", diverging=True,
+            labels=[f"s = {s:.2f}, E = {e:.5g}"
+                    for s, e in zip(b.path_arclength, b.energies, strict=True)],
+            title=f"{name}: {from_state} -> {to_state}, minimum energy path"))
+        lines.append(f"wrote {payload['animation']}")
+    emit(payload, as_json, lines)
+    if not b.converged:
+        why = ""
+        if run is not None and run.too_coarse:
+            why = (f": neighbouring images are {fmt(run.largest_gap)} rad apart, more "
+                   "--images are needed")
+        raise NotConverged(f"the barrier {b.from_state} -> {b.to_state} did not converge"
+                           f"{why} (residual {b.residual:.3g}, saddle index "
+                           f"{b.saddle_index}, descents end on "
+                           f"{', '.join(b.descent_ends) or 'not run'})")

@@ -1,0 +1,229 @@
+"""The commands that search a ring's equilibria: discover and transitions.
+
+Parsing and printing only.
+"""
+
+from __future__ import annotations
+
+import json
+import warnings
+
+import click
+
+from ..errors import (
+    NotConverged,
+    RodstabInputError,
+    require_positive,
+)
+from ..io.outputs import check_output
+from ..limits import Limits, require_steps
+from ..results import jsonable
+from ..sections import Section
+from .options import (
+    elements_option,
+    json_option,
+    limit_options,
+    load_factor_option,
+    ring_and_section,
+    section_options,
+)
+from .output import (
+    emit,
+    fmt,
+    image_output,
+    section_label,
+    section_line,
+    units_line,
+    warnings_as_lines,
+)
+
+
+@click.command()
+@click.argument("design_file", required=False, type=click.Path(dir_okay=False))
+@click.option("--structure", type=click.Choice(["hexagram", "six-ring"]), default="hexagram",
+              show_default=True,
+              help="Without DESIGN: hexagram: six rods of length L, load kappa_n R0 (R0 = "
+                   "3L/2pi); six-ring: the ring of Section 5 (unfolded_ring: --segments arcs of "
+                   "radius 1 welded at cusps), load kappa_n R0.")
+@click.option("--segments", type=int, default=6, show_default=True,
+              help="Rods of the six-ring (even, >= 4).")
+@click.option("--state", default=None,
+              help="Held state the search starts from (a label of `rodstab states`; default "
+                   "star).")
+@load_factor_option(
+    default=2.0,
+    help="Without DESIGN kappa_n R0; with DESIGN the multiplier of its natural "
+         "curvature.")
+@click.option("--starts", type=int, default=8, show_default=True,
+              help="Perturbed starts (in +/- pairs) besides the seeds.")
+@elements_option(default=16, minimum=2, help="Elements per rod.")
+@click.option("--seed", "rng_seed", type=int, default=0, show_default=True,
+              help="Seed of the random perturbations.")
+@click.option("--seed-states/--no-seed-states", default=True, show_default=True,
+              help="Also start from the held geometry of every other closed state of the ring "
+                   "(rodstab states, |kL| <= 2 pi).")
+@click.option("--plot", "plot_path", type=click.Path(dir_okay=False), default=None,
+              help="Write a grid of the states found (projected on their best-fit planes).")
+@section_options
+@limit_options
+@json_option
+def discover(design_file: str | None, section: Section, structure: str, segments: int,
+             state: str | None, load_factor: float, starts: int, elements: int, rng_seed: int,
+             seed_states: bool, plot_path: str | None, limits: Limits, as_json: bool) -> None:
+    """Equilibria nobody named: deflated Newton from seeds and perturbed starts.
+
+    On DESIGN's ring (identical rods welded in a cycle, `rodstab states DESIGN`) or on a
+    built-in structure.
+    """
+    from ..limits import require_nonlinear
+    from ..multistable.discover import RUNS_PER_START, ring_seeds, shape_2d
+    from ..multistable.discover import discover as search
+
+    plot = None if plot_path is None else image_output("--plot", plot_path)
+    mu, n_el = load_factor, elements
+    if isinstance(starts, bool) or starts < 0:
+        raise RodstabInputError(f"--starts must be an integer >= 0, got {starts!r}")
+    ring, section, name, design = ring_and_section(design_file, structure, segments, section)
+    n = ring.segments
+    require_nonlinear([n_el] * n, n, f"--elements {n_el}", limits)
+    require_steps((starts + 4 * n) * RUNS_PER_START, f"--starts {starts}",
+                  "deflated Newton runs", limits)
+    start_state = "star" if state is None else state
+    rod, seeds, known = ring_seeds(ring, start_state, n_el, mu, seed_states)
+    found, snaps = search(rod, seeds, known, starts=starts, seed=rng_seed,
+                          directions=tuple(d for _, d in ring.order))
+    payload = found.to_dict() | {"structure": name, "segments": n, "start_state": start_state,
+                                 "section": section.to_dict()}
+    units = None if design is None else design.units
+    if units is not None:
+        payload["units"] = units.block(energy=([s.energy for s in found.states], "energy"))
+    if plot is not None:
+        from ..plot.plots import plot_ring_states
+
+        titles = [f"{s.label}: E {s.energy:.4g}, index {s.index}"
+                  + ("" if s.invariants.planar else ", 3D") for s in found.states]
+        payload["plot"] = str(plot_ring_states([shape_2d(rod, s) for s in snaps], titles, plot))
+    load = "kappa_n R0" if design_file is None else "load factor"
+    lines = [section_line(section),
+             f"{name}, {n} rods, {n_el} elements each, {load} = {fmt(mu)}: "
+             f"{len(found.states)} distinct equilibria from {found.runs} deflated Newton runs "
+             f"({found.converged_runs} converged); seeds {', '.join(found.seeds)}",
+             f"{'label':>14} {'energy':>10} {'index':>5} {'stable':>6} {'welds':>5} "
+             f"{'turning':>8} {'max|z|/L':>9}  found from"]
+    if units is not None:
+        lines.insert(2, units_line(units))
+    lines += [f"{s.label:>14} {s.energy:>10.6g} {s.index:>5} {str(s.stable):>6} "
+              f"{s.invariants.distinct_weld_points:>5} {s.invariants.turning_number:>8.4g} "
+              f"{s.invariants.max_out_of_plane:>9.3g}  {s.found_from}"
+              + ("" if units is None else f"  ({fmt(units.si(s.energy, 'energy'))} J)")
+              for s in found.states]
+    lines += [f"wrote {payload['plot']}"] if plot is not None else []
+    emit(payload, as_json, lines)
+
+
+@click.command()
+@click.argument("design_file", required=False, type=click.Path(dir_okay=False))
+@click.option("--structure", type=click.Choice(["hexagram"]), default="hexagram",
+              show_default=True, help="Without DESIGN: the structure whose states are loaded.")
+@load_factor_option(
+    default=None,
+    help="Load factor at which every state loaded must be stable [default: twice the "
+         "star's stress-free load: kappa_n R0 = 2 for the hexagram].")
+@elements_option(default=8, minimum=2, help="Elements per rod of the discrete rod.")
+@click.option("--contact-thickness", "contact_thickness", type=float, default=0.02,
+              show_default=True,
+              help="Out-of-plane section height h over the rod length L, for the contact "
+                   "check (rods closer than h touch).")
+@click.option("--stimulus", "stimuli", multiple=True, metavar="STATE=KEY:STOP",
+              help="Load STATE in KEY from 0 (load_factor: from --load-factor) to STOP; "
+                   "repeatable, replaces that state's defaults. KEY: load_factor, "
+                   "welds.<i>,<j>.rotation.<normal|tangent|binormal> (radians), "
+                   "weld.<i>.moment.<normal|tangent|binormal> (B3/L), "
+                   "weld.<i>.force.<normal|tangent|binormal> (B3/L^2, dead load), weld indices "
+                   "0-5.")
+@click.option("--state", "states_", multiple=True, metavar="STATE",
+              help="Load only these states (repeatable; labels of `rodstab states`; default: "
+                   "the line, star, daisy and eight the ring has).")
+@click.option("--all", "all_stimuli", is_flag=True,
+              help="Try every stimulus of each state, not only up to the first transition.")
+@click.option("--out", "out_dir", type=click.Path(file_okay=False), default=None,
+              help="Directory for transitions.json and transitions.png (the graph).")
+@section_options
+@limit_options
+@json_option
+def transitions(design_file: str | None, section: Section, structure: str,
+                load_factor: float | None, elements: int,
+                contact_thickness: float, stimuli: tuple[str, ...], states_: tuple[str, ...],
+                all_stimuli: bool, out_dir: str | None, limits: Limits, as_json: bool) -> None:
+    """Transitions between states under a stimulus: the transition graph.
+
+    Each state is loaded until it first loses stability, relaxed past it, unloaded and
+    identified. Rods have no contact: each edge reports the closest approach of rods over h
+    and whether rods would pass through each other (physical: false). On DESIGN's ring
+    (identical rods welded in a cycle, `rodstab states DESIGN`) or the hexagram.
+    """
+    from ..problems import ring_transitions as rt
+
+    thickness = require_positive("--contact-thickness", contact_thickness)
+    ring, section, name, design = ring_and_section(design_file, structure, 6, section)
+    if load_factor is None:
+        load_factor = rt.default_load_factor(ring)
+        if load_factor is None:
+            raise RodstabInputError(f"{name}: the ring has no star to set the default load "
+                                    "factor; give --load-factor")
+    labels = tuple(st.label for st in ring.states().states)
+    for state in states_:
+        if state not in labels:
+            raise RodstabInputError(f"--state {state!r} is not one of {labels}")
+    chosen: dict[str, list[tuple[str, float]]] = {}
+    for text in stimuli:
+        state, key, stop = rt.parse_stimulus(text, labels)
+        chosen.setdefault(state, []).append((key, stop))
+    stim = rt.default_stimuli(ring) | {s: tuple(v) for s, v in chosen.items()}
+    out = None if out_dir is None else check_output("--out", out_dir, directory=True)
+    with warnings_as_lines(), warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        res = rt.transitions(ring, load_factor=load_factor, elements=elements,
+                             thickness=thickness, stimuli=stim, all_stimuli=all_stimuli,
+                             load=tuple(states_) or None, limits=limits)
+    payload = res.graph.to_json()
+    payload["structure"] = name
+    payload["section"] = section.to_dict()
+    units = None if design is None else design.units
+    physical: dict[tuple[str, str, str], str] = {}
+    if design is not None and units is not None:
+        thresholds = rt.threshold_units(units, design.assembly, payload["edges"])
+        for q in thresholds:
+            what = "" if q["quantity"] == "value" else "natural curvature "
+            physical[(q["from"], q["to"], q["stimulus"])] = \
+                f" ({what}{fmt(q['value'])} {q['unit']})"
+        payload["units"] = units.block(thresholds=thresholds)
+    load_name = "kappa_n R0" if design_file is None else "load factor"
+    if out is not None:
+        from ..plot.transition_graph import plot_transition_graph
+
+        (out / "transitions.json").write_text(json.dumps(jsonable(payload), allow_nan=False))
+        payload["figure"] = str(plot_transition_graph(
+            payload, res.shapes, out / "transitions.png",
+            title=f"{name}, {section_label(section)}, "
+                  f"{load_name} = {load_factor:g}, {elements} elements per rod, h/L = "
+                  f"{thickness:g}"))
+        payload["json_file"] = str(out / "transitions.json")
+    lines = [section_line(section),
+             f"{name} at {load_name} = {fmt(load_factor)}, {elements} elements per rod, "
+             f"contact thickness h/L = {fmt(thickness)}"]
+    lines += [units_line(units)] if units is not None else []
+    for e in payload["edges"]:
+        lines.append(f"{e['from']:>6} -> {e['to']:<8} {e['stimulus']} = {fmt(e['threshold'])}"
+                     f"{physical.get((e['from'], e['to'], e['stimulus']), '')} ({e['kind']}); "
+                     + ("no pass-through" if e["physical"] else "RODS PASS THROUGH: not "
+                        "physical as computed"))
+    lines += [f"{e['from']:>6}    none     {e['stimulus']} up to {fmt(e['stop'])}: "
+              f"{e['message']}" for e in payload["no_transition"]]
+    lines += [f"{s['state']:>6}    skipped: {s['why']}" for s in payload["skipped"]]
+    lines += [f"wrote {payload['figure']}, {payload['json_file']}"] if out is not None else []
+    emit(payload, as_json, lines)
+    unconverged = [f"{e['from']} -> {e['to']}" for e in payload["edges"] if not e["converged"]]
+    if unconverged:
+        raise NotConverged(f"a relaxation or the path of {', '.join(unconverged)} did not "
+                           "converge (those edges are not to be trusted)")

@@ -1,0 +1,201 @@
+"""What the ``rodstab`` commands print: tables, the ``--json`` object, warnings, progress.
+
+Every analysis command ends with :func:`emit`: a readable table, or with ``--json`` exactly
+one JSON object on stdout (NaN/inf become ``null``), with the run's warnings added. Nothing
+here computes a result: the units blocks come from :mod:`rodstab.units`.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import json
+import sys
+import warnings
+from collections.abc import Callable, Iterator
+from pathlib import Path
+from typing import Any
+
+import click
+
+from ..errors import NotConverged, RodstabInputError, RodstabWarning
+from ..io.outputs import check_output
+from ..results import jsonable
+from ..sections import PolygonSection, Section
+from ..units import Units
+
+#: The :class:`~rodstab.errors.RodstabWarning` messages this run has shown (each once, in
+#: order): :func:`emit` adds them to a ``--json`` object as ``warnings``.
+SHOWN_WARNINGS: list[str] = []
+#: Seconds after which a command without its own bar shows that it is still working.
+ELAPSED_AFTER = 2.0
+#: The running elapsed_indicator's stop: called before any output, which must not share a line
+#: with it (nor be erased when it clears its line).
+_INDICATOR_STOP: list[Callable[[], None]] = []
+
+
+def emit(payload: dict[str, Any], as_json: bool, lines: list[str]) -> None:
+    """Print ``payload`` as one JSON object (``as_json``) or ``lines`` as the table."""
+    quiet_indicator()
+    if SHOWN_WARNINGS and "warnings" not in payload:
+        payload = payload | {"warnings": list(SHOWN_WARNINGS)}
+    if as_json:
+        click.echo(json.dumps(jsonable(payload), allow_nan=False))
+    else:
+        click.echo("\n".join(lines))
+
+
+def require_converged(result: Any, what: str) -> None:
+    """Raise :class:`NotConverged` (exit 3, after the output) if ``result`` did not converge.
+
+    ``result`` has ``converged`` and ``residual``; the message names both and ``what``.
+    """
+    if not result.converged:
+        raise NotConverged(f"{what}: residual {result.residual:.3g} is above the method's "
+                           "tolerance (the printed numbers are not to be trusted)")
+
+
+def one_of(multiplicity: int) -> str:
+    """Say that a multiple mode's sign pattern is one vector of its eigenspace, not the mode."""
+    return (f" (one vector of the {multiplicity}-fold eigenspace; any combination is critical)"
+            if multiplicity > 1 else "")
+
+
+def fmt(x: float) -> str:
+    """Format a number as every table prints it (6 significant digits)."""
+    return f"{x:.6g}"
+
+
+def section_line(s: Section) -> str:
+    """Return the ``section`` line of a table: shape, aspect, nu, torsion, b1, b2."""
+    return f"section      {section_label(s)}: b1 = {fmt(s.b1)}, b2 = {fmt(s.b2)}, " \
+           f"sqrt(b1 b2) = {fmt(s.sqrt_b1b2)}"
+
+
+def section_label(s: Section) -> str:
+    """Return the section's name as tables and titles give it (``rectangle, aspect 4, ...``)."""
+    geom = f"{s.shape}" + (f", aspect {fmt(s.aspect)}" if s.aspect is not None else "")
+    nu = f", nu {fmt(s.nu)}" if s.nu is not None else ""
+    return f"{geom}{nu}, torsion {s.torsion}"
+
+
+def polygon_lines(s: PolygonSection) -> list[str]:
+    """Return the mesh, axes and geometry lines of a polygon section."""
+    return [f"mesh         {s.n_elements} six-node triangles, mesh_size {fmt(s.mesh_size)}; "
+            f"J changes by {s.J_mesh_change:.2g} (relative) from a 4x coarser mesh",
+            f"axes         principal at {fmt(s.principal_deg[0])} and "
+            f"{fmt(s.principal_deg[1])} deg from x; ring normal e3 at {fmt(s.normal_deg)} "
+            f"deg; centroid ({fmt(s.centroid[0])}, {fmt(s.centroid[1])})",
+            f"geometry     area {fmt(s.area or 0.0)}, I1 {fmt(s.I1 or 0.0)}, "
+            f"I3 {fmt(s.I3 or 0.0)}, J {fmt(s.J or 0.0)} (the polygon's length unit)"]
+
+
+def units_line(units: Units) -> str:
+    """Return the reference scales of a design with units, as one line."""
+    mat = ("" if units.E is None else
+           f" (E = {units.E / 1e9:.6g} GPa, nu = {fmt(units.nu or 0.0)})")
+    return (f"units        SI; reference segment {units.segment!r}: L = "
+            f"{units.length_text(units.length)}, B3 = {fmt(units.stiffness)} N*m^2{mat}")
+
+
+def image_output(option: str, value: str) -> Path:
+    """Check a picture's output path: :func:`check_output`, matplotlib's types."""
+    from matplotlib.backend_bases import FigureCanvasBase
+
+    types = FigureCanvasBase.get_supported_filetypes()
+    return check_output(option, value, directory=False, suffixes={f".{t}" for t in types})
+
+
+def html_output(option: str, value: str) -> Path:
+    """Check an interactive view's output path, and that plotly is there to write it."""
+    import importlib.util
+
+    path = check_output(option, value, directory=False)
+    if importlib.util.find_spec("plotly") is None:
+        raise RodstabInputError(f'{option} needs plotly: pip install "rodstab[viz]"')
+    return path
+
+
+@contextlib.contextmanager
+def warnings_as_lines() -> Iterator[None]:
+    """Print each :class:`~rodstab.errors.RodstabWarning` as one ``rodstab: warning:`` line.
+
+    A progress bar being drawn is cleared first (tqdm's external write mode). A message already
+    shown in this run (a design re-read at each point of a sweep) is not repeated.
+    """
+    from tqdm import tqdm
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("always", RodstabWarning)
+        shown = warnings.showwarning
+
+        def show(message: Warning | str, category: type[Warning], filename: str, lineno: int,
+                 file: Any = None, line: str | None = None) -> None:
+            if issubclass(category, RodstabWarning):
+                text = " ".join(str(message).split())
+                if text in SHOWN_WARNINGS:
+                    return
+                SHOWN_WARNINGS.append(text)
+                quiet_indicator()
+                with tqdm.external_write_mode(file=sys.stderr):
+                    click.echo(f"rodstab: warning: {text}", err=True)
+            else:
+                shown(message, category, filename, lineno, file, line)
+
+        warnings.showwarning = show
+        yield
+
+
+@contextlib.contextmanager
+def elapsed_indicator(desc: str, stream: Any = None, *, after: float = ELAPSED_AFTER,
+                      tick: float = 0.5) -> Iterator[None]:
+    """Show ``desc: N s`` on ``stream`` (stderr) while the block runs, from ``after`` seconds.
+
+    Only on a terminal (a log or a pipe gets nothing); the line is cleared at the end, so the
+    command's own output and its one-line errors stay as they are. A daemon thread redraws
+    it every ``tick`` seconds: the solvers need no callback.
+    """
+    import threading
+    import time
+
+    stream = sys.stderr if stream is None else stream
+    if not getattr(stream, "isatty", lambda: False)():
+        yield
+        return
+    stop = threading.Event()
+    lock = threading.Lock()
+    start = time.monotonic()
+    shown = [0]
+
+    def draw() -> None:
+        while not stop.wait(tick):
+            t = time.monotonic() - start
+            with lock:
+                if t >= after and not stop.is_set():
+                    text = f"{desc}: {t:.0f} s"
+                    stream.write("\r" + text)
+                    stream.flush()
+                    shown[0] = len(text)
+
+    def finish() -> None:
+        stop.set()
+        with lock:
+            if shown[0]:
+                stream.write("\r" + " " * shown[0] + "\r")
+                stream.flush()
+                shown[0] = 0
+
+    thread = threading.Thread(target=draw, daemon=True)
+    _INDICATOR_STOP.append(finish)
+    thread.start()
+    try:
+        yield
+    finally:
+        finish()
+        thread.join()
+        _INDICATOR_STOP.remove(finish)
+
+
+def quiet_indicator() -> None:
+    """Stop the running :func:`elapsed_indicator` and clear its line (before any output)."""
+    for finish in list(_INDICATOR_STOP):
+        finish()
