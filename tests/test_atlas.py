@@ -4,9 +4,9 @@ Oracles: the Bloch transfer method against the FE engine on the whole ring (ever
 its multiplicity, 1e-6); the six-sided ring's folded state against the full system of general
 solutions of problems/folded_ring.py (lambda_c = pi / 3) and its one-loop state against
 problems/unfolded_ring.py's own ring (units converted: the design's load factor is kappa_n,
-kappa_n R0 = load factor x 3 / (2 pi)); the hexagram's threshold h/t* = 3.5102 (nu = 1/3,
-tests/test_hexagram.py) as the start of the atlas's four-state range; a brute-force search
-over all subsets for the k-overlap.
+kappa_n R0 = load factor x 3 / (2 pi)); the hexagram's threshold h/t* (nu = 1/3; the FE
+engine and a closed form, tests/references.py) as the start of the atlas's four-state range; a
+brute-force search over all subsets for the k-overlap.
 """
 
 from __future__ import annotations
@@ -87,8 +87,12 @@ def test_six_ring_one_loop_state_is_the_unfolded_rings():
 
 
 def test_hexagram_four_state_range_begins_at_the_threshold():
-    """nu = 1/3: all four mutually stable from h/t* = 3.5102 (test_hexagram) to the grid's end;
-    the overlap width changes sign within the stated tolerance of the refined start."""
+    """nu = 1/3: all four mutually stable from h/t* to the grid's end; the overlap width changes
+    sign within the stated tolerance of the refined start. h/t* is the root of the eight's lower
+    limit by the FE engine less the line's upper limit in closed form (tests/references.py,
+    3.5102042), not the atlas's Bloch method nor a number from an earlier run."""
+    from references import hexagram_threshold_fe
+
     base = load_design(HEXAGRAM)
 
     def ring(aspect: float):
@@ -99,7 +103,8 @@ def test_hexagram_four_state_range_begins_at_the_threshold():
     four = at.coexistence[1]
     assert four.k == 4 and len(four.ranges) == 1
     start, end = four.ranges[0]
-    assert start == pytest.approx(3.5102, abs=1e-4) and end == 6.0
+    assert end == 6.0
+    assert start == pytest.approx(hexagram_threshold_fe(), abs=max(four.tolerance, 3e-6))
     assert four.brackets[0] == ((3.0, 4.0), None)
     step = 10 * four.tolerance
 

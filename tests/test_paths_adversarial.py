@@ -16,7 +16,11 @@ from __future__ import annotations
 
 import json
 import math
+import os
+import signal
 import subprocess
+import sys
+import time
 from pathlib import Path
 
 import numpy as np
@@ -255,20 +259,90 @@ def test_resume_after_interruption_matches_uninterrupted(twisted, full_run, tmp_
     assert np.allclose(r.value, full_run.value)
 
 
-def test_resume_after_sigkill_cli(run_cli, tmp_path):
+#: Rows of primary.csv (start point included) after which the SIGKILL test kills the run: the
+#: uninterrupted path has 27 rows and its branch point at row 23, so the kill lands well inside
+#: the path and before the special point (the resumed run must find it and trace its branch).
+KILL_AT_ROWS = 3
+
+
+def _csv_data_rows(path: Path) -> int:
+    """Complete data rows of primary.csv (0 if absent; files are replaced atomically)."""
+    try:
+        return max(path.read_bytes().count(b"\n") - 1, 0)
+    except FileNotFoundError:
+        return 0
+
+
+def test_resume_after_sigkill_mid_path_cli(run_cli, tmp_path):
+    """``rodstab continue --out`` killed by SIGKILL in the middle of its primary path, then rerun.
+
+    The kill is sent once primary.csv shows KILL_AT_ROWS rows, and where it landed is read
+    back from what the killed run left (state.npz, the single source of a resume, and
+    primary.csv): strictly inside the path. The rerun takes over the dead run's lock, resumes
+    exactly the saved rows (``resumed_steps``; their values are the saved ones, not
+    recomputed) and ends equal to an uninterrupted run: every row of primary.csv, and the
+    special point with its branch."""
     args = ["continue", str(TWISTED_TOML), "--vary", f"{KEY}=0:13:26", "--elements", "12",
             "--branch-steps", "2", "--no-progress", "--json"]
-    full = json.loads(run_cli(args).stdout)
+    ref_dir = tmp_path / "full"
+    r = run_cli([*args, "--out", str(ref_dir)])
+    assert r.exit_code == 0, r.stderr
+    full = json.loads(r.stdout)
+    n_full = len(full["value"])
+    assert n_full > KILL_AT_ROWS + 5 and full["resumed_steps"] == 0
+
     d = tmp_path / "k"
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(
+        [str(ROOT / "src")] + ([os.environ["PYTHONPATH"]] if os.environ.get("PYTHONPATH")
+                               else [])))
+    proc = subprocess.Popen([sys.executable, "-m", "rodstab.cli", *args, "--out", str(d)],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env)
     try:
-        run_cli([*args, "--out", str(d)], fresh_process=True, timeout=1.3)
-    except subprocess.TimeoutExpired:
-        pass
+        deadline = time.monotonic() + 300  # imports and 3 steps; minutes only when starved
+        while proc.poll() is None and time.monotonic() < deadline:
+            if _csv_data_rows(d / "primary.csv") >= KILL_AT_ROWS:
+                break
+            time.sleep(0.005)
+        assert proc.poll() is None, "the run ended (or the wait timed out) before the kill"
+    finally:
+        proc.send_signal(signal.SIGKILL)
+        proc.wait(timeout=60)
+    assert proc.returncode == -signal.SIGKILL
+
+    # Where the kill landed: the state holds k rows (the CSV k, or k - 1 if the kill fell
+    # between saving the state and exporting the CSV), strictly inside the path.
+    with np.load(d / "state.npz") as st:
+        saved = st["rows"]
+    k = len(saved)
+    assert KILL_AT_ROWS <= k < n_full - 1, (k, n_full)
+    assert _csv_data_rows(d / "primary.csv") in (k - 1, k)
+    first_special = full["special_points"][0]["value"]
+    assert saved[-1, 0] < first_special  # before the branch point: the rerun must find it
+
     r = run_cli([*args, "--out", str(d)])
     assert r.exit_code == 0, r.stderr
-    p = json.loads(r.stdout)
-    assert [s["value"] for s in p["special_points"]] == pytest.approx(
-        [s["value"] for s in full["special_points"]])
+    assert "stale lock" in r.stderr
+    resumed = json.loads(r.stdout)
+    assert resumed["resumed_steps"] == k
+    assert resumed["value"][:k] == saved[:, 0].tolist()  # the saved rows, not recomputed
+    # Equal to the uninterrupted run: the rerun continues from the saved state and stepper
+    # (tangent, step size), so the steps after the kill are the same computations (measured:
+    # equal bit for bit; asserted to 1e-9, which a BLAS of another summation order keeps).
+    assert len(resumed["value"]) == n_full
+    for col in ("value", "energy", "lowest_eigenvalue"):
+        assert resumed[col] == pytest.approx(full[col], rel=1e-9, abs=1e-12), col
+    kinds = [[s["kind"] for s in p["special_points"]] for p in (resumed, full)]
+    assert kinds[0] == kinds[1] and kinds[0]
+    assert [s["value"] for s in resumed["special_points"]] == pytest.approx(
+        [s["value"] for s in full["special_points"]], rel=1e-9)
+    assert [s.get("post_buckling") for s in resumed["special_points"]] == \
+        [s.get("post_buckling") for s in full["special_points"]]
+    assert (d / "primary.csv").read_text().splitlines()[0] == \
+        (ref_dir / "primary.csv").read_text().splitlines()[0]
+    got = np.loadtxt(d / "primary.csv", delimiter=",", skiprows=1, usecols=(0, 1, 2, 3))
+    want = np.loadtxt(ref_dir / "primary.csv", delimiter=",", skiprows=1, usecols=(0, 1, 2, 3))
+    assert got.shape == want.shape == (n_full, 4)
+    assert np.allclose(got, want, rtol=1e-9, atol=1e-12)
 
 
 def test_resume_after_deleting_last_csv_rows_loses_no_more_than_a_step(twisted, full_run,
