@@ -267,3 +267,46 @@ def test_the_eight_has_one_weld_point_on_every_mesh(elements, coarse, request):
     inv = idf.invariants(rod)
     assert inv.turning_number == pytest.approx(6.0, abs=1e-9)
     assert inv.distinct_weld_points == 1
+
+
+def _proper_rms(x: np.ndarray, y: np.ndarray) -> float:
+    """transitions.py's Kabsch before issue 20: proper rotations only."""
+    a, b = x - x.mean(axis=0), y - y.mean(axis=0)
+    U, _, Vt = np.linalg.svd(a.T @ b)
+    D = np.diag([1.0, 1.0, float(np.sign(np.linalg.det(U @ Vt))) or 1.0])
+    return float(np.sqrt(np.mean(np.sum((a @ U @ D @ Vt - b) ** 2, axis=1))))
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_against_a_planar_reference_reflections_change_nothing(seed):
+    """transitions' references are planar held states: for any state (here generic, 3D) the
+    distance with reflections allowed equals transitions' old proper-rotation one, over every
+    relabelling (the cross-covariance with a planar set has a zero singular value)."""
+    ref = _rod(HEXAGRAM, "star")
+    rod = _bent(ref, seed=seed, size=0.2)
+    x, y = rod.x[idf.ring_nodes(rod)], ref.x[idf.ring_nodes(ref)]
+    for image in (x, np.concatenate([x[:1], x[:0:-1]])):
+        for k in range(6):
+            xs = np.roll(image, k * N, axis=0)
+            assert idf.kabsch_rms(xs, y) == pytest.approx(_proper_rms(xs, y), rel=1e-12)
+
+
+@pytest.mark.parametrize("ring", [HEXAGRAM, FOLDED], ids=["hexagram", "folded six-ring"])
+def test_discover_deduplicates_as_before_on_the_states_it_finds(ring):
+    """Every pair of equilibria discover finds from the held states (8 elements, kappa_n R0
+    = 2 -- the folded ring's load in its units): the one distance and discover's old one are
+    on the same side of SAME_STATE_DISTANCE, and the states found are all distinct."""
+    from rodstab.multistable import discover as dv
+
+    mu = 2.0 if ring is HEXAGRAM else 2.0 * 2 * math.pi / 3
+    rod, seeds, known = dv.ring_seeds(ring, "star", N, mu, True)
+    found, snaps = dv.discover(rod, seeds, known, starts=0,
+                               directions=tuple(d for _, d in ring.order))
+    assert len(snaps) == len(seeds)  # each seed its own state
+    for i, a in enumerate(snaps):
+        for b in snaps[i + 1:]:
+            new = idf.aligned_distance(rod, a, b) < idf.SAME_STATE_DISTANCE
+            old = _old_discover_distance(rod, a.x, b.x) < idf.SAME_STATE_DISTANCE
+            assert new == old
+    labels = [s.label for s in found.states]
+    assert {"star", "daisy", "line"} <= set(labels)
