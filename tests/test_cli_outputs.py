@@ -68,6 +68,16 @@ CHANGED: dict[str, str] = {
 #: sign-change bracket, the redesign locates the eigenvalue's root by the package's root finder
 #: inside the same bracket; they must agree to the bracket's width.
 SPECIAL_VALUE = "special_points.value"
+#: Issue 20 (one identification of ring states): transitions' target turning number was a
+#: chord formula (turning inside each rod times n / (n - 1) for the half-joints), off where a
+#: rod's turning is not uniform -- by up to 0.14 on e0b77e8's targets at 6 elements (4.1367
+#: for a planar daisy); it is now the exact discrete turning (end frames counted,
+#: tests/test_identify.py), a whole number on a planar closed ring. Checked: within
+#: ``TURNING_WHOLE`` of a whole number when the target is planar, within ``TURNING_CHANGE`` of
+#: the recorded value.
+TURNING_EXACT = "target_invariants.turning_number"
+TURNING_WHOLE = 1e-9
+TURNING_CHANGE = 0.2
 #: The sign pattern of a critical mode of multiplicity > 1 names one vector of its eigenspace,
 #: which any basis may give (the eigen solver's start vector changed in the redesign): it is
 #: compared only for simple modes.
@@ -90,6 +100,13 @@ def _compare(old: Any, new: Any, path: str, errors: list[str], context: dict[str
     if CHANGED.get(key) == "no worse":
         if not (new is not None and new <= max(RESIDUAL_FACTOR * old, 1e-9)):
             errors.append(f"{path}: residual {new!r} (was {old!r})")
+        return
+    if path.endswith(TURNING_EXACT):
+        planar = context.get("planarity", 1.0) < 1e-9
+        if not (isinstance(new, float) and abs(new - old) <= TURNING_CHANGE
+                and (not planar or abs(new - round(new)) <= TURNING_WHOLE)):
+            errors.append(f"{path}: {new!r} (was {old!r}: whole within {TURNING_WHOLE:g} "
+                          f"when planar, within {TURNING_CHANGE:g} of it)")
         return
     if isinstance(old, dict):
         if not isinstance(new, dict):

@@ -17,6 +17,7 @@ import pytest
 
 from rodstab.cli import main
 from rodstab.multistable import discover as dv
+from rodstab.multistable import identify as idf
 from rodstab.nonlinear import constraint, solve
 from rodstab.nonlinear.jets import rodrigues
 from rodstab.problems import hexagram as hx
@@ -122,17 +123,20 @@ def test_deflation_finds_the_straight_and_both_buckled_rods():
 
 
 def test_aligned_distance_is_zero_modulo_rigid_motion_and_relabelling():
-    """A star moved rigidly and relabelled (rods shifted by two) is the same state."""
+    """A star moved rigidly and relabelled (rods shifted by two) is the same state.
+
+    (More transforms, a 3D state and the folded ring: tests/test_identify.py.)
+    """
     rod = _hexagram_rod("star")
     s = dv.Snapshot.of(rod)
     Q = rodrigues(np.array([[0.3, -1.1, 0.7]]))[0]
-    seg = dv._segment_nodes(rod)
+    seg = np.array([idf.segment_nodes(rod, k) for k in range(6)])
     x = s.x.copy()
     x[seg] = np.roll(s.x[seg], 2, axis=0)
     moved = dv.Snapshot(x @ Q.T + np.array([1.0, -2.0, 0.5]), s.R_edge, s.R_joint)
-    assert dv.aligned_distance(rod, s, moved) < 1e-12
+    assert idf.aligned_distance(rod, s, moved) < 1e-12
     daisy = dv.Snapshot.of(_hexagram_rod("daisy"))
-    assert dv.aligned_distance(rod, s, daisy) > 0.1
+    assert idf.aligned_distance(rod, s, daisy) > 0.1
 
 
 def test_hexagram_discover_finds_the_four_basic_states_from_the_star(tmp_path, capsys):

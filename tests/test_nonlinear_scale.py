@@ -189,13 +189,17 @@ def test_an_unresolved_verdict_is_reported_not_unstable(run_cli, monkeypatch):
     says NOT RESOLVED; with the defaults the same run is stable and resolved."""
     import json
 
-    import rodstab.nonlinear.solve as nsolve
+    import rodstab.nonlinear.equilibrium as neq
+    import rodstab.nonlinear.stability as nstab
 
     design = EXAMPLES + "straight_clamped_rod.toml"
     c = json.loads(run_cli(["equilibrium", design, "--elements", "64", "--json"]).stdout)
     assert c["stable"] and c["stability_resolved"]
-    monkeypatch.setattr(nsolve, "KIRCHHOFF_MARGIN", 0.0)
-    monkeypatch.setattr(nsolve, "ZERO_EIG_ROUNDOFF", 1.0)
+    # Where they are read: the verdict's coordinates and floor (stability), the resolved flag
+    # (equilibrium).
+    monkeypatch.setattr(nstab, "KIRCHHOFF_MARGIN", 0.0)
+    monkeypatch.setattr(nstab, "ZERO_EIG_ROUNDOFF", 1.0)
+    monkeypatch.setattr(neq, "ZERO_EIG_ROUNDOFF", 1.0)
     f = json.loads(run_cli(["equilibrium", design, "--elements", "64", "--json"]).stdout)
     assert f["converged"] and not f["stable"] and not f["stability_resolved"]
     text = run_cli(["equilibrium", design, "--elements", "64"]).stdout

@@ -19,7 +19,7 @@ the mean segment length ``L`` and chordal frame distances,
 state (the ring's rods relabelled cyclically, the traversal reversed, a reflection) are distinct
 points there: every converged solution is deflated, and the list reported is deduplicated
 afterwards by energy, Hessian index and the aligned distance minimised over those images
-(:func:`aligned_distance`, Kabsch with reflections allowed).
+(:func:`~rodstab.multistable.identify.same_state`, Kabsch with reflections allowed).
 
 One rod for every state: all equilibria must be states of the *same* discrete model. A rod
 discretised from a curved held state carries that state in its discrete natural curvature (the
@@ -48,6 +48,15 @@ from ..nonlinear.jets import vee_skew
 from ..nonlinear.solve import NEWTON_RTOL, lowest_eigenvalues, max_strain, zero_eigenvalue_tol
 from ..numerics import jacobi_scaling
 from ..results import Result
+from .identify import (
+    SAME_STATE_DISTANCE,
+    Invariants,
+    Snapshot,
+    best_fit_plane,
+    invariants,
+    same_state,
+    segment_nodes,
+)
 from .states import Ring
 
 #: Deflation power ``p`` and shift of ``M(q) = prod (d^-p + shift)`` (Farrell et al.'s defaults).
@@ -61,14 +70,6 @@ MAX_STEP_DISPLACEMENT = 0.25
 MAX_STEP_ROTATION = 0.5
 #: Levenberg-Marquardt shifts tried per deflated Newton step before the run gives up.
 LM_TRIES = 30
-#: Two equilibria closer than this aligned RMS node distance (over ``L``) are the same state ...
-SAME_STATE_DISTANCE = 1e-3
-#: ... when also their energies agree to this (relative to max(|E|, B3 / L)).
-SAME_STATE_ENERGY = 1e-6
-#: Two weld points closer than this times ``L`` are one point.
-WELD_POINT_TOL = 1e-2
-#: A state whose nodes leave their best-fit plane by less than this times ``L`` is planar.
-PLANAR_TOL = 1e-6
 #: A found state takes a known state's label when its turning number is within this of it
 #: (and its distinct weld points and planarity agree).
 TURNING_TOL = 0.05
@@ -101,24 +102,6 @@ def common_rod(a: Assembly, elements_per_segment: int, load_factor: float) -> Di
     per_mu[:, 2] = rod.edge_kn[ee]
     rod.k0_links = (np.zeros((len(ee), 3)), per_mu)
     return rod
-
-
-@dataclasses.dataclass(frozen=True)
-class Snapshot:
-    """A state of a :class:`DiscreteRod`: positions ``(n_nodes, 3)``, frames ``(n, 3, 3)``."""
-
-    x: np.ndarray
-    R_edge: np.ndarray
-    R_joint: np.ndarray
-
-    @staticmethod
-    def of(rod: DiscreteRod) -> Snapshot:
-        """Copy ``rod``'s current state."""
-        return Snapshot(rod.x.copy(), rod.R_edge.copy(), rod.R_joint.copy())
-
-    def put(self, rod: DiscreteRod) -> None:
-        """Set ``rod``'s state to this one (same topology)."""
-        rod.x, rod.R_edge, rod.R_joint = self.x.copy(), self.R_edge.copy(), self.R_joint.copy()
 
 
 # ---------------------------------------------------------------------------------------------
@@ -266,128 +249,6 @@ def deflated_newton(rod: DiscreteRod, known: list[Snapshot], *,
         else:
             return NewtonRun(False, it, res)
     return NewtonRun(False, max_iter, res)
-
-
-# ---------------------------------------------------------------------------------------------
-# Invariants and deduplication
-def _segment_nodes(rod: DiscreteRod) -> np.ndarray:
-    """Node ids of every segment in order, ``(n_segments, elements + 1)``."""
-    n_seg = len(rod.assembly.segments)
-    ne = len(rod.R_edge) // n_seg
-    en = rod.edge_nodes.reshape(n_seg, ne, 2)
-    return np.concatenate([en[:, :, 0], en[:, -1:, 1]], axis=1)
-
-
-def _kabsch_rms(P: np.ndarray, Q: np.ndarray) -> float:
-    """RMS distance of point sets ``P``, ``Q`` (n, 3) after the best orthogonal map and shift.
-
-    Reflections are allowed (the mirror image of an equilibrium is one of the same ring).
-    """
-    P0, Q0 = P - P.mean(axis=0), Q - Q.mean(axis=0)
-    U, _, Vt = np.linalg.svd(P0.T @ Q0)
-    return float(np.sqrt(np.mean(np.sum((P0 @ (U @ Vt) - Q0) ** 2, axis=1))))
-
-
-def aligned_distance(rod: DiscreteRod, a: Snapshot, b: Snapshot) -> float:
-    """Return the RMS node distance (over ``L``) of ``a`` and ``b`` modulo the ring's symmetry.
-
-    Minimised over rigid motions, reflections and the ring's relabellings (cyclic shift of the
-    rods, reversed traversal).
-    """
-    seg = _segment_nodes(rod)
-    Pa = a.x[seg]
-    Pb = b.x[seg]
-    best = math.inf
-    for images in (Pb, Pb[::-1, ::-1]):
-        for r in range(len(seg)):
-            Q = np.roll(images, r, axis=0).reshape(-1, 3)
-            best = min(best, _kabsch_rms(Pa.reshape(-1, 3), Q))
-    return best / mean_length(rod)
-
-
-@dataclasses.dataclass(frozen=True)
-class Invariants(Result):
-    """Shape invariants of a ring state.
-
-    Attributes
-    ----------
-    distinct_weld_points : int
-        Weld points more than :data:`WELD_POINT_TOL` x L apart.
-    turning_number : float
-        Total turning of the rods' tangents in the best-fit plane, in full turns, the cusps'
-        reversals not counted (as :class:`rodstab.multistable.states.HeldState`); signed with the
-        plane normal taken along the mean frame normal ``d3``.
-    max_out_of_plane : float
-        Largest distance of a node from the best-fit plane, over ``L``.
-    planar : bool
-        ``max_out_of_plane < PLANAR_TOL``.
-    """
-
-    distinct_weld_points: int
-    turning_number: float
-    max_out_of_plane: float
-    planar: bool
-
-
-def _plane(rod: DiscreteRod, x: np.ndarray, R: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Centroid and unit normal of the best-fit plane (oriented along the mean ``d3``)."""
-    c = x.mean(axis=0)
-    _, sv, Vt = np.linalg.svd(x - c)
-    n = Vt[2]
-    if sv[1] < 1e-9 * max(sv[0], 1e-300):  # collinear (the line): the frames' d3 decides
-        m = R[:, :, 2].mean(axis=0)
-        n = m / max(float(np.linalg.norm(m)), 1e-300)
-    if n @ R[:, :, 2].mean(axis=0) < 0:
-        n = -n
-    return c, n
-
-
-def invariants(rod: DiscreteRod, s: Snapshot,
-               directions: tuple[int, ...] | None = None) -> Invariants:
-    """Distinct weld points, turning number and planarity of state ``s`` of ``rod``.
-
-    ``directions``: per segment ``+1``/``-1`` when the ring runs through it forwards/backwards
-    (:attr:`rodstab.multistable.states.Ring.order`); the turning is summed along the ring. Default
-    all forwards.
-    """
-    L = mean_length(rod)
-    c, n = _plane(rod, s.x, s.R_edge)
-    out = float(np.max(np.abs((s.x - c) @ n))) / L
-    welds: list[np.ndarray] = []
-    for e, _, _, end in rod.end_links:
-        p = s.x[rod.edge_nodes[e, 0 if end == "start" else 1]]
-        if not any(float(np.linalg.norm(p - q)) <= WELD_POINT_TOL * L for q in welds):
-            welds.append(p)
-    # Turning: tangents d2 of [start end frame, edges ..., end end frame] of each segment.
-    n_seg = len(rod.assembly.segments)
-    ne = len(rod.R_edge) // n_seg
-    e1 = np.cross(n, [1.0, 0.0, 0.0])
-    if np.linalg.norm(e1) < 0.5:
-        e1 = np.cross(n, [0.0, 1.0, 0.0])
-    e1 /= np.linalg.norm(e1)
-    e2 = np.cross(n, e1)
-    total = 0.0
-    for k in range(n_seg):
-        t = [s.R_joint[j] @ Q @ [0.0, 1.0, 0.0] for e, j, Q, end in rod.end_links
-             if end == "start" and e == k * ne]
-        t += list(s.R_edge[k * ne:(k + 1) * ne, :, 1])
-        t += [s.R_joint[j] @ Q @ [0.0, 1.0, 0.0] for e, j, Q, end in rod.end_links
-              if end == "end" and e == (k + 1) * ne - 1]
-        ang = np.unwrap(np.arctan2(np.asarray(t) @ e2, np.asarray(t) @ e1))
-        total += (1 if directions is None else directions[k]) * float(ang[-1] - ang[0])
-    return Invariants(len(welds), total / (2 * math.pi), out, out < PLANAR_TOL)
-
-
-def same_state(rod: DiscreteRod, a: Snapshot, b: Snapshot, Ea: float, Eb: float) -> bool:
-    """Whether ``a`` and ``b`` are one state modulo rigid motion, reflection and relabelling.
-
-    Energies within :data:`SAME_STATE_ENERGY` and :func:`aligned_distance` below
-    :data:`SAME_STATE_DISTANCE`.
-    """
-    scale = max(abs(Ea), abs(Eb), float(np.max(rod.edge_B[:, 2])) / mean_length(rod))
-    if abs(Ea - Eb) > SAME_STATE_ENERGY * scale:
-        return False
-    return aligned_distance(rod, a, b) < SAME_STATE_DISTANCE
 
 
 # ---------------------------------------------------------------------------------------------
@@ -602,11 +463,11 @@ def ring_seeds(ring: Ring, state: str, elements_per_segment: int, load_factor: f
 
 def shape_2d(rod: DiscreteRod, s: Snapshot) -> list[np.ndarray]:
     """Centreline of every rod of state ``s`` projected on its best-fit plane, ``(n + 1, 2)``."""
-    c, nrm = _plane(rod, s.x, s.R_edge)
+    c, nrm = best_fit_plane(s.x, s.R_edge[:, :, 2])
     e1 = np.cross(nrm, [0.0, 0.0, 1.0])
     if np.linalg.norm(e1) < 0.5:
         e1 = np.array([1.0, 0.0, 0.0]) - nrm[0] * nrm
     e1 /= np.linalg.norm(e1)
     e2 = np.cross(nrm, e1)
     return [np.stack([(s.x[ids] - c) @ e1, (s.x[ids] - c) @ e2], axis=1)
-            for ids in _segment_nodes(rod)]
+            for ids in (segment_nodes(rod, k) for k in range(len(rod.assembly.segments)))]

@@ -162,8 +162,10 @@ SADDLE_STEP = 0.1
 SADDLE_MAX_ITER = 40
 #: Extra Newton steps past the tolerance, each kept only if it divides the residual by 10.
 POLISH_STEPS = 2
-#: Largest |frame normal . lab z - 1| and out-of-plane node coordinate (times L) of a planar state.
-PLANAR_TOL = 1e-8
+#: Largest |frame d3 . gauge normal - 1| and out-of-plane node coordinate of an end state that
+#: :func:`belt_path` takes as planar (its path turns frames about that normal). Not the
+#: identification's :data:`~.identify.PLANAR_TOL` (which only names states planar).
+BELT_PLANAR_TOL = 1e-8
 #: Levenberg shifts tried per step (``lam`` grows 4x from the floor ~1e-11: 20 tries reach
 #: the largest shifts needed, ~1).
 SHIFT_TRIES = 60
@@ -254,7 +256,7 @@ def belt_path(a: DiscreteRod, b: DiscreteRod, n_images: int) -> list[DiscreteRod
     Fa, Fb = _frames(a), _frames(b)
     for r, F in ((a, Fa), (b, Fb)):
         off = float(np.max(np.abs((r.x - r.x[r.fixed_nodes[0]]) @ nrm)))
-        if np.max(np.abs(F[:, :, 2] @ nrm - 1.0)) > PLANAR_TOL or off > PLANAR_TOL:
+        if np.max(np.abs(F[:, :, 2] @ nrm - 1.0)) > BELT_PLANAR_TOL or off > BELT_PLANAR_TOL:
             raise RodstabInputError("the band's initial path is built for planar end states; "
                                     f"a state leaves the plane by {off:.3g} L")
     # Lab rotation A -> B of every frame: a rotation about the normal by alpha.

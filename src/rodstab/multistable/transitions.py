@@ -7,7 +7,8 @@ a branch point, ``stop_at_first``). Just past that threshold the state is pertur
 critical mode and relaxed (:func:`rodstab.nonlinear.solve.relax`) to a stable state, the stimulus is
 taken back to its start in small steps (relaxing again if stability is lost on the way), the welds
 are let go (a free ring again: the weld parameters' constraints removed), and the state reached
-``B`` is identified by its invariants (:func:`invariants`, :func:`identify`).
+``B`` is identified against the reference states by its aligned geometry, else named by its
+invariants (:func:`~rodstab.multistable.identify.identify`).
 
 No contact model exists in rodstab: rods pass through each other freely. Along every sampled
 state (the loading path, the snap -- only its two ends and the straight interpolation of the node
@@ -50,17 +51,12 @@ from ..nonlinear.discrete import DiscreteRod, discretise
 from ..nonlinear.parameters import parameter
 from ..nonlinear.solve import lowest_modes, newton, relax, zero_eigenvalue_tol
 from ..results import Result
+from .identify import Invariants, identify, invariants, mean_radius
 
 #: Elements of one rod closer than this many elements along it are not judged for contact.
 SAME_ROD_GAP = 3
 #: Separations shorter than this times the rod length are unresolved (no direction).
 RESOLVED = 1e-9
-#: Weld points closer than this times the rod length are one point.
-WELD_POINT_TOL = 0.02
-#: A state matches a reference when its aligned RMS node distance is below this times L.
-MATCH_RMS = 0.05
-#: A state is planar when no node is farther than this times L from its best-fit plane.
-PLANAR_TOL = 1e-3
 #: Past the threshold the stimulus is increased by this fraction of it (at least
 #: :data:`OVERSHOOT_MIN`) before relaxing: the state there has nothing nearby to stay on.
 OVERSHOOT = 0.02
@@ -75,15 +71,6 @@ SNAP_RELAXES = 3
 
 
 # ---------------------------------------------------------------------------- contact
-def ring_nodes(rod: DiscreteRod) -> np.ndarray:
-    """Node indices in traversal order, rod by rod, each rod's end node left out ``(N,)``."""
-    order = []
-    n = len(rod.R_edge) // len(rod.assembly.segments)
-    for s in range(len(rod.assembly.segments)):
-        order += [int(rod.edge_nodes[e, 0]) for e in range(s * n, (s + 1) * n)]
-    return np.array(order)
-
-
 def judged_pairs(rod: DiscreteRod) -> np.ndarray:
     """Pairs ``(a, b)`` of elements judged for contact (module docstring), ``(n_pairs, 2)``."""
     n_seg = len(rod.assembly.segments)
@@ -199,91 +186,6 @@ class ContactTracker:
                              len(samples))
 
 
-# ---------------------------------------------------------------------------- invariants
-@dataclasses.dataclass(frozen=True)
-class Invariants(Result):
-    """Invariants of a ring state, lengths over the rod length ``L``.
-
-    ``distinct_weld_points``: welds counted once within :data:`WELD_POINT_TOL` L;
-    ``turning_number``: the arcs' total signed turning in the best-fit plane over 2 pi (the
-    cusps' reversals not counted; positive about the mean binormal ``d3`` of the elements);
-    ``mean_radius``: mean node distance from the centroid; ``planarity``: largest node distance
-    from the best-fit plane.
-    """
-
-    distinct_weld_points: int
-    turning_number: float
-    mean_radius: float
-    planarity: float
-
-
-def invariants(rod: DiscreteRod) -> Invariants:
-    """Measure the :class:`Invariants` of the state of ``rod``."""
-    L = rod.assembly.total_length / len(rod.assembly.segments)
-    x = rod.x
-    c = x.mean(axis=0)
-    normal = np.linalg.svd(x - c)[2][2]
-    if normal @ rod.R_edge[:, :, 2].mean(axis=0) < 0:
-        normal = -normal
-    welds = []
-    for w in rod.assembly.welds:
-        name, end = w[0]
-        i = [s.name for s in rod.assembly.segments].index(name)
-        e = rod.end_links[2 * i + (end == "end")][0]
-        welds.append(x[rod.edge_nodes[e, 1 if end == "end" else 0]])
-    distinct: list[np.ndarray] = []
-    for p in welds:
-        if not any(float(np.linalg.norm(p - q)) <= WELD_POINT_TOL * L for q in distinct):
-            distinct.append(p)
-    n = len(rod.R_edge) // len(rod.assembly.segments)
-    chord = x[rod.edge_nodes[:, 1]] - x[rod.edge_nodes[:, 0]]
-    chord = chord - np.outer(chord @ normal, normal)
-    turn = 0.0
-    for s in range(len(rod.assembly.segments)):
-        t = chord[s * n:(s + 1) * n]
-        cr = np.cross(t[:-1], t[1:]) @ normal
-        turn += float(np.sum(np.arctan2(cr, np.einsum("ij,ij->i", t[:-1], t[1:]))))
-    # The half-joints turn too: half an element's turning at each end (the arcs are uniform).
-    turn *= n / (n - 1)
-    return Invariants(len(distinct), turn / (2 * math.pi),
-                      float(np.mean(np.linalg.norm(x - c, axis=1))) / L,
-                      float(np.max(np.abs((x - c) @ normal))) / L)
-
-
-def aligned_rms(x: np.ndarray, ref: np.ndarray) -> float:
-    """RMS distance of node sets after the best rigid motion (Kabsch, proper rotations)."""
-    a, b = x - x.mean(axis=0), ref - ref.mean(axis=0)
-    U, _, Vt = np.linalg.svd(a.T @ b)
-    D = np.diag([1.0, 1.0, float(np.sign(np.linalg.det(U @ Vt))) or 1.0])
-    return float(np.sqrt(np.mean(np.sum((a @ U @ D @ Vt - b) ** 2, axis=1))))
-
-
-def ring_rms(rod: DiscreteRod, ref: DiscreteRod) -> float:
-    """Smallest :func:`aligned_rms` over the ring's relabellings (rods shifted, reversed)."""
-    x, y = rod.x[ring_nodes(rod)], ref.x[ring_nodes(ref)]
-    n = len(rod.R_edge) // len(rod.assembly.segments)
-    best = math.inf
-    for xs in (x, np.concatenate([x[:1], x[:0:-1]])):
-        for k in range(len(rod.assembly.segments)):
-            best = min(best, aligned_rms(np.roll(xs, k * n, axis=0), y))
-    return best
-
-
-def identify(rod: DiscreteRod, references: dict[str, DiscreteRod]) -> tuple[str, float]:
-    """Name of the reference state ``rod`` matches and the RMS distance to it (over L).
-
-    A match is an aligned RMS below :data:`MATCH_RMS` (modulo rigid motion and relabelling of
-    the rods); otherwise ``other(w=<weld points>,T=<turning>)`` from :func:`invariants`.
-    """
-    L = rod.assembly.total_length / len(rod.assembly.segments)
-    dist = {name: ring_rms(rod, ref) / L for name, ref in references.items()}
-    name = min(dist, key=lambda k: dist[k])
-    if dist[name] < MATCH_RMS:
-        return name, dist[name]
-    inv = invariants(rod)
-    return (f"other(w={inv.distinct_weld_points},T={inv.turning_number:.2f})", dist[name])
-
-
 # ---------------------------------------------------------------------------- transitions
 @dataclasses.dataclass(frozen=True)
 class Transition(Result):
@@ -307,6 +209,8 @@ class Transition(Result):
     physical: bool
     converged: bool
     message: str
+    #: Mean node distance from the centroid of the target, over ``L`` (NaN without a target).
+    target_mean_radius: float = math.nan
 
 
 def _let_go(rod: DiscreteRod, a: Assembly, n: int) -> DiscreteRod:
@@ -385,7 +289,21 @@ def transition(a: Assembly, source: str, key: str, stop: float, *, load_factor: 
            + ("" if stable else " (the relaxed state under load is not stable)"))
     return Transition(source, key, stop, float(value), point["kind"], under, target, rms,
                       invariants(free), tuple(reports), physical, bool(ok and path.converged),
-                      msg)
+                      msg, mean_radius(free, free.x))
+
+
+def _invariants_json(e: Transition) -> dict | None:
+    """Return the target's invariants under the keys of ``rodstab transitions --json``.
+
+    ``planarity`` is :attr:`~.identify.Invariants.max_out_of_plane`; ``mean_radius`` the
+    target's size (:func:`~.identify.mean_radius`).
+    """
+    inv = e.target_invariants
+    if inv is None:
+        return None
+    return {"distinct_weld_points": inv.distinct_weld_points,
+            "turning_number": inv.turning_number, "mean_radius": e.target_mean_radius,
+            "planarity": inv.max_out_of_plane}
 
 
 @dataclasses.dataclass(frozen=True)
@@ -409,8 +327,7 @@ class TransitionGraph(Result):
                            "threshold": e.threshold, "kind": e.kind,
                            "under_load": e.under_load, "physical": e.physical,
                            "contact": [c.to_dict() for c in e.contact],
-                           "target_invariants": (None if e.target_invariants is None
-                                                 else e.target_invariants.to_dict()),
+                           "target_invariants": _invariants_json(e),
                            "target_rms": e.target_rms, "converged": e.converged,
                            "message": e.message} for e in self.edges if e.target is not None],
                 "no_transition": [{"from": e.source, "stimulus": e.stimulus, "stop": e.stop,

@@ -31,8 +31,9 @@ from ..errors import RodstabInputError
 from ..limits import DEFAULT as DEFAULT_LIMITS
 from ..limits import Limits, require_nonlinear
 from ..model import Assembly
+from ..multistable.identify import ring_nodes
 from ..multistable.states import Ring, uniform_ring
-from ..multistable.transitions import TransitionGraph, ring_nodes, transition_graph
+from ..multistable.transitions import TransitionGraph, transition_graph
 from ..nonlinear.discrete import discretise
 from ..nonlinear.parameters import parameter
 from ..sections import Section
