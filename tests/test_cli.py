@@ -429,7 +429,7 @@ def test_cli_equilibrium_not_converged_prints_json_then_exit_3(run_cli, monkeypa
     """A Newton solve that stops unconverged (a budget of 2 iterations from a start a tenth of
     a length off the held state): the JSON is printed with converged false, then one stderr
     line and exit status 3."""
-    import rodstab.nonlinear.solve as S
+    import rodstab.nonlinear.newton as S  # where relax() reads it
 
     monkeypatch.setattr(S, "RELAX_MAX_ITER", 2)
     r = run_cli(["equilibrium", "examples/folded_six_ring.toml", "--perturb", "0.1",
