@@ -36,6 +36,7 @@ import numpy as np
 from ..nonlinear.constraint import mean_length
 from ..nonlinear.discrete import DiscreteRod
 from ..results import Result
+from .states import distinct_points
 
 #: Two weld points closer than this times ``L`` are one point. Welds that coincide in the
 #: continuum coincide exactly in a held state, but only to the mesh's O(l_e^3) in discover's
@@ -287,15 +288,6 @@ def weld_points(rod: DiscreteRod, x: np.ndarray) -> np.ndarray:
     nodes = dict.fromkeys(int(rod.edge_nodes[e, 0 if end == "start" else 1])
                           for e, _, _, end in rod.end_links)
     return x[list(nodes)]
-
-
-def distinct_points(points: np.ndarray, tol: float) -> int:
-    """Points (n, 3) counted once within ``tol`` of one counted before them."""
-    kept: list[np.ndarray] = []
-    for p in points:
-        if not any(float(np.linalg.norm(p - q)) <= tol for q in kept):
-            kept.append(p)
-    return len(kept)
 
 
 def invariants(rod: DiscreteRod, s: Snapshot | None = None,

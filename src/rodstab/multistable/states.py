@@ -290,7 +290,7 @@ class Ring:
             found.append(HeldState(
                 label=state_label(n, theta, self.weld), theta=theta, held_curvature=k,
                 turning_number=n * theta / (2 * math.pi),
-                distinct_weld_points=_count_distinct(_weld_points(a), tol),
+                distinct_weld_points=distinct_points(_weld_points(a), tol),
                 covering=_covering(a, self.order, tol),
                 energy=0.5 * n * self.B3 * (k - kappa) ** 2 * L,
                 mirror=state_label(n, -theta, self.weld), closure_gap=gap))
@@ -450,12 +450,17 @@ def _weld_points(a: Assembly) -> np.ndarray:
     return np.array([a.segment(w[0][0]).end_point(w[0][1]) for w in a.welds])
 
 
-def _count_distinct(points: np.ndarray, tol: float) -> int:
-    distinct: list[np.ndarray] = []
+def distinct_points(points: np.ndarray, tol: float) -> int:
+    """Points ``(n, 3)`` counted once within ``tol`` (a length) of one counted before them.
+
+    The one count of distinct weld points: of a held state here, of a discrete state in
+    :func:`rodstab.multistable.identify.invariants`.
+    """
+    kept: list[np.ndarray] = []
     for p in points:
-        if not any(float(np.linalg.norm(p - q)) <= tol for q in distinct):
-            distinct.append(p)
-    return len(distinct)
+        if not any(float(np.linalg.norm(p - q)) <= tol for q in kept):
+            kept.append(p)
+    return len(kept)
 
 
 def _covering(a: Assembly, order: tuple[tuple[str, int], ...], tol: float) -> int:
