@@ -202,6 +202,39 @@ def test_hexagram_strip_interval_is_the_transfer_methods(run_cli):
                                                                            rel=1e-4)
 
 
+def test_analyze_states_the_stable_interval_in_natural_curvature_and_radius(run_cli):
+    """The stable load factors mu times |kappa_n| = 1/R0 of the reference segment, R0 read
+    from the TOML by hand (six-ring: s1's natural_radius = -100 mm; hexagram strip: r1's
+    80 mm); the radii are their inverses. Six-ring: symmetric (-mu_c, mu_c) with mu_c =
+    sqrt(b1 b2)/2 (the folded ring's lam_c = pi/3), so radius > R0/mu_c in either sense."""
+    import tomllib
+
+    for path, name, mu_c in ((SIX_RING, "s1", rectangle(aspect=10.0, nu=0.3).sqrt_b1b2 / 2),
+                             (HEXAGRAM, "r1", None)):
+        with open(path, "rb") as f:
+            seg = next(s for s in tomllib.load(f)["segment"] if s["name"] == name)
+        R0 = abs(float(seg["natural_radius"].split()[0])) / 1000  # "-100 mm" -> 0.1 m
+        p = json.loads(run_cli(["analyze", path, "--json"]).stdout)
+        lo, hi = p["load_factor_interval"]
+        u = p["units"]
+        assert u["stable_natural_curvature"] == {
+            "value": [pytest.approx(lo / R0, rel=1e-12), pytest.approx(hi / R0, rel=1e-12)],
+            "unit": "1/m"}
+        radii = u["stable_natural_radius"]
+        if mu_c is not None:  # the closed form, not the FE's own numbers
+            assert u["stable_natural_curvature"]["value"] == [
+                pytest.approx(-mu_c / R0, rel=1e-5), pytest.approx(mu_c / R0, rel=1e-5)]
+            assert radii["as_given"] == [pytest.approx(R0 / mu_c, rel=1e-5), None]
+            assert radii["reversed"] == radii["as_given"]
+            text = run_cli(["analyze", path]).stdout
+            assert f"radius > {1000 * R0 / mu_c:.5g}" in text and "in either sense" in text
+        else:  # 0 < lo < hi: radii between R0/hi and R0/lo, none curved the other way
+            assert radii == {"as_given": [pytest.approx(R0 / hi, rel=1e-12),
+                                          pytest.approx(R0 / lo, rel=1e-12)],
+                             "reversed": None, "unit": "m"}
+            assert "< natural curvature <" in run_cli(["analyze", path]).stdout
+
+
 @pytest.mark.parametrize("interval, expected", [
     ((-2.0, 2.0), (True, "upper", 0.5, 0.5)),
     ((0.5, 4.0), (True, "lower", 2.0, 1.0)),  # |log 2| < |log 1/4|: the lower limit is nearer

@@ -30,6 +30,7 @@ from .output import (
     html_output,
     image_output,
     one_of,
+    radii_text,
     require_converged,
     units_line,
     warnings_as_lines,
@@ -126,10 +127,27 @@ def _arc_text(block: dict[str, Any], prefix: str, units: Units) -> str:
             f"= {fmt(psi)} rad ({math.degrees(psi):.4g} deg)")
 
 
+def _interval_lines(block: dict[str, Any], units: Units) -> list[str]:
+    """Return the stable interval in natural curvature (1/m) and radius of the reference."""
+    if "stable_natural_curvature" not in block:
+        return []
+    lo, hi = block["stable_natural_curvature"]["value"]
+    radii = block["stable_natural_radius"]
+    given, other = (radii_text(radii[k], units) for k in ("as_given", "reversed"))
+    if given == other:
+        text = f"{given} in either sense"
+    else:
+        text = "; ".join(t for t in (given and f"{given} in the design's sense",
+                                     other and f"{other} curved the other way") if t)
+    return [f"stable for   {fmt(lo)} < natural curvature < {fmt(hi)} 1/m of segment "
+            f"{units.segment!r}" + (" (negative: curved the other way)" if lo < 0 else ""),
+            f"             {text}"]
+
+
 def _analyze_unit_lines(block: dict[str, Any], units: Units, stable: bool) -> list[str]:
     """Return the physical lines of ``analyze`` (design with units), ending with the verdict."""
     moments = block["held_moment"]["value"]
-    lines = [units_line(units),
+    lines = [units_line(units), *_interval_lines(block, units),
              f"as built     {_arc_text(block, '', units)} (segment {units.segment!r})",
              f"             stored energy {fmt(block['stored_energy']['value'])} J; largest "
              f"held moment |B3 (k - kappa_n)| {fmt(max(abs(m) for m in moments.values()))} N*m"]
