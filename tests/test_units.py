@@ -471,3 +471,48 @@ def test_every_design_command_carries_a_units_block(run_cli, tmp_path):
     B3h, kh, Lh = 200e9 * 2e-3 * 0.5e-3**3 / 12, 1 / 0.08, 2 * math.pi * 0.08 / 3
     i = p["states"].index(line)
     assert p["units"]["energy"]["value"][i] == pytest.approx(3 * B3h * kh**2 * Lh, rel=1e-9)
+
+
+def test_atlas_of_a_section_dimension_labels_its_axis_and_gives_1_per_m(run_cli, tmp_path):
+    """atlas on the hexagram strip (load factor kappa_n R0, R0 = 80 mm read from the TOML)
+    over its height: the axis is "section.height [mm]" in the table, the JSON and the figure;
+    the star's limits in 1/m are the load factors / R0, and at h = 1.5 mm (h/t = 3) they are
+    `rodstab hexagram --aspect 3`'s kappa_n R0 (exact transfer matrices of the star) / R0."""
+    r = run_cli(["atlas", HEXAGRAM, "--vary", "section.height=1.5 mm:3 mm:2", "--state", "star",
+                 "--out", str(tmp_path), "--no-progress"])
+    assert r.exit_code == 0, r.stderr
+    assert "section.height [mm]" in r.stdout.splitlines()[3]  # the table's header
+    assert "for section.height 1.5..3 mm" in r.stdout
+    p = json.loads((tmp_path / "atlas.json").read_text())
+    assert p["key"] == "section.height" and p["axis"] == "section.height [mm]"
+    u = p["units"]
+    assert u["values"] == {"value": [1.5, 3.0], "unit": "mm"}
+    R0 = 0.080
+    assert u["natural_curvature_per_load_factor"]["value"] == [pytest.approx(1 / R0)] * 2
+    star = p["states"]["star"]
+    for side in ("lower", "upper"):
+        assert u["stable_natural_curvature"]["value"]["star"][side] == [
+            pytest.approx(mu / R0, rel=1e-12) for mu in star[side]]
+    exact = json.loads(run_cli(["hexagram", "--shape", "rectangle", "--aspect", "3", "--nu",
+                                "0.3", "--json"]).stdout)["states"]["star"]
+    at_3 = [u["stable_natural_curvature"]["value"]["star"][s][0] for s in ("lower", "upper")]
+    assert at_3 == [pytest.approx(k / R0, rel=1e-6) for k in exact]
+    # a plain number on a dimensional key is refused, not read in some unit nobody named
+    r = run_cli(["atlas", HEXAGRAM, "--vary", "section.height=4:6:3", "--out",
+                 str(tmp_path / "plain")])
+    assert r.exit_code == 2 and "give START and STOP with a unit" in r.stderr
+
+
+def test_stable_bands_chart_labels_both_axes():
+    """The chart's axes: the varied key with its unit, and the load's second scale."""
+    from rodstab.plot.plots import plot_stable_bands
+
+    fig = plot_stable_bands({"value": [1.0, 2.0], "s.lower": [0.5, 0.4], "s.upper": [2.0, 2.5]},
+                            ("s",), x_key="value", xlabel="section.height [mm]",
+                            ylabel="load factor", second_axis=(12.5, "kappa_n [1/m]"))
+    ax = fig.axes[0]
+    assert ax.get_xlabel() == "section.height [mm]" and ax.get_ylabel() == "load factor"
+    (right,) = ax.child_axes
+    assert right.get_ylabel() == "kappa_n [1/m]"
+    fig.canvas.draw()  # the second axis takes its limits from the first when drawn
+    assert right.get_ylim() == pytest.approx(tuple(12.5 * y for y in ax.get_ylim()))

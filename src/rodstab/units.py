@@ -35,6 +35,7 @@ import dataclasses
 import functools
 import math
 import re
+from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
 from .errors import RodstabInputError
@@ -439,6 +440,18 @@ def _curvature_entries(units: Units, prefix: str, kappa: float, length: float) -
             f"{prefix}psi": {"value": 0.5 * units.si(length, "length") * k, "unit": "rad"}}
 
 
+def load_factor_curvatures(units: Units, assembly: Assembly,
+                           load_factors: Sequence[float]) -> list[float]:
+    """Return load factors as the reference segment's natural curvature (1/m), signed.
+
+    ``mu |kappa_n|`` with ``|kappa_n|`` the reference segment's at load factor 1
+    (:meth:`Units.natural_curvature`): positive in the sense the design gives it, negative
+    curved the other way; infinite load factors stay infinite (0 when the segment is straight).
+    """
+    k = units.natural_curvature(assembly, 1.0)
+    return [0.0 if k == 0 else mu * k for mu in load_factors]
+
+
 def _radius_range(k_lo: float, k_hi: float) -> list[float] | None:
     """Radii ``[1/k_hi, 1/k_lo]`` (m) of the curvatures ``k_lo < k < k_hi`` of one sense.
 
@@ -482,7 +495,7 @@ def curvature_interval(units: Units, assembly: Assembly,
     k = units.natural_curvature(assembly, 1.0)
     if k == 0:
         return {}
-    lo, hi = (v * k for v in interval)
+    lo, hi = load_factor_curvatures(units, assembly, interval)
     return {"stable_natural_curvature": {"value": [lo, hi], "unit": SI_UNITS["curvature"]},
             "stable_natural_radius": {"as_given": _radius_range(lo, hi),
                                       "reversed": _radius_range(-hi, -lo), "unit": "m"}}

@@ -30,6 +30,7 @@ from matplotlib.ticker import (
     NullFormatter,
     ScalarFormatter,
 )
+from numpy.typing import ArrayLike
 
 from ..linear.solve import LinearStability, SegmentMode
 from ..model import Assembly
@@ -630,7 +631,8 @@ def plot_stable_bands(data: dict[str, list[float]], states: tuple[str, ...],
                       path: str | Path | None = None, *, threshold: float | None = None,
                       title: str = "", x_key: str = "aspect", xlabel: str = "h / t",
                       ylabel: str = "kappa_n R0",
-                      all_stable: Sequence[tuple[float, float]] | None = None) -> Any:
+                      all_stable: Sequence[tuple[float, float]] | None = None,
+                      second_axis: tuple[float, str] | None = None) -> Any:
     """Draw each state's stable band of the load between ``<state>.lower`` and ``.upper``.
 
     ``data[x_key]`` is the abscissa (default h/t); the bands are filled, translucent, one
@@ -642,6 +644,9 @@ def plot_stable_bands(data: dict[str, list[float]], states: tuple[str, ...],
     default ``data``'s :data:`ALL_STABLE_KEYS`; without them the range from ``threshold`` to
     the grid's end): it begins at the root of the overlap width, not at the next grid value.
     Without ranges or threshold it covers the grid values where the bands overlap.
+
+    ``second_axis`` ``(factor, label)``: a right-hand axis reading the load as ``factor`` x it
+    (e.g. the load factor as a natural curvature in 1/m).
     """
     x = np.asarray(data[x_key], dtype=float)
     fig = Figure(figsize=(6.4, 4.6))
@@ -676,6 +681,17 @@ def plot_stable_bands(data: dict[str, list[float]], states: tuple[str, ...],
         ax.axvline(threshold, color="k", ls=":", lw=1, label=f"h/t* = {threshold:.4g}")
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
+    if second_axis is not None:
+        factor, label2 = second_axis
+
+        def forward(y: ArrayLike) -> np.ndarray:
+            return np.asarray(y, dtype=float) * factor
+
+        def back(y: ArrayLike) -> np.ndarray:
+            return np.asarray(y, dtype=float) / factor
+
+        right = ax.secondary_yaxis("right", functions=(forward, back))
+        right.set_ylabel(label2)
     ax.set_title(title, fontsize=9)
     ax.legend(fontsize=8, loc="upper left")
     ax.grid(alpha=0.3)
