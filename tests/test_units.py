@@ -516,3 +516,26 @@ def test_stable_bands_chart_labels_both_axes():
     assert right.get_ylabel() == "kappa_n [1/m]"
     fig.canvas.draw()  # the second axis takes its limits from the first when drawn
     assert right.get_ylim() == pytest.approx(tuple(12.5 * y for y in ax.get_ylim()))
+
+
+def test_states_of_the_steel_six_ring_in_1_per_m_and_joules(run_cli):
+    """Each state's held curvature is its turning over the rod length, kL / L (1/m), with
+    L = 209.44 mm from the TOML; its energy in J is the model's x B3 / L, with B3 = E h t^3/12
+    by hand: the strip stands on edge (h = 5 mm out of the ring's plane, t = 0.5 mm in it), so
+    the in-plane bending stiffness takes t^3."""
+    r = run_cli(["states", SIX_RING, "--json"])
+    assert r.exit_code == 0, r.stderr
+    p = json.loads(r.stdout)
+    L, B3 = 0.20943951023931956, 200e9 * 5e-3 * 0.5e-3**3 / 12
+    u = p["units"]
+    assert u["held_curvature"] == {
+        "value": [pytest.approx(math.radians(s["theta_deg"]) / L, rel=1e-12, abs=1e-12)
+                  for s in p["states"]], "unit": "1/m"}
+    assert u["energy"] == {"value": [pytest.approx(s["energy"] * B3 / L, rel=1e-12, abs=1e-15)
+                                     for s in p["states"]], "unit": "J"}
+    # the folded (line) state at the design's load: six rods held straight against 1/R0,
+    # R0 = 100 mm, each storing B3 L / (2 R0^2)
+    line = [s["label"] for s in p["states"]].index("line")
+    assert u["energy"]["value"][line] == pytest.approx(6 * B3 * L / (2 * 0.1**2), rel=1e-12)
+    header = run_cli(["states", SIX_RING]).stdout.splitlines()[3]
+    assert header.split()[-4:] == ["k", "1/m", "energy", "J"]
