@@ -539,3 +539,42 @@ def test_states_of_the_steel_six_ring_in_1_per_m_and_joules(run_cli):
     assert u["energy"]["value"][line] == pytest.approx(6 * B3 * L / (2 * 0.1**2), rel=1e-12)
     header = run_cli(["states", SIX_RING]).stdout.splitlines()[3]
     assert header.split()[-4:] == ["k", "1/m", "energy", "J"]
+
+
+def test_barrier_on_the_hexagram_strip_in_joules(run_cli):
+    """The barrier's energies in J are the model's x B3 / L, B3 = E h t^3/12 by hand (h = 2 mm
+    out of the plane, t = 0.5 mm in it), L = 167.55 mm; the line it starts from holds six
+    straight rods against kappa_n = mu / R0 (R0 = 80 mm): 6 B3 kappa_n^2 L / 2 in closed form."""
+    argv = ["barrier", HEXAGRAM, "--from", "line", "--to", "star", "--elements", "4",
+            "--images", "5"]
+    r = run_cli([*argv, "--json"])
+    assert r.exit_code == 0, r.stderr
+    p = json.loads(r.stdout)
+    u = p["units"]
+    B3, L, R0 = 200e9 * 2e-3 * 0.5e-3**3 / 12, 0.16755160819145564, 0.080
+    kappa = p["kappa_R0"] / R0
+    assert u["natural_curvature"] == {"value": pytest.approx(kappa, rel=1e-12), "unit": "1/m"}
+    assert u["energy_from"]["value"] == pytest.approx(6 * B3 * kappa**2 * L / 2, rel=1e-9)
+    for key in ("barrier_forward", "barrier_backward", "energy_saddle", "energy_to"):
+        assert u[key] == {"value": pytest.approx(p[key] * B3 / L, rel=1e-12), "unit": "J"}
+    text = run_cli(argv).stdout
+    assert f"energy {p['energy_saddle']:.6g} ({u['energy_saddle']['value']:.6g} J)" in text
+    assert f"natural curvature {kappa:.6g} 1/m of segment 'r1'" in text
+
+
+def test_transitions_on_the_hexagram_strip_state_load_and_contact_in_si(run_cli):
+    """transitions of the hexagram strip: the load factor as the natural curvature mu / R0
+    (R0 = 80 mm), the contact thickness h/L x L (L = 167.55 mm), each load-factor threshold
+    as the natural curvature there (1/m)."""
+    r = run_cli(["transitions", HEXAGRAM, "--state", "star", "--elements", "6",
+                 "--contact-thickness", "0.012", "--json"])
+    assert r.exit_code == 0, r.stderr
+    p = json.loads(r.stdout)
+    u, R0, L = p["units"], 0.080, 0.16755160819145564
+    assert u["natural_curvature"] == {"value": pytest.approx(p["load_factor"] / R0, rel=1e-12),
+                                      "unit": "1/m"}
+    assert u["contact_thickness"] == {"value": pytest.approx(0.012 * L, rel=1e-12), "unit": "m"}
+    assert u["thresholds"] and all(
+        q["value"] == pytest.approx(e["threshold"] / R0, rel=1e-12)
+        for q, e in zip(u["thresholds"], p["edges"], strict=True)
+        if q["quantity"] == "natural_curvature")

@@ -197,7 +197,10 @@ def transitions(design_file: str | None, section: Section, structure: str,
             what = "" if q["quantity"] == "value" else "natural curvature "
             physical[(q["from"], q["to"], q["stimulus"])] = \
                 f" ({what}{fmt(q['value'])} {q['unit']})"
-        payload["units"] = units.block(thresholds=thresholds)
+        payload["units"] = units.block(
+            natural_curvature={"value": units.natural_curvature(design.assembly, load_factor),
+                               "unit": "1/m"},
+            contact_thickness=(thickness * ring.length, "length"), thresholds=thresholds)
     load_name = "kappa_n R0" if design_file is None else "load factor"
     if out is not None:
         from ..plot.transition_graph import plot_transition_graph
@@ -212,7 +215,12 @@ def transitions(design_file: str | None, section: Section, structure: str,
     lines = [section_line(section),
              f"{name} at {load_name} = {fmt(load_factor)}, {elements} elements per rod, "
              f"contact thickness h/L = {fmt(thickness)}"]
-    lines += [units_line(units)] if units is not None else []
+    if units is not None:
+        u = payload["units"]
+        lines += [units_line(units), f"physical     load factor {fmt(load_factor)}: natural "
+                  f"curvature {fmt(u['natural_curvature']['value'])} 1/m of segment "
+                  f"{units.segment!r}; contact thickness "
+                  f"{units.length_text(u['contact_thickness']['value'])}"]
     for e in payload["edges"]:
         lines.append(f"{e['from']:>6} -> {e['to']:<8} {e['stimulus']} = {fmt(e['threshold'])}"
                      f"{physical.get((e['from'], e['to'], e['stimulus']), '')} ({e['kind']}); "
