@@ -17,7 +17,7 @@ import pytest
 
 from rodstab.errors import RodstabInputError
 from rodstab.io.design import load_design, parse_design
-from rodstab.io.vary import model_value, parse_vary, vary_in_units
+from rodstab.io.vary import axis_label, axis_unit, model_value, parse_vary, vary_in_units
 from rodstab.linear.solve import linear_stability
 from rodstab.sections import rectangle
 from rodstab.units import as_built, parse_quantity
@@ -418,6 +418,10 @@ def test_vary_takes_quantities_in_one_unit():
         vary_in_units(d, parse_vary("section.diameter=1 kg:2 kg", default_n=3))
     turned = vary_in_units(d, parse_vary("support.0.rotation.tangent=0 deg:90 deg", default_n=3))
     assert (turned.stop, turned.unit) == (pytest.approx(math.pi / 2), None)
+    # read into radians: the output says so, on a design with units (plain designs as before)
+    assert axis_label(turned.key, axis_unit(d, turned)) == "support.0.rotation.tangent [rad]"
+    plain = load_design(ROOT / "examples" / "birod.toml")
+    assert axis_unit(plain, parse_vary("support.0.rotation.tangent=0:1", default_n=3)) is None
     # a continuation in the natural curvature: 40 1/m is kappa_n Lc = 40 x 0.1178 in the model
     assert model_value(d, "segment.upper.natural_curvature", 40.0, "1/m") == \
         pytest.approx(40.0 * 2 * (math.pi / 4) * 0.075, rel=1e-12)
@@ -440,6 +444,9 @@ def test_sweep_in_a_section_dimension_keeps_the_verdict_of_a_circle(run_cli, tmp
     resumed = json.loads(again.stdout)
     assert resumed["resumed"] == 2
     assert resumed["units"]["critical_natural_curvature"] == u["critical_natural_curvature"]
+    table = run_cli(["sweep", FIG7A, "--vary", "section.diameter=1 mm:2 mm:2", "--out",
+                     str(tmp_path), "--no-progress", "--elements", "8"]).stdout
+    assert table.split()[:2] == ["section.diameter", "[mm]"]
 
 
 # --------------------------------------------------------------------------- units blocks

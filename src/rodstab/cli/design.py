@@ -312,7 +312,7 @@ def sweep(design_file: str, vary: str, out_dir: str, elements: int | None,
 
     from ..executor import check_workers, task_size
     from ..io.design import load_design
-    from ..io.vary import vary_in_units
+    from ..io.vary import axis_label, axis_unit, vary_in_units
     from ..report.figures import sweep_plot
     from ..sweep import CSV_FILE, INVALID, NOT_CONVERGED, PHYSICAL_COLUMN, design_at, write_parquet
     from ..sweep import sweep as run_sweep
@@ -339,7 +339,9 @@ def sweep(design_file: str, vary: str, out_dir: str, elements: int | None,
                            unit=spec.unit)
     rows = result.table()
     csv_path = out / CSV_FILE
-    png = sweep_plot(rows, key, out)
+    unit = axis_unit(base, spec)
+    head = axis_label(key, unit)
+    png = sweep_plot(rows, key, out, xlabel=head)
     payload: dict[str, Any] = {
         "key": key, "values": [r[key] for r in rows], "rows": rows, "csv": str(csv_path),
         "plot": str(png), "executor": result.executor, "resumed": result.resumed}
@@ -347,12 +349,11 @@ def sweep(design_file: str, vary: str, out_dir: str, elements: int | None,
     if parquet:
         payload["parquet"] = str(write_parquet(result.frame(), out))
         written = f"{csv_path}, {payload['parquet']} and {png}"
-    head = key if spec.unit is None else f"{key} ({spec.unit})"
     physical = result.physical
     if physical:
         assert base.units is not None
         payload["units"] = base.units.block(
-            values={"value": payload["values"], "unit": spec.unit},
+            values={"value": payload["values"], "unit": unit},
             critical_natural_curvature={"value": [r[PHYSICAL_COLUMN] for r in rows],
                                         "unit": "1/m"})
 
