@@ -15,6 +15,7 @@ from ..limits import NONLINEAR_MIN_ELEMENTS, SWEEP_DEFAULT_N, Limits
 from ..units import Units
 from .options import (
     COLOUR_BY,
+    VARY_UNITS_HELP,
     colour_option,
     elements_option,
     json_option,
@@ -279,7 +280,7 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
 @vary_option(help=f"KEY=START:STOP[:N], N values from START to STOP (default "
                    f"{SWEEP_DEFAULT_N}), e.g. section.aspect=1:4:13. KEY: section.<k>, "
                    "analysis.<k>, segment.<name>.<k>, segment.<name>.section.<k> or "
-                   "support.<i>.rotation.<normal|tangent|binormal>.")
+                   "support.<i>.rotation.<normal|tangent|binormal>." + VARY_UNITS_HELP)
 @click.option("--out", "out_dir", type=click.Path(file_okay=False), default="sweep",
               show_default=True,
               help="Directory for run.json, sweep.csv (a row per point as it completes) and "

@@ -226,6 +226,12 @@ def load_factor_option(*, default: float | None, help: str) -> Callable[..., Any
                         show_default=default is not None, help=help)
 
 
+#: What ``--vary`` help says about units (rodstab.io.vary.vary_in_units: the rule).
+VARY_UNITS_HELP = (" On a design with units a dimensional KEY takes START and STOP with a unit, "
+                   "e.g. \"section.height=4 mm:6 mm:3\" (a plain number there exits 2: it is "
+                   "never read in a unit nobody named), and the output names that unit.")
+
+
 def vary_option(help: str) -> Callable[..., Any]:
     """``--vary KEY=START:STOP[:N]`` (required), read by :func:`read_vary`."""
     return click.option("--vary", required=True, help=help)

@@ -17,6 +17,7 @@ from ..results import jsonable
 from ..sections import Section
 from .dimensions import DIMENSION_OPTIONS, opt
 from .options import (
+    VARY_UNITS_HELP,
     given,
     json_option,
     limit_options,
@@ -203,7 +204,7 @@ ATLAS_DEFAULT_N = 21
 @click.argument("design_file", type=click.Path(dir_okay=False))
 @vary_option(help=f"KEY=START:STOP[:N], N >= 2 values from START to STOP (default "
                    f"{ATLAS_DEFAULT_N}), e.g. section.aspect=1:6:50; KEY as for sweep "
-                   "(section.<k>, segment.<name>.<k>, ...).")
+                   "(section.<k>, segment.<name>.<k>, ...)." + VARY_UNITS_HELP)
 @click.option("--out", "out_dir", type=click.Path(file_okay=False), default="atlas",
               show_default=True, help="Directory for atlas.json and atlas.png.")
 @click.option("--method", type=click.Choice(["transfer", "fe"]), default="transfer",
