@@ -585,3 +585,40 @@ def test_transitions_on_the_hexagram_strip_state_load_and_contact_in_si(run_cli)
         q["value"] == pytest.approx(e["threshold"] / R0, rel=1e-12)
         for q, e in zip(u["thresholds"], p["edges"], strict=True)
         if q["quantity"] == "natural_curvature")
+
+
+@pytest.mark.parametrize("interval, curvature, given, reversed_", [
+    # kappa_n = 40 1/m as given: mu x 40 1/m, radii 1/(mu x 40) m of each sense
+    ((-2.0, 3.0), [-80.0, 120.0], [1 / 120, math.inf], [1 / 80, math.inf]),
+    ((0.5, 2.0), [20.0, 80.0], [1 / 80, 1 / 20], None),
+    ((-2.0, -0.5), [-80.0, -20.0], None, [1 / 80, 1 / 20]),
+    ((-math.inf, math.inf), [-math.inf, math.inf], [0.0, math.inf], [0.0, math.inf]),
+    ((0.0, math.inf), [0.0, math.inf], [0.0, math.inf], None)])
+def test_curvature_interval_of_each_sense(interval, curvature, given, reversed_):
+    from rodstab.units import curvature_interval
+
+    d = parse_design(_rod())
+    out = curvature_interval(d.units, d.assembly, interval)
+    assert out["stable_natural_curvature"] == {"value": pytest.approx(curvature, rel=1e-12),
+                                               "unit": "1/m"}
+    radii = out["stable_natural_radius"]
+    for got, want in ((radii["as_given"], given), (radii["reversed"], reversed_)):
+        assert got == (None if want is None else pytest.approx(want, rel=1e-12))
+    # a naturally straight reference segment: the load factor curves nothing, nothing to state
+    straight = parse_design(_rod(segment='length = "100 mm"'))
+    assert curvature_interval(straight.units, straight.assembly, interval) == {}
+
+
+def test_discover_on_the_hexagram_strip_in_si(run_cli):
+    """discover's energies in J are the model's x B3 / L (B3 = E h t^3/12, L = 167.55 mm by
+    hand); its load as the natural curvature mu / R0 (R0 = 80 mm)."""
+    r = run_cli(["discover", HEXAGRAM, "--starts", "0", "--no-seed-states", "--elements", "4",
+                 "--json"])
+    assert r.exit_code == 0, r.stderr
+    p = json.loads(r.stdout)
+    B3, L = 200e9 * 2e-3 * 0.5e-3**3 / 12, 0.16755160819145564
+    u = p["units"]
+    assert u["natural_curvature"] == {"value": pytest.approx(2.0 / 0.080, rel=1e-12),
+                                      "unit": "1/m"}
+    assert u["energy"] == {"value": [pytest.approx(s["energy"] * B3 / L, rel=1e-12)
+                                     for s in p["states"]], "unit": "J"}

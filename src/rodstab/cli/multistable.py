@@ -95,8 +95,11 @@ def discover(design_file: str | None, section: Section, structure: str, segments
     payload = found.to_dict() | {"structure": name, "segments": n, "start_state": start_state,
                                  "section": section.to_dict()}
     units = None if design is None else design.units
-    if units is not None:
-        payload["units"] = units.block(energy=([s.energy for s in found.states], "energy"))
+    if design is not None and units is not None:
+        payload["units"] = units.block(
+            natural_curvature={"value": units.natural_curvature(design.assembly, mu),
+                               "unit": "1/m"},
+            energy=([s.energy for s in found.states], "energy"))
     if plot is not None:
         from ..plot.plots import plot_ring_states
 
@@ -110,13 +113,18 @@ def discover(design_file: str | None, section: Section, structure: str, segments
              f"({found.converged_runs} converged); seeds {', '.join(found.seeds)}",
              f"{'label':>14} {'energy':>10} {'index':>5} {'stable':>6} {'welds':>5} "
              f"{'turning':>8} {'max|z|/L':>9}  found from"]
+    joules = None  # the states' energies in J, from the units block
     if units is not None:
-        lines.insert(2, units_line(units))
+        u = payload["units"]
+        lines[2:2] = [units_line(units), f"physical     load factor {fmt(mu)}: natural curvature "
+                      f"{fmt(u['natural_curvature']['value'])} 1/m of segment "
+                      f"{units.segment!r}; energies in J = model energy x B3/L"]
+        joules = u["energy"]["value"]
     lines += [f"{s.label:>14} {s.energy:>10.6g} {s.index:>5} {str(s.stable):>6} "
               f"{s.invariants.distinct_weld_points:>5} {s.invariants.turning_number:>8.4g} "
               f"{s.invariants.max_out_of_plane:>9.3g}  {s.found_from}"
-              + ("" if units is None else f"  ({fmt(units.si(s.energy, 'energy'))} J)")
-              for s in found.states]
+              + ("" if joules is None else f"  ({fmt(joules[i])} J)")
+              for i, s in enumerate(found.states)]
     lines += [f"wrote {payload['plot']}"] if plot is not None else []
     emit(payload, as_json, lines)
 
