@@ -315,11 +315,11 @@ def atlas_cmd(design_file: str, vary: str, out_dir: str, method: str,
         lines.append(f"{p:>{first}.6g} " + " ".join(
             f"{f'({fmt(r.lower.load_factor)}, {fmt(r.upper.load_factor)})':>{2 * width + 3}}"
             for r in row))
-    for label in at.states:
+    for state in at.states:
         for side in ("lower", "upper"):
-            lines.append(f"{label} {side} limit: " + "; ".join(
+            lines.append(f"{state} {side} limit: " + "; ".join(
                 f"{kind} for {at.key} {fmt(a)}..{fmt(b)}{in_unit}"
-                for a, b, kind in at.limit_runs(label, side)))
+                for a, b, kind in at.limit_runs(state, side)))
     for c in at.coexistence:
         lines.append(f"{c.k} mutually stable: " + (", ".join(
             f"{at.key} in ({fmt(a)}, {fmt(b)}){in_unit}" for a, b in c.ranges)
