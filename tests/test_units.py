@@ -523,6 +523,13 @@ def test_stable_bands_chart_labels_both_axes():
     assert right.get_ylabel() == "kappa_n [1/m]"
     fig.canvas.draw()  # the second axis takes its limits from the first when drawn
     assert right.get_ylim() == pytest.approx(tuple(12.5 * y for y in ax.get_ylim()))
+    # the barrier's energy axis: model units by default, as the command names them with units
+    from rodstab.plot.plots import plot_barrier_path
+
+    for kwargs, label in (({}, "energy (B3 / L)"), ({"energy_label": "energy [J]"},
+                                                     "energy [J]")):
+        fig = plot_barrier_path([0.0, 0.5, 1.0], [0.0, 0.02, 0.01], 1, **kwargs)
+        assert fig.axes[0].get_ylabel() == label
 
 
 def test_states_of_the_steel_six_ring_in_1_per_m_and_joules(run_cli):

@@ -194,9 +194,12 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
     if plot is not None:
         from ..plot.plots import plot_barrier_path
 
+        # a design with units: the energies in J (the units block's), else in B3/L
+        energies, axis = ((b.energies, "energy (B3 / L)") if units is None else
+                          (payload["units"]["energies"]["value"], "energy [J]"))
         payload["plot"] = str(plot_barrier_path(
-            b.path_arclength, b.energies, b.saddle_position, plot,
-            labels=(b.from_state, b.to_state),
+            b.path_arclength, energies, b.saddle_position, plot,
+            labels=(b.from_state, b.to_state), energy_label=axis,
             title=f"{name}, kappa_n R0 = {fmt(k)}, {elements} el./rod, {method}"))
         lines.append(f"wrote {payload['plot']}")
     if gif is not None:

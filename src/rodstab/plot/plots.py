@@ -765,12 +765,14 @@ def plot_section(nodes: np.ndarray, triangles: np.ndarray, part: np.ndarray,
 
 def plot_barrier_path(arclength: tuple[float, ...] | list[float], energies: tuple[float, ...]
                       | list[float], saddle: int, path: str | Path | None = None, *,
-                      labels: tuple[str, str] = ("A", "B"), title: str = "") -> Any:
+                      labels: tuple[str, str] = ("A", "B"), title: str = "",
+                      energy_label: str = "energy (B3 / L)") -> Any:
     """Draw the energy along a path between two states, the saddle marked, barriers annotated.
 
     ``energies[k]`` at ``arclength[k]`` (normalised to [0, 1]; empty: the points are spread
     evenly); ``saddle`` is the saddle's index. The forward barrier ``E_saddle - E[0]`` and the
     backward one ``E_saddle - E[-1]`` are drawn as vertical arrows at the two ends, labelled.
+    ``energy_label`` names the energy axis and its unit (model units B3/L, or "energy [J]").
     """
     e = np.asarray(energies, dtype=float)
     s = np.asarray(arclength, dtype=float) if len(arclength) else np.linspace(0.0, 1.0, len(e))
@@ -786,7 +788,7 @@ def plot_barrier_path(arclength: tuple[float, ...] | list[float], energies: tupl
         ax.text(x, 0.5 * (top + e0), f" {top - e0:.5g} \n from {name} ", color="C3",
                 ha=ha, va="center", fontsize=8)
     ax.set_xlabel("path arclength (normalised)")
-    ax.set_ylabel("energy (B3 / L)")
+    ax.set_ylabel(energy_label)
     ax.set_xlim(-0.08, 1.08)
     ax.set_title(title, fontsize=9)
     ax.legend(fontsize=8, loc="best")
