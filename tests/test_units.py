@@ -588,6 +588,12 @@ def test_transitions_on_the_hexagram_strip_state_load_and_contact_in_si(run_cli)
     assert u["natural_curvature"] == {"value": pytest.approx(p["load_factor"] / R0, rel=1e-12),
                                       "unit": "1/m"}
     assert u["contact_thickness"] == {"value": pytest.approx(0.012 * L, rel=1e-12), "unit": "m"}
+    from rodstab.plot.transition_graph import edge_label
+
+    assert edge_label(p["edges"][0], u["thresholds"][0]) == (
+        f"{p['edges'][0]['stimulus']}\n= {p['edges'][0]['threshold']:.4g} "
+        f"({p['edges'][0]['threshold'] / R0:.4g} 1/m)")  # the graph's edge, also in 1/m
+    assert edge_label(p["edges"][0]).endswith(f"= {p['edges'][0]['threshold']:.4g}")
     assert u["thresholds"] and all(
         q["value"] == pytest.approx(e["threshold"] / R0, rel=1e-12)
         for q, e in zip(u["thresholds"], p["edges"], strict=True)

@@ -210,6 +210,8 @@ def transitions(design_file: str | None, section: Section, structure: str,
                                "unit": "1/m"},
             contact_thickness=(thickness * ring.length, "length"), thresholds=thresholds)
     load_name = "kappa_n R0" if design_file is None else "load factor"
+    load_si = ("" if "units" not in payload else
+               f" ({payload['units']['natural_curvature']['value']:.4g} 1/m)")
     if out is not None:
         from ..plot.transition_graph import plot_transition_graph
 
@@ -217,7 +219,7 @@ def transitions(design_file: str | None, section: Section, structure: str,
         payload["figure"] = str(plot_transition_graph(
             payload, res.shapes, out / "transitions.png",
             title=f"{name}, {section_label(section)}, "
-                  f"{load_name} = {load_factor:g}, {elements} elements per rod, h/L = "
+                  f"{load_name} = {load_factor:g}{load_si}, {elements} elements per rod, h/L = "
                   f"{thickness:g}"))
         payload["json_file"] = str(out / "transitions.json")
     lines = [section_line(section),
