@@ -435,6 +435,7 @@ def test_sweep_in_a_section_dimension_keeps_the_verdict_of_a_circle(run_cli, tmp
     assert r.exit_code == 0, r.stderr
     u = json.loads(r.stdout)["units"]
     assert u["values"] == {"value": [1.0, 2.0], "unit": "mm"}
+    assert json.loads(r.stdout)["axis"] == "section.diameter [mm]"
     k = 2 * math.pi / (2 * math.sqrt(1.3)) / (2 * (math.pi / 4) * 0.075)
     assert u["critical_natural_curvature"]["value"] == [pytest.approx(k, rel=1e-4)] * 2
     # the table reads back: a rerun into the same --out resumes every row, equal

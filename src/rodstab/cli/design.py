@@ -357,6 +357,7 @@ def sweep(design_file: str, vary: str, out_dir: str, elements: int | None,
             values={"value": payload["values"], "unit": unit},
             critical_natural_curvature={"value": [r[PHYSICAL_COLUMN] for r in rows],
                                         "unit": "1/m"})
+        payload["axis"] = head  # as atlas's: the key with the unit of its values
 
     def kappa(r: dict[str, Any]) -> str:
         v = r.get(PHYSICAL_COLUMN)
