@@ -458,8 +458,10 @@ def test_every_design_command_carries_a_units_block(run_cli, tmp_path):
     numbers: the held energy (J) is analyze's stored energy; continue's path in load factor
     carries the natural curvature (1/m) and energies (J); states, the energies in J."""
     B3, k0, L = 200e9 * math.pi * 1e-3**4 / 64, 1 / 0.075, 2 * (math.pi / 4) * 0.075
-    r = run_cli(["equilibrium", FIG7A, "--json"])
+    r = run_cli(["equilibrium", FIG7A, "--json", "--render", str(tmp_path / "eq.png"),
+                 "--colour", "twist"])  # the picture's colours in SI (rad/m): a smoke test
     assert r.exit_code == 0, r.stderr
+    assert (tmp_path / "eq.png").stat().st_size > 0
     u = json.loads(r.stdout)["units"]
     assert u["energy"] == {"value": pytest.approx(B3 * k0**2 * L, rel=1e-9), "unit": "J"}
     assert u["max_internal_moment"]["value"] == pytest.approx(B3 * k0, rel=1e-9)

@@ -15,6 +15,7 @@ from ..limits import NONLINEAR_MIN_ELEMENTS, SWEEP_DEFAULT_N, Limits
 from ..units import Units
 from .options import (
     COLOUR_BY,
+    COLOUR_BY_SI,
     VARY_UNITS_HELP,
     colour_option,
     elements_option,
@@ -228,6 +229,9 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
         layout = RodLayout.from_rod(rod)
         label, signed = COLOUR_BY[colour]
         values = rod.edge_moments() if colour == "moment" else rod.edge_twist()
+        if d.units is not None:  # the colours in SI (N*m, rad/m)
+            label, kind = COLOUR_BY_SI[colour]
+            values = values * d.units.si(1.0, kind)
         title = f"{d.source}, load factor {load_factor:g}"
     if render is not None:
         from ..plot.plots import plot_equilibrium

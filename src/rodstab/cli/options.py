@@ -163,6 +163,9 @@ json_option = click.option("--json", "as_json", is_flag=True,
 #: What the pictures of nonlinear states colour each edge by (``--colour``): name -> (label,
 #: signed). The values come from :class:`~rodstab.nonlinear.discrete.DiscreteRod`.
 COLOUR_BY = {"moment": ("|internal moment|", False), "twist": ("twist rate (rad/length)", True)}
+#: The same colours on a design with units: (label, kind of rodstab.units.SI_UNITS).
+COLOUR_BY_SI = {"moment": ("|internal moment| [N*m]", "moment"),
+                "twist": ("twist rate [rad/m]", "curvature")}
 colour_option = click.option(
     "--colour", "colour", type=click.Choice(tuple(COLOUR_BY)), default="moment",
     show_default=True, help="Colour the rods' pictures by the internal moment's magnitude or "
