@@ -533,6 +533,17 @@ def test_stable_bands_chart_labels_both_axes():
                                                      "energy [J]")):
         fig = plot_barrier_path([0.0, 0.5, 1.0], [0.0, 0.02, 0.01], 1, **kwargs)
         assert fig.axes[0].get_ylabel() == label
+    # an equilibrium's 3D axes name the file's length unit (model lengths: none)
+    import numpy as np
+
+    from rodstab.plot.plots import plot_equilibrium
+    from rodstab.plot.ribbons import RodLayout
+
+    layout = RodLayout(np.array([[0, 1]]), np.array([0]), ("a",), np.array([2.0]))
+    x, frames = np.array([[0.0, 0, 0], [100.0, 0, 0]]), np.eye(3)[None]
+    for unit, label in ((None, "x"), ("mm", "x [mm]")):
+        fig = plot_equilibrium(x, frames, layout, length_unit=unit)
+        assert fig.axes[0].get_xlabel() == label
 
 
 def test_states_of_the_steel_six_ring_in_1_per_m_and_joules(run_cli):

@@ -236,9 +236,11 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
     if render is not None:
         from ..plot.plots import plot_equilibrium
 
+        u = d.units  # with units, the picture in the file's length unit
+        scale = 1.0 if u is None else u.length / u.length_unit_m
         payload["render"] = str(plot_equilibrium(
-            rod.x, rod.R_edge, layout, render, edge_values=values, value_label=label,
-            diverging=signed, title=title))
+            rod.x * scale, rod.R_edge, layout, render, edge_values=values, value_label=label,
+            diverging=signed, title=title, length_unit=None if u is None else u.length_unit))
     if html is not None:
         from ..plot.plots import html_view
 

@@ -175,8 +175,11 @@ def _box_states(shapes: Sequence[np.ndarray], frames: Sequence[np.ndarray], layo
     return out, bool(level.any())
 
 
-def _axes_3d(fig: Figure, points: np.ndarray) -> Any:
-    """Add 3D axes at equal scale around ``points``, orthographic, the camera fitted to them."""
+def _axes_3d(fig: Figure, points: np.ndarray, length_unit: str | None = None) -> Any:
+    """Add 3D axes at equal scale around ``points``, orthographic, the camera fitted to them.
+
+    ``length_unit`` (e.g. "mm"): the unit of ``points``, in the axis labels ("x [mm]").
+    """
     ax = fig.add_subplot(projection="3d")
     ax.set_proj_type("ortho")
     centre, sides = ribbons.view_box(points)
@@ -184,9 +187,10 @@ def _axes_3d(fig: Figure, points: np.ndarray) -> Any:
         setter(c - d / 2, c + d / 2)
     ax.set_box_aspect(tuple(sides), zoom=1.1)
     ax.view_init(*ribbons.camera(points))
-    ax.set_xlabel("x")
-    ax.set_ylabel("y")
-    ax.set_zlabel("z")
+    unit = "" if length_unit is None else f" [{length_unit}]"
+    ax.set_xlabel("x" + unit)
+    ax.set_ylabel("y" + unit)
+    ax.set_zlabel("z" + unit)
     for axis in (ax.xaxis, ax.yaxis, ax.zaxis):
         axis.set_major_locator(MaxNLocator(nbins=5))  # the short (z) axis had ten
     ax.tick_params(labelsize=7)
@@ -299,7 +303,8 @@ def _z_values(shapes: Sequence[np.ndarray], layout: RodLayout) -> list[np.ndarra
 def plot_equilibrium(x: np.ndarray, frames: np.ndarray, layout: RodLayout,
                      path: str | Path | None = None, *, edge_values: np.ndarray | None = None,
                      value_label: str = "|internal moment|", diverging: bool = False,
-                     width: float | None = None, title: str = "equilibrium") -> Any:
+                     width: float | None = None, title: str = "equilibrium",
+                     length_unit: str | None = None) -> Any:
     """Draw an equilibrium of a discrete rod, rods as boxes along their material frames.
 
     Parameters
@@ -324,6 +329,8 @@ def plot_equilibrium(x: np.ndarray, frames: np.ndarray, layout: RodLayout,
         :data:`rodstab.plot.ribbons.RIBBON_FRACTION` of the assembly's size).
     title : str
         Figure title.
+    length_unit : str, optional
+        The unit of ``x`` (e.g. "mm"), named on the axes; default none (model lengths).
 
     Returns
     -------
@@ -334,7 +341,7 @@ def plot_equilibrium(x: np.ndarray, frames: np.ndarray, layout: RodLayout,
               else _z_values([x], layout)[0])
     (faces,), stacked = _box_states([x], [frames], layout, width)
     fig = Figure(figsize=(7.5, 5.5), layout="constrained")
-    ax = _axes_3d(fig, faces.reshape(-1, 3))
+    ax = _axes_3d(fig, faces.reshape(-1, 3), length_unit)
     seg_rgba = np.array(segment_colours(len(layout.segment_names)))
     cmap = matplotlib.colormaps["coolwarm" if diverging else "viridis"]
     norm = _norm([values], diverging)
