@@ -544,6 +544,18 @@ def test_stable_bands_chart_labels_both_axes():
     for unit, label in ((None, "x"), ("mm", "x [mm]")):
         fig = plot_equilibrium(x, frames, layout, length_unit=unit)
         assert fig.axes[0].get_xlabel() == label
+    # analyze's mode picture in mm: the drawing and its "largest w" scale by L / 1 mm
+    from rodstab.linear.solve import linear_stability
+    from rodstab.plot.plots import plot_mode
+
+    d = load_design(SIX_RING)
+    r = linear_stability(d.assembly, 4)
+    plain, mm = plot_mode(d.assembly, r), plot_mode(d.assembly, r, length_scale=209.44,
+                                                    length_unit="mm")
+    assert mm.axes[0].get_zlabel() == "z [mm]" and plain.axes[0].get_zlabel() == "z"
+    w, w_mm = (t.axes[0].get_title().split("largest w ")[1].split(",")[0] for t in (plain, mm))
+    assert w_mm.endswith(" mm")  # 3 digits each: equal to the rounding
+    assert float(w_mm[:-3]) == pytest.approx(float(w) * 209.44, rel=5e-3)
 
 
 def test_states_of_the_steel_six_ring_in_1_per_m_and_joules(run_cli):

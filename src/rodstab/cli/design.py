@@ -90,7 +90,10 @@ def analyze(design_file: str, elements: int | None, plot_path: str | None, limit
     if plot is not None:
         from ..plot.plots import plot_mode
 
-        payload["plot"] = str(plot_mode(d.assembly, r, plot))
+        u = d.units  # with units, the picture in the file's length unit
+        payload["plot"] = str(plot_mode(
+            d.assembly, r, plot, length_scale=1.0 if u is None else u.length / u.length_unit_m,
+            length_unit=None if u is None else u.length_unit))
     lo, hi = r.load_factor_interval
     lines = [
         f"design       {d.source}  ({len(d.assembly.segments)} segments, {r.n_dof} dof)",

@@ -224,7 +224,8 @@ def _stacked_note(stacked: bool) -> str:
 
 def plot_mode(assembly: Assembly, result: LinearStability, path: str | Path | None = None,
               *, amplitude: float = 0.25, width: float | None = None,
-              title: str | None = None) -> Any:
+              title: str | None = None, length_scale: float = 1.0,
+              length_unit: str | None = None) -> Any:
     """Draw the critical mode over the held state, rods as boxes of their sections.
 
     The held state is a light ghost; over it the held state moved by the mode
@@ -249,6 +250,9 @@ def plot_mode(assembly: Assembly, result: LinearStability, path: str | Path | No
         :data:`rodstab.plot.ribbons.RIBBON_FRACTION` of the assembly's size).
     title : str, optional
         Figure title (default: the critical load factor and what is drawn).
+    length_scale, length_unit : float, str, optional
+        Drawn lengths are the assembly's x ``length_scale``, in ``length_unit`` named on the
+        axes (a design with units: its model length in, e.g., mm); default the model's.
 
     Returns
     -------
@@ -263,8 +267,10 @@ def plot_mode(assembly: Assembly, result: LinearStability, path: str | Path | No
     md = ribbons.mode_drawing(assembly, mode, scale)
     (ghost, moved), stacked = _box_states([md.held[0], md.moved[0]],
                                           [md.held[1], md.moved[1]], md.layout, width)
+    # the boxes' sides follow the drawing's extent, so scaling them scales the picture
+    ghost, moved = ghost * length_scale, moved * length_scale
     fig = Figure(figsize=(7.5, 5.5), layout="constrained")
-    ax = _axes_3d(fig, np.vstack([ghost.reshape(-1, 3), moved.reshape(-1, 3)]))
+    ax = _axes_3d(fig, np.vstack([ghost.reshape(-1, 3), moved.reshape(-1, 3)]), length_unit)
     seg_rgba = np.array(segment_colours(len(md.layout.segment_names)))
     cmap = matplotlib.colormaps["coolwarm"]
     turn = np.degrees(md.turn)
@@ -277,10 +283,11 @@ def plot_mode(assembly: Assembly, result: LinearStability, path: str | Path | No
                    np.concatenate([np.tile(GHOST_EDGE, (len(edge), 1)), edge]))
     ax.add_collection3d(coll)
     _legend(ax, md.layout.segment_names, seg_rgba)
-    w_max = scale * max(float(np.max(np.abs(m.w))) for m in mode)
+    w_max = length_scale * scale * max(float(np.max(np.abs(m.w))) for m in mode)
     lam = result.load_factor_critical
     ax.set_title(title or f"critical mode, load factor {lam:.6g} (x{result.multiplicity}); "
-                 f"drawn: largest w {w_max:.3g}, largest turn "
+                 f"drawn: largest w {w_max:.3g}"
+                 f"{'' if length_unit is None else ' ' + length_unit}, largest turn "
                  f"{float(np.max(np.abs(turn), initial=0.0)):.3g} deg"
                  + _stacked_note(stacked), fontsize=9)
     _colour_bar(fig, ax, cmap, norm, "section turn omega in the mode (deg, as drawn)")
