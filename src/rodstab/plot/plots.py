@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from functools import partial
 from pathlib import Path
 from typing import Any
 
@@ -30,7 +31,6 @@ from matplotlib.ticker import (
     NullFormatter,
     ScalarFormatter,
 )
-from numpy.typing import ArrayLike
 
 from ..linear.solve import LinearStability, SegmentMode
 from ..model import Assembly
@@ -176,10 +176,7 @@ def _box_states(shapes: Sequence[np.ndarray], frames: Sequence[np.ndarray], layo
 
 
 def _axes_3d(fig: Figure, points: np.ndarray, length_unit: str | None = None) -> Any:
-    """Add 3D axes at equal scale around ``points``, orthographic, the camera fitted to them.
-
-    ``length_unit`` (e.g. "mm"): the unit of ``points``, in the axis labels ("x [mm]").
-    """
+    """Add orthographic 3D axes at equal scale, fitted to ``points`` ("x [length_unit]")."""
     ax = fig.add_subplot(projection="3d")
     ax.set_proj_type("ortho")
     centre, sides = ribbons.view_box(points)
@@ -187,10 +184,8 @@ def _axes_3d(fig: Figure, points: np.ndarray, length_unit: str | None = None) ->
         setter(c - d / 2, c + d / 2)
     ax.set_box_aspect(tuple(sides), zoom=1.1)
     ax.view_init(*ribbons.camera(points))
-    unit = "" if length_unit is None else f" [{length_unit}]"
-    ax.set_xlabel("x" + unit)
-    ax.set_ylabel("y" + unit)
-    ax.set_zlabel("z" + unit)
+    for setter, name in ((ax.set_xlabel, "x"), (ax.set_ylabel, "y"), (ax.set_zlabel, "z")):
+        setter(name if length_unit is None else f"{name} [{length_unit}]")
     for axis in (ax.xaxis, ax.yaxis, ax.zaxis):
         axis.set_major_locator(MaxNLocator(nbins=5))  # the short (z) axis had ten
     ax.tick_params(labelsize=7)
@@ -267,8 +262,7 @@ def plot_mode(assembly: Assembly, result: LinearStability, path: str | Path | No
     md = ribbons.mode_drawing(assembly, mode, scale)
     (ghost, moved), stacked = _box_states([md.held[0], md.moved[0]],
                                           [md.held[1], md.moved[1]], md.layout, width)
-    # the boxes' sides follow the drawing's extent, so scaling them scales the picture
-    ghost, moved = ghost * length_scale, moved * length_scale
+    ghost, moved = ghost * length_scale, moved * length_scale  # box sides follow the extent
     fig = Figure(figsize=(7.5, 5.5), layout="constrained")
     ax = _axes_3d(fig, np.vstack([ghost.reshape(-1, 3), moved.reshape(-1, 3)]), length_unit)
     seg_rgba = np.array(segment_colours(len(md.layout.segment_names)))
@@ -695,17 +689,11 @@ def plot_stable_bands(data: dict[str, list[float]], states: tuple[str, ...],
         ax.axvline(threshold, color="k", ls=":", lw=1, label=f"h/t* = {threshold:.4g}")
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
-    if second_axis is not None:
-        factor, label2 = second_axis
-
-        def forward(y: ArrayLike) -> np.ndarray:
-            return np.asarray(y, dtype=float) * factor
-
-        def back(y: ArrayLike) -> np.ndarray:
-            return np.asarray(y, dtype=float) / factor
-
-        right = ax.secondary_yaxis("right", functions=(forward, back))
-        right.set_ylabel(label2)
+    if second_axis is not None:  # the load read as factor x it, on the right
+        f = second_axis[0]
+        ax.secondary_yaxis("right", functions=(partial(np.multiply, f),
+                                               partial(np.multiply, 1 / f))
+                           ).set_ylabel(second_axis[1])
     ax.set_title(title, fontsize=9)
     ax.legend(fontsize=8, loc="upper left")
     ax.grid(alpha=0.3)
