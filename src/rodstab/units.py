@@ -16,7 +16,10 @@ default the first segment):
 * model length = length / ``Lc``; model curvature = curvature x ``Lc``; model stiffness
   (``B1``, ``B2``, ``B3``) = stiffness / ``Bc``; load factors, angles and rotations unchanged;
 * back to SI (:meth:`Units.si`): length x ``Lc`` (m), curvature / ``Lc`` (1/m), stiffness x
-  ``Bc`` (N m^2), energy and moment x ``Bc / Lc`` (J, N m), force x ``Bc / Lc^2`` (N).
+  ``Bc`` (N m^2), energy and moment x ``Bc / Lc`` (J, N m), force x ``Bc / Lc^2`` (N);
+* a load factor ``mu`` (natural curvatures = ``mu`` x the design's) as the reference segment's
+  natural curvature ``mu |kappa_n|`` (1/m), positive in the sense the design gives it
+  (:func:`load_factor_curvatures`; a stable interval also as radii: :func:`curvature_interval`).
 
 Why scale rather than feed SI numbers to the solvers: the model then reads exactly as the
 non-dimensional examples (that segment has L = 1, B3 = 1), on which the solvers' absolute
@@ -444,9 +447,24 @@ def load_factor_curvatures(units: Units, assembly: Assembly,
                            load_factors: Sequence[float]) -> list[float]:
     """Return load factors as the reference segment's natural curvature (1/m), signed.
 
-    ``mu |kappa_n|`` with ``|kappa_n|`` the reference segment's at load factor 1
-    (:meth:`Units.natural_curvature`): positive in the sense the design gives it, negative
-    curved the other way; infinite load factors stay infinite (0 when the segment is straight).
+    The one rule by which every command states a load factor in 1/m.
+
+    Parameters
+    ----------
+    units : Units
+        The design's scales; ``units.segment`` is the reference (load-factor) segment.
+    assembly : Assembly
+        The design's (non-dimensional) assembly.
+    load_factors : sequence of float
+        Load factors ``mu`` (non-dimensional; may be infinite).
+
+    Returns
+    -------
+    list of float
+        ``mu |kappa_n|`` (1/m), ``|kappa_n|`` the reference segment's at load factor 1
+        (:meth:`Units.natural_curvature`): positive in the sense the design gives it, negative
+        curved the other way; infinite load factors stay infinite (all 0 when the segment is
+        naturally straight).
     """
     k = units.natural_curvature(assembly, 1.0)
     return [0.0 if k == 0 else mu * k for mu in load_factors]
@@ -470,8 +488,8 @@ def curvature_interval(units: Units, assembly: Assembly,
 
     The load factor ``mu`` multiplies every natural curvature, so the reference segment's
     natural curvature at ``mu`` is ``mu |kappa_n|`` (1/m), signed: positive in the sense the
-    design gives it (``mu > 0``), negative curved the other way. One rule for every command
-    (``analyze``'s interval, ``atlas``'s bands).
+    design gives it (``mu > 0``), negative curved the other way
+    (:func:`load_factor_curvatures`, which ``atlas``'s bands use too).
 
     Parameters
     ----------
