@@ -17,7 +17,7 @@ import pytest
 
 from rodstab.errors import RodstabInputError
 from rodstab.io.design import load_design, parse_design
-from rodstab.io.vary import model_value, parse_vary, vary_in_units
+from rodstab.io.vary import axis_label, axis_unit, model_value, parse_vary, vary_in_units
 from rodstab.linear.solve import linear_stability
 from rodstab.sections import rectangle
 from rodstab.units import as_built, parse_quantity
@@ -200,6 +200,39 @@ def test_hexagram_strip_interval_is_the_transfer_methods(run_cli):
     assert u["as_built"]["stable"] and u["stored_energy"]["value"] == pytest.approx(0, abs=1e-15)
     assert u["lower_critical_natural_curvature"]["value"] == pytest.approx(exact[0] / 0.08,
                                                                            rel=1e-4)
+
+
+def test_analyze_states_the_stable_interval_in_natural_curvature_and_radius(run_cli):
+    """The stable load factors mu times |kappa_n| = 1/R0 of the reference segment, R0 read
+    from the TOML by hand (six-ring: s1's natural_radius = -100 mm; hexagram strip: r1's
+    80 mm); the radii are their inverses. Six-ring: symmetric (-mu_c, mu_c) with mu_c =
+    sqrt(b1 b2)/2 (the folded ring's lam_c = pi/3), so radius > R0/mu_c in either sense."""
+    import tomllib
+
+    for path, name, mu_c in ((SIX_RING, "s1", rectangle(aspect=10.0, nu=0.3).sqrt_b1b2 / 2),
+                             (HEXAGRAM, "r1", None)):
+        with open(path, "rb") as f:
+            seg = next(s for s in tomllib.load(f)["segment"] if s["name"] == name)
+        R0 = abs(float(seg["natural_radius"].split()[0])) / 1000  # "-100 mm" -> 0.1 m
+        p = json.loads(run_cli(["analyze", path, "--json"]).stdout)
+        lo, hi = p["load_factor_interval"]
+        u = p["units"]
+        assert u["stable_natural_curvature"] == {
+            "value": [pytest.approx(lo / R0, rel=1e-12), pytest.approx(hi / R0, rel=1e-12)],
+            "unit": "1/m"}
+        radii = u["stable_natural_radius"]
+        if mu_c is not None:  # the closed form, not the FE's own numbers
+            assert u["stable_natural_curvature"]["value"] == [
+                pytest.approx(-mu_c / R0, rel=1e-5), pytest.approx(mu_c / R0, rel=1e-5)]
+            assert radii["as_given"] == [pytest.approx(R0 / mu_c, rel=1e-5), None]
+            assert radii["reversed"] == radii["as_given"]
+            text = run_cli(["analyze", path]).stdout
+            assert f"radius > {1000 * R0 / mu_c:.5g}" in text and "in either sense" in text
+        else:  # 0 < lo < hi: radii between R0/hi and R0/lo, none curved the other way
+            assert radii == {"as_given": [pytest.approx(R0 / hi, rel=1e-12),
+                                          pytest.approx(R0 / lo, rel=1e-12)],
+                             "reversed": None, "unit": "m"}
+            assert "< natural curvature <" in run_cli(["analyze", path]).stdout
 
 
 @pytest.mark.parametrize("interval, expected", [
@@ -385,6 +418,10 @@ def test_vary_takes_quantities_in_one_unit():
         vary_in_units(d, parse_vary("section.diameter=1 kg:2 kg", default_n=3))
     turned = vary_in_units(d, parse_vary("support.0.rotation.tangent=0 deg:90 deg", default_n=3))
     assert (turned.stop, turned.unit) == (pytest.approx(math.pi / 2), None)
+    # read into radians: the output says so, on a design with units (plain designs as before)
+    assert axis_label(turned.key, axis_unit(d, turned)) == "support.0.rotation.tangent [rad]"
+    plain = load_design(ROOT / "examples" / "birod.toml")
+    assert axis_unit(plain, parse_vary("support.0.rotation.tangent=0:1", default_n=3)) is None
     # a continuation in the natural curvature: 40 1/m is kappa_n Lc = 40 x 0.1178 in the model
     assert model_value(d, "segment.upper.natural_curvature", 40.0, "1/m") == \
         pytest.approx(40.0 * 2 * (math.pi / 4) * 0.075, rel=1e-12)
@@ -398,6 +435,7 @@ def test_sweep_in_a_section_dimension_keeps_the_verdict_of_a_circle(run_cli, tmp
     assert r.exit_code == 0, r.stderr
     u = json.loads(r.stdout)["units"]
     assert u["values"] == {"value": [1.0, 2.0], "unit": "mm"}
+    assert json.loads(r.stdout)["axis"] == "section.diameter [mm]"
     k = 2 * math.pi / (2 * math.sqrt(1.3)) / (2 * (math.pi / 4) * 0.075)
     assert u["critical_natural_curvature"]["value"] == [pytest.approx(k, rel=1e-4)] * 2
     # the table reads back: a rerun into the same --out resumes every row, equal
@@ -407,6 +445,9 @@ def test_sweep_in_a_section_dimension_keeps_the_verdict_of_a_circle(run_cli, tmp
     resumed = json.loads(again.stdout)
     assert resumed["resumed"] == 2
     assert resumed["units"]["critical_natural_curvature"] == u["critical_natural_curvature"]
+    table = run_cli(["sweep", FIG7A, "--vary", "section.diameter=1 mm:2 mm:2", "--out",
+                     str(tmp_path), "--no-progress", "--elements", "8"]).stdout
+    assert table.split()[:2] == ["section.diameter", "[mm]"]
 
 
 # --------------------------------------------------------------------------- units blocks
@@ -417,8 +458,10 @@ def test_every_design_command_carries_a_units_block(run_cli, tmp_path):
     numbers: the held energy (J) is analyze's stored energy; continue's path in load factor
     carries the natural curvature (1/m) and energies (J); states, the energies in J."""
     B3, k0, L = 200e9 * math.pi * 1e-3**4 / 64, 1 / 0.075, 2 * (math.pi / 4) * 0.075
-    r = run_cli(["equilibrium", FIG7A, "--json"])
+    r = run_cli(["equilibrium", FIG7A, "--json", "--render", str(tmp_path / "eq.png"),
+                 "--colour", "twist"])  # the picture's colours in SI (rad/m): a smoke test
     assert r.exit_code == 0, r.stderr
+    assert (tmp_path / "eq.png").stat().st_size > 0
     u = json.loads(r.stdout)["units"]
     assert u["energy"] == {"value": pytest.approx(B3 * k0**2 * L, rel=1e-9), "unit": "J"}
     assert u["max_internal_moment"]["value"] == pytest.approx(B3 * k0, rel=1e-9)
@@ -438,3 +481,183 @@ def test_every_design_command_carries_a_units_block(run_cli, tmp_path):
     B3h, kh, Lh = 200e9 * 2e-3 * 0.5e-3**3 / 12, 1 / 0.08, 2 * math.pi * 0.08 / 3
     i = p["states"].index(line)
     assert p["units"]["energy"]["value"][i] == pytest.approx(3 * B3h * kh**2 * Lh, rel=1e-9)
+
+
+def test_atlas_of_a_section_dimension_labels_its_axis_and_gives_1_per_m(run_cli, tmp_path):
+    """atlas on the hexagram strip (load factor kappa_n R0, R0 = 80 mm read from the TOML)
+    over its height: the axis is "section.height [mm]" in the table, the JSON and the figure;
+    the star's limits in 1/m are the load factors / R0, and at h = 1.5 mm (h/t = 3) they are
+    `rodstab hexagram --aspect 3`'s kappa_n R0 (exact transfer matrices of the star) / R0."""
+    r = run_cli(["atlas", HEXAGRAM, "--vary", "section.height=1.5 mm:3 mm:2", "--state", "star",
+                 "--out", str(tmp_path), "--no-progress"])
+    assert r.exit_code == 0, r.stderr
+    assert "section.height [mm]" in r.stdout.splitlines()[3]  # the table's header
+    assert "for section.height 1.5..3 mm" in r.stdout
+    p = json.loads((tmp_path / "atlas.json").read_text())
+    assert p["key"] == "section.height" and p["axis"] == "section.height [mm]"
+    u = p["units"]
+    assert u["values"] == {"value": [1.5, 3.0], "unit": "mm"}
+    R0 = 0.080
+    assert u["natural_curvature_per_load_factor"]["value"] == [pytest.approx(1 / R0)] * 2
+    star = p["states"]["star"]
+    for side in ("lower", "upper"):
+        assert u["stable_natural_curvature"]["value"]["star"][side] == [
+            pytest.approx(mu / R0, rel=1e-12) for mu in star[side]]
+    exact = json.loads(run_cli(["hexagram", "--shape", "rectangle", "--aspect", "3", "--nu",
+                                "0.3", "--json"]).stdout)["states"]["star"]
+    at_3 = [u["stable_natural_curvature"]["value"]["star"][s][0] for s in ("lower", "upper")]
+    assert at_3 == [pytest.approx(k / R0, rel=1e-6) for k in exact]
+    # a plain number on a dimensional key is refused, not read in some unit nobody named
+    r = run_cli(["atlas", HEXAGRAM, "--vary", "section.height=4:6:3", "--out",
+                 str(tmp_path / "plain")])
+    assert r.exit_code == 2 and "give START and STOP with a unit" in r.stderr
+
+
+def test_stable_bands_chart_labels_both_axes():
+    """The chart's axes: the varied key with its unit, and the load's second scale."""
+    from rodstab.plot.plots import plot_stable_bands
+
+    fig = plot_stable_bands({"value": [1.0, 2.0], "s.lower": [0.5, 0.4], "s.upper": [2.0, 2.5]},
+                            ("s",), x_key="value", xlabel="section.height [mm]",
+                            ylabel="load factor", second_axis=(12.5, "kappa_n [1/m]"))
+    ax = fig.axes[0]
+    assert ax.get_xlabel() == "section.height [mm]" and ax.get_ylabel() == "load factor"
+    (right,) = ax.child_axes
+    assert right.get_ylabel() == "kappa_n [1/m]"
+    fig.canvas.draw()  # the second axis takes its limits from the first when drawn
+    assert right.get_ylim() == pytest.approx(tuple(12.5 * y for y in ax.get_ylim()))
+    # the barrier's energy axis: model units by default, as the command names them with units
+    from rodstab.plot.plots import plot_barrier_path
+
+    for kwargs, label in (({}, "energy (B3 / L)"), ({"energy_label": "energy [J]"},
+                                                     "energy [J]")):
+        fig = plot_barrier_path([0.0, 0.5, 1.0], [0.0, 0.02, 0.01], 1, **kwargs)
+        assert fig.axes[0].get_ylabel() == label
+    # an equilibrium's 3D axes name the file's length unit (model lengths: none)
+    import numpy as np
+
+    from rodstab.plot.plots import plot_equilibrium
+    from rodstab.plot.ribbons import RodLayout
+
+    layout = RodLayout(np.array([[0, 1]]), np.array([0]), ("a",), np.array([2.0]))
+    x, frames = np.array([[0.0, 0, 0], [100.0, 0, 0]]), np.eye(3)[None]
+    for unit, label in ((None, "x"), ("mm", "x [mm]")):
+        fig = plot_equilibrium(x, frames, layout, length_unit=unit)
+        assert fig.axes[0].get_xlabel() == label
+    # analyze's mode picture in mm: the drawing and its "largest w" scale by L / 1 mm
+    from rodstab.linear.solve import linear_stability
+    from rodstab.plot.plots import plot_mode
+
+    d = load_design(SIX_RING)
+    r = linear_stability(d.assembly, 4)
+    plain, mm = plot_mode(d.assembly, r), plot_mode(d.assembly, r, length_scale=209.44,
+                                                    length_unit="mm")
+    assert mm.axes[0].get_zlabel() == "z [mm]" and plain.axes[0].get_zlabel() == "z"
+    w, w_mm = (t.axes[0].get_title().split("largest w ")[1].split(",")[0] for t in (plain, mm))
+    assert w_mm.endswith(" mm")  # 3 digits each: equal to the rounding
+    assert float(w_mm[:-3]) == pytest.approx(float(w) * 209.44, rel=5e-3)
+
+
+def test_states_of_the_steel_six_ring_in_1_per_m_and_joules(run_cli):
+    """Each state's held curvature is its turning over the rod length, kL / L (1/m), with
+    L = 209.44 mm from the TOML; its energy in J is the model's x B3 / L, with B3 = E h t^3/12
+    by hand: the strip stands on edge (h = 5 mm out of the ring's plane, t = 0.5 mm in it), so
+    the in-plane bending stiffness takes t^3."""
+    r = run_cli(["states", SIX_RING, "--json"])
+    assert r.exit_code == 0, r.stderr
+    p = json.loads(r.stdout)
+    L, B3 = 0.20943951023931956, 200e9 * 5e-3 * 0.5e-3**3 / 12
+    u = p["units"]
+    assert u["held_curvature"] == {
+        "value": [pytest.approx(math.radians(s["theta_deg"]) / L, rel=1e-12, abs=1e-12)
+                  for s in p["states"]], "unit": "1/m"}
+    assert u["energy"] == {"value": [pytest.approx(s["energy"] * B3 / L, rel=1e-12, abs=1e-15)
+                                     for s in p["states"]], "unit": "J"}
+    # the folded (line) state at the design's load: six rods held straight against 1/R0,
+    # R0 = 100 mm, each storing B3 L / (2 R0^2)
+    line = [s["label"] for s in p["states"]].index("line")
+    assert u["energy"]["value"][line] == pytest.approx(6 * B3 * L / (2 * 0.1**2), rel=1e-12)
+    header = run_cli(["states", SIX_RING]).stdout.splitlines()[3]
+    assert header.split()[-4:] == ["k", "1/m", "energy", "J"]
+
+
+def test_barrier_on_the_hexagram_strip_in_joules(run_cli):
+    """The barrier's energies in J are the model's x B3 / L, B3 = E h t^3/12 by hand (h = 2 mm
+    out of the plane, t = 0.5 mm in it), L = 167.55 mm; the line it starts from holds six
+    straight rods against kappa_n = mu / R0 (R0 = 80 mm): 6 B3 kappa_n^2 L / 2 in closed form."""
+    argv = ["barrier", HEXAGRAM, "--from", "line", "--to", "star", "--elements", "4",
+            "--images", "5"]
+    r = run_cli([*argv, "--json"])
+    assert r.exit_code == 0, r.stderr
+    p = json.loads(r.stdout)
+    u = p["units"]
+    B3, L, R0 = 200e9 * 2e-3 * 0.5e-3**3 / 12, 0.16755160819145564, 0.080
+    kappa = p["kappa_R0"] / R0
+    assert u["natural_curvature"] == {"value": pytest.approx(kappa, rel=1e-12), "unit": "1/m"}
+    assert u["energy_from"]["value"] == pytest.approx(6 * B3 * kappa**2 * L / 2, rel=1e-9)
+    for key in ("barrier_forward", "barrier_backward", "energy_saddle", "energy_to"):
+        assert u[key] == {"value": pytest.approx(p[key] * B3 / L, rel=1e-12), "unit": "J"}
+    text = run_cli(argv).stdout
+    assert f"energy {p['energy_saddle']:.6g} ({u['energy_saddle']['value']:.6g} J)" in text
+    assert f"natural curvature {kappa:.6g} 1/m of segment 'r1'" in text
+
+
+def test_transitions_on_the_hexagram_strip_state_load_and_contact_in_si(run_cli):
+    """transitions of the hexagram strip: the load factor as the natural curvature mu / R0
+    (R0 = 80 mm), the contact thickness h/L x L (L = 167.55 mm), each load-factor threshold
+    as the natural curvature there (1/m)."""
+    r = run_cli(["transitions", HEXAGRAM, "--state", "star", "--elements", "6",
+                 "--contact-thickness", "0.012", "--json"])
+    assert r.exit_code == 0, r.stderr
+    p = json.loads(r.stdout)
+    u, R0, L = p["units"], 0.080, 0.16755160819145564
+    assert u["natural_curvature"] == {"value": pytest.approx(p["load_factor"] / R0, rel=1e-12),
+                                      "unit": "1/m"}
+    assert u["contact_thickness"] == {"value": pytest.approx(0.012 * L, rel=1e-12), "unit": "m"}
+    from rodstab.plot.transition_graph import edge_label
+
+    assert edge_label(p["edges"][0], u["thresholds"][0]) == (
+        f"{p['edges'][0]['stimulus']}\n= {p['edges'][0]['threshold']:.4g} "
+        f"({p['edges'][0]['threshold'] / R0:.4g} 1/m)")  # the graph's edge, also in 1/m
+    assert edge_label(p["edges"][0]).endswith(f"= {p['edges'][0]['threshold']:.4g}")
+    assert u["thresholds"] and all(
+        q["value"] == pytest.approx(e["threshold"] / R0, rel=1e-12)
+        for q, e in zip(u["thresholds"], p["edges"], strict=True)
+        if q["quantity"] == "natural_curvature")
+
+
+@pytest.mark.parametrize("interval, curvature, given, reversed_", [
+    # kappa_n = 40 1/m as given: mu x 40 1/m, radii 1/(mu x 40) m of each sense
+    ((-2.0, 3.0), [-80.0, 120.0], [1 / 120, math.inf], [1 / 80, math.inf]),
+    ((0.5, 2.0), [20.0, 80.0], [1 / 80, 1 / 20], None),
+    ((-2.0, -0.5), [-80.0, -20.0], None, [1 / 80, 1 / 20]),
+    ((-math.inf, math.inf), [-math.inf, math.inf], [0.0, math.inf], [0.0, math.inf]),
+    ((0.0, math.inf), [0.0, math.inf], [0.0, math.inf], None)])
+def test_curvature_interval_of_each_sense(interval, curvature, given, reversed_):
+    from rodstab.units import curvature_interval
+
+    d = parse_design(_rod())
+    out = curvature_interval(d.units, d.assembly, interval)
+    assert out["stable_natural_curvature"] == {"value": pytest.approx(curvature, rel=1e-12),
+                                               "unit": "1/m"}
+    radii = out["stable_natural_radius"]
+    for got, want in ((radii["as_given"], given), (radii["reversed"], reversed_)):
+        assert got == (None if want is None else pytest.approx(want, rel=1e-12))
+    # a naturally straight reference segment: the load factor curves nothing, nothing to state
+    straight = parse_design(_rod(segment='length = "100 mm"'))
+    assert curvature_interval(straight.units, straight.assembly, interval) == {}
+
+
+def test_discover_on_the_hexagram_strip_in_si(run_cli):
+    """discover's energies in J are the model's x B3 / L (B3 = E h t^3/12, L = 167.55 mm by
+    hand); its load as the natural curvature mu / R0 (R0 = 80 mm)."""
+    r = run_cli(["discover", HEXAGRAM, "--starts", "0", "--no-seed-states", "--elements", "4",
+                 "--json"])
+    assert r.exit_code == 0, r.stderr
+    p = json.loads(r.stdout)
+    B3, L = 200e9 * 2e-3 * 0.5e-3**3 / 12, 0.16755160819145564
+    u = p["units"]
+    assert u["natural_curvature"] == {"value": pytest.approx(2.0 / 0.080, rel=1e-12),
+                                      "unit": "1/m"}
+    assert u["energy"] == {"value": [pytest.approx(s["energy"] * B3 / L, rel=1e-12)
+                                     for s in p["states"]], "unit": "J"}

@@ -16,7 +16,10 @@ default the first segment):
 * model length = length / ``Lc``; model curvature = curvature x ``Lc``; model stiffness
   (``B1``, ``B2``, ``B3``) = stiffness / ``Bc``; load factors, angles and rotations unchanged;
 * back to SI (:meth:`Units.si`): length x ``Lc`` (m), curvature / ``Lc`` (1/m), stiffness x
-  ``Bc`` (N m^2), energy and moment x ``Bc / Lc`` (J, N m), force x ``Bc / Lc^2`` (N).
+  ``Bc`` (N m^2), energy and moment x ``Bc / Lc`` (J, N m), force x ``Bc / Lc^2`` (N);
+* a load factor ``mu`` (natural curvatures = ``mu`` x the design's) as the reference segment's
+  natural curvature ``mu |kappa_n|`` (1/m), positive in the sense the design gives it
+  (:func:`load_factor_curvatures`; a stable interval also as radii: :func:`curvature_interval`).
 
 Why scale rather than feed SI numbers to the solvers: the model then reads exactly as the
 non-dimensional examples (that segment has L = 1, B3 = 1), on which the solvers' absolute
@@ -35,6 +38,7 @@ import dataclasses
 import functools
 import math
 import re
+from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
 from .errors import RodstabInputError
@@ -439,6 +443,82 @@ def _curvature_entries(units: Units, prefix: str, kappa: float, length: float) -
             f"{prefix}psi": {"value": 0.5 * units.si(length, "length") * k, "unit": "rad"}}
 
 
+def load_factor_curvatures(units: Units, assembly: Assembly,
+                           load_factors: Sequence[float]) -> list[float]:
+    """Return load factors as the reference segment's natural curvature (1/m), signed.
+
+    The one rule by which every command states a load factor in 1/m.
+
+    Parameters
+    ----------
+    units : Units
+        The design's scales; ``units.segment`` is the reference (load-factor) segment.
+    assembly : Assembly
+        The design's (non-dimensional) assembly.
+    load_factors : sequence of float
+        Load factors ``mu`` (non-dimensional; may be infinite).
+
+    Returns
+    -------
+    list of float
+        ``mu |kappa_n|`` (1/m), ``|kappa_n|`` the reference segment's at load factor 1
+        (:meth:`Units.natural_curvature`): positive in the sense the design gives it, negative
+        curved the other way; infinite load factors stay infinite (all 0 when the segment is
+        naturally straight).
+    """
+    k = units.natural_curvature(assembly, 1.0)
+    return [0.0 if k == 0 else mu * k for mu in load_factors]
+
+
+def _radius_range(k_lo: float, k_hi: float) -> list[float] | None:
+    """Radii ``[1/k_hi, 1/k_lo]`` (m) of the curvatures ``k_lo < k < k_hi`` of one sense.
+
+    ``k_lo`` is clipped to 0 (the other sense is the other range); None when no curvature of
+    this sense is in the interval (``k_hi <= 0``). ``1/0`` is ``inf``, ``1/inf`` is 0.
+    """
+    if k_hi <= 0:
+        return None
+    k_lo = max(k_lo, 0.0)
+    return [0.0 if math.isinf(k_hi) else 1.0 / k_hi, math.inf if k_lo == 0 else 1.0 / k_lo]
+
+
+def curvature_interval(units: Units, assembly: Assembly,
+                       interval: tuple[float, float]) -> dict[str, Any]:
+    """Return a stable load-factor interval as natural curvatures and radii of the reference.
+
+    The load factor ``mu`` multiplies every natural curvature, so the reference segment's
+    natural curvature at ``mu`` is ``mu |kappa_n|`` (1/m), signed: positive in the sense the
+    design gives it (``mu > 0``), negative curved the other way
+    (:func:`load_factor_curvatures`, which ``atlas``'s bands use too).
+
+    Parameters
+    ----------
+    units : Units
+        The design's scales; ``units.segment`` is the reference (load-factor) segment.
+    assembly : Assembly
+        The design's (non-dimensional) assembly.
+    interval : (float, float)
+        The stable load-factor interval ``(lo, hi)`` (``lo`` may be ``-inf``, ``hi`` ``inf``).
+
+    Returns
+    -------
+    dict
+        Empty when the reference segment is naturally straight (the load factor does not
+        curve it); else ``stable_natural_curvature``: ``{"value": [lo k, hi k], "unit": "1/m"}``
+        with ``k = |kappa_n|`` at load factor 1, and ``stable_natural_radius``: ``{"as_given":
+        [r_min, r_max], "reversed": [r_min, r_max], "unit": "m"}``, the radii (m) of the stable
+        natural curvatures of each sense (``r_max`` inf: down to straight; a sense without a
+        stable curvature is None).
+    """
+    k = units.natural_curvature(assembly, 1.0)
+    if k == 0:
+        return {}
+    lo, hi = load_factor_curvatures(units, assembly, interval)
+    return {"stable_natural_curvature": {"value": [lo, hi], "unit": SI_UNITS["curvature"]},
+            "stable_natural_radius": {"as_given": _radius_range(lo, hi),
+                                      "reversed": _radius_range(-hi, -lo), "unit": "m"}}
+
+
 def stability_units(units: Units, assembly: Assembly, interval: tuple[float, float],
                     built: float = 1.0) -> dict[str, Any]:
     """Return the physical values of a linear stability result (analyze's ``"units"``).
@@ -461,6 +541,8 @@ def stability_units(units: Units, assembly: Assembly, interval: tuple[float, flo
         critical load factor(s): ``natural_curvature`` (|kappa_n|, 1/m), ``natural_radius``
         (m), ``psi`` (the paper's half-angle of the natural arc, ``L kappa_n / 2``, rad;
         Section 4); ``critical_*`` at ``hi``, ``lower_critical_*`` at ``lo`` when ``lo > 0``;
+        the whole interval as ``stable_natural_curvature`` and ``stable_natural_radius``
+        (:func:`curvature_interval`);
         ``stored_energy`` of the held state as built (J), ``held_moment`` of each segment
         (in-plane bending moment ``B3 (k - kappa_n)`` that holds it, N m); ``as_built``
         (:func:`as_built`, or None when no limit has the built sign).
@@ -470,6 +552,7 @@ def stability_units(units: Units, assembly: Assembly, interval: tuple[float, flo
     out = units.reference()
     kappa = seg.natural_curvature
     out |= _curvature_entries(units, "", built * kappa, seg.length)
+    out |= curvature_interval(units, assembly, interval)
     if math.isfinite(hi):
         out |= _curvature_entries(units, "critical_", hi * kappa, seg.length)
     if math.isfinite(lo) and lo > 0:

@@ -156,18 +156,25 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
     if method == "string":
         payload.update(images=b.images)
     units = None if design_file is None else design.units
+    joules: dict[str, str] = {}  # " (... J)" after the model energies of the table
     if units is not None:
         payload["units"] = units.block(
+            natural_curvature={"value": units.natural_curvature(design.assembly, k),
+                               "unit": "1/m"},
             **{key: (getattr(b, key), "energy") for key in (
                 "barrier_forward", "barrier_backward", "energy_from", "energy_to",
                 "energy_saddle", "energies")})
+        joules = {key: f" ({fmt(payload['units'][key]['value'])} J)" for key in (
+            "barrier_forward", "barrier_backward", "energy_saddle")}
     lines = [section_line(section),
              f"{name} at {'kappa_n R0' if design_file is None else 'load factor'} = {fmt(k)}, "
              f"{elements} elements per rod (B3 = 1, L = 1), method {method}"
              + ("" if chosen is None else f" (chosen: the middle of the states' common stable "
                                           f"interval ({fmt(chosen[0])}, {fmt(chosen[1])}))")]
     if units is not None:
-        lines.insert(1, units_line(units))
+        lines[1:1] = [units_line(units), f"physical     load factor {fmt(k)}: natural curvature "
+                      f"{fmt(payload['units']['natural_curvature']['value'])} 1/m of segment "
+                      f"{units.segment!r}; energies in J = model energy x B3/L"]
     run: Any = b.string_run
     if method == "string":
         lines.append(f"string       {b.images} images, {b.iterations} iterations; saddle from "
@@ -176,19 +183,23 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
         lines.append(f"branch       from kappa_n R0 = "
                      f"{fmt(structure_load(structure, b.load_factor_critical))}")
     lines += [
-        f"saddle       index {b.saddle_index}, energy {fmt(b.energy_saddle)}, descents end on "
+        f"saddle       index {b.saddle_index}, energy {fmt(b.energy_saddle)}"
+        f"{joules.get('energy_saddle', '')}, descents end on "
         f"{', '.join(b.descent_ends) or 'not run'}",
         f"forward      {b.from_state} -> {b.to_state}: {fmt(b.barrier_forward)}"
-        + ("" if units is None else f" ({fmt(units.si(b.barrier_forward, 'energy'))} J)"),
+        + joules.get("barrier_forward", ""),
         f"backward     {b.to_state} -> {b.from_state}: {fmt(b.barrier_backward)}"
-        + ("" if units is None else f" ({fmt(units.si(b.barrier_backward, 'energy'))} J)"),
+        + joules.get("barrier_backward", ""),
         f"converged    {b.converged} ({len(b.energies)} path points)"]
     if plot is not None:
         from ..plot.plots import plot_barrier_path
 
+        # a design with units: the energies in J (the units block's), else in B3/L
+        energies, axis = ((b.energies, "energy (B3 / L)") if units is None else
+                          (payload["units"]["energies"]["value"], "energy [J]"))
         payload["plot"] = str(plot_barrier_path(
-            b.path_arclength, b.energies, b.saddle_position, plot,
-            labels=(b.from_state, b.to_state),
+            b.path_arclength, energies, b.saddle_position, plot,
+            labels=(b.from_state, b.to_state), energy_label=axis,
             title=f"{name}, kappa_n R0 = {fmt(k)}, {elements} el./rod, {method}"))
         lines.append(f"wrote {payload['plot']}")
     if gif is not None:

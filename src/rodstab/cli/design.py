@@ -15,6 +15,8 @@ from ..limits import NONLINEAR_MIN_ELEMENTS, SWEEP_DEFAULT_N, Limits
 from ..units import Units
 from .options import (
     COLOUR_BY,
+    COLOUR_BY_SI,
+    VARY_UNITS_HELP,
     colour_option,
     elements_option,
     json_option,
@@ -30,6 +32,7 @@ from .output import (
     html_output,
     image_output,
     one_of,
+    radii_text,
     require_converged,
     units_line,
     warnings_as_lines,
@@ -87,7 +90,10 @@ def analyze(design_file: str, elements: int | None, plot_path: str | None, limit
     if plot is not None:
         from ..plot.plots import plot_mode
 
-        payload["plot"] = str(plot_mode(d.assembly, r, plot))
+        u = d.units  # with units, the picture in the file's length unit
+        payload["plot"] = str(plot_mode(
+            d.assembly, r, plot, length_scale=1.0 if u is None else u.length / u.length_unit_m,
+            length_unit=None if u is None else u.length_unit))
     lo, hi = r.load_factor_interval
     lines = [
         f"design       {d.source}  ({len(d.assembly.segments)} segments, {r.n_dof} dof)",
@@ -126,10 +132,27 @@ def _arc_text(block: dict[str, Any], prefix: str, units: Units) -> str:
             f"= {fmt(psi)} rad ({math.degrees(psi):.4g} deg)")
 
 
+def _interval_lines(block: dict[str, Any], units: Units) -> list[str]:
+    """Return the stable interval in natural curvature (1/m) and radius of the reference."""
+    if "stable_natural_curvature" not in block:
+        return []
+    lo, hi = block["stable_natural_curvature"]["value"]
+    radii = block["stable_natural_radius"]
+    given, other = (radii_text(radii[k], units) for k in ("as_given", "reversed"))
+    if given == other:
+        text = f"{given} in either sense"
+    else:
+        text = "; ".join(t for t in (given and f"{given} in the design's sense",
+                                     other and f"{other} curved the other way") if t)
+    return [f"stable for   {fmt(lo)} < natural curvature < {fmt(hi)} 1/m of segment "
+            f"{units.segment!r}" + (" (negative: curved the other way)" if lo < 0 else ""),
+            f"             {text}"]
+
+
 def _analyze_unit_lines(block: dict[str, Any], units: Units, stable: bool) -> list[str]:
     """Return the physical lines of ``analyze`` (design with units), ending with the verdict."""
     moments = block["held_moment"]["value"]
-    lines = [units_line(units),
+    lines = [units_line(units), *_interval_lines(block, units),
              f"as built     {_arc_text(block, '', units)} (segment {units.segment!r})",
              f"             stored energy {fmt(block['stored_energy']['value'])} J; largest "
              f"held moment |B3 (k - kappa_n)| {fmt(max(abs(m) for m in moments.values()))} N*m"]
@@ -209,13 +232,18 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
         layout = RodLayout.from_rod(rod)
         label, signed = COLOUR_BY[colour]
         values = rod.edge_moments() if colour == "moment" else rod.edge_twist()
+        if d.units is not None:  # the colours in SI (N*m, rad/m)
+            label, kind = COLOUR_BY_SI[colour]
+            values = values * d.units.si(1.0, kind)
         title = f"{d.source}, load factor {load_factor:g}"
     if render is not None:
         from ..plot.plots import plot_equilibrium
 
+        u = d.units  # with units, the picture in the file's length unit
+        scale = 1.0 if u is None else u.length / u.length_unit_m
         payload["render"] = str(plot_equilibrium(
-            rod.x, rod.R_edge, layout, render, edge_values=values, value_label=label,
-            diverging=signed, title=title))
+            rod.x * scale, rod.R_edge, layout, render, edge_values=values, value_label=label,
+            diverging=signed, title=title, length_unit=None if u is None else u.length_unit))
     if html is not None:
         from ..plot.plots import html_view
 
@@ -261,7 +289,7 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
 @vary_option(help=f"KEY=START:STOP[:N], N values from START to STOP (default "
                    f"{SWEEP_DEFAULT_N}), e.g. section.aspect=1:4:13. KEY: section.<k>, "
                    "analysis.<k>, segment.<name>.<k>, segment.<name>.section.<k> or "
-                   "support.<i>.rotation.<normal|tangent|binormal>.")
+                   "support.<i>.rotation.<normal|tangent|binormal>." + VARY_UNITS_HELP)
 @click.option("--out", "out_dir", type=click.Path(file_okay=False), default="sweep",
               show_default=True,
               help="Directory for run.json, sweep.csv (a row per point as it completes) and "
@@ -294,7 +322,7 @@ def sweep(design_file: str, vary: str, out_dir: str, elements: int | None,
 
     from ..executor import check_workers, task_size
     from ..io.design import load_design
-    from ..io.vary import vary_in_units
+    from ..io.vary import axis_label, axis_unit, vary_in_units
     from ..report.figures import sweep_plot
     from ..sweep import CSV_FILE, INVALID, NOT_CONVERGED, PHYSICAL_COLUMN, design_at, write_parquet
     from ..sweep import sweep as run_sweep
@@ -321,7 +349,9 @@ def sweep(design_file: str, vary: str, out_dir: str, elements: int | None,
                            unit=spec.unit)
     rows = result.table()
     csv_path = out / CSV_FILE
-    png = sweep_plot(rows, key, out)
+    unit = axis_unit(base, spec)
+    head = axis_label(key, unit)
+    png = sweep_plot(rows, key, out, xlabel=head)
     payload: dict[str, Any] = {
         "key": key, "values": [r[key] for r in rows], "rows": rows, "csv": str(csv_path),
         "plot": str(png), "executor": result.executor, "resumed": result.resumed}
@@ -329,14 +359,14 @@ def sweep(design_file: str, vary: str, out_dir: str, elements: int | None,
     if parquet:
         payload["parquet"] = str(write_parquet(result.frame(), out))
         written = f"{csv_path}, {payload['parquet']} and {png}"
-    head = key if spec.unit is None else f"{key} ({spec.unit})"
     physical = result.physical
     if physical:
         assert base.units is not None
         payload["units"] = base.units.block(
-            values={"value": payload["values"], "unit": spec.unit},
+            values={"value": payload["values"], "unit": unit},
             critical_natural_curvature={"value": [r[PHYSICAL_COLUMN] for r in rows],
                                         "unit": "1/m"})
+        payload["axis"] = head  # as atlas's: the key with the unit of its values
 
     def kappa(r: dict[str, Any]) -> str:
         v = r.get(PHYSICAL_COLUMN)

@@ -95,8 +95,11 @@ def discover(design_file: str | None, section: Section, structure: str, segments
     payload = found.to_dict() | {"structure": name, "segments": n, "start_state": start_state,
                                  "section": section.to_dict()}
     units = None if design is None else design.units
-    if units is not None:
-        payload["units"] = units.block(energy=([s.energy for s in found.states], "energy"))
+    if design is not None and units is not None:
+        payload["units"] = units.block(
+            natural_curvature={"value": units.natural_curvature(design.assembly, mu),
+                               "unit": "1/m"},
+            energy=([s.energy for s in found.states], "energy"))
     if plot is not None:
         from ..plot.plots import plot_ring_states
 
@@ -110,13 +113,18 @@ def discover(design_file: str | None, section: Section, structure: str, segments
              f"({found.converged_runs} converged); seeds {', '.join(found.seeds)}",
              f"{'label':>14} {'energy':>10} {'index':>5} {'stable':>6} {'welds':>5} "
              f"{'turning':>8} {'max|z|/L':>9}  found from"]
+    joules = None  # the states' energies in J, from the units block
     if units is not None:
-        lines.insert(2, units_line(units))
+        u = payload["units"]
+        lines[2:2] = [units_line(units), f"physical     load factor {fmt(mu)}: natural curvature "
+                      f"{fmt(u['natural_curvature']['value'])} 1/m of segment "
+                      f"{units.segment!r}; energies in J = model energy x B3/L"]
+        joules = u["energy"]["value"]
     lines += [f"{s.label:>14} {s.energy:>10.6g} {s.index:>5} {str(s.stable):>6} "
               f"{s.invariants.distinct_weld_points:>5} {s.invariants.turning_number:>8.4g} "
               f"{s.invariants.max_out_of_plane:>9.3g}  {s.found_from}"
-              + ("" if units is None else f"  ({fmt(units.si(s.energy, 'energy'))} J)")
-              for s in found.states]
+              + ("" if joules is None else f"  ({fmt(joules[i])} J)")
+              for i, s in enumerate(found.states)]
     lines += [f"wrote {payload['plot']}"] if plot is not None else []
     emit(payload, as_json, lines)
 
@@ -197,8 +205,13 @@ def transitions(design_file: str | None, section: Section, structure: str,
             what = "" if q["quantity"] == "value" else "natural curvature "
             physical[(q["from"], q["to"], q["stimulus"])] = \
                 f" ({what}{fmt(q['value'])} {q['unit']})"
-        payload["units"] = units.block(thresholds=thresholds)
+        payload["units"] = units.block(
+            natural_curvature={"value": units.natural_curvature(design.assembly, load_factor),
+                               "unit": "1/m"},
+            contact_thickness=(thickness * ring.length, "length"), thresholds=thresholds)
     load_name = "kappa_n R0" if design_file is None else "load factor"
+    load_si = ("" if "units" not in payload else
+               f" ({payload['units']['natural_curvature']['value']:.4g} 1/m)")
     if out is not None:
         from ..plot.transition_graph import plot_transition_graph
 
@@ -206,13 +219,18 @@ def transitions(design_file: str | None, section: Section, structure: str,
         payload["figure"] = str(plot_transition_graph(
             payload, res.shapes, out / "transitions.png",
             title=f"{name}, {section_label(section)}, "
-                  f"{load_name} = {load_factor:g}, {elements} elements per rod, h/L = "
+                  f"{load_name} = {load_factor:g}{load_si}, {elements} elements per rod, h/L = "
                   f"{thickness:g}"))
         payload["json_file"] = str(out / "transitions.json")
     lines = [section_line(section),
              f"{name} at {load_name} = {fmt(load_factor)}, {elements} elements per rod, "
              f"contact thickness h/L = {fmt(thickness)}"]
-    lines += [units_line(units)] if units is not None else []
+    if units is not None:
+        u = payload["units"]
+        lines += [units_line(units), f"physical     load factor {fmt(load_factor)}: natural "
+                  f"curvature {fmt(u['natural_curvature']['value'])} 1/m of segment "
+                  f"{units.segment!r}; contact thickness "
+                  f"{units.length_text(u['contact_thickness']['value'])}"]
     for e in payload["edges"]:
         lines.append(f"{e['from']:>6} -> {e['to']:<8} {e['stimulus']} = {fmt(e['threshold'])}"
                      f"{physical.get((e['from'], e['to'], e['stimulus']), '')} ({e['kind']}); "

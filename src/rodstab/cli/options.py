@@ -163,6 +163,9 @@ json_option = click.option("--json", "as_json", is_flag=True,
 #: What the pictures of nonlinear states colour each edge by (``--colour``): name -> (label,
 #: signed). The values come from :class:`~rodstab.nonlinear.discrete.DiscreteRod`.
 COLOUR_BY = {"moment": ("|internal moment|", False), "twist": ("twist rate (rad/length)", True)}
+#: The same colours on a design with units: (label, kind of rodstab.units.SI_UNITS).
+COLOUR_BY_SI = {"moment": ("|internal moment| [N*m]", "moment"),
+                "twist": ("twist rate [rad/m]", "curvature")}
 colour_option = click.option(
     "--colour", "colour", type=click.Choice(tuple(COLOUR_BY)), default="moment",
     show_default=True, help="Colour the rods' pictures by the internal moment's magnitude or "
@@ -224,6 +227,12 @@ def load_factor_option(*, default: float | None, help: str) -> Callable[..., Any
 
     return click.option("--load-factor", type=float, default=default, callback=check,
                         show_default=default is not None, help=help)
+
+
+#: What ``--vary`` help says about units (rodstab.io.vary.vary_in_units: the rule).
+VARY_UNITS_HELP = (" On a design with units a dimensional KEY takes START and STOP with a unit, "
+                   "e.g. \"section.height=4 mm:6 mm:3\" (a plain number there exits 2: it is "
+                   "never read in a unit nobody named), and the output names that unit.")
 
 
 def vary_option(help: str) -> Callable[..., Any]:

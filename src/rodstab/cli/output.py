@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import contextlib
 import json
+import math
 import sys
 import warnings
 from collections.abc import Callable, Iterator
@@ -95,6 +96,16 @@ def units_line(units: Units) -> str:
            f" (E = {units.E / 1e9:.6g} GPa, nu = {fmt(units.nu or 0.0)})")
     return (f"units        SI; reference segment {units.segment!r}: L = "
             f"{units.length_text(units.length)}, B3 = {fmt(units.stiffness)} N*m^2{mat}")
+
+
+def radii_text(radii: list[float] | None, units: Units) -> str | None:
+    """Return a range of radii ``[r_min, r_max]`` (m; ``curvature_interval``) as text."""
+    if radii is None:
+        return None
+    a, b = radii
+    if math.isinf(b):
+        return "any radius" if a == 0 else f"radius > {units.length_text(a)}"
+    return f"{units.length_text(a)} < radius < {units.length_text(b)}"
 
 
 def image_output(option: str, value: str) -> Path:

@@ -17,6 +17,7 @@ from ..results import jsonable
 from ..sections import Section
 from .dimensions import DIMENSION_OPTIONS, opt
 from .options import (
+    VARY_UNITS_HELP,
     given,
     json_option,
     limit_options,
@@ -203,7 +204,7 @@ ATLAS_DEFAULT_N = 21
 @click.argument("design_file", type=click.Path(dir_okay=False))
 @vary_option(help=f"KEY=START:STOP[:N], N >= 2 values from START to STOP (default "
                    f"{ATLAS_DEFAULT_N}), e.g. section.aspect=1:6:50; KEY as for sweep "
-                   "(section.<k>, segment.<name>.<k>, ...).")
+                   "(section.<k>, segment.<name>.<k>, ...)." + VARY_UNITS_HELP)
 @click.option("--out", "out_dir", type=click.Path(file_okay=False), default="atlas",
               show_default=True, help="Directory for atlas.json and atlas.png.")
 @click.option("--method", type=click.Choice(["transfer", "fe"]), default="transfer",
@@ -241,8 +242,8 @@ def atlas_cmd(design_file: str, vary: str, out_dir: str, method: str,
     from ..executor import check_workers, task_size
     from ..io.design import load_design
     from ..io.outputs import run_lock, write_atomic
-    from ..io.vary import vary_in_units
-    from ..multistable.atlas import LOAD_FACTOR_UNITS, DesignRings, ring_atlas
+    from ..io.vary import axis_label, axis_unit, vary_in_units
+    from ..multistable.atlas import LOAD_FACTOR_UNITS, DesignRings, atlas_units, ring_atlas
     from ..multistable.states import ring_of
 
     spec = read_vary(vary, ATLAS_DEFAULT_N, "atlas points", limits)
@@ -280,33 +281,49 @@ def atlas_cmd(design_file: str, vary: str, out_dir: str, method: str,
         "design": design_file, "key": at.key, "values": list(at.values),
         "load_factor": LOAD_FACTOR_UNITS, "method": at.method, "executor": at.executor,
         **at.tables()}
-    if base.units is not None:
+    unit = axis_unit(base, spec)
+    label = axis_label(at.key, unit)
+    units = base.units
+    second = None
+    if units is not None:
         # The load factors stay the design's (natural curvatures are load factor x its own);
-        # the varied values are in the unit of --vary.
-        payload["units"] = base.units.block(values={"value": list(at.values),
-                                                    "unit": spec.unit})
+        # the varied values are in the unit of --vary, the intervals also in 1/m.
+        payload["units"] = atlas_units(ring_at, at, unit)
+        payload["axis"] = label
+        per = payload["units"]["natural_curvature_per_load_factor"]["value"]
+        if per[0] > 0 and max(per) - min(per) <= 1e-12 * per[0]:  # one scale: a second axis
+            second = (per[0], f"natural curvature of segment {units.segment!r} [1/m]")
     from ..plot.plots import plot_stable_bands
 
     png = plot_stable_bands(at.bands(), at.states, out / "atlas.png", x_key="value",
-                            xlabel=at.key, ylabel="load factor",
+                            xlabel=label, ylabel="load factor", second_axis=second,
                             title=f"{design_file}: stable bands ({method})")
     payload["json"], payload["plot"] = str(json_path), str(png)
     write_atomic(json_path, json.dumps(jsonable(payload), allow_nan=False, indent=1))
     width = max(12, *(len(s) for s in at.states))
-    lines = [f"load factor  {LOAD_FACTOR_UNITS}; method {method}",
-             f"{at.key:>12} " + " ".join(f"{s:>{2 * width + 3}}" for s in at.states)]
+    first = 12 if units is None else max(12, len(label))  # plain designs print as before
+    in_unit = "" if unit is None else f" {unit}"
+    lines = [f"load factor  {LOAD_FACTOR_UNITS}; method {method}"]
+    if units is not None:
+        per = payload["units"]["natural_curvature_per_load_factor"]["value"]
+        scale = (fmt(per[0]) if second is not None else
+                 f"({fmt(min(per))} .. {fmt(max(per))}, per value: JSON units)")
+        lines += [units_line(units), f"physical     natural curvature of segment "
+                  f"{units.segment!r} = load factor x {scale} 1/m"]
+    lines.append(f"{label:>{first}} " + " ".join(f"{s:>{2 * width + 3}}" for s in at.states))
     for p, row in zip(at.values, at.intervals, strict=True):
-        lines.append(f"{p:>12.6g} " + " ".join(
+        lines.append(f"{p:>{first}.6g} " + " ".join(
             f"{f'({fmt(r.lower.load_factor)}, {fmt(r.upper.load_factor)})':>{2 * width + 3}}"
             for r in row))
-    for label in at.states:
+    for state in at.states:
         for side in ("lower", "upper"):
-            lines.append(f"{label} {side} limit: " + "; ".join(
-                f"{kind} for {at.key} {fmt(a)}..{fmt(b)}"
-                for a, b, kind in at.limit_runs(label, side)))
+            lines.append(f"{state} {side} limit: " + "; ".join(
+                f"{kind} for {at.key} {fmt(a)}..{fmt(b)}{in_unit}"
+                for a, b, kind in at.limit_runs(state, side)))
     for c in at.coexistence:
         lines.append(f"{c.k} mutually stable: " + (", ".join(
-            f"{at.key} in ({fmt(a)}, {fmt(b)})" for a, b in c.ranges) or "nowhere in range"))
+            f"{at.key} in ({fmt(a)}, {fmt(b)}){in_unit}" for a, b in c.ranges)
+            or "nowhere in range"))
     lines += [f"ran on       {at.executor}", f"wrote {json_path} and {png}"]
     emit(payload, as_json, lines)
     bad = [(p, r) for p, row in zip(at.values, at.intervals, strict=True) for r in row

@@ -305,6 +305,23 @@ def vary_in_units(design: Design, spec: VarySpec) -> VarySpec:
     return spec
 
 
+def axis_unit(design: Design, spec: VarySpec) -> str | None:
+    """Return the unit of a ``--vary``'s values as output states it, or None (plain numbers).
+
+    ``spec`` as :func:`vary_in_units` returns it: START and STOP's unit on a dimensional key
+    of a design with units; "rad" for a rotation of a design with units (any angle unit is
+    read into radians); None otherwise (a design without units keeps its plain numbers).
+    """
+    if spec.unit is not None:
+        return spec.unit
+    return "rad" if design.units is not None and value_kind(spec.key) == "angle" else None
+
+
+def axis_label(key: str, unit: str | None) -> str:
+    """Return the label of a ``--vary`` key's axis: ``"section.height [mm]"``, or ``key``."""
+    return key if unit is None else f"{key} [{unit}]"
+
+
 def model_value(design: Design, key: str, value: float, unit: str | None) -> float:
     """Return a ``--vary`` value of a continuation key in the model's units.
 

@@ -600,18 +600,73 @@ class DesignRings:
     unit: str | None = None
     _rings: dict[float, Ring] = dataclasses.field(default_factory=dict, repr=False,
                                                   compare=False)
+    _designs: dict[float, Design] = dataclasses.field(default_factory=dict, repr=False,
+                                                      compare=False)
+
+    def design_at(self, value: float) -> Design:
+        """Return the design at ``value`` (in ``unit``), parsed once."""
+        if value not in self._designs:
+            self._designs[value] = design_at(self.design, self.key, value, self.unit)
+        return self._designs[value]
 
     def __call__(self, value: float) -> Ring:
         """Return the ring at ``value`` (in ``unit``)."""
         if value not in self._rings:
             try:
-                self._rings[value] = ring_of(design_at(self.design, self.key, value,
-                                                       self.unit).assembly)
+                self._rings[value] = ring_of(self.design_at(value).assembly)
             except RodstabInputError as exc:
                 msg = str(exc)
                 raise RodstabInputError(msg if msg.startswith("--vary") else
                                         f"--vary {self.key} = {value:g}: {msg}") from None
         return self._rings[value]
+
+
+def atlas_units(rings: DesignRings, atlas: RingAtlas, unit: str | None) -> dict[str, Any]:
+    """Return the ``"units"`` block of an atlas of a design with units.
+
+    Parameters
+    ----------
+    rings : DesignRings
+        The rings the atlas solved (its base design has units).
+    atlas : RingAtlas
+        The atlas.
+    unit : str or None
+        The unit of the varied values (:func:`rodstab.io.vary.axis_unit`).
+
+    Returns
+    -------
+    dict
+        :meth:`rodstab.units.Units.reference` of the base design; ``values`` in ``unit``;
+        ``natural_curvature_per_load_factor``: at each value, the reference segment's
+        ``|kappa_n|`` (1/m) at load factor 1 (its own design's, which the varied key may
+        change); ``stable_natural_curvature``: per state, its ``lower`` and ``upper`` limits as
+        that segment's natural curvature (1/m, :func:`rodstab.units.load_factor_curvatures`:
+        negative curved the other way); ``mutually_stable``: each set's common interval so.
+    """
+    from ..units import SI_UNITS, load_factor_curvatures
+
+    base = rings.design.units
+    if base is None:
+        raise RodstabInputError(f"{rings.design.source} has no units")
+    designs = [rings.design_at(v) for v in atlas.values]
+
+    def curvatures(d: Design, load_factors: Sequence[float]) -> list[float]:
+        assert d.units is not None  # a design with units stays one at every value
+        return load_factor_curvatures(d.units, d.assembly, load_factors)
+
+    per = [curvatures(d, [1.0])[0] for d in designs]
+    states = {label: {side: [curvatures(d, [getattr(row[j], side).load_factor])[0]
+                             for d, row in zip(designs, atlas.intervals, strict=True)]
+                      for side in ("lower", "upper")}
+              for j, label in enumerate(atlas.states)}
+    mutual = [[{"states": list(o.members), "natural_curvature": curvatures(d, o.load_interval)}
+               for o in sets] for d, sets in zip(designs, atlas.mutual, strict=True)]
+    curvature = SI_UNITS["curvature"]
+    return base.block(
+        values={"value": list(atlas.values), "unit": unit},
+        natural_curvature_per_load_factor={"value": per, "unit": curvature},
+        stable_natural_curvature={"value": states, "unit": curvature},
+        mutually_stable={"value": mutual, "unit": curvature})
 
 
 def grid_values(ring_at: Callable[[float], Ring], labels: Sequence[str], method: str,

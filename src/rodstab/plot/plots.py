@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from functools import partial
 from pathlib import Path
 from typing import Any
 
@@ -174,8 +175,8 @@ def _box_states(shapes: Sequence[np.ndarray], frames: Sequence[np.ndarray], layo
     return out, bool(level.any())
 
 
-def _axes_3d(fig: Figure, points: np.ndarray) -> Any:
-    """Add 3D axes at equal scale around ``points``, orthographic, the camera fitted to them."""
+def _axes_3d(fig: Figure, points: np.ndarray, length_unit: str | None = None) -> Any:
+    """Add orthographic 3D axes at equal scale, fitted to ``points`` ("x [length_unit]")."""
     ax = fig.add_subplot(projection="3d")
     ax.set_proj_type("ortho")
     centre, sides = ribbons.view_box(points)
@@ -183,9 +184,8 @@ def _axes_3d(fig: Figure, points: np.ndarray) -> Any:
         setter(c - d / 2, c + d / 2)
     ax.set_box_aspect(tuple(sides), zoom=1.1)
     ax.view_init(*ribbons.camera(points))
-    ax.set_xlabel("x")
-    ax.set_ylabel("y")
-    ax.set_zlabel("z")
+    for setter, name in ((ax.set_xlabel, "x"), (ax.set_ylabel, "y"), (ax.set_zlabel, "z")):
+        setter(name if length_unit is None else f"{name} [{length_unit}]")
     for axis in (ax.xaxis, ax.yaxis, ax.zaxis):
         axis.set_major_locator(MaxNLocator(nbins=5))  # the short (z) axis had ten
     ax.tick_params(labelsize=7)
@@ -219,7 +219,8 @@ def _stacked_note(stacked: bool) -> str:
 
 def plot_mode(assembly: Assembly, result: LinearStability, path: str | Path | None = None,
               *, amplitude: float = 0.25, width: float | None = None,
-              title: str | None = None) -> Any:
+              title: str | None = None, length_scale: float = 1.0,
+              length_unit: str | None = None) -> Any:
     """Draw the critical mode over the held state, rods as boxes of their sections.
 
     The held state is a light ghost; over it the held state moved by the mode
@@ -244,6 +245,9 @@ def plot_mode(assembly: Assembly, result: LinearStability, path: str | Path | No
         :data:`rodstab.plot.ribbons.RIBBON_FRACTION` of the assembly's size).
     title : str, optional
         Figure title (default: the critical load factor and what is drawn).
+    length_scale, length_unit : float, str, optional
+        Drawn lengths are the assembly's x ``length_scale``, in ``length_unit`` named on the
+        axes (a design with units: its model length in, e.g., mm); default the model's.
 
     Returns
     -------
@@ -258,8 +262,9 @@ def plot_mode(assembly: Assembly, result: LinearStability, path: str | Path | No
     md = ribbons.mode_drawing(assembly, mode, scale)
     (ghost, moved), stacked = _box_states([md.held[0], md.moved[0]],
                                           [md.held[1], md.moved[1]], md.layout, width)
+    ghost, moved = ghost * length_scale, moved * length_scale  # box sides follow the extent
     fig = Figure(figsize=(7.5, 5.5), layout="constrained")
-    ax = _axes_3d(fig, np.vstack([ghost.reshape(-1, 3), moved.reshape(-1, 3)]))
+    ax = _axes_3d(fig, np.vstack([ghost.reshape(-1, 3), moved.reshape(-1, 3)]), length_unit)
     seg_rgba = np.array(segment_colours(len(md.layout.segment_names)))
     cmap = matplotlib.colormaps["coolwarm"]
     turn = np.degrees(md.turn)
@@ -272,10 +277,11 @@ def plot_mode(assembly: Assembly, result: LinearStability, path: str | Path | No
                    np.concatenate([np.tile(GHOST_EDGE, (len(edge), 1)), edge]))
     ax.add_collection3d(coll)
     _legend(ax, md.layout.segment_names, seg_rgba)
-    w_max = scale * max(float(np.max(np.abs(m.w))) for m in mode)
+    w_max = length_scale * scale * max(float(np.max(np.abs(m.w))) for m in mode)
     lam = result.load_factor_critical
     ax.set_title(title or f"critical mode, load factor {lam:.6g} (x{result.multiplicity}); "
-                 f"drawn: largest w {w_max:.3g}, largest turn "
+                 f"drawn: largest w {w_max:.3g}"
+                 f"{'' if length_unit is None else ' ' + length_unit}, largest turn "
                  f"{float(np.max(np.abs(turn), initial=0.0)):.3g} deg"
                  + _stacked_note(stacked), fontsize=9)
     _colour_bar(fig, ax, cmap, norm, "section turn omega in the mode (deg, as drawn)")
@@ -298,7 +304,8 @@ def _z_values(shapes: Sequence[np.ndarray], layout: RodLayout) -> list[np.ndarra
 def plot_equilibrium(x: np.ndarray, frames: np.ndarray, layout: RodLayout,
                      path: str | Path | None = None, *, edge_values: np.ndarray | None = None,
                      value_label: str = "|internal moment|", diverging: bool = False,
-                     width: float | None = None, title: str = "equilibrium") -> Any:
+                     width: float | None = None, title: str = "equilibrium",
+                     length_unit: str | None = None) -> Any:
     """Draw an equilibrium of a discrete rod, rods as boxes along their material frames.
 
     Parameters
@@ -323,6 +330,8 @@ def plot_equilibrium(x: np.ndarray, frames: np.ndarray, layout: RodLayout,
         :data:`rodstab.plot.ribbons.RIBBON_FRACTION` of the assembly's size).
     title : str
         Figure title.
+    length_unit : str, optional
+        The unit of ``x`` (e.g. "mm"), named on the axes; default none (model lengths).
 
     Returns
     -------
@@ -333,7 +342,7 @@ def plot_equilibrium(x: np.ndarray, frames: np.ndarray, layout: RodLayout,
               else _z_values([x], layout)[0])
     (faces,), stacked = _box_states([x], [frames], layout, width)
     fig = Figure(figsize=(7.5, 5.5), layout="constrained")
-    ax = _axes_3d(fig, faces.reshape(-1, 3))
+    ax = _axes_3d(fig, faces.reshape(-1, 3), length_unit)
     seg_rgba = np.array(segment_colours(len(layout.segment_names)))
     cmap = matplotlib.colormaps["coolwarm" if diverging else "viridis"]
     norm = _norm([values], diverging)
@@ -630,7 +639,8 @@ def plot_stable_bands(data: dict[str, list[float]], states: tuple[str, ...],
                       path: str | Path | None = None, *, threshold: float | None = None,
                       title: str = "", x_key: str = "aspect", xlabel: str = "h / t",
                       ylabel: str = "kappa_n R0",
-                      all_stable: Sequence[tuple[float, float]] | None = None) -> Any:
+                      all_stable: Sequence[tuple[float, float]] | None = None,
+                      second_axis: tuple[float, str] | None = None) -> Any:
     """Draw each state's stable band of the load between ``<state>.lower`` and ``.upper``.
 
     ``data[x_key]`` is the abscissa (default h/t); the bands are filled, translucent, one
@@ -642,6 +652,9 @@ def plot_stable_bands(data: dict[str, list[float]], states: tuple[str, ...],
     default ``data``'s :data:`ALL_STABLE_KEYS`; without them the range from ``threshold`` to
     the grid's end): it begins at the root of the overlap width, not at the next grid value.
     Without ranges or threshold it covers the grid values where the bands overlap.
+
+    ``second_axis`` ``(factor, label)``: a right-hand axis reading the load as ``factor`` x it
+    (e.g. the load factor as a natural curvature in 1/m).
     """
     x = np.asarray(data[x_key], dtype=float)
     fig = Figure(figsize=(6.4, 4.6))
@@ -676,6 +689,11 @@ def plot_stable_bands(data: dict[str, list[float]], states: tuple[str, ...],
         ax.axvline(threshold, color="k", ls=":", lw=1, label=f"h/t* = {threshold:.4g}")
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
+    if second_axis is not None:  # the load read as factor x it, on the right
+        f = second_axis[0]
+        ax.secondary_yaxis("right", functions=(partial(np.multiply, f),
+                                               partial(np.multiply, 1 / f))
+                           ).set_ylabel(second_axis[1])
     ax.set_title(title, fontsize=9)
     ax.legend(fontsize=8, loc="upper left")
     ax.grid(alpha=0.3)
@@ -749,12 +767,14 @@ def plot_section(nodes: np.ndarray, triangles: np.ndarray, part: np.ndarray,
 
 def plot_barrier_path(arclength: tuple[float, ...] | list[float], energies: tuple[float, ...]
                       | list[float], saddle: int, path: str | Path | None = None, *,
-                      labels: tuple[str, str] = ("A", "B"), title: str = "") -> Any:
+                      labels: tuple[str, str] = ("A", "B"), title: str = "",
+                      energy_label: str = "energy (B3 / L)") -> Any:
     """Draw the energy along a path between two states, the saddle marked, barriers annotated.
 
     ``energies[k]`` at ``arclength[k]`` (normalised to [0, 1]; empty: the points are spread
     evenly); ``saddle`` is the saddle's index. The forward barrier ``E_saddle - E[0]`` and the
     backward one ``E_saddle - E[-1]`` are drawn as vertical arrows at the two ends, labelled.
+    ``energy_label`` names the energy axis and its unit (model units B3/L, or "energy [J]").
     """
     e = np.asarray(energies, dtype=float)
     s = np.asarray(arclength, dtype=float) if len(arclength) else np.linspace(0.0, 1.0, len(e))
@@ -770,7 +790,7 @@ def plot_barrier_path(arclength: tuple[float, ...] | list[float], energies: tupl
         ax.text(x, 0.5 * (top + e0), f" {top - e0:.5g} \n from {name} ", color="C3",
                 ha=ha, va="center", fontsize=8)
     ax.set_xlabel("path arclength (normalised)")
-    ax.set_ylabel("energy (B3 / L)")
+    ax.set_ylabel(energy_label)
     ax.set_xlim(-0.08, 1.08)
     ax.set_title(title, fontsize=9)
     ax.legend(fontsize=8, loc="best")

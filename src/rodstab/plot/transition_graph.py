@@ -1,7 +1,8 @@
 """Figure of a transition graph (matplotlib only: networkx is not a dependency).
 
 States sit on a circle, each drawn as its centreline (a small inset); every transition is an
-arrow from the loaded state to the state reached, labelled with the stimulus and its threshold.
+arrow from the loaded state to the state reached, labelled with the stimulus and its threshold
+(also in SI for a design with units).
 An arrow is solid green when no pass-through of rods was found along the transition, dashed red
 when one was (:mod:`rodstab.multistable.transitions`: the model has no contact, so that
 transition is not physical as computed); a legend says so.
@@ -49,6 +50,17 @@ def _fit_view(fig: Figure, ax: Any, margin: float = 0.05) -> None:
         lo, hi = new_lo, new_hi
 
 
+def edge_label(edge: dict[str, Any], physical: dict[str, Any] | None = None) -> str:
+    """Return an edge's label: the stimulus, then ``= threshold`` on a second line.
+
+    ``physical``: the edge's threshold in SI (an entry of the ``"units"`` block's
+    ``thresholds``, a design with units), added on the same line, e.g. ``= 2.386 (29.83 1/m)``
+    (two lines, so that stacked self-loop labels keep their spacing).
+    """
+    si = "" if physical is None else f" ({physical['value']:.4g} {physical['unit']})"
+    return f"{edge['stimulus']}\n= {edge['threshold']:.4g}{si}"
+
+
 def plot_transition_graph(graph: dict[str, Any], shapes: dict[str, np.ndarray],
                           path: str | Path, *, title: str = "") -> Path:
     """Draw the graph of ``rodstab transitions --json`` (``states``, ``edges``) to ``path``.
@@ -76,7 +88,9 @@ def plot_transition_graph(graph: dict[str, Any], shapes: dict[str, np.ndarray],
             ax.plot(px + scale * xy[:, 0], py + scale * xy[:, 1], color="0.2", lw=1.2)
         ax.text(px, py - size - 0.08, s, ha="center", va="top", fontsize=10)
     seen: dict[tuple[str, str], int] = {}
-    for e in graph["edges"]:
+    # a design with units: each threshold also in SI (the units block's, edge for edge)
+    si = graph.get("units", {}).get("thresholds") or [None] * len(graph["edges"])
+    for e, q in zip(graph["edges"], si, strict=True):
         a, b = e["from"], e["to"]
         if a not in pos or b not in pos:
             continue
@@ -84,7 +98,7 @@ def plot_transition_graph(graph: dict[str, Any], shapes: dict[str, np.ndarray],
         seen[(a, b)] = k + 1
         physical = bool(e.get("physical", True))
         style = PHYSICAL_STYLE if physical else PASS_THROUGH_STYLE
-        label = f"{e['stimulus']}\n= {e['threshold']:.4g}"
+        label = edge_label(e, q)
         if a == b:
             # Outside the state, along the ray from the centre; its label beyond the loop,
             # aligned away from the graph so that it grows outwards, the k-th one further.

@@ -120,14 +120,17 @@ def fig9(data: dict, out: Path) -> list[Path]:
     return _save(fig, out, "fig9_folded_ring_modes")
 
 
-def sweep_plot(rows: list[dict], key: str, out: Path) -> Path:
-    """Critical load factor (and the lower end of the interval) against the varied key."""
+def sweep_plot(rows: list[dict], key: str, out: Path, xlabel: str | None = None) -> Path:
+    """Critical load factor (and the lower end of the interval) against the varied key.
+
+    ``xlabel`` names the axis (default ``key``; with its unit, e.g. "section.height [mm]").
+    """
     x = [r[key] for r in rows]
     fig = Figure(figsize=(6, 4))
     ax = fig.subplots()
     ax.plot(x, [r["load_factor_critical"] for r in rows], "o-", label="upper end (critical)")
     ax.plot(x, [r["load_factor_lower"] for r in rows], "s--", label="lower end")
-    ax.set_xlabel(key)
+    ax.set_xlabel(key if xlabel is None else xlabel)
     ax.set_ylabel("load factor")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
