@@ -84,6 +84,10 @@ FLOORS = {
     "output": ("rodstab.cli.output", "rodstab.results", "rodstab.plot", "rodstab.report",
                "rodstab.io.outputs"),
 }
+#: Output functions of a module on another floor, by ``module:qualname``: the printing helpers
+#: of the single-module CLI before issue 20 (now :mod:`rodstab.cli.output`).
+OUTPUT_FUNCTIONS = ("rodstab.cli:_fmt", "rodstab.cli:_emit", "rodstab.cli:_section_line",
+                    "rodstab.cli:_units_line")
 #: Classes whose objects are looked into (``object`` above): the design and its parts, the
 #: options' values.
 INPUT_MODULES = ("rodstab.io", "rodstab.sections", "rodstab.model", "rodstab.cli",
@@ -198,6 +202,8 @@ def trace(argv: list[str], value: float, text: str) -> Trace:
 
 def floor(name: str) -> str:
     """The key of :data:`FLOORS` holding the function ``module:qualname``."""
+    if name in OUTPUT_FUNCTIONS:
+        return "output"
     module = name.split(":")[0]
     return max(((f, p) for f, prefixes in FLOORS.items() for p in prefixes
                 if module == p or (p != "rodstab" and module.startswith(p + "."))),
