@@ -300,3 +300,79 @@ def test_stack_shift_fades_as_stacked_rods_come_apart():
                      (near * (1 + 0.5 * (ribbons.STACK_FADE - 1)), 0.5)):
         x = np.vstack([line, line + [0.0, dy, 0.0]])
         assert ribbons.stack_weights(x, layout, w) == pytest.approx([want, want])
+
+
+def _branch_result(elements: int, *, shapes: bool = True):
+    """A primary path with one branch of two states of ``examples/twisted_rod.toml``: the held
+    rod, then its frames twisted and its nodes lifted."""
+    from rodstab.nonlinear.continuation.path import Path as Curve
+
+    a = load_design("examples/twisted_rod.toml").assembly
+    rod = discretise(a, elements)
+    # each frame turned about its tangent d2 by 0.1 more than the last: a uniform twist
+    turned = np.array([R @ _turn_about(np.array([0.0, 1, 0]), 0.1 * k)
+                       for k, R in enumerate(rod.R_edge)])
+    curve = dict(key="load_factor", value=(1.0,), energy=(0.0,), lowest_eigenvalue=(1.0,),
+                 amplitude=(0.0,), amplitude_definition="", converged=True, method="test")
+    branch = Curve(**curve, value_critical=2.0, shapes=(rod.x, rod.x + [0.0, 0.0, 0.01]),
+                   frames=(rod.R_edge, turned), shape_values=(2.0, 2.5),
+                   shape_moments=(np.zeros(len(rod.R_edge)), np.ones(len(rod.R_edge))))
+    return Curve(**curve, branches=(branch,) if shapes else ()), a, rod, turned
+
+
+@pytest.mark.parametrize("colour", ["moment", "twist"])
+def test_branch_animation_draws_the_first_branch_coloured_by_the_choice(colour, tmp_path,
+                                                                        monkeypatch):
+    """rodstab.plot.animations.branch_animation hands animate_shapes the branch's shapes and
+    frames, its moments (moment) or the rates of twist of its frames (twist, signed), the
+    parameter's values as captions; the GIF has a frame per shape."""
+    from PIL import Image
+
+    import rodstab.plot.plots as plots
+    from rodstab.plot.animations import EDGE_COLOURS, branch_animation
+
+    result, a, rod, turned = _branch_result(4)
+    seen = {}
+    draw = plots.animate_shapes
+    monkeypatch.setattr(plots, "animate_shapes",
+                        lambda *args, **kw: seen.update(kw) or draw(*args, **kw))
+    gif = branch_animation(result, a, 4, tmp_path / "b.gif", source="rod", colour=colour)
+    with Image.open(gif) as im:
+        assert im.n_frames == 2
+    want = (result.branches[0].shape_moments if colour == "moment"
+            else (rod.edge_twist(rod.R_edge), rod.edge_twist(turned)))
+    for got, w in zip(seen["edge_values"], want, strict=True):
+        np.testing.assert_array_equal(got, w)
+    if colour == "twist":
+        assert np.all(seen["edge_values"][1] != 0)  # the turned frames are twisted
+    assert (seen["value_label"], seen["diverging"]) == EDGE_COLOURS[colour]
+    assert seen["labels"] == ["load_factor = 2", "load_factor = 2.5"]
+    assert seen["title"] == "rod: branch from load_factor = 2"
+
+
+def test_branch_pictures_of_a_path_without_branch_shapes_are_none(tmp_path):
+    """No branch with shapes (none traced, or a resumed run): nothing is written."""
+    from rodstab.plot.animations import branch_animation, branch_html
+
+    result, a, _, _ = _branch_result(4, shapes=False)
+    assert branch_animation(result, a, 4, tmp_path / "b.gif", source="rod") is None
+    assert branch_html(result, a, 4, tmp_path / "b.html", source="rod") is None
+    assert not list(tmp_path.iterdir())
+
+
+def test_branch_html_has_a_slider_step_per_shape(tmp_path):
+    pytest.importorskip("plotly")
+    from rodstab.plot.animations import branch_html
+
+    result, a, _, _ = _branch_result(4)
+    page = branch_html(result, a, 4, tmp_path / "b.html", source="rod", colour="twist")
+    assert page is not None
+    assert page.read_text().count('"method":"animate"') == 2 + 1  # steps and the play button
+
+
+def test_branch_animation_refuses_an_unknown_colour(tmp_path):
+    from rodstab.plot.animations import branch_animation
+
+    result, a, _, _ = _branch_result(4)
+    with pytest.raises(ValueError, match="colour.*'stress'"):
+        branch_animation(result, a, 4, tmp_path / "b.gif", source="rod", colour="stress")

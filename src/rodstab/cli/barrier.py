@@ -203,18 +203,9 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
             title=f"{name}, kappa_n R0 = {fmt(k)}, {elements} el./rod, {method}"))
         lines.append(f"wrote {payload['plot']}")
     if gif is not None:
-        from ..multistable.discover import common_rod
-        from ..plot.plots import animate_shapes
-        from ..plot.ribbons import RodLayout
+        from ..plot.animations import barrier_animation
 
-        rod = common_rod(a, elements, mu)
-        payload["animation"] = str(animate_shapes(
-            [snap.x for snap in path], [snap.R_edge for snap in path], RodLayout.from_rod(rod),
-            gif, edge_values=[rod.edge_twist(snap.R_edge) for snap in path],
-            value_label="rate of twist (rad / length)", diverging=True,
-            labels=[f"s = {s:.2f}, E = {e:.5g}"
-                    for s, e in zip(b.path_arclength, b.energies, strict=True)],
-            title=f"{name}: {from_state} -> {to_state}, minimum energy path"))
+        payload["animation"] = str(barrier_animation(b, path, a, gif, name=name))
         lines.append(f"wrote {payload['animation']}")
     emit(payload, as_json, lines)
     if not b.converged:

@@ -15,7 +15,6 @@ from ..errors import NotConverged, RodstabInputError
 from ..io.outputs import check_output
 from ..limits import CONTINUATION_ELEMENTS, CONTINUE_DEFAULT_N, Limits
 from .options import (
-    COLOUR_BY,
     colour_option,
     elements_option,
     json_option,
@@ -154,35 +153,20 @@ def _continuation_pictures(r: Any, d: Any, out: Path, elements: int,
                            payload: dict[str, Any], *, colour: str = "moment") -> None:
     """Write diagram.png, and branch.gif and branch.html of the first branch, into ``out``.
 
-    The branch's states are drawn with their edge frames, coloured by ``colour`` (a key of
-    :data:`COLOUR_BY`).
+    Each picture's path goes into ``payload`` (diagram, animation, interactive); the branch's
+    pictures only when a branch has shapes, branch.html only when plotly is installed.
     """
+    from ..plot.animations import branch_animation, branch_html
     from ..report.figures import continuation_plot
 
     payload["diagram"] = str(continuation_plot(r, out))
-    if r.branches and r.branches[0].shapes:
-        from ..nonlinear.discrete import discretise
-        from ..plot.plots import animate_shapes
-        from ..plot.ribbons import RodLayout
-
-        first = r.branches[0]
-        rod = discretise(d.assembly, elements)
-        layout = RodLayout.from_rod(rod)
-        label, signed = COLOUR_BY[colour]
-        values = (list(first.shape_moments) if colour == "moment"
-                  else [rod.edge_twist(R) for R in first.frames])
-        title = f"{d.source}: branch from {r.key} = {first.value_critical:.6g}"
-        gif = out / "branch.gif"
-        animate_shapes(list(first.shapes), list(first.frames), layout, gif,
-                       edge_values=values, value_label=label, diverging=signed,
-                       labels=[f"{r.key} = {v:.6g}" for v in first.shape_values], title=title)
-        payload["animation"] = str(gif)
-        try:
-            from ..plot.plots import html_view
-
-            payload["interactive"] = str(html_view(
-                list(first.shapes), list(first.frames), layout, out / "branch.html",
-                labels=[f"{v:.6g}" for v in first.shape_values], edge_values=values,
-                value_label=label, diverging=signed, title=title))
-        except RodstabInputError:
-            pass  # plotly not installed: the GIF is the picture (see --help)
+    gif = branch_animation(r, d.assembly, elements, out / "branch.gif", source=d.source,
+                           colour=colour)
+    if gif is None:
+        return
+    payload["animation"] = str(gif)
+    try:
+        payload["interactive"] = str(branch_html(r, d.assembly, elements, out / "branch.html",
+                                                 source=d.source, colour=colour))
+    except RodstabInputError:
+        pass  # plotly not installed: the GIF is the picture (see --help)

@@ -24,6 +24,7 @@ from ..errors import (
 )
 from ..executor import AUTO_MIN_SECONDS
 from ..limits import MAX_DOF, MAX_DOF_NONLINEAR, MAX_MEMORY, MAX_STEPS, Limits, require_steps
+from ..plot.animations import EDGE_COLOURS
 from ..sections import (
     POLYGON_MESH_SIZE,
     SHAPES,
@@ -161,8 +162,8 @@ def where_options(f: Callable[..., Any]) -> Callable[..., Any]:
 json_option = click.option("--json", "as_json", is_flag=True,
                             help="Print one JSON object instead of a table.")
 #: What the pictures of nonlinear states colour each edge by (``--colour``): name -> (label,
-#: signed). The values come from :class:`~rodstab.nonlinear.discrete.DiscreteRod`.
-COLOUR_BY = {"moment": ("|internal moment|", False), "twist": ("twist rate (rad/length)", True)}
+#: signed), defined with the pictures (:data:`rodstab.plot.animations.EDGE_COLOURS`).
+COLOUR_BY = EDGE_COLOURS
 #: The same colours on a design with units: (label, kind of rodstab.units.SI_UNITS).
 COLOUR_BY_SI = {"moment": ("|internal moment| [N*m]", "moment"),
                 "twist": ("twist rate [rad/m]", "curvature")}
