@@ -126,11 +126,31 @@ def pytest_collection_finish(session: pytest.Session) -> None:
         return
     if not any(Path(str(item.fspath)).name == "test_docs.py" for item in session.items):
         return
+    if os.environ.get("PYTEST_XDIST_WORKER"):
+        # Every xdist worker collects every test but only one runs test_docs.py: started here,
+        # each worker would build the site (~15 s of a core each); its fixture builds it.
+        return
     out = Path(tempfile.mkdtemp(prefix="rodstab-site-"))
     cmd, env = docs_build_command(out)
     DOCS_BUILD["out"] = out
     DOCS_BUILD["proc"] = subprocess.Popen(cmd, cwd=ROOT, env=env, stdout=subprocess.PIPE,
                                           stderr=subprocess.PIPE, text=True)
+
+
+@pytest.hookimpl(tryfirst=True)  # before xdist reads the marks (its own modifyitems hook)
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    """Send each test file to one xdist worker, and every file that uses ``reproduction`` to
+    the same one (``--dist loadgroup``, pyproject.toml).
+
+    A file on one worker computes its module fixtures once (the six-ring saddle, ~12 s); the
+    session fixture ``reproduction`` (``rodstab reproduce``, ~90 s of a core) is per worker,
+    so files split over two workers computed it twice (measured 2026-12-05: test_checks and
+    test_barrier each paid ~85 s of setup).
+    """
+    shared = {item.path for item in items if "reproduction" in getattr(item, "fixturenames", ())}
+    for item in items:
+        group = "reproduction" if item.path in shared else item.path.name
+        item.add_marker(pytest.mark.xdist_group(group))
 
 
 def pytest_sessionfinish(session: pytest.Session, exitstatus: int) -> None:
