@@ -137,22 +137,6 @@ def pytest_collection_finish(session: pytest.Session) -> None:
                                           stderr=subprocess.PIPE, text=True)
 
 
-@pytest.hookimpl(tryfirst=True)  # before xdist reads the marks (its own modifyitems hook)
-def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
-    """Send each test file to one xdist worker, and every file that uses ``reproduction`` to
-    the same one (``--dist loadgroup``, pyproject.toml).
-
-    A file on one worker computes its module fixtures once (the six-ring saddle, ~12 s); the
-    session fixture ``reproduction`` (``rodstab reproduce``, ~90 s of a core) is per worker,
-    so files split over two workers computed it twice (measured 2026-12-05: test_checks and
-    test_barrier each paid ~85 s of setup).
-    """
-    shared = {item.path for item in items if "reproduction" in getattr(item, "fixturenames", ())}
-    for item in items:
-        group = "reproduction" if item.path in shared else item.path.name
-        item.add_marker(pytest.mark.xdist_group(group))
-
-
 def pytest_sessionfinish(session: pytest.Session, exitstatus: int) -> None:
     """Stop a docs build still running (an interrupted or failed-fast session)."""
     import shutil
