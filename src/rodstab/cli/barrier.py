@@ -20,6 +20,7 @@ from .options import (
     load_factor_option,
     ring_and_section,
     section_options,
+    structure_option,
 )
 from .output import emit, fmt, image_output, section_line, units_line
 
@@ -34,9 +35,8 @@ _BARRIER_STATES = {"six-ring": ("folded", "one-loop"), "hexagram": ("line", "sta
               help="string: minimum energy path between the two states, saddle refined from "
                    "it; continuation: saddle from the --from state's bifurcation (built-in, "
                    "straight held states only).")
-@click.option("--structure", type=click.Choice(["six-ring", "hexagram"]), default="six-ring",
-              show_default=True, help="Without DESIGN: the structure (six-ring: folded, "
-                                      "one-loop; hexagram: line, star, daisy, eight).")
+@structure_option("six-ring", "hexagram", help="Without DESIGN: the structure (six-ring: "
+                  "folded, one-loop; hexagram: line, star, daisy, eight).")
 @click.option("--from", "from_state", default=None,
               help="The stable state the barrier is climbed from (default: folded for the "
                    "six-ring, line for the hexagram; with DESIGN a label of `rodstab states "

@@ -26,6 +26,7 @@ from .options import (
     load_factor_option,
     ring_and_section,
     section_options,
+    structure_option,
 )
 from .output import (
     emit,
@@ -40,11 +41,10 @@ from .output import (
 
 @click.command()
 @click.argument("design_file", required=False, type=click.Path(dir_okay=False))
-@click.option("--structure", type=click.Choice(["hexagram", "six-ring"]), default="hexagram",
-              show_default=True,
-              help="Without DESIGN: hexagram: six rods of length L, load kappa_n R0 (R0 = "
-                   "3L/2pi); six-ring: the ring of Section 5 (unfolded_ring: --segments arcs of "
-                   "radius 1 welded at cusps), load kappa_n R0.")
+@structure_option("hexagram", "six-ring",
+                  help="Without DESIGN: hexagram: six rods of length L, load kappa_n R0 (R0 = "
+                       "3L/2pi); six-ring: the ring of Section 5 (unfolded_ring: --segments "
+                       "arcs of radius 1 welded at cusps), load kappa_n R0.")
 @click.option("--segments", type=int, default=6, show_default=True,
               help="Rods of the six-ring (even, >= 4).")
 @click.option("--state", default=None,
@@ -131,8 +131,7 @@ def discover(design_file: str | None, section: Section, structure: str, segments
 
 @click.command()
 @click.argument("design_file", required=False, type=click.Path(dir_okay=False))
-@click.option("--structure", type=click.Choice(["hexagram"]), default="hexagram",
-              show_default=True, help="Without DESIGN: the structure whose states are loaded.")
+@structure_option("hexagram", help="Without DESIGN: the structure whose states are loaded.")
 @load_factor_option(
     default=None,
     help="Load factor at which every state loaded must be stable [default: twice the "

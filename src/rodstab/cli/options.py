@@ -216,6 +216,17 @@ def elements_option(*, default: int | None, minimum: int = 1, help: str) -> Call
                         show_default=default is not None, help=help)
 
 
+def structure_option(*choices: str, help: str) -> Callable[..., Any]:
+    """``--structure NAME``: the built-in ring a command uses without DESIGN.
+
+    ``choices`` are the structures the command takes (the first is the default): the
+    problems' built-in rings, ``six-ring`` (:mod:`rodstab.problems.unfolded_ring`) and
+    ``hexagram`` (:mod:`rodstab.problems.hexagram`).
+    """
+    return click.option("--structure", type=click.Choice(list(choices)), default=choices[0],
+                        show_default=True, help=help)
+
+
 def load_factor_option(*, default: float | None, help: str) -> Callable[..., Any]:
     """``--load-factor MU``: a finite number, checked as it is parsed.
 
