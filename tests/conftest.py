@@ -94,11 +94,29 @@ def run_cli_fixture() -> Callable[..., CliResult]:
 
 @pytest.fixture(scope="session")
 def reproduction(tmp_path_factory):
-    """``rodstab reproduce`` run once per session: (output directory, summary dict)."""
+    """``rodstab reproduce`` run once per session: (output directory, summary dict).
+
+    Once for the whole session, also on several xdist workers: the first worker that needs it
+    runs it (its checks on every core, ~50 s) under a file lock in the directory the workers
+    share, and saves the summary there; the others wait for the lock and read the saved
+    summary. (Per worker, each worker ran it, with the checks of both on the same two cores.)
+    The tests only read the output directory.
+    """
+    import json
+
+    from filelock import FileLock
+
     from rodstab.report.reproduce import run_reproduction
 
-    out = tmp_path_factory.mktemp("results")
-    return out, run_reproduction(out, progress=False)
+    shared = tmp_path_factory.getbasetemp()
+    if os.environ.get("PYTEST_XDIST_WORKER"):
+        shared = shared.parent  # the session's directory, above each worker's own
+    out, saved = shared / "reproduction", shared / "reproduction.json"
+    with FileLock(str(shared / "reproduction.lock")):
+        if not saved.is_file():
+            summary = run_reproduction(out, progress=False)
+            saved.write_text(json.dumps(summary))
+    return out, json.loads(saved.read_text())
 
 
 # --------------------------------------------------------------------------- the docs build

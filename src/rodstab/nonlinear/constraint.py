@@ -12,7 +12,10 @@ barriers); it needs nothing from either.
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
+import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
@@ -33,6 +36,31 @@ def chart_size(rod: DiscreteRod, dq: np.ndarray) -> float:
     return float(max(np.max(disp, initial=0.0), np.max(rot, initial=0.0)))
 
 
+#: Systems of up to this many unknowns are solved dense (Cholesky): below a few hundred, the
+#: fixed cost of each scipy.sparse operation (~0.1 ms: construction, fancy indexing, SuperLU's
+#: set-up) exceeded the whole dense solve, and the retraction ran ~5 ms per call on a 37-node
+#: hexagram, two thirds of a string-method barrier (measured 2026-12-05). Both are direct
+#: solves of the same symmetric positive definite system: they agree to round-off
+#: (tests/test_constraint.py compares them).
+DENSE_MAX = 400
+
+
+def _held_components(rod: DiscreteRod) -> np.ndarray:
+    """``(n_nodes, 3)`` bool: the node coordinates held by clamps and the rigid-motion gauge."""
+    held = np.zeros((len(rod.x), 3), bool)
+    held[list(rod.fixed_nodes)] = True
+    for k, comps in rod.fixed_components:
+        held[k, comps] = True
+    return held
+
+
+def _solve_spd(A: Any, rhs: np.ndarray) -> np.ndarray:
+    """Solve ``A z = rhs`` for a symmetric positive definite ``A`` (dense or sparse)."""
+    if sp.issparse(A):
+        return spla.spsolve(A.tocsc(), rhs)
+    return sla.cho_solve(sla.cho_factor(A, check_finite=False), rhs, check_finite=False)
+
+
 def restore_positions(rod: DiscreteRod) -> None:
     """Move the free nodes to the minimum of the stretch/shear energy for the current frames.
 
@@ -48,23 +76,32 @@ def restore_positions(rod: DiscreteRod) -> None:
     w = PENALTY * rod.edge_B.max(axis=1) / le**3  # K_e / l_e
     b = le[:, None] * rod.R_edge[:, :, 1]  # target edge vectors (n_edges, 3)
     n = len(rod.x)
-    L = sp.coo_matrix((np.concatenate([w, w, -w, -w]),
-                       (np.concatenate([i, j, i, j]), np.concatenate([i, j, j, i]))),
-                      shape=(n, n)).tocsr()
+    parts = (np.concatenate([w, w, -w, -w]),
+             (np.concatenate([i, j, i, j]), np.concatenate([i, j, j, i])))
+    if n <= DENSE_MAX:
+        L = np.zeros((n, n))
+        np.add.at(L, parts[1], parts[0])
+    else:
+        L = sp.csr_matrix(parts, shape=(n, n))
     f = np.zeros((n, 3))
     np.add.at(f, j, w[:, None] * b)
     np.add.at(f, i, -w[:, None] * b)
-    held_comp = {c: set(int(k) for k in rod.fixed_nodes) for c in range(3)}
-    for k, comps in rod.fixed_components:
-        for c in comps:
-            held_comp[c].add(int(k))
+    held = _held_components(rod)
+    # Coordinates with the same held nodes share one matrix (all three, unless a support
+    # holds some components only): one factorisation, several right-hand sides.
+    groups: dict[bytes, list[int]] = {}
     for c in range(3):
-        held = np.array(sorted(held_comp[c]), int)
-        free = np.setdiff1d(np.arange(n), held)
-        if not len(held) or not len(free):
+        groups.setdefault(held[:, c].tobytes(), []).append(c)
+    for group in groups.values():
+        coords = np.array(group)
+        pattern = held[:, group[0]]
+        free = np.flatnonzero(~pattern)
+        hold = np.flatnonzero(pattern)
+        if not len(hold) or not len(free):
             continue  # no gauge in this coordinate: leave it (never the case for a built rod)
-        rhs = f[free, c] - L[free][:, held] @ rod.x[held, c]
-        rod.x[free, c] = spla.spsolve(L[free][:, free].tocsc(), rhs)
+        rhs = f[np.ix_(free, coords)] - L[free][:, hold] @ rod.x[np.ix_(hold, coords)]
+        z = _solve_spd(L[np.ix_(free, free)] if n <= DENSE_MAX else L[free][:, free], rhs)
+        rod.x[np.ix_(free, coords)] = np.asarray(z).reshape(len(free), len(coords))
 
 
 #: Gauss-Newton iterations of :func:`restore_inextensible`. The misfit is zero at the solution,
@@ -104,13 +141,11 @@ def restore_inextensible(rod: DiscreteRod) -> None:
     i, j = rod.edge_nodes[:, 0], rod.edge_nodes[:, 1]
     le = rod.rest_length
     w = PENALTY * rod.edge_B.max(axis=1) / le**3  # K_e / l_e, as in restore_positions
-    held = np.zeros((n, 3), bool)
-    held[list(rod.fixed_nodes)] = True
-    for k, comps in rod.fixed_components:
-        held[k, comps] = True
+    held = _held_components(rod)
     col = np.full((n, 3), -1)
     col[~held] = np.arange(int(np.sum(~held)))
     nx = int(np.sum(~held))
+    size = nx + 3 * ne
     edges = np.arange(ne)
     # Rows 3e + c of the misfit's Jacobian: +I at node j, -I at node i, l_e [d2_e]x at w_e.
     rows, cols, vals = [], [], []
@@ -122,15 +157,22 @@ def restore_inextensible(rod: DiscreteRod) -> None:
             vals.append(np.full(int(np.sum(keep)), sign))
     rows.append(np.repeat(3 * edges, 9) + np.tile(np.repeat(np.arange(3), 3), ne))
     cols.append(nx + np.repeat(3 * edges, 9) + np.tile(np.tile(np.arange(3), 3), ne))
-    W = sp.diags(np.repeat(w, 3))
-    reg = sp.diags(np.concatenate([np.zeros(nx), np.repeat(INEXTENSIBLE_REG * w * le**2, 3)]))
+    rows_all, cols_all = np.concatenate(rows), np.concatenate(cols)
+    weight = np.repeat(w, 3)
+    reg = np.concatenate([np.zeros(nx), np.repeat(INEXTENSIBLE_REG * w * le**2, 3)])
     for _ in range(INEXTENSIBLE_ITER):
         d2 = rod.R_edge[:, :, 1]
         misfit = (rod.x[j] - rod.x[i] - le[:, None] * d2).ravel()
-        J = sp.csr_matrix((np.concatenate(vals + [(le[:, None, None] * hat(d2)).ravel()]),
-                           (np.concatenate(rows), np.concatenate(cols))),
-                          shape=(3 * ne, nx + 3 * ne))
-        z = spla.spsolve((J.T @ W @ J + reg).tocsc(), -(J.T @ (W @ misfit)))
+        values = np.concatenate(vals + [(le[:, None, None] * hat(d2)).ravel()])
+        if size <= DENSE_MAX:  # every (row, column) of J is set once
+            J = np.zeros((3 * ne, size))
+            J[rows_all, cols_all] = values
+            A = J.T @ (weight[:, None] * J)
+            A[np.diag_indices(size)] += reg
+        else:
+            J = sp.csr_matrix((values, (rows_all, cols_all)), shape=(3 * ne, size))
+            A = J.T @ sp.diags(weight) @ J + sp.diags(reg)
+        z = _solve_spd(A, -(J.T @ (weight * misfit)))
         rod.x[~held] += z[:nx]
         rod.R_edge = rodrigues(z[nx:].reshape(-1, 3)) @ rod.R_edge  # lab-frame turn
         restore_positions(rod)
