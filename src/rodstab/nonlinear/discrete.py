@@ -299,7 +299,8 @@ class DiscreteRod:
             K = PENALTY * self.edge_B.max(axis=1) / le**2
             zero = Jet(np.zeros(len(e)), np.zeros((len(e), 9)) if order >= 1 else None,
                        np.zeros((len(e), 9, 9)) if order >= 2 else None)
-            en = sum(((eps[k] - _T0[k]) * (eps[k] - _T0[k]) for k in range(3)), start=zero)
+            strain = Jet.stack(eps) - np.repeat(_T0, len(e))
+            en = sum((s * s for s in strain.split(3)), start=zero)
             scatter(en * (0.5 * K * le), np.concatenate([self.node_dofs(i), self.node_dofs(j),
                                                           self.edge_dofs(e)], axis=1))
         # Bending between consecutive edges of a segment: variables (phi_a, phi_b).
@@ -369,15 +370,12 @@ class DiscreteRod:
     def _bend(P: JetMat, ds: np.ndarray, B: np.ndarray, k0: np.ndarray) -> Jet:
         """``1/2 (k - k0)^T B (k - k0) ds`` with the Cayley curvature of ``P``."""
         den = (P.entry(0, 0) + P.entry(1, 1) + P.entry(2, 2) + 1.0).reciprocal()
-        vee = [P.entry(2, 1) - P.entry(1, 2), P.entry(0, 2) - P.entry(2, 0),
-               P.entry(1, 0) - P.entry(0, 1)]
-        out = None
-        for c in range(3):
-            kc = vee[c] * den * (2.0 / ds) - k0[:, c]
-            term = kc * kc * (0.5 * B[:, c] * ds)
-            out = term if out is None else out + term
-        assert out is not None  # three components summed
-        return out
+        # The three components stacked (Jet.stack): the same arithmetic, a third of the calls.
+        vee = (Jet.stack([P.entry(2, 1), P.entry(0, 2), P.entry(1, 0)])
+               - Jet.stack([P.entry(1, 2), P.entry(2, 0), P.entry(0, 1)]))
+        kc = vee * Jet.stack([den] * 3) * np.tile(2.0 / ds, 3) - k0.T.ravel()
+        t = (kc * kc * (0.5 * B.T.ravel() * np.tile(ds, 3))).split(3)
+        return t[0] + t[1] + t[2]
 
     def link_rotations(self, order: int = 2) -> tuple[np.ndarray, np.ndarray, JetMat]:
         """Return the edges, joints and relative-rotation jets ``P`` of the half-joints.

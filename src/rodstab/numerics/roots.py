@@ -426,10 +426,12 @@ def matrix_roots(
             raise RodstabInputError("matrix_roots: grid must be increasing, at least 3 points, "
                                     f"from lo={lo!r} to hi={hi!r}")
         n_scan = xs.size - 1
-    mats = [matrix(float(x)) for x in xs]
-    square = mats[0].shape[0] == mats[0].shape[1]
-    svals = [np.linalg.svd(A, compute_uv=False) for A in mats]
-    del mats
+    # One stack: numpy's batched SVD and determinant call LAPACK per matrix as the single
+    # calls do (the same numbers), without the Python cost per call; and each scan matrix is
+    # formed once, for both.
+    mats = np.stack([matrix(float(x)) for x in xs])
+    square = mats.shape[1] == mats.shape[2]
+    svals = np.linalg.svd(mats, compute_uv=False)
     # Reference size: the median largest singular value over the scan. Dividing by
     # max(sigma_max, s_ref) instead of sigma_max alone keeps the measure relative where A is
     # large, yet still sees a root at which every singular value vanishes together (A = (x-1) I).
@@ -459,14 +461,17 @@ def matrix_roots(
                     s_ref)
         return float(np.linalg.svd(matrix(x), compute_uv=False)[0]) > 1e6 * local
 
-    def det(x: float) -> float:
-        A = matrix(float(x))
-        if A.shape[0] != A.shape[1]:
-            return 1.0  # rectangular: rank loss is seen by sigma_min only (no sign to polish)
+    def scaled_det(A: np.ndarray) -> np.ndarray:
+        """Return the determinant(s) of the row-scaled matrix or stack ``A`` (1: rectangular)."""
+        if A.shape[-2] != A.shape[-1]:
+            return np.ones(A.shape[:-2])  # rank loss is seen by sigma_min only (no sign)
         # Scale rows so the determinant neither under- nor overflows; the sign is unchanged.
-        norms = np.linalg.norm(A, axis=1)
+        norms = np.linalg.norm(A, axis=-1)
         norms[norms == 0] = 1.0
-        return float(np.linalg.det(A / norms[:, None]))
+        return np.linalg.det(A / norms[..., None])
+
+    def det(x: float) -> float:
+        return float(scaled_det(matrix(float(x))))
 
     roots: list[Root] = []
     eps4 = 4 * np.finfo(float).eps
@@ -480,7 +485,8 @@ def matrix_roots(
             roots.append(Root(x, max(mult, 1), gx, (float(xa), float(xb)), "sign-change"))
 
     signs = r == 0 and square  # a determinant sign to scan and to polish on
-    ds = np.array([det(float(x)) for x in xs]) if signs else np.ones(n_scan + 1)
+    ds = scaled_det(mats) if signs else np.ones(n_scan + 1)
+    del mats
     for i in range(n_scan):
         if np.sign(ds[i]) * np.sign(ds[i + 1]) < 0:
             add_sign_change(xs[i], xs[i + 1])
@@ -506,7 +512,8 @@ def matrix_roots(
         # No sign change of det next to this minimum of g: either a root of even multiplicity,
         # or two simple roots closer than one scan spacing. A finer local grid tells them apart.
         sub = np.linspace(a, b, 4 * SUBSCAN + 1)
-        dsub = [det(float(t)) for t in sub] if signs else [1.0] * len(sub)
+        dsub = (scaled_det(np.stack([matrix(float(t)) for t in sub])) if signs
+                else np.ones(len(sub)))
         n_before = len(roots)
         for k in range(4 * SUBSCAN):
             if np.sign(dsub[k]) * np.sign(dsub[k + 1]) < 0:
