@@ -367,11 +367,6 @@ def _bounds(mesh: ContactMesh, x: np.ndarray, inflate: np.ndarray | None
     return 0.5 * (x[i] + x[j]), R
 
 
-def _sorted_pairs(P: np.ndarray) -> np.ndarray:
-    P = np.sort(P.reshape(-1, 2), axis=1)
-    return P[np.lexsort((P[:, 1], P[:, 0]))]
-
-
 def candidate_pairs(mesh: ContactMesh, x: np.ndarray, inflate: np.ndarray | None = None
                     ) -> np.ndarray:
     """Element pairs whose bounding spheres overlap: a k-d tree on the midpoints.
@@ -390,23 +385,13 @@ def candidate_pairs(mesh: ContactMesh, x: np.ndarray, inflate: np.ndarray | None
     Returns
     -------
     ndarray (k, 2)
-        Pairs ``a < b``, sorted; exclusions not applied.
+        Pairs ``a < b``, sorted; exclusions not applied (the tests compare it with all pairs).
     """
     x = _positions(x, mesh.n_nodes)
     m, R = _bounds(mesh, x, inflate)
-    P = cKDTree(m).query_pairs(2.0 * float(R.max()), output_type="ndarray")
-    keep = np.linalg.norm(m[P[:, 0]] - m[P[:, 1]], axis=1) <= R[P[:, 0]] + R[P[:, 1]]
-    return _sorted_pairs(P[keep])
-
-
-def candidate_pairs_brute(mesh: ContactMesh, x: np.ndarray,
-                          inflate: np.ndarray | None = None) -> np.ndarray:
-    """:func:`candidate_pairs` by testing every pair (quadratic: a reference for tests)."""
-    x = _positions(x, mesh.n_nodes)
-    m, R = _bounds(mesh, x, inflate)
-    a, b = np.triu_indices(len(m), 1)
-    keep = np.linalg.norm(m[a] - m[b], axis=1) <= R[a] + R[b]
-    return _sorted_pairs(np.stack([a[keep], b[keep]], axis=1))
+    P = cKDTree(m).query_pairs(2.0 * float(R.max()), output_type="ndarray")  # i < j
+    P = P[np.linalg.norm(m[P[:, 0]] - m[P[:, 1]], axis=1) <= R[P[:, 0]] + R[P[:, 1]]]
+    return P[np.lexsort((P[:, 1], P[:, 0]))]
 
 
 # ---------------------------------------------------------------- distances (values only)
@@ -422,6 +407,24 @@ def _point_segment(P: np.ndarray, A: np.ndarray, B: np.ndarray, lo: np.ndarray,
     return _norm(P - A - np.clip(t, lo, hi)[:, None] * E)
 
 
+def _lines(a0: np.ndarray, a1: np.ndarray, b0: np.ndarray, b1: np.ndarray, sin2_min: float
+           ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Return ``sin^2`` of the angle, the lines' closest-point parameters and distance.
+
+    The parameters ``s, t`` (on ``a``, ``b``) are -1 where ``sin^2 <= sin2_min``.
+    """
+    ea, eb, w0 = a1 - a0, b1 - b0, a0 - b0
+    A, B, C = (np.einsum("ij,ij->i", u, v) for u, v in ((ea, ea), (ea, eb), (eb, eb)))
+    D, Ed = np.einsum("ij,ij->i", ea, w0), np.einsum("ij,ij->i", eb, w0)
+    n = np.cross(ea, eb)
+    nn = np.einsum("ij,ij->i", n, n)  # = A C - B^2
+    ok = nn > sin2_min * A * C
+    den = np.where(ok, nn, 1.0)
+    s = np.where(ok, (B * Ed - C * D) / den, -1.0)
+    t = np.where(ok, (A * Ed - B * D) / den, -1.0)
+    return nn / (A * C), s, t, np.abs(np.einsum("ij,ij->i", w0, n)) / np.sqrt(den)
+
+
 def segment_distance(a0: np.ndarray, a1: np.ndarray, b0: np.ndarray, b1: np.ndarray
                      ) -> np.ndarray:
     """Distance between segments ``a0 a1`` and ``b0 b1`` (arrays (k, 3), length).
@@ -431,20 +434,11 @@ def segment_distance(a0: np.ndarray, a1: np.ndarray, b0: np.ndarray, b1: np.ndar
     first case.
     """
     zero, one = np.zeros(len(a0)), np.ones(len(a0))
-    d = np.minimum.reduce([_point_segment(a0, b0, b1, zero, one),
-                           _point_segment(a1, b0, b1, zero, one),
-                           _point_segment(b0, a0, a1, zero, one),
-                           _point_segment(b1, a0, a1, zero, one)])
-    ea, eb, w0 = a1 - a0, b1 - b0, a0 - b0
-    A, B, C = (np.einsum("ij,ij->i", u, v) for u, v in ((ea, ea), (ea, eb), (eb, eb)))
-    D, E = np.einsum("ij,ij->i", ea, w0), np.einsum("ij,ij->i", eb, w0)
-    nn = A * C - B * B
-    ok = nn > 1e-12 * A * C
-    den = np.where(ok, nn, 1.0)
-    s, t = (B * E - C * D) / den, (A * E - B * D) / den
-    inside = ok & (s >= 0) & (s <= 1) & (t >= 0) & (t <= 1)
-    ll = _norm(w0 + s[:, None] * ea - t[:, None] * eb)
-    return np.where(inside, np.minimum(d, ll), d)
+    d = np.minimum.reduce([_point_segment(p, q0, q1, zero, one) for p, q0, q1 in
+                           ((a0, b0, b1), (a1, b0, b1), (b0, a0, a1), (b1, a0, a1))])
+    _, s, t, dl = _lines(a0, a1, b0, b1, 1e-12)
+    inside = (s >= 0) & (s <= 1) & (t >= 0) & (t <= 1)
+    return np.where(inside, np.minimum(d, dl), d)
 
 
 # ---------------------------------------------------------------- jets
@@ -494,8 +488,6 @@ def _select(mask: np.ndarray, a: Jet, b: Jet) -> Jet:
 
 def _barrier_jet(g: Jet, model: ContactModel) -> Jet:
     return _fn(g, *barrier(g.v, model.dhat, model.stiffness))
-
-
 
 
 # ---------------------------------------------------------------- node-segment terms
@@ -570,17 +562,7 @@ def _edge_values(x: np.ndarray, mesh: ContactMesh, pairs: np.ndarray
     """``sin^2`` of the angle, closest-point parameters ``s, t`` and line-line gap per pair."""
     E = mesh.edges
     a0, a1, b0, b1 = (x[E[pairs[:, k], m]] for k in (0, 1) for m in (0, 1))
-    ea, eb, w0 = a1 - a0, b1 - b0, a0 - b0
-    A, B, C = (np.einsum("ij,ij->i", u, v) for u, v in ((ea, ea), (ea, eb), (eb, eb)))
-    D, Ed = np.einsum("ij,ij->i", ea, w0), np.einsum("ij,ij->i", eb, w0)
-    n = np.cross(ea, eb)
-    nn = np.einsum("ij,ij->i", n, n)
-    c = nn / (A * C)
-    ok = c > EE_SIN2_OFF
-    den = np.where(ok, nn, 1.0)
-    s = np.where(ok, (B * Ed - C * D) / den, -1.0)
-    t = np.where(ok, (A * Ed - B * D) / den, -1.0)
-    d = np.abs(np.einsum("ij,ij->i", w0, n)) / np.sqrt(den)
+    c, s, t, d = _lines(a0, a1, b0, b1, EE_SIN2_OFF)
     return c, s, t, d - mesh.radius[pairs[:, 0]] - mesh.radius[pairs[:, 1]]
 
 
@@ -598,12 +580,12 @@ def _edge_jets(mesh: ContactMesh, x: np.ndarray, pairs: np.ndarray, order: int
     num = _dot(w0, n)
     s, t = (B * Ed - C * D) * inv, (A * Ed - B * D) * inv
     m_par = _step_jet((nn / (A * C) - EE_SIN2_OFF) * (1.0 / (EE_SIN2_ON - EE_SIN2_OFF)))
-    m_int = m_par
-    for u in (s, t):
-        m_int = m_int * _step_jet(u * (1.0 / EE_END_TAPER)) \
+    weight = m_par
+    for u in (s, t):  # m_int
+        weight = weight * _step_jet(u * (1.0 / EE_END_TAPER)) \
             * _step_jet((1.0 - u) * (1.0 / EE_END_TAPER))
     r = mesh.radius[pairs[:, 0]] + mesh.radius[pairs[:, 1]]
-    term = _barrier_jet(_sqrt(num * num * inv) - r, mesh.model) * m_int
+    term = _barrier_jet(_sqrt(num * num * inv) - r, mesh.model) * weight
     term = term * (0.25 * (mesh.rest_length[pairs[:, 0]] + mesh.rest_length[pairs[:, 1]]))
     dofs = 3 * nodes[:, :, None] + np.arange(3)
     return term, dofs.reshape(len(pairs), 12)
@@ -702,9 +684,13 @@ def max_step_fraction(mesh: ContactMesh, x: np.ndarray, dx: np.ndarray,
 
     Conservative (additive) bound: a point of a segment moves at most by the larger of its two
     node displacements (a point of a line extended by ``delta`` past an end, by ``1 + 2 delta /
-    l`` times it), so a pair's distance shrinks at most by ``s alpha (M_a + M_b)``; each pair
+    l`` times it), relative to the pair's mean displacement (distances ignore a common
+    translation), so a pair's distance shrinks at most by ``s alpha (M_a + M_b)``; each pair
     allows ``alpha <= safety * g / (M_a + M_b)``, keeping ``(1 - safety) g`` of its gap. Applied
-    to the true capsule gaps and to every node-segment term's distance.
+    to the true capsule gaps of all non-excluded pairs and to the active node-segment terms
+    (a term entering a partition zone during the step is not bounded: near a bent smooth node
+    its line may be nearer than the segment by up to ``delta sin(turn)``, and evaluating the
+    energy there raises :class:`Interpenetration`; a line search should then backtrack).
 
     Parameters
     ----------
@@ -732,24 +718,38 @@ def max_step_fraction(mesh: ContactMesh, x: np.ndarray, dx: np.ndarray,
     _check_gaps(mesh, x, ee)
     g = segment_distance(x[E[ee[:, 0], 0]], x[E[ee[:, 0], 1]], x[E[ee[:, 1], 0]],
                          x[E[ee[:, 1], 1]]) - mesh.radius[ee[:, 0]] - mesh.radius[ee[:, 1]]
-    gaps, speeds = [g], [Me[ee[:, 0]] + Me[ee[:, 1]]]
+    gaps, speeds = [g], [_relative_speed(dx, E[ee].reshape(-1, 4), 2)]
+    # Active node-segment terms (those near a smooth node use the element's line, which may
+    # come nearer than the segment): bound their own distances. The element may shorten by
+    # |dx_j - dx_i| along the step; capping that at 10 % bounds the line's parameter range.
     nt = _node_terms(mesh, x, pairs)
-    p, e = nt.p, nt.e
+    on = (nt.weight > 0.0) & (nt.gap < mesh.model.dhat)
+    p, e = nt.p[on], nt.e[on]
     ln = _norm(x[E[e, 1]] - x[E[e, 0]])
-    l_lo = np.maximum(ln - 2.0 * Me[e], 0.5 * ln)  # an element shorter than half is not a step
-    ext = mesh.delta[e] / l_lo[:, None]  # parameter range of the line the term may use
-    lo, hi = -ext[:, 0], 1.0 + ext[:, 1]
-    d = _point_segment(x[p], x[E[e, 0]], x[E[e, 1]], lo, hi)
+    shrink = _norm(dx[E[e, 1]] - dx[E[e, 0]])
+    ext = mesh.delta[e] / (0.9 * ln)[:, None]
+    d = _point_segment(x[p], x[E[e, 0]], x[E[e, 1]], -ext[:, 0], 1.0 + ext[:, 1])
     gaps.append(d - mesh.node_radius[p] - mesh.radius[e])
-    speeds.append(Mn[p] + (1.0 + 2.0 * ext.max(axis=1)) * Me[e])
-    too_short = ln - 2.0 * Me[e] < 0.5 * ln
+    speeds.append(_relative_speed(dx, np.stack([p, E[e, 0], E[e, 1]], 1), 1,
+                                  1.0 + 2.0 * ext.max(axis=1, initial=0.0)))
     g, v = np.concatenate(gaps), np.concatenate(speeds)
     if np.any(g <= 0.0):
         raise Interpenetration(f"a gap is already closed at x: min gap {float(g.min()):.6g}")
     alpha = float(np.min(sf * g / np.maximum(v, 1e-300), initial=1.0))
-    if too_short.any():  # the bound above assumed at most halving: cap the step so it holds
-        alpha = min(alpha, float(np.min(0.25 * ln[too_short] / Me[e][too_short])))
-    return alpha
+    return min(alpha, float(np.min(0.1 * ln / np.maximum(shrink, 1e-300), initial=1.0)))
+
+
+def _relative_speed(dx: np.ndarray, nodes: np.ndarray, split: int,
+                    factor: np.ndarray | float = 1.0) -> np.ndarray:
+    """Bound on how fast the distance of two bodies (nodes ``[:split]``, ``[split:]``) shrinks.
+
+    Distances do not change under a common translation, so the bound is taken on the
+    displacements relative to the nodes' mean one; ``factor`` multiplies the second body's
+    (a line extended past its ends moves more than its nodes).
+    """
+    rel = dx[nodes] - dx[nodes].mean(axis=1, keepdims=True)
+    m = np.linalg.norm(rel, axis=2)
+    return m[:, :split].max(axis=1) + factor * m[:, split:].max(axis=1)
 
 
 @dataclasses.dataclass(frozen=True)
