@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 
 from rodstab.errors import RodstabInputError
+from rodstab.model import Assembly, Segment
 from rodstab.nonlinear import contact as C
 from rodstab.nonlinear.contact import (
     ContactModel,
@@ -24,10 +25,12 @@ from rodstab.nonlinear.contact import (
     contact_energy_value,
     contact_mesh,
     max_step_fraction,
+    mesh_of_rod,
     near_type_switch,
     segment_distance,
     stiffness_for_line_load,
 )
+from rodstab.nonlinear.discrete import discretise
 
 R_CAP, DHAT, KAPPA = 0.05, 0.02, 3.0  # capsule radius, activation distance, stiffness
 MODEL = ContactModel(R_CAP, DHAT, KAPPA)
@@ -350,6 +353,26 @@ def test_extra_connections_count_as_adjacency():
     with pytest.raises(Interpenetration, match="elements 9 and 10"):
         contact_energy(mesh_for(x, edges), x)
     assert contact_energy_value(mesh_for(x, edges, connections=[(10, 11)]), x) == 0.0
+
+
+def _ring(loops: int) -> Assembly:
+    s = Segment(name="r", length=2 * math.pi * loops, curvature=1.0, natural_curvature=1.0,
+                B1=1.0, B2=1.0, B3=1.0)
+    return Assembly(segments=(s,), welds=((("r", "start"), ("r", "end")),))
+
+
+def test_discrete_rod_ring_is_free_and_coincident_stacked_loops_interpenetrate():
+    """On a DiscreteRod: a one-loop ring does not touch itself (its weld shares a node, whose
+    dofs lead the rod's); the 3-loop ring, analysed today with coincident loops, is refused."""
+    model = ContactModel.from_thickness(0.1, dhat=0.01, stiffness=1.0)
+    rod = discretise(_ring(1), 16)
+    E, g, H = contact_energy(mesh_of_rod(rod, model), rod.x)
+    assert E == 0.0 and g.shape == (3 * len(rod.x),) and H.shape == (g.size, g.size)
+    np.testing.assert_array_equal(rod.node_dofs(np.arange(len(rod.x))).ravel(),
+                                  np.arange(g.size))
+    rod3 = discretise(_ring(3), 48)
+    with pytest.raises(Interpenetration, match="gap -0.1 <= 0"):
+        contact_energy(mesh_of_rod(rod3, model), rod3.x)
 
 
 # ---------------------------------------------------------------- broad phase

@@ -15,30 +15,31 @@ Energy (a sum of smooth terms, no min over distance types):
 * node-segment terms, every node ``p`` against every element ``b`` it is not a neighbour of,
   weighted ``1/2 w_p W_pb``: ``w_p`` the node's tributary length (half its elements' rest
   lengths), so the sum is a quadrature of ``1/2 (int_A b ds + int_B b ds)`` and two parallel
-  rods at gap ``g`` carry exactly ``b(g)`` per unit length, on any pair of meshes;
-  ``W_pb`` a partition of unity along ``b``'s rod (below), so a node projecting onto a node of
-  the other rod is not counted twice;
-* edge-edge terms for crossings whose closest points are interior to both segments (an X that
-  no node sees), weighted ``(l_a + l_b) / 4 * m_par * m_int``: ``m_par`` switches the term off
-  as the segments become parallel (``sin^2`` of their angle from ``EE_SIN2_ON`` down to
-  ``EE_SIN2_OFF``, where the line distance is still well conditioned and the node terms see the
-  pair), ``m_int`` as a closest point nears an end (``EE_END_TAPER`` of the segment), where the
-  node terms see it. Where both kinds are active the sum is a different but consistent barrier:
-  every term is positive, none uses a distance larger than the true one, and it tends to the
-  same hard constraint ``g >= 0`` as ``dhat -> 0``.
+  rods at gap ``g`` carry exactly ``b(g)`` per unit length on any pair of meshes; ``W_pb`` a
+  partition of unity along ``b``'s rod (below): a node facing a node is not counted twice;
+* edge-edge terms for crossings with both closest points interior (an X no node sees),
+  weighted ``(l_a + l_b) / 4 * m_par * m_int``: ``m_par`` switches the term off as the segments
+  turn parallel (``sin^2`` of their angle from ``EE_SIN2_ON`` down to ``EE_SIN2_OFF``, where
+  the node terms see the pair), ``m_int`` as a closest point nears an end (``EE_END_TAPER``),
+  where the node terms take over. Where both kinds are active (near-parallel crossings, a
+  crossing on a node) the sum is a different but consistent barrier: every term is positive,
+  none uses a distance larger than the true one, and it tends to the same hard constraint
+  ``g >= 0`` as ``dhat -> 0``. A crossing's energy depends on where it lies relative to the
+  nodes (node on node: twice an interior X); the gap it holds a load at varies less (log).
 
-Partition of unity. At a *smooth* node (two elements, turning angle below
-``TAPER_MAX_TURN`` in the reference state) each of its two elements carries the factor
-``S(u)``, ``u`` the signed distance of ``p``'s projection from the node into the element and
-``S`` the C2 smoothstep from 0 at ``u = -delta`` to 1 at ``u = delta`` with ``S(u) + S(-u) =
-1`` (``delta = TAPER_FRACTION`` of the shorter element); there the distance is to the
-element's *line*, so the two factors sum to one exactly on a straight rod. At every other end
-(free end, joint of three elements, sharp weld, end of an extra connection) the factor is 1 and
+Partition of unity. At a *smooth* node (two elements, turning angle below ``TAPER_MAX_TURN``
+in the reference state) each of its elements carries ``S(u)``, ``u`` the signed distance of
+``p``'s projection from the node into the element, ``S`` the C2 smoothstep from 0 at ``u =
+-delta`` to 1 at ``u = delta``, ``S(u) + S(-u) = 1`` (``delta = TAPER_FRACTION`` of the shorter
+element); there the distance is to the element's *line*, so the factors sum to one exactly on a
+straight rod. On the convex side of a bent smooth node that line stands up to ``delta
+sin(turn)`` nearer than the rod (``0.4 l^2 / R`` on a curve; a discretisation error). At every
+other end (free end, joint of three elements, sharp weld, extra connection) the factor is 1 and
 the distance is to the segment, clamped at that end.
 
-Smoothness. Every term is C2 but one kind: a node-segment term whose projection crosses an
-unsmoothed end (free end, joint, sharp weld), where the closest point switches from the segment
-to the end node; the energy is C1 there (:func:`near_type_switch` reports it).
+Smoothness. Every term is C2 but one kind: a node-segment term whose projection crosses a
+clamped end, where the closest point switches from the segment to the end node; the energy is
+C1 there (:func:`near_type_switch` reports it).
 
 Excluded pairs: a node and an element closer along the structure than ``exclusion_factor * (r_p
 + r_b + dhat)`` (graph distance over rest lengths; elements sharing a node, or joined by an extra
@@ -161,9 +162,11 @@ class ContactModel:
         Capsule radius (length) of every element, or one per element (e.g. ``h / 2`` for rods
         stacked out of the plane, ``h`` the out-of-plane height of the section).
     dhat : float
-        Activation distance (length): pairs further apart than this do not interact.
+        Activation distance (length): pairs further apart do not interact. Rule: a fraction
+        of the thickness (0.1 h), every result shown at three or more dhat -> 0.
     stiffness : float
-        ``kappa`` (energy / length^3); see :func:`stiffness_for_line_load`.
+        ``kappa`` (energy / length^3), by :func:`stiffness_for_line_load` from the expected
+        contact line load (scale ``B / L^3``) held at ``dhat / 2``.
     exclusion_factor : float
         Pairs closer along the structure than this times ``(r_a + r_b + dhat)`` are excluded.
     """
@@ -334,10 +337,9 @@ def contact_mesh(edges: np.ndarray, rest_length: np.ndarray, x_ref: np.ndarray,
 
 def mesh_of_rod(rod: Any, model: ContactModel,
                 connections: Sequence[tuple[int, int]] = ()) -> ContactMesh:
-    """:func:`contact_mesh` of a ``DiscreteRod`` (its ``edge_nodes``, ``rest_length``, ``x``).
+    """Return :func:`contact_mesh` of a ``DiscreteRod`` (``edge_nodes``, ``rest_length``, ``x``).
 
-    Node ``i``'s position is the rod's dofs ``3 i .. 3 i + 2``: the contact gradient and
-    Hessian are the leading block of the rod's (pad them to ``rod.n_dof``).
+    Its positions lead its dofs (``3 i + c``): pad gradient and Hessian to ``rod.n_dof``.
     """
     return contact_mesh(rod.edge_nodes, rod.rest_length, rod.x, model, connections)
 
