@@ -33,9 +33,11 @@ in the reference state) each of its elements carries ``S(u)``, ``u`` the signed 
 -delta`` to 1 at ``u = delta``, ``S(u) + S(-u) = 1`` (``delta = TAPER_FRACTION`` of the shorter
 element); there the distance is to the element's *line*, so the factors sum to one exactly on a
 straight rod. On the convex side of a bent smooth node that line stands up to ``delta
-sin(turn)`` nearer than the rod (``0.4 l^2 / R`` on a curve; a discretisation error). At every
-other end (free end, joint of three elements, sharp weld, extra connection) the factor is 1 and
-the distance is to the segment, clamped at that end.
+sin(turn)`` (``0.4 l^2 / R`` on a curve) nearer than the rod: rods side by side in the plane of
+the bend need gaps above that (else :class:`Interpenetration`); layers stacked across the plane
+are unaffected (16 elements per loop hold a gap of 1e-4 h). At every other end (free end,
+joint of three elements, sharp weld, extra connection) the factor is 1 and the distance is to
+the segment, clamped at that end.
 
 Smoothness. Every term is C2 but one kind: a node-segment term whose projection crosses a
 clamped end, where the closest point switches from the segment to the end node; the energy is
@@ -299,10 +301,8 @@ def contact_mesh(edges: np.ndarray, rest_length: np.ndarray, x_ref: np.ndarray,
     if conn.size and (conn.min() < 0 or conn.max() >= n):
         raise RodstabInputError(f"connections must name nodes in [0, {n}), got {conn.tolist()}")
     node_r = np.zeros(n)
-    np.maximum.at(node_r, edges[:, 0], r)
-    np.maximum.at(node_r, edges[:, 1], r)
-    w = np.zeros(n)
-    np.add.at(w, edges.ravel(), np.repeat(0.5 * L, 2))
+    np.maximum.at(node_r, edges.ravel(), np.repeat(r, 2))
+    w = np.bincount(edges.ravel(), weights=np.repeat(0.5 * L, 2), minlength=n)  # tributary
     # Smooth nodes: two elements, a small turn, no extra connection.
     flat = edges.ravel()  # flat index k: element k // 2, end k % 2
     order = np.argsort(flat, kind="stable")
@@ -497,8 +497,8 @@ def _barrier_jet(g: Jet, model: ContactModel) -> Jet:
 class _NodeTerms:
     """Node-segment candidates (node ``p``, element ``e``) with their plain values."""
 
-    p: np.ndarray
-    e: np.ndarray
+    p: np.ndarray  # nodes
+    e: np.ndarray  # elements
     u0: np.ndarray  # projection's signed distance from the start node into the element
     u1: np.ndarray  # ... from the end node into the element
     start: np.ndarray  # clamped at the start node (closest point = start node)
