@@ -35,7 +35,7 @@ element); there the distance is to the element's *line*, so the factors sum to o
 straight rod. On the convex side of a bent smooth node that line stands up to ``delta
 sin(turn)`` (``0.4 l^2 / R`` on a curve) nearer than the rod: rods side by side in the plane of
 the bend need gaps above that (else :class:`Interpenetration`); layers stacked across the plane
-are unaffected (16 elements per loop hold a gap of 1e-4 h). At every other end (free end,
+are unaffected (16 elements per loop hold a gap of 1e-3 h). At every other end (free end,
 joint of three elements, sharp weld, extra connection) the factor is 1 and the distance is to
 the segment, clamped at that end.
 
