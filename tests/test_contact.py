@@ -122,8 +122,10 @@ def _kinds(mesh, x):
     if np.any(on & (nt.weight > 0) & (nt.weight < 1)):
         kinds.add("partition")
     if len(ee):
-        c = C._edge_values(x, mesh, ee)[0]
-        kinds.add("edge-edge" if np.any(c >= C.EE_SIN2_ON) else "edge-edge-mollified")
+        ea, eb = (x[mesh.edges[ee[:, k], 1]] - x[mesh.edges[ee[:, k], 0]] for k in (0, 1))
+        sin2 = (np.linalg.norm(np.cross(ea, eb), axis=1)
+                / (np.linalg.norm(ea, axis=1) * np.linalg.norm(eb, axis=1))) ** 2
+        kinds.add("edge-edge" if np.any(sin2 >= C.EE_SIN2_ON) else "edge-edge-mollified")
     return kinds
 
 
