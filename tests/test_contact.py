@@ -141,7 +141,7 @@ def _config(kind: str, rng: np.random.Generator):
         xb = np.array([[1 + 0.4 * d0, 0, 0.9 * d0], [1.5, 0.1, 2.0]]) + j(0.003)
     elif kind == "partition":  # B's node over A's smooth node, inside the partition zone
         xa = np.array([[0, 0, 0], [1, 0, 0], [2, 0.05, 0.0]]) + j(0.01)
-        xb = np.array([[1.1, 0, d0], [1.1, 0.2, d0 + 1.0]]) + j(0.005)
+        xb = np.array([[1.01, 0, d0], [1.01, 0.2, d0 + 1.0]]) + j(0.005)
     elif kind == "edge-edge":  # an X, closest points mid-segment
         xa = np.array([[-0.5, 0, 0], [0.5, 0, 0.0]]) + j(0.01)
         xb = np.array([[0, -0.5, d0], [0.05, 0.5, d0]]) + j(0.01)
@@ -321,6 +321,24 @@ def test_stacked_rings_energy_per_length_converges_at_second_order():
     slope = -np.polyfit(np.log(ns), np.log(err), 1)[0]
     assert slope >= EXPECTED_RING_ORDER - 0.2, (slope, err)
     assert max(rest) < 1e-5
+
+
+@pytest.mark.parametrize("n", [16, 32])
+def test_rings_side_by_side_in_their_plane_hold_gaps_above_the_partition_error(n):
+    """Two concentric rings in one plane, 0.2 dhat apart: the inner ring's lines extended past
+    its bent nodes stand out toward the outer ring by delta sin(turn) <= 0.1 dhat (module doc),
+    so the gap stays positive in every term (with delta = 0.4 l alone, 0.4 l^2 / R = 0.06 R
+    at 16 elements, the state was refused as interpenetrating)."""
+    g, nb = 0.2 * DHAT, int(1.5 * n) + 1
+    ph, phb = 2 * np.pi * np.arange(n) / n, 2 * np.pi * (np.arange(nb) + 0.3) / nb
+    Rb = (RING_R + RING_H + g) / math.cos(math.pi / nb)  # outer chords tangent to R + h + g
+    x = np.vstack([np.stack([np.cos(ph), np.sin(ph), 0 * ph], 1),
+                   np.stack([Rb * np.cos(phb), Rb * np.sin(phb), 0 * phb], 1)])
+    mesh = mesh_for(x, np.vstack([chain(n, closed=True), chain(nb, n, closed=True)]),
+                    ContactModel.from_thickness(RING_H, dhat=DHAT, stiffness=KAPPA))
+    turn = 2 * np.pi / n
+    assert mesh.delta[:n].max() * math.sin(turn) <= C.PHANTOM_FRACTION * DHAT * (1 + 1e-12)
+    assert contact_energy_value(mesh, x) > 0
 
 
 # ---------------------------------------------------------------- exclusions

@@ -30,12 +30,12 @@ Energy (a sum of smooth terms, no min over distance types):
 Partition of unity. At a *smooth* node (two elements, turning angle below ``TAPER_MAX_TURN``
 in the reference state) each of its elements carries ``S(u)``, ``u`` the signed distance of
 ``p``'s projection from the node into the element, ``S`` the C2 smoothstep from 0 at ``u =
--delta`` to 1 at ``u = delta``, ``S(u) + S(-u) = 1`` (``delta = TAPER_FRACTION`` of the shorter
-element); there the distance is to the element's *line*, so the factors sum to one exactly on a
-straight rod. On the convex side of a bent smooth node that line stands up to ``delta
-sin(turn)`` (``0.4 l^2 / R`` on a curve) nearer than the rod: rods side by side in the plane of
-the bend need gaps above that (else :class:`Interpenetration`); layers stacked across the plane
-are unaffected (16 elements per loop hold a gap of 1e-3 h). At every other end (free end,
+-delta`` to 1 at ``u = delta``, ``S(u) + S(-u) = 1`` (``delta``: ``TAPER_FRACTION``); there
+the distance is to the element's *line*, so the factors sum to one exactly on a straight rod.
+On the convex side of a node turning by ``turn`` that line stands ``delta sin(turn)`` nearer
+than the rod, at most ``PHANTOM_FRACTION * dhat`` (in the reference state): rods side by side
+in the plane of a bend need gaps above that (else :class:`Interpenetration`); layers stacked
+across the plane are unaffected. At every other end (free end,
 joint of three elements, sharp weld, extra connection) the factor is 1 and the distance is to
 the segment, clamped at that end.
 
@@ -69,9 +69,12 @@ from .jets import Jet
 #: which the partition of unity replaces the end clamps (a sharper corner keeps its clamps: a
 #: line extended past it would stand out by up to ``delta sin(angle)``).
 TAPER_MAX_TURN = 0.5
-#: Half-width ``delta`` of the partition at a smooth node, as a fraction of the shorter of its
-#: two elements (below 1/2, so an element's two transition zones never overlap).
+#: Half-width ``delta`` of the partition at a smooth node: this fraction of the shorter of its
+#: two elements (below 1/2, so an element's two transition zones never overlap), at most
+#: ``PHANTOM_FRACTION * dhat / sin(turn)``, so the line it extends past a node turning by
+#: ``turn`` (in the reference state) stands at most that fraction of dhat nearer than the rod.
 TAPER_FRACTION = 0.4
+PHANTOM_FRACTION = 0.1
 #: Edge-edge mollifier on ``c = sin^2`` of the angle between two segments: 0 below
 #: ``EE_SIN2_OFF`` (0.57 deg), 1 above ``EE_SIN2_ON`` (5.7 deg). Below it a crossing is seen by the
 #: node terms only, which may let it close by up to ``l sin(angle) / 2`` more than the true gap
@@ -312,10 +315,11 @@ def contact_mesh(edges: np.ndarray, rest_length: np.ndarray, x_ref: np.ndarray,
     ta = x_ref[edges[k0 // 2, 1 - k0 % 2]] - x_ref[two]  # from the node into each element
     tb = x_ref[edges[k1 // 2, 1 - k1 % 2]] - x_ref[two]
     cos = -np.einsum("ij,ij->i", ta, tb) / (_norm(ta) * _norm(tb))
-    ok = np.arccos(np.clip(cos, -1.0, 1.0)) < TAPER_MAX_TURN
+    ok = (turn := np.arccos(np.clip(cos, -1.0, 1.0))) < TAPER_MAX_TURN
     delta = np.zeros((ne, 2))
-    dl = TAPER_FRACTION * np.minimum(L[k0 // 2], L[k1 // 2])[ok]
-    delta.flat[k0[ok]] = delta.flat[k1[ok]] = dl
+    dl = np.minimum(TAPER_FRACTION * np.minimum(L[k0 // 2], L[k1 // 2]),
+                    PHANTOM_FRACTION * model.dhat / np.maximum(np.sin(turn), 1e-300))
+    delta.flat[k0[ok]] = delta.flat[k1[ok]] = dl[ok]
     # Graph distances up to the largest reach that an exclusion can ask for.
     cutoff = model.exclusion_factor * (2.0 * r.max() + model.dhat)
     G = sp.coo_matrix((np.concatenate([L, np.full(len(conn), 1e-300)]),
@@ -431,9 +435,7 @@ def segment_distance(a0: np.ndarray, a1: np.ndarray, b0: np.ndarray, b1: np.ndar
                      ) -> np.ndarray:
     """Distance between segments ``a0 a1`` and ``b0 b1`` (arrays (k, 3), length).
 
-    The minimum is at an end of one segment (four point-segment distances) or at interior
-    points of both, where it is the distance of the two lines; parallel pairs fall in the
-    first case.
+    The minimum is at an end of one (point-segment) or inside both (the lines' distance).
     """
     zero, one = np.zeros(len(a0)), np.ones(len(a0))
     d = np.minimum.reduce([_point_segment(p, q0, q1, zero, one) for p, q0, q1 in
