@@ -35,9 +35,8 @@ the distance is to the element's *line*, so the factors sum to one exactly on a 
 On the convex side of a node turning by ``turn`` that line stands ``delta sin(turn)`` nearer
 than the rod, at most ``PHANTOM_FRACTION * dhat`` (in the reference state): rods side by side
 in the plane of a bend need gaps above that (else :class:`Interpenetration`); layers stacked
-across the plane are unaffected. At every other end (free end,
-joint of three elements, sharp weld, extra connection) the factor is 1 and the distance is to
-the segment, clamped at that end.
+across the plane are unaffected. At every other end (free end, joint of three elements, sharp
+weld, extra connection) the factor is 1 and the distance is to the segment, clamped there.
 
 Smoothness. Every term is C2 but one kind: a node-segment term whose projection crosses a
 clamped end, where the closest point switches from the segment to the end node; the energy is
