@@ -21,6 +21,7 @@ import scipy.sparse.linalg as spla
 
 from ..errors import NotConverged
 from ..numerics import jacobi_scaling, lowest_eigenpairs
+from .contact import Interpenetration, max_step_fraction
 from .discrete import PENALTY, DiscreteRod
 from .stability import lowest_modes, soft_eigenvalue_floor, zero_eigenvalue_tol
 
@@ -203,6 +204,11 @@ def lm_step(rod: DiscreteRod, free: np.ndarray, E: float, gf: np.ndarray, Hf: sp
     :func:`.constraint.retract_step`, which removes the closure strain of the stiff penalty that
     a large step leaves; the prediction stays the model's). Shared by
     :func:`newton` and the barrier's steepest descent.
+
+    With contact (``rod.contact``) a step is first shortened by
+    :func:`.contact.max_step_fraction` of its position change (no gap closes along it), and a
+    trial state outside the contact model (:class:`.contact.Interpenetration`) is rejected like
+    an energy increase (``lam`` grows).
     """
     d = jacobi_scaling(Hf)
     dg = 1.0 / d**2
@@ -212,14 +218,20 @@ def lm_step(rod: DiscreteRod, free: np.ndarray, E: float, gf: np.ndarray, Hf: sp
         if step is None or gf @ step >= 0:
             lam = max(_spd_shift(Hf, d), 4 * lam, lam_floor)
             continue
+        if rod.contact is not None:
+            step = step * _contact_fraction(rod, free, step)
         pred = -(gf @ step + 0.5 * step @ (Hf @ step))
         trial = rod.copy()
         dq = np.zeros(rod.n_dof)
         dq[free] = step
         trial.apply(dq)
-        if retract is not None:
-            retract(trial, dq)
-        Et, gt, Ht = trial.energy_terms()
+        try:
+            if retract is not None:
+                retract(trial, dq)
+            Et, gt, Ht = trial.energy_terms()
+        except Interpenetration:  # only with contact: a trial outside the model
+            lam = max(4 * lam, lam_floor)
+            continue
         actual = E - Et
         if round_off and abs(actual) <= 1e-12 * max(abs(E), 1.0):
             ok = np.max(np.abs(gt[free])) < res  # round-off regime: judge by the gradient
@@ -234,6 +246,14 @@ def lm_step(rod: DiscreteRod, free: np.ndarray, E: float, gf: np.ndarray, Hf: sp
     return None, lam
 
 
+def _contact_fraction(rod: DiscreteRod, free: np.ndarray, step: np.ndarray) -> float:
+    """:func:`.contact.max_step_fraction` of the position part of the free ``step``."""
+    assert rod.contact is not None
+    dq = np.zeros(rod.n_dof)
+    dq[free] = step
+    return max_step_fraction(rod.contact, rod.x, dq[: 3 * len(rod.x)].reshape(-1, 3))
+
+
 def _retract_if_lower(trial: DiscreteRod, dq: np.ndarray) -> None:
     """:func:`.constraint.retract_step` on a trial state, kept only if it lowers the energy.
 
@@ -242,13 +262,22 @@ def _retract_if_lower(trial: DiscreteRod, dq: np.ndarray) -> None:
     as ``1 / l_e^2``: without the retraction Newton from a start 0.01 L off the folded six-ring
     took 131, 506 and more than 600 iterations at 16, 64 and 256 elements per segment (4 with
     it). Where the supports impose a strain (an end turned between two clamps) the retraction,
-    which removes all strain, would raise the energy: the plain step is kept.
+    which removes all strain, would raise the energy: the plain step is kept. With contact, a
+    retraction that moves nodes into interpenetration is dropped too (the plain step, which
+    :func:`lm_step` filtered, is then judged like any other).
     """
     from .constraint import retract_step
 
     plain = trial.copy()
     retract_step(trial, dq)
-    if trial.energy() > plain.energy():
+    if trial.contact is None:
+        if trial.energy() > plain.energy():
+            trial.assign(plain)
+        return
+    try:
+        if trial.energy() > plain.energy():
+            trial.assign(plain)
+    except Interpenetration:
         trial.assign(plain)
 
 
