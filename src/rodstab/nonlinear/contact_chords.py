@@ -26,7 +26,7 @@ from .contact import contact_terms
 
 def position_map(rod: Any, zmap: np.ndarray, chord: np.ndarray, border: int,
                  nodes: np.ndarray | None = None) -> sp.csr_matrix:
-    """The linear map ``T`` (3 n_nodes, n_z) from Kirchhoff coordinates to node positions.
+    """Return the linear map ``T`` (3 n_nodes, n_z) from Kirchhoff coordinates to positions.
 
     Parameters
     ----------
