@@ -32,8 +32,10 @@ def max_step_fraction(mesh: ContactMesh, x: np.ndarray, dx: np.ndarray,
 
     Conservative (additive) bound: a point of a segment moves at most by the larger of its two
     node displacements (a point of a line extended by ``delta`` past an end, by ``1 + 2 delta /
-    l`` times it), relative to the pair's mean displacement (distances ignore a common
-    translation), so a pair's distance shrinks at most by ``s alpha (M_a + M_b)``; each pair
+    l`` times it), relative to a common linearised rigid motion of the pair (``t + w x (y -
+    c)``, fitted to its nodes by least squares: it never brings two points closer, since
+    ``|r + s w x r| >= |r|``), so a pair's distance shrinks at most by ``s alpha (M_a + M_b)``
+    (rods moving together -- stacked layers deflecting as one -- are not slowed); each pair
     allows ``alpha <= safety * g / (M_a + M_b)``, keeping ``(1 - safety) g`` of its gap. Applied
     to the true capsule gaps of all non-excluded pairs and to the active node-segment terms
     (a term entering a partition zone during the step is not bounded: near a bent smooth node
@@ -66,19 +68,22 @@ def max_step_fraction(mesh: ContactMesh, x: np.ndarray, dx: np.ndarray,
     _check_gaps(mesh, x, ee)
     g = segment_distance(x[E[ee[:, 0], 0]], x[E[ee[:, 0], 1]], x[E[ee[:, 1], 0]],
                          x[E[ee[:, 1], 1]]) - mesh.radius[ee[:, 0]] - mesh.radius[ee[:, 1]]
-    gaps, speeds = [g], [_relative_speed(dx, E[ee].reshape(-1, 4), 2)]
+    gaps, speeds = [g], [_relative_speed(x, dx, E[ee].reshape(-1, 4), 2)]
     # Active node-segment terms (those near a smooth node use the element's line, which may
     # come nearer than the segment): bound their own distances. The element may shorten by
-    # |dx_j - dx_i| along the step; capping that at 10 % bounds the line's parameter range.
+    # the part of dx_j - dx_i along it; capping that at 10 % bounds the line's parameter range.
     nt = _node_terms(mesh, x, pairs)
     on = (nt.weight > 0.0) & (nt.gap < mesh.model.dhat)
     p, e = nt.p[on], nt.e[on]
     ln = _norm(x[E[e, 1]] - x[E[e, 0]])
-    shrink = _norm(dx[E[e, 1]] - dx[E[e, 0]])
+    # |d + s D| >= |d| + s (d / |d|) . D: only the change along the element shortens it (a
+    # turn of the element does not).
+    shrink = np.maximum(-np.einsum("ij,ij->i", x[E[e, 1]] - x[E[e, 0]],
+                                   dx[E[e, 1]] - dx[E[e, 0]]) / ln, 0.0)
     ext = mesh.delta[e] / (0.9 * ln)[:, None]
     d = _point_segment(x[p], x[E[e, 0]], x[E[e, 1]], -ext[:, 0], 1.0 + ext[:, 1])
     gaps.append(d - mesh.node_radius[p] - mesh.radius[e])
-    speeds.append(_relative_speed(dx, np.stack([p, E[e, 0], E[e, 1]], 1), 1,
+    speeds.append(_relative_speed(x, dx, np.stack([p, E[e, 0], E[e, 1]], 1), 1,
                                   1.0 + 2.0 * ext.max(axis=1, initial=0.0)))
     g, v = np.concatenate(gaps), np.concatenate(speeds)
     if np.any(g <= 0.0):
@@ -87,15 +92,26 @@ def max_step_fraction(mesh: ContactMesh, x: np.ndarray, dx: np.ndarray,
     return min(alpha, float(np.min(0.1 * ln / np.maximum(shrink, 1e-300), initial=1.0)))
 
 
-def _relative_speed(dx: np.ndarray, nodes: np.ndarray, split: int,
+def _relative_speed(x: np.ndarray, dx: np.ndarray, nodes: np.ndarray, split: int,
                     factor: np.ndarray | float = 1.0) -> np.ndarray:
     """Bound on how fast the distance of two bodies (nodes ``[:split]``, ``[split:]``) shrinks.
 
-    Distances do not change under a common translation, so the bound is taken on the
-    displacements relative to the nodes' mean one; ``factor`` multiplies the second body's
-    (a line extended past its ends moves more than its nodes).
+    A common linearised rigid motion ``t + w x (y - c)`` never brings two points closer
+    (``|r + s w x r|^2 = |r|^2 + s^2 |w x r|^2``), so the bound is taken on the displacements
+    relative to one: ``t`` the nodes' mean displacement, ``w`` the least-squares fit (any
+    ``w`` gives a valid bound; the pseudo-inverse covers collinear nodes). The relative
+    displacement is affine along each body, so its largest value is at a node; ``factor``
+    multiplies the second body's (a line extended past its ends moves more than its nodes).
     """
-    rel = dx[nodes] - dx[nodes].mean(axis=1, keepdims=True)
+    X, V = x[nodes], dx[nodes]
+    r = X - X.mean(axis=1, keepdims=True)
+    v = V - V.mean(axis=1, keepdims=True)
+    # Normal equations of min sum |v_i - w x r_i|^2: (sum |r|^2 I - r r^T) w = sum r x v.
+    inertia = (np.einsum("mki,mki->m", r, r)[:, None, None] * np.eye(3)
+               - np.einsum("mki,mkj->mij", r, r))
+    w = np.einsum("mij,mj->mi", np.linalg.pinv(inertia, rcond=1e-10),
+                  np.cross(r, v).sum(axis=1))
+    rel = v - np.cross(w[:, None, :], r)
     m = np.linalg.norm(rel, axis=2)
     return m[:, :split].max(axis=1) + factor * m[:, split:].max(axis=1)
 
