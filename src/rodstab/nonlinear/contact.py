@@ -667,16 +667,23 @@ def _evaluate(mesh: ContactMesh, x: np.ndarray, order: int
     E = float(sum(float(j.v.sum()) for j, _ in parts))
     if order == 0:
         return E, None, None
-    grad, H = np.zeros(n), sp.csr_matrix((n, n))
+    grad = np.zeros(n)
+    rows, cols, vals = [np.zeros(0, int)], [np.zeros(0, int)], [np.zeros(0)]
     for j, dofs in parts:
         assert j.g is not None  # order >= 1
         grad += np.bincount(dofs.ravel(), weights=j.g.ravel(), minlength=n)
         if j.H is None:  # order 1
             continue
         k = dofs.shape[1]
-        H = H + sp.coo_matrix((j.H.ravel(), (np.repeat(dofs, k, axis=1).ravel(),
-                                             np.tile(dofs, (1, k)).ravel())), shape=(n, n))
-    return E, grad, (sp.csr_matrix(H) if order >= 2 else None)
+        rows.append(np.repeat(dofs, k, axis=1).ravel())
+        cols.append(np.tile(dofs, (1, k)).ravel())
+        vals.append(j.H.ravel())
+    if order < 2:
+        return E, grad, None
+    # One assembly of all triplets (duplicates summed): summing sparse matrices cost a third
+    # of a touching evaluation at 32 elements per rod.
+    return E, grad, sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows),
+                                                          np.concatenate(cols))), shape=(n, n))
 
 
 def contact_terms(mesh: ContactMesh, x: np.ndarray, order: int
