@@ -1,7 +1,7 @@
 """Contact between rods: the step filter and the events at changes of distance type.
 
-Split from :mod:`.contact` (issue 21), which re-exports every public name; the model and its
-terms are described there.
+Split from :mod:`.contact_model` (issue 21), which describes the model and its terms;
+:mod:`.contact` re-exports every public name.
 """
 
 from __future__ import annotations
@@ -11,7 +11,7 @@ import dataclasses
 import numpy as np
 
 from ..errors import RodstabInputError, require_finite, require_positive
-from .contact import (
+from .contact_model import (
     ContactMesh,
     Interpenetration,
     _active,
