@@ -256,6 +256,58 @@ def test_stability_uses_rod_plus_contact_hessian():
     assert kirchhoff_eigenvalues(rod, 1)[0] < 0 < kirchhoff_eigenvalues(bare, 1)[0]
 
 
+def test_stacked_beams_roll_off_at_the_closed_form_load():
+    """Stability with contact, against a closed form. In case (a) the lower rod carries
+    F = P/2 at midspan, along the line of the centres. A sideways (z) shift u of the upper
+    midspan relative to the lower tilts that line by u / h: the force gets a sideways part
+    F u / h that pushes the shift on (a dead load on a cylinder), a negative stiffness F / h,
+    against the relative z stiffness of the two clamped rods in series, 192 B1 / L^3 / 2. So
+    the stacked equilibrium is stable while P < P_c = 192 B1 h / L^3 (the midspan deflection
+    then reaches h / 2 when B3 = B1), and loses stability to the antisymmetric roll-off mode
+    (upper and lower midspans opposite in z). Nothing about contact is switched on in the
+    stability code: ``lowest_modes`` and the verdict's eigenvalues (absolute and Kirchhoff
+    coordinates) see it through the energy. 32 elements, dhat = 1e-5: the sign changes
+    between 0.95 and 1.05 P_c; the linearly interpolated root is within 1 % of P_c (measured
+    0.997; the mesh's z compliance is 0.8 % high at 32 elements)."""
+    from rodstab.nonlinear.stability import stability_eigenvalues
+
+    Pc = 192 * B * H / L**3
+    ev = []
+    for f in (0.95, 1.05):
+        rod, lo, up = stacked(32, 1e-5, f * Pc, 1e-5)
+        assert newton(rod)[0]
+        vals, vecs = lowest_modes(rod, 1)
+        v = np.zeros(rod.n_dof)
+        v[rod.free_dofs()] = vecs[:, 0]
+        X = v[: 3 * len(rod.x)].reshape(-1, 3)
+        assert X[up, 2] * X[lo, 2] < 0 and np.abs(X[:, 2]).max() == pytest.approx(
+            max(abs(X[up, 2]), abs(X[lo, 2])))  # the midspans roll off, opposite ways
+        assert np.abs(X[:, 1]).max() < 1e-6 * np.abs(X[:, 2]).max()
+        verdict = stability_eigenvalues(rod, 1)[0][0]
+        assert np.sign(verdict) == np.sign(vals[0]) == np.sign(kirchhoff_eigenvalues(rod, 1)[0])
+        ev.append(vals[0])
+    assert ev[0] > 0 > ev[1]
+    root = 0.95 + 0.1 * ev[0] / (ev[0] - ev[1])
+    assert root == pytest.approx(1.0, abs=0.01)
+
+
+def test_stacked_beams_are_in_the_linear_limit():
+    """P -> 0: at fixed dhat / delta (= 1/100) the problem is scale-invariant in the linear
+    limit (the rule's kappa ~ P / dhat makes the barrier's force scale with P), so the
+    relative errors of the midspan deflection and of the contact force must not change
+    between delta / L = 1e-3 and 1e-4 (32 elements): they agree to 1e-4 (geometric terms are
+    (delta / L)^2 ~ 1e-6; the rest is Newton's tolerance)."""
+    rel = []
+    for delta in (1e-3, 1e-4):
+        P = 384 * B * delta / L**3
+        rod, lo, _ = stacked(32, delta / 100, P, delta / 100)
+        assert newton(rod)[0]
+        F = -contact_force(rod, _nodes_of(rod, 0), 1)
+        rel.append((-rod.x[lo, 1] / delta - 1, F / (P / 2) - 1))
+    assert rel[0][0] == pytest.approx(rel[1][0], abs=1e-4)
+    assert rel[0][1] == pytest.approx(rel[1][1], abs=1e-4)
+
+
 # ---------------------------------------------------------------- Newton
 def test_newton_filters_steps_and_never_interpenetrates():
     """Case (a) at 16 elements from the unloaded state: the first Newton step (the upper rod

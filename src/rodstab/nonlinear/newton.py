@@ -128,6 +128,7 @@ def relax(rod: DiscreteRod, *, escapes: int = 4) -> tuple[bool, int, float]:
 
     Newton, then, while the equilibrium found is unstable, a step down along its unstable mode (both
     signs tried, the lower energy kept) and Newton again. Returns (ok, iterations, residual).
+    With contact the step along the mode is shortened by :func:`.contact.max_step_fraction`.
     """
     ok, its, res = newton(rod, max_iter=RELAX_MAX_ITER)
     scale = 0.01 * rod.assembly.total_length
@@ -143,8 +144,13 @@ def relax(rod: DiscreteRod, *, escapes: int = 4) -> tuple[bool, int, float]:
             dq = np.zeros(rod.n_dof)
             v = vecs[:, 0] / np.max(np.abs(vecs[:, 0]))
             dq[rod.free_dofs()] = sign * scale * v
+            if rod.contact is not None:  # the escape step closes no gap (step filter)
+                dq *= max_step_fraction(rod.contact, rod.x, dq[: 3 * len(rod.x)].reshape(-1, 3))
             trial.apply(dq)
-            t_ok, t_its, t_res = newton(trial, max_iter=RELAX_MAX_ITER)
+            try:
+                t_ok, t_its, t_res = newton(trial, max_iter=RELAX_MAX_ITER)
+            except Interpenetration:  # only with contact: this side is outside the model
+                continue
             its += t_its
             if t_ok and (best is None or trial.energy() < best[0].energy()):
                 best = (trial, t_res)
