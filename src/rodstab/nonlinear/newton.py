@@ -272,8 +272,10 @@ def _retract_if_lower(trial: DiscreteRod, dq: np.ndarray) -> None:
     retraction that moves nodes into interpenetration is dropped too (the plain step, which
     :func:`lm_step` filtered, is then judged like any other).
     """
-    from .constraint import retract_step
+    from .constraint import RETRACT_ABOVE, chart_size, retract_step
 
+    if chart_size(trial, dq) <= RETRACT_ABOVE:
+        return  # retract_step leaves a small step as it is: no energies to compare
     plain = trial.copy()
     retract_step(trial, dq)
     if trial.contact is None:
