@@ -216,7 +216,8 @@ def test_kirchhoff_hessian_with_contact_keeps_the_inertia():
     coordinates (dense spectra), on a pressed state where contact *makes* them: the barrier's
     ``b'(g) < 0`` times the distance's curvature sideways lets the pressed rods roll off one
     another (two directions at kappa = 1e4; the rods alone: none). And the two quadratic forms
-    agree on every increment: ``z^T A z = v^T H v`` for ``v`` = ``from_kirchhoff(z)``."""
+    agree on every increment: ``z^T A z = v^T H v`` for ``v`` = ``from_kirchhoff(z)``, as do
+    the first variations (``g_z . z = g . v``)."""
     rod = pressed()
     free = rod.free_dofs()
     Hs = rod.energy_terms()[2][free][:, free].toarray()
@@ -239,6 +240,8 @@ def test_kirchhoff_hessian_with_contact_keeps_the_inertia():
         z = null @ rng.standard_normal(null.shape[1])
         v = rod.from_kirchhoff(kh, z)[free]
         assert z @ (kh.A @ z) == pytest.approx(v @ (Hs @ v), rel=1e-8)
+        # and the same first variation (the gradient carries T^T g_c)
+        assert kh.gradient @ z == pytest.approx(rod.gradient()[free] @ v, rel=1e-8)
 
 
 def test_stability_uses_rod_plus_contact_hessian():
