@@ -87,7 +87,9 @@ def newton(rod: DiscreteRod, *, max_iter: int = NEWTON_MAX_ITER) -> tuple[bool, 
     shape, a rough perturbation) first has its frames turned onto their chords
     (:meth:`DiscreteRod.align_frames`): the stiff penalty otherwise dominates the quadratic
     model and the iteration crawls. Newton finds an equilibrium, stable or not: see
-    :func:`relax` for a stable one.
+    :func:`relax` for a stable one. With contact (``rod.contact``) steps are filtered and
+    trials outside the model rejected (:func:`lm_step`); a start outside it raises
+    :class:`.contact.Interpenetration` (bad input, naming the pair).
     """
     if np.max(rod.shear()) > ALIGN_SHEAR:
         rod.align_frames()
