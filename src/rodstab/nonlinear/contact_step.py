@@ -99,7 +99,7 @@ def _relative_speed(x: np.ndarray, dx: np.ndarray, nodes: np.ndarray, split: int
     A common linearised rigid motion ``t + w x (y - c)`` never brings two points closer
     (``|r + s w x r|^2 = |r|^2 + s^2 |w x r|^2``), so the bound is taken on the displacements
     relative to one: ``t`` the nodes' mean displacement, ``w`` the least-squares fit (any
-    ``w`` gives a valid bound; the pseudo-inverse covers collinear nodes). The relative
+    ``w`` gives a valid bound, so a tiny regularisation covers collinear nodes). The relative
     displacement is affine along each body, so its largest value is at a node; ``factor``
     multiplies the second body's (a line extended past its ends moves more than its nodes).
     """
@@ -107,10 +107,10 @@ def _relative_speed(x: np.ndarray, dx: np.ndarray, nodes: np.ndarray, split: int
     r = X - X.mean(axis=1, keepdims=True)
     v = V - V.mean(axis=1, keepdims=True)
     # Normal equations of min sum |v_i - w x r_i|^2: (sum |r|^2 I - r r^T) w = sum r x v.
-    inertia = (np.einsum("mki,mki->m", r, r)[:, None, None] * np.eye(3)
-               - np.einsum("mki,mkj->mij", r, r))
-    w = np.einsum("mij,mj->mi", np.linalg.pinv(inertia, rcond=1e-10),
-                  np.cross(r, v).sum(axis=1))
+    tr = np.einsum("mki,mki->m", r, r)
+    inertia = ((1.0 + 1e-12) * tr + 1e-300)[:, None, None] * np.eye(3) \
+        - np.einsum("mki,mkj->mij", r, r)
+    w = np.linalg.solve(inertia, np.cross(r, v).sum(axis=1)[:, :, None])[:, :, 0]
     rel = v - np.cross(w[:, None, :], r)
     m = np.linalg.norm(rel, axis=2)
     return m[:, :split].max(axis=1) + factor * m[:, split:].max(axis=1)
