@@ -41,6 +41,7 @@ import scipy.sparse as sp
 
 from ..errors import RodstabInputError, require_finite
 from ..model import NONLINEAR, SUPPORT_KINDS, Assembly, held_frame, kinds_of
+from .contact import ContactMesh, contact_terms
 from .jets import Jet, JetMat, rodrigues, rotation_jet, rotation_vector, vector_jet
 
 #: Stretch/shear stiffness K = PENALTY * max(B1, B2, B3) / l_e^2. The discrete model tends to
@@ -84,6 +85,11 @@ class DiscreteRod:
     #: ``F direction`` (lab frame, fixed); each adds the work term ``-F direction . (x - x_ref)``
     #: (zero at the reference position, so energies stay those of the unloaded state there)
     node_force: dict = dataclasses.field(default_factory=dict)
+    #: contact between non-neighbouring elements (:mod:`.contact`, built by
+    #: ``contact.mesh_of_rod(rod, model)``): its energy joins the rod's in every evaluation
+    #: (positions are the first ``3 n_nodes`` dofs). Immutable: copies share it. None: no
+    #: contact, every number as without this field.
+    contact: ContactMesh | None = None
 
     # ---- degrees of freedom: positions, edge rotations, joint rotations
     @property
@@ -142,7 +148,7 @@ class DiscreteRod:
         chords = end joint - start joint). The map from the free unknowns onto ``{G z = 0}`` is
         one-to-one, so ``z^T A z`` on it has the inertia of the free Hessian.
         """
-        _, gb, H = self._evaluate(2, True, stretch=False)
+        _, gb, H = self._evaluate(2, True, stretch=False, with_contact=False)
         assert H is not None and gb is not None  # order 2
         ne = len(self.R_edge)
         le = self.rest_length
@@ -225,7 +231,14 @@ class DiscreteRod:
             grad[zmap[kept]] = gb[kept]
             grad[eta.ravel()] = ((K * le)[:, None] * (np.stack([ek.v for ek in eps], axis=1)
                                                       - _T0)).ravel()
-        return KirchhoffHessian(A, G, b, zmap, np.concatenate([Td_eta, Td_phi], axis=2), grad)
+        chord = np.concatenate([Td_eta, Td_phi], axis=2)
+        if self.contact is not None:
+            # Contact acts on positions: x = T z (chords summed along each segment), so its
+            # Hessian enters as T^T H_c T and its gradient as T^T g_c.
+            from .contact_chords import contact_in_chords
+
+            A, grad = contact_in_chords(self, zmap, chord, b, A, grad)
+        return KirchhoffHessian(A, G, b, zmap, chord, grad)
 
     def from_kirchhoff(self, kh: KirchhoffHessian, z: np.ndarray) -> np.ndarray:
         """Map ``z`` (Kirchhoff coordinates, ``G z = 0``) to the increment ``v`` (n_dof,).
@@ -262,12 +275,13 @@ class DiscreteRod:
         """Energy only (for line searches, path points): no derivatives are formed."""
         return self._evaluate(0, True)[0]
 
-    def _evaluate(self, order: int, links: bool, stretch: bool = True
+    def _evaluate(self, order: int, links: bool, stretch: bool = True,
+                  with_contact: bool = True
                   ) -> tuple[float, np.ndarray | None, sp.csr_matrix | None]:
         """Energy and its derivatives up to ``order`` (0, 1, 2); None for those not formed.
 
-        ``stretch`` False leaves out the stretch/shear penalty (:meth:`kirchhoff_hessian` forms
-        it in its own coordinates).
+        ``stretch`` False leaves out the stretch/shear penalty, ``with_contact`` False the
+        contact energy (:meth:`kirchhoff_hessian` forms both in its own coordinates).
         """
         rows, cols, vals = [], [], []
         grad = np.zeros(self.n_dof) if order >= 1 else None
@@ -328,6 +342,17 @@ class DiscreteRod:
             total -= F * float(direction @ (self.x[node] - x_ref))
             if grad is not None:
                 grad[self.node_dofs(node)] -= F * direction
+        if self.contact is not None and with_contact:
+            # Raises contact.Interpenetration outside the model (Newton rejects such a trial).
+            Ec, gc, Hc = contact_terms(self.contact, self.x, order)
+            total += Ec
+            if grad is not None and gc is not None:
+                grad[: gc.size] += gc
+            if Hc is not None:
+                hc = Hc.tocoo()
+                rows.append(hc.row)
+                cols.append(hc.col)
+                vals.append(hc.data)
         H = None
         if order >= 2:
             H = sp.csr_matrix((np.concatenate(vals),

@@ -21,6 +21,7 @@ import scipy.sparse.linalg as spla
 
 from ..errors import NotConverged
 from ..numerics import jacobi_scaling, lowest_eigenpairs
+from .contact import Interpenetration, max_step_fraction
 from .discrete import PENALTY, DiscreteRod
 from .stability import lowest_modes, soft_eigenvalue_floor, zero_eigenvalue_tol
 
@@ -86,7 +87,9 @@ def newton(rod: DiscreteRod, *, max_iter: int = NEWTON_MAX_ITER) -> tuple[bool, 
     shape, a rough perturbation) first has its frames turned onto their chords
     (:meth:`DiscreteRod.align_frames`): the stiff penalty otherwise dominates the quadratic
     model and the iteration crawls. Newton finds an equilibrium, stable or not: see
-    :func:`relax` for a stable one.
+    :func:`relax` for a stable one. With contact (``rod.contact``) steps are filtered and
+    trials outside the model rejected (:func:`lm_step`); a start outside it raises
+    :class:`.contact.Interpenetration` (bad input, naming the pair).
     """
     if np.max(rod.shear()) > ALIGN_SHEAR:
         rod.align_frames()
@@ -127,6 +130,7 @@ def relax(rod: DiscreteRod, *, escapes: int = 4) -> tuple[bool, int, float]:
 
     Newton, then, while the equilibrium found is unstable, a step down along its unstable mode (both
     signs tried, the lower energy kept) and Newton again. Returns (ok, iterations, residual).
+    With contact the step along the mode is shortened by :func:`.contact.max_step_fraction`.
     """
     ok, its, res = newton(rod, max_iter=RELAX_MAX_ITER)
     scale = 0.01 * rod.assembly.total_length
@@ -142,8 +146,13 @@ def relax(rod: DiscreteRod, *, escapes: int = 4) -> tuple[bool, int, float]:
             dq = np.zeros(rod.n_dof)
             v = vecs[:, 0] / np.max(np.abs(vecs[:, 0]))
             dq[rod.free_dofs()] = sign * scale * v
+            if rod.contact is not None:  # the escape step closes no gap (step filter)
+                dq *= max_step_fraction(rod.contact, rod.x, dq[: 3 * len(rod.x)].reshape(-1, 3))
             trial.apply(dq)
-            t_ok, t_its, t_res = newton(trial, max_iter=RELAX_MAX_ITER)
+            try:
+                t_ok, t_its, t_res = newton(trial, max_iter=RELAX_MAX_ITER)
+            except Interpenetration:  # only with contact: this side is outside the model
+                continue
             its += t_its
             if t_ok and (best is None or trial.energy() < best[0].energy()):
                 best = (trial, t_res)
@@ -203,6 +212,11 @@ def lm_step(rod: DiscreteRod, free: np.ndarray, E: float, gf: np.ndarray, Hf: sp
     :func:`.constraint.retract_step`, which removes the closure strain of the stiff penalty that
     a large step leaves; the prediction stays the model's). Shared by
     :func:`newton` and the barrier's steepest descent.
+
+    With contact (``rod.contact``) a step is first shortened by
+    :func:`.contact.max_step_fraction` of its position change (no gap closes along it), and a
+    trial state outside the contact model (:class:`.contact.Interpenetration`) is rejected like
+    an energy increase (``lam`` grows).
     """
     d = jacobi_scaling(Hf)
     dg = 1.0 / d**2
@@ -212,14 +226,20 @@ def lm_step(rod: DiscreteRod, free: np.ndarray, E: float, gf: np.ndarray, Hf: sp
         if step is None or gf @ step >= 0:
             lam = max(_spd_shift(Hf, d), 4 * lam, lam_floor)
             continue
+        if rod.contact is not None:
+            step = step * _contact_fraction(rod, free, step)
         pred = -(gf @ step + 0.5 * step @ (Hf @ step))
         trial = rod.copy()
         dq = np.zeros(rod.n_dof)
         dq[free] = step
         trial.apply(dq)
-        if retract is not None:
-            retract(trial, dq)
-        Et, gt, Ht = trial.energy_terms()
+        try:
+            if retract is not None:
+                retract(trial, dq)
+            Et, gt, Ht = trial.energy_terms()
+        except Interpenetration:  # only with contact: a trial outside the model
+            lam = max(4 * lam, lam_floor)
+            continue
         actual = E - Et
         if round_off and abs(actual) <= 1e-12 * max(abs(E), 1.0):
             ok = np.max(np.abs(gt[free])) < res  # round-off regime: judge by the gradient
@@ -234,6 +254,14 @@ def lm_step(rod: DiscreteRod, free: np.ndarray, E: float, gf: np.ndarray, Hf: sp
     return None, lam
 
 
+def _contact_fraction(rod: DiscreteRod, free: np.ndarray, step: np.ndarray) -> float:
+    """:func:`.contact.max_step_fraction` of the position part of the free ``step``."""
+    assert rod.contact is not None
+    dq = np.zeros(rod.n_dof)
+    dq[free] = step
+    return max_step_fraction(rod.contact, rod.x, dq[: 3 * len(rod.x)].reshape(-1, 3))
+
+
 def _retract_if_lower(trial: DiscreteRod, dq: np.ndarray) -> None:
     """:func:`.constraint.retract_step` on a trial state, kept only if it lowers the energy.
 
@@ -242,13 +270,24 @@ def _retract_if_lower(trial: DiscreteRod, dq: np.ndarray) -> None:
     as ``1 / l_e^2``: without the retraction Newton from a start 0.01 L off the folded six-ring
     took 131, 506 and more than 600 iterations at 16, 64 and 256 elements per segment (4 with
     it). Where the supports impose a strain (an end turned between two clamps) the retraction,
-    which removes all strain, would raise the energy: the plain step is kept.
+    which removes all strain, would raise the energy: the plain step is kept. With contact, a
+    retraction that moves nodes into interpenetration is dropped too (the plain step, which
+    :func:`lm_step` filtered, is then judged like any other).
     """
-    from .constraint import retract_step
+    from .constraint import RETRACT_ABOVE, chart_size, retract_step
 
+    if chart_size(trial, dq) <= RETRACT_ABOVE:
+        return  # retract_step leaves a small step as it is: no energies to compare
     plain = trial.copy()
     retract_step(trial, dq)
-    if trial.energy() > plain.energy():
+    if trial.contact is None:
+        if trial.energy() > plain.energy():
+            trial.assign(plain)
+        return
+    try:
+        if trial.energy() > plain.energy():
+            trial.assign(plain)
+    except Interpenetration:
         trial.assign(plain)
 
 

@@ -114,7 +114,8 @@ def kirchhoff_polish(rod: DiscreteRod, max_iter: int = KIRCHHOFF_POLISH_ITER) ->
     coordinates the stiff force stays on its own unknowns: ``[A G^T; G 0] (dz, nu) = (-g, 0)``
     (:class:`~rodstab.numerics.ConstrainedFactor`), mapped back by
     :meth:`DiscreteRod.from_kirchhoff`, until a step turns no frame by more than
-    ``KIRCHHOFF_POLISH_STEP``.
+    ``KIRCHHOFF_POLISH_STEP``. With contact, it stops before a step that
+    :func:`.contact.max_step_fraction` would shorten.
     """
     from ..errors import RodstabInputError
     from ..numerics import ConstrainedFactor
@@ -129,10 +130,20 @@ def kirchhoff_polish(rod: DiscreteRod, max_iter: int = KIRCHHOFF_POLISH_ITER) ->
         except RodstabInputError:  # singular: a neutral state, nothing to polish safely
             return it
         dv = rod.from_kirchhoff(kh, d * fac.solve(-d * kh.gradient))
+        if rod.contact is not None and _closes_a_gap(rod, dv):
+            return it  # a step the contact filter would shorten is no polish: stop
         rod.apply(dv)
         if float(np.max(np.abs(dv[3 * nx:]))) <= KIRCHHOFF_POLISH_STEP:
             return it + 1
     return max_iter
+
+
+def _closes_a_gap(rod: DiscreteRod, dv: np.ndarray) -> bool:
+    """Whether the step filter would shorten the increment ``dv`` (n_dof,) of ``rod``."""
+    from .contact import max_step_fraction
+
+    assert rod.contact is not None
+    return max_step_fraction(rod.contact, rod.x, dv[: 3 * len(rod.x)].reshape(-1, 3)) < 1.0
 
 
 def kirchhoff_modes(rod: DiscreteRod, k: int = 4) -> tuple[np.ndarray, np.ndarray]:

@@ -1,0 +1,161 @@
+"""Contact between rods: the step filter and the events at changes of distance type.
+
+Split from :mod:`.contact_model` (issue 21), which describes the model and its terms;
+:mod:`.contact` re-exports every public name.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from ..errors import RodstabInputError, require_finite, require_positive
+from .contact_model import (
+    ContactMesh,
+    Interpenetration,
+    _active,
+    _check_gaps,
+    _node_terms,
+    _norm,
+    _point_segment,
+    _positions,
+    candidate_pairs,
+    segment_distance,
+)
+
+
+# ---------------------------------------------------------------- step filter and events
+def max_step_fraction(mesh: ContactMesh, x: np.ndarray, dx: np.ndarray,
+                      safety: float = 0.9) -> float:
+    """Largest ``alpha`` in (0, 1] such that no gap closes along ``x + s alpha dx``, s in [0, 1].
+
+    Conservative (additive) bound: a point of a segment moves at most by the larger of its two
+    node displacements (a point of a line extended by ``delta`` past an end, by ``1 + 2 delta /
+    l`` times it), relative to a common linearised rigid motion of the pair (``t + w x (y -
+    c)``, fitted to its nodes by least squares: it never brings two points closer, since
+    ``|r + s w x r| >= |r|``), so a pair's distance shrinks at most by ``s alpha (M_a + M_b)``
+    (rods moving together -- stacked layers deflecting as one -- are not slowed); each pair
+    allows ``alpha <= safety * g / (M_a + M_b)``, keeping ``(1 - safety) g`` of its gap. Applied
+    to the true capsule gaps of all non-excluded pairs and to the active node-segment terms
+    (a term entering a partition zone during the step is not bounded: near a bent smooth node
+    its line may be nearer than the segment by up to ``delta sin(turn)``, and evaluating the
+    energy there raises :class:`Interpenetration`; a line search should then backtrack).
+
+    Parameters
+    ----------
+    mesh : ContactMesh
+    x, dx : ndarray (n_nodes, 3)
+        Positions and step (length).
+    safety : float
+        In (0, 1).
+
+    Returns
+    -------
+    float
+        ``alpha`` (1 when no pair can close).
+    """
+    x, dx = _positions(x, mesh.n_nodes), _positions(dx, mesh.n_nodes)
+    sf = require_finite("safety", safety)
+    if not 0.0 < sf < 1.0:
+        raise RodstabInputError(f"safety must lie in (0, 1), got {safety!r}")
+    Mn = _norm(dx)
+    E = mesh.edges
+    Me = np.maximum(Mn[E[:, 0]], Mn[E[:, 1]])
+    # The bounding spheres along the step: centres move by <= Me, half-lengths grow by <= Me.
+    pairs = candidate_pairs(mesh, x, inflate=2.0 * Me)
+    ee = pairs[~mesh.excluded_elements(pairs[:, 0], pairs[:, 1])]
+    _check_gaps(mesh, x, ee)
+    g = segment_distance(x[E[ee[:, 0], 0]], x[E[ee[:, 0], 1]], x[E[ee[:, 1], 0]],
+                         x[E[ee[:, 1], 1]]) - mesh.radius[ee[:, 0]] - mesh.radius[ee[:, 1]]
+    gaps, speeds = [g], [_relative_speed(x, dx, E[ee].reshape(-1, 4), 2)]
+    # Active node-segment terms (those near a smooth node use the element's line, which may
+    # come nearer than the segment): bound their own distances. The element may shorten by
+    # the part of dx_j - dx_i along it; capping that at 10 % bounds the line's parameter range.
+    nt = _node_terms(mesh, x, pairs)
+    on = (nt.weight > 0.0) & (nt.gap < mesh.model.dhat)
+    p, e = nt.p[on], nt.e[on]
+    ln = _norm(x[E[e, 1]] - x[E[e, 0]])
+    # |d + s D| >= |d| + s (d / |d|) . D: only the change along the element shortens it (a
+    # turn of the element does not).
+    shrink = np.maximum(-np.einsum("ij,ij->i", x[E[e, 1]] - x[E[e, 0]],
+                                   dx[E[e, 1]] - dx[E[e, 0]]) / ln, 0.0)
+    ext = mesh.delta[e] / (0.9 * ln)[:, None]
+    d = _point_segment(x[p], x[E[e, 0]], x[E[e, 1]], -ext[:, 0], 1.0 + ext[:, 1])
+    gaps.append(d - mesh.node_radius[p] - mesh.radius[e])
+    speeds.append(_relative_speed(x, dx, np.stack([p, E[e, 0], E[e, 1]], 1), 1,
+                                  1.0 + 2.0 * ext.max(axis=1, initial=0.0)))
+    g, v = np.concatenate(gaps), np.concatenate(speeds)
+    if np.any(g <= 0.0):
+        raise Interpenetration(f"a gap is already closed at x: min gap {float(g.min()):.6g}")
+    alpha = float(np.min(sf * g / np.maximum(v, 1e-300), initial=1.0))
+    return min(alpha, float(np.min(0.1 * ln / np.maximum(shrink, 1e-300), initial=1.0)))
+
+
+def _relative_speed(x: np.ndarray, dx: np.ndarray, nodes: np.ndarray, split: int,
+                    factor: np.ndarray | float = 1.0) -> np.ndarray:
+    """Bound on how fast the distance of two bodies (nodes ``[:split]``, ``[split:]``) shrinks.
+
+    A common linearised rigid motion ``t + w x (y - c)`` never brings two points closer
+    (``|r + s w x r|^2 = |r|^2 + s^2 |w x r|^2``), so the bound is taken on the displacements
+    relative to one: ``t`` the nodes' mean displacement, ``w`` the least-squares fit (any
+    ``w`` gives a valid bound, so a tiny regularisation covers collinear nodes). The relative
+    displacement is affine along each body, so its largest value is at a node; ``factor``
+    multiplies the second body's (a line extended past its ends moves more than its nodes).
+    """
+    X, V = x[nodes], dx[nodes]
+    r = X - X.mean(axis=1, keepdims=True)
+    v = V - V.mean(axis=1, keepdims=True)
+    # Normal equations of min sum |v_i - w x r_i|^2: (sum |r|^2 I - r r^T) w = sum r x v.
+    tr = np.einsum("mki,mki->m", r, r)
+    inertia = ((1.0 + 1e-12) * tr + 1e-300)[:, None, None] * np.eye(3) \
+        - np.einsum("mki,mkj->mij", r, r)
+    w = np.linalg.solve(inertia, np.cross(r, v).sum(axis=1)[:, :, None])[:, :, 0]
+    rel = v - np.cross(w[:, None, :], r)
+    m = np.linalg.norm(rel, axis=2)
+    return m[:, :split].max(axis=1) + factor * m[:, split:].max(axis=1)
+
+
+@dataclasses.dataclass(frozen=True)
+class SwitchReport:
+    """Active node-segment terms near a change of distance type (where the energy is C1).
+
+    ``node``, ``element`` (k,) the terms; ``offset`` (k,) the signed distance (length) of the
+    node's projection past the clamped end (negative: inside the element); ``near`` if any.
+    """
+
+    near: bool
+    node: np.ndarray
+    element: np.ndarray
+    offset: np.ndarray
+
+
+def near_type_switch(mesh: ContactMesh, x: np.ndarray, tol: float) -> SwitchReport:
+    """Report active terms whose closest point is within ``tol`` of a clamped end.
+
+    Only node-segment terms at clamped ends (free ends, joints, sharp welds: module doc)
+    switch type; there the energy is C1, so Newton, the eigen check and continuation should
+    treat a crossing of ``offset = 0`` as an event.
+
+    Parameters
+    ----------
+    mesh : ContactMesh
+    x : ndarray (n_nodes, 3)
+        Node positions (length).
+    tol : float
+        Distance along the element (length, > 0).
+
+    Returns
+    -------
+    SwitchReport
+    """
+    x = _positions(x, mesh.n_nodes)
+    tol = require_positive("tol", tol)
+    nt, on, _ = _active(mesh, x)
+    offs, hit = [], []
+    for k, u in ((0, nt.u0), (1, nt.u1)):
+        near = on & (mesh.delta[nt.e, k] == 0) & (np.abs(u) < tol)
+        hit.append(np.flatnonzero(near))
+        offs.append(-u[near])
+    idx = np.concatenate(hit)
+    return SwitchReport(bool(len(idx)), nt.p[idx], nt.e[idx], np.concatenate(offs))
