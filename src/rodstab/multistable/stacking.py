@@ -1,68 +1,63 @@
 """Stacked states free of interpenetration, with a stated layer order (issue 21, part 2).
 
-Every stacked state (the N-loop rings of Sec. 3.1, the bi-rod of Sec. 4, the folded ring of
-Sec. 5, the hexagram's line and eight) is held with coincident centrelines. Here each is
-*constructed* as a state of the same :class:`~rodstab.nonlinear.discrete.DiscreteRod` whose
-rods (capsules of radius ``h / 2``, :mod:`rodstab.nonlinear.contact`) are at least ``h + g0``
-apart, and checked with the contact model. Nothing is relaxed yet.
+The stacked states (N-loop rings, Sec. 3.1; bi-rod, Sec. 4; folded ring, Sec. 5; the
+hexagram's line) are held with coincident centrelines. Here each is *constructed* as a state of
+the same :class:`~rodstab.nonlinear.discrete.DiscreteRod` with its rods (capsules of radius
+``h / 2``, :mod:`rodstab.nonlinear.contact`) ``h + g0`` apart, and checked with the contact
+model. Nothing is relaxed yet.
 
-N-loop ring (:func:`torus_curve`, :func:`stack_loops`). A circle of length ``L`` held as ``N``
-coincident loops cannot close in layers stacked flat: the last loop would have to come back
-from the top layer to the bottom one through the others. Its layers wind round one another
-once, on the ``(N, 1)`` torus curve ``r(phi) = ((R + a cos(phi/N)) cos phi, (R + a cos(phi/N))
-sin phi, a sin(phi/N))``, ``0 <= phi < 2 pi N``. At one azimuth the ``N`` strands sit on a
-regular ``N``-gon of circumradius ``a`` in the meridian plane, ``2 a sin(pi m / N)`` apart (m
-strands round). The true distance of two strands is smaller: a point at ``phi`` and one at
-``phi + 2 pi m + delta`` are apart by (derived from the parametrisation, ``rho = R + a cos psi``)
+N-loop ring (:func:`torus_curve`, :func:`stack_loops`). Flat layers cannot close: the last
+loop would come back from the top layer to the bottom one through the others. The layers wind
+round one another once, on the ``(N, 1)`` torus curve ``r(phi) = ((R + a cos psi) cos phi, (R +
+a cos psi) sin phi, a sin psi)``, ``psi = phi / N``, ``0 <= phi < 2 pi N``: at one azimuth the
+strands sit on a regular ``N``-gon of circumradius ``a`` across the ring, ``2 a sin(pi m / N)``
+apart (``m`` strands round). Points at ``phi`` and ``phi + 2 pi m + delta`` are apart by
+(``rho = R + a cos psi``, ``psi' = psi + (2 pi m + delta) / N``)
+``D^2 = 4 a^2 sin^2(pi m / N + delta / 2N) + 4 rho(psi) rho(psi') sin^2(delta / 2)``, whose
+slope at ``delta = 0``, ``(2 a^2 / N) sin(2 pi m / N)``, is not zero for ``N >= 3``: the strands
+are inclined and come nearer off the meridian plane, by ``D_mer^2 - D_min^2 = a^4 sin^2(2 pi m
+/ N) / (N^2 (R^2 - 2 R a cos(pi m / N))) (1 + O(a / R))`` (none for ``m = N / 2``).
+:func:`strand_distance` minimises ``D`` exactly (Newton in ``delta``, golden section in ``psi``,
+every ``m``) and ``a`` is scaled until that minimum is ``h + g0``: ``a = (h + g0) / (2 sin(pi /
+N)) (1 + O(a^2 / N^2 R^2))``. The length, from ``|r'|^2 = rho^2 + a^2 / N^2``, is ``N
+int_0^2pi sqrt((R + a cos psi)^2 + a^2 / N^2) dpsi = 2 pi N R + pi a^2 / (N sqrt(R^2 - a^2)) +
+O(a^4)``: ``R`` is lowered until it is exactly ``L``. With ``eps = a / R`` (series derived
+symbolically), ``int kappa^2 ds = (2 pi N / R)(1 + eps^2 / 2 - 2 eps^2 / N^2 + eps^2 / N^4)``
+(radial modulation, inclination, out-of-plane wave), so at length ``L`` (``R = R0 (1 - eps^2 /
+2N^2)``, ``R0 = L / 2 pi N``) an isotropic rod's bending energy exceeds the coincident loops'
+``B L / 2 R0^2`` by the fraction ``c (a / R0)^2``, ``c = (N^2 - 1)(N^2 - 2) / 2 N^4``
+(:func:`bending_excess_coefficient`): ``O((h / L)^2)``. Torsion is ``O(a / N R^2)``.
 
-    ``D^2 = 4 a^2 sin^2(pi m / N + delta / 2N) + 4 rho(psi) rho(psi') sin^2(delta / 2)``,
-    ``psi = phi / N``, ``psi' = psi + (2 pi m + delta) / N``,
+Other folds (:func:`stack_layers`): each rod is offset from its planar centreline by a layer
+``k`` (``k (h + g0) e3``) or an offset ``(u, k)`` (``u`` along its in-plane normal). Where a weld
+joins different offsets, both rods run to the weld's mean offset along C2 ramps (quintic
+smoothstep: level at both ends, so the weld's tangents and frames stay planar) of length
+:data:`RAMP_FRACTION` of the contact exclusion distance (past it, the rods of a cusp are a full
+spacing apart). An order that interpenetrates raises :class:`StackingError` naming the rods,
+where, and the welds whose ramps cross other layers.
 
-whose slope at ``delta = 0`` is ``(2 a^2 / N) sin(2 pi m / N)``, not zero for ``N >= 3``: the
-strands are inclined, and the nearest points are a little off the meridian plane, by
-``D_meridian^2 - D_min^2 ~ a^4 sin^2(2 pi m / N) / (N^2 R^2)``. :func:`strand_distance`
-minimises ``D`` exactly (Newton in ``delta``, golden section in ``psi``, every ``m``), and
-``a`` is scaled until that minimum is ``h + g0``: ``a = (h + g0) / (2 sin(pi / N)) (1 +
-O(a^2 / N^2 R^2))``. The curve is longer than ``2 pi N R``: ``|r'(phi)|^2 = rho^2 + a^2 /
-N^2``, so ``length = N int_0^2pi sqrt((R + a cos psi)^2 + a^2 / N^2) dpsi = 2 pi N R + pi
-a^2 / (N sqrt(R^2 - a^2)) + O(a^4)``; ``R`` is lowered until the length is exactly ``L``.
-Its squared curvature integrates (series in ``eps = a / R``, derived symbolically) to
-``int kappa^2 ds = (2 pi N / R)(1 + eps^2 / 2 - 2 eps^2 / N^2 + eps^2 / N^4 + O(eps^4))``
-(radial modulation, inclination, out-of-plane wave), and the length to ``2 pi N R (1 + eps^2
-/ 2N^2)``, so at length ``L`` (``R = R0 (1 - eps^2 / 2N^2)``, ``R0 = L / 2 pi N``) the bending
-energy of an isotropic rod exceeds the coincident loops' ``B L / 2 R0^2`` by the fraction
-``c (a / R0)^2``, ``c = (N^2 - 1)(N^2 - 2) / 2 N^4`` (:func:`bending_excess_coefficient`):
-``O((h / L)^2)`` at fixed ``N``. Torsion is ``O(a / N R^2)``.
-
-The other folds (:func:`stack_layers`): each rod is given an offset from its planar centreline,
-in units of the spacing ``h + g0``: a layer ``k`` (the offset ``k e3``) or an offset ``(u, k)``
-along the rod's in-plane normal ``e3 x t`` and ``e3``. Where a weld joins rods of different
-offsets, both run to the weld's mean offset along C2 ramps (quintic smoothstep, zero slope and
-curvature at both ends, so the weld's tangents and frames stay those of the planar state) of
-length :data:`RAMP_FRACTION` of the contact model's exclusion distance: past it, rods of a
-cusp are a full spacing apart. The result is checked with the contact model; an order that
-interpenetrates raises :class:`StackingError` naming the two rods and where.
-
-Folded ring of Sec. 5 (``2n`` straight rods on ``[0, L]``, cusps joining rods ``i, i + 1``,
-at ``x = L`` for odd ``i``, ``x = 0`` for even ``i``, and ``2n -> 1`` at ``x = 0``): stacked
-in layers along ``e3`` alone it is impossible with any order, since every cusp lies where all
-``2n`` rods are, so the two rods it joins must be adjacent layers (a rod between them would be
-cut by the ramp), and the ``2n`` cusps form a cycle, which a path of ``2n`` layers cannot hold
-(it has ``2n - 1`` adjacent pairs). The traversal order ``1..2n`` fails at the cusp ``2n ->
-1`` (layers ``2n - 1`` and 0). The construction that holds is the analogue of the torus curve:
-rod ``i`` at vertex ``i`` of a regular ``2n``-gon of circumradius ``(h + g0) / (2 sin(pi /
-2n))`` across the bundle (:func:`polygon_offsets`), every cusp joining neighbouring vertices.
+Folded ring of Sec. 5 (``2n`` straight rods on ``[0, L]``; cusps ``i, i + 1`` at ``x = L`` for
+odd ``i``, at ``x = 0`` for even ``i`` and ``2n, 1``). Offsets along ``e3`` alone, plan kept,
+cannot hold it in any order: every cusp lies where all ``2n`` rods are, so its two rods must be
+adjacent layers, and the ``2n`` cusps form a cycle, which a path of ``2n`` layers (``2n - 1``
+adjacent pairs) cannot hold. The traversal order (:func:`~.states.ring_of` runs 1, 2n, ..., 2:
+rod 1's natural curvature is negative) fails at cusp ``1.end - 2.end`` (``x = L``, layers 0 and
+``2n - 1``). What holds is the torus curve's cross-section: rod ``i`` (traversal order) at
+vertex ``i`` of a regular ``2n``-gon of circumradius ``(h + g0) / (2 sin(pi / 2n))``
+(:func:`polygon_offsets`), every cusp joining neighbouring vertices. Likewise the hexagram's
+line; its star needs only layers 0, 1 alternating (:func:`traversal_layers`).
 """
 
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 from typing import Any
 
 import numpy as np
 
-from ..errors import RodstabInputError, require_positive, require_positive_int
+from ..errors import NotConverged, RodstabInputError, require_positive, require_positive_int
 from ..nonlinear.contact import (
     ContactModel,
     Interpenetration,
@@ -72,7 +67,8 @@ from ..nonlinear.contact import (
     segment_distance,
 )
 from ..nonlinear.discrete import DiscreteRod
-from ..results import Result
+from ..numerics import golden_min
+from ..results import Result, jsonable
 from .states import ring_of
 
 #: Relative tolerance of the fixed points that set ``a`` (nearest strand distance) and ``R``
@@ -178,8 +174,12 @@ def _nearest_over_delta(psi: np.ndarray, m: int, N: int, R: float, a: float) -> 
     return _strand_d2(psi, delta, m, N, R, a)[0]
 
 
+def _nearest_at(psi: float, m: int, N: int, R: float, a: float) -> float:
+    return float(_nearest_over_delta(np.array([psi]), m, N, R, a)[0])
+
+
 def strand_distance(loops: int, R: float, a: float, m: int | None = None) -> float:
-    """True smallest 3D distance between two strands of the torus curve (length).
+    """Return the true smallest 3D distance between two strands of the torus curve (length).
 
     Minimises ``D`` of the module doc over ``delta`` (Newton) and ``psi`` (grid, then a
     golden-section refinement), for the strands ``m`` apart round the ``N``-gon (every
@@ -192,25 +192,9 @@ def strand_distance(loops: int, R: float, a: float, m: int | None = None) -> flo
     for mm in ms:
         g = _nearest_over_delta(grid, mm, N, R, a)
         k = int(np.argmin(g))
-        lo, hi = grid[k] - 2 * math.pi / 720, grid[k] + 2 * math.pi / 720
-        # golden section on a smooth minimum bracketed by the grid
-        gr = (math.sqrt(5) - 1) / 2
-        c, d = hi - gr * (hi - lo), lo + gr * (hi - lo)
-
-        def f(p: float, mm: int = mm) -> float:
-            return float(_nearest_over_delta(np.array([p]), mm, N, R, a)[0])
-
-        fc, fd = f(c), f(d)
-        while hi - lo > 1e-10:
-            if fc <= fd:
-                hi, d, fd = d, c, fc
-                c = hi - gr * (hi - lo)
-                fc = f(c)
-            else:
-                lo, c, fc = c, d, fd
-                d = lo + gr * (hi - lo)
-                fd = f(d)
-        best = min(best, math.sqrt(max(min(fc, fd, float(g[k])), 0.0)))
+        f = functools.partial(_nearest_at, m=mm, N=N, R=R, a=a)
+        _, fmin = golden_min(f, grid[k] - 2 * math.pi / 720, grid[k] + 2 * math.pi / 720, 1e-10)
+        best = min(best, math.sqrt(max(min(fmin, float(g[k])), 0.0)))
     return best
 
 
@@ -284,10 +268,8 @@ def torus_curve(loops: int, length: float, thickness: float, gap: float) -> Toru
     g0 = require_positive("gap", gap)
     d = h + g0
     R0 = L / (2 * math.pi * N)
-    if N == 1:
-        a = 0.0
-        return TorusCurve(1, L, d, R0, 0.0, R0, math.inf, math.inf, torus_length(1, R0, 0.0),
-                          0.0, 1 / R0, 0.0, 0.0)
+    if N == 1:  # nothing to stack
+        return TorusCurve(1, L, d, R0, 0.0, R0, math.inf, math.inf, L, 0.0, 1 / R0, 0.0, 0.0)
     a = d / (2 * math.sin(math.pi / N))
     if a >= 0.25 * R0:
         raise RodstabInputError(f"thickness + gap = {d:g} too large for {N} loops of radius "
@@ -301,6 +283,9 @@ def torus_curve(loops: int, length: float, thickness: float, gap: float) -> Toru
         a, R = a_new, R_new
         if done:
             break
+    else:
+        raise NotConverged(f"torus_curve: a, R not fixed to {TORUS_RTOL:g} in {TORUS_MAX_ITER} "
+                           f"iterations (N = {N}, a / R0 = {a / R0:.3g})")
     phi = _loop_grid(N, QUAD_POINTS)
     k, tau = curvature_torsion(phi, N, R, a)
     return TorusCurve(
@@ -310,14 +295,6 @@ def torus_curve(loops: int, length: float, thickness: float, gap: float) -> Toru
         length_excess_at_R0=torus_length(N, R0, a) - L, curvature_max=float(k.max()),
         torsion_max=float(np.abs(tau).max()),
         bending_excess=bending_integral(N, R, a) / (L / R0**2) - 1.0)
-
-
-def bending_excess(loops: int, length: float, thickness: float, gap: float) -> float:
-    """Relative bending energy of the torus curve above the coincident loops (isotropic rod).
-
-    ``int kappa^2 ds / (L / R0^2) - 1`` (dimensionless), ``~ c a^2 / R0^2`` (module doc).
-    """
-    return torus_curve(loops, length, thickness, gap).bending_excess
 
 
 def bending_excess_coefficient(loops: int) -> float:
@@ -338,12 +315,19 @@ def default_model(thickness: float) -> ContactModel:
 
 def _where(rod: DiscreteRod, e: int) -> str:
     """``segment 'name' at s = ...`` for edge ``e`` (its midpoint's arclength)."""
-    seg_of = rod.edge_segment
-    k = int(seg_of[e])
-    first = int(np.flatnonzero(seg_of == k)[0])
-    n = int(np.count_nonzero(seg_of == k))
-    seg = rod.assembly.segments[k]
-    return f"segment {seg.name!r} at s = {(e - first + 0.5) * seg.length / n:.4g}"
+    mine = np.flatnonzero(rod.edge_segment == rod.edge_segment[e])
+    seg = rod.assembly.segments[int(rod.edge_segment[e])]
+    return f"segment {seg.name!r} at s = {(e - mine[0] + 0.5) * seg.length / len(mine):.4g}"
+
+
+def _pair_gaps(rod: DiscreteRod, model: ContactModel) -> tuple[np.ndarray, np.ndarray]:
+    """Non-excluded element pairs within the broad phase's reach (k, 2) and their gaps (k,)."""
+    mesh = mesh_of_rod(rod, model)
+    P = candidate_pairs(mesh, rod.x)
+    P = P[~mesh.excluded_elements(P[:, 0], P[:, 1])]
+    E, x = mesh.edges, rod.x
+    return P, segment_distance(x[E[P[:, 0], 0]], x[E[P[:, 0], 1]], x[E[P[:, 1], 0]],
+                               x[E[P[:, 1], 1]]) - mesh.radius[P[:, 0]] - mesh.radius[P[:, 1]]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -378,41 +362,21 @@ def check_stacked(rod: DiscreteRod, model: ContactModel, gap: float,
                   tolerance: float = 0.0) -> ContactCheck:
     """Check a stacked state with the contact model; raise :class:`StackingError` if it fails.
 
-    Parameters
-    ----------
-    rod : DiscreteRod
-        The state (node positions ``rod.x``, lab frame).
-    model : ContactModel
-        Capsule radii, exclusions and barrier (:func:`default_model`).
-    gap : float
-        ``g0``: the gap the construction aimed at (length).
-    tolerance : float
-        Its stated error (chord error, length).
-
-    Returns
-    -------
-    ContactCheck
-        Raises :class:`StackingError` naming the two segments and where, if two non-excluded
-        capsules overlap or the contact model refuses the state.
+    ``rod``: the state (``rod.x``, lab frame); ``model``: capsule radii, exclusions, barrier
+    (:func:`default_model`); ``gap``: the ``g0`` aimed at and ``tolerance`` its stated error
+    (chord error), both lengths. Raises :class:`StackingError` naming the two segments and
+    where, if two non-excluded capsules overlap or the contact model refuses the state.
     """
-    mesh = mesh_of_rod(rod, model)
-    P = candidate_pairs(mesh, rod.x)
-    P = P[~mesh.excluded_elements(P[:, 0], P[:, 1])]
-    E, x = mesh.edges, rod.x
-    g = segment_distance(x[E[P[:, 0], 0]], x[E[P[:, 0], 1]], x[E[P[:, 1], 0]],
-                         x[E[P[:, 1], 1]]) - mesh.radius[P[:, 0]] - mesh.radius[P[:, 1]]
-    if len(g):
-        k = int(np.argmin(g))
-        where = f"{_where(rod, int(P[k, 0]))} and {_where(rod, int(P[k, 1]))}"
-        g_min = float(g[k])
-    else:
-        where, g_min = "no pair within reach", math.inf
+    P, g = _pair_gaps(rod, model)
+    k = int(np.argmin(g)) if len(g) else -1
+    where = f"{_where(rod, int(P[k, 0]))} and {_where(rod, int(P[k, 1]))}" if len(g) else \
+        "no pair within reach"
+    g_min = float(g[k]) if len(g) else math.inf
     if g_min <= 0.0:
         raise StackingError(f"the stacked state interpenetrates: {where} overlap by "
-                            f"{-g_min:.4g} (gap {g_min:.4g} <= 0, capsule radius "
-                            f"{float(mesh.radius.max()):g})")
+                            f"{-g_min:.4g} (gap {g_min:.4g} <= 0)")
     try:
-        energy = contact_energy(mesh, x)[0]
+        energy = contact_energy(mesh_of_rod(rod, model), rod.x)[0]
     except Interpenetration as exc:
         raise StackingError(f"the contact model refuses the stacked state ({exc}); nearest "
                             f"pair: {where}, gap {g_min:.4g}") from exc
@@ -433,19 +397,17 @@ class StackedState(Result):
     thickness, gap : float
         ``h`` and ``g0`` (length).
     layers : tuple of (str, float, float)
-        Each segment's offset ``(name, u, k)`` in units of ``h + g0``: ``u`` along the held
-        frame's ``d1 = t x e3``, ``k`` along ``e3`` (the layer). For the torus curve, the
-        strand's position round the ``N``-gon at the segment's start, ``(name, u, k)`` with
-        ``u = cos psi``, ``k = sin psi`` in units of ``a``.
+        ``(name, u, k)`` per segment: its offset in units of ``h + g0`` (``u`` in-plane,
+        ``k`` the layer); on the torus curve the strand's place round the ``N``-gon at the
+        segment's start (``cos psi, sin psi``, units of ``a``).
     changes : tuple of str
         Where the curve changes layer (welds joining different offsets, with both offsets).
     chord_error : float
-        Bound on how much nearer the elements (chords) stand than the curve they sample:
+        How much nearer the elements (chords) may stand than the curve they sample, at most:
         ``l_max^2 kappa_max / 4`` (two sagittas, length).
-    max_strain : float
-        Largest ``|chord / rest length - 1|`` of an element (the stretch Newton will remove).
-    max_offset : float
-        Largest node displacement from the coincident state (length).
+    max_strain, max_offset : float
+        Largest ``|chord / rest length - 1|`` (the stretch Newton will remove) and largest
+        node displacement from the coincident state (length).
     check : ContactCheck
     torus : TorusCurve or None
     """
@@ -464,12 +426,8 @@ class StackedState(Result):
 
     def to_dict(self) -> dict[str, Any]:
         """JSON form of every field but ``rod``."""
-        out = super().to_dict() if False else {
-            f.name: getattr(self, f.name) for f in dataclasses.fields(self) if f.name != "rod"}
-        from ..results import jsonable
-        res = jsonable(out)
-        assert isinstance(res, dict)
-        return res
+        return {f.name: jsonable(getattr(self, f.name)) for f in dataclasses.fields(self)
+                if f.name != "rod"}
 
 
 def _strain(rod: DiscreteRod) -> float:
@@ -568,7 +526,8 @@ def stack_loops(rod: DiscreteRod, thickness: float, gap: float,
     s_tab = np.concatenate([[0.0], np.cumsum(0.5 * (speed[1:] + speed[:-1]) * np.diff(phis))])
     phi = np.interp(t * (s_tab[-1] / L), s_tab, phis)
     rel = X[0, :2] - c[:2]
-    sense = 1.0 if np.cross(rel, X[1, :2] - X[0, :2]) > 0 else -1.0
+    step = X[1, :2] - X[0, :2]
+    sense = 1.0 if rel[0] * step[1] - rel[1] * step[0] > 0 else -1.0
     az = math.atan2(rel[1], rel[0]) + sense * phi
     rho = tc.R + tc.a * np.cos(phi / N)
     new = rod.copy()
@@ -590,13 +549,9 @@ def stack_loops(rod: DiscreteRod, thickness: float, gap: float,
         new.R_joint[j] = _turn_onto(rod.R_joint[j], tan[node])
     model = default_model(h) if model is None else model
     check = check_stacked(new, model, g0, 0.0 if chord_allowance else chord_error)
-    names = [s.name for s in rod.assembly.segments]
-    psi0 = {}
-    for name, d in ring_of(rod.assembly).order:
-        k = names.index(name)
-        first = _segment_nodes(rod, k)[0 if d > 0 else -1]
-        psi0[name] = float(pos[first] / N)
-    layers = tuple((nm, math.cos(psi0[nm]), math.sin(psi0[nm])) for nm in names)
+    psi0 = [float(pos[_segment_nodes(rod, k)[0]]) / N for k in range(len(rod.assembly.segments))]
+    layers = tuple((sg.name, math.cos(p), math.sin(p))
+                   for sg, p in zip(rod.assembly.segments, psi0, strict=True))
     return StackedState(
         rod=new, method=f"({N}, 1) torus curve, R = {tc.R:.9g}, a = {tc.a:.9g}",
         thickness=h, gap=g0, layers=layers,
@@ -607,9 +562,239 @@ def stack_loops(rod: DiscreteRod, thickness: float, gap: float,
 
 def _turn_onto(F: np.ndarray, t: np.ndarray) -> np.ndarray:
     """Frame ``F`` (3, 3) turned by the smallest rotation taking ``+-d2`` onto ``t``."""
-    d2 = F[:, 1]
-    t = t if float(d2 @ t) >= 0.0 else -t
-    k = np.cross(d2, t)
-    c = float(d2 @ t)
+    t = t * np.sign(float(F[:, 1] @ t) or 1.0)
+    k = np.cross(F[:, 1], t)
     K = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
-    return (np.eye(3) + K + K @ K / (1.0 + c)) @ F
+    return (np.eye(3) + K + K @ K / (1.0 + float(F[:, 1] @ t))) @ F  # Rodrigues, cos + sin
+
+
+# ---------------------------------------------------------------- other folds: layers and ramps
+def smoothstep(t: np.ndarray) -> np.ndarray:
+    """Quintic smoothstep ``S(t) = 6t^5 - 15t^4 + 10t^3`` on [0, 1] (clamped): C2 ramps.
+
+    ``S' = S'' = 0`` at both ends; ``max S' = 15 / 8``, ``max |S''| = 10 / sqrt(3)``.
+    """
+    t = np.clip(np.asarray(t, float), 0.0, 1.0)
+    return t**3 * (10.0 - 15.0 * t + 6.0 * t * t)
+
+
+#: ``max |S''|`` of :func:`smoothstep` (at ``t = (3 -+ sqrt 3) / 6``).
+SMOOTHSTEP_MAX_CURVATURE = 10.0 / math.sqrt(3.0)
+
+
+def _segment_arclength(rod: DiscreteRod, k: int) -> tuple[np.ndarray, np.ndarray]:
+    """Nodes of segment ``k`` (start to end) and their arclengths (``discretise``'s linspace)."""
+    nodes = _segment_nodes(rod, k)
+    return nodes, np.linspace(0.0, rod.assembly.segments[k].length, len(nodes))
+
+
+def overlapping_segments(rod: DiscreteRod, thickness: float) -> tuple[tuple[str, str], ...]:
+    """Pairs of segments whose capsules (diameter ``h``) overlap in the current state.
+
+    Element pairs excluded by the contact model (neighbours along the structure,
+    :func:`default_model`) do not count: two rods meeting at a weld at an angle do not overlap.
+
+    Returns
+    -------
+    tuple of (str, str)
+        Segment names, each pair in assembly order, pairs sorted.
+    """
+    P, g = _pair_gaps(rod, default_model(thickness))
+    seg = rod.edge_segment
+    found = {tuple(sorted((int(seg[a]), int(seg[b])))) for a, b in P[g <= 0.0]
+             if seg[a] != seg[b]}
+    names = [s.name for s in rod.assembly.segments]
+    return tuple((names[a], names[b]) for a, b in sorted(found))
+
+
+def _traversal_rank(rod: DiscreteRod) -> dict[str, int]:
+    """Position of each segment along the ring's traversal, else in assembly order."""
+    try:
+        return {name: i for i, (name, _) in enumerate(ring_of(rod.assembly).order)}
+    except RodstabInputError:  # not a ring (supports, branches): the assembly's order
+        return {s.name: i for i, s in enumerate(rod.assembly.segments)}
+
+
+def traversal_layers(rod: DiscreteRod, thickness: float) -> dict[str, int]:
+    """Default layer order: each rod, in traversal order, on the lowest layer left free.
+
+    Segments are taken along the ring's traversal (:func:`~.states.ring_of`; the assembly's
+    order if it is not a ring); each takes the lowest layer that no segment already placed and
+    overlapping it (:func:`overlapping_segments`) holds. Rods lying all on one another get
+    layers 0, 1, 2, ... in traversal order; rods overlapping only their neighbours near cusps
+    (the star) alternate 0, 1, 0, 1.
+    """
+    names = [s.name for s in rod.assembly.segments]
+    near: dict[str, set[str]] = {n: set() for n in names}
+    for a, b in overlapping_segments(rod, thickness):
+        near[a].add(b)
+        near[b].add(a)
+    rank = _traversal_rank(rod)
+    layers: dict[str, int] = {}
+    for n in sorted(names, key=rank.__getitem__):
+        taken = {layers[m] for m in near[n] if m in layers}
+        layers[n] = min(set(range(len(names) + 1)) - taken)
+    return layers
+
+
+def polygon_offsets(names: list[str] | tuple[str, ...]) -> dict[str, tuple[float, float]]:
+    """Offsets ``(u, k)`` (units of ``h + g0``) putting rod ``i`` at vertex ``i`` of a ``p``-gon.
+
+    A regular polygon of ``p = len(names)`` vertices, circumradius ``1 / (2 sin(pi / p))``
+    (neighbours one spacing apart, the others further), vertex 0 on top (``+e3``), the rest
+    clockwise seen along the rods' tangent: the cross-section of the ``(N, 1)`` torus curve,
+    for bundles of straight rods whose welds join rods ``i, i + 1`` (the folded ring of Sec. 5,
+    module doc).
+    """
+    p = len(names)
+    if p < 2:
+        raise RodstabInputError(f"polygon_offsets needs at least 2 names, got {list(names)}")
+    rc = 0.5 / math.sin(math.pi / p)
+    ang = [0.5 * math.pi - 2 * math.pi * i / p for i in range(p)]
+    return {n: (rc * math.cos(t), rc * math.sin(t)) for n, t in zip(names, ang, strict=True)}
+
+
+def _offset_pair(name: str, value: Any) -> tuple[float, float]:
+    if isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool):
+        pair = (0.0, float(value))
+    elif isinstance(value, (tuple, list)) and len(value) == 2:
+        pair = (float(value[0]), float(value[1]))
+    else:
+        raise RodstabInputError(f"layers[{name!r}] must be a layer number or an offset (u, k), "
+                                f"got {value!r}")
+    if not all(math.isfinite(v) for v in pair):
+        raise RodstabInputError(f"layers[{name!r}] must be finite, got {value!r}")
+    return pair
+
+
+def _senses(rod: DiscreteRod, thickness: float) -> np.ndarray:
+    """``+-1`` per segment: -1 where it runs against the first segment it lies on.
+
+    The in-plane offsets of :func:`stack_layers` are along ``d1 = t x e3`` turned by this sign,
+    so that rods lying on one another but run in opposite senses (the hexagram's line, its
+    rods joined by cusps) share one in-plane direction. A segment is compared at its middle
+    element with the nearest element (midpoints within ``h``) of a segment before it.
+    """
+    x, E, seg = rod.x, rod.edge_nodes, rod.edge_segment
+    mid = 0.5 * (x[E[:, 0]] + x[E[:, 1]])
+    tan = x[E[:, 1]] - x[E[:, 0]]
+    tan /= np.linalg.norm(tan, axis=1)[:, None]
+    sense = np.ones(len(rod.assembly.segments))
+    for k in range(1, len(sense)):
+        mine = np.flatnonzero(seg == k)
+        e = mine[len(mine) // 2]
+        before = np.flatnonzero(seg < k)
+        dist = np.linalg.norm(mid[before] - mid[e], axis=1)
+        j = int(np.argmin(dist))
+        if dist[j] <= thickness:
+            sense[k] = sense[seg[before[j]]] * (1.0 if tan[e] @ tan[before[j]] >= 0 else -1.0)
+    return sense
+
+
+def _fmt(o: tuple[float, float]) -> str:
+    return f"layer {o[1]:g}" if o[0] == 0.0 else f"offset ({o[0]:.4g}, {o[1]:.4g})"
+
+
+def stack_layers(rod: DiscreteRod, layers: dict[str, Any], thickness: float, gap: float, *,
+                 model: ContactModel | None = None, ramp: float | None = None) -> StackedState:
+    """Offset each rod of a planar state by its layer, ramp at welds, check with contact.
+
+    Parameters
+    ----------
+    rod : DiscreteRod
+        Planar state (``discretise`` or ``common_rod``), e.g. with coincident rods.
+    layers : dict
+        For every segment name: a layer ``k`` (offset ``k (h + g0) e3``) or an offset ``(u,
+        k)`` in units of ``h + g0``, ``u`` along the segment's held ``d1 = t x e3``, turned
+        round on a rod that runs against the first rod it lies on (:func:`_senses`)
+        (:func:`traversal_layers`, :func:`polygon_offsets`).
+    thickness : float
+        ``h``: capsule diameter (length).
+    gap : float
+        ``g0 > 0`` (length).
+    model : ContactModel, optional
+        The check's contact model (default :func:`default_model`).
+    ramp : float, optional
+        Ramp length at a weld joining different offsets (length; default
+        :data:`RAMP_FRACTION` of the model's exclusion distance ``exclusion_factor (h +
+        dhat)``); at most half of each ramped segment.
+
+    Returns
+    -------
+    StackedState
+        ``changes`` lists every weld joining different offsets. Raises :class:`StackingError`
+        naming the two segments and where, if the order interpenetrates.
+    """
+    h = require_positive("thickness", thickness)
+    g0 = require_positive("gap", gap)
+    d = h + g0
+    model = default_model(h) if model is None else model
+    a = rod.assembly
+    names = [s.name for s in a.segments]
+    unknown = sorted(set(layers) - set(names))
+    missing = [n for n in names if n not in layers]
+    if unknown or missing:
+        raise RodstabInputError(f"layers must give every segment of {names} once; unknown "
+                                f"{unknown}, missing {missing}")
+    off = {n: _offset_pair(n, layers[n]) for n in names}
+    ell = RAMP_FRACTION * model.exclusion_factor * (h + model.dhat) if ramp is None else \
+        require_positive("ramp", ramp)
+
+    sense = _senses(rod, h)
+
+    def offset(k: int, s: np.ndarray) -> np.ndarray:
+        """Lab offset vectors (m, 3) of segment ``k`` at arclengths ``s``."""
+        u, z = off[names[k]]
+        t = sense[k] * a.segments[k].tangent(s).reshape(-1, 2)
+        n = np.stack([t[:, 1], -t[:, 0], np.zeros(len(t))], axis=1)  # t x e3
+        return d * (u * n + z * np.array([0.0, 0.0, 1.0]))
+
+    # the offset of every weld: the mean of its ends' offsets
+    index = {nm: i for i, nm in enumerate(names)}
+    weld_off, changes, jumps = {}, [], []
+    for joint in a.joints():
+        ends = [offset(index[nm], np.array([0.0 if e == "start" else a.segment(nm).length]))[0]
+                for nm, e in joint]
+        w = np.mean(ends, axis=0)
+        for end in joint:
+            weld_off[end] = w
+        if len(joint) > 1 and max(float(np.linalg.norm(v - w)) for v in ends) > 1e-12 * d:
+            nm, e = joint[0]
+            p = a.segment(nm).end_point(e)
+            changes.append(" - ".join(f"{m}.{f} {_fmt(off[m])}" for m, f in joint)
+                           + f" at ({p[0]:.4g}, {p[1]:.4g}): ramps of length {ell:.4g}")
+            jumps.append(max(float(np.linalg.norm(v - w)) for v in ends) / d)
+    new = rod.copy()
+    kappa_max, jump_max = 0.0, 0.0
+    for k, seg in enumerate(a.segments):
+        nodes, s = _segment_arclength(rod, k)
+        o = offset(k, s)
+        for side, s_end, w_of in (("start", 0.0, 1.0 - smoothstep(s / ell)),
+                                  ("end", seg.length, 1.0 - smoothstep((seg.length - s) / ell))):
+            jump = weld_off[(seg.name, side)] - offset(k, np.array([s_end]))[0]
+            if float(np.linalg.norm(jump)) > 1e-12 * d:
+                if 2 * ell > seg.length:
+                    raise RodstabInputError(f"ramp {ell:g} is longer than half of segment "
+                                            f"{seg.name!r} (length {seg.length:g})")
+                o = o + w_of[:, None] * jump
+                jump_max = max(jump_max, float(np.linalg.norm(jump)))
+        new.x[nodes] = rod.x[nodes] + o
+        r_off = float(np.max(np.linalg.norm(o, axis=1)))
+        kappa_max = max(kappa_max, abs(seg.curvature) * (1 + r_off * abs(seg.curvature)))
+    kappa_max += jump_max * SMOOTHSTEP_MAX_CURVATURE / ell**2
+    new.align_frames()  # ramps start and end level: joint frames keep the planar tangent
+    lmax = float(np.max(np.linalg.norm(rod.x[rod.edge_nodes[:, 1]] - rod.x[rod.edge_nodes[:, 0]],
+                                       axis=1)))
+    chord_error = lmax**2 * kappa_max / 4.0
+    try:
+        check = check_stacked(new, model, g0, chord_error)
+    except StackingError as exc:
+        far = [c for c, j in zip(changes, jumps, strict=True) if j > 0.5 * (1 + 1e-9)]
+        raise StackingError(f"{exc}. Layer order {dict((n, _fmt(off[n])) for n in names)}; welds "
+                            f"joining offsets more than one spacing apart (their ramps pass "
+                            f"through the rods between): {far or 'none'}") from exc
+    return StackedState(
+        rod=new, method="planar state offset by layer, C2 quintic ramps at welds",
+        thickness=h, gap=g0, layers=tuple((n, *off[n]) for n in names), changes=tuple(changes),
+        chord_error=chord_error, max_strain=_strain(new),
+        max_offset=float(np.max(np.linalg.norm(new.x - rod.x, axis=1))), check=check)
