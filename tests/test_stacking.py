@@ -7,6 +7,7 @@ contact model's own check, and the thin limit h / L -> 0.
 
 from __future__ import annotations
 
+import json
 import math
 
 import numpy as np
@@ -27,7 +28,7 @@ from rodstab.multistable.stacking import (
     torus_point,
     traversal_layers,
 )
-from rodstab.multistable.states import ring_of
+from rodstab.multistable.states import ring_of, uniform_ring
 from rodstab.nonlinear.contact import contact_energy, mesh_of_rod, segment_distance
 from rodstab.nonlinear.discrete import discretise
 from rodstab.problems import birod, folded_ring, ring
@@ -227,3 +228,23 @@ def test_bad_input_names_the_parameter(call, key):
     """Each bad input raises RodstabInputError naming the parameter or the fault."""
     with pytest.raises(RodstabInputError, match=key):
         call()
+
+
+def test_hexagram_line_holds_on_the_hexagon_and_the_star_in_two_layers():
+    """Hexagram (six cusp-welded rods, Ring.held): the line refuses flat layers in traversal
+    order at the closing cusp 6 -> 1 and holds on the hexagon (rods run alternately, the
+    in-plane offset follows the first rod's sense); the star, whose rods overlap only their
+    neighbours near the cusps, needs only layers 0 and 1 alternating."""
+    ring6 = uniform_ring(6, weld="cusp", natural_curvature=1.0)
+    h, g0 = 0.02, 0.001
+    line = discretise(ring6.held(ring6.state("line").theta), 32, 1.0)
+    with pytest.raises(StackingError, match=r"6\.end layer 5 - 1\.start layer 0"):
+        stack_layers(line, traversal_layers(line, h), h, g0)
+    st = stack_layers(line, polygon_offsets([str(i) for i in range(1, 7)]), h, g0)
+    assert st.check.min_gap >= g0 - st.chord_error and len(st.changes) == 6
+    star = discretise(ring6.held(ring6.state("star").theta), 32, 1.0)
+    layers = traversal_layers(star, h)
+    assert layers == {str(i): (i - 1) % 2 for i in range(1, 7)}
+    st = stack_layers(star, layers, h, g0)
+    assert st.check.min_gap >= g0 - st.chord_error and len(st.changes) == 6
+    assert json.loads(json.dumps(st.to_dict()))["changes"] == list(st.changes)

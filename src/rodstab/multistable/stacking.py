@@ -45,7 +45,9 @@ rod 1's natural curvature is negative) fails at cusp ``1.end - 2.end`` (``x = L`
 ``2n - 1``). What holds is the torus curve's cross-section: rod ``i`` (traversal order) at
 vertex ``i`` of a regular ``2n``-gon of circumradius ``(h + g0) / (2 sin(pi / 2n))``
 (:func:`polygon_offsets`), every cusp joining neighbouring vertices. Likewise the hexagram's
-line; its star needs only layers 0, 1 alternating (:func:`traversal_layers`).
+line; its star needs only layers 0, 1 alternating (:func:`traversal_layers`). Not done: the
+eight, whose six welds meet where its lobes touch: on the hexagon rods of the two lobes
+alternate and cross as the lobes part; with the lobes on two sides the cycle of welds crosses.
 """
 
 from __future__ import annotations
@@ -71,8 +73,7 @@ from ..numerics import golden_min
 from ..results import Result, jsonable
 from .states import ring_of
 
-#: Relative tolerance of the fixed points that set ``a`` (nearest strand distance) and ``R``
-#: (curve length) of the torus curve.
+#: Relative tolerance of the fixed points setting the torus curve's ``a`` and ``R``.
 TORUS_RTOL = 1e-13
 TORUS_MAX_ITER = 60
 #: Quadrature points per loop (trapezoid rule on a periodic analytic integrand: spectral).
@@ -81,14 +82,12 @@ QUAD_POINTS = 512
 ARCLENGTH_POINTS = 8192
 #: Planar nodes of an N-loop ring must lie on one circle to this fraction of its radius.
 ON_CIRCLE_RTOL = 1e-8
-#: Ramp length at a weld joining different offsets, as a fraction of the contact model's
-#: exclusion distance ``exclusion_factor (h + dhat)``: at half of it the two rods of a cusp are
-#: a full spacing apart where they first see one another.
+#: Ramp length at a weld joining different offsets / the exclusion distance ``exclusion_factor
+#: (h + dhat)``: at half of it the rods of a cusp are a spacing apart where they first interact.
 RAMP_FRACTION = 0.5
 #: Chord allowance of :func:`stack_loops` as a multiple of the chord error bound.
 CHORD_MARGIN = 1.05
-#: Activation distance of the default contact model of the checks, as a fraction of ``h``
-#: (the rule of :class:`~rodstab.nonlinear.contact.ContactModel`).
+#: ``dhat / h`` of the checks' contact model (the rule of ``ContactModel``).
 DHAT_FRACTION = 0.1
 
 
