@@ -276,8 +276,8 @@ def test_string_saddle_is_the_continuation_saddle(six_ring: Barrier, string_six:
 
 def test_string_saddle_descends_to_both_states(string_six: tuple) -> None:
     """The steepest descents from the string's saddle (retracted steps) end on the folded and
-    the one-loop ring (same_state), in far fewer steps than the continuation's unretracted
-    descents (458 and 934, measured at 8 el.)."""
+    the one-loop ring (same_state), in far fewer steps than unretracted descents (458 and 934,
+    measured at 8 el. when the continuation method's descents were unretracted)."""
     b, _ = string_six
     assert sorted(b.descent_ends) == ["folded", "one-loop"]
     assert max(b.descent_steps) < 100

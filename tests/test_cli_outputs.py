@@ -82,38 +82,60 @@ TURNING_CHANGE = 0.2
 #: which any basis may give (the eigen solver's start vector changed in the redesign): it is
 #: compared only for simple modes.
 MODE_OF_MULTIPLE = "mode_family"
+#: A barrier's path between its saddle and the two states is a sampling, not converged numbers.
 #: The string method's images are the string as it was at the iteration its saddle was
-#: accepted (rodstab.multistable.string_method, "What converges"), not converged numbers: a
-#: round-off change moves that iteration. The retraction's dense solves (2026-12-05, agreeing
-#: with the sparse ones to 6e-11) moved it from 60 to 56 iterations on the hexagram's star ->
-#: daisy at 6 el./rod, the images' energies up to 17 % apart, the saddle's energy and both
-#: barriers unchanged to 1e-12. Compared for a string barrier: the number of images, the ends'
-#: and the saddle's energies, the first and last arclength (0 and 1), whether the run converged
-#: and its saddle's index -- not the other images, their arclengths or the run's counters.
-STRING_IMAGES = {"energies": None, "path_arclength": None,
-                 "string_run": ("converged", "too_coarse", "saddle_index")}
+#: accepted (rodstab.multistable.string_method, "What converges"): a round-off change moves
+#: that iteration. The retraction's dense solves (2026-12-05, agreeing with the sparse ones to
+#: 6e-11) moved it from 60 to 56 iterations on the hexagram's star -> daisy at 6 el./rod, the
+#: images' energies up to 17 % apart, the saddle's energy and both barriers unchanged to 1e-12.
+#: The continuation method's descents from its saddle take retracted steps since 2026-12-05
+#: (as the string method's always did): 15 and 23 steps instead of 359 and 723 on the six-ring
+#: at 6 el./rod, the same saddle, ends and barriers (the end's energy to 4e-17). Compared for
+#: either method: the ends' and the saddle's energies (each at its own ``saddle_position``);
+#: for the string, also the number of images, the first and last arclength (0 and 1), whether
+#: its run converged and its saddle's index; for the descents, that they take no more steps.
+PATH_SAMPLES = {"energies": None, "path_arclength": None, "saddle_position": None,
+                "descent_steps": None,
+                "string_run": ("converged", "too_coarse", "saddle_index")}
 
 
-def _compare_string_images(old: Any, new: Any, path: str, errors: list[str],
-                           context: dict[str, Any]) -> None:
+def _compare_path(old: Any, new: Any, path: str, errors: list[str], context: dict[str, Any],
+                  new_context: dict[str, Any]) -> None:
     key = path.rsplit(".", 1)[-1]
+    if key == "saddle_position":
+        return  # the saddle's energy is compared at each one's own position (below)
+    if old is None or new is None:  # a continuation barrier has no string run
+        if old is not new:
+            errors.append(f"{path}: {new!r} (was {old!r})")
+        return
     if isinstance(old, dict):
-        for k in STRING_IMAGES[key]:
+        for k in PATH_SAMPLES[key]:
             _compare(old[k], new.get(k), f"{path}.{k}", errors, old)
         return
-    if not isinstance(new, list) or len(new) != len(old):
+    if not isinstance(new, list) or (context.get("method") == "string"
+                                     and len(new) != len(old)):
         errors.append(f"{path}: {new!r} (was {old!r}: as many images)")
         return
-    keep = {0, len(old) - 1} | ({context["saddle_position"]} if key == "energies" else set())
-    for i in sorted(keep):
-        _compare(old[i], new[i], f"{path}[{i}]", errors, context)
+    if key == "descent_steps":
+        if not all(b <= a for a, b in zip(old, new, strict=True)):
+            errors.append(f"{path}: {new!r} steps (was {old!r}: no more)")
+        return
+    if not old or not new:  # a continuation barrier has no arclengths
+        if len(old) != len(new):
+            errors.append(f"{path}: {new!r} (was {old!r})")
+        return
+    pairs = [(0, 0), (-1, -1)]
+    if key == "energies":
+        pairs.append((context["saddle_position"], new_context["saddle_position"]))
+    for i, j in pairs:
+        _compare(old[i], new[j], f"{path}[{i}]", errors, context)
 
 
 def _compare(old: Any, new: Any, path: str, errors: list[str], context: dict[str, Any],
-             rtol_case: float | None = None) -> None:
+             rtol_case: float | None = None, new_context: dict[str, Any] | None = None) -> None:
     key = path.rsplit(".", 1)[-1]
-    if key in STRING_IMAGES and context.get("method") == "string":
-        _compare_string_images(old, new, path, errors, context)
+    if key in PATH_SAMPLES and context.get("method") in ("string", "continuation"):
+        _compare_path(old, new, path, errors, context, new_context or {})
         return
     if CHANGED.get(key) in ("text", "path"):
         return
@@ -144,7 +166,7 @@ def _compare(old: Any, new: Any, path: str, errors: list[str], context: dict[str
         if missing:
             errors.append(f"{path}: keys {missing} are gone")
         for k in sorted(set(old) & set(new)):
-            _compare(old[k], new[k], f"{path}.{k}", errors, old, rtol_case)
+            _compare(old[k], new[k], f"{path}.{k}", errors, old, rtol_case, new)
     elif isinstance(old, list):
         if not isinstance(new, list) or len(new) != len(old):
             errors.append(f"{path}: {new!r} (was {old!r})")

@@ -16,7 +16,10 @@ state the branch connects it to. So:
    (``D = |diag H|``), accepted only when the energy falls by a quarter of the model's
    prediction -- a preconditioned gradient flow whose metric is the shifted Hessian (plain
    Jacobi-preconditioned steepest descent crawls: the stretch/shear penalty makes the scaled
-   bending eigenvalues ~1e-8). The energy is recorded after every step, so the path's energies
+   bending eigenvalues ~1e-8). Large steps are retracted onto the inextensible states
+   (:func:`~rodstab.nonlinear.constraint.retract_step`): on the six-ring at 6 el./rod the two
+   descents took 15 and 23 steps instead of 359 and 723 unretracted, to the same ends (the
+   end's energy equal to 4e-17). The energy is recorded after every step, so the path's energies
    fall monotonically from the saddle on both sides. Each end is Newton-refined, checked to be
    a minimum, and named by :func:`~rodstab.multistable.discover.same_state` against A and the
    other named states (held states put in the same discrete model by
@@ -26,11 +29,10 @@ state the branch connects it to. So:
 
 A second, independent method is the string method (:func:`~.string_method.string_barrier`, module
 :mod:`.string_method`): a path relaxed between the two minima, its saddle refined by Newton from a
-local maximum of the path's energies, checked by the same descents (:func:`descents_from_saddle`,
-there with retracted steps). It needs no bifurcation and no continuation, names both ends in one
-discrete model and is what ``rodstab barrier`` uses by default; on the folded/one-loop six-ring
-at 8 el./rod the two saddles' energies agree to 3e-13 relative (asserted to 1e-8,
-``tests/test_barrier.py``). Retired (in the
+local maximum of the path's energies, checked by the same descents (:func:`descents_from_saddle`).
+It needs no bifurcation and no continuation, names both ends in one discrete model and is what
+``rodstab barrier`` uses by default; on the folded/one-loop six-ring at 8 el./rod the two saddles'
+energies agree to 3e-13 relative (asserted to 1e-8, ``tests/test_barrier.py``). Retired (in the
 branch's history): an earlier string method whose initial path interpolated the unknowns
 linearly (non-finite energies: the held states put the gauge joint in frames 120 degrees apart,
 and the frames' loops round the ring differ by whole turns); minimum-mode following from the
@@ -332,7 +334,7 @@ def barrier_from_bifurcation(a: Assembly, load_factor: float, *, upper: float,
     vals, vecs = lowest_modes(saddle, INDEX_EIGS)
     index = int(np.sum(vals < -zero_eigenvalue_tol(saddle)))
     e_s = saddle.energy()
-    descents, ends = descents_from_saddle(saddle, vals, vecs)
+    descents, ends = descents_from_saddle(saddle, vals, vecs, retract=True)
     # Name each end: A, one of the named states, or unnamed.
     refs = [(name, Snapshot.of(rod_a), e_a)]
     for label, asm in (named or {}).items():
