@@ -12,6 +12,7 @@ import math
 
 import numpy as np
 import pytest
+from contact_checks import sampled_min_gap
 
 from rodstab.errors import RodstabInputError
 from rodstab.model import Assembly, Segment
@@ -432,21 +433,10 @@ def test_candidate_count_grows_linearly_on_a_long_helix():
 
 # ---------------------------------------------------------------- step filter
 def _sampled_min_gap(x, dx, mesh, alpha, n_time=400, n_pts=81):
-    """Smallest capsule gap of non-neighbouring elements along x + s alpha dx, s in [0, 1],
-    from points sampled on the segments (independent of the segment-distance code)."""
-    E = mesh.edges
-    pairs = candidate_pairs_brute(mesh, x, inflate=np.full(len(E), 10.0))
+    """Smallest gap of non-neighbouring elements along the step (contact_checks)."""
+    pairs = candidate_pairs_brute(mesh, x, inflate=np.full(len(mesh.edges), 10.0))
     pairs = pairs[~mesh.excluded_elements(pairs[:, 0], pairs[:, 1])]
-    u = np.linspace(0, 1, n_pts)[:, None]
-    worst = np.inf
-    for s in np.linspace(0, 1, n_time):
-        y = x + s * alpha * dx
-        for a, b in pairs:
-            pa = y[E[a, 0]] + u * (y[E[a, 1]] - y[E[a, 0]])
-            pb = y[E[b, 0]] + u * (y[E[b, 1]] - y[E[b, 0]])
-            d = np.linalg.norm(pa[:, None] - pb[None], axis=2).min()
-            worst = min(worst, d - mesh.radius[a] - mesh.radius[b])
-    return worst
+    return sampled_min_gap(mesh, x, dx, alpha, pairs, n_time=n_time, n_pts=n_pts)
 
 
 def test_step_filter_stops_a_crossing_that_would_tunnel():

@@ -23,6 +23,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import scipy.sparse as sp
+from contact_checks import sampled_min_gap
 
 from rodstab.io.design import load_design
 from rodstab.model import Assembly, Segment
@@ -548,21 +549,11 @@ def test_rod_pressed_onto_a_crossing_rigid_rod():
 
 # ---------------------------------------------------------------- the step filter, rods together
 def _sampled_min_gap(mesh, x, dx, alpha, n_time=80, n_pts=41):
-    """Smallest capsule gap of all non-excluded element pairs along ``x + s alpha dx``
-    (sampled in time and along the elements: an independent check of the filter)."""
+    """Smallest gap of all non-excluded element pairs along the step (contact_checks)."""
     E = mesh.edges
     pairs = [(a, b) for a in range(len(E)) for b in range(a + 1, len(E))
              if not mesh.excluded_elements(np.array([a]), np.array([b]))[0]]
-    u = np.linspace(0, 1, n_pts)[:, None]
-    worst = np.inf
-    for s in np.linspace(0, 1, n_time):
-        y = x + s * alpha * dx
-        for a, b in pairs:
-            pa = y[E[a, 0]] + u * (y[E[a, 1]] - y[E[a, 0]])
-            pb = y[E[b, 0]] + u * (y[E[b, 1]] - y[E[b, 0]])
-            d = np.linalg.norm(pa[:, None] - pb[None], axis=2).min()
-            worst = min(worst, d - mesh.radius[a] - mesh.radius[b])
-    return worst
+    return sampled_min_gap(mesh, x, dx, alpha, pairs, n_time=n_time, n_pts=n_pts)
 
 
 def test_step_filter_lets_stacked_rods_turn_together_and_still_stops_closing():
