@@ -319,6 +319,12 @@ def verdict_eigenvalue(rod: DiscreteRod) -> tuple[float, float, bool]:
         the sliding mode was left out. Meshes whose verdict the project takes in Kirchhoff
         coordinates (``uses_kirchhoff``) are refused: not done here.
     """
+    lam, tol, removed, _ = verdict_mode(rod)
+    return lam, tol, removed
+
+
+def verdict_mode(rod: DiscreteRod) -> tuple[float, float, bool, np.ndarray]:
+    """:func:`verdict_eigenvalue` with its mode on the free unknowns (``(n_free,)``, unscaled)."""
     if uses_kirchhoff(rod):
         raise RodstabInputError("verdict_eigenvalue: a mesh this fine is decided in Kirchhoff "
                                 f"coordinates, not done here ({len(rod.R_edge)} elements)")
@@ -330,17 +336,81 @@ def verdict_eigenvalue(rod: DiscreteRod) -> tuple[float, float, bool]:
     vals, V = lowest_eigenpairs(A, RITZ_MODES)
     tol = zero_eigenvalue_tol(rod)
     s = ring_sliding_field(rod)
-    if s is None:
-        return float(vals[0]), tol, False
-    z = s / d
-    z /= np.linalg.norm(z)
-    c = V.T @ z
-    if np.linalg.norm(c) <= SLIDING_SPAN:
-        return float(vals[0]), tol, False
+    z = None if s is None else s / d
+    if z is not None:
+        z /= np.linalg.norm(z)
+        c = V.T @ z
+    if z is None or np.linalg.norm(c) <= SLIDING_SPAN:
+        return float(vals[0]), tol, False, d * V[:, 0]
     # An orthonormal basis of c's complement in R^k: the last k - 1 columns of a QR of [c | I].
     Q = np.linalg.qr(np.column_stack([c, np.eye(len(c))]))[0][:, 1:len(c)]
-    ritz = np.linalg.eigvalsh(Q.T @ (vals[:, None] * Q))
-    return float(ritz[0]), tol, True
+    ritz, Y = np.linalg.eigh(Q.T @ (vals[:, None] * Q))
+    return float(ritz[0]), tol, True, d * (V @ (Q @ Y[:, 0]))
+
+
+@dataclasses.dataclass(frozen=True)
+class ModeShape(Result):
+    """What a mode does (:func:`mode_shape`).
+
+    ``harmonic_out``, ``harmonic_in``: the wavenumber ``j`` (waves over the whole ring, as in
+    eq. 3.2) carrying most of the out-of-plane (``u_3``) and radial (``u_r``) displacement
+    along the traversal, with ``share_out``, ``share_in`` their share of it; ``out_of_plane``:
+    ``|u_3|^2 / |u|^2``; ``gap_change``: the largest first-order change of a centreline distance
+    between a loaded node and the nearest node of another loop, over the largest node
+    displacement (0: the mode keeps every gap; ~1: it opens or closes one as fast as it moves;
+    NaN: no contact force). Rigid motions (which the gauge mixes in) are removed first.
+    """
+
+    harmonic_out: int
+    share_out: float
+    harmonic_in: int
+    share_in: float
+    out_of_plane: float
+    gap_change: float
+
+
+def mode_shape(rod: DiscreteRod, v_free: np.ndarray, max_harmonic: int = 12) -> ModeShape:
+    """Harmonics and gap change of a mode ``v_free`` (free unknowns) of a relaxed N-loop ring."""
+    v = np.zeros(rod.n_dof)
+    v[rod.free_dofs()] = v_free
+    u = v[: 3 * len(rod.x)].reshape(-1, 3)
+    # The gauge (joint 0 held) adds a rigid motion to every mode: its harmonics j = 0, N would
+    # hide the mode's own. Remove the least-squares rigid motion t + w x (x - c).
+    c0 = rod.x.mean(axis=0)
+    r = rod.x - c0
+    Rx = np.zeros((len(r), 3, 3))
+    Rx[:, 0, 1], Rx[:, 0, 2], Rx[:, 1, 2] = r[:, 2], -r[:, 1], r[:, 0]
+    Rx = Rx - np.swapaxes(Rx, 1, 2)  # w x r = -[r]x w = Rx w
+    G = np.concatenate([np.tile(np.eye(3), (len(r), 1, 1)), Rx], axis=2).reshape(-1, 6)
+    u = u - (G @ np.linalg.lstsq(G, u.ravel(), rcond=None)[0]).reshape(-1, 3)
+    nodes = rod.edge_nodes[:, 0]
+    X = rod.x[nodes] - rod.x[nodes].mean(axis=0)
+    N = len(rod.assembly.segments)
+    theta = np.concatenate([[0.0], np.cumsum(rod.rest_length)[:-1]]) \
+        * (2 * math.pi * N / rod.assembly.total_length)
+    er = np.column_stack([X[:, 0], X[:, 1], np.zeros(len(X))])
+    er /= np.linalg.norm(er, axis=1)[:, None]
+    parts = {"out": u[nodes, 2], "in": np.einsum("ij,ij->i", u[nodes], er)}
+    res: dict[str, tuple[int, float]] = {}
+    for key, w in parts.items():
+        power = np.array([abs(np.sum(w * np.exp(-1j * j * theta / N))) ** 2 * (1 if j else 2)
+                          for j in range(max_harmonic + 1)])
+        j = int(np.argmax(power))
+        res[key] = (j, float(power[j] / max(power.sum(), 1e-300)))
+    f = np.linalg.norm(contact_forces(rod), axis=1)
+    loaded = np.flatnonzero(f > 1e-9 * max(float(f.max()), 1e-300))
+    seg = np.empty(len(rod.x), int)
+    seg[rod.edge_nodes.ravel()] = np.repeat(rod.edge_segment, 2)
+    change = math.nan if not len(loaded) else 0.0
+    for p in loaded:
+        other = np.flatnonzero(seg != seg[p])
+        q = other[int(np.argmin(np.linalg.norm(rod.x[other] - rod.x[p], axis=1)))]
+        n = rod.x[p] - rod.x[q]
+        change = max(change, abs(float((u[p] - u[q]) @ n)) / float(np.linalg.norm(n)))
+    umax = float(np.max(np.linalg.norm(u, axis=1)))
+    return ModeShape(res["out"][0], res["out"][1], res["in"][0], res["in"][1],
+                     float(np.sum(u[:, 2] ** 2) / max(np.sum(u**2), 1e-300)),
+                     change / max(umax, 1e-300))
 
 
 # ---------------------------------------------------------------- following and limits
@@ -352,7 +422,8 @@ class SideLimit(Result):
     scan loads with eigenvalues of opposite sign (``eigenvalues``); ``branch_end``: the first
     load where Newton failed, if the branch ended before a sign change (NaN otherwise);
     ``searched_to``: the last load reached; ``how``: a sentence; ``at_limit``: the state just on
-    the stable side of the bracket, described.
+    the stable side of the bracket, described; ``mode``: the verdict mode on the unstable side
+    of the bracket (:func:`mode_shape`).
     """
 
     limit: float
@@ -362,6 +433,7 @@ class SideLimit(Result):
     searched_to: float
     how: str
     at_limit: StackedEquilibrium | None
+    mode: ModeShape | None = None
 
 
 @dataclasses.dataclass(frozen=True)
@@ -420,7 +492,8 @@ def _side(rod: DiscreteRod, start: DiscreteRod, mu0: float, step: float, end: fl
             except BranchEnded as exc:
                 x, how = math.nan, f"bracketed, but the refinement failed: {exc}"
             return SideLimit(x, (mu_prev, mu), (lam_prev, lam), math.nan, mu, how,
-                             describe(prev, start, True, 0, 0.0))
+                             describe(prev, start, True, 0, 0.0),
+                             mode_shape(trial, verdict_mode(trial)[3]))
         prev, lam_prev, mu_prev = trial, lam, mu
     return SideLimit(math.nan, (math.nan, math.nan), (math.nan, math.nan), math.nan, mu_prev,
                      f"no sign change up to mu = {mu_prev:.6g} (the search window)", None)

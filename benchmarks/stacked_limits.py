@@ -1,0 +1,85 @@
+"""Benchmark: stability limits of the stacked 3-loop ring with contact (issue 21, part 3).
+
+For each section, thickness ``h / L`` and ``dhat / h``: :func:`rodstab.multistable.stacked.
+stacked_limits` (the torus-curve start relaxed with contact at ``mu = 1``, followed in ``mu``
+both ways, each first sign change of the verdict eigenvalue bracketed and refined), beside the
+no-contact interval of eq. (3.3) and of the same routine with contact off (coincident planar
+ring, same mesh). Prints, per run: the limits in ``(L / 2 pi) kappa_n = N mu``, the bracket,
+the limiting mode (harmonics of ``u_3`` and ``u_r``, gap change), the state on the stable side
+(smallest gap over dhat, mean contact line load, energy above the coincident ring) and the
+time.
+
+Run: ``OMP_NUM_THREADS=1 PYTHONPATH=src python benchmarks/stacked_limits.py [elements]
+[shape ...]`` (shape: circle, rect2). About 30 s per run at 32 elements per loop.
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+
+from rodstab.analytic.ring import ring_stability
+from rodstab.multistable.stacked import SideLimit, stacked_limits
+from rodstab.problems import ring
+from rodstab.sections import circle, rectangle
+
+LOOPS = 3
+THICKNESS = (0.02, 0.01, 0.005)
+DHAT = (0.2, 0.1, 0.05)
+
+
+def _side(s: SideLimit) -> str:
+    lim = f"{LOOPS * s.limit:.4f}" if s.limit == s.limit else "none"
+    out = f"{lim:>8} [{LOOPS * s.bracket[0]:.3f}, {LOOPS * s.bracket[1]:.3f}]"
+    if s.mode is not None:
+        m = s.mode
+        out += (f" mode u3 j={m.harmonic_out} ({m.share_out:.2f}) ur j={m.harmonic_in} "
+                f"({m.share_in:.2f}) oop {m.out_of_plane:.2f} dgap {m.gap_change:.2f}")
+    if s.at_limit is not None and s.at_limit.dhat == s.at_limit.dhat:
+        st = s.at_limit
+        out += (f" | gap/dhat {st.min_gap / st.dhat:.2f} q {st.line_load_mean:.3g} loaded "
+                f"{st.loaded_fraction:.2f} dE {st.energy - st.energy_coincident:.3g}")
+    if s.limit != s.limit:
+        out += f" | {s.how}"
+    return out
+
+
+def main() -> None:
+    """Print the tables (module doc)."""
+    n = int(sys.argv[1]) if len(sys.argv) > 1 else 32
+    shapes = sys.argv[2:] or ["circle"]
+    for shape in shapes:
+        section = circle() if shape == "circle" else rectangle(aspect=2.0)
+        p = ring.Params(loops=LOOPS, section=section)
+        M_lo, M_hi = ring_stability(section.b1, section.b2, LOOPS).M_interval
+        nc = (1.0 - M_hi, 1.0 - M_lo)
+        a = ring.build(p)
+        print(f"== {shape} (b1 = {section.b1:.4g}, b2 = {section.b2:.4g}), {LOOPS} loops, "
+              f"{n} elements per loop; capsules of diameter h, dhat = c h, stiffness by "
+              "stiffness_for_line_load(B3 a / R0^4, dhat, 1/2)", flush=True)
+        print(f"eq. (3.3), no contact: {LOOPS * nc[0]:.4f} .. {LOOPS * nc[1]:.4f}", flush=True)
+        t = time.perf_counter()
+        r = stacked_limits(a, nc, elements_per_loop=n, contact=False)
+        print(f"nonlinear, no contact, coincident ring: lower {_side(r.lower)}\n"
+              f"    upper {_side(r.upper)}  ({time.perf_counter() - t:.1f} s)", flush=True)
+        for hL in THICKNESS:
+            for c in DHAT:
+                t = time.perf_counter()
+                try:
+                    r = stacked_limits(a, nc, thickness_ratio=hL, elements_per_loop=n,
+                                       dhat_fraction=c)
+                except Exception as exc:  # a benchmark reports every run
+                    print(f"h/L {hL:g} dhat/h {c:g}: failed: {type(exc).__name__}: {exc}",
+                          flush=True)
+                    continue
+                st = r.start
+                print(f"h/L {hL:g} dhat/h {c:g}: start mu=1: gap/dhat "
+                      f"{st.min_gap / st.dhat:.2f} q {st.line_load_mean:.3g} loaded "
+                      f"{st.loaded_fraction:.2f} dE {st.energy - st.energy_coincident:.3g} "
+                      f"max|z|/h {st.max_height / (hL * a.total_length):.2f} "
+                      f"({time.perf_counter() - t:.1f} s)\n"
+                      f"    lower {_side(r.lower)}\n    upper {_side(r.upper)}", flush=True)
+
+
+if __name__ == "__main__":
+    main()
