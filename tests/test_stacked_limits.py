@@ -70,7 +70,6 @@ def test_relaxed_state_tends_to_the_planar_held_state_as_h_vanishes(relaxed):
     ok, its, res = relax(rod, 0.9)
     thin = describe(rod, st.rod, ok, its, res)
     thick = relaxed[2]
-    hs = np.array([0.01, 0.005])
     heights = np.array([thick.max_height, thin.max_height])
     excess = np.array([d.energy / d.energy_coincident - 1 for d in (thick, thin)])
     assert np.all(excess > 0) and np.all(heights > 0)

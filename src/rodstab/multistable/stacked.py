@@ -120,7 +120,7 @@ def stacked_contact_model(thickness: float, dhat_fraction: float, a: float, R0: 
 def stacked_ring(a: Assembly, *, thickness_ratio: float, elements_per_loop: int,
                  dhat_fraction: float, load_factor: float = 1.0
                  ) -> tuple[DiscreteRod, StackedState]:
-    """The stacked N-loop ring with its contact model set, at ``load_factor`` (not relaxed).
+    """Return the stacked N-loop ring with its contact model set, at ``load_factor`` (unrelaxed).
 
     ``a``: the N-loop ring (``rodstab.problems.ring.build``: one segment per loop, ``R0 = B3
     = 1``); ``thickness_ratio = h / L``; ``g0 = START_GAP_FRACTION dhat``. Returns the rod
@@ -479,7 +479,7 @@ def _side(rod: DiscreteRod, start: DiscreteRod, mu0: float, step: float, end: fl
         if lam_prev > 0 >= lam:
             stable_side = prev.copy()
 
-            def f(m: float) -> float:
+            def f(m: float, stable_side: DiscreteRod = stable_side) -> float:
                 r = stable_side.copy()
                 ok_m = relax(r, m)[0]
                 if not ok_m:
@@ -505,8 +505,10 @@ def stacked_limits(a: Assembly, no_contact: tuple[float, float], *,
                    contact: bool = True, start_load_factor: float = 1.0,
                    scan_steps: int = SCAN_STEPS, window: float = WINDOW_WIDTHS
                    ) -> StackedLimits:
-    """Stable interval in ``mu`` of the stacked N-loop ring with contact (or of the coincident
-    ring without), by following the relaxed equilibrium both ways (module doc).
+    """Return the stable interval in ``mu`` of the stacked N-loop ring with contact.
+
+    Or, with ``contact`` False, of the coincident ring without; by following the relaxed
+    equilibrium both ways (module doc).
 
     Parameters
     ----------
