@@ -423,7 +423,9 @@ class SideLimit(Result):
     load where Newton failed, if the branch ended before a sign change (NaN otherwise);
     ``searched_to``: the last load reached; ``how``: a sentence; ``at_limit``: the state just on
     the stable side of the bracket, described; ``mode``: the verdict mode on the unstable side
-    of the bracket (:func:`mode_shape`).
+    of the bracket (:func:`mode_shape`); ``path``: ``(mu, verdict eigenvalue, largest |z|,
+    energy)`` of every state followed (a jump to another branch shows as a jump of the last
+    two).
     """
 
     limit: float
@@ -434,6 +436,7 @@ class SideLimit(Result):
     how: str
     at_limit: StackedEquilibrium | None
     mode: ModeShape | None = None
+    path: tuple[tuple[float, float, float, float], ...] = ()
 
 
 @dataclasses.dataclass(frozen=True)
@@ -460,23 +463,33 @@ class StackedLimits(Result):
 
 def _side(rod: DiscreteRod, start: DiscreteRod, mu0: float, step: float, end: float
           ) -> SideLimit:
-    """Follow from ``mu0`` by ``step`` to ``end``; bracket and refine the first sign change."""
-    prev = rod.copy()
-    lam_prev = verdict_eigenvalue(prev)[0]
+    """Follow from ``mu0`` by ``step`` to ``end``; bracket and refine the first sign change.
+
+    A state counts as stable when its verdict eigenvalue is above the zero tolerance and as
+    unstable below minus it; the bracket joins the last stable state to the first unstable
+    one (states in the band between them are passed over: neutral to the verdict).
+    """
+    prev = cur = rod.copy()  # the last stable state; the state followed from
+    lam_prev, tol, _ = verdict_eigenvalue(prev)
+    if not lam_prev > tol:
+        raise RodstabInputError(f"_side: the state at mu = {mu0!r} is not stable (verdict "
+                                f"eigenvalue {lam_prev:.3g}, tolerance {tol:.3g})")
     mu_prev = mu0
+    path = [(mu0, lam_prev, float(np.max(np.abs(prev.x[:, 2]))), prev.energy())]
     n = int(math.ceil(abs(end - mu0) / abs(step) - 1e-9))
     for i in range(1, n + 1):
         mu = mu0 + i * step
-        trial = prev.copy()
+        trial = cur.copy()
         ok, its, res = relax(trial, mu)
         if not ok:
             return SideLimit(math.nan, (mu_prev, mu), (lam_prev, math.nan), mu, mu_prev,
                              f"Newton failed at mu = {mu:.6g} ({its} iterations, residual "
                              f"{res:.3g}) before any sign change: the branch ends (a fold, or "
                              "the strands part); no limit reported",
-                             describe(prev, start, True, 0, 0.0))
-        lam = verdict_eigenvalue(trial)[0]
-        if lam_prev > 0 >= lam:
+                             describe(prev, start, True, 0, 0.0), None, tuple(path))
+        lam, tol, _ = verdict_eigenvalue(trial)
+        path.append((mu, lam, float(np.max(np.abs(trial.x[:, 2]))), trial.energy()))
+        if lam < -tol:
             stable_side = prev.copy()
 
             def f(m: float, stable_side: DiscreteRod = stable_side) -> float:
@@ -493,10 +506,13 @@ def _side(rod: DiscreteRod, start: DiscreteRod, mu0: float, step: float, end: fl
                 x, how = math.nan, f"bracketed, but the refinement failed: {exc}"
             return SideLimit(x, (mu_prev, mu), (lam_prev, lam), math.nan, mu, how,
                              describe(prev, start, True, 0, 0.0),
-                             mode_shape(trial, verdict_mode(trial)[3]))
-        prev, lam_prev, mu_prev = trial, lam, mu
+                             mode_shape(trial, verdict_mode(trial)[3]), tuple(path))
+        cur = trial
+        if lam > tol:
+            prev, lam_prev, mu_prev = trial, lam, mu
     return SideLimit(math.nan, (math.nan, math.nan), (math.nan, math.nan), math.nan, mu_prev,
-                     f"no sign change up to mu = {mu_prev:.6g} (the search window)", None)
+                     f"no sign change up to mu = {path[-1][0]:.6g} (the search window)", None,
+                     None, tuple(path))
 
 
 def stacked_limits(a: Assembly, no_contact: tuple[float, float], *,
