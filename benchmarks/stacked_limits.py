@@ -39,8 +39,7 @@ def _side(s: SideLimit) -> str:
         st = s.at_limit
         out += (f" | gap/dhat {st.min_gap / st.dhat:.2f} q {st.line_load_mean:.3g} loaded "
                 f"{st.loaded_fraction:.2f} dE {st.energy - st.energy_coincident:.3g}")
-    if s.limit != s.limit:
-        out += f" | {s.how}"
+    out += f" | {s.how}"
     return out
 
 

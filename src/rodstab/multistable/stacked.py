@@ -45,6 +45,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Callable
 
 import numpy as np
 
@@ -83,6 +84,10 @@ SCAN_STEPS = 12
 WINDOW_WIDTHS = 1.5
 #: Refinement of a bracketed limit, relative to the bracket (Brent: ~8 relaxations).
 ROOT_RTOL = 1e-3
+#: A limit is probed this fraction of its bracket either side (:func:`_crossing`): a jump
+#: keeps there at least this fraction of the bracket's larger eigenvalue.
+JUMP_PROBE = 1e-2
+JUMP_FRACTION = 0.3
 
 
 class BranchEnded(RodstabInputError):
@@ -501,7 +506,8 @@ def _side(rod: DiscreteRod, start: DiscreteRod, mu0: float, step: float, end: fl
 
             try:
                 x = refine_root(f, mu_prev, mu, rel_xtol=ROOT_RTOL)
-                how = "sign change bracketed by the scan, refined by refine_root"
+                how = "sign change bracketed by the scan, refined by refine_root; " \
+                    + _crossing(f, x, mu - mu_prev, lam_prev, lam)
             except BranchEnded as exc:
                 x, how = math.nan, f"bracketed, but the refinement failed: {exc}"
             return SideLimit(x, (mu_prev, mu), (lam_prev, lam), math.nan, mu, how,
@@ -513,6 +519,23 @@ def _side(rod: DiscreteRod, start: DiscreteRod, mu0: float, step: float, end: fl
     return SideLimit(math.nan, (math.nan, math.nan), (math.nan, math.nan), math.nan, mu_prev,
                      f"no sign change up to mu = {path[-1][0]:.6g} (the search window)", None,
                      None, tuple(path))
+
+
+def _crossing(f: Callable[[float], float], x: float, width: float, lam_a: float,
+              lam_b: float) -> str:
+    """Say whether the verdict eigenvalue crosses zero smoothly at ``x`` or jumps there.
+
+    ``f`` at ``x -+ JUMP_PROBE width``: a smooth crossing gives values ~``JUMP_PROBE`` of the
+    bracket's (``lam_a``, ``lam_b``); a jump (the state leaving the branch, a contact zone
+    switching) keeps one of them at least :data:`JUMP_FRACTION` of the larger bracket value.
+    """
+    probe = [f(x - JUMP_PROBE * width), f(x + JUMP_PROBE * width)]
+    big = max(abs(v) for v in probe)
+    if big >= JUMP_FRACTION * max(abs(lam_a), abs(lam_b)):
+        return (f"a JUMP, not a smooth crossing: the eigenvalue is {probe[0]:.3g}, "
+                f"{probe[1]:.3g} at {JUMP_PROBE:g} of the bracket either side")
+    return (f"a smooth crossing (eigenvalue {probe[0]:.3g}, {probe[1]:.3g} at {JUMP_PROBE:g} "
+            "of the bracket either side)")
 
 
 def stacked_limits(a: Assembly, no_contact: tuple[float, float], *,
