@@ -10,7 +10,8 @@ the limiting mode (harmonics of ``u_3`` and ``u_r``, gap change), the state on t
 time.
 
 Run: ``OMP_NUM_THREADS=1 PYTHONPATH=src python benchmarks/stacked_limits.py [elements]
-[shape ...]`` (shape: circle, rect2). About 30 s per run at 32 elements per loop.
+[shape[:h/L,h/L...]] ...`` (shape: circle, rect2; default thicknesses 0.02, 0.01, 0.005).
+1-5 min per run at 32 elements per loop (steps are halved where they leave the branch).
 """
 
 from __future__ import annotations
@@ -35,6 +36,10 @@ def _side(s: SideLimit) -> str:
         m = s.mode
         out += (f" mode u3 j={m.harmonic_out} ({m.share_out:.2f}) ur j={m.harmonic_in} "
                 f"({m.share_in:.2f}) oop {m.out_of_plane:.2f} dgap {m.gap_change:.2f}")
+    if s.path:
+        z = [p[2] for p in s.path]
+        out += (f" | {len(s.path)} states, N mu {LOOPS * s.path[-1][0]:.3f} reached, max|z| "
+                f"{z[0]:.3g} -> {z[-1]:.3g}")
     if s.at_limit is not None and s.at_limit.dhat == s.at_limit.dhat:
         st = s.at_limit
         out += (f" | gap/dhat {st.min_gap / st.dhat:.2f} q {st.line_load_mean:.3g} loaded "
@@ -47,7 +52,9 @@ def main() -> None:
     """Print the tables (module doc)."""
     n = int(sys.argv[1]) if len(sys.argv) > 1 else 32
     shapes = sys.argv[2:] or ["circle"]
-    for shape in shapes:
+    for spec in shapes:
+        shape, _, hs = spec.partition(":")
+        thicknesses = tuple(float(v) for v in hs.split(",")) if hs else THICKNESS
         section = circle() if shape == "circle" else rectangle(aspect=2.0)
         p = ring.Params(loops=LOOPS, section=section)
         M_lo, M_hi = ring_stability(section.b1, section.b2, LOOPS).M_interval
@@ -61,7 +68,7 @@ def main() -> None:
         r = stacked_limits(a, nc, elements_per_loop=n, contact=False)
         print(f"nonlinear, no contact, coincident ring: lower {_side(r.lower)}\n"
               f"    upper {_side(r.upper)}  ({time.perf_counter() - t:.1f} s)", flush=True)
-        for hL in THICKNESS:
+        for hL in thicknesses:
             for c in DHAT:
                 t = time.perf_counter()
                 try:

@@ -17,6 +17,7 @@ import pytest
 from rodstab.analytic.ring import ring_stability
 from rodstab.errors import RodstabInputError
 from rodstab.multistable.stacked import (
+    _crossing,
     _side,
     contact_forces,
     describe,
@@ -116,6 +117,7 @@ def test_without_contact_the_routine_gives_the_closed_form_interval(elements):
     for side in (r.lower, r.upper):
         assert side.eigenvalues[0] > 0 > side.eigenvalues[1]
         assert min(side.bracket) <= side.limit <= max(side.bracket)
+        assert "smooth crossing" in side.how
     test_without_contact_the_routine_gives_the_closed_form_interval.errs[elements] = errs
     if len(test_without_contact_the_routine_gives_the_closed_form_interval.errs) == 2:
         e16, e32 = (test_without_contact_the_routine_gives_the_closed_form_interval.errs[n]
@@ -126,27 +128,38 @@ def test_without_contact_the_routine_gives_the_closed_form_interval(elements):
 test_without_contact_the_routine_gives_the_closed_form_interval.errs = {}  # type: ignore
 
 
-def test_a_limit_with_contact_is_bracketed(relaxed):
-    """Following the relaxed ring with contact from mu = 0.9 down (steps of 0.05) finds a sign
-    change of the verdict eigenvalue; fresh relaxations (from the stable side's state) at the
-    two bracket ends give a positive and a negative eigenvalue, beyond the zero tolerance,
-    and the refined limit lies inside the bracket, where the eigenvalue changes sign across
-    it (checked 1e-2 of the bracket to either side)."""
+def test_following_with_contact_reports_no_unbracketed_limit(relaxed):
+    """Following the relaxed ring with contact from mu = 0.9 down to 0.7 (steps of 0.05,
+    halved where they leave the branch): every state on the recorded path is an
+    equilibrium of the same branch, and a limit is reported only with a bracket whose two
+    ends, recomputed here by fresh relaxations along the recorded path, have eigenvalues of
+    opposite sign beyond the zero tolerance; with no limit, no recorded state is unstable."""
     rod, st, _ = relaxed
-    side = _side(rod.copy(), st.rod, 0.9, -0.05, 0.3)
-    assert math.isfinite(side.limit), side.how
-    a, b = side.bracket
-    assert min(a, b) < side.limit < max(a, b)
-    assert side.at_limit is not None and side.at_limit.load_factor == a
-    signs = []
-    for mu in (a, b, side.limit + 0.01 * (a - b), side.limit - 0.01 * (a - b)):
-        r = rod.copy()
-        r.load_factor = 0.9
-        assert relax(r, a)[0] and relax(r, mu)[0]
-        lam, tol, _ = verdict_eigenvalue(r)
-        assert abs(lam) > tol
-        signs.append(np.sign(lam))
-    assert signs == [1, -1, 1, -1]
+    side = _side(rod.copy(), st.rod, 0.9, -0.05, 0.7)
+    lams = [p[1] for p in side.path]
+    r = rod.copy()
+    tol = verdict_eigenvalue(r)[1]
+    for mu, lam, _, energy in side.path[1:]:
+        assert relax(r, mu)[0]
+        assert r.energy() == pytest.approx(energy, rel=1e-6)  # the same branch, recomputed
+        assert np.sign(verdict_eigenvalue(r)[0]) == np.sign(lam)
+    if math.isfinite(side.limit):
+        a, b = side.bracket
+        assert side.eigenvalues[0] > tol and side.eigenvalues[1] < -tol
+        assert min(a, b) < side.limit < max(a, b) and "smooth" in side.how
+    else:
+        assert all(v > -tol for v in lams), side.how
+
+
+def test_the_crossing_probe_tells_a_smooth_crossing_from_a_jump():
+    """:func:`_crossing` on closed forms: ``f = 0.5 - mu`` crosses smoothly at 0.5; a step
+    function (+1 below 0.5, -1 above: a state leaving its branch) is a jump, as is a function
+    positive on both sides of the refined point (the unstable end reached on another branch,
+    the 64-element case of :func:`_side`'s docstring)."""
+    assert _crossing(lambda m: 0.5 - m, 0.5, 0.4, 0.6, 0.1, -0.1)[0] == "smooth"
+    assert _crossing(lambda m: 1.0 if m < 0.5 else -1.0, 0.5, 0.4, 0.6, 1.0, -1.0)[0] == "jump"
+    assert _crossing(lambda m: 1.0 if m < 0.5999 else -1.0, 0.5999, 0.4, 0.6, 1.0,
+                     -1.0)[0] == "jump"
 
 
 @pytest.mark.parametrize("call, key", [
@@ -163,6 +176,8 @@ def test_a_limit_with_contact_is_bracketed(relaxed):
     (lambda: stacked_contact_model(-1.0, 0.1, 0.1, 1.0, 1.0), "thickness"),
     (lambda: stacked_limits(_ring(), _no_contact(), start_load_factor=2.0), "start_load_factor"),
     (lambda: stacked_limits(_ring(), _no_contact(), start_load_factor=0.5), "start_load_factor"),
+    (lambda: stacked_limits(_ring(), _no_contact(), start_load_factor=math.nan),
+     "start_load_factor"),
     (lambda: stacked_limits(_ring(), (1.2, 0.8)), "no_contact"),
     (lambda: stacked_limits(_ring(), _no_contact(), scan_steps=0), "scan_steps"),
     (lambda: stacked_limits(_ring(), _no_contact(), window=-1.0), "window"),
