@@ -9,6 +9,33 @@ the limiting mode (harmonics of ``u_3`` and ``u_r``, gap change), the state on t
 (smallest gap over dhat, mean contact line load, energy above the coincident ring) and the
 time.
 
+Measured 2026-12-05 (circle, b1 = 1, b2 = 0.75; limits in (L / 2 pi) kappa_n; "end": Newton
+failed 0.003 in mu past the last stable state, no sign change; "jump": the eigenvalue jumped,
+no limit reported). No contact: eq. (3.3) 2.1472 .. 3.8593; this routine 2.1419 .. 3.8643 at
+16 elements per loop, 2.1457 .. 3.8608 at 32 (modes j = 2 and j = 4, smooth crossings).
+
+===== ==== ====== ===================================== ====================================
+el.   h/L  dhat/h lower (mode)                          upper
+===== ==== ====== ===================================== ====================================
+32    0.01 0.2    1.7085 (u3 j=1, gap change 0.78)      jump at 4.05
+32    0.01 0.1    1.5808 (u3 j=2 / ur j=4, 0.48)        end at 4.35
+32    0.01 0.05   1.7361 (u3 j=1, 0.63)                 4.0624 (u3 j=5 / ur j=4, 0.43)
+16    0.01 0.2    1.5608 (u3 j=1, 0.78)                 end at 4.18
+16    0.01 0.1    1.6037 (u3 j=1, 0.57)                 end at 4.24
+16    0.01 0.05   end at 1.55                           end at 4.24
+16    0.005 0.2   1.3611 (u3 j=2 / ur j=2, 0.22)        end at 4.38
+16    0.005 0.1   1.3560 (u3 j=2 / ur j=2, 0.22)        end at 4.44
+16    0.005 0.05  start (mu = 1) unstable: eigenvalue -4.4e-6
+===== ==== ====== ===================================== ====================================
+
+On the lower side the near-planar stacked ring does not lose stability at 2.147: past it the
+ring deflects out of its plane continuously (32 el., h/L 0.01, dhat 0.1 h: largest |z| 1.6 h
+at 2.14, 2.9 h at 1.79, 5.6 h at 1.57), the stacking acting as an imperfection of the j = 2
+bifurcation, and that buckled branch loses stability where the table says. Not converged in
+dhat, h or the mesh. Rectangle h/t = 2 (16 el., h/L 0.01): no contact 1.4702 .. 4.7202
+(eq. 3.3: 1.4834 .. 4.7149); dhat 0.2 h: lower 2.7409 (ur j=1 / u3 j=2, mostly in-plane),
+upper end at 5.00; dhat 0.1 h: the start at mu = 1 is unstable (-1.1e-6).
+
 Run: ``OMP_NUM_THREADS=1 PYTHONPATH=src python benchmarks/stacked_limits.py [elements]
 [shape[:h/L,h/L...]] ...`` (shape: circle, rect2; default thicknesses 0.02, 0.01, 0.005).
 1-5 min per run at 32 elements per loop (steps are halved where they leave the branch).
