@@ -26,8 +26,8 @@ L)^2`` and the height as ``h`` (tests): the planar held state is the thin limit.
 Contact model (the rule, :func:`stacked_contact_model`): capsules of radius ``h / 2``;
 ``dhat = c h`` (``c = dhat_fraction``); stiffness by
 :func:`~rodstab.nonlinear.contact.stiffness_for_line_load` from the line load scale ``B3 a /
-R0^4`` held at ``dhat / 2`` (measured loads are 0.2-0.3 of it: held within ``(0, dhat)`` all the
-same, every limit shown at several ``dhat``).
+R0^4`` held at ``dhat / 2`` (measured mean loads over the loaded nodes: 0.3-0.4 of it, peaks up
+to 3 times it; held within ``(0, dhat)`` all the same, every limit shown at several ``dhat``).
 
 The sliding mode. A uniform closed ring has the same energy when its material slides along its
 own centreline, contact included (the gaps do not change). On the coincident circle sliding is
@@ -42,10 +42,18 @@ rings only.
 Limits (:func:`stacked_limits`): the equilibrium is followed in ``mu`` from a stable ``mu``
 inside the no-contact interval, re-relaxed at each step from the previous state, in steps of
 1/:data:`SCAN_STEPS` of the no-contact interval's width, out to :data:`WINDOW_WIDTHS` widths
-beyond each no-contact limit; each first sign change of the verdict eigenvalue is refined by
-:func:`rodstab.numerics.refine_root` (every evaluation relaxed from the stable side's state);
-a failed Newton (no equilibrium nearby: a fold, or the strands parting) ends the branch and is
-reported as such, never as a limit.
+beyond each no-contact limit. A step landing on an unstable state, or where Newton fails, is
+halved (:data:`HALVINGS` times) so the bracket is tight and reached along the branch; its sign
+change is refined by :func:`rodstab.numerics.refine_root` (each evaluation relaxed from the
+stable end) and probed on both sides (:func:`_crossing`): only a smooth crossing is reported
+as a limit. A jump of the eigenvalue, or a Newton failure (no equilibrium near the last one:
+a fold, or the strands rearranging), ends the branch and is reported as such, never as a
+limit.
+
+Results (``benchmarks/stacked_limits.py``, its docstring's table): neither no-contact limit of
+the circular 3-loop ring is kept -- both critical modes (``j = 2``, ``j = 4``, not multiples of
+``N``) move the layers at one azimuth relative to one another -- but the limits with contact
+are not converged in ``dhat``, ``h`` or the mesh.
 """
 
 from __future__ import annotations
@@ -60,7 +68,6 @@ from ..errors import RodstabInputError, require_positive, require_positive_int
 from ..model import Assembly
 from ..nonlinear.contact import (
     ContactModel,
-    Interpenetration,
     contact_energy,
     mesh_of_rod,
     stiffness_for_line_load,
@@ -231,10 +238,9 @@ def _tributary(rod: DiscreteRod) -> np.ndarray:
 def relax(rod: DiscreteRod, load_factor: float) -> tuple[bool, int, float]:
     """Newton at ``load_factor`` from the rod's current state, in place (contact filtered)."""
     rod.load_factor = float(load_factor)
-    try:
-        return newton(rod, max_iter=RELAX_MAX_ITER)
-    except Interpenetration:  # only a start outside the model raises: not ours to hide
-        raise
+    # A start outside the contact model raises Interpenetration (naming the pair): bad input,
+    # not hidden here; trials outside it are rejected inside Newton.
+    return newton(rod, max_iter=RELAX_MAX_ITER)
 
 
 def describe(rod: DiscreteRod, start: DiscreteRod, ok: bool, its: int, res: float
@@ -500,6 +506,7 @@ def _side(rod: DiscreteRod, start: DiscreteRod, mu0: float, step: float, end: fl
                                 f"eigenvalue {lam_prev:.3g}, tolerance {tol:.3g})")
     mu_prev = mu0
     path = [(mu0, lam_prev, float(np.max(np.abs(prev.x[:, 2]))), prev.energy())]
+    info = (0, float(np.max(np.abs(prev.gradient()[prev.free_dofs()]))))  # its, residual
     h, halvings = step, 0
     while (end - mu_prev) * np.sign(step) > 1e-12 * abs(step):
         if len(path) > MAX_STATES:
@@ -521,7 +528,7 @@ def _side(rod: DiscreteRod, start: DiscreteRod, mu0: float, step: float, end: fl
                              f"Newton failed at mu = {mu:.6g} ({its} iterations, residual "
                              f"{res:.3g}), {abs(mu - mu_prev):.3g} past the last state, before "
                              "any sign change: the branch ends (a fold, or the strands part); "
-                             "no limit reported", describe(prev, start, True, 0, 0.0), None,
+                             "no limit reported", describe(prev, start, True, *info), None,
                              tuple(path))
         path.append((mu, lam, float(np.max(np.abs(trial.x[:, 2]))), trial.energy()))
         if lam < -tol:
@@ -543,9 +550,9 @@ def _side(rod: DiscreteRod, start: DiscreteRod, mu0: float, step: float, end: fl
             except BranchEnded as exc:
                 x, how = math.nan, f"bracketed, but the refinement failed: {exc}"
             return SideLimit(x, (mu_prev, mu), (lam_prev, lam), math.nan, mu, how,
-                             describe(prev, start, True, 0, 0.0),
+                             describe(prev, start, True, *info),
                              mode_shape(trial, verdict_mode(trial)[3]), tuple(path))
-        prev, lam_prev, mu_prev = trial, lam, mu
+        prev, lam_prev, mu_prev, info = trial, lam, mu, (its, res)
         if halvings and lam > tol:  # back towards the scan step
             h, halvings = 2.0 * h, halvings - 1
     return SideLimit(math.nan, (math.nan, math.nan), (math.nan, math.nan), math.nan, mu_prev,
