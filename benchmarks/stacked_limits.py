@@ -20,6 +20,10 @@ el.   h/L  dhat/h lower (mode)                          upper
 32    0.01 0.2    1.7085 (u3 j=1, gap change 0.78)      jump at 4.05
 32    0.01 0.1    1.5808 (u3 j=2 / ur j=4, 0.48)        end at 4.35
 32    0.01 0.05   1.7361 (u3 j=1, 0.63)                 4.0624 (u3 j=5 / ur j=4, 0.43)
+32    0.005 0.2   end at 0.99 (no sign change)          4.2568 (ur j=1, in-plane, 1.01)
+32    0.005 0.1   end at 0.84 (no sign change)          end at 4.39
+32    0.005 0.05  1.6294 (u3 j=1, 0.79)                 4.3303 (ur j=1 / u3 j=4, 1.08)
+64    0.01 0.1    end at 0.87 (no sign change)          end at 4.39
 16    0.01 0.2    1.5608 (u3 j=1, 0.78)                 end at 4.18
 16    0.01 0.1    1.6037 (u3 j=1, 0.57)                 end at 4.24
 16    0.01 0.05   end at 1.55                           end at 4.24
@@ -31,8 +35,11 @@ el.   h/L  dhat/h lower (mode)                          upper
 On the lower side the near-planar stacked ring does not lose stability at 2.147: past it the
 ring deflects out of its plane continuously (32 el., h/L 0.01, dhat 0.1 h: largest |z| 1.6 h
 at 2.14, 2.9 h at 1.79, 5.6 h at 1.57), the stacking acting as an imperfection of the j = 2
-bifurcation, and that buckled branch loses stability where the table says. Not converged in
-dhat, h or the mesh. Rectangle h/t = 2 (16 el., h/L 0.01): no contact 1.4702 .. 4.7202
+bifurcation, and that buckled branch loses stability where the table says, or ends. Not
+converged in dhat, h or the mesh. On the upper side the near-planar ring (largest |z| still
+~1.3 h) stays stable past 3.859 to 4.06 .. 4.44 (every run), where it loses stability to a
+gap-changing mode or its branch ends. (Before steps were halved where they leave the branch,
+a full step at 64 el. landed on another, unstable branch at 2.715 and gave a false limit.) Rectangle h/t = 2 (16 el., h/L 0.01): no contact 1.4702 .. 4.7202
 (eq. 3.3: 1.4834 .. 4.7149); dhat 0.2 h: lower 2.7409 (ur j=1 / u3 j=2, mostly in-plane),
 upper end at 5.00; dhat 0.1 h: the start at mu = 1 is unstable (-1.1e-6).
 
