@@ -39,7 +39,9 @@ bifurcation, and that buckled branch loses stability where the table says, or en
 converged in dhat, h or the mesh. On the upper side the near-planar ring (largest |z| still
 ~1.3 h) stays stable past 3.859 to 4.06 .. 4.44 (every run), where it loses stability to a
 gap-changing mode or its branch ends. (Before steps were halved where they leave the branch,
-a full step at 64 el. landed on another, unstable branch at 2.715 and gave a false limit.) Rectangle h/t = 2 (16 el., h/L 0.01): no contact 1.4702 .. 4.7202
+a full step at 64 el. landed on another, unstable branch at 2.715 and gave a false limit.)
+
+Rectangle h/t = 2 (16 el., h/L 0.01): no contact 1.4702 .. 4.7202
 (eq. 3.3: 1.4834 .. 4.7149); dhat 0.2 h: lower 2.7409 (ur j=1 / u3 j=2, mostly in-plane),
 upper end at 5.00; dhat 0.1 h: the start at mu = 1 is unstable (-1.1e-6).
 
