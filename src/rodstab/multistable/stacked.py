@@ -1,0 +1,648 @@
+"""N-loop rings held with contact, and their stability limits with contact (issue 21, parts 2-3).
+
+The stacked state of :func:`~.stacking.stack_loops` (the ``(N, 1)`` torus curve at thickness
+``h`` and gap ``g0``) is relaxed with the contact model of :mod:`rodstab.nonlinear.contact`
+switched on, by Newton at load factor ``mu`` (natural curvature ``mu kappa_n``; the ring's units
+``R0 = B3 = 1``, so ``mu = R0 kappa_n`` and ``(L / 2 pi) kappa_n = N mu``), and its stability is
+the sign of the lowest eigenvalue of the unprojected rod + contact Hessian (the verdict of
+:func:`~rodstab.nonlinear.stability.stability_eigenvalues`, absolute coordinates, with its zero
+tolerance :func:`~rodstab.nonlinear.stability.zero_eigenvalue_tol`).
+
+What holds the strands together. The torus curve is the coincident ring plus its Fourier mode
+``j = 1`` (``u_r = a cos(theta / N)``, ``u_3 = a sin(theta / N)``, ``theta`` the angle along
+all ``N`` loops). Inside the no-contact interval that mode is stable (eq. 3.3: ``M < M^-(k =
+1/N)``, 0.560 for the circle at ``N = 3``), so the rod's energy rises as ``a^2`` and the
+strands press on one another even at zero natural-curvature mismatch (``mu = 1``): each is
+pushed towards the bundle's axis with a line load ``p ~ s(M) B3 a / R0^4``, ``s`` the mode's
+stiffness, which vanishes at ``M = M^-(1/N)``; there the strands would part.
+
+What it relaxes to (measured, circle, ``N = 3``, ``mu = 1``, 32 elements per loop, ``h / L =
+0.01``, ``dhat = 0.1 h``): not the torus curve. The strands settle into layers (largest
+``|z|`` 1.3 h against the torus's ``a`` = 0.64 h) that change over in a crossing region, with
+contact on ~70 % of the nodes and line loads from ~0 to 3.5 times their mean; energy 0.032
+``B3 / R0`` above the coincident ring (the torus start: 0.077). The excess falls as ``(h /
+L)^2`` and the height as ``h`` (tests): the planar held state is the thin limit.
+
+Contact model (the rule, :func:`stacked_contact_model`): capsules of radius ``h / 2``;
+``dhat = c h`` (``c = dhat_fraction``); stiffness by
+:func:`~rodstab.nonlinear.contact.stiffness_for_line_load` from the line load scale ``B3 a /
+R0^4`` held at ``dhat / 2`` (measured mean loads over the loaded nodes: 0.3-0.4 of it, peaks up
+to 3 times it; held within ``(0, dhat)`` all the same, every limit shown at several ``dhat``).
+
+The sliding mode. A uniform closed ring has the same energy when its material slides along its
+own centreline, contact included (the gaps do not change). On the coincident circle sliding is
+a rigid rotation, which the gauge removes; on the torus curve it is not (the strands' triangle
+turns), so it is a zero mode of the continuum and a near-zero one, of either sign, of the
+discrete rod (measured: it is the lowest mode, cosine 0.8-0.95 with :func:`ring_sliding_field`,
+eigenvalue -2.4e-8 .. +2.5e-8 at 32 elements per loop). It is left out of the verdict by
+Rayleigh-Ritz on the lowest :data:`RITZ_MODES` eigenvectors, orthogonal to it
+(:func:`verdict_eigenvalue`); :class:`~rodstab.nonlinear.stability` does this for one-segment
+rings only.
+
+Limits (:func:`stacked_limits`): the equilibrium is followed in ``mu`` from a stable ``mu``
+inside the no-contact interval, re-relaxed at each step from the previous state, in steps of
+1/:data:`SCAN_STEPS` of the no-contact interval's width, out to :data:`WINDOW_WIDTHS` widths
+beyond each no-contact limit. A step landing on an unstable state, or where Newton fails, is
+halved (:data:`HALVINGS` times) so the bracket is tight and reached along the branch; its sign
+change is refined by :func:`rodstab.numerics.refine_root` (each evaluation relaxed from the
+stable end) and probed on both sides (:func:`_crossing`): only a smooth crossing is reported
+as a limit. A jump of the eigenvalue, or a Newton failure (no equilibrium near the last one:
+a fold, or the strands rearranging), ends the branch and is reported as such, never as a
+limit.
+
+Results (``benchmarks/stacked_limits.py``, its docstring's table): neither no-contact limit of
+the circular 3-loop ring is kept -- both critical modes (``j = 2``, ``j = 4``, not multiples of
+``N``) move the layers at one azimuth relative to one another -- but the limits with contact
+are not converged in ``dhat``, ``h`` or the mesh.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Callable
+
+import numpy as np
+
+from ..errors import RodstabInputError, require_positive, require_positive_int
+from ..model import Assembly
+from ..nonlinear.contact import (
+    ContactModel,
+    contact_energy,
+    mesh_of_rod,
+    stiffness_for_line_load,
+)
+from ..nonlinear.discrete import DiscreteRod, discretise
+from ..nonlinear.newton import newton
+from ..nonlinear.stability import uses_kirchhoff, vee_log, zero_eigenvalue_tol
+from ..numerics import jacobi_scaling, lowest_eigenpairs, refine_root
+from ..results import Result
+from .stacking import StackedState, _pair_gaps, _where, stack_loops
+
+#: Newton iterations allowed per relaxation (the first, from the torus curve, took 58 at 32
+#: elements per loop: the strands settle onto the barrier, each step cut by the filter).
+RELAX_MAX_ITER = 200
+#: ``g0`` of the start, as a fraction of ``dhat``: inside the barrier, so that the strands are
+#: held from the first step.
+START_GAP_FRACTION = 0.5
+#: Lowest eigenpairs on which the sliding mode is removed by Rayleigh-Ritz.
+RITZ_MODES = 6
+#: The sliding field counts when more than this fraction of its norm lies in their span.
+SLIDING_SPAN = 0.5
+#: ... and when, after the gauge correction, more than this fraction of it is left (on the
+#: circle sliding is the gauged rigid rotation: no mode).
+SLIDING_RATIO = 1e-3
+#: Scan steps per width of the no-contact interval, and the search window beyond each of its
+#: ends, in widths.
+SCAN_STEPS = 12
+WINDOW_WIDTHS = 1.0
+#: Relaxed states followed per side at most (halved steps included); past it the search
+#: stops and says where.
+MAX_STATES = 80
+#: Refinement of a bracketed limit, relative to the bracket (Brent: ~8 relaxations).
+ROOT_RTOL = 1e-3
+#: A limit is probed this fraction of its bracket either side (:func:`_crossing`): a jump
+#: keeps there at least this fraction of the bracket's larger eigenvalue.
+JUMP_PROBE = 1e-2
+JUMP_FRACTION = 0.3
+#: Halvings of a scan step that lands on an unstable state or fails (:func:`_side`).
+HALVINGS = 4
+
+
+class BranchEnded(RodstabInputError):
+    """Newton found no equilibrium near the previous one (the followed branch ends)."""
+
+
+# ---------------------------------------------------------------- the model and the state
+def line_load_scale(a: float, R0: float, B3: float) -> float:
+    """``B3 a / R0^4`` (force / length): the scale of the line load holding the strands."""
+    return B3 * a / R0**4
+
+
+def stacked_contact_model(thickness: float, dhat_fraction: float, a: float, R0: float,
+                          B3: float) -> ContactModel:
+    """Contact model of the rule (module doc): ``dhat = c h``, load ``B3 a / R0^4`` at ``dhat/2``.
+
+    Parameters
+    ----------
+    thickness : float
+        ``h`` (length): capsule diameter.
+    dhat_fraction : float
+        ``c = dhat / h`` in (0, 1).
+    a, R0, B3 : float
+        Strand circumradius and loop radius (length), bending stiffness (force length^2).
+    """
+    h = require_positive("thickness", thickness)
+    c = require_positive("dhat_fraction", dhat_fraction)
+    if c >= 1.0:
+        raise RodstabInputError(f"dhat_fraction must be below 1 (dhat < h), got {dhat_fraction!r}")
+    dhat = c * h
+    kappa = stiffness_for_line_load(line_load_scale(a, R0, B3), dhat, 0.5)
+    return ContactModel.from_thickness(h, dhat=dhat, stiffness=kappa)
+
+
+def stacked_ring(a: Assembly, *, thickness_ratio: float, elements_per_loop: int,
+                 dhat_fraction: float, load_factor: float = 1.0
+                 ) -> tuple[DiscreteRod, StackedState]:
+    """Return the stacked N-loop ring with its contact model set, at ``load_factor`` (unrelaxed).
+
+    ``a``: the N-loop ring (``rodstab.problems.ring.build``: one segment per loop, ``R0 = B3
+    = 1``); ``thickness_ratio = h / L``; ``g0 = START_GAP_FRACTION dhat``. Returns the rod
+    (with ``rod.contact``) and the :class:`~.stacking.StackedState` it was built from.
+    """
+    hL = require_positive("thickness_ratio", thickness_ratio)
+    n = require_positive_int("elements_per_loop", elements_per_loop)
+    c = require_positive("dhat_fraction", dhat_fraction)
+    if c >= 1.0:
+        raise RodstabInputError(f"dhat_fraction must be below 1 (dhat < h), got {dhat_fraction!r}")
+    h = hL * a.total_length
+    coincident = discretise(a, n, load_factor)
+    st = stack_loops(coincident, h, START_GAP_FRACTION * c * h)
+    assert st.torus is not None
+    rod = st.rod.copy()
+    rod.load_factor = load_factor
+    B3 = float(np.max(rod.edge_B[:, 2]))
+    rod.contact = mesh_of_rod(rod, stacked_contact_model(h, c, st.torus.a, st.torus.R0, B3))
+    return rod, st
+
+
+@dataclasses.dataclass(frozen=True)
+class StackedEquilibrium(Result):
+    """A relaxed stacked ring at one load factor (contact on), with its verdict.
+
+    Attributes
+    ----------
+    load_factor : float
+        ``mu``; ``(L / 2 pi) kappa_n = N mu``.
+    converged : bool
+        Newton converged (never True otherwise); ``iterations``, ``residual`` (free gradient).
+    min_gap, min_gap_where : float, str
+        Smallest capsule gap (length) and the two elements where.
+    dhat : float
+        The barrier's activation distance (length).
+    contact_total : float
+        Sum over nodes of ``|f|`` (force): every contact force counted on both bodies.
+    line_load_mean, line_load_min, line_load_max : float
+        Net contact force per node over its tributary length (force / length), over the nodes
+        within ``dhat`` of another strand (the rest carry none).
+    loaded_fraction : float
+        Fraction of the nodes carrying a contact force.
+    energy, energy_coincident : float
+        Energy of the relaxed state (rod + contact) and of the coincident planar held state
+        at the same ``mu`` (force length).
+    max_move : float
+        Largest node distance from the torus-curve start (length).
+    max_height : float
+        Largest ``|z|`` of a node (length): ``a`` on the torus curve.
+    lowest_eigenvalue, zero_tol : float
+        The verdict eigenvalue (sliding mode left out, :func:`verdict_eigenvalue`) and the
+        tolerance below which it counts as zero; ``stable`` = converged and above it.
+    sliding_removed : bool
+        Whether the sliding field was found among the lowest modes and left out.
+    """
+
+    load_factor: float
+    converged: bool
+    iterations: int
+    residual: float
+    min_gap: float
+    min_gap_where: str
+    dhat: float
+    contact_total: float
+    line_load_mean: float
+    line_load_min: float
+    line_load_max: float
+    loaded_fraction: float
+    energy: float
+    energy_coincident: float
+    max_move: float
+    max_height: float
+    lowest_eigenvalue: float
+    zero_tol: float
+    stable: bool
+    sliding_removed: bool
+
+
+def contact_forces(rod: DiscreteRod) -> np.ndarray:
+    """Contact force on every node (n_nodes, 3), lab frame: minus the contact gradient."""
+    if rod.contact is None:
+        return np.zeros_like(rod.x)
+    return -contact_energy(rod.contact, rod.x)[1].reshape(-1, 3)
+
+
+def _tributary(rod: DiscreteRod) -> np.ndarray:
+    return np.bincount(rod.edge_nodes.ravel(), weights=np.repeat(0.5 * rod.rest_length, 2),
+                       minlength=len(rod.x))
+
+
+def relax(rod: DiscreteRod, load_factor: float) -> tuple[bool, int, float]:
+    """Newton at ``load_factor`` from the rod's current state, in place (contact filtered)."""
+    rod.load_factor = float(load_factor)
+    # A start outside the contact model raises Interpenetration (naming the pair): bad input,
+    # not hidden here; trials outside it are rejected inside Newton.
+    return newton(rod, max_iter=RELAX_MAX_ITER)
+
+
+def describe(rod: DiscreteRod, start: DiscreteRod, ok: bool, its: int, res: float
+             ) -> StackedEquilibrium:
+    """Gaps, contact forces, energies and the verdict of a relaxed stacked ring."""
+    mu = rod.load_factor
+    model = rod.contact.model if rod.contact is not None else None
+    if model is not None:
+        P, g = _pair_gaps(rod, model)
+        k = int(np.argmin(g)) if len(g) else -1
+        gmin = float(g[k]) if len(g) else math.inf
+        where = f"{_where(rod, int(P[k, 0]))} and {_where(rod, int(P[k, 1]))}" if len(g) else \
+            "no pair within reach"
+        dhat = model.dhat
+    else:
+        gmin, where, dhat = math.nan, "no contact model", math.nan
+    f = contact_forces(rod)
+    fn = np.linalg.norm(f, axis=1)
+    loaded = fn > 1e-12 * max(float(fn.max()), 1e-300)
+    q = fn / _tributary(rod)
+    coincident = discretise(rod.assembly, len(rod.R_edge) // len(rod.assembly.segments), mu)
+    lam, tol, slid = verdict_eigenvalue(rod)
+    return StackedEquilibrium(
+        load_factor=mu, converged=ok, iterations=its, residual=res, min_gap=gmin,
+        min_gap_where=where, dhat=dhat, contact_total=float(fn.sum()),
+        line_load_mean=float(q[loaded].mean()) if loaded.any() else 0.0,
+        line_load_min=float(q[loaded].min()) if loaded.any() else 0.0,
+        line_load_max=float(q[loaded].max()) if loaded.any() else 0.0,
+        loaded_fraction=float(loaded.mean()), energy=rod.energy(),
+        energy_coincident=coincident.energy(),
+        max_move=float(np.max(np.linalg.norm(rod.x - start.x, axis=1))),
+        max_height=float(np.max(np.abs(rod.x[:, 2]))), lowest_eigenvalue=lam, zero_tol=tol,
+        stable=bool(ok and lam > tol), sliding_removed=slid)
+
+
+# ---------------------------------------------------------------- the verdict
+def ring_sliding_field(rod: DiscreteRod) -> np.ndarray | None:
+    """Material sliding along a closed ring whose edges run in one cycle (free unknowns).
+
+    As :func:`rodstab.nonlinear.stability.sliding_mode` (central differences: nodes along the
+    cycle, edge frames half their relative rotations, joint frames between their two edges),
+    for rings of several welded segments; the rigid motion that restores the gauge (joint 0)
+    is removed. None when the edges do not form one cycle in index order, or when what is
+    left is below :data:`SLIDING_RATIO` of the field (a circle: sliding is rigid).
+    """
+    E = rod.edge_nodes
+    if not np.array_equal(E[:, 1], np.roll(E[:, 0], -1)) or not rod.fixed_joints \
+            or not rod.fixed_nodes:
+        return None
+    nodes = E[:, 0]
+    x = rod.x[nodes]
+    dx = 0.5 * (np.roll(x, -1, axis=0) - np.roll(x, 1, axis=0))
+    R = rod.R_edge
+    RT = np.swapaxes(R, 1, 2)
+    dphi = 0.5 * (vee_log(RT @ np.roll(R, -1, axis=0)) - vee_log(RT @ np.roll(R, 1, axis=0)))
+    starts = {j: e for e, j, _, end in rod.end_links if end == "start"}
+    ends = {j: e for e, j, _, end in rod.end_links if end == "end"}
+    dJ = {j: vee_log(rod.R_joint[j].T @ R[e]) - vee_log(rod.R_joint[j].T @ R[ends[j]])
+          for j, e in starts.items()}
+
+    def sin_scaled(v: np.ndarray) -> np.ndarray:
+        # As in sliding_mode: the circle's central difference is then exactly rigid.
+        th = np.linalg.norm(v, axis=-1, keepdims=True)
+        return v * np.where(th < 1e-12, 1.0, np.sin(th) / np.where(th < 1e-12, 1.0, th))
+
+    dphi = sin_scaled(dphi)
+    J0, n0 = rod.fixed_joints[0], rod.fixed_nodes[0]
+    i0 = np.flatnonzero(nodes == n0)
+    if J0 not in dJ or not len(i0):
+        return None
+    dJ = {j: sin_scaled(v) for j, v in dJ.items()}
+    t, w = dx[int(i0[0])], rod.R_joint[J0] @ dJ[J0]
+    v = np.zeros(rod.n_dof)
+    for i, nd in enumerate(nodes):
+        v[rod.node_dofs(nd)] = dx[i] - t - np.cross(w, rod.x[nd] - rod.x[n0])
+    for e in range(len(R)):
+        v[rod.edge_dofs(e)] = dphi[e] - R[e].T @ w
+    for j, d in dJ.items():
+        v[rod.joint_dofs(j)] = d - rod.R_joint[j].T @ w
+    raw = math.sqrt(float(np.sum(dx**2) + np.sum(dphi**2)))
+    vf = v[rod.free_dofs()]
+    return vf if np.linalg.norm(vf) > SLIDING_RATIO * raw else None
+
+
+def verdict_eigenvalue(rod: DiscreteRod) -> tuple[float, float, bool]:
+    """Lowest eigenvalue of the Jacobi-scaled free Hessian (rod + contact), sliding left out.
+
+    The scaled Hessian ``A = D H D`` of :func:`~rodstab.nonlinear.stability.lowest_modes`
+    (same inertia as ``H``, Sylvester); its :data:`RITZ_MODES` lowest eigenpairs ``A V = V
+    Lambda``; the sliding field in the same coordinates ``z = D^-1 s / |D^-1 s|``. When more
+    than :data:`SLIDING_SPAN` of ``z`` lies in the span of ``V``, the verdict is the lowest
+    Ritz value of ``A`` on the part of that span orthogonal to ``V^T z`` (by interlacing it
+    lies between the lowest two eigenvalues), else the lowest eigenvalue.
+
+    Returns
+    -------
+    lam, tol, removed : float, float, bool
+        The eigenvalue, :func:`~rodstab.nonlinear.stability.zero_eigenvalue_tol`, and whether
+        the sliding mode was left out. Meshes whose verdict the project takes in Kirchhoff
+        coordinates (``uses_kirchhoff``) are refused: not done here.
+    """
+    lam, tol, removed, _ = verdict_mode(rod)
+    return lam, tol, removed
+
+
+def verdict_mode(rod: DiscreteRod) -> tuple[float, float, bool, np.ndarray]:
+    """:func:`verdict_eigenvalue` with its mode on the free unknowns (``(n_free,)``, unscaled)."""
+    if uses_kirchhoff(rod):
+        raise RodstabInputError("verdict_eigenvalue: a mesh this fine is decided in Kirchhoff "
+                                f"coordinates, not done here ({len(rod.R_edge)} elements)")
+    free = rod.free_dofs()
+    H = rod.energy_terms()[2][free][:, free].tocsc()
+    H = 0.5 * (H + H.T)
+    d = jacobi_scaling(H)
+    A = (H.multiply(d[:, None]).multiply(d[None, :])).tocsc()
+    vals, V = lowest_eigenpairs(A, RITZ_MODES)
+    tol = zero_eigenvalue_tol(rod)
+    s = ring_sliding_field(rod)
+    z = None if s is None else s / d
+    if z is not None:
+        z /= np.linalg.norm(z)
+        c = V.T @ z
+    if z is None or np.linalg.norm(c) <= SLIDING_SPAN:
+        return float(vals[0]), tol, False, d * V[:, 0]
+    # An orthonormal basis of c's complement in R^k: the last k - 1 columns of a QR of [c | I].
+    Q = np.linalg.qr(np.column_stack([c, np.eye(len(c))]))[0][:, 1:len(c)]
+    ritz, Y = np.linalg.eigh(Q.T @ (vals[:, None] * Q))
+    return float(ritz[0]), tol, True, d * (V @ (Q @ Y[:, 0]))
+
+
+@dataclasses.dataclass(frozen=True)
+class ModeShape(Result):
+    """What a mode does (:func:`mode_shape`).
+
+    ``harmonic_out``, ``harmonic_in``: the wavenumber ``j`` (waves over the whole ring, as in
+    eq. 3.2) carrying most of the out-of-plane (``u_3``) and radial (``u_r``) displacement
+    along the traversal, with ``share_out``, ``share_in`` their share of it; ``out_of_plane``:
+    ``|u_3|^2 / |u|^2``; ``gap_change``: the largest first-order change of a centreline distance
+    between a loaded node and the nearest node of another loop, over the largest node
+    displacement (0: the mode keeps every gap; ~1: it opens or closes one as fast as it moves;
+    NaN: no contact force). Rigid motions (which the gauge mixes in) are removed first.
+    """
+
+    harmonic_out: int
+    share_out: float
+    harmonic_in: int
+    share_in: float
+    out_of_plane: float
+    gap_change: float
+
+
+def mode_shape(rod: DiscreteRod, v_free: np.ndarray, max_harmonic: int = 12) -> ModeShape:
+    """Harmonics and gap change of a mode ``v_free`` (free unknowns) of a relaxed N-loop ring."""
+    v = np.zeros(rod.n_dof)
+    v[rod.free_dofs()] = v_free
+    u = v[: 3 * len(rod.x)].reshape(-1, 3)
+    # The gauge (joint 0 held) adds a rigid motion to every mode: its harmonics j = 0, N would
+    # hide the mode's own. Remove the least-squares rigid motion t + w x (x - c).
+    c0 = rod.x.mean(axis=0)
+    r = rod.x - c0
+    Rx = np.zeros((len(r), 3, 3))
+    Rx[:, 0, 1], Rx[:, 0, 2], Rx[:, 1, 2] = r[:, 2], -r[:, 1], r[:, 0]
+    Rx = Rx - np.swapaxes(Rx, 1, 2)  # w x r = -[r]x w = Rx w
+    G = np.concatenate([np.tile(np.eye(3), (len(r), 1, 1)), Rx], axis=2).reshape(-1, 6)
+    u = u - (G @ np.linalg.lstsq(G, u.ravel(), rcond=None)[0]).reshape(-1, 3)
+    nodes = rod.edge_nodes[:, 0]
+    X = rod.x[nodes] - rod.x[nodes].mean(axis=0)
+    N = len(rod.assembly.segments)
+    theta = np.concatenate([[0.0], np.cumsum(rod.rest_length)[:-1]]) \
+        * (2 * math.pi * N / rod.assembly.total_length)
+    er = np.column_stack([X[:, 0], X[:, 1], np.zeros(len(X))])
+    er /= np.linalg.norm(er, axis=1)[:, None]
+    parts = {"out": u[nodes, 2], "in": np.einsum("ij,ij->i", u[nodes], er)}
+    res: dict[str, tuple[int, float]] = {}
+    for key, w in parts.items():
+        power = np.array([abs(np.sum(w * np.exp(-1j * j * theta / N))) ** 2 * (1 if j else 2)
+                          for j in range(max_harmonic + 1)])
+        j = int(np.argmax(power))
+        res[key] = (j, float(power[j] / max(power.sum(), 1e-300)))
+    f = np.linalg.norm(contact_forces(rod), axis=1)
+    loaded = np.flatnonzero(f > 1e-9 * max(float(f.max()), 1e-300))
+    seg = np.empty(len(rod.x), int)
+    seg[rod.edge_nodes.ravel()] = np.repeat(rod.edge_segment, 2)
+    change = math.nan if not len(loaded) else 0.0
+    for p in loaded:
+        other = np.flatnonzero(seg != seg[p])
+        q = other[int(np.argmin(np.linalg.norm(rod.x[other] - rod.x[p], axis=1)))]
+        n = rod.x[p] - rod.x[q]
+        change = max(change, abs(float((u[p] - u[q]) @ n)) / float(np.linalg.norm(n)))
+    umax = float(np.max(np.linalg.norm(u, axis=1)))
+    return ModeShape(res["out"][0], res["out"][1], res["in"][0], res["in"][1],
+                     float(np.sum(u[:, 2] ** 2) / max(np.sum(u**2), 1e-300)),
+                     change / max(umax, 1e-300))
+
+
+# ---------------------------------------------------------------- following and limits
+@dataclasses.dataclass(frozen=True)
+class SideLimit(Result):
+    """One side of the stable interval with contact.
+
+    ``limit``: the refined load factor (NaN when none was bracketed); ``bracket``: the two
+    scan loads with eigenvalues of opposite sign (``eigenvalues``); ``branch_end``: the first
+    load where Newton failed, if the branch ended before a sign change (NaN otherwise);
+    ``searched_to``: the last load reached; ``how``: a sentence; ``at_limit``: the state just on
+    the stable side of the bracket, described; ``mode``: the verdict mode on the unstable side
+    of the bracket (:func:`mode_shape`); ``path``: ``(mu, verdict eigenvalue, largest |z|,
+    energy)`` of every state followed (a jump to another branch shows as a jump of the last
+    two).
+    """
+
+    limit: float
+    bracket: tuple[float, float]
+    eigenvalues: tuple[float, float]
+    branch_end: float
+    searched_to: float
+    how: str
+    at_limit: StackedEquilibrium | None
+    mode: ModeShape | None = None
+    path: tuple[tuple[float, float, float, float], ...] = ()
+
+
+@dataclasses.dataclass(frozen=True)
+class StackedLimits(Result):
+    """Stable interval of an N-loop ring's load factor, with or without contact.
+
+    ``lower``, ``upper``: :class:`SideLimit` in ``mu`` (``(L / 2 pi) kappa_n = N mu``);
+    ``no_contact``: the interval without contact that set the scan (eq. 3.3, given by the
+    caller); ``start``: the relaxed state the search started from; ``step``: the scan step in
+    ``mu``.
+    """
+
+    loops: int
+    thickness_ratio: float
+    elements_per_loop: int
+    dhat_fraction: float
+    contact: bool
+    no_contact: tuple[float, float]
+    step: float
+    start: StackedEquilibrium
+    lower: SideLimit
+    upper: SideLimit
+
+
+def _side(rod: DiscreteRod, start: DiscreteRod, mu0: float, step: float, end: float
+          ) -> SideLimit:
+    """Follow from ``mu0`` by ``step`` to ``end``; bracket and refine the first sign change.
+
+    A state counts as stable when its verdict eigenvalue is above the zero tolerance and as
+    unstable below minus it (states between: followed, neutral to the verdict). A step that
+    lands on an unstable state, or where Newton fails, is halved (from the same state) up to
+    :data:`HALVINGS` times, so that the bracket is tight and its unstable end is reached
+    from a state on the branch a small step away: Newton finds any equilibrium, and a full
+    step can land on another branch (measured: 64 elements per loop, h / L = 0.01, the state
+    at (L/2pi) kappa_n = 2.715 reached from 2.857 had twice the energy and eigenvalue
+    -5.4e-6, while every state relaxed from 2.857 up to 2.7148 was stable). The refined limit
+    is then probed (:func:`_crossing`): only a smooth crossing is a limit; a jump is reported
+    as the branch ending there.
+    """
+    prev = rod.copy()  # the last state followed (stable or neutral)
+    lam_prev, tol, _ = verdict_eigenvalue(prev)
+    if not lam_prev > tol:
+        raise RodstabInputError(f"_side: the state at mu = {mu0!r} is not stable (verdict "
+                                f"eigenvalue {lam_prev:.3g}, tolerance {tol:.3g})")
+    mu_prev = mu0
+    path = [(mu0, lam_prev, float(np.max(np.abs(prev.x[:, 2]))), prev.energy())]
+    info = (0, float(np.max(np.abs(prev.gradient()[prev.free_dofs()]))))  # its, residual
+    h, halvings = step, 0
+    while (end - mu_prev) * np.sign(step) > 1e-12 * abs(step):
+        if len(path) > MAX_STATES:
+            return SideLimit(math.nan, (math.nan, math.nan), (math.nan, math.nan), math.nan,
+                             mu_prev, f"search stopped at mu = {mu_prev:.6g} after {MAX_STATES} "
+                             "states (steps halved where they left the branch): no sign "
+                             "change up to there", None, None, tuple(path))
+        mu = mu_prev + h
+        if (mu - end) * np.sign(step) > 0:
+            mu = end
+        trial = prev.copy()
+        ok, its, res = relax(trial, mu)
+        lam = verdict_eigenvalue(trial)[0] if ok else math.nan
+        if (not ok or lam < -tol) and halvings < HALVINGS:
+            h, halvings = 0.5 * h, halvings + 1
+            continue
+        if not ok:
+            return SideLimit(math.nan, (mu_prev, mu), (lam_prev, math.nan), mu, mu_prev,
+                             f"Newton failed at mu = {mu:.6g} ({its} iterations, residual "
+                             f"{res:.3g}), {abs(mu - mu_prev):.3g} past the last state, before "
+                             "any sign change: the branch ends (a fold, or the strands part); "
+                             "no limit reported", describe(prev, start, True, *info), None,
+                             tuple(path))
+        path.append((mu, lam, float(np.max(np.abs(trial.x[:, 2]))), trial.energy()))
+        if lam < -tol:
+            stable_side = prev.copy()
+
+            def f(m: float, stable_side: DiscreteRod = stable_side) -> float:
+                r = stable_side.copy()
+                ok_m = relax(r, m)[0]
+                if not ok_m:
+                    raise BranchEnded(f"Newton failed at mu = {m!r} inside the bracket")
+                return verdict_eigenvalue(r)[0]
+
+            try:
+                x = refine_root(f, mu_prev, mu, rel_xtol=ROOT_RTOL)
+                kind, words = _crossing(f, x, mu_prev, mu, lam_prev, lam)
+                how = f"sign change bracketed (width {abs(mu - mu_prev):.3g}), refined: {words}"
+                if kind != "smooth":
+                    x = math.nan
+            except BranchEnded as exc:
+                x, how = math.nan, f"bracketed, but the refinement failed: {exc}"
+            return SideLimit(x, (mu_prev, mu), (lam_prev, lam), math.nan, mu, how,
+                             describe(prev, start, True, *info),
+                             mode_shape(trial, verdict_mode(trial)[3]), tuple(path))
+        prev, lam_prev, mu_prev, info = trial, lam, mu, (its, res)
+        if halvings and lam > tol:  # back towards the scan step
+            h, halvings = 2.0 * h, halvings - 1
+    return SideLimit(math.nan, (math.nan, math.nan), (math.nan, math.nan), math.nan, mu_prev,
+                     f"no sign change up to mu = {mu_prev:.6g} (the search window)", None,
+                     None, tuple(path))
+
+
+def _crossing(f: Callable[[float], float], x: float, a: float, b: float, lam_a: float,
+              lam_b: float) -> tuple[str, str]:
+    """Say whether the verdict eigenvalue crosses zero smoothly at ``x`` in ``[a, b]``.
+
+    ``f`` (the verdict eigenvalue, stable side ``a``) at ``x`` moved :data:`JUMP_PROBE` of the
+    bracket towards each end (clamped inside): a smooth crossing has the signs of the ends
+    there and values below :data:`JUMP_FRACTION` of the larger end value; otherwise the
+    eigenvalue jumps (the state leaves the branch, or a contact zone switches) and ``kind`` is
+    ``"jump"``. Returns ``(kind, sentence)``.
+    """
+    d = JUMP_PROBE * (b - a)
+    xa = x - d if (x - d - a) * (b - a) > 0 else 0.5 * (a + x)
+    xb = x + d if (b - x - d) * (b - a) > 0 else 0.5 * (x + b)
+    fa, fb = f(xa), f(xb)
+    smooth = fa > 0 > fb and max(abs(fa), abs(fb)) < JUMP_FRACTION * max(abs(lam_a), abs(lam_b))
+    words = (f"eigenvalue {fa:.3g} at mu = {xa:.6g}, {fb:.3g} at {xb:.6g} (ends {lam_a:.3g}, "
+             f"{lam_b:.3g})")
+    if smooth:
+        return "smooth", "a smooth crossing: " + words
+    return "jump", "a JUMP of the eigenvalue, not a smooth crossing (no limit reported): " + words
+
+
+def stacked_limits(a: Assembly, no_contact: tuple[float, float], *,
+                   thickness_ratio: float = 0.01,
+                   elements_per_loop: int = 32, dhat_fraction: float = 0.1,
+                   contact: bool = True, start_load_factor: float = 1.0,
+                   scan_steps: int = SCAN_STEPS, window: float = WINDOW_WIDTHS
+                   ) -> StackedLimits:
+    """Return the stable interval in ``mu`` of the stacked N-loop ring with contact.
+
+    Or, with ``contact`` False, of the coincident ring without; by following the relaxed
+    equilibrium both ways (module doc).
+
+    Parameters
+    ----------
+    a : Assembly
+        The N-loop ring (``rodstab.problems.ring.build``).
+    no_contact : (float, float)
+        The stable interval of ``mu`` without contact (eq. 3.3: ``1 - M^+ .. 1 - M^-``), which
+        sets the scan step and window.
+    thickness_ratio : float
+        ``h / L``.
+    elements_per_loop : int
+    dhat_fraction : float
+        ``dhat / h``.
+    contact : bool
+        False: the coincident planar ring without contact (the same routine: the check
+        against eq. 3.3).
+    start_load_factor : float
+        A ``mu`` strictly inside the no-contact interval.
+    scan_steps, window : int, float
+        Scan steps per width of the no-contact interval; the window beyond each of its ends,
+        in widths.
+    """
+    N = len(a.segments)
+    lo, hi = (float(v) for v in no_contact)
+    if not lo < hi:
+        raise RodstabInputError(f"no_contact must be an interval (lo < hi), got {no_contact!r}")
+    mu0 = float(start_load_factor)
+    if not lo < mu0 < hi:
+        raise RodstabInputError(f"start_load_factor must lie inside the no-contact interval "
+                                f"({lo:.6g}, {hi:.6g}), got {start_load_factor!r}")
+    steps = require_positive_int("scan_steps", scan_steps)
+    w = require_positive("window", window)
+    step = (hi - lo) / steps
+    if contact:
+        rod, st = stacked_ring(a, thickness_ratio=thickness_ratio,
+                               elements_per_loop=elements_per_loop,
+                               dhat_fraction=dhat_fraction, load_factor=mu0)
+        start = st.rod
+    else:
+        require_positive("thickness_ratio", thickness_ratio)
+        rod = discretise(a, require_positive_int("elements_per_loop", elements_per_loop), mu0)
+        start = rod.copy()
+    ok, its, res = relax(rod, mu0)
+    first = describe(rod, start, ok, its, res)
+    if not first.stable:
+        raise RodstabInputError(f"start_load_factor {mu0!r}: the relaxed state is not stable "
+                                f"(converged {ok}, eigenvalue {first.lowest_eigenvalue:.3g}); "
+                                "start elsewhere")
+    width = hi - lo
+    lower = _side(rod, start, mu0, -step, lo - w * width)
+    upper = _side(rod, start, mu0, step, hi + w * width)
+    return StackedLimits(N, float(thickness_ratio), int(elements_per_loop),
+                         float(dhat_fraction), bool(contact), (lo, hi), step, first, lower,
+                         upper)
