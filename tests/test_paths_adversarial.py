@@ -391,7 +391,7 @@ def test_rerun_with_another_design_into_same_dir_does_not_mix(run_cli, tmp_path)
     other = tmp_path / "tw_nu0.toml"
     other.write_text(TWISTED_TOML.read_text().replace("nu = 0.3", "nu = 0.0"))
     d = tmp_path / "out"
-    common = ["--vary", f"{KEY}=0:13:26", "--elements", "12", "--branch-steps", "0",
+    common = ["--vary", f"{KEY}=0:13:10", "--elements", "6", "--branch-steps", "0",
               "--no-progress", "--json"]
     run_cli(["continue", str(TWISTED_TOML), *common, "--out", str(d)])
     fresh = json.loads(run_cli(["continue", str(other), *common]).stdout)
@@ -402,7 +402,7 @@ def test_rerun_with_another_design_into_same_dir_does_not_mix(run_cli, tmp_path)
 
 
 def test_rerun_with_other_branch_steps_into_same_dir_does_not_mix(run_cli, tmp_path):
-    common = ["continue", str(TWISTED_TOML), "--vary", f"{KEY}=0:13:26", "--elements", "12",
+    common = ["continue", str(TWISTED_TOML), "--vary", f"{KEY}=0:13:10", "--elements", "6",
               "--no-progress", "--json", "--out", str(tmp_path)]
     run_cli([*common, "--branch-steps", "2"])
     p = json.loads(run_cli([*common, "--branch-steps", "0"]).stdout)
