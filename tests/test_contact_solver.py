@@ -16,7 +16,6 @@ distance of its length cannot deflect at first order, so the linear clamped-clam
 (deflection ``F L^3 / (192 B)`` under a midspan force ``F``) is the sliding-clamped rod's.
 """
 
-import hashlib
 import math
 from pathlib import Path
 
@@ -101,12 +100,14 @@ def slope(x, y):
     return float(np.polyfit(np.log(x), np.log(y), 1)[0])
 
 
-# ---------------------------------------------------------------- (c) no contact: every bit kept
-def _h(a):
-    return hashlib.sha256(np.ascontiguousarray(a, dtype=float).tobytes()).hexdigest()[:16]
-
-
+# ---------------------------------------------------------------- (c) no contact: nothing changes
 def _fingerprints():
+    """Evaluation and Newton numbers of two structures at a perturbed state (contact None).
+
+    Projections on a fixed random vector ``w`` stand for the arrays: ``E``, ``g . w``,
+    ``w . H w``, ``energy()``, ``gradient() . w``, the Frobenius norms of the Kirchhoff ``A``
+    and ``G``; then Newton's ``ok`` and iterations, ``|x|``, ``x . w`` and the sum of the edge
+    frames' entries at its end."""
     out = {}
     cases = {"six": discretise(folded_ring.build(folded_ring.Params(section=circle())), 8, 0.5),
              "hexagram": discretise(load_design(ROOT / "examples/hexagram.toml").assembly, 4,
@@ -119,34 +120,43 @@ def _fingerprints():
         rod.apply(dq)
         E, g, Hs = rod.energy_terms()
         kh = rod.kirchhoff_hessian()
-        out[name] = [_h([E]), _h(g), _h(Hs.toarray()), _h([rod.energy()]), _h(rod.gradient()),
-                     _h(kh.A.toarray()), _h(kh.G.toarray())]
-        ok, its, res = newton(rod)
-        out[name] += [str(ok), str(its), _h([res]), _h(rod.x), _h(rod.R_edge)]
+        w = np.random.default_rng(5).standard_normal(len(g))
+        out[name] = [E, float(g @ w), float(w @ (Hs @ w)), rod.energy(), float(rod.gradient() @ w),
+                     float(np.linalg.norm(kh.A.toarray())), float(np.linalg.norm(kh.G.toarray()))]
+        ok, its, _ = newton(rod)
+        xw = float(np.sum(rod.x * w[:rod.x.size].reshape(-1, 3)))
+        out[name] += [ok, its, float(np.linalg.norm(rod.x)), xw, float(np.sum(rod.R_edge))]
     return out
 
 
-#: Recorded with the code of the merge commit 6cdfb9b (before contact entered the engine):
-#: energy, gradient, Hessian, energy(), gradient(), Kirchhoff A and G at a perturbed state,
-#: then Newton's (ok, iterations, residual, x, R_edge) from it, with one BLAS thread (as
-#: conftest.py sets: the eigensolver of Newton's shift rounds differently with more). A
-#: regression record, not a reference value: a machine whose numpy rounds differently must
-#: re-record it there, with the code of 6cdfb9b.
+#: Computed by this file's ``_fingerprints`` with the code of the merge commit 6cdfb9b (before
+#: contact entered the engine; ``git archive 6cdfb9b src``), one BLAS thread. A regression
+#: record, not a reference value. Compared to round-off, not bit for bit (a hash of the bytes
+#: was recorded first: it would fail on a machine or numpy release that rounds differently):
+#: the evaluations to ``EVAL_RTOL``, Newton's end state to ``NEWTON_RTOL`` (it stops at its
+#: tolerance, where round-off may leave another last step), its iteration count exactly.
 BEFORE_CONTACT = {
-    "six": ["6018dc8ef0c46324", "a3eb45d0f552243c", "df678c549cc08536", "6018dc8ef0c46324",
-            "a3eb45d0f552243c", "80ca955f5bc05d02", "52c3b4ba57ac3183", "True", "4",
-            "cc01c99281ab1f92", "4177cdb8e61c14f9", "dc65ca7eeee1e006"],
-    "hexagram": ["c89377ca7b07b655", "911910615140a043", "6c90d5e05cd3b9cd", "c89377ca7b07b655",
-                 "911910615140a043", "3a5990503953745a", "16f087d23b716a27", "True", "5",
-                 "d232ccc314503812", "b9257e13ba527777", "a15c17a6358a77cc"],
+    "six": [68.7502104076787, -8393.07765196938, 102612186.65295006, 68.7502104076787,
+             -8393.07765196938, 96029.34599699127, 5.809922132115764, True,
+             4, 4.015594601052255, -1.1874869058195694, 48.00000006447759],
+    "hexagram": [72.02293304136369, -32633.17166385584, 130170262.5981412, 72.02293304136369,
+             -32633.17166385584, 549356.6628865802, 6.1104528491668795, True,
+             5, 5.107552232668299, -11.559042141494478, 23.99999999986685],
 }
+EVAL_RTOL = 1e-12
+NEWTON_RTOL = 1e-9
 
 
 def test_no_contact_keeps_every_number_of_the_engine_before_contact():
     """``contact = None`` (the default): energy, gradient, Hessian (absolute and Kirchhoff) and a
-    Newton solve of the folded six-ring and the hexagram are bit-identical to those of the
-    commit before contact entered the engine (SHA-256 of the float64 bytes)."""
-    assert _fingerprints() == BEFORE_CONTACT
+    Newton solve of the folded six-ring and the hexagram are those of the commit before contact
+    entered the engine (bit for bit on the machine that recorded them: checked then)."""
+    now = _fingerprints()
+    for name, before in BEFORE_CONTACT.items():
+        got = now[name]
+        assert got[:7] == pytest.approx(before[:7], rel=EVAL_RTOL), name
+        assert got[7:9] == before[7:9], name
+        assert got[9:] == pytest.approx(before[9:], rel=NEWTON_RTOL, abs=NEWTON_RTOL), name
 
 
 def test_contact_out_of_reach_changes_no_bit():

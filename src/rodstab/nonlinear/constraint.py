@@ -100,7 +100,7 @@ def restore_positions(rod: DiscreteRod) -> None:
         if not len(hold) or not len(free):
             continue  # no gauge in this coordinate: leave it (never the case for a built rod)
         rhs = f[np.ix_(free, coords)] - L[free][:, hold] @ rod.x[np.ix_(hold, coords)]
-        z = _solve_spd(L[np.ix_(free, free)] if n <= DENSE_MAX else L[free][:, free], rhs)
+        z = _solve_spd(L[free][:, free], rhs)
         rod.x[np.ix_(free, coords)] = np.asarray(z).reshape(len(free), len(coords))
 
 
