@@ -223,6 +223,40 @@ def test_matrix_roots_known_nullity_ignores_permanent_null_space():
     _assert_roots(got, [(2.0, 1)])
 
 
+def test_matrix_roots_complex_matrix_with_fixed_determinant_phase_polishes_by_sign():
+    """diag(e^(i a) (x - 1), e^(i b) (x - 2.5)) (closed form: roots 1 and 2.5) has the
+    determinant ``e^(i(a+b)) (x-1)(x-2.5)``, of one phase: both roots are sign changes along
+    it, refined to full precision (no golden search)."""
+    a, b = 0.7, -2.1
+    got = matrix_roots(lambda x: np.diag([np.exp(1j * a) * (x - 1.0),
+                                          np.exp(1j * b) * (x - 2.5)]), 0.03, 5.3)
+    _assert_roots(got, [(1.0, 1), (2.5, 1)])
+    assert [r.kind for r in got.roots] == ["sign-change", "sign-change"]
+    assert max(abs(r.x - x) for r, x in zip(got.roots, (1.0, 2.5), strict=True)) <= 1e-13
+
+
+def test_matrix_roots_complex_matrix_whose_phase_turns_is_still_searched_by_minima():
+    """diag(e^(i x) (x - 1), 1): the determinant's phase turns with x, so it gives no sign;
+    the root x = 1 is still found, as a minimum of sigma_min (the fallback)."""
+    got = matrix_roots(lambda x: np.diag([np.exp(1j * x) * (x - 1.0), 1.0 + 0j]), 0.03, 5.3)
+    _assert_roots(got, [(1.0, 1)])
+    assert got.roots[0].kind == "touching"
+
+
+def test_bloch_determinant_times_rho_to_minus_three_is_real():
+    """The property the Bloch method's sign relies on (:mod:`rodstab.transfer.cyclic`): for a
+    complex harmonic, ``rho^-3 det(rho G - J G T)`` is real (a palindromic characteristic
+    polynomial: the one-arc map is similar to a symplectic one), for cusps, smooth welds and
+    an arbitrary weld turn, at loads on both sides of the stress-free one."""
+    from rodstab.transfer.cyclic import _bloch, _cyclic_parts
+
+    for weld, n, h in (("cusp", 6, 1), ("smooth", 5, 2), (0.83, 7, 3)):
+        rho = np.exp(2j * math.pi * h / n)
+        for mu in (-4.0, -0.3, 1.0, 3.7):
+            det = np.linalg.det(_bloch(*_cyclic_parts(mu, 2.2, 1.7, 0.6, weld), h, n))
+            assert abs((det * rho ** -3).imag) <= 1e-12 * abs(det)
+
+
 # ------------------------------------------------------------------------------ pencil_interval
 
 

@@ -42,6 +42,9 @@ SUBSCAN = 16
 #: Eigenvalues within this relative distance are counted as one repeated eigenvalue when the
 #: method states no error of its own (:func:`multiplicity_tolerance`).
 MULTIPLICITY_RTOL = 1e-6
+#: A complex matrix's determinant (row-scaled) keeps one phase over the scan when its part
+#: across that phase is below this times its largest modulus (:func:`matrix_roots`).
+COMPLEX_PHASE_TOL = 1e-8
 #: Machine epsilon (the round-off floor of :func:`multiplicity_tolerance`).
 EPS = float(np.finfo(float).eps)
 #: The one multiplicity rule (:func:`multiplicity_tolerance`): two computed eigenvalues (roots)
@@ -412,6 +415,12 @@ def matrix_roots(
     ``sigma_max`` alone, for a matrix that vanishes as a whole at its roots (every singular
     value together, a mode of multiplicity equal to its column count): there the ratio to the
     local ``sigma_max`` stays finite and shows no dip.
+
+    A complex ``matrix(x)`` is searched the same way; its determinant gives a sign only if it
+    keeps one phase over the scan (its part across the phase of the largest value below
+    :data:`COMPLEX_PHASE_TOL` of it, as for a Bloch matrix of a self-adjoint problem,
+    whose ``rho^(-n/2) det`` is real); otherwise every root is found by the minima alone. The
+    multiplicity is the complex null space's dimension.
     """
     if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
         raise RodstabInputError(f"matrix_roots needs finite lo < hi, got lo={lo!r}, hi={hi!r}")
@@ -470,8 +479,23 @@ def matrix_roots(
         norms[norms == 0] = 1.0
         return np.linalg.det(A / norms[..., None])
 
+    signs = r == 0 and square  # a determinant sign to scan and to polish on
+    ds = scaled_det(mats) if signs else np.ones(n_scan + 1)
+    phase = 1.0 + 0.0j
+    if signs and np.iscomplexobj(ds):
+        # A complex matrix: its determinant's sign is taken along the one phase it keeps
+        # (a Bloch matrix of a self-adjoint problem, ``rho^(-n/2) det`` real: module
+        # docstring); a phase that is not fixed over the scan gives no sign.
+        big = int(np.argmax(np.abs(ds)))
+        phase = np.conj(ds[big]) / abs(ds[big]) if ds[big] != 0 else phase
+        rotated = ds * phase
+        if np.max(np.abs(rotated.imag)) > max(COMPLEX_PHASE_TOL * abs(ds[big]), 1e-13):
+            signs, ds = False, np.ones(n_scan + 1)
+        else:
+            ds = rotated.real
+
     def det(x: float) -> float:
-        return float(scaled_det(matrix(float(x))))
+        return float(np.real(scaled_det(matrix(float(x))) * phase))
 
     roots: list[Root] = []
     eps4 = 4 * np.finfo(float).eps
@@ -484,8 +508,6 @@ def matrix_roots(
             mult = _null_dimension(matrix, x, s, max(s[0], s_ref), singular_tol)
             roots.append(Root(x, max(mult, 1), gx, (float(xa), float(xb)), "sign-change"))
 
-    signs = r == 0 and square  # a determinant sign to scan and to polish on
-    ds = scaled_det(mats) if signs else np.ones(n_scan + 1)
     del mats
     for i in range(n_scan):
         if np.sign(ds[i]) * np.sign(ds[i + 1]) < 0:
@@ -512,8 +534,8 @@ def matrix_roots(
         # No sign change of det next to this minimum of g: either a root of even multiplicity,
         # or two simple roots closer than one scan spacing. A finer local grid tells them apart.
         sub = np.linspace(a, b, 4 * SUBSCAN + 1)
-        dsub = (scaled_det(np.stack([matrix(float(t)) for t in sub])) if signs
-                else np.ones(len(sub)))
+        dsub = (np.real(scaled_det(np.stack([matrix(float(t)) for t in sub])) * phase)
+                if signs else np.ones(len(sub)))
         n_before = len(roots)
         for k in range(4 * SUBSCAN):
             if np.sign(dsub[k]) * np.sign(dsub[k + 1]) < 0:

@@ -121,19 +121,22 @@ def _cyclic_parts(L_kappa: float, L_over_R: float, b1: float, b2: float,
 
 
 def _bloch(G: np.ndarray, right: np.ndarray, harmonic: int, segments: int) -> np.ndarray:
-    """``rho G - right`` for ``rho = exp(2 pi i m / n)``, real (6x6 or the 12x12 real form)."""
+    """``rho G - right`` for ``rho = exp(2 pi i m / n)``: real for ``rho = +-1``, else complex.
+
+    Its determinant times ``rho^-3`` is real (the one-arc map is similar to a symplectic one,
+    so its characteristic polynomial is palindromic; checked by the root finder, which takes
+    the determinant's sign along its fixed phase: :func:`rodstab.numerics.matrix_roots`).
+    """
     if (2 * harmonic) % segments == 0:
         rho = 1.0 if harmonic % segments == 0 else -1.0
         return cast(np.ndarray, rho * G - right)
     phase = 2 * math.pi * harmonic / segments
-    re = math.cos(phase) * G - right
-    im = math.sin(phase) * G
-    n = G.shape[0]
-    out = np.empty((2 * n, 2 * n))  # [[re, -im], [im, re]], filled directly (np.block: 5x slower)
-    out[:n, :n] = out[n:, n:] = re
-    out[:n, n:] = -im
-    out[n:, :n] = im
-    return out
+    return cast(np.ndarray, complex(math.cos(phase), math.sin(phase)) * G - right)
+
+
+def _pair(harmonic: int, segments: int) -> int:
+    """Real modes per complex null vector of harmonic ``m``: 2 (the pair ``m, n - m``) or 1."""
+    return 1 if (2 * harmonic) % segments == 0 else 2
 
 
 def cyclic_ring_matrix(L_kappa: float, L_over_R: float, b1: float, b2: float, harmonic: int,
@@ -154,7 +157,15 @@ def cyclic_ring_matrix(L_kappa: float, L_over_R: float, b1: float, b2: float, ha
     together (a mode of multiplicity 2).
     """
     G, right = _cyclic_parts(L_kappa, L_over_R, b1, b2, weld)
-    return _bloch(G, right, harmonic, segments)
+    A = _bloch(G, right, harmonic, segments)
+    if not np.iscomplexobj(A):
+        return A
+    n = A.shape[0]
+    out = np.empty((2 * n, 2 * n))  # [[re, -im], [im, re]], filled directly (np.block: 5x slower)
+    out[:n, :n] = out[n:, n:] = A.real
+    out[:n, n:] = -A.imag
+    out[n:, :n] = A.imag
+    return out
 
 
 @dataclasses.dataclass(frozen=True)
@@ -230,9 +241,9 @@ def cyclic_ring_interval(L_over_R: float, L_kappa_per_mu: float, b1: float, b2: 
     for h in harmonics:
         U, s, Vt = np.linalg.svd(matrix(h)(reference))
         k = int(np.sum(s <= RIGID_SV_RTOL * s[0]))
-        nullity.append(k)
+        nullity.append(k)  # complex null vectors of the harmonic's matrix
         if k:
-            borders[h] = (U[:, -k:], Vt[-k:].T)
+            borders[h] = (U[:, -k:], Vt[-k:].conj().T)
 
     def searched(h: int) -> Callable[[float], np.ndarray]:
         """Return the harmonic's matrix, bordered by its rigid motions' null vectors if any.
@@ -251,10 +262,10 @@ def cyclic_ring_interval(L_over_R: float, L_kappa_per_mu: float, b1: float, b2: 
         def at(mu: float) -> np.ndarray:
             A = matrix(h)(mu)
             scale = float(np.linalg.norm(A, 2)) or 1.0
-            out = np.zeros((A.shape[0] + k, A.shape[1] + k))
+            out = np.zeros((A.shape[0] + k, A.shape[1] + k), dtype=A.dtype)
             out[:A.shape[0], :A.shape[1]] = A
             out[:A.shape[0], A.shape[1]:] = scale * W
-            out[A.shape[0]:, :A.shape[1]] = scale * N.T
+            out[A.shape[0]:, :A.shape[1]] = scale * N.conj().T
             return out
         return at
 
@@ -282,7 +293,7 @@ def cyclic_ring_interval(L_over_R: float, L_kappa_per_mu: float, b1: float, b2: 
                 if roots:
                     r = roots[0] if side > 0 else roots[-1]
                     if best is None or abs(r.x - reference) < abs(best[0] - reference):
-                        best = (r.x, h, r.multiplicity, r.residual)
+                        best = (r.x, h, r.multiplicity * _pair(h, n), r.residual)
             reach += width
             width *= 2.0
             parts.clear()
@@ -295,7 +306,9 @@ def cyclic_ring_interval(L_over_R: float, L_kappa_per_mu: float, b1: float, b2: 
     weld_label = weld if isinstance(weld, str) else f"{math.degrees(weld):.6g}deg"
     return CyclicRingInterval(
         lo=lo[0], hi=hi[0], harmonic_lo=lo[1], harmonic_hi=hi[1], multiplicity_lo=lo[2],
-        multiplicity_hi=hi[2], rigid_nullity=tuple(nullity), residual=max(lo[3], hi[3]),
+        multiplicity_hi=hi[2],
+        rigid_nullity=tuple(k * _pair(h, n) for h, k in zip(harmonics, nullity, strict=True)),
+        residual=max(lo[3], hi[3]),
         method=f"exact second variation on one arc, {weld_label} joint map, Bloch phase per "
                f"harmonic 0..{n // 2}, sigma_min scan on a phase-resolved grid up to a "
                "test-field bound",
