@@ -261,7 +261,7 @@ def cyclic_ring_interval(L_over_R: float, L_kappa_per_mu: float, b1: float, b2: 
 
         def at(mu: float) -> np.ndarray:
             A = matrix(h)(mu)
-            scale = float(np.linalg.norm(A, 2)) or 1.0
+            scale = float(np.linalg.norm(A)) or 1.0  # Frobenius: the size, without an SVD
             out = np.zeros((A.shape[0] + k, A.shape[1] + k), dtype=A.dtype)
             out[:A.shape[0], :A.shape[1]] = A
             out[:A.shape[0], A.shape[1]:] = scale * W
