@@ -63,7 +63,9 @@ def exponents_in_labels(fig: Figure) -> None:
     above the axes, where it sits on the title. Here offsets are off (the ticks are written
     in full) and a multiplier moves into the axis label (``"... (x1e-6)"``, the ticks then
     fixed to that power). 2D axes only, colour bars left as they are (they write in full).
-    Draws the figure once (no rendering) to learn the powers.
+    The powers are the formatter's for the locator's ticks, as a draw would set them, without
+    drawing the figure (a draw with its layout is a third of a figure's cost); the layout may
+    then change the number of ticks, not their power of ten.
     """
     axes = [ax for ax in fig.axes if not hasattr(ax, "zaxis") and not hasattr(ax, "_colorbar")]
     plain = [axis for ax in axes for axis in (ax.xaxis, ax.yaxis)
@@ -71,10 +73,10 @@ def exponents_in_labels(fig: Figure) -> None:
     if not plain:
         return
     for axis in plain:
-        axis.get_major_formatter().set_useOffset(False)  # type: ignore[attr-defined]
-    fig.draw_without_rendering()
-    for axis in plain:
-        multiplier = axis.get_major_formatter().get_offset()  # "1e\u22126" after the draw
+        formatter = axis.get_major_formatter()
+        formatter.set_useOffset(False)  # type: ignore[attr-defined]
+        formatter.set_locs(axis.get_majorticklocs())  # what a draw does first
+        multiplier = formatter.get_offset()  # "1e\u22126"
         try:
             power = round(math.log10(float(multiplier.replace("\N{MINUS SIGN}", "-"))))
         except ValueError:  # none, or mathtext (rcParams): left as matplotlib draws it
