@@ -26,3 +26,33 @@ def sampled_min_gap(mesh, x: np.ndarray, dx: np.ndarray, alpha: float,
             d = np.linalg.norm(pa[:, None] - pb[None], axis=2).min()
             worst = min(worst, d - mesh.radius[a] - mesh.radius[b])
     return worst
+
+
+def segment_gap(x: np.ndarray, edges: np.ndarray, a: int, b: int, n: int = 101) -> float:
+    """Smallest centreline distance of elements ``a``, ``b`` by ``n`` points along each.
+
+    An upper bound of the true distance, above it by at most the point spacing.
+    """
+    u = np.linspace(0.0, 1.0, n)[:, None]
+    pa = x[edges[a, 0]] + u * (x[edges[a, 1]] - x[edges[a, 0]])
+    pb = x[edges[b, 0]] + u * (x[edges[b, 1]] - x[edges[b, 0]])
+    return float(np.linalg.norm(pa[:, None] - pb[None], axis=2).min())
+
+
+def judged_pairs(edges: np.ndarray, rods: int, same_rod_gap: int = 3) -> list[tuple[int, int]]:
+    """The element pairs ``rodstab transitions`` judges for contact, from the elements alone.
+
+    Elements ``rods`` equal runs of ``edges``: pairs of elements of two rods that share no node,
+    and of one rod at least ``same_rod_gap`` elements apart (the module docstring of
+    :mod:`rodstab.multistable.transitions`, re-derived here from a path file's arrays).
+    """
+    per = len(edges) // rods
+    nodes = [set(edges[r * per:(r + 1) * per].ravel().tolist()) for r in range(rods)]
+    out = []
+    for a in range(len(edges)):
+        for b in range(a + 1, len(edges)):
+            ra, rb = a // per, b // per
+            if (ra == rb and b - a >= same_rod_gap) or (ra != rb and not nodes[ra] & nodes[rb]):
+                out.append((a, b))
+    return out
+

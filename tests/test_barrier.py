@@ -132,7 +132,7 @@ def test_cli_barrier_json(six_ring: Barrier, capsys: pytest.CaptureFixture[str],
     (["--method", "continuation", "--structure", "hexagram", "--from", "star", "--to",
       "daisy", "--load-factor", "1.5"], "'star' is curved in its held geometry"),
     (["--images", "2"], "--images must be an integer >= 3, got 2"),
-    (["--method", "continuation", "--images", "9"], "--images and --animation are options"),
+    (["--method", "continuation", "--images", "9"], "--images, --animation and --out are options"),
     (["--animation", "path.png"], "--animation"),
     (["--structure", "hexagram", "--from", "star", "--to", "square"], "--to 'square'"),
 ])

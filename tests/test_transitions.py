@@ -240,6 +240,21 @@ def test_cli_graph_json_schema_on_a_design(tmp_path, capsys, hexagram_line) -> N
     assert set(inv) == {"distinct_weld_points", "turning_number", "mean_radius", "planarity"}
     assert inv["turning_number"] == pytest.approx(2.0, abs=1e-9)
     assert (tmp_path / "g" / "transitions.png").stat().st_size > 0
+    # The edge's sampled states in a path file (rodstab.io.path_file): the stretches in
+    # order, the default thickness, and the pairs stacked in its first state -- recomputed
+    # from the file alone (contact_checks) -- as the loading's contact report counts them.
+    from contact_checks import judged_pairs, segment_gap
+
+    from rodstab.io.path_file import read_path_file
+
+    z = read_path_file(edge["path_file"])
+    assert [s for s, _ in edge["path_stretches"]] == [c["stretch"] for c in edge["contact"]]
+    assert z["x"].shape[0] == sum(n for _, n in edge["path_stretches"])
+    assert [n for _, n in edge["path_stretches"]] == [c["samples"] for c in edge["contact"]]
+    assert z["thickness"] == 0.02 and "energy" not in z
+    stacked = [p for p in judged_pairs(z["edges"], 6) if segment_gap(z["x"][0], z["edges"], *p)
+               < z["thickness"]]
+    assert len(stacked) == edge["contact"][0]["stacked_pairs"] > 0
 
 
 @pytest.mark.parametrize(("args", "named"), [

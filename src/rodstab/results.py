@@ -16,10 +16,13 @@ import numpy as np
 def jsonable(value: Any) -> Any:
     """Convert numpy scalars/arrays, tuples and nested results to JSON-compatible objects.
 
-    Non-finite floats become ``None`` (JSON has no NaN/inf); the CLI documents this.
+    Non-finite floats become ``None`` (JSON has no NaN/inf); the CLI documents this. A
+    dataclass field with ``metadata={"json": False}`` (bulk arrays written to files of their
+    own) is left out.
     """
     if dataclasses.is_dataclass(value) and not isinstance(value, type):
-        return {f.name: jsonable(getattr(value, f.name)) for f in dataclasses.fields(value)}
+        return {f.name: jsonable(getattr(value, f.name)) for f in dataclasses.fields(value)
+                if f.metadata.get("json", True)}
     if isinstance(value, dict):
         return {str(k): jsonable(v) for k, v in value.items()}
     if isinstance(value, (list, tuple)):

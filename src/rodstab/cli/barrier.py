@@ -14,6 +14,7 @@ from ..io.outputs import check_output
 from ..limits import Limits
 from ..sections import Section
 from .options import (
+    contact_thickness_option,
     elements_option,
     json_option,
     limit_options,
@@ -57,6 +58,13 @@ _BARRIER_STATES = {"six-ring": ("folded", "one-loop"), "hexagram": ("line", "sta
               help="Write the energy along the path (saddle marked, barriers annotated).")
 @click.option("--animation", "animation_path", type=click.Path(dir_okay=False), default=None,
               help="Write a GIF of the path's states (.gif). String method.")
+@click.option("--out", "out_dir", type=click.Path(file_okay=False), default=None,
+              help="Write DIR/path.npz: node positions of every state of the path, the "
+                   "elements, rest lengths, energies and --contact-thickness, to check the gaps "
+                   "independently (rodstab.io.path_file). String method.")
+@contact_thickness_option("The path's contact is judged as a transition's: pairs stacked "
+                          "in the --from state may touch but not swap layers, no other pair "
+                          "may pass through another (rodstab transitions).")
 @section_options
 @limit_options
 @json_option
@@ -64,7 +72,8 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
             from_state: str | None, to_state: str | None, load_factor: float | None,
             elements: int,
             images: int | None, plot_path: str | None, animation_path: str | None,
-            limits: Limits, as_json: bool) -> None:
+            out_dir: str | None, contact_thickness: float, limits: Limits,
+            as_json: bool) -> None:
     """Energy barrier between two stable states of a ring: the saddle and the path through it.
 
     string (default): the minimum energy path between the two states by the string method
@@ -80,14 +89,17 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
 
     k = load_factor
     chosen: tuple[float, float] | None = None
-    if method == "continuation" and (images is not None or animation_path is not None):
-        raise RodstabInputError("--images and --animation are options of --method string")
+    if method == "continuation" and (images is not None or animation_path is not None
+                                     or out_dir is not None):
+        raise RodstabInputError("--images, --animation and --out are options of --method "
+                                "string")
     from ..multistable.string_method import STRING_IMAGES
 
     n_img = STRING_IMAGES if images is None else require_int("--images", images, 3)
     plot = None if plot_path is None else image_output("--plot", plot_path)
     gif = None if animation_path is None else check_output("--animation", animation_path,
                                                            directory=False, suffixes={".gif"})
+    out = None if out_dir is None else check_output("--out", out_dir, directory=True)
     if design_file is not None:
         if method == "continuation":
             raise RodstabInputError("--method continuation is for the built-in structures "
@@ -202,6 +214,22 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
             labels=(b.from_state, b.to_state), energy_label=axis,
             title=f"{name}, kappa_n R0 = {fmt(k)}, {elements} el./rod, {method}"))
         lines.append(f"wrote {payload['plot']}")
+    if path:
+        import numpy as np
+
+        from ..multistable.barrier import path_contact
+
+        xs = np.stack([s.x for s in path])
+        report, edges, rest = path_contact(a, elements, xs, contact_thickness)
+        payload["contact"] = dict(report.to_dict(), thickness=contact_thickness)
+        lines.append(_contact_line(report, contact_thickness, b.from_state))
+        if out is not None:
+            from ..io.path_file import PATH_FILE, write_path_file
+
+            payload["path_file"] = str(write_path_file(out / PATH_FILE, xs, edges, rest,
+                                                       b.energies,
+                                                       thickness=contact_thickness))
+            lines.append(f"wrote {payload['path_file']}")
     if gif is not None:
         from ..plot.animations import barrier_animation
 
@@ -217,3 +245,13 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
                            f"{why} (residual {b.residual:.3g}, saddle index "
                            f"{b.saddle_index}, descents end on "
                            f"{', '.join(b.descent_ends) or 'not run'})")
+
+
+def _contact_line(report: Any, thickness: float, from_state: str) -> str:
+    """Return the path's contact verdict as printed (a transition's stretch, over h)."""
+    verdict = ("RODS PASS THROUGH at path point "
+               f"{report.pass_through_at:g}: not physical as computed (no contact model)"
+               if report.pass_through else "no pass-through")
+    return (f"contact      h/L = {fmt(thickness)}, judged at the {report.samples} path points: "
+            f"{report.stacked_pairs} element pairs stacked in {from_state} (may touch, not "
+            f"swap layers); the others come within {fmt(report.min_distance)} h; " + verdict)

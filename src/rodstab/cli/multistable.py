@@ -13,13 +13,13 @@ import click
 from ..errors import (
     NotConverged,
     RodstabInputError,
-    require_positive,
 )
 from ..io.outputs import check_output
 from ..limits import Limits, require_steps
 from ..results import jsonable
 from ..sections import Section
 from .options import (
+    contact_thickness_option,
     elements_option,
     json_option,
     limit_options,
@@ -137,10 +137,7 @@ def discover(design_file: str | None, section: Section, structure: str, segments
     help="Load factor at which every state loaded must be stable [default: twice the "
          "star's stress-free load: kappa_n R0 = 2 for the hexagram].")
 @elements_option(default=8, minimum=2, help="Elements per rod of the discrete rod.")
-@click.option("--contact-thickness", "contact_thickness", type=float, default=0.02,
-              show_default=True,
-              help="Out-of-plane section height h over the rod length L, for the contact "
-                   "check (rods closer than h touch).")
+@contact_thickness_option("")
 @click.option("--stimulus", "stimuli", multiple=True, metavar="STATE=KEY:STOP",
               help="Load STATE in KEY from 0 (load_factor: from --load-factor) to STOP; "
                    "repeatable, replaces that state's defaults. KEY: load_factor, "
@@ -154,7 +151,9 @@ def discover(design_file: str | None, section: Section, structure: str, segments
 @click.option("--all", "all_stimuli", is_flag=True,
               help="Try every stimulus of each state, not only up to the first transition.")
 @click.option("--out", "out_dir", type=click.Path(file_okay=False), default=None,
-              help="Directory for transitions.json and transitions.png (the graph).")
+              help="Directory for transitions.json, transitions.png (the graph) and a path "
+                   "file per edge, path_K_FROM_TO.npz (its sampled states: loading, the "
+                   "snap's interpolated proxy, release; rodstab.io.path_file).")
 @section_options
 @limit_options
 @json_option
@@ -171,7 +170,7 @@ def transitions(design_file: str | None, section: Section, structure: str,
     """
     from ..problems import ring_transitions as rt
 
-    thickness = require_positive("--contact-thickness", contact_thickness)
+    thickness = contact_thickness
     ring, section, name, design = ring_and_section(design_file, structure, 6, section)
     if load_factor is None:
         load_factor = rt.default_load_factor(ring)
@@ -212,8 +211,16 @@ def transitions(design_file: str | None, section: Section, structure: str,
     load_si = ("" if "units" not in payload else
                f" ({payload['units']['natural_curvature']['value']:.4g} 1/m)")
     if out is not None:
+        from ..io.path_file import write_path_file
         from ..plot.transition_graph import plot_transition_graph
 
+        moved = [e for e in res.graph.edges if e.target is not None]
+        for k, (e, entry) in enumerate(zip(moved, payload["edges"], strict=True)):
+            if e.path is not None:
+                entry["path_file"] = str(write_path_file(
+                    out / f"path_{k}_{_file_word(e.source)}_{_file_word(str(e.target))}.npz",
+                    e.path.x, e.path.edges, e.path.rest_length, thickness=res.graph.thickness))
+                entry["path_stretches"] = [list(p) for p in e.path.stretches]
         (out / "transitions.json").write_text(json.dumps(jsonable(payload), allow_nan=False))
         payload["figure"] = str(plot_transition_graph(
             payload, res.shapes, out / "transitions.png",
@@ -238,9 +245,20 @@ def transitions(design_file: str | None, section: Section, structure: str,
     lines += [f"{e['from']:>6}    none     {e['stimulus']} up to {fmt(e['stop'])}: "
               f"{e['message']}" for e in payload["no_transition"]]
     lines += [f"{s['state']:>6}    skipped: {s['why']}" for s in payload["skipped"]]
-    lines += [f"wrote {payload['figure']}, {payload['json_file']}"] if out is not None else []
+    if out is not None:
+        n_paths = sum("path_file" in e for e in payload["edges"])
+        lines += [f"wrote {payload['figure']}, {payload['json_file']} and {n_paths} path "
+                  f"files (path_K_FROM_TO.npz) in {out}"]
     emit(payload, as_json, lines)
     unconverged = [f"{e['from']} -> {e['to']}" for e in payload["edges"] if not e["converged"]]
     if unconverged:
         raise NotConverged(f"a relaxation or the path of {', '.join(unconverged)} did not "
                            "converge (those edges are not to be trusted)")
+
+
+def _file_word(label: str) -> str:
+    """Return a state label as part of a file name: letters, digits, '-' and '_'."""
+    import re
+
+    return re.sub(r"[^A-Za-z0-9_-]+", "-", label).strip("-") or "state"
+

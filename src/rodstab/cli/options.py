@@ -241,6 +241,23 @@ def load_factor_option(*, default: float | None, help: str) -> Callable[..., Any
                         show_default=default is not None, help=help)
 
 
+def contact_thickness_option(help: str) -> Callable[..., Any]:
+    """``--contact-thickness H``: the rods' out-of-plane height over the rod length, ``h / L``.
+
+    The contact check of a path (``transitions``, ``barrier``): rods closer than ``h`` touch.
+    Default :data:`rodstab.problems.ring_transitions.DEFAULT_THICKNESS` (0.02); a positive
+    finite number, checked as it is parsed (exit 2 naming the value).
+    """
+
+    def check(ctx: click.Context, param: click.Parameter, value: float) -> float:
+        return require_positive("--contact-thickness", value)
+
+    return click.option("--contact-thickness", "contact_thickness", type=float, default=0.02,
+                        show_default=True, callback=check,
+                        help=("Out-of-plane section height h over the rod length L, for the "
+                              "contact check (rods closer than h touch). " + help).strip())
+
+
 #: What ``--vary`` help says about units (rodstab.io.vary.vary_in_units: the rule).
 VARY_UNITS_HELP = (" On a design with units a dimensional KEY takes START and STOP with a unit, "
                    "e.g. \"section.height=4 mm:6 mm:3\" (a plain number there exits 2: it is "

@@ -370,3 +370,24 @@ def monotone_from_saddle(b: Barrier) -> bool:
     slack = MONOTONE_RTOL * max(float(np.max(np.abs(e))), 1.0)
     k = b.saddle_position
     return bool(np.all(np.diff(e[: k + 1]) >= -slack) and np.all(np.diff(e[k:]) <= slack))
+
+
+def path_contact(a: Assembly, elements_per_segment: int, xs: np.ndarray, thickness: float
+                 ) -> tuple[Any, np.ndarray, np.ndarray]:
+    """Contact along a path of ``a``'s states: the transitions' judgement, and the topology.
+
+    ``xs`` (n_states, n_nodes, 3): node positions of the path's states in order, on the
+    discrete rod of ``a`` at ``elements_per_segment`` (:func:`~.string_method.string_barrier`'s
+    snapshots); ``thickness``: ``h / L`` (``L`` the rod length). Judged as a stretch of a
+    transition (:class:`~.transitions.ContactTracker`: pairs stacked in the first state may
+    touch but not swap layers; any other pair must not pass through another). Returns the
+    :class:`~.transitions.ContactReport` (distances over ``h``), the elements' node index
+    pairs and their rest lengths.
+    """
+    from .transitions import ContactTracker
+
+    rod = discretise(a, require_int("elements_per_segment", elements_per_segment, 1))
+    h = require_finite("thickness", thickness) * a.total_length / len(a.segments)
+    tracker = ContactTracker(rod, h, xs[0])
+    report = tracker.stretch("path", [(float(i), x) for i, x in enumerate(xs)])
+    return report, rod.edge_nodes.copy(), rod.rest_length.copy()

@@ -188,6 +188,21 @@ class ContactTracker:
 
 # ---------------------------------------------------------------------------- transitions
 @dataclasses.dataclass(frozen=True)
+class SampledPath:
+    """The sampled states of a transition, in order, for :mod:`rodstab.io.path_file`.
+
+    ``x`` (n_states, n_nodes, 3): node positions (length of the assembly); ``edges``,
+    ``rest_length``: the elements; ``stretches``: ``(name, number of states)`` in order
+    (loading, the snap's interpolated proxy, release).
+    """
+
+    x: np.ndarray
+    edges: np.ndarray
+    rest_length: np.ndarray
+    stretches: tuple[tuple[str, int], ...]
+
+
+@dataclasses.dataclass(frozen=True)
 class Transition(Result):
     """One loading of state ``source`` in stimulus ``stimulus`` and where it went.
 
@@ -211,6 +226,10 @@ class Transition(Result):
     message: str
     #: Mean node distance from the centroid of the target, over ``L`` (NaN without a target).
     target_mean_radius: float = math.nan
+    #: The states sampled along the way (not in the JSON: ``rodstab transitions --out``
+    #: writes them to a path file per edge).
+    path: SampledPath | None = dataclasses.field(default=None, repr=False,
+                                                 metadata={"json": False})
 
 
 def _let_go(rod: DiscreteRod, a: Assembly, n: int) -> DiscreteRod:
@@ -287,9 +306,14 @@ def transition(a: Assembly, source: str, key: str, stop: float, *, load_factor: 
     physical = not any(r.pass_through for r in reports)
     msg = (f"{point['kind']} at {key} = {value:.6g}; snapped to {under} under load"
            + ("" if stable else " (the relaxed state under load is not stable)"))
+    stretches = (("loading", samples), ("snap (interpolated proxy)", proxy),
+                 ("release", release))
+    sampled = SampledPath(np.stack([x for _, part in stretches for _, x in part]),
+                          rod.edge_nodes.copy(), rod.rest_length.copy(),
+                          tuple((name, len(part)) for name, part in stretches))
     return Transition(source, key, stop, float(value), point["kind"], under, target, rms,
                       invariants(free), tuple(reports), physical, bool(ok and path.converged),
-                      msg, mean_radius(free, free.x))
+                      msg, mean_radius(free, free.x), sampled)
 
 
 def _invariants_json(e: Transition) -> dict | None:

@@ -75,7 +75,7 @@ def exponents_in_labels(fig: Figure) -> None:
     for axis in plain:
         formatter = axis.get_major_formatter()
         formatter.set_useOffset(False)  # type: ignore[attr-defined]
-        formatter.set_locs(axis.get_majorticklocs())  # what a draw does first
+        formatter.set_locs([float(v) for v in axis.get_majorticklocs()])  # as a draw does
         multiplier = formatter.get_offset()  # "1e\u22126"
         try:
             power = round(math.log10(float(multiplier.replace("\N{MINUS SIGN}", "-"))))
