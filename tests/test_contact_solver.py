@@ -588,3 +588,62 @@ def test_step_filter_lets_stacked_rods_turn_together_and_still_stops_closing():
     assert 0 < alpha < 0.25
     assert _sampled_min_gap(mesh, x, dx, 1.0) < 0  # the full step would interpenetrate
     assert _sampled_min_gap(mesh, x, dx, alpha) > 0
+
+
+# ------------------------------------------------------- rodstab equilibrium DESIGN --contact
+def test_equilibrium_with_contact_where_nothing_touches_is_the_same_equilibrium(run_cli):
+    """The clamped arc (examples/clamped_arc.toml, L = 2) never comes near itself: with
+    --contact the barrier has no term within reach, so the energy, residual and eigenvalues are
+    those without contact (to round-off), and the contact block says so (no pair within reach,
+    zero force), with the rule's model: h = 0.02 L = 0.04, dhat = 0.1 h."""
+    import json
+
+    args = ["equilibrium", "examples/clamped_arc.toml", "--elements", "16", "--json"]
+    plain = json.loads(run_cli(args).stdout)
+    r = run_cli([*args, "--contact"])
+    assert r.exit_code == 0, r.stderr
+    got = json.loads(r.stdout)
+    assert got["energy"] == pytest.approx(plain["energy"], abs=1e-14)
+    assert got["lowest_eigenvalues"] == pytest.approx(plain["lowest_eigenvalues"], rel=1e-9)
+    assert "contact" not in plain
+    c = got["contact"]
+    assert c["thickness"] == pytest.approx(0.04, rel=1e-12)
+    assert c["dhat"] == pytest.approx(0.004, rel=1e-12)
+    assert c["thickness_ratio"] == 0.02
+    assert c["smallest_gap"] is None and c["active_pairs"] == 0 and c["total_force"] == 0.0
+
+
+@pytest.mark.parametrize("extra, words", [
+    (["--contact"], "already interpenetrate"),  # the folded ring's rods coincide
+    (["--contact-thickness", "0.05"], "--contact-thickness is an option of --contact"),
+    (["--contact", "--contact-dhat", "1"], "--contact-dhat must be below 1"),
+    (["--contact", "--contact-thickness", "-0.1"], "--contact-thickness must be a finite"),
+])
+def test_equilibrium_contact_bad_input_exits_2_naming_it(run_cli, extra, words):
+    """A held state whose rods already interpenetrate, contact options without --contact, a
+    dhat of h or more, a negative thickness: exit 2 with the option or the elements named."""
+    r = run_cli(["equilibrium", "examples/folded_six_ring.toml", "--elements", "4", *extra])
+    assert r.exit_code == 2, r.stderr
+    assert words in r.stderr
+
+
+def test_contact_state_of_pressed_stacked_beams_reports_gap_and_force():
+    """Case (a) relaxed (16 elements per rod, dhat = 1e-5): the contact state's smallest gap is
+    inside (0, dhat), between an element of each rod; its contact force -- half the sum of the
+    node forces' magnitudes -- is the force on the lower rod (every node's force points one
+    way along y on each rod, up to the slope), which the derivation of the stacked-beams test
+    gives as P / 2 (the lower rod carries half the midspan force), within the dhat error
+    measured there."""
+    n, dhat = 16, 1e-5
+    P = 384 * B * DELTA / L**3
+    rod, _, _ = stacked(n, dhat, P, dhat)
+    assert newton(rod)[0]
+    st = C.contact_state(rod.contact, rod.x)
+    assert 0.0 < st.smallest_gap < st.dhat == dhat
+    assert (st.pair[0] < n) != (st.pair[1] < n)  # one element of each rod
+    assert st.active_pairs > 0 and st.thickness == pytest.approx(H, rel=1e-12)
+    lower = _nodes_of(rod, 0)
+    # Magnitudes, not y components: the contact normals tilt with the rods' slope (~delta/L),
+    # which adds (1e-3)^2 / 2 relative.
+    assert st.total_force == pytest.approx(-contact_force(rod, lower, 1), rel=1e-5)
+    assert st.total_force == pytest.approx(P / 2, rel=0.03)

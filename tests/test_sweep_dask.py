@@ -156,7 +156,7 @@ def test_killed_sweep_on_2_workers_keeps_its_rows_and_a_rerun_resumes(run_cli, t
     process group: the command, the scheduler in it and both workers) after some rows; the
     table it leaves is readable; the rerun takes over the stale lock, solves only the missing
     points, and the finished table has every point once, in order, equal to a serial run."""
-    n = 100
+    n = 40
     out = tmp_path / "s"
     args = ["sweep", str(ARC), "--vary", f"{KEY}=1:6:{n}", "--out", str(out), "--no-progress",
             "--points-per-task", "2"]

@@ -12,12 +12,12 @@ import click
 from ..errors import NotConverged, RodstabInputError, require_finite
 from ..io.outputs import check_output
 from ..limits import NONLINEAR_MIN_ELEMENTS, SWEEP_DEFAULT_N, Limits
-from ..units import Units
 from .options import (
     COLOUR_BY,
     COLOUR_BY_SI,
     VARY_UNITS_HELP,
     colour_option,
+    contact_options,
     elements_option,
     json_option,
     limit_options,
@@ -27,12 +27,13 @@ from .options import (
     where_options,
 )
 from .output import (
+    analyze_unit_lines,
+    contact_lines,
     emit,
     fmt,
     html_output,
     image_output,
     one_of,
-    radii_text,
     require_converged,
     units_line,
     warnings_as_lines,
@@ -112,65 +113,13 @@ def analyze(design_file: str, elements: int | None, plot_path: str | None, limit
 
         block = stability_units(d.units, d.assembly, r.load_factor_interval)
         payload["units"] = block
-        lines += _analyze_unit_lines(block, d.units, r.stable_at_design)
+        lines += analyze_unit_lines(block, d.units, r.stable_at_design)
     emit(payload, as_json, lines)
     if r.reason:
         raise NotConverged(f"the FE mesh: {r.reason}; give a mesh with --elements to accept "
                            "its error")
     require_converged(r, f"the FE eigen solve at {n} elements per segment (the residual's "
                           "round-off grows with the mesh, as h^-2: try fewer elements)")
-
-
-def _arc_text(block: dict[str, Any], prefix: str, units: Units) -> str:
-    """Return natural curvature, radius and psi of ``block`` (``stability_units``) as text."""
-    import math
-
-    k = block[f"{prefix}natural_curvature"]["value"]
-    psi = block[f"{prefix}psi"]["value"]
-    return (f"natural curvature {fmt(k)} 1/m (radius "
-            f"{units.length_text(block[f'{prefix}natural_radius']['value'])}), psi = L kappa_n/2 "
-            f"= {fmt(psi)} rad ({math.degrees(psi):.4g} deg)")
-
-
-def _interval_lines(block: dict[str, Any], units: Units) -> list[str]:
-    """Return the stable interval in natural curvature (1/m) and radius of the reference."""
-    if "stable_natural_curvature" not in block:
-        return []
-    lo, hi = block["stable_natural_curvature"]["value"]
-    radii = block["stable_natural_radius"]
-    given, other = (radii_text(radii[k], units) for k in ("as_given", "reversed"))
-    if given == other:
-        text = f"{given} in either sense"
-    else:
-        text = "; ".join(t for t in (given and f"{given} in the design's sense",
-                                     other and f"{other} curved the other way") if t)
-    return [f"stable for   {fmt(lo)} < natural curvature < {fmt(hi)} 1/m of segment "
-            f"{units.segment!r}" + (" (negative: curved the other way)" if lo < 0 else ""),
-            f"             {text}"]
-
-
-def _analyze_unit_lines(block: dict[str, Any], units: Units, stable: bool) -> list[str]:
-    """Return the physical lines of ``analyze`` (design with units), ending with the verdict."""
-    moments = block["held_moment"]["value"]
-    lines = [units_line(units), *_interval_lines(block, units),
-             f"as built     {_arc_text(block, '', units)} (segment {units.segment!r})",
-             f"             stored energy {fmt(block['stored_energy']['value'])} J; largest "
-             f"held moment |B3 (k - kappa_n)| {fmt(max(abs(m) for m in moments.values()))} N*m"]
-    if "critical_natural_curvature" in block:
-        lines.append(f"critical     {_arc_text(block, 'critical_', units)}")
-    if "lower_critical_natural_curvature" in block:
-        lines.append(f"lower limit  {_arc_text(block, 'lower_critical_', units)}")
-    v = block["as_built"]
-    if v is None:
-        lines.append("verdict      as built (load factor 1): " + (
-            "STABLE; no natural curvature of the built sign makes it unstable" if stable else
-            "UNSTABLE; its stable load factors all have the other sign"))
-    else:
-        which = "critical" if v["limit"] == "upper" else "lower critical"
-        lines.append(f"verdict      as built (load factor 1): "
-                     f"{'STABLE' if v['stable'] else 'UNSTABLE'}, natural curvature "
-                     f"{100 * v['margin']:.1f} % {v['side']} the {which} one")
-    return lines
 
 
 @click.command("equilibrium")
@@ -189,17 +138,20 @@ def _analyze_unit_lines(block: dict[str, Any], units: Units, stable: bool) -> li
 @click.option("--html", "html_path", type=click.Path(dir_okay=False), default=None,
               help="Write an interactive 3D view (HTML; needs plotly: rodstab[viz]).")
 @colour_option
+@contact_options
 @limit_options
 @json_option
 def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, perturb: float,
                     render_path: str | None, html_path: str | None, colour: str,
-                    limits: Limits, as_json: bool) -> None:
+                    contact: tuple[float, float] | None, limits: Limits,
+                    as_json: bool) -> None:
     """Nonlinear equilibrium (Newton) of a design and its Hessian stability.
 
     If Newton does not converge, the table (or JSON, converged: false) is still printed and
     the exit status is 3.
     """
     from ..io.design import load_design, nonlinear_elements
+    from ..nonlinear.equilibrium import rod_contact_model
     from ..nonlinear.solve import STRAIN_WARN, equilibrium, resolving_elements
 
     render = None if render_path is None else image_output("--render", render_path)
@@ -213,7 +165,9 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
          else resolving_elements(d.assembly, mu, nonlinear_elements(d)))
     try:
         r, rod = equilibrium(d.assembly, load_factor=mu, elements_per_segment=n,
-                             perturb=require_finite("--perturb", perturb), limits=limits)
+                             perturb=require_finite("--perturb", perturb), limits=limits,
+                             contact=None if contact is None else
+                             rod_contact_model(d.assembly, *contact))
     except RodstabInputError as exc:
         # a mesh the rule chose (not the user) past the size limits: say that the load set it
         size = f"{n} elements per segment: "
@@ -226,6 +180,10 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
     ev = r.lowest_eigenvalues
     payload = r.to_dict() | {"design": d.source, "elements_per_segment": n,
                              "max_out_of_plane": rod.max_out_of_plane()}
+    contact_line = []
+    if r.contact is not None and contact is not None:
+        payload["contact"] = r.contact.to_dict() | {"thickness_ratio": contact[0]}
+        contact_line = contact_lines(r.contact, contact[0])
     if render is not None or html is not None:
         from ..plot.ribbons import RodLayout
 
@@ -270,7 +228,7 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
         f"design       {d.source}, load factor {fmt(load_factor)}, {n} elements/segment",
         f"Newton       {'converged' if ok else 'NOT converged'} in {its} iterations, "
         f"residual {res:.3g}",
-        energy, *unit_lines,
+        energy, *unit_lines, *contact_line,
         f"stability    {'stable' if r.stable else 'NOT stable'}; lowest scaled Hessian "
         f"eigenvalues {', '.join(f'{v:.3g}' for v in ev)}",
     ] + ([] if r.stability_resolved else [

@@ -258,6 +258,40 @@ def contact_thickness_option(help: str) -> Callable[..., Any]:
                               "contact check (rods closer than h touch). " + help).strip())
 
 
+def contact_options(f: Callable[..., Any]) -> Callable[..., Any]:
+    """Add ``--contact``, ``--contact-thickness``, ``--contact-dhat``; pass ``contact``.
+
+    ``contact`` is None without ``--contact`` (every number as without contact), else
+    ``(h / L, dhat / h)`` for :func:`rodstab.nonlinear.equilibrium.rod_contact_model`. A
+    thickness or dhat given without ``--contact`` is refused (exit 2): it would be dropped.
+    """
+
+    @click.option("--contact", "with_contact", is_flag=True,
+                  help="Rods are capsules that cannot pass through each other (a smooth "
+                       "barrier on their gaps, rodstab.nonlinear.contact); the output adds "
+                       "the gaps and contact forces.")
+    @contact_thickness_option("With --contact: the capsules' diameter.")
+    @click.option("--contact-dhat", "contact_dhat", type=float, default=0.1, show_default=True,
+                  help="With --contact: the barrier's reach dhat over h, in (0, 1); a result "
+                       "is shown converged by repeating it at smaller values.")
+    @functools.wraps(f)
+    def wrapper(with_contact: bool, contact_thickness: float, contact_dhat: float,
+                **kwargs: Any) -> Any:
+        if not with_contact:
+            named = [o for o in ("contact_thickness", "contact_dhat") if given(o)]
+            if named:
+                raise RodstabInputError(f"--{named[0].replace('_', '-')} is an option of "
+                                        "--contact, which was not given")
+            return f(contact=None, **kwargs)
+        c = require_positive("--contact-dhat", contact_dhat)
+        if c >= 1.0:
+            raise RodstabInputError(f"--contact-dhat must be below 1 (dhat < h), got "
+                                    f"{contact_dhat!r}")
+        return f(contact=(contact_thickness, c), **kwargs)
+
+    return wrapper
+
+
 #: What ``--vary`` help says about units (rodstab.io.vary.vary_in_units: the rule).
 VARY_UNITS_HELP = (" On a design with units a dimensional KEY takes START and STOP with a unit, "
                    "e.g. \"section.height=4 mm:6 mm:3\" (a plain number there exits 2: it is "

@@ -210,3 +210,65 @@ def quiet_indicator() -> None:
     """Stop the running :func:`elapsed_indicator` and clear its line (before any output)."""
     for finish in list(_INDICATOR_STOP):
         finish()
+
+
+def contact_lines(state: Any, hL: float) -> list[str]:
+    """Return the ``contact`` line of a solve with contact (a ``ContactState``)."""
+    gap = ("no pair within reach" if state.smallest_gap is None else
+           f"smallest gap {fmt(state.smallest_gap)} (elements {state.pair[0]}, "
+           f"{state.pair[1]})")
+    return [f"contact      capsules h/L = {fmt(hL)}, dhat {fmt(state.dhat)}: {gap}; "
+            f"{state.active_pairs} active terms, contact force {fmt(state.total_force)} "
+            f"(largest on a node {fmt(state.largest_node_force)})"]
+
+
+def arc_text(block: dict[str, Any], prefix: str, units: Units) -> str:
+    """Return natural curvature, radius and psi of ``block`` (``stability_units``) as text."""
+    import math
+
+    k = block[f"{prefix}natural_curvature"]["value"]
+    psi = block[f"{prefix}psi"]["value"]
+    return (f"natural curvature {fmt(k)} 1/m (radius "
+            f"{units.length_text(block[f'{prefix}natural_radius']['value'])}), psi = L kappa_n/2 "
+            f"= {fmt(psi)} rad ({math.degrees(psi):.4g} deg)")
+
+
+def interval_lines(block: dict[str, Any], units: Units) -> list[str]:
+    """Return the stable interval in natural curvature (1/m) and radius of the reference."""
+    if "stable_natural_curvature" not in block:
+        return []
+    lo, hi = block["stable_natural_curvature"]["value"]
+    radii = block["stable_natural_radius"]
+    given, other = (radii_text(radii[k], units) for k in ("as_given", "reversed"))
+    if given == other:
+        text = f"{given} in either sense"
+    else:
+        text = "; ".join(t for t in (given and f"{given} in the design's sense",
+                                     other and f"{other} curved the other way") if t)
+    return [f"stable for   {fmt(lo)} < natural curvature < {fmt(hi)} 1/m of segment "
+            f"{units.segment!r}" + (" (negative: curved the other way)" if lo < 0 else ""),
+            f"             {text}"]
+
+
+def analyze_unit_lines(block: dict[str, Any], units: Units, stable: bool) -> list[str]:
+    """Return the physical lines of ``analyze`` (design with units), ending with the verdict."""
+    moments = block["held_moment"]["value"]
+    lines = [units_line(units), *interval_lines(block, units),
+             f"as built     {arc_text(block, '', units)} (segment {units.segment!r})",
+             f"             stored energy {fmt(block['stored_energy']['value'])} J; largest "
+             f"held moment |B3 (k - kappa_n)| {fmt(max(abs(m) for m in moments.values()))} N*m"]
+    if "critical_natural_curvature" in block:
+        lines.append(f"critical     {arc_text(block, 'critical_', units)}")
+    if "lower_critical_natural_curvature" in block:
+        lines.append(f"lower limit  {arc_text(block, 'lower_critical_', units)}")
+    v = block["as_built"]
+    if v is None:
+        lines.append("verdict      as built (load factor 1): " + (
+            "STABLE; no natural curvature of the built sign makes it unstable" if stable else
+            "UNSTABLE; its stable load factors all have the other sign"))
+    else:
+        which = "critical" if v["limit"] == "upper" else "lower critical"
+        lines.append(f"verdict      as built (load factor 1): "
+                     f"{'STABLE' if v['stable'] else 'UNSTABLE'}, natural curvature "
+                     f"{100 * v['margin']:.1f} % {v['side']} the {which} one")
+    return lines

@@ -32,10 +32,17 @@ from .contact_model import (
     segment_distance,
     stiffness_for_line_load,
 )
-from .contact_step import SwitchReport, max_step_fraction, near_type_switch
+from .contact_step import (
+    ContactState,
+    SwitchReport,
+    contact_state,
+    max_step_fraction,
+    near_type_switch,
+)
 
 __all__ = ["EE_END_TAPER", "EE_SIN2_OFF", "EE_SIN2_ON", "EXCLUSION_FACTOR", "PHANTOM_FRACTION",
-           "TAPER_FRACTION", "TAPER_MAX_TURN", "ContactMesh", "ContactModel", "Interpenetration",
-           "SwitchReport", "_active", "_bounds", "barrier", "candidate_pairs", "contact_energy",
+           "TAPER_FRACTION", "TAPER_MAX_TURN", "ContactMesh", "ContactModel", "ContactState",
+           "Interpenetration", "SwitchReport", "_active", "_bounds", "barrier",
+           "candidate_pairs", "contact_energy", "contact_state",
            "contact_energy_value", "contact_mesh", "contact_terms", "max_step_fraction",
            "mesh_of_rod", "near_type_switch", "segment_distance", "stiffness_for_line_load"]

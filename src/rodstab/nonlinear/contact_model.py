@@ -207,6 +207,27 @@ class ContactModel:
         t = require_positive("thickness", thickness)
         return cls(0.5 * t, dhat, stiffness, exclusion_factor)
 
+    @classmethod
+    def for_rods(cls, thickness: float, *, dhat_fraction: float, bending_stiffness: float,
+                 length: float) -> ContactModel:
+        """Return the stated rule's model: diameter ``h``, ``dhat = c h``, load ``B / L^3``.
+
+        ``thickness`` ``h`` (length), ``dhat_fraction`` ``c`` in (0, 1), ``bending_stiffness``
+        ``B`` (the largest of the rods', force length^2) and ``length`` ``L`` (a rod's):
+        the barrier holds the line load ``B / L^3`` at ``dhat / 2``
+        (:func:`stiffness_for_line_load`). Every result is to be shown at three or more
+        ``c``, converging as ``c -> 0``.
+        """
+        h = require_positive("thickness", thickness)
+        c = require_positive("dhat_fraction", dhat_fraction)
+        if c >= 1.0:
+            raise RodstabInputError(f"dhat_fraction must be below 1 (dhat < h), got "
+                                    f"{dhat_fraction!r}")
+        B = require_positive("bending_stiffness", bending_stiffness)
+        L = require_positive("length", length)
+        return cls.from_thickness(h, dhat=c * h,
+                                  stiffness=stiffness_for_line_load(B / L**3, c * h, 0.5))
+
     def radii(self, n_edges: int) -> np.ndarray:
         """Radius of every element (n_edges,)."""
         if isinstance(self.radius, tuple):

@@ -11,6 +11,7 @@ import dataclasses
 import numpy as np
 
 from ..errors import RodstabInputError, require_finite, require_positive
+from ..results import Result
 from .contact_model import (
     ContactMesh,
     Interpenetration,
@@ -159,3 +160,67 @@ def near_type_switch(mesh: ContactMesh, x: np.ndarray, tol: float) -> SwitchRepo
         offs.append(-u[near])
     idx = np.concatenate(hit)
     return SwitchReport(bool(len(idx)), nt.p[idx], nt.e[idx], np.concatenate(offs))
+
+
+# ---------------------------------------------------------------- what a state's contact is
+@dataclasses.dataclass(frozen=True)
+class ContactState(Result):
+    """Gaps and contact forces of one state under a contact model (the JSON ``contact``).
+
+    Attributes
+    ----------
+    thickness : float
+        Capsule diameter ``h`` (length; twice the radius of the first element).
+    dhat, stiffness : float
+        The model's activation distance (length) and barrier stiffness.
+    smallest_gap : float or None
+        The smallest capsule gap (length) between non-neighbouring elements within reach
+        (``dhat`` plus the elements' extent); None when no pair is that close.
+    pair : tuple of int or None
+        The two elements at ``smallest_gap``.
+    active_pairs : int
+        Node-segment and edge-edge terms closer than ``dhat`` (the contacts that push).
+    total_force : float
+        Half the sum over nodes of the contact force's magnitude (force): the force the rods
+        press on one another with.
+    largest_node_force : float
+        The largest contact force on one node (force).
+    """
+
+    thickness: float
+    dhat: float
+    stiffness: float
+    smallest_gap: float | None
+    pair: tuple[int, int] | None
+    active_pairs: int
+    total_force: float
+    largest_node_force: float
+
+
+def contact_state(mesh: ContactMesh, x: np.ndarray) -> ContactState:
+    """Gaps and contact forces of the state ``x`` (n_nodes, 3) under ``mesh``'s model.
+
+    Raises :class:`~.contact_model.Interpenetration` if two capsules overlap.
+    """
+    from .contact_model import contact_terms
+
+    x = _positions(x, mesh.n_nodes)
+    pairs = candidate_pairs(mesh, x)
+    pairs = pairs[~mesh.excluded_elements(pairs[:, 0], pairs[:, 1])]
+    _check_gaps(mesh, x, pairs)
+    gap, pair = None, None
+    if len(pairs):
+        E = mesh.edges
+        g = segment_distance(x[E[pairs[:, 0], 0]], x[E[pairs[:, 0], 1]], x[E[pairs[:, 1], 0]],
+                             x[E[pairs[:, 1], 1]]) - mesh.radius[pairs[:, 0]] \
+            - mesh.radius[pairs[:, 1]]
+        k = int(np.argmin(g))
+        gap, pair = float(g[k]), (int(pairs[k, 0]), int(pairs[k, 1]))
+    nt, on, ee = _active(mesh, x)
+    _, grad, _ = contact_terms(mesh, x, 1)
+    assert grad is not None  # order 1
+    f = np.linalg.norm(grad.reshape(-1, 3), axis=1)
+    return ContactState(2.0 * float(mesh.radius[0]), mesh.model.dhat, mesh.model.stiffness,
+                        gap, pair, int(np.sum(on)) + len(ee), 0.5 * float(f.sum()),
+                        float(f.max(initial=0.0)))
+

@@ -15,10 +15,13 @@ import math
 
 import numpy as np
 
+from ..errors import RodstabInputError, require_positive
 from ..limits import DEFAULT as DEFAULT_LIMITS
 from ..limits import Limits, require_nonlinear
 from ..model import Assembly
 from ..results import Result
+from .contact_model import ContactModel, Interpenetration, mesh_of_rod
+from .contact_step import ContactState, contact_state
 from .discrete import DiscreteRod, discretise
 from .newton import newton, relax, settle
 from .stability import (
@@ -53,6 +56,9 @@ class Equilibrium(Result):
     #: reachable only by a segment ~1e-4 of the total length meshed as finely as the others),
     #: where the absolute coordinates' floor ``(l_e / L)^4 / PENALTY`` reached it near 1000.
     stability_resolved: bool = True
+    #: Gaps and contact forces at the equilibrium when solved with a contact model (the
+    #: JSON's ``contact`` block is added by the caller; None without contact).
+    contact: ContactState | None = dataclasses.field(default=None, metadata={"json": False})
 
 
 #: An equilibrium whose largest stretch/shear strain exceeds this is not a Kirchhoff rod's:
@@ -91,12 +97,37 @@ def resolving_elements(a: Assembly, load_factor: float, minimum: int = 32) -> in
     return n
 
 
+#: Default ``dhat / h`` of :func:`rod_contact_model` (the contact model's rule, 0.1 h).
+CONTACT_DHAT_FRACTION = 0.1
+
+
+def rod_contact_model(a: Assembly, thickness_ratio: float,
+                      dhat_fraction: float = CONTACT_DHAT_FRACTION) -> ContactModel:
+    """Return the contact model of ``a``'s rods: capsules of diameter ``thickness_ratio L``.
+
+    ``L``: the mean rod length (total length over the number of segments); the rule of
+    :meth:`~.contact_model.ContactModel.for_rods` with ``dhat = dhat_fraction h`` and the
+    largest bending stiffness ``B3`` of the segments.
+    """
+    L = a.total_length / len(a.segments)
+    return ContactModel.for_rods(require_positive("thickness_ratio", thickness_ratio) * L,
+                                 dhat_fraction=dhat_fraction,
+                                 bending_stiffness=max(s.B3 for s in a.segments), length=L)
+
+
 def equilibrium(a: Assembly, *, load_factor: float = 1.0,
                 elements_per_segment: int | None = None, n_eig: int = 4, perturb: float = 0.0,
-                limits: Limits = DEFAULT_LIMITS) -> tuple[Equilibrium, DiscreteRod]:
+                limits: Limits = DEFAULT_LIMITS, contact: ContactModel | None = None
+                ) -> tuple[Equilibrium, DiscreteRod]:
     """Find the equilibrium from the held state at ``load_factor`` and its Hessian stability.
 
     ``elements_per_segment`` None: :func:`resolving_elements` (at least 32).
+
+    ``contact``: the rods are capsules that cannot pass through each other
+    (:mod:`.contact`): the energy includes the contact barrier, Newton's steps are filtered,
+    the stability verdict is that of the Hessian of rod and contact energy together, and the
+    result carries the gaps and contact forces (``contact``). A held state whose rods already
+    interpenetrate is refused (exit 2), naming the elements.
 
     With ``perturb``: from the held state plus a seeded random mix of its four softest modes with a
     largest node displacement of ``perturb`` x the total length, relaxed to a stable equilibrium
@@ -108,6 +139,14 @@ def equilibrium(a: Assembly, *, load_factor: float = 1.0,
     require_nonlinear([elements_per_segment] * len(a.segments), len(a.joints()),
                       f"{elements_per_segment} elements per segment", limits)
     rod = discretise(a, elements_per_segment, load_factor)
+    if contact is not None:
+        rod.contact = mesh_of_rod(rod, contact)
+        try:
+            contact_state(rod.contact, rod.x)
+        except Interpenetration as exc:
+            raise RodstabInputError(f"the held state's rods already interpenetrate under the "
+                                    f"contact model (thickness {2 * rod.contact.radius[0]:g}): "
+                                    f"{exc}") from None
     settle(rod)
     if perturb:
         # A smooth, mesh-independent perturbation: a seeded random mix of the held state's
@@ -136,6 +175,10 @@ def equilibrium(a: Assembly, *, load_factor: float = 1.0,
     if kirchhoff:
         method += "; stability in Kirchhoff coordinates (stiff penalty on the diagonal)"
     resolved = not (abs(ev[0]) <= ZERO_EIG_ROUNDOFF and floor < ZERO_EIG_ROUNDOFF)
+    state = None
+    if rod.contact is not None:
+        method += "; contact: capsule barrier (rodstab.nonlinear.contact), steps filtered"
+        state = contact_state(rod.contact, rod.x)
     return Equilibrium(ok, E, res, its, bool(ok and ev[0] > tol),
                        tuple(float(v) for v in ev), len(rod.free_dofs()), load_factor,
-                       method, max_strain(rod), resolved), rod
+                       method, max_strain(rod), resolved, state), rod
