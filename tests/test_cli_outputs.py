@@ -99,6 +99,18 @@ PATH_SAMPLES = {"energies": None, "path_arclength": None, "saddle_position": Non
                 "string_run": ("converged", "too_coarse", "saddle_index")}
 
 
+#: A transition's smallest distance (over h) of a pair that meets -- zero in exact arithmetic
+#: -- is the solves' accuracy, not a number: positions to ~1e-9 L, 5e-8 h at h = 0.02 L (the
+#: closed-form stretch Hessian, 2026-12-05, moved one from 1.0e-9 to 3.8e-8). Compared to
+#: this absolute tolerance.
+DISTANCE = "contact.min_distance"
+DISTANCE_ATOL = 1e-6
+#: The two states a barrier's descents end on, in the order of the saddle's unstable mode's
+#: two directions, whose sign an eigen solver may give either way: compared as a set (and
+#: the descents' step counts in the matching order).
+DESCENT_ENDS = "descent_ends"
+
+
 def _compare_path(old: Any, new: Any, path: str, errors: list[str], context: dict[str, Any],
                   new_context: dict[str, Any]) -> None:
     key = path.rsplit(".", 1)[-1]
@@ -117,6 +129,9 @@ def _compare_path(old: Any, new: Any, path: str, errors: list[str], context: dic
         errors.append(f"{path}: {new!r} (was {old!r}: as many images)")
         return
     if key == "descent_steps":
+        ends, new_ends = context.get(DESCENT_ENDS), new_context.get(DESCENT_ENDS)
+        if new_ends != ends and new_ends is not None and new_ends[::-1] == ends:
+            new = new[::-1]  # the descents in the other order (DESCENT_ENDS)
         if not all(b <= a for a, b in zip(old, new, strict=True)):
             errors.append(f"{path}: {new!r} steps (was {old!r}: no more)")
         return
@@ -150,6 +165,14 @@ def _compare(old: Any, new: Any, path: str, errors: list[str], context: dict[str
     if CHANGED.get(key) == "no worse":
         if not (new is not None and new <= max(RESIDUAL_FACTOR * old, 1e-9)):
             errors.append(f"{path}: residual {new!r} (was {old!r})")
+        return
+    if path.endswith(DISTANCE) and isinstance(old, float):
+        if not (isinstance(new, float) and abs(new - old) <= RTOL * abs(old) + DISTANCE_ATOL):
+            errors.append(f"{path}: {new!r} (was {old!r}, tolerance {DISTANCE_ATOL:g} h)")
+        return
+    if path.endswith(DESCENT_ENDS):
+        if not (isinstance(new, list) and sorted(new) == sorted(old)):
+            errors.append(f"{path}: {new!r} (was {old!r}: the same two states)")
         return
     if path.endswith(TURNING_EXACT):
         planar = context.get("planarity", 1.0) < 1e-9
