@@ -105,6 +105,29 @@ PATH_SAMPLES = {"energies": None, "path_arclength": None, "saddle_position": Non
 #: this absolute tolerance.
 DISTANCE = "contact.min_distance"
 DISTANCE_ATOL = 1e-6
+#: A string-method barrier's iteration count is the iteration at which its saddle was accepted
+#: (as its images, PATH_SAMPLES): a round-off change moves it (the closed-form bending
+#: Hessian, 2026-12-05: 60 -> 67 on the hexagram's star -> daisy, barriers equal to 1e-11).
+#: Not compared. STRING_ITERATIONS.
+#: A barrier's saddle residual is converged when below Newton's tolerance, NEWTON_RTOL times
+#: the penalty's force scale PENALTY max(B) / l_e (rodstab.multistable.barrier): a round-off
+#: change may stop it anywhere below (the closed-form Hessians: 6.3e-6 for 3.2e-10 on the
+#: six-ring at 6 el./rod, tolerance 1.0e-5; barriers equal to 5e-12). Compared to that bound.
+#: A snap's interpolated proxy joins the state at the threshold and the relaxed state under
+#: load, whose rigid placement (a gauge) the relaxation sets: its sampled distances are not
+#: the structure's numbers (line -> star: 3.63e-4 h became 3.57e-4 h). Not compared. SNAP_PROXY.
+
+
+def _saddle_tolerance(context: dict[str, Any]) -> float:
+    """Newton's tolerance at a barrier's saddle: rods of length 1, ``B3 = 1``."""
+    from rodstab.nonlinear.discrete import PENALTY
+    from rodstab.nonlinear.newton import NEWTON_RTOL
+
+    sec = context.get("section") or {}
+    B = max(1.0, float(sec.get("b1", 1.0)), float(sec.get("b2", 1.0)))
+    return NEWTON_RTOL * PENALTY * B * float(context["elements_per_segment"])
+
+
 #: The two states a barrier's descents end on, in the order of the saddle's unstable mode's
 #: two directions, whose sign an eigen solver may give either way: compared as a set (and
 #: the descents' step counts in the matching order).
@@ -159,13 +182,20 @@ def _compare(old: Any, new: Any, path: str, errors: list[str], context: dict[str
     if key == MODE_OF_MULTIPLE and context.get("multiplicity", 1) > 1:
         return
     if CHANGED.get(key) == "no more":
+        if path == "barrier.iterations" and context.get("method") == "string":
+            return  # STRING_ITERATIONS
         if not (isinstance(new, int) and not isinstance(new, bool) and new <= old):
             errors.append(f"{path}: {new!r} iterations (was {old!r})")
         return
     if CHANGED.get(key) == "no worse":
-        if not (new is not None and new <= max(RESIDUAL_FACTOR * old, 1e-9)):
-            errors.append(f"{path}: residual {new!r} (was {old!r})")
+        bound = max(RESIDUAL_FACTOR * old, 1e-9)
+        if path == "barrier.residual":
+            bound = max(bound, _saddle_tolerance(context))
+        if not (new is not None and new <= bound):
+            errors.append(f"{path}: residual {new!r} (was {old!r}, at most {bound:.3g})")
         return
+    if path.endswith(DISTANCE) and "proxy" in str(context.get("stretch")):
+        return  # SNAP_PROXY
     if path.endswith(DISTANCE) and isinstance(old, float):
         if not (isinstance(new, float) and abs(new - old) <= RTOL * abs(old) + DISTANCE_ATOL):
             errors.append(f"{path}: {new!r} (was {old!r}, tolerance {DISTANCE_ATOL:g} h)")

@@ -91,6 +91,46 @@ def test_closed_form_stretch_term_equals_jets_of_the_same_expression():
             np.testing.assert_allclose(got.H, ref.H, rtol=0, atol=1e-14 * np.abs(ref.H).max())
 
 
+def _cayley_energy_by_jets(P, ds, B, k0):
+    """``1/2 ds (k - k0)^T B (k - k0)``, ``k = (2/ds) vee(P - P^T) / (1 + tr P)``, by jets."""
+    den = (P.entry(0, 0) + P.entry(1, 1) + P.entry(2, 2) + 1.0).reciprocal()
+    vee = [P.entry(2, 1) - P.entry(1, 2), P.entry(0, 2) - P.entry(2, 0),
+           P.entry(1, 0) - P.entry(0, 1)]
+    t = [(vee[c] * den * (2.0 / ds) - k0[:, c]) for c in range(3)]
+    return sum((t[c] * t[c] * (0.5 * B[:, c] * ds) for c in range(1, 3)),
+               start=t[0] * t[0] * (0.5 * B[:, 0] * ds))
+
+
+@pytest.mark.parametrize("build", [lambda: folded_ring.build(SIX), lambda: birod.build(BIROD)],
+                         ids=["six", "bi-rod"])
+def test_closed_form_bending_terms_equal_jets_of_the_cayley_energy(build):
+    """Bending between edges and across half-joints (``discrete.bend_jet``) against
+    second-order jets of the Cayley energy of the frames' relative rotation (jets of ``P``
+    multiplied out, an independent evaluation), on random states: equal to round-off."""
+    from rodstab.nonlinear import discrete as D
+    from rodstab.nonlinear.jets import rotation_jet
+
+    rng = np.random.default_rng(11)
+    rod = discretise(build(), 5, 0.9)
+    rod.apply(0.1 * rng.standard_normal(rod.n_dof))
+    le, mu = rod.rest_length, rod.load_factor
+    a, b = rod.bend_pairs[:, 0], rod.bend_pairs[:, 1]
+    ds, k0 = 0.5 * (le[a] + le[b]), rod._k0(rod.k_held_pairs, a, mu)
+    ref = _cayley_energy_by_jets(rotation_jet(rod.R_edge[a], 6, 0).T
+                                 @ rotation_jet(rod.R_edge[b], 6, 3), ds, rod.edge_B[a], k0)
+    eye = np.broadcast_to(np.eye(3), (len(a), 3, 3))
+    got = D.bend_jet(eye, np.swapaxes(rod.R_edge[a], 1, 2) @ rod.R_edge[b], eye,
+                     np.zeros(len(a), bool), ds, rod.edge_B[a], k0, 2)
+    ee, jj, P = rod.link_rotations()
+    k0l = rod._k0(rod.k_held_links, ee, mu) if rod.k0_links is None else \
+        rod.k0_links[0] + mu * rod.k0_links[1]
+    ref_l = _cayley_energy_by_jets(P, 0.5 * le[ee], rod.edge_B[ee], k0l)
+    got_l = D.bend_jet(*rod._link_factors()[2:], 0.5 * le[ee], rod.edge_B[ee], k0l, 2)
+    for g, r in ((got, ref), (got_l, ref_l)):
+        for x, y in ((g.v, r.v), (g.g, r.g), (g.H, r.H)):
+            np.testing.assert_allclose(x, y, rtol=0, atol=1e-13 * np.abs(y).max())
+
+
 @pytest.mark.parametrize("build", [straight, lambda: ring(3), lambda: arc(2.0),
                                    lambda: birod.build(BIROD), lambda: folded_ring.build(SIX)])
 def test_held_state_is_an_exact_equilibrium(build):
