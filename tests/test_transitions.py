@@ -301,3 +301,24 @@ def test_a_state_unstable_at_the_load_is_skipped_with_a_line_not_a_failure() -> 
     with pytest.raises(RodstabInputError, match="not stable"):
         transition_graph(states, {"line": [("load_factor", 2.0)]}, load_factor=1.0,
                          thickness=0.02, load=["line"])
+
+
+def test_contact_thickness_is_h_over_the_rod_length_on_a_ring_of_any_size(monkeypatch):
+    """``thickness`` is h / L: on a ring of rods of length 2 the transitions judge contact
+    with h = 2 x thickness in the ring's own length unit (it was passed on as h itself, half
+    the thickness asked for on such a ring). Checked at the call of the transition graph."""
+    from rodstab.multistable.states import uniform_ring
+    from rodstab.problems import ring_transitions as rt
+
+    seen = {}
+
+    def graph(assemblies, stimuli, *, thickness, **kwargs):
+        seen["h"] = thickness
+        raise RuntimeError("stop here")
+
+    monkeypatch.setattr(rt, "transition_graph", graph)
+    for length in (1.0, 2.0):
+        ring = uniform_ring(6, weld="cusp", length=length, natural_curvature=1.0)
+        with pytest.raises(RuntimeError, match="stop here"):
+            rt.transitions(ring, load_factor=2.0, elements=4, thickness=0.02)
+        assert seen["h"] == pytest.approx(0.02 * length, rel=1e-15)

@@ -206,7 +206,9 @@ def transitions(ring: Ring, *, load_factor: float, elements: int = 8,
     check_stimuli(ring, stim, elements)
     refs = tuple(dict.fromkeys(basic + tuple(load)))
     assemblies = {s: ring.held(ring.state(s).theta) for s in refs}
-    graph = transition_graph(assemblies, stim, load_factor=load_factor, thickness=thickness,
+    # h / L to h in the ring's length unit (its rods' length L: 1 for the hexagram).
+    graph = transition_graph(assemblies, stim, load_factor=load_factor,
+                             thickness=thickness * ring.length,
                              elements_per_segment=elements, all_stimuli=all_stimuli,
                              load=load if named else None)
     shapes = {}
