@@ -615,7 +615,8 @@ def test_equilibrium_with_contact_where_nothing_touches_is_the_same_equilibrium(
 
 @pytest.mark.parametrize("extra, words", [
     (["--contact"], "already interpenetrate"),  # the folded ring's rods coincide
-    (["--contact-thickness", "0.05"], "--contact-thickness is an option of --contact"),
+    (["--contact-thickness", "0.05"], "--contact-thickness is a setting of contact, which is "
+                                      "off"),
     (["--contact", "--contact-dhat", "1"], "--contact-dhat must be below 1"),
     (["--contact", "--contact-thickness", "-0.1"], "--contact-thickness must be a finite"),
 ])
@@ -647,3 +648,50 @@ def test_contact_state_of_pressed_stacked_beams_reports_gap_and_force():
     # which adds (1e-3)^2 / 2 relative.
     assert st.total_force == pytest.approx(-contact_force(rod, lower, 1), rel=1e-5)
     assert st.total_force == pytest.approx(P / 2, rel=0.03)
+
+
+def test_design_file_asks_for_contact_and_the_command_line_overrides_it(run_cli, tmp_path):
+    """``[analysis] contact = true`` (with its thickness and dhat) turns contact on for
+    ``equilibrium``; ``--no-contact`` turns it off for one run (no contact block, the
+    numbers without contact); ``--contact-thickness`` replaces the design's thickness. A
+    contact setting without ``contact = true`` and a dhat of h or more are refused, naming
+    the key and value (exit 2)."""
+    import json
+
+    base = (ROOT / "examples" / "clamped_arc.toml").read_text()
+    f = tmp_path / "arc.toml"
+    f.write_text(base + "\n[analysis]\ncontact = true\ncontact_thickness = 0.03\n"
+                 "contact_dhat = 0.2\n")
+    args = ["equilibrium", str(f), "--elements", "12", "--json"]
+    on = json.loads(run_cli(args).stdout)["contact"]
+    assert on["thickness_ratio"] == 0.03
+    assert on["thickness"] == pytest.approx(0.03 * 2.0, rel=1e-12)  # L = 2
+    assert on["dhat"] == pytest.approx(0.2 * 0.06, rel=1e-12)
+    assert "contact" not in json.loads(run_cli([*args, "--no-contact"]).stdout)
+    over = json.loads(run_cli([*args, "--contact-thickness", "0.01"]).stdout)["contact"]
+    assert over["thickness_ratio"] == 0.01 and over["dhat"] == pytest.approx(0.2 * 0.02)
+    for extra, words in (("contact_thickness = 0.03", "analysis.contact_thickness is a "
+                          "setting of analysis.contact = true"),
+                         ("contact = true\ncontact_dhat = 1.0", "analysis.contact_dhat must "
+                          "lie in (0, 1)")):
+        bad = tmp_path / "bad.toml"
+        bad.write_text(base + f"\n[analysis]\n{extra}\n")
+        r = run_cli(["equilibrium", str(bad), "--elements", "12"])
+        assert r.exit_code == 2 and words in r.stderr, r.stderr
+
+
+
+@pytest.mark.parametrize("command", [["analyze"], ["sweep", "--vary", "section.aspect=1:2:2"],
+                                     ["continue", "--vary", "load_factor=0:1:2"]],
+                         ids=["analyze", "sweep", "continue"])
+def test_a_design_asking_for_contact_is_refused_where_there_is_no_contact_model(
+        run_cli, tmp_path, command):
+    """``[analysis] contact = true`` in a command without a contact model (the linear engine,
+    a sweep, continuation): exit 2 naming the key and the command, instead of dropping it."""
+    f = tmp_path / "arc.toml"
+    f.write_text((ROOT / "examples" / "clamped_arc.toml").read_text()
+                 + "\n[analysis]\ncontact = true\n")
+    r = run_cli([command[0], str(f), *command[1:], "--out", str(tmp_path / "o")]
+                if command[0] != "analyze" else [command[0], str(f)])
+    assert r.exit_code == 2, r.stderr
+    assert "analysis.contact = true" in r.stderr and f"rodstab {command[0]}" in r.stderr

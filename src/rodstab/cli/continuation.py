@@ -78,6 +78,7 @@ def continue_cmd(design_file: str, vary: str, out_dir: str | None, elements: int
     if restart and out_dir is None:
         raise RodstabInputError("--restart needs --out (there is no saved run without it)")
     d = load_design(design_file)
+    d.require_no_contact("continue")
     spec = vary_in_units(d, spec)
     # START and STOP in the model's units (a design with units: from SI, rodstab.units).
     start, stop = (model_value(d, key, v, spec.unit) for v in (spec.start, spec.stop))

@@ -16,6 +16,7 @@ from .options import (
     COLOUR_BY,
     COLOUR_BY_SI,
     VARY_UNITS_HELP,
+    ContactChoice,
     colour_option,
     contact_options,
     elements_option,
@@ -59,6 +60,7 @@ def analyze(design_file: str, elements: int | None, plot_path: str | None, limit
     from ..linear.solve import FE_TARGET_RTOL, converged_stability, mode_family
 
     d = load_design(design_file)
+    d.require_no_contact("analyze")
     n = d.elements if elements is None else elements
     plot = None if plot_path is None else image_output("--plot", plot_path)
     refine = elements is None and not d.elements_given
@@ -143,8 +145,7 @@ def analyze(design_file: str, elements: int | None, plot_path: str | None, limit
 @json_option
 def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, perturb: float,
                     render_path: str | None, html_path: str | None, colour: str,
-                    contact: tuple[float, float] | None, limits: Limits,
-                    as_json: bool) -> None:
+                    contact: ContactChoice, limits: Limits, as_json: bool) -> None:
     """Nonlinear equilibrium (Newton) of a design and its Hessian stability.
 
     If Newton does not converge, the table (or JSON, converged: false) is still printed and
@@ -159,6 +160,7 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
 
     d = load_design(design_file)
     mu = load_factor
+    touch = contact.resolve(d.contact)  # (h / L, dhat / h), or None
     # a mesh given is kept; otherwise one that resolves the held state at this load
     n = (elements if elements is not None
          else nonlinear_elements(d) if d.elements_given
@@ -166,8 +168,8 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
     try:
         r, rod = equilibrium(d.assembly, load_factor=mu, elements_per_segment=n,
                              perturb=require_finite("--perturb", perturb), limits=limits,
-                             contact=None if contact is None else
-                             rod_contact_model(d.assembly, *contact))
+                             contact=None if touch is None else
+                             rod_contact_model(d.assembly, *touch))
     except RodstabInputError as exc:
         # a mesh the rule chose (not the user) past the size limits: say that the load set it
         size = f"{n} elements per segment: "
@@ -181,9 +183,9 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
     payload = r.to_dict() | {"design": d.source, "elements_per_segment": n,
                              "max_out_of_plane": rod.max_out_of_plane()}
     contact_line = []
-    if r.contact is not None and contact is not None:
-        payload["contact"] = r.contact.to_dict() | {"thickness_ratio": contact[0]}
-        contact_line = contact_lines(r.contact, contact[0])
+    if r.contact is not None and touch is not None:
+        payload["contact"] = r.contact.to_dict() | {"thickness_ratio": touch[0]}
+        contact_line = contact_lines(r.contact, touch[0])
     if render is not None or html is not None:
         from ..plot.ribbons import RodLayout
 
@@ -294,6 +296,7 @@ def sweep(design_file: str, vary: str, out_dir: str, elements: int | None,
         raise RodstabInputError('--parquet needs pandas and pyarrow: pip install '
                                 '"rodstab[distributed]"')
     base = load_design(design_file)
+    base.require_no_contact("sweep")
     spec = vary_in_units(base, spec)
     for value in (spec.start, spec.stop):  # both ends of the range, before the bar
         design_at(base, key, value, spec.unit)

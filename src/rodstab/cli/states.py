@@ -72,6 +72,7 @@ def states(design_file: str | None, segments: int, cusps: bool, max_turns: float
             raise RodstabInputError(f"--{named[0].replace('_', '-')} describes a ring without "
                                     f"DESIGN; {design_file} describes its own ring")
         design = load_design(design_file)
+        design.require_no_contact("states")
         a = design.assembly
         units = design.units
         ring = ring_of(a)
@@ -256,6 +257,7 @@ def atlas_cmd(design_file: str, vary: str, out_dir: str, method: str,
     if points_per_task is not None:
         task_size(1, 1, points_per_task)
     base = load_design(design_file)
+    base.require_no_contact("atlas")
     spec = vary_in_units(base, spec)
     try:
         ring_of(base.assembly)

@@ -146,6 +146,21 @@ class Design:
     #: reported); otherwise ``elements`` is where the FE starts refining to its stated
     #: accuracy (:func:`rodstab.linear.solve.converged_stability`).
     elements_given: bool = False
+    #: ``[analysis] contact``: None (no contact), else ``(contact_thickness, contact_dhat)``:
+    #: ``h / L`` and ``dhat / h`` (:func:`rodstab.nonlinear.equilibrium.rod_contact_model`).
+    contact: tuple[float, float] | None = None
+
+    def require_no_contact(self, command: str) -> None:
+        """Refuse (exit 2) a design asking for contact in a command that has no contact model.
+
+        Only the nonlinear equilibrium (``rodstab equilibrium``) models contact so far; a
+        command that would drop the design's ``[analysis] contact = true`` says so instead.
+        """
+        if self.contact is not None:
+            raise RodstabInputError(
+                f"{self.source}: analysis.contact = true, but `rodstab {command}` has no "
+                "contact model yet (only `rodstab equilibrium` does): set contact = false "
+                "in the design to run it without contact")
 
     def paper_load_factor(self, mu: float) -> float:
         """``lam = B3 kappa_n L / sqrt(B1 B2)`` of ``load_factor_segment`` at load ``mu``."""
@@ -296,7 +311,7 @@ def _scaled(s: Segment, length: float, stiffness: float) -> Segment:
 
 
 def _parse(data: Any, base: Path, reader: _Reader | None = None
-           ) -> tuple[Assembly, int, str, Units | None, bool]:
+           ) -> tuple[Assembly, int, str, Units | None, bool, tuple[float, float] | None]:
     top = _as_table(data, "", _TOP)
     reader = _Reader(marker=None) if reader is None else reader
     reader.marker, reader.base = _units_marker(top), base
@@ -352,7 +367,19 @@ def _parse(data: Any, base: Path, reader: _Reader | None = None
                       G=mat.G if mat else None, segment=lf)
     assembly = Assembly(segments=tuple(segments), welds=tuple(welds), supports=tuple(supports),
                         reference_load=ref, end_rotations=tuple(rotations))
-    return assembly, elements, lf, units, "elements" in analysis
+    contact = None
+    names = ("contact_thickness", "contact_dhat")
+    values = tuple(_number(analysis, k, "analysis", ANALYSIS[k].default, **ANALYSIS[k].bounds)
+                   for k in names)
+    if _bool(analysis, "contact", "analysis", False):
+        h, c = values
+        assert h is not None and c is not None  # defaults given
+        contact = (h, c)
+    elif any(k in analysis for k in names):
+        given = next(k for k in names if k in analysis)
+        raise RodstabInputError(f"analysis.{given} is a setting of analysis.contact = true, "
+                                "which is not set")
+    return assembly, elements, lf, units, "elements" in analysis, contact
 
 
 def parse_design(data: dict, source: str = "<dict>") -> Design:
@@ -382,13 +409,14 @@ def parse_design(data: dict, source: str = "<dict>") -> Design:
     """
     reader = _Reader(marker=None)
     try:
-        assembly, elements, lf, units, given = _parse(data, Path(source).parent, reader)
+        assembly, elements, lf, units, given, contact = _parse(data, Path(source).parent,
+                                                               reader)
     except RodstabInputError as exc:
         raise RodstabInputError(f"{source}: {exc}") from None
     notes = tuple(f"{source}: {w}" for w in reader.warnings)
     for w in notes:
         warnings.warn(w, RodstabWarning, stacklevel=2)
-    return Design(assembly, elements, lf, source, data, units, notes, given)
+    return Design(assembly, elements, lf, source, data, units, notes, given, contact)
 
 
 def load_design(path: str | Path) -> Design:

@@ -302,6 +302,17 @@ ANALYSIS = Table("analysis", "[analysis]", "How the design is solved and reporte
     Key("load_factor_segment", "string", "the segment whose lam = B3 kappa_n L / sqrt(B1 B2) "
         "is reported (and whose length and B3 are the units of a design with units)",
         range="a segment's name", default_text="the first segment"),
+    Key("contact", "boolean", "the rods are bodies that cannot pass through each other: the "
+        "nonlinear engine adds the contact barrier (`rodstab equilibrium`; `--no-contact` "
+        "turns it off for one run)", default=False, default_text="`false`"),
+    Key("contact_thickness", "number", "with contact: the rods' out-of-plane thickness h "
+        "over the mean rod length L (capsules of diameter h)", lo=0.0, hi=1.0, lo_open=True,
+        default=0.02, range="0 < h/L ≤ 1", default_text="`0.02`",
+        why="h / L, a thickness over the rod length"),
+    Key("contact_dhat", "number", "with contact: the barrier's reach over h (a result is "
+        "shown converged by repeating it at smaller values)", lo=0.0, hi=1.0, lo_open=True,
+        hi_open=True, default=0.1, range="0 < dhat/h < 1", default_text="`0.1`",
+        why="dhat / h"),
 ))
 
 DESIGN = Table("", "the file", "A design file's top level: tables and arrays of tables only.",
