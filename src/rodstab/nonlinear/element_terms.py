@@ -1,10 +1,11 @@
 """The discrete rod's element energies in closed form: stretch/shear and bending.
 
 Value, exact gradient and exact Hessian of each element's energy in its local variables,
-vectorised over elements, returned as :class:`~.jets.Jet` for :meth:`.discrete.DiscreteRod.
-energy_terms`. The same numbers as second-order jets of the same expressions to round-off
-(tests/test_nonlinear.py), at a fraction of their cost: the generic jets multiply (E, 3, 3,
-n, n) arrays for every product, where the closed forms need a few small contractions.
+vectorised over elements, returned as :class:`~.jets.Jet` for
+:meth:`.discrete.DiscreteRod.energy_terms`. The same numbers as second-order jets of the same
+expressions to round-off (tests/test_nonlinear.py), at a fraction of their cost: the generic
+jets multiply (E, 3, 3, n, n) arrays for every product, where the closed forms need a few
+small contractions.
 """
 
 from __future__ import annotations
