@@ -135,7 +135,8 @@ def _every_key_designs(tmp_path: Path) -> list[dict[str, Any]]:
         "weld": [{"ends": ["a.end", "b.start"]}],
         "support": [{"end": "a.start", "type": "clamped", "rotation": [0.0, 0.1, 0.0]},
                     {"end": "a.end"}, {"end": "b.end"}],
-        "analysis": {"elements": 8, "reference_load": 0.0, "load_factor_segment": "b"},
+        "analysis": {"elements": 8, "reference_load": 0.0, "load_factor_segment": "b",
+                     "contact": True, "contact_thickness": 0.03, "contact_dhat": 0.2},
     }
     units = {
         "material": {"E": "200 GPa", "G": "80 GPa"},
@@ -257,6 +258,8 @@ def _put(table: schema.Table, key: schema.Key, value: float) -> tuple[dict[str, 
         return data, "support[0].rotation[0]"
     assert table is schema.ANALYSIS, (table.name, key.name)
     data["analysis"] = {key.name: int(value) if key.type == "integer" else value}
+    if key.name.startswith("contact_"):
+        data["analysis"]["contact"] = True  # a contact setting needs contact on
     return data, f"analysis.{key.name}"
 
 

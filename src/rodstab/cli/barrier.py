@@ -252,6 +252,11 @@ def _contact_line(report: Any, thickness: float, from_state: str) -> str:
     verdict = ("RODS PASS THROUGH at path point "
                f"{report.pass_through_at:g}: not physical as computed (no contact model)"
                if report.pass_through else "no pass-through")
+    overlap = ""
+    if report.touching:
+        points = ", ".join(f"{a:g}" if a == b else f"{a:g}-{b:g}" for a, b in report.touching)
+        overlap = f" (closer than h, the rods overlap: path points {points})"
     return (f"contact      h/L = {fmt(thickness)}, judged at the {report.samples} path points: "
             f"{report.stacked_pairs} element pairs stacked in {from_state} (may touch, not "
-            f"swap layers); the others come within {fmt(report.min_distance)} h; " + verdict)
+            f"swap layers); the others come within {fmt(report.min_distance)} h{overlap}; "
+            + verdict)
