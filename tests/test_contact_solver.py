@@ -330,14 +330,14 @@ def test_newton_filters_steps_and_never_interpenetrates():
     raised), and Newton converges."""
     rod, _, _ = stacked(16, 1e-4, 384 * B * DELTA / L**3, 1e-4)
     alphas = []
-    orig = N._contact_fraction
+    orig = N.contact_fraction
 
     def spy(r, free, step):
         alphas.append(orig(r, free, step))
         return alphas[-1]
 
     with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(N, "_contact_fraction", spy)
+        mp.setattr(N, "contact_fraction", spy)
         ok, its, _ = newton(rod)
     assert ok and alphas[0] < 0.2 and len(alphas) >= its
     assert C.contact_energy_value(rod.contact, rod.x) > 0  # in contact
@@ -365,7 +365,7 @@ def test_newton_rejects_trials_that_interpenetrate():
     import rodstab.nonlinear.discrete as D
 
     with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(N, "_contact_fraction", lambda r, f, s: 1.0)
+        mp.setattr(N, "contact_fraction", lambda r, f, s: 1.0)
         mp.setattr(D, "contact_terms", spy)
         ok = newton(rod, max_iter=200)[0]
     assert raised and ok
@@ -681,13 +681,12 @@ def test_design_file_asks_for_contact_and_the_command_line_overrides_it(run_cli,
 
 
 
-@pytest.mark.parametrize("command", [["analyze"], ["sweep", "--vary", "section.aspect=1:2:2"],
-                                     ["continue", "--vary", "load_factor=0:1:2"]],
-                         ids=["analyze", "sweep", "continue"])
+@pytest.mark.parametrize("command", [["analyze"], ["sweep", "--vary", "section.aspect=1:2:2"]],
+                         ids=["analyze", "sweep"])
 def test_a_design_asking_for_contact_is_refused_where_there_is_no_contact_model(
         run_cli, tmp_path, command):
     """``[analysis] contact = true`` in a command without a contact model (the linear engine,
-    a sweep, continuation): exit 2 naming the key and the command, instead of dropping it."""
+    a sweep): exit 2 naming the key and the command, instead of dropping it."""
     f = tmp_path / "arc.toml"
     f.write_text((ROOT / "examples" / "clamped_arc.toml").read_text()
                  + "\n[analysis]\ncontact = true\n")
@@ -695,3 +694,64 @@ def test_a_design_asking_for_contact_is_refused_where_there_is_no_contact_model(
                 if command[0] != "analyze" else [command[0], str(f)])
     assert r.exit_code == 2, r.stderr
     assert "analysis.contact = true" in r.stderr and f"rodstab {command[0]}" in r.stderr
+
+
+# ---------------------------------------------------- continuation with contact (rodstab continue)
+def _pushed_pair(theta=0.0, gap=0.002):
+    """Two sliding-clamped rods side by side in the plane, ``h + gap`` apart; the upper one's
+    clamped start turned by ``theta`` about e3 (negative: towards the lower rod)."""
+    rot = (("up", "start", (0.0, 0.0, theta)),) if theta else ()
+    return Assembly(segments=(_segment("lo"), _segment("up", start=(0.0, H + gap))),
+                    supports=_supports("lo", "up"), end_rotations=rot)
+
+
+def test_continuation_with_contact_reaches_newtons_equilibrium_and_keeps_every_gap():
+    """Turning the upper rod's clamp by up to -0.05 rad pushes it onto the lower rod (without
+    contact it bends 0.0074 L, through the lower rod: its centreline ends closer than h). The
+    continuation with contact (corrector with the step filter) and Newton from the held state
+    with the clamp turned at once (an independent path) reach the same equilibrium: energies
+    equal to 1e-9, the same smallest gap, inside (0, dhat); every point of the path keeps a
+    positive gap (an overlap would raise)."""
+    from rodstab.nonlinear.continuation import continuation
+    from rodstab.nonlinear.equilibrium import equilibrium
+
+    model = C.ContactModel.for_rods(H, dhat_fraction=0.1, bending_stiffness=B, length=L)
+    path = continuation(_pushed_pair(), "support.2.rotation.binormal", 0.0, -0.05, 10,
+                        elements_per_segment=16, branch_steps=0, contact=model)
+    assert path.converged and path.value[-1] == -0.05
+    c = path.contact
+    assert c is not None and 0.0 < c["smallest_gap"] < model.dhat
+    assert c["smallest_gap_value"] == -0.05 and c["points_checked"] >= 10
+    eq, rod = equilibrium(_pushed_pair(-0.05), elements_per_segment=16, contact=model)
+    assert eq.converged and eq.stable
+    assert eq.energy == pytest.approx(path.energy[-1], rel=1e-9)
+    assert eq.contact.smallest_gap == pytest.approx(c["smallest_gap"], rel=1e-6)
+    free, _ = equilibrium(_pushed_pair(-0.05), elements_per_segment=16)
+    assert free.energy < 0.6 * eq.energy  # without contact the upper rod passes through
+    plain = C.mesh_of_rod(rod, model)
+    rod_free = discretise(_pushed_pair(-0.05), 16, 0.0)
+    assert newton(rod_free)[0]
+    with pytest.raises(C.Interpenetration):
+        C.contact_state(plain, rod_free.x)
+
+
+def test_continue_with_contact_where_nothing_touches_keeps_the_numbers(run_cli):
+    """``rodstab continue --contact`` on the straightened rod (one straight rod buckling out of
+    plane, never near itself): the same path and branch point as without contact (to 1e-9),
+    and a JSON contact block whose smallest gap is the nearest pair the exclusion keeps."""
+    import json
+
+    args = ["continue", "examples/straight_clamped_rod.toml", "--vary", "load_factor=4:7:3",
+            "--elements", "8", "--branch-steps", "0", "--no-progress", "--no-error-estimate",
+            "--json"]
+    plain = json.loads(run_cli(args).stdout)
+    r = run_cli([*args, "--contact"])
+    assert r.exit_code == 0, r.stderr
+    got = json.loads(r.stdout)
+    assert "contact" not in plain and got["contact"]["thickness_ratio"] == 0.02
+    assert got["value"] == pytest.approx(plain["value"], rel=1e-12)
+    assert got["energy"] == pytest.approx(plain["energy"], rel=1e-9, abs=1e-14)
+    assert [p["value"] for p in got["special_points"]] == \
+        pytest.approx([p["value"] for p in plain["special_points"]], rel=1e-9)
+    gap = got["contact"]["smallest_gap"]  # None: no pair within reach at any point
+    assert gap is None or gap > got["contact"]["dhat"]

@@ -15,7 +15,9 @@ from ..errors import NotConverged, RodstabInputError
 from ..io.outputs import check_output
 from ..limits import CONTINUATION_ELEMENTS, CONTINUE_DEFAULT_N, Limits
 from .options import (
+    ContactChoice,
     colour_option,
+    contact_options,
     elements_option,
     json_option,
     limit_options,
@@ -48,11 +50,12 @@ from .output import emit, fmt, units_line, warnings_as_lines
                    "and state each special point's discretisation error (Richardson, order "
                    "2).")
 @colour_option
+@contact_options
 @limit_options
 @json_option
 def continue_cmd(design_file: str, vary: str, out_dir: str | None, elements: int,
                  branch_steps: int, restart: bool, no_progress: bool, error_estimate: bool,
-                 colour: str, limits: Limits, as_json: bool) -> None:
+                 colour: str, contact: ContactChoice, limits: Limits, as_json: bool) -> None:
     """Pseudo-arclength continuation in one parameter, with stability along the path.
 
     It finds folds, branch points and the branches leaving them (sub- or supercritical).
@@ -78,7 +81,12 @@ def continue_cmd(design_file: str, vary: str, out_dir: str | None, elements: int
     if restart and out_dir is None:
         raise RodstabInputError("--restart needs --out (there is no saved run without it)")
     d = load_design(design_file)
-    d.require_no_contact("continue")
+    touch = contact.resolve(d.contact)  # (h / L, dhat / h), or None
+    model = None
+    if touch is not None:
+        from ..nonlinear.equilibrium import rod_contact_model
+
+        model = rod_contact_model(d.assembly, *touch)
     spec = vary_in_units(d, spec)
     # START and STOP in the model's units (a design with units: from SI, rodstab.units).
     start, stop = (model_value(d, key, v, spec.unit) for v in (spec.start, spec.stop))
@@ -91,19 +99,21 @@ def continue_cmd(design_file: str, vary: str, out_dir: str | None, elements: int
             r = continuation(d.assembly, key, start, stop, n, elements_per_segment=elements,
                              out_dir=out, progress=lambda: bar.update(1),
                              branch_steps=branch_steps, reference_segment=d.load_factor_segment,
-                             limits=limits, restart=restart)
+                             limits=limits, restart=restart, contact=model)
         specials = [{k: v for k, v in p.items() if k != "branch"} for p in r.special_points]
         if error_estimate and specials and r.converged:
             from ..nonlinear.continuation import special_point_errors
 
             for p, err in zip(specials, special_point_errors(
                     d.assembly, key, start, r, n, elements_per_segment=elements, stop=stop,
-                    limits=limits), strict=True):
+                    limits=limits, contact=model), strict=True):
                 p.update(err)
         payload = {"key": r.key, "value": list(r.value), "energy": list(r.energy),
                    "lowest_eigenvalue": list(r.lowest_eigenvalue),
                    "stable": list(r.stable), "special_points": specials,
                    "resumed_steps": r.resumed_steps, "converged": r.converged}
+        if r.contact is not None and touch is not None:
+            payload["contact"] = dict(r.contact, thickness_ratio=touch[0])
         if out is not None:
             _continuation_pictures(r, d, out, elements, payload, colour=colour)
     physical = [""] * len(specials)
@@ -129,6 +139,13 @@ def continue_cmd(design_file: str, vary: str, out_dir: str | None, elements: int
               for p, phys in zip(specials, physical, strict=True)] or [
         "special      none: the path stays "
         + ("stable" if r.stable[-1] else "unstable")]
+    if r.contact is not None:
+        c: dict[str, Any] = r.contact
+        gap = ("no pair within reach at any point" if c["smallest_gap"] is None else
+               f"smallest gap {fmt(c['smallest_gap'])} at {r.key} = "
+               f"{fmt(c['smallest_gap_value'])}")
+        lines.append(f"contact      capsules h/L = {fmt(touch[0]) if touch else '?'}, dhat "
+                     f"{fmt(c['dhat'])}: {gap} (over the {c['points_checked']} points run)")
     emit(payload, as_json, lines)
     if not r.converged:
         where = "" if spec.unit is None else \

@@ -153,13 +153,15 @@ class Design:
     def require_no_contact(self, command: str) -> None:
         """Refuse (exit 2) a design asking for contact in a command that has no contact model.
 
-        Only the nonlinear equilibrium (``rodstab equilibrium``) models contact so far; a
+        Only the nonlinear equilibrium and continuation (``rodstab equilibrium``, ``rodstab
+        continue``) model contact so far; a
         command that would drop the design's ``[analysis] contact = true`` says so instead.
         """
         if self.contact is not None:
             raise RodstabInputError(
                 f"{self.source}: analysis.contact = true, but `rodstab {command}` has no "
-                "contact model yet (only `rodstab equilibrium` does): set contact = false "
+                "contact model yet (only `rodstab equilibrium` and `rodstab continue` "
+                "have one): set contact = false "
                 "in the design to run it without contact")
 
     def paper_load_factor(self, mu: float) -> float:

@@ -7,6 +7,7 @@ Split from :mod:`.contact_model` (issue 21), which describes the model and its t
 from __future__ import annotations
 
 import dataclasses
+from typing import Any
 
 import numpy as np
 
@@ -223,4 +224,21 @@ def contact_state(mesh: ContactMesh, x: np.ndarray) -> ContactState:
     return ContactState(2.0 * float(mesh.radius[0]), mesh.model.dhat, mesh.model.stiffness,
                         gap, pair, int(np.sum(on)) + len(ee), 0.5 * float(f.sum()),
                         float(f.max(initial=0.0)))
+
+
+def attach_contact(rod: Any, model: Any) -> None:
+    """Give ``rod`` (a ``DiscreteRod``) the contact model ``model``: its energy joins the rod's.
+
+    Refuses (exit 2) a state whose rods already interpenetrate under the model, naming the
+    elements: a solver cannot start outside the model.
+    """
+    from .contact_model import mesh_of_rod
+
+    rod.contact = mesh_of_rod(rod, model)
+    try:
+        contact_state(rod.contact, rod.x)
+    except Interpenetration as exc:
+        raise RodstabInputError(f"the held state's rods already interpenetrate under the "
+                                f"contact model (thickness {2 * rod.contact.radius[0]:g}): "
+                                f"{exc}") from None
 

@@ -15,13 +15,13 @@ import math
 
 import numpy as np
 
-from ..errors import RodstabInputError, require_positive
+from ..errors import require_positive
 from ..limits import DEFAULT as DEFAULT_LIMITS
 from ..limits import Limits, require_nonlinear
 from ..model import Assembly
 from ..results import Result
-from .contact_model import ContactModel, Interpenetration, mesh_of_rod
-from .contact_step import ContactState, contact_state
+from .contact_model import ContactModel
+from .contact_step import ContactState, attach_contact, contact_state
 from .discrete import DiscreteRod, discretise
 from .newton import newton, relax, settle
 from .stability import (
@@ -140,13 +140,7 @@ def equilibrium(a: Assembly, *, load_factor: float = 1.0,
                       f"{elements_per_segment} elements per segment", limits)
     rod = discretise(a, elements_per_segment, load_factor)
     if contact is not None:
-        rod.contact = mesh_of_rod(rod, contact)
-        try:
-            contact_state(rod.contact, rod.x)
-        except Interpenetration as exc:
-            raise RodstabInputError(f"the held state's rods already interpenetrate under the "
-                                    f"contact model (thickness {2 * rod.contact.radius[0]:g}): "
-                                    f"{exc}") from None
+        attach_contact(rod, contact)
     settle(rod)
     if perturb:
         # A smooth, mesh-independent perturbation: a seeded random mix of the held state's

@@ -227,7 +227,7 @@ def lm_step(rod: DiscreteRod, free: np.ndarray, E: float, gf: np.ndarray, Hf: sp
             lam = max(_spd_shift(Hf, d), 4 * lam, lam_floor)
             continue
         if rod.contact is not None:
-            step = step * _contact_fraction(rod, free, step)
+            step = step * contact_fraction(rod, free, step)
         pred = -(gf @ step + 0.5 * step @ (Hf @ step))
         trial = rod.copy()
         dq = np.zeros(rod.n_dof)
@@ -254,8 +254,12 @@ def lm_step(rod: DiscreteRod, free: np.ndarray, E: float, gf: np.ndarray, Hf: sp
     return None, lam
 
 
-def _contact_fraction(rod: DiscreteRod, free: np.ndarray, step: np.ndarray) -> float:
-    """:func:`.contact.max_step_fraction` of the position part of the free ``step``."""
+def contact_fraction(rod: DiscreteRod, free: np.ndarray, step: np.ndarray) -> float:
+    """Return :func:`.contact.max_step_fraction` of the position part of the free ``step``.
+
+    The step filter of every solver on a rod with contact (Newton, the continuation's
+    corrector): along the shortened step no gap closes.
+    """
     assert rod.contact is not None
     dq = np.zeros(rod.n_dof)
     dq[free] = step

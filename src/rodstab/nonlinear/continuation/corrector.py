@@ -34,7 +34,9 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from ..contact import Interpenetration
 from ..discrete import PENALTY, DiscreteRod
+from ..newton import contact_fraction
 from ..parameters import Parameter, Terms
 from ..solve import sliding_mode, vee_log
 
@@ -139,7 +141,10 @@ def correct(rod: DiscreteRod, param: Parameter, row_q: np.ndarray, row_p: float,
     sigma, last = 0.0, math.inf
     acc_q = np.array(acc_q, float)
     for it in range(max_iter + 1):
-        terms = rod.energy_terms()
+        try:
+            terms = rod.energy_terms()
+        except Interpenetration:  # only with contact: a predictor outside the model
+            return None
         _, g, H = terms
         gf = g[free] if phase is None else g[free] + sigma * phase
         if it > 0 and np.max(np.abs(gf)) > DIVERGED_RTOL * scale:
@@ -154,6 +159,8 @@ def correct(rod: DiscreteRod, param: Parameter, row_q: np.ndarray, row_p: float,
         sol = solve_bordered(bordered_matrix(H[free][:, free], gp, row_q, row_p, phase), rhs)
         if sol is None:
             return None
+        if rod.contact is not None:  # damped: the step closes no gap (the step filter)
+            sol = sol * contact_fraction(rod, free, sol[:n])
         dq = np.zeros(rod.n_dof)
         dq[free] = sol[:n]
         rod.apply(dq)

@@ -81,12 +81,17 @@ class Path(Result):
     frames: tuple = ()
     shape_moments: tuple = ()
     landed: tuple = ()
+    #: With a contact model: its parameters and the smallest capsule gap over the path's
+    #: points (``smallest_gap``, at ``smallest_gap_value`` of the parameter; None when no pair
+    #: came within reach); left out of :meth:`to_dict` without one.
+    contact: dict | None = None
 
     def to_dict(self) -> dict[str, Any]:
         """JSON form, without the node positions and discrete states."""
         return {f.name: jsonable(getattr(self, f.name)) for f in dataclasses.fields(self)
                 if f.name not in ("shapes", "shape_values", "states", "end_states", "frames",
-                                  "shape_moments", "landed")}
+                                  "shape_moments", "landed")
+                and not (f.name == "contact" and self.contact is None)}
 
     @property
     def stable(self) -> tuple[bool, ...]:

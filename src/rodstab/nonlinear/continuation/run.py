@@ -20,6 +20,8 @@ from ...limits import DEFAULT as DEFAULT_LIMITS
 from ...limits import Limits, require_nonlinear, require_steps
 from ...model import MAX_END_ROTATION, Assembly
 from ...numerics import richardson
+from ..contact_model import ContactModel
+from ..contact_step import attach_contact, contact_state
 from ..discrete import MAX_NATURAL_TURNING, DiscreteRod, check_mesh, discretise
 from ..parameters import EndRotation, Parameter, SegmentValue, parameter
 from ..solve import newton, settle
@@ -75,7 +77,7 @@ def continuation(a: Assembly, key: str, start: float, stop: float, n_steps: int,
                  branch_ds: float | None = None, max_steps_factor: int = 8,
                  rod: DiscreteRod | None = None, stop_at_first: bool = False,
                  reference_segment: str | None = None, restart: bool = False,
-                 limits: Limits = DEFAULT_LIMITS) -> Path:
+                 limits: Limits = DEFAULT_LIMITS, contact: ContactModel | None = None) -> Path:
     """Follow the equilibrium of ``a`` as the parameter ``key`` goes from ``start`` to ``stop``.
 
     ``key``: ``load_factor``, ``segment.<name>.natural_curvature`` / ``.natural_twist``,
@@ -101,6 +103,11 @@ def continuation(a: Assembly, key: str, start: float, stop: float, n_steps: int,
     raises :class:`~rodstab.errors.RodstabInputError`); a saved state that cannot be used is set
     aside with a :class:`~rodstab.errors.RodstabWarning` and the run starts afresh. A run past
     ``limits`` (steps, unknowns; :mod:`rodstab.limits`) is refused before it starts.
+
+    ``contact``: the rods cannot pass through each other (:mod:`..contact`): the corrector's
+    steps are filtered, a predictor outside the model is a failed step (halved), the stability
+    is the Hessian's of rod and contact, and the path's ``contact`` gives the model and the
+    smallest capsule gap over its points. A held state that already interpenetrates is refused.
     """
     start, stop = require_finite("start", start), require_finite("stop", stop)
     if start == stop or not math.isfinite(stop - start):
@@ -131,6 +138,8 @@ def continuation(a: Assembly, key: str, start: float, stop: float, n_steps: int,
                     f"{MAX_NATURAL_TURNING:g}")
     fresh = rod is None
     rod = discretise(a, n) if rod is None else rod
+    if contact is not None:
+        attach_contact(rod, contact)
     param.prepare(rod)  # a weld parameter holds its welds and takes their reference frames
     held_x = rod.x.copy()
     direction = 1.0 if stop > start else -1.0
@@ -149,6 +158,10 @@ def continuation(a: Assembly, key: str, start: float, stop: float, n_steps: int,
             "max_steps_factor": max_steps_factor, "design": storage.design_hash(a),
             "start_state": "held" if fresh else storage.state_hash(rod),
             "reference_length": length}
+    if contact is not None:  # a run with contact never resumes one without, nor the reverse
+        meta["contact"] = {"radius": contact.radius, "dhat": contact.dhat,
+                           "stiffness": contact.stiffness}
+    gaps: list[tuple[float, float]] = []  # (value, smallest capsule gap) with contact
     with contextlib.ExitStack() as held:
         if out is not None:
             out.mkdir(parents=True, exist_ok=True)
@@ -187,6 +200,10 @@ def continuation(a: Assembly, key: str, start: float, stop: float, n_steps: int,
         def record(ok: bool, low: float | None = None) -> None:
             rows.append((param.get(rod), rod.energy(), lowest(rod) if low is None else low,
                          _moved(rod.x, held_x), ok))
+            if rod.contact is not None:
+                gap = contact_state(rod.contact, rod.x).smallest_gap
+                if gap is not None:
+                    gaps.append((param.get(rod), gap))
             if out is not None:
                 storage.save_state(out, rod, param.get(rod), path.tq, path.tp, path.h, rows, meta,
                                    specials)
@@ -244,7 +261,18 @@ def continuation(a: Assembly, key: str, start: float, stop: float, n_steps: int,
                     "pseudo-arclength (Keller) with Hessian eigenvalue monitoring"
                     + (f"; STOPPED: {why}" if why else ""), special_points=tuple(specials),
                     branches=tuple(branches), resumed_steps=resumed,
-                    states=tuple(states))
+                    states=tuple(states), contact=None if contact is None else _contact_block(
+                        contact, gaps, resumed))
+
+
+def _contact_block(model: ContactModel, gaps: list[tuple[float, float]], resumed: int) -> dict:
+    """Return the path's ``contact``: the model, the smallest gap over the points run here."""
+    low = min(gaps, key=lambda vg: vg[1]) if gaps else None
+    radius = model.radius if isinstance(model.radius, float) else max(model.radius)
+    return {"thickness": 2.0 * float(radius), "dhat": model.dhat,
+            "stiffness": model.stiffness, "smallest_gap": None if low is None else low[1],
+            "smallest_gap_value": None if low is None else low[0],
+            "points_checked": len(gaps), "resumed_points_unchecked": resumed}
 
 
 def _from_dict(key: str, s: dict) -> Path:
@@ -266,7 +294,8 @@ FINE_MARGIN_STEPS = 2
 
 def special_point_errors(a: Assembly, key: str, start: float, path: Path, n_steps: int, *,
                          elements_per_segment: int, stop: float,
-                         limits: Limits = DEFAULT_LIMITS) -> tuple[dict, ...]:
+                         limits: Limits = DEFAULT_LIMITS,
+                         contact: ContactModel | None = None) -> tuple[dict, ...]:
     """Discretisation error of each special point of ``path`` (a primary path from ``start``).
 
     The path is continued again on the mesh twice as fine (``2 elements_per_segment``, the
@@ -291,7 +320,7 @@ def special_point_errors(a: Assembly, key: str, start: float, path: Path, n_step
     steps = max(1, math.ceil(abs(end - start) / h))
     fine_n = 2 * elements_per_segment
     fine = continuation(a, key, start, end, steps, elements_per_segment=fine_n,
-                        branch_steps=0, limits=limits)
+                        branch_steps=0, limits=limits, contact=contact)
     theirs = list(fine.special_points)
     out: list[dict] = []
     for i, p in enumerate(specials):
