@@ -755,3 +755,38 @@ def test_continue_with_contact_where_nothing_touches_keeps_the_numbers(run_cli):
         pytest.approx([p["value"] for p in plain["special_points"]], rel=1e-9)
     gap = got["contact"]["smallest_gap"]  # None: no pair within reach at any point
     assert gap is None or gap > got["contact"]["dhat"]
+
+
+def test_continue_design_with_contact_from_the_command_line(run_cli, tmp_path):
+    """The pushed pair as a design file with ``[analysis] contact = true`` (h/L = 0.01, the
+    rule's dhat): ``rodstab continue`` reaches the equilibrium that Newton finds from the held
+    state with the clamp turned at once (same smallest gap, energy to 1e-9); ``--no-contact``
+    lets the upper rod through (its end energy is the free rod's, lower)."""
+    import json
+
+    from rodstab.io.design import load_design
+    from rodstab.nonlinear.equilibrium import equilibrium, rod_contact_model
+
+    text = ("[[segment]]\nname = 'lo'\nlength = 1.0\n[[segment]]\nname = 'up'\nlength = 1.0\n"
+            f"start = [0.0, {H + 0.002!r}]\n"
+            "[[support]]\nend = 'lo.start'\n[[support]]\nend = 'lo.end'\ntype = 'sliding-clamp'\n"
+            "[[support]]\nend = 'up.start'\nrotation = [0.0, 0.0, 0.0]\n"
+            "[[support]]\nend = 'up.end'\ntype = 'sliding-clamp'\n"
+            "[analysis]\ncontact = true\ncontact_thickness = 0.01\n")
+    f = tmp_path / "pushed.toml"
+    f.write_text(text)
+    args = ["continue", str(f), "--vary", "support.2.rotation.binormal=0:-0.05:10", "--elements",
+            "16", "--branch-steps", "0", "--no-progress", "--json"]
+    r = run_cli(args)
+    assert r.exit_code == 0, r.stderr
+    got = json.loads(r.stdout)
+    d = load_design(f)
+    turned = load_design(f).assembly
+    turned = type(turned)(segments=turned.segments, supports=turned.supports,
+                          end_rotations=(("up", "start", (0.0, 0.0, -0.05)),))
+    eq, _ = equilibrium(turned, elements_per_segment=16,
+                        contact=rod_contact_model(d.assembly, *d.contact))
+    assert got["energy"][-1] == pytest.approx(eq.energy, rel=1e-9)
+    assert got["contact"]["smallest_gap"] == pytest.approx(eq.contact.smallest_gap, rel=1e-6)
+    free = json.loads(run_cli([*args, "--no-contact"]).stdout)
+    assert "contact" not in free and free["energy"][-1] < 0.6 * got["energy"][-1]
