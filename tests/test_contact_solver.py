@@ -619,10 +619,11 @@ def test_equilibrium_with_contact_where_nothing_touches_is_the_same_equilibrium(
                                       "off"),
     (["--contact", "--contact-dhat", "1"], "--contact-dhat must be below 1"),
     (["--contact", "--contact-thickness", "-0.1"], "--contact-thickness must be a finite"),
+    (["--contact", "--contact-thickness", "2"], "--contact-thickness must be at most 1"),
 ])
 def test_equilibrium_contact_bad_input_exits_2_naming_it(run_cli, extra, words):
     """A held state whose rods already interpenetrate, contact options without --contact, a
-    dhat of h or more, a negative thickness: exit 2 with the option or the elements named."""
+    dhat of h or more, a thickness outside (0, 1] of L: exit 2 naming the option or elements."""
     r = run_cli(["equilibrium", "examples/folded_six_ring.toml", "--elements", "4", *extra])
     assert r.exit_code == 2, r.stderr
     assert words in r.stderr
@@ -727,7 +728,9 @@ def test_continuation_with_contact_reaches_newtons_equilibrium_and_keeps_every_g
     assert eq.energy == pytest.approx(path.energy[-1], rel=1e-9)
     assert eq.contact.smallest_gap == pytest.approx(c["smallest_gap"], rel=1e-6)
     free, _ = equilibrium(_pushed_pair(-0.05), elements_per_segment=16)
-    assert free.energy < 0.6 * eq.energy  # without contact the upper rod passes through
+    # Contact only removes states (a minimum over fewer states), so without it the energy is
+    # lower; and there the upper rod passes through the lower one (checked below).
+    assert free.energy < eq.energy
     plain = C.mesh_of_rod(rod, model)
     rod_free = discretise(_pushed_pair(-0.05), 16, 0.0)
     assert newton(rod_free)[0]
@@ -789,4 +792,5 @@ def test_continue_design_with_contact_from_the_command_line(run_cli, tmp_path):
     assert got["energy"][-1] == pytest.approx(eq.energy, rel=1e-9)
     assert got["contact"]["smallest_gap"] == pytest.approx(eq.contact.smallest_gap, rel=1e-6)
     free = json.loads(run_cli([*args, "--no-contact"]).stdout)
-    assert "contact" not in free and free["energy"][-1] < 0.6 * got["energy"][-1]
+    # Without contact the minimum is over more states: a lower energy (the rod goes through).
+    assert "contact" not in free and free["energy"][-1] < got["energy"][-1]

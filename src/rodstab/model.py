@@ -37,6 +37,12 @@ ROTATION_AXES = ("normal", "tangent", "binormal")
 #: Largest |component| of an imposed end rotation (radians): a hundred turns. Checked in
 #: design files and at both ends of a continuation in an end rotation.
 MAX_END_ROTATION = 200 * math.pi
+#: Defaults of contact between rods (the design keys ``analysis.contact_thickness`` and
+#: ``analysis.contact_dhat``, the options ``--contact-thickness`` and ``--contact-dhat``): the
+#: rods' thickness over the rod length, ``h / L``, and the barrier's reach over it, ``dhat /
+#: h`` (the contact model's rule, rodstab.nonlinear.contact_model).
+CONTACT_THICKNESS_RATIO = 0.02
+CONTACT_DHAT_FRACTION = 0.1
 
 
 def held_frame(tangent: np.ndarray) -> np.ndarray:

@@ -13,8 +13,8 @@ from ..errors import NotConverged, RodstabInputError
 from ..io.outputs import check_output
 from ..limits import Limits
 from ..sections import Section
+from .contact_options import contact_thickness_option
 from .options import (
-    contact_thickness_option,
     elements_option,
     json_option,
     limit_options,

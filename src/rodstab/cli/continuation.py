@@ -14,10 +14,9 @@ import click
 from ..errors import NotConverged, RodstabInputError
 from ..io.outputs import check_output
 from ..limits import CONTINUATION_ELEMENTS, CONTINUE_DEFAULT_N, Limits
+from .contact_options import ContactChoice, contact_options
 from .options import (
-    ContactChoice,
     colour_option,
-    contact_options,
     elements_option,
     json_option,
     limit_options,

@@ -12,13 +12,12 @@ import click
 from ..errors import NotConverged, RodstabInputError, require_finite
 from ..io.outputs import check_output
 from ..limits import NONLINEAR_MIN_ELEMENTS, SWEEP_DEFAULT_N, Limits
+from .contact_options import ContactChoice, contact_options
 from .options import (
     COLOUR_BY,
     COLOUR_BY_SI,
     VARY_UNITS_HELP,
-    ContactChoice,
     colour_option,
-    contact_options,
     elements_option,
     json_option,
     limit_options,

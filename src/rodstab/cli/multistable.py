@@ -18,8 +18,8 @@ from ..io.outputs import check_output
 from ..limits import Limits, require_steps
 from ..results import jsonable
 from ..sections import Section
+from .contact_options import contact_thickness_option
 from .options import (
-    contact_thickness_option,
     elements_option,
     json_option,
     limit_options,

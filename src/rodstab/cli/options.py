@@ -8,7 +8,6 @@ The cross-section (:func:`section_options`), where independent points run
 
 from __future__ import annotations
 
-import dataclasses
 import functools
 import inspect
 from collections.abc import Callable
@@ -240,87 +239,6 @@ def load_factor_option(*, default: float | None, help: str) -> Callable[..., Any
 
     return click.option("--load-factor", type=float, default=default, callback=check,
                         show_default=default is not None, help=help)
-
-
-def contact_thickness_option(help: str) -> Callable[..., Any]:
-    """``--contact-thickness H``: the rods' out-of-plane height over the rod length, ``h / L``.
-
-    The contact check of a path (``transitions``, ``barrier``): rods closer than ``h`` touch.
-    Default :data:`rodstab.problems.ring_transitions.DEFAULT_THICKNESS` (0.02); a positive
-    finite number, checked as it is parsed (exit 2 naming the value).
-    """
-
-    def check(ctx: click.Context, param: click.Parameter, value: float) -> float:
-        return require_positive("--contact-thickness", value)
-
-    return click.option("--contact-thickness", "contact_thickness", type=float, default=0.02,
-                        show_default=True, callback=check,
-                        help=("Out-of-plane section height h over the rod length L, for the "
-                              "contact check (rods closer than h touch). " + help).strip())
-
-
-@dataclasses.dataclass(frozen=True)
-class ContactChoice:
-    """What the command line says about contact (None: the design's, else the defaults).
-
-    ``on``: ``--contact/--no-contact``; ``thickness``: ``h / L``; ``dhat``: ``dhat / h``.
-    """
-
-    on: bool | None
-    thickness: float | None
-    dhat: float | None
-
-    def resolve(self, design_contact: tuple[float, float] | None) -> tuple[float, float] | None:
-        """``(h / L, dhat / h)`` of this run, or None without contact.
-
-        The command line wins over the design's ``[analysis] contact``; a thickness or dhat
-        given for a run without contact is refused (exit 2): it would be dropped.
-        """
-        on = design_contact is not None if self.on is None else self.on
-        if not on:
-            for name, v in (("--contact-thickness", self.thickness), ("--contact-dhat",
-                                                                      self.dhat)):
-                if v is not None:
-                    raise RodstabInputError(f"{name} is a setting of contact, which is off "
-                                            "for this run (--contact, or [analysis] contact "
-                                            "= true in the design)")
-            return None
-        h, c = design_contact if design_contact is not None else (0.02, 0.1)
-        return (h if self.thickness is None else self.thickness,
-                c if self.dhat is None else self.dhat)
-
-
-def contact_options(f: Callable[..., Any]) -> Callable[..., Any]:
-    """Add ``--contact/--no-contact``, ``--contact-thickness``, ``--contact-dhat``.
-
-    Passes ``contact``, a :class:`ContactChoice` (``resolve`` it with the design's
-    ``[analysis] contact``): without either, every number is as without contact.
-    """
-
-    @click.option("--contact/--no-contact", "with_contact", default=None,
-                  help="Rods are capsules that cannot pass through each other (a smooth "
-                       "barrier on their gaps, rodstab.nonlinear.contact); the output adds "
-                       "the gaps and contact forces. [default: the design's [analysis] "
-                       "contact, else off]")
-    @contact_thickness_option("With contact: the capsules' diameter [default: the design's "
-                              "contact_thickness].")
-    @click.option("--contact-dhat", "contact_dhat", type=float, default=0.1, show_default=True,
-                  help="With contact: the barrier's reach dhat over h, in (0, 1); a result is "
-                       "shown converged by repeating it at smaller values [default: the "
-                       "design's contact_dhat].")
-    @functools.wraps(f)
-    def wrapper(with_contact: bool | None, contact_thickness: float, contact_dhat: float,
-                **kwargs: Any) -> Any:
-        c = None
-        if given("contact_dhat"):
-            c = require_positive("--contact-dhat", contact_dhat)
-            if c >= 1.0:
-                raise RodstabInputError(f"--contact-dhat must be below 1 (dhat < h), got "
-                                        f"{contact_dhat!r}")
-        h = contact_thickness if given("contact_thickness") else None
-        return f(contact=ContactChoice(with_contact, h, c), **kwargs)
-
-    return wrapper
 
 
 #: What ``--vary`` help says about units (rodstab.io.vary.vary_in_units: the rule).

@@ -20,7 +20,13 @@ from dataclasses import replace
 from typing import Any
 
 from ..limits import LENGTH_RANGE, STIFFNESS_RANGE
-from ..model import MAX_END_ROTATION, ROTATION_AXES, SUPPORTS
+from ..model import (
+    CONTACT_DHAT_FRACTION,
+    CONTACT_THICKNESS_RATIO,
+    MAX_END_ROTATION,
+    ROTATION_AXES,
+    SUPPORTS,
+)
 from ..sections import (
     ASPECT_RANGE,
     COMPOSITE,
@@ -308,11 +314,13 @@ ANALYSIS = Table("analysis", "[analysis]", "How the design is solved and reporte
         default_text="`false`"),
     Key("contact_thickness", "number", "with contact: the rods' out-of-plane thickness h "
         "over the mean rod length L (capsules of diameter h)", lo=0.0, hi=1.0, lo_open=True,
-        default=0.02, range="0 < h/L ≤ 1", default_text="`0.02`",
+        default=CONTACT_THICKNESS_RATIO, range="0 < h/L ≤ 1",
+        default_text=f"`{CONTACT_THICKNESS_RATIO:g}`",
         why="h / L, a thickness over the rod length"),
     Key("contact_dhat", "number", "with contact: the barrier's reach over h (a result is "
         "shown converged by repeating it at smaller values)", lo=0.0, hi=1.0, lo_open=True,
-        hi_open=True, default=0.1, range="0 < dhat/h < 1", default_text="`0.1`",
+        hi_open=True, default=CONTACT_DHAT_FRACTION, range="0 < dhat/h < 1",
+        default_text=f"`{CONTACT_DHAT_FRACTION:g}`",
         why="dhat / h"),
 ))
 

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .jets import _HAT, _SYM, Jet, hat
+from .jets import _HAT, _SYM, Jet, hat, vee_skew
 
 #: The unstrained tangent in the edge frame (e2: the frames' second director).
 _T0 = np.array([0.0, 1.0, 0.0])
@@ -61,9 +61,7 @@ def stretch_jet(R: np.ndarray, d: np.ndarray, le: np.ndarray, w: np.ndarray, ord
 
 def _vee_tr(X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """``vee(X - X^T)`` (..., 3) and ``tr X`` (...) of matrices ``X`` (..., 3, 3)."""
-    return (np.stack([X[..., 2, 1] - X[..., 1, 2], X[..., 0, 2] - X[..., 2, 0],
-                      X[..., 1, 0] - X[..., 0, 1]], axis=-1),
-            X[..., 0, 0] + X[..., 1, 1] + X[..., 2, 2])
+    return vee_skew(X), X[..., 0, 0] + X[..., 1, 1] + X[..., 2, 2]
 
 
 def bend_jet(Lm: np.ndarray, M: np.ndarray, Rt: np.ndarray, swap: np.ndarray, ds: np.ndarray,

@@ -18,7 +18,7 @@ import numpy as np
 from ..errors import require_positive
 from ..limits import DEFAULT as DEFAULT_LIMITS
 from ..limits import Limits, require_nonlinear
-from ..model import Assembly
+from ..model import CONTACT_DHAT_FRACTION, Assembly
 from ..results import Result
 from .contact_model import ContactModel
 from .contact_step import ContactState, attach_contact, contact_state
@@ -95,10 +95,6 @@ def resolving_elements(a: Assembly, load_factor: float, minimum: int = 32) -> in
         k = max(abs(s.curvature), m / math.sqrt(s.B1 * s.B2))
         n = max(n, math.ceil(s.length * k / RESOLVE_HK))
     return n
-
-
-#: Default ``dhat / h`` of :func:`rod_contact_model` (the contact model's rule, 0.1 h).
-CONTACT_DHAT_FRACTION = 0.1
 
 
 def rod_contact_model(a: Assembly, thickness_ratio: float,

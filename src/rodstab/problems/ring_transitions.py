@@ -30,7 +30,7 @@ import numpy as np
 from ..errors import RodstabInputError
 from ..limits import DEFAULT as DEFAULT_LIMITS
 from ..limits import Limits, require_nonlinear
-from ..model import Assembly
+from ..model import CONTACT_THICKNESS_RATIO, Assembly
 from ..multistable.identify import ring_nodes
 from ..multistable.states import Ring, uniform_ring
 from ..multistable.transitions import TransitionGraph, transition_graph
@@ -57,7 +57,7 @@ HEXAGRAM_STIMULI: dict[str, tuple[tuple[str, float], ...]] = {
               ("weld.2.moment.binormal", 12.0)),
 }
 #: Default out-of-plane thickness over the rod length, ``h / L``.
-DEFAULT_THICKNESS = 0.02
+DEFAULT_THICKNESS = CONTACT_THICKNESS_RATIO
 
 
 def threshold_units(units: Units, assembly: Assembly,

@@ -1,0 +1,107 @@
+"""The contact options of the commands: one definition of each (parsing only).
+
+``--contact-thickness`` (the contact check of ``transitions`` and ``barrier``, the capsules of
+``equilibrium`` and ``continue``) and ``--contact/--no-contact`` with ``--contact-dhat``,
+resolved against the design's ``[analysis] contact`` (:class:`ContactChoice`).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+from collections.abc import Callable
+from typing import Any
+
+import click
+
+from ..errors import RodstabInputError, require_positive
+from ..model import CONTACT_DHAT_FRACTION, CONTACT_THICKNESS_RATIO
+from .options import given
+
+
+def contact_thickness_option(help: str) -> Callable[..., Any]:
+    """``--contact-thickness H``: the rods' out-of-plane height over the rod length, ``h / L``.
+
+    The contact check of a path (``transitions``, ``barrier``): rods closer than ``h`` touch.
+    Default :data:`rodstab.model.CONTACT_THICKNESS_RATIO`; in ``(0, 1]`` as the design key
+    ``analysis.contact_thickness``, checked as it is parsed (exit 2 naming the value).
+    """
+
+    def check(ctx: click.Context, param: click.Parameter, value: float) -> float:
+        h = require_positive("--contact-thickness", value)
+        if h > 1.0:
+            raise RodstabInputError(f"--contact-thickness must be at most 1 (h / L, a thickness "
+                                    f"over the rod length), got {value!r}")
+        return h
+
+    return click.option("--contact-thickness", "contact_thickness", type=float,
+                        default=CONTACT_THICKNESS_RATIO,
+                        show_default=True, callback=check,
+                        help=("Out-of-plane section height h over the rod length L, for the "
+                              "contact check (rods closer than h touch). " + help).strip())
+
+
+@dataclasses.dataclass(frozen=True)
+class ContactChoice:
+    """What the command line says about contact (None: the design's, else the defaults).
+
+    ``on``: ``--contact/--no-contact``; ``thickness``: ``h / L``; ``dhat``: ``dhat / h``.
+    """
+
+    on: bool | None
+    thickness: float | None
+    dhat: float | None
+
+    def resolve(self, design_contact: tuple[float, float] | None) -> tuple[float, float] | None:
+        """``(h / L, dhat / h)`` of this run, or None without contact.
+
+        The command line wins over the design's ``[analysis] contact``; a thickness or dhat
+        given for a run without contact is refused (exit 2): it would be dropped.
+        """
+        on = design_contact is not None if self.on is None else self.on
+        if not on:
+            for name, v in (("--contact-thickness", self.thickness), ("--contact-dhat",
+                                                                      self.dhat)):
+                if v is not None:
+                    raise RodstabInputError(f"{name} is a setting of contact, which is off "
+                                            "for this run (--contact, or [analysis] contact "
+                                            "= true in the design)")
+            return None
+        h, c = (design_contact if design_contact is not None
+                else (CONTACT_THICKNESS_RATIO, CONTACT_DHAT_FRACTION))
+        return (h if self.thickness is None else self.thickness,
+                c if self.dhat is None else self.dhat)
+
+
+def contact_options(f: Callable[..., Any]) -> Callable[..., Any]:
+    """Add ``--contact/--no-contact``, ``--contact-thickness``, ``--contact-dhat``.
+
+    Passes ``contact``, a :class:`ContactChoice` (``resolve`` it with the design's
+    ``[analysis] contact``): without either, every number is as without contact.
+    """
+
+    @click.option("--contact/--no-contact", "with_contact", default=None,
+                  help="Rods are capsules that cannot pass through each other (a smooth "
+                       "barrier on their gaps, rodstab.nonlinear.contact); the output adds "
+                       "the gaps and contact forces. [default: the design's [analysis] "
+                       "contact, else off]")
+    @contact_thickness_option("With contact: the capsules' diameter [default: the design's "
+                              "contact_thickness].")
+    @click.option("--contact-dhat", "contact_dhat", type=float, default=CONTACT_DHAT_FRACTION,
+                  show_default=True,
+                  help="With contact: the barrier's reach dhat over h, in (0, 1); a result is "
+                       "shown converged by repeating it at smaller values [default: the "
+                       "design's contact_dhat].")
+    @functools.wraps(f)
+    def wrapper(with_contact: bool | None, contact_thickness: float, contact_dhat: float,
+                **kwargs: Any) -> Any:
+        c = None
+        if given("contact_dhat"):
+            c = require_positive("--contact-dhat", contact_dhat)
+            if c >= 1.0:
+                raise RodstabInputError(f"--contact-dhat must be below 1 (dhat < h), got "
+                                        f"{contact_dhat!r}")
+        h = contact_thickness if given("contact_thickness") else None
+        return f(contact=ContactChoice(with_contact, h, c), **kwargs)
+
+    return wrapper
