@@ -141,6 +141,24 @@ def test_api_reference_has_every_public_module(site):
 
 # --- the hook's parts, without a build --------------------------------------------------------
 
+def test_a_long_signature_gets_a_parameter_per_line_commas_in_literals_kept():
+    code = ("def xxxxxxxxxx(a: int, b: dict[str, tuple[int, int]] = {'a,b': (1, 2)}, *, "
+            "c: str = 'x,)', **kw) -> tuple[int, str]: pass")
+    assert hooks.format_signature(code, 60) == (
+        "def xxxxxxxxxx(\n    a: int,\n    b: dict[str, tuple[int, int]] = {'a,b': (1, 2)},\n"
+        "    *,\n    c: str = 'x,)',\n    **kw,\n) -> tuple[int, str]: pass\n")
+    assert hooks.format_signature("def f(a) -> int: pass", 60) == "def f(a) -> int: pass\n"
+    assert hooks.format_signature("def fffff() -> int: pass", 5) == "def fffff() -> int: pass\n"
+
+
+def test_api_signatures_are_laid_out_without_a_subprocess(site):
+    """A signature longer than the line gets a parameter per line, in this process whether
+    or not ruff is installed (format_signature)."""
+    html = _page(site, "api/rodstab.multistable.barrier")
+    assert re.search(r"\(\s*\n\s{4}\S", re.sub(r"<[^>]+>", "", html)), "no multi-line signature"
+
+
+
 def test_a_broken_example_fails_the_build(tmp_path):
     (tmp_path / "broken.toml").write_text("[section]\nshape = 'hexagon'\n")
     with pytest.raises(hooks.PluginError, match="exited 2"):

@@ -7,7 +7,6 @@ import math
 from collections.abc import Callable, Iterator
 
 import numpy as np
-from numpy.polynomial import Polynomial
 
 from .. import kinematics, transfer
 from ..analytic import arc
@@ -63,7 +62,8 @@ def arc_equations_mismatch(b1: float, b2: float, Lb: float, M: float,
     for w_1, w_2, u_2 in ((w3, w3, u3), (w2, w2, u2)):  # printed, corrected
         l1 = b1 * (u4 - Lb * w_1) - b2 * Lb * (w2 + Lb * u2) + M * Lb * (Lb * u2 + w2)
         l2 = b1 * Lb * (u2 - Lb * w) + b2 * (w_2 + Lb * u_2) + M * Lb * (Lb * w - u2)
-        def integrand(x: np.ndarray, l1: Polynomial = l1, l2: Polynomial = l2) -> np.ndarray:
+        def integrand(x: np.ndarray, l1: variation.Field = l1,
+                      l2: variation.Field = l2) -> np.ndarray:
             return l1(x) * du(x) - l2(x) * dw(x)
 
         out.append(variation.relative_mismatch(DI, variation.integral(integrand)))
