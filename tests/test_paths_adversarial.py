@@ -283,7 +283,7 @@ def test_resume_after_sigkill_mid_path_cli(run_cli, tmp_path):
     recomputed) and ends equal to an uninterrupted run: every row of primary.csv, and the
     special point with its branch."""
     args = ["continue", str(TWISTED_TOML), "--vary", f"{KEY}=0:13:26", "--elements", "12",
-            "--branch-steps", "2", "--no-progress", "--json"]
+            "--branch-steps", "2", "--no-progress", "--no-pictures", "--json"]
     ref_dir = tmp_path / "full"
     r = run_cli([*args, "--out", str(ref_dir)])
     assert r.exit_code == 0, r.stderr
@@ -378,7 +378,7 @@ def test_resume_kill_between_csv_append_and_special_points_write(twisted, full_r
 
 def test_resume_with_truncated_last_csv_line_is_not_a_traceback(run_cli, tmp_path):
     args = ["continue", str(TWISTED_TOML), "--vary", f"{KEY}=0:5:5", "--elements", "8",
-            "--branch-steps", "0", "--no-progress", "--out", str(tmp_path)]
+            "--branch-steps", "0", "--no-progress", "--no-pictures", "--out", str(tmp_path)]
     assert run_cli(args).exit_code == 0
     t = (tmp_path / "primary.csv").read_text()
     (tmp_path / "primary.csv").write_text(t[:-25])  # a kill in the middle of the append
@@ -392,7 +392,7 @@ def test_rerun_with_another_design_into_same_dir_does_not_mix(run_cli, tmp_path)
     other.write_text(TWISTED_TOML.read_text().replace("nu = 0.3", "nu = 0.0"))
     d = tmp_path / "out"
     common = ["--vary", f"{KEY}=0:13:10", "--elements", "6", "--branch-steps", "0",
-              "--no-progress", "--json"]
+              "--no-progress", "--no-pictures", "--json"]
     run_cli(["continue", str(TWISTED_TOML), *common, "--out", str(d)])
     fresh = json.loads(run_cli(["continue", str(other), *common]).stdout)
     mixed = json.loads(run_cli(["continue", str(other), *common, "--out", str(d)]).stdout)
@@ -403,7 +403,7 @@ def test_rerun_with_another_design_into_same_dir_does_not_mix(run_cli, tmp_path)
 
 def test_rerun_with_other_branch_steps_into_same_dir_does_not_mix(run_cli, tmp_path):
     common = ["continue", str(TWISTED_TOML), "--vary", f"{KEY}=0:13:10", "--elements", "6",
-              "--no-progress", "--json", "--out", str(tmp_path)]
+              "--no-progress", "--no-pictures", "--json", "--out", str(tmp_path)]
     run_cli([*common, "--branch-steps", "2"])
     p = json.loads(run_cli([*common, "--branch-steps", "0"]).stdout)
     assert all("post_buckling" not in s for s in p["special_points"]), p["special_points"]
@@ -417,6 +417,12 @@ def test_rerun_into_same_dir_leaves_no_stale_animation(run_cli, tmp_path):
     p = json.loads(run_cli([*base, "--vary", f"{KEY}=0:5:10"]).stdout)
     assert "animation" not in p
     assert not (tmp_path / "branch.gif").exists(), "branch.gif of the previous run is left"
+    assert (tmp_path / "diagram.png").exists()
+    # --no-pictures draws none and leaves none of an earlier run's; the tables are written
+    p = json.loads(run_cli([*base, "--vary", f"{KEY}=0:5:10", "--no-pictures"]).stdout)
+    assert not {"diagram", "animation", "interactive"} & set(p)
+    assert not (tmp_path / "diagram.png").exists(), "diagram.png of the previous run is left"
+    assert (tmp_path / "primary.csv").exists()
 
 
 # ------------------------------------------------------------------ 3. physics sanity

@@ -34,8 +34,10 @@ ROOT = Path(__file__).resolve().parent.parent
 STRAIGHT = str(ROOT / "examples" / "straight_clamped_rod.toml")
 IS_ROOT = hasattr(os, "geteuid") and os.geteuid() == 0
 
-CONTINUE = ["continue", STRAIGHT, "--vary", "load_factor=0:1:3", "--elements", "6",
-            "--branch-steps", "0", "--no-progress", "--json"]
+#: (--no-pictures: these tests are about the saved run; the pictures, ~0.5 s a run, are
+#: tested in tests/test_paths.py)
+CONTINUE = ["continue", STRAIGHT, "--vary", "load_factor=0:1:3", "--no-pictures", "--elements",
+            "6", "--branch-steps", "0", "--no-progress", "--json"]
 
 #: (option, is a directory, the command line before the path, the computation it calls)
 OUTPUT_OPTIONS = [

@@ -44,6 +44,9 @@ from .output import emit, fmt, units_line, warnings_as_lines
 @click.option("--restart", is_flag=True,
               help="Start afresh in --out: ignore (and remove) the run saved there.")
 @click.option("--no-progress", is_flag=True, help="Do not draw the progress bar.")
+@click.option("--pictures/--no-pictures", default=True, show_default=True,
+              help="With --out, also draw diagram.png, branch.gif and branch.html (about a "
+                   "second); --no-pictures writes the tables only.")
 @click.option("--error-estimate/--no-error-estimate", default=True, show_default=True,
               help="Continue again on the mesh twice as fine up to the last special point "
                    "and state each special point's discretisation error (Richardson, order "
@@ -53,8 +56,8 @@ from .output import emit, fmt, units_line, warnings_as_lines
 @limit_options
 @json_option
 def continue_cmd(design_file: str, vary: str, out_dir: str | None, elements: int,
-                 branch_steps: int, restart: bool, no_progress: bool, error_estimate: bool,
-                 colour: str, contact: ContactChoice, limits: Limits, as_json: bool) -> None:
+                 branch_steps: int, restart: bool, no_progress: bool, pictures: bool,
+                 error_estimate: bool, colour: str, contact: ContactChoice, limits: Limits, as_json: bool) -> None:
     """Pseudo-arclength continuation in one parameter, with stability along the path.
 
     It finds folds, branch points and the branches leaving them (sub- or supercritical).
@@ -113,8 +116,13 @@ def continue_cmd(design_file: str, vary: str, out_dir: str | None, elements: int
                    "resumed_steps": r.resumed_steps, "converged": r.converged}
         if r.contact is not None and touch is not None:
             payload["contact"] = dict(r.contact, thickness_ratio=touch[0])
-        if out is not None:
+        if out is not None and pictures:
             _continuation_pictures(r, d, out, elements, payload, colour=colour)
+        elif out is not None:
+            from ..nonlinear.continuation.storage import PICTURES
+
+            for name in PICTURES:  # none of an earlier run's pictures is left as this one's
+                (out / name).unlink(missing_ok=True)
     physical = [""] * len(specials)
     lines = [f"design       {d.source}: {len(r.value)} steps in {r.key} "
              f"({r.resumed_steps} resumed), path {'complete' if r.converged else 'STOPPED'}"]

@@ -32,9 +32,11 @@ from ...io.outputs import replace_atomic, write_atomic
 from ...model import Assembly
 from ..discrete import DiscreteRod
 
+#: The pictures ``rodstab continue --out`` draws (``--no-pictures`` removes them instead).
+PICTURES = ("diagram.png", "branch.gif", "branch.html")
 #: Output files of a continuation run (removed when a run starts afresh in the directory).
 OUTPUTS = ("run.json", "state.npz", "primary.csv", "special_points.json", "branches.csv",
-           "diagram.png", "branch.gif", "branch.html")
+           *PICTURES)
 
 
 #: The arrays of ``state.npz`` (:func:`save_state`).
