@@ -57,7 +57,8 @@ from .output import emit, fmt, units_line, warnings_as_lines
 @json_option
 def continue_cmd(design_file: str, vary: str, out_dir: str | None, elements: int,
                  branch_steps: int, restart: bool, no_progress: bool, pictures: bool,
-                 error_estimate: bool, colour: str, contact: ContactChoice, limits: Limits, as_json: bool) -> None:
+                 error_estimate: bool, colour: str, contact: ContactChoice, limits: Limits,
+                 as_json: bool) -> None:
     """Pseudo-arclength continuation in one parameter, with stability along the path.
 
     It finds folds, branch points and the branches leaving them (sub- or supercritical).
