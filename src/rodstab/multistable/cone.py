@@ -1,0 +1,301 @@
+"""Does contact change a stacked state's stability limit? The linear method (issue 21, part 3).
+
+At the idealised stacked state -- layers at zero gap, no contact force -- contact adds no
+energy; it only restricts the perturbations to those that do not close a gap between layers
+that touch, given their order. The second variation must then be positive on that **cone**,
+not on the whole space. Write ``v`` for a perturbation and ``K(mu)`` for P2 (2.12) on the
+admissible unknowns (:func:`rodstab.linear.solve.linear_pencil`); the cone is ``C = {v : g_i(v)
+>= 0}``, ``g_i`` the first-order change of gap ``i``.
+
+At a no-contact limit ``mu_c`` of multiplicity ``m``, ``K(mu_c)`` is positive semi-definite
+with the critical eigenspace ``Phi`` (``m`` modes) as its null space. Two cases, decided
+exactly:
+
+* Some nonzero ``c`` has ``g_i(Phi c) >= 0`` for every ``i``: that critical mode keeps every
+  gap open, it is admissible, and the limit with contact is ``mu_c`` -- **unchanged**.
+* None has: on the compact set ``C`` intersected with the unit sphere the quadratic form
+  ``v^T K(mu_c) v`` vanishes only on ``Phi``, which it does not meet, so its minimum there is
+  positive and stays positive a little past ``mu_c``: contact **raises** the limit (by an amount
+  this method does not give; that needs the minimum of the form on the cone).
+
+The gaps. Layers are offsets ``(u, k)`` of the planar centrelines, in units of the spacing
+``h + g0`` (:func:`rodstab.multistable.stacking.stack_layers`; ``u`` in the plane along the
+in-plane normal the stacked rods share, ``k`` along ``e3``). Two segments touch where their
+held centrelines coincide and their offsets are one spacing apart; the normal from ``b`` to
+``a`` is ``n = (u_a - u_b, k_a - k_b)``. P2's modes are out-of-plane (``w = u3`` and the twist),
+so their gap change is ``n_z (w_a - w_b)`` with ``n_z = k_a - k_b``; the in-plane part of a
+general perturbation is zero on the critical modes and does not enter the test of the first
+case. A pair side by side in the plane (``n_z = 0``) is never closed by them.
+
+What it is exact for: the first-order (cone) condition at zero gap. A critical mode that moves
+touching layers together (gap change zero everywhere, e.g. the bi-rod) passes the test with
+equality -- tangent to the cone's boundary -- and second-order effects of finite thickness can
+then go either way: the nonlinear method with contact (:mod:`.stacked`) decides those.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from typing import Any
+
+import numpy as np
+
+from ..errors import (
+    RodstabInputError,
+    require_in_range,
+    require_positive,
+    require_positive_int,
+)
+from ..linear.solve import linear_pencil, linear_stability
+from ..model import CONTACT_DHAT_FRACTION, CONTACT_THICKNESS_RATIO, Assembly
+from ..results import Result
+
+#: Held centrelines closer than this fraction of the total length coincide (stacked).
+COINCIDE_TOL = 1e-9
+#: Offsets this close to one spacing apart touch.
+TOUCH_TOL = 1e-9
+#: A gap change counts as zero below this, the modes scaled to ``max |w| = 1`` (their
+#: round-off: ~3e-13 on the bi-rod, whose layers move together; the FE's error is in the
+#: load, not in a sign).
+GAP_ROUNDOFF = 1e-9
+#: Samples per element where the gap changes are tested (the element's nodes and thirds).
+SAMPLES_PER_ELEMENT = 3
+#: Points of the coarse search for the matching point on the other segment.
+MATCH_GRID = 2001
+
+
+@dataclasses.dataclass(frozen=True)
+class ConeSide(Result):
+    """The verdict at one end of the no-contact interval.
+
+    Attributes
+    ----------
+    load_factor : float
+        The no-contact limit ``mu_c`` (FE of P2).
+    multiplicity : int
+        Dimension of the critical eigenspace tested.
+    unchanged : bool
+        True: a critical mode keeps every gap open (the limit with contact is ``mu_c``);
+        False: every critical mode closes a gap somewhere (contact raises the limit).
+    margin : float
+        The best combination's smallest gap change over its largest (``-1 .. 1``; >= 0 when
+        unchanged; 0 when the mode moves the touching layers together).
+    largest_gap_change : float
+        The best combination's largest ``|n_z (w_a - w_b)|`` (mode scaled to ``max |w| = 1``):
+        0 means the layers move together.
+    closes_at : str
+        Where the best combination closes a gap (empty when unchanged).
+    """
+
+    load_factor: float
+    multiplicity: int
+    unchanged: bool
+    margin: float
+    largest_gap_change: float
+    closes_at: str
+
+
+@dataclasses.dataclass(frozen=True)
+class ContactCone(Result):
+    """Both ends of the no-contact interval of a stacked state, tested against the cone."""
+
+    interval: tuple[float, float]
+    lower: ConeSide | None
+    upper: ConeSide | None
+    pairs: tuple[str, ...]
+    elements_per_segment: int
+    method: str
+
+
+def _w_fields(disc: Any, vec: np.ndarray) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
+    """Per segment: node arc lengths, ``w`` and ``beta = w'`` at the nodes of a full vector.
+
+    ``beta`` is quadratic on each element, so ``w`` (its integral from the joint value) is
+    cubic there and the cubic Hermite interpolant of the nodes' ``(w, beta)`` is exact.
+    """
+    out = []
+    for sd in disc.segments:
+        loc = sd.local(vec)
+        n = sd.n_elements
+        nodes = loc[: 2 * (n + 1)].reshape(-1, 2)
+        mids = loc[2 * (n + 1):].reshape(-1, 2)
+        h = sd.length / n
+        dw = h / 6.0 * (nodes[:-1, 0] + 4.0 * mids[:, 0] + nodes[1:, 0])
+        w = float(vec[sd.w_start]) + np.concatenate([[0.0], np.cumsum(dw)])
+        out.append((np.linspace(0.0, sd.length, n + 1), w, nodes[:, 0]))
+    return out
+
+
+def _hermite(s_nodes: np.ndarray, w: np.ndarray, dw: np.ndarray, s: np.ndarray) -> np.ndarray:
+    """Evaluate at ``s`` the cubic Hermite interpolant of ``(w, dw)`` at the nodes."""
+    from scipy.interpolate import CubicHermiteSpline
+
+    return np.asarray(CubicHermiteSpline(s_nodes, w, dw)(s))
+
+
+def _matches(a: Assembly, ia: int, ib: int, s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """For held points ``s`` of segment ``ia``: the nearest arc length on ``ib``, its distance."""
+    sa, sb = a.segments[ia], a.segments[ib]
+    p = sa.position(s)
+    grid = np.linspace(0.0, sb.length, MATCH_GRID)
+    q = sb.position(grid)
+    k = np.argmin(np.linalg.norm(p[:, None, :] - q[None, :, :], axis=2), axis=1)
+    # Refine on the held arc: the foot of the perpendicular, by Newton on (q(t) - p) . t(t).
+    t = grid[k]
+    for _ in range(4):
+        tan = sb.tangent(t)
+        f = np.einsum("ij,ij->i", sb.position(t) - p, tan)
+        t = np.clip(t - f, 0.0, sb.length)  # d/dt of f = 1 + O(k |q - p|)
+    return t, np.linalg.norm(sb.position(t) - p, axis=1)
+
+
+def _touching_pairs(a: Assembly, offsets: dict[str, tuple[float, float]], n: int
+                    ) -> list[tuple[int, int, np.ndarray, np.ndarray, float]]:
+    """``(ia, ib, s_a, s_b, n_z)`` for every pair of segments that lie on one another and touch.
+
+    Samples: :data:`SAMPLES_PER_ELEMENT` per element of ``ia`` where the held centrelines
+    coincide (within :data:`COINCIDE_TOL` of the total length).
+    """
+    tol = COINCIDE_TOL * a.total_length
+    out = []
+    names = [s.name for s in a.segments]
+    for ia in range(len(names)):
+        for ib in range(ia + 1, len(names)):
+            (ua, ka), (ub, kb) = offsets[names[ia]], offsets[names[ib]]
+            if abs(math.hypot(ua - ub, ka - kb) - 1.0) > TOUCH_TOL:
+                continue
+            s = np.linspace(0.0, a.segments[ia].length, SAMPLES_PER_ELEMENT * n + 1)
+            t, dist = _matches(a, ia, ib, s)
+            on = dist <= tol
+            if np.count_nonzero(on) >= 2:
+                out.append((ia, ib, s[on], t[on], ka - kb))
+    return out
+
+
+def _best_combination(A: np.ndarray) -> tuple[np.ndarray, float]:
+    """``c`` with ``max |c| = 1`` maximising ``min_i (A c)_i``, and that minimum.
+
+    Every nonzero ``c`` scales to one with some ``c_j = +-1``: one linear programme per
+    ``(j, sign)`` (HiGHS), ``max t`` subject to ``A c >= t``, ``-1 <= c <= 1``.
+    """
+    from scipy.optimize import linprog
+
+    rows, m = A.shape
+    best_c, best_t = np.zeros(m), -math.inf
+    for j in range(m):
+        for sign in (1.0, -1.0):
+            bounds = [(-1.0, 1.0)] * m + [(None, None)]
+            bounds[j] = (sign, sign)
+            res = linprog(np.r_[np.zeros(m), -1.0], A_ub=np.c_[-A, np.ones(rows)],
+                          b_ub=np.zeros(rows), bounds=bounds, method="highs")
+            if res.status != 0:
+                raise RodstabInputError(f"the cone test's linear programme failed: {res.message}")
+            if -res.fun > best_t:
+                best_c, best_t = res.x[:m], -res.fun
+    return best_c, best_t
+
+
+def gap_matrix(a: Assembly, pencil: Any, mu_c: float, mult: int,
+               pairs: list[tuple[int, int, np.ndarray, np.ndarray, float]]
+               ) -> tuple[np.ndarray, list[tuple[str, str, float]]]:
+    """Gap changes of the critical modes: ``A[i, k] = n_z (w_a - w_b)`` at sample ``i``, mode ``k``.
+
+    The ``mult`` eigenvectors of ``K(mu_c)`` on the closure constraints with the eigenvalues
+    nearest zero (dense), each scaled to ``max |w| = 1``; rows: every sample of every touching
+    pair (:func:`_touching_pairs`), named ``(a, b, s on a)`` in the second return value.
+    """
+    from scipy.linalg import eigh, null_space
+
+    K = (pencil.K0 + mu_c * pencil.K1).toarray()
+    N = null_space(pencil.G.toarray())
+    lam, X = eigh(N.T @ K @ N)
+    order = np.argsort(np.abs(lam))[:mult]
+    modes = pencil.disc.Z @ (N @ X[:, order])
+    names = [s.name for s in a.segments]
+    cols = []
+    for k in range(mult):
+        fields = _w_fields(pencil.disc, np.asarray(modes[:, k]).ravel())
+        scale = max(float(np.max(np.abs(w))) for _, w, _ in fields) or 1.0
+        col = [nz * (_hermite(*fields[ia], sa) - _hermite(*fields[ib], sb)) / scale
+               for ia, ib, sa, sb, nz in pairs]
+        cols.append(np.concatenate(col) if col else np.zeros(0))
+    where = [(names[ia], names[ib], float(s)) for ia, ib, sa, _, _ in pairs for s in sa]
+    return np.stack(cols, axis=1), where
+
+
+def _side(a: Assembly, pencil: Any, mu_c: float, mult: int,
+          pairs: list[tuple[int, int, np.ndarray, np.ndarray, float]]) -> ConeSide:
+    """Decide one no-contact limit against the cone (module doc)."""
+    A, where = gap_matrix(a, pencil, mu_c, mult, pairs)
+    if A.shape[0] == 0:
+        return ConeSide(mu_c, mult, True, 0.0, 0.0, "")
+    c, t = _best_combination(A)
+    g = A @ c
+    big = float(np.max(np.abs(g)))
+    floor = GAP_ROUNDOFF  # the modes are scaled to max |w| = 1
+    unchanged = t >= -floor
+    margin = 0.0 if big <= floor else max(-1.0, min(1.0, t / big)) + 0.0
+    closes = ""
+    if not unchanged:
+        i = int(np.argmin(g))
+        na, nb, s = where[i]
+        closes = f"between {na!r} and {nb!r} at s = {s:.4g} of {na!r}"
+    return ConeSide(float(mu_c), mult, bool(unchanged), float(margin),
+                    big if big > floor else 0.0, closes)
+
+
+def contact_cone(a: Assembly, layers: dict[str, Any], elements_per_segment: int = 32, *,
+                 thickness_ratio: float = CONTACT_THICKNESS_RATIO) -> ContactCone:
+    """Test each no-contact limit of a stacked planar state against the cone of contact.
+
+    Parameters
+    ----------
+    a : Assembly
+        The planar held state, stacked rods on one another (coincident centrelines).
+    layers : dict
+        Every segment's layer ``k`` or offset ``(u, k)`` in units of the spacing, as for
+        :func:`rodstab.multistable.stacking.stack_layers` (e.g.
+        :func:`~rodstab.multistable.stacking.traversal_layers`).
+    elements_per_segment : int
+        Mesh of P2's finite elements (:func:`rodstab.linear.solve.linear_stability`).
+    thickness_ratio : float
+        ``h / L`` (``L`` the mean rod length) at which the layer order is checked to be
+        realisable: :func:`~rodstab.multistable.stacking.stack_layers` builds it at gap ``0.05
+        h`` and refuses an order whose rods interpenetrate (``StackingError``, exit 2), e.g.
+        flat layers for the folded ring. The test itself is at zero gap and thickness.
+
+    Returns
+    -------
+    ContactCone
+        The no-contact interval (load factors) and, at each finite end, whether contact leaves
+        it unchanged or raises it (module doc), with the touching pairs tested.
+    """
+    from ..nonlinear.discrete import discretise as discretise_rod
+    from .stacking import _offset_pair, stack_layers
+
+    n = require_positive_int("elements_per_segment", elements_per_segment)
+    names = [s.name for s in a.segments]
+    unknown = sorted(set(layers) - set(names))
+    missing = [nm for nm in names if nm not in layers]
+    if unknown or missing:
+        raise RodstabInputError(f"layers must give every segment of {names} once; unknown "
+                                f"{unknown}, missing {missing}")
+    offsets = {nm: _offset_pair(nm, layers[nm]) for nm in names}
+    hL = require_in_range("thickness_ratio", require_positive("thickness_ratio", thickness_ratio),
+                          0.0, 1.0, "h / L")
+    h = hL * a.total_length / len(names)
+    stack_layers(discretise_rod(a, n, 1.0), layers, h, 0.5 * CONTACT_DHAT_FRACTION * h)
+    pairs = _touching_pairs(a, offsets, n)
+    lin = linear_stability(a, n)
+    pencil = linear_pencil(a, n)
+    lo, hi = lin.load_factor_interval
+    sides = []
+    for mu, mult in ((lo, lin.multiplicity_lo), (hi, lin.multiplicity)):
+        sides.append(_side(a, pencil, mu, max(int(mult), 1), pairs)
+                     if math.isfinite(mu) else None)
+    return ContactCone(
+        (float(lo), float(hi)), sides[0], sides[1],
+        tuple(f"{names[ia]}/{names[ib]}" for ia, ib, _, _, _ in pairs), n,
+        "first-order cone test of the critical eigenspace of P2 (2.12, FE) at zero gap: "
+        "gap changes n_z (w_a - w_b), one LP per (coordinate, sign) (HiGHS)")

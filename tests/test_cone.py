@@ -1,0 +1,150 @@
+"""The linear method of issue 21, part 3: critical modes against the cone of contact.
+
+References are independent of the cone code: the critical mode of one rod alone
+(``linear_stability``'s own mode reconstruction), its sign, brute-force scans of the
+combinations of a double mode, and the geometry of the layer orders.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from rodstab.errors import RodstabInputError
+from rodstab.linear.solve import linear_pencil, linear_stability
+from rodstab.model import Assembly, Segment
+from rodstab.multistable.cone import (
+    _best_combination,
+    _touching_pairs,
+    contact_cone,
+    gap_matrix,
+)
+from rodstab.multistable.stacking import StackingError, _offset_pair, polygon_offsets
+from rodstab.multistable.states import ring_of
+from rodstab.problems import birod, folded_ring
+
+N = 32
+
+
+def _rod(name: str, kn: float) -> Segment:
+    return Segment(name=name, length=1.0, curvature=0.0, natural_curvature=kn, B1=1.0,
+                   B2=1.0 / 1.3, B3=1.0)
+
+
+def _stack(*kns: float) -> Assembly:
+    """Straightened rods (held straight, natural curvature kn), each clamped at both ends,
+    stacked on one another along [0, 1] and not joined: each buckles on its own."""
+    names = "abcdef"[: len(kns)]
+    return Assembly(segments=tuple(_rod(n, k) for n, k in zip(names, kns, strict=True)),
+                    supports=tuple(s for n in names
+                                   for s in ((n, "start", "clamped"), (n, "end", "clamped"))))
+
+
+def test_the_birod_mode_moves_both_rods_together_so_contact_keeps_both_limits():
+    """Sec. 4: the critical mode has the same w on both rods (opposite twists), by
+    linear_stability's own reconstruction: no gap changes, both limits unchanged."""
+    a = birod.build(birod.Params())
+    lin = linear_stability(a, N)
+    up, lo = lin.mode
+    assert np.max(np.abs(up.w - lo.w)) < 1e-12 and np.max(np.abs(up.w)) == pytest.approx(1.0)
+    cone = contact_cone(a, {"upper": 0, "lower": 1}, N)
+    assert cone.pairs == ("upper/lower",)
+    assert cone.interval == pytest.approx(lin.load_factor_interval, rel=1e-12)
+    for side in (cone.lower, cone.upper):
+        assert side is not None and side.unchanged
+        assert side.largest_gap_change == 0.0 and side.margin == 0.0
+
+
+@pytest.mark.parametrize("order, unchanged", [
+    ({"a": 0, "b": 1}, True),  # the buckling rod on top: it lifts off
+    ({"a": 1, "b": 0}, True),  # below: it sags away
+    ({"a": 0, "b": 1, "c": 2}, False),  # between two: either way it closes a gap
+])
+def test_a_rod_that_buckles_alone_is_free_on_the_outside_and_held_between_two(order, unchanged):
+    """Rod b (natural curvature 2) buckles first, alone; its mode is one-signed (checked on
+    b by itself), so outside the stack one sign of it opens every gap and in the middle
+    none does. The interval is b's own."""
+    alone = linear_stability(_stack(2.0), N)
+    w = alone.mode[0].w
+    assert np.all(w >= -1e-12) or np.all(w <= 1e-12)  # one-signed
+    kns = [2.0 if n == "b" else 1.0 for n in order]
+    a = Assembly(segments=tuple(_rod(n, k) for n, k in zip(order, kns, strict=True)),
+                 supports=_stack(*kns).supports)
+    cone = contact_cone(a, order, N)
+    assert cone.interval == pytest.approx(alone.load_factor_interval, rel=1e-9)
+    side = cone.upper
+    assert side is not None and side.multiplicity == 1 and side.unchanged is unchanged
+    assert side.largest_gap_change == pytest.approx(1.0, rel=1e-9)  # b's max |w|
+    if unchanged:
+        assert side.margin == pytest.approx(0.0, abs=1e-12)  # zero at the clamps
+    else:
+        assert side.margin == pytest.approx(-1.0, abs=1e-9)
+        assert "'b'" in side.closes_at and "s = 0.5" in side.closes_at
+
+
+def test_identical_rods_buckle_together_a_combination_of_a_triple_mode():
+    """Three identical rods: a triple root. The middle rod's mode alone closes a gap (the
+    sandwich above); all three moving together keep every gap, and so does any combination
+    with the rods above moving more (the LP over three coordinates finds one of these)."""
+    cone = contact_cone(_stack(2.0, 2.0, 2.0), {"a": 0, "b": 1, "c": 2}, N)
+    side = cone.upper
+    assert side is not None and side.multiplicity == 3
+    assert side.unchanged and side.margin >= 0.0
+
+
+def test_the_lp_finds_the_best_combination_found_by_a_dense_scan():
+    """Random 2-column matrices: the LP's max-min of A c over max|c| = 1 against a scan of
+    the boundary of the square (where the optimum of a homogeneous max-min lies)."""
+    rng = np.random.default_rng(7)
+    t = np.linspace(-1.0, 1.0, 4001)
+    edge = np.concatenate([np.stack([np.ones_like(t), t], 1), np.stack([-np.ones_like(t), t], 1),
+                           np.stack([t, np.ones_like(t)], 1), np.stack([t, -np.ones_like(t)], 1)])
+    for _ in range(20):
+        A = rng.standard_normal((int(rng.integers(2, 9)), 2))
+        if rng.random() < 0.5:
+            A[:, 1] = np.abs(A[:, 1])  # an admissible direction exists: (0, 1)
+        c, best = _best_combination(A)
+        scan = float(np.max(np.min(edge @ A.T, axis=1)))
+        assert best == pytest.approx(scan, abs=2e-3) and best >= scan - 1e-9
+        assert np.max(np.abs(c)) == pytest.approx(1.0) and np.min(A @ c) == pytest.approx(best)
+
+
+def test_the_folded_ring_on_the_hexagon_every_combination_of_its_double_mode_closes_a_gap():
+    """Sec. 5, the hexagon layer order (polygon_offsets in traversal order; flat layers are
+    refused): at both double limits no combination of the two modes keeps the gaps -- checked
+    by a scan of the unit circle of combinations, not the LP -- so contact raises them."""
+    a = folded_ring.build(folded_ring.Params())
+    order = [nm for nm, _ in ring_of(a).order]
+    layers = polygon_offsets(order)
+    cone = contact_cone(a, layers, 16)
+    assert len(cone.pairs) == 6  # the hexagon's neighbours; the other pairs do not touch
+    pencil = linear_pencil(a, 16)
+    pairs = _touching_pairs(a, {n: _offset_pair(n, v) for n, v in layers.items()}, 16)
+    t = np.linspace(0.0, 2 * math.pi, 3601)
+    for side in (cone.lower, cone.upper):
+        assert side is not None and side.multiplicity == 2 and not side.unchanged
+        A, _ = gap_matrix(a, pencil, side.load_factor, 2, pairs)
+        worst = np.min(np.stack([np.cos(t), np.sin(t)], 1) @ A.T, axis=1)
+        assert np.max(worst) < -0.1 * np.max(np.abs(A))
+
+
+@pytest.mark.parametrize("call, match", [
+    (lambda: contact_cone(_stack(1.0, 2.0), {"a": 0}), "missing \\['b'\\]"),
+    (lambda: contact_cone(_stack(1.0, 2.0), {"a": 0, "b": 1, "z": 2}), "unknown \\['z'\\]"),
+    (lambda: contact_cone(_stack(1.0, 2.0), {"a": 0, "b": 1}, thickness_ratio=0.0),
+     "thickness_ratio"),
+    (lambda: contact_cone(_stack(1.0, 2.0), {"a": 0, "b": 1}, 0), "elements_per_segment"),
+    (lambda: contact_cone(_stack(1.0, 2.0), {"a": 0, "b": "top"}), "layers\\['b'\\]"),
+])
+def test_bad_input_names_the_key(call, match):
+    with pytest.raises(RodstabInputError, match=match):
+        call()
+
+
+def test_a_layer_order_whose_rods_interpenetrate_is_refused():
+    """Flat layers cannot hold the folded ring (tests/test_stacking.py): refused, not tested."""
+    a = folded_ring.build(folded_ring.Params())
+    with pytest.raises(StackingError, match="interpenetrates"):
+        contact_cone(a, {str(i): i - 1 for i in range(1, 7)}, 16)
