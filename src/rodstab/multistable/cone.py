@@ -61,6 +61,12 @@ TOUCH_TOL = 1e-9
 GAP_ROUNDOFF = 1e-9
 #: Samples per element where the gap changes are tested (the element's nodes and thirds).
 SAMPLES_PER_ELEMENT = 3
+#: Modes whose own critical load (first order: ``mu_c - lambda / x^T K1 x``) lies within this
+#: of ``mu_c`` (relative to ``max(|mu_c|, 1)``) make up the critical eigenspace: a ring's pair
+#: of Fourier modes split by the mesh (~1e-5 at 24 elements per loop, rectangle h/t = 2, where
+#: the engine's multiplicity rule counts them apart) is one eigenspace; the next modes are
+#: ~0.1 away. "Unchanged" thus means: to within this fraction.
+CLUSTER_RTOL = 1e-3
 #: Points of the coarse search for the matching point on the other segment.
 MATCH_GRID = 2001
 
@@ -74,7 +80,8 @@ class ConeSide(Result):
     load_factor : float
         The no-contact limit ``mu_c`` (FE of P2).
     multiplicity : int
-        Dimension of the critical eigenspace tested.
+        Dimension of the critical eigenspace tested (:data:`CLUSTER_RTOL`: may exceed the
+        engine's count, which splits a ring's pair of modes beyond its tolerance).
     unchanged : bool
         True: a critical mode keeps every gap open (the limit with contact is ``mu_c``);
         False: every critical mode closes a gap somewhere (contact raises the limit).
@@ -150,8 +157,10 @@ def _matches(a: Assembly, ia: int, ib: int, s: np.ndarray) -> tuple[np.ndarray, 
     return t, np.linalg.norm(sb.position(t) - p, axis=1)
 
 
-def _touching_pairs(a: Assembly, offsets: dict[str, tuple[float, float]], n: int
-                    ) -> list[tuple[int, int, np.ndarray, np.ndarray, float]]:
+Pairs = list[tuple[int, int, np.ndarray, np.ndarray, np.ndarray]]
+
+
+def _touching_pairs(a: Assembly, offsets: dict[str, tuple[float, float]], n: int) -> Pairs:
     """``(ia, ib, s_a, s_b, n_z)`` for every pair of segments that lie on one another and touch.
 
     Samples: :data:`SAMPLES_PER_ELEMENT` per element of ``ia`` where the held centrelines
@@ -169,7 +178,40 @@ def _touching_pairs(a: Assembly, offsets: dict[str, tuple[float, float]], n: int
             t, dist = _matches(a, ia, ib, s)
             on = dist <= tol
             if np.count_nonzero(on) >= 2:
-                out.append((ia, ib, s[on], t[on], ka - kb))
+                out.append((ia, ib, s[on], t[on], np.full(np.count_nonzero(on), ka - kb)))
+    return out
+
+
+def _torus_pairs(a: Assembly, n: int) -> Pairs:
+    """Touching pairs of the N-loop ring stacked on the ``(N, 1)`` torus curve, at zero gap.
+
+    Loop ``k`` (traversal order, one segment each) at azimuth ``theta`` is at the angle
+    ``psi_k = (theta + 2 pi k) / N`` of the curve's cross-section (:func:`.stacking.torus_curve`:
+    radial offset ``a cos psi``, height ``a sin psi``): loops ``k, k + 1`` (mod ``N``) are
+    neighbouring vertices of its ``N``-gon and touch, with the normal from ``b`` to ``a``
+    ``(cos psi_a - cos psi_b, sin psi_a - sin psi_b) / |.|``, whose height component is
+    ``n_z``; it turns along the ring, so no flat order holds the loops.
+    """
+    segs = a.segments
+    N = len(segs)
+    first = segs[0]
+    ring = N >= 2 and all(
+        math.isclose(abs(s.curvature * s.length), 2 * math.pi, rel_tol=1e-9)
+        and math.isclose(s.curvature, first.curvature, rel_tol=1e-12)
+        and math.dist(s.start, first.start) <= COINCIDE_TOL * a.total_length
+        and math.isclose(s.angle, first.angle, rel_tol=0.0, abs_tol=1e-12) for s in segs)
+    if not ring:
+        raise RodstabInputError("layers='torus' needs an N-loop ring: N >= 2 full loops of one "
+                                "circle, one segment each, in traversal order "
+                                "(rodstab.problems.ring.build)")
+    out = []
+    s = np.linspace(0.0, first.length, SAMPLES_PER_ELEMENT * n + 1)
+    theta = 2 * math.pi * s / first.length
+    pairs = {(k, (k + 1) % N) for k in range(N)}
+    for ka, kb in sorted({(min(p), max(p)) for p in pairs if p[0] != p[1]}):
+        pa, pb = (theta + 2 * math.pi * ka) / N, (theta + 2 * math.pi * kb) / N
+        d = np.stack([np.cos(pa) - np.cos(pb), np.sin(pa) - np.sin(pb)])
+        out.append((ka, kb, s, s.copy(), d[1] / np.linalg.norm(d, axis=0)))
     return out
 
 
@@ -196,21 +238,27 @@ def _best_combination(A: np.ndarray) -> tuple[np.ndarray, float]:
     return best_c, best_t
 
 
-def gap_matrix(a: Assembly, pencil: Any, mu_c: float, mult: int,
-               pairs: list[tuple[int, int, np.ndarray, np.ndarray, float]]
+def gap_matrix(a: Assembly, pencil: Any, mu_c: float, mult: int, pairs: Pairs
                ) -> tuple[np.ndarray, list[tuple[str, str, float]]]:
     """Gap changes of the critical modes: ``A[i, k] = n_z (w_a - w_b)`` at sample ``i``, mode ``k``.
 
-    The ``mult`` eigenvectors of ``K(mu_c)`` on the closure constraints with the eigenvalues
-    nearest zero (dense), each scaled to ``max |w| = 1``; rows: every sample of every touching
-    pair (:func:`_touching_pairs`), named ``(a, b, s on a)`` in the second return value.
+    The critical eigenspace of ``K(mu_c)`` on the closure constraints (dense): the ``mult``
+    eigenvectors with the eigenvalues nearest zero, and any other whose own critical load is
+    within :data:`CLUSTER_RTOL` of ``mu_c``; each scaled to ``max |w| = 1``. Rows: every
+    sample of every touching pair, named ``(a, b, s on a)`` in the second return value.
     """
     from scipy.linalg import eigh, null_space
 
     K = (pencil.K0 + mu_c * pencil.K1).toarray()
     N = null_space(pencil.G.toarray())
     lam, X = eigh(N.T @ K @ N)
-    order = np.argsort(np.abs(lam))[:mult]
+    near = np.argsort(np.abs(lam))[: max(mult, 1) + 8]
+    K1n = N.T @ pencil.K1.toarray() @ N
+    rayleigh = np.einsum("ij,ij->j", X[:, near], K1n @ X[:, near])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        shift = np.abs(lam[near] / rayleigh)
+    order = near[(shift <= CLUSTER_RTOL * max(abs(mu_c), 1.0)) | (np.arange(len(near)) < mult)]
+    mult = len(order)
     modes = pencil.disc.Z @ (N @ X[:, order])
     names = [s.name for s in a.segments]
     cols = []
@@ -224,10 +272,10 @@ def gap_matrix(a: Assembly, pencil: Any, mu_c: float, mult: int,
     return np.stack(cols, axis=1), where
 
 
-def _side(a: Assembly, pencil: Any, mu_c: float, mult: int,
-          pairs: list[tuple[int, int, np.ndarray, np.ndarray, float]]) -> ConeSide:
+def _side(a: Assembly, pencil: Any, mu_c: float, mult: int, pairs: Pairs) -> ConeSide:
     """Decide one no-contact limit against the cone (module doc)."""
     A, where = gap_matrix(a, pencil, mu_c, mult, pairs)
+    mult = A.shape[1]
     if A.shape[0] == 0:
         return ConeSide(mu_c, mult, True, 0.0, 0.0, "")
     c, t = _best_combination(A)
@@ -245,7 +293,7 @@ def _side(a: Assembly, pencil: Any, mu_c: float, mult: int,
                     big if big > floor else 0.0, closes)
 
 
-def contact_cone(a: Assembly, layers: dict[str, Any], elements_per_segment: int = 32, *,
+def contact_cone(a: Assembly, layers: dict[str, Any] | str, elements_per_segment: int = 32, *,
                  thickness_ratio: float = CONTACT_THICKNESS_RATIO) -> ContactCone:
     """Test each no-contact limit of a stacked planar state against the cone of contact.
 
@@ -253,10 +301,12 @@ def contact_cone(a: Assembly, layers: dict[str, Any], elements_per_segment: int 
     ----------
     a : Assembly
         The planar held state, stacked rods on one another (coincident centrelines).
-    layers : dict
+    layers : dict or "torus"
         Every segment's layer ``k`` or offset ``(u, k)`` in units of the spacing, as for
         :func:`rodstab.multistable.stacking.stack_layers` (e.g.
-        :func:`~rodstab.multistable.stacking.traversal_layers`).
+        :func:`~rodstab.multistable.stacking.traversal_layers`); or ``"torus"`` for an N-loop
+        ring stacked on the ``(N, 1)`` torus curve (:func:`~.stacking.stack_loops`), whose
+        contact normals turn along the ring (:func:`_torus_pairs`).
     elements_per_segment : int
         Mesh of P2's finite elements (:func:`rodstab.linear.solve.linear_stability`).
     thickness_ratio : float
@@ -272,21 +322,29 @@ def contact_cone(a: Assembly, layers: dict[str, Any], elements_per_segment: int 
         it unchanged or raises it (module doc), with the touching pairs tested.
     """
     from ..nonlinear.discrete import discretise as discretise_rod
-    from .stacking import _offset_pair, stack_layers
+    from .stacking import _offset_pair, stack_layers, stack_loops
 
     n = require_positive_int("elements_per_segment", elements_per_segment)
     names = [s.name for s in a.segments]
-    unknown = sorted(set(layers) - set(names))
-    missing = [nm for nm in names if nm not in layers]
-    if unknown or missing:
-        raise RodstabInputError(f"layers must give every segment of {names} once; unknown "
-                                f"{unknown}, missing {missing}")
-    offsets = {nm: _offset_pair(nm, layers[nm]) for nm in names}
     hL = require_in_range("thickness_ratio", require_positive("thickness_ratio", thickness_ratio),
                           0.0, 1.0, "h / L")
     h = hL * a.total_length / len(names)
-    stack_layers(discretise_rod(a, n, 1.0), layers, h, 0.5 * CONTACT_DHAT_FRACTION * h)
-    pairs = _touching_pairs(a, offsets, n)
+    g0 = 0.5 * CONTACT_DHAT_FRACTION * h
+    if isinstance(layers, str):
+        if layers != "torus":
+            raise RodstabInputError(f"layers must be a mapping of segment names or 'torus', "
+                                    f"got {layers!r}")
+        pairs = _torus_pairs(a, n)
+        stack_loops(discretise_rod(a, n, 1.0), h, g0)
+    else:
+        unknown = sorted(set(layers) - set(names))
+        missing = [nm for nm in names if nm not in layers]
+        if unknown or missing:
+            raise RodstabInputError(f"layers must give every segment of {names} once; "
+                                    f"unknown {unknown}, missing {missing}")
+        offsets = {nm: _offset_pair(nm, layers[nm]) for nm in names}
+        stack_layers(discretise_rod(a, n, 1.0), layers, h, g0)
+        pairs = _touching_pairs(a, offsets, n)
     lin = linear_stability(a, n)
     pencil = linear_pencil(a, n)
     lo, hi = lin.load_factor_interval
