@@ -7,6 +7,7 @@ combinations of a double mode, and the geometry of the layer orders.
 
 from __future__ import annotations
 
+import json
 import math
 
 import numpy as np
@@ -116,7 +117,7 @@ def test_the_lp_finds_the_best_combination_found_by_a_dense_scan():
 def test_the_folded_ring_on_the_hexagon_every_combination_of_its_double_mode_closes_a_gap():
     """Sec. 5, the hexagon layer order (polygon_offsets in traversal order; flat layers are
     refused): at both double limits no combination of the two modes keeps the gaps -- checked
-    by a scan of the unit circle of combinations, not the LP -- so contact raises them."""
+    by a scan of the unit circle of combinations, not the LP -- so contact moves them outward."""
     a = folded_ring.build(folded_ring.Params())
     order = [nm for nm, _ in ring_of(a).order]
     layers = polygon_offsets(order)
@@ -161,7 +162,7 @@ def test_n_loop_ring_on_the_torus_agrees_with_the_fourier_modes_of_eq_3_2(sectio
     """Sec. 3.1: each limit's verdict equals the closed form's (:func:`_fourier_margin` on the
     analytic bounding mode j: a mode with j a multiple of N moves the loops together; j = 1
     on the 2-loop ring opens the gap with the phase that follows the torus's turn). Measured:
-    the 2-loop ring's lower limit (j = 1) unchanged, every other limit raised."""
+    the 2-loop ring's lower limit (j = 1) unchanged, every other limit moved outward."""
     sec = circle() if section == "circle" else rectangle(aspect=2.0)
     an = ring_stability(sec.b1, sec.b2, loops)
     j_upper, j_lower = an.bounding_modes  # in M = 1 - mu: M's lower limit is mu's upper
@@ -198,3 +199,51 @@ def test_a_layer_order_whose_rods_interpenetrate_is_refused():
     a = folded_ring.build(folded_ring.Params())
     with pytest.raises(StackingError, match="interpenetrates"):
         contact_cone(a, {str(i): i - 1 for i in range(1, 7)}, 16)
+
+
+# ------------------------------------------------------------------ rodstab analyze --contact
+def test_analyze_contact_on_the_birod_keeps_both_limits_and_names_the_order(run_cli):
+    r = run_cli(["analyze", "examples/birod.toml", "--contact", "--elements", "24", "--json"])
+    assert r.exit_code == 0, r.stderr
+    c = json.loads(r.stdout)["contact"]
+    assert c["layers_chosen"] == "flat layers in traversal order" and c["pairs"] == [
+        "upper/lower"]
+    assert c["lower"]["unchanged"] and c["upper"]["unchanged"]
+    text = run_cli(["analyze", "examples/birod.toml", "--contact", "--elements", "24"]).stdout
+    assert "upper      2.7207 (1 mode): unchanged: a critical mode keeps every gap" in text
+
+
+def test_analyze_contact_on_one_segment_of_three_loops_is_the_three_segment_ring():
+    """examples/ring_3_loops.toml (one segment winding 3 times) on the torus: the same limits
+    (within the FE error at 72 and 24 elements per loop) and verdicts as ring.build's three
+    loop segments."""
+    from rodstab.io.design import load_design
+
+    one = contact_cone(load_design("examples/ring_3_loops.toml").assembly, "torus", 72)
+    three = contact_cone(ring.build(ring.Params(loops=3)), "torus", 24)
+    assert one.interval == pytest.approx(three.interval, rel=1e-4)
+    assert len(one.pairs) == len(three.pairs) == 3
+    for a, b in ((one.lower, three.lower), (one.upper, three.upper)):
+        assert a is not None and b is not None and not a.unchanged and not b.unchanged
+
+
+def test_analyze_with_contact_in_the_design_file_and_nothing_stacked(run_cli, tmp_path):
+    f = tmp_path / "arc.toml"
+    f.write_text(open("examples/clamped_arc.toml").read() + "\n[analysis]\ncontact = true\n")
+    r = run_cli(["analyze", str(f), "--elements", "16"])
+    assert r.exit_code == 0, r.stderr
+    assert "no rods lie on one another" in r.stdout
+    plain = run_cli(["analyze", str(f), "--elements", "16", "--no-contact", "--json"])
+    assert "contact" not in json.loads(plain.stdout)
+
+
+@pytest.mark.parametrize("args, words", [
+    (["--contact", "--contact-dhat", "0.1"], "--contact-dhat has no meaning for analyze"),
+    (["--layers", "upper=0,lower=1"], "--layers is a setting of contact"),
+    (["--contact", "--layers", "upper=0,lower=x"], "--layers item 'lower=x'"),
+    (["--contact", "--layers", "upper=0"], "--layers gives no layer for ['lower']"),
+    (["--contact", "--layers", "torus"], "needs an N-loop ring"),
+])
+def test_analyze_contact_bad_input_exits_2_naming_it(run_cli, args, words):
+    r = run_cli(["analyze", "examples/birod.toml", "--elements", "16", *args])
+    assert r.exit_code == 2 and words in r.stderr, r.stderr

@@ -682,12 +682,13 @@ def test_design_file_asks_for_contact_and_the_command_line_overrides_it(run_cli,
 
 
 
-@pytest.mark.parametrize("command", [["analyze"], ["sweep", "--vary", "section.aspect=1:2:2"]],
-                         ids=["analyze", "sweep"])
+@pytest.mark.parametrize("command", [["sweep", "--vary", "section.aspect=1:2:2"]],
+                         ids=["sweep"])
 def test_a_design_asking_for_contact_is_refused_where_there_is_no_contact_model(
         run_cli, tmp_path, command):
-    """``[analysis] contact = true`` in a command without a contact model (the linear engine,
-    a sweep): exit 2 naming the key and the command, instead of dropping it."""
+    """``[analysis] contact = true`` in a command without a contact model (a sweep): exit 2
+    naming the key and the command, instead of dropping it (analyze has the cone test:
+    tests/test_cone.py)."""
     f = tmp_path / "arc.toml"
     f.write_text((ROOT / "examples" / "clamped_arc.toml").read_text()
                  + "\n[analysis]\ncontact = true\n")

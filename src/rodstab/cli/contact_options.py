@@ -105,3 +105,33 @@ def contact_options(f: Callable[..., Any]) -> Callable[..., Any]:
         return f(contact=ContactChoice(with_contact, h, c), **kwargs)
 
     return wrapper
+
+
+def parse_layers(text: str, names: list[str] | tuple[str, ...]) -> dict[str, Any] | str:
+    """Read ``--layers``: ``torus``, or ``NAME=K`` / ``NAME=U:K`` for every segment (commas).
+
+    ``K`` is the layer (height in spacings along ``e3``), ``U:K`` an offset with an in-plane
+    part ``U`` (:func:`rodstab.multistable.stacking.stack_layers`). Refuses (exit 2) a
+    malformed item, an unknown name or a missing one, naming it.
+    """
+    text = text.strip()
+    if text == "torus":
+        return text
+    out: dict[str, Any] = {}
+    for item in filter(None, (t.strip() for t in text.split(","))):
+        name, eq, value = item.partition("=")
+        name = name.strip()
+        try:
+            parts = [float(v) for v in value.split(":")]
+        except ValueError:
+            parts = []
+        if not eq or name not in names or len(parts) not in (1, 2) or name in out:
+            raise RodstabInputError(
+                f"--layers item {item!r}: expected NAME=K or NAME=U:K with NAME one of "
+                f"{list(names)} (each once), or 'torus'")
+        out[name] = parts[0] if len(parts) == 1 else (parts[0], parts[1])
+    missing = [n for n in names if n not in out]
+    if missing:
+        raise RodstabInputError(f"--layers gives no layer for {missing}: every segment needs one")
+    return out
+

@@ -12,7 +12,7 @@ import click
 from ..errors import NotConverged, RodstabInputError, require_finite
 from ..io.outputs import check_output
 from ..limits import NONLINEAR_MIN_ELEMENTS, SWEEP_DEFAULT_N, Limits
-from .contact_options import ContactChoice, contact_options
+from .contact_options import ContactChoice, contact_options, parse_layers
 from .options import (
     COLOUR_BY,
     COLOUR_BY_SI,
@@ -28,6 +28,7 @@ from .options import (
 )
 from .output import (
     analyze_unit_lines,
+    cone_lines,
     contact_lines,
     emit,
     fmt,
@@ -46,20 +47,35 @@ from .output import (
                  help="Elements per segment (default: the design's [analysis] elements).")
 @click.option("--plot", "plot_path", type=click.Path(dir_okay=False), default=None,
               help="Write a 3D picture of the held state and the critical mode (PNG).")
+@contact_options
+@click.option("--layers", default=None,
+              help="With contact: the stacked rods' order, 'torus' (an N-loop ring) or "
+                   "NAME=K[,NAME=K...] (layer K along e3; NAME=U:K adds an in-plane offset "
+                   "U), in spacings. [default: chosen and printed]")
 @limit_options
 @json_option
-def analyze(design_file: str, elements: int | None, plot_path: str | None, limits: Limits,
-            as_json: bool) -> None:
+def analyze(design_file: str, elements: int | None, plot_path: str | None,
+            contact: ContactChoice, layers: str | None, limits: Limits, as_json: bool) -> None:
     """Linear stability of the assembly in a TOML design file (FE of P2, eq 2.12).
 
     Without --elements or [analysis] elements the mesh is refined until the estimated error
     of each end is 2.5e-7 (relative); a mesh given is kept and its estimated error printed.
+
+    With contact (--contact, or [analysis] contact = true): each limit is also tested
+    against the cone of perturbations that keep the stacked layers' gaps (zero gap): either
+    a critical mode keeps every gap (the limit is unchanged) or contact moves it outward.
     """
     from ..io.design import load_design
     from ..linear.solve import FE_TARGET_RTOL, converged_stability, mode_family
 
     d = load_design(design_file)
-    d.require_no_contact("analyze")
+    touch = contact.resolve(d.contact)
+    if touch is not None and contact.dhat is not None:
+        raise RodstabInputError("--contact-dhat has no meaning for analyze: its cone test is "
+                                "at zero gap, with no barrier")
+    if touch is None and layers is not None:
+        raise RodstabInputError("--layers is a setting of contact, which is off for this run "
+                                "(--contact, or [analysis] contact = true in the design)")
     n = d.elements if elements is None else elements
     plot = None if plot_path is None else image_output("--plot", plot_path)
     refine = elements is None and not d.elements_given
@@ -115,6 +131,16 @@ def analyze(design_file: str, elements: int | None, plot_path: str | None, limit
         block = stability_units(d.units, d.assembly, r.load_factor_interval)
         payload["units"] = block
         lines += analyze_unit_lines(block, d.units, r.stable_at_design)
+    if touch is not None:
+        from ..multistable.cone import contact_cone, default_layers
+
+        names = [s.name for s in d.assembly.segments]
+        order, how = ((parse_layers(layers, names), "as given") if layers is not None
+                      else default_layers(d.assembly, touch[0]))
+        cone = contact_cone(d.assembly, order, n, thickness_ratio=touch[0])
+        payload["contact"] = cone.to_dict() | {"layers_chosen": how,
+                                               "thickness_ratio": touch[0]}
+        lines += cone_lines(cone, how)
     emit(payload, as_json, lines)
     if r.reason:
         raise NotConverged(f"the FE mesh: {r.reason}; give a mesh with --elements to accept "

@@ -212,6 +212,24 @@ def quiet_indicator() -> None:
         finish()
 
 
+def cone_lines(cone: Any, how: str) -> list[str]:
+    """Return the lines of ``analyze --contact`` (a ``rodstab.multistable.cone.ContactCone``)."""
+    if not cone.pairs:
+        return [f"contact      layers: {how}; no rods lie on one another in the held state "
+                "(at zero thickness): contact changes no limit"]
+    out = [f"contact      layers: {how} ({len(cone.pairs)} touching pairs); each limit "
+           "tested against the cone of gap-keeping modes at zero gap"]
+    for label, side in (("lower", cone.lower), ("upper", cone.upper)):
+        if side is None:
+            continue
+        verdict = ("unchanged: a critical mode keeps every gap" if side.unchanged else
+                   f"moved outward by contact: every critical mode closes a gap "
+                   f"({side.closes_at})")
+        modes = f"{side.multiplicity} mode{'s' if side.multiplicity > 1 else ''}"
+        out.append(f"  {label}      {fmt(side.load_factor)} ({modes}): {verdict}")
+    return out
+
+
 def contact_lines(state: Any, hL: float) -> list[str]:
     """Return the ``contact`` line of a solve with contact (a ``ContactState``)."""
     gap = ("no pair within reach" if state.smallest_gap is None else

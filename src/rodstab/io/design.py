@@ -154,15 +154,15 @@ class Design:
         """Refuse (exit 2) a design asking for contact in a command that has no contact model.
 
         Only the nonlinear equilibrium and continuation (``rodstab equilibrium``, ``rodstab
-        continue``) model contact so far; a
-        command that would drop the design's ``[analysis] contact = true`` says so instead.
+        continue``) and the cone test of ``rodstab analyze`` model contact so far; a command
+        that would drop the design's ``[analysis] contact = true`` says so instead.
         """
         if self.contact is not None:
             raise RodstabInputError(
                 f"{self.source}: analysis.contact = true, but `rodstab {command}` has no "
-                "contact model yet (only `rodstab equilibrium` and `rodstab continue` "
-                "have one): set contact = false "
-                "in the design to run it without contact")
+                "contact model yet (only `rodstab equilibrium`, `rodstab continue` and "
+                "`rodstab analyze` have one): set contact = false in the design to run it "
+                "without contact")
 
     def paper_load_factor(self, mu: float) -> float:
         """``lam = B3 kappa_n L / sqrt(B1 B2)`` of ``load_factor_segment`` at load ``mu``."""

@@ -15,8 +15,10 @@ exactly:
   gap open, it is admissible, and the limit with contact is ``mu_c`` -- **unchanged**.
 * None has: on the compact set ``C`` intersected with the unit sphere the quadratic form
   ``v^T K(mu_c) v`` vanishes only on ``Phi``, which it does not meet, so its minimum there is
-  positive and stays positive a little past ``mu_c``: contact **raises** the limit (by an amount
-  this method does not give; that needs the minimum of the form on the cone).
+  positive and stays positive a little past ``mu_c``: contact **moves the limit outward** (the
+  stable interval widens there; by an amount this method does not give, which needs the
+  minimum of the form on the cone). Contact at zero gap can only widen the interval: it
+  removes perturbations, it adds no energy.
 
 The gaps. Layers are offsets ``(u, k)`` of the planar centrelines, in units of the spacing
 ``h + g0`` (:func:`rodstab.multistable.stacking.stack_layers`; ``u`` in the plane along the
@@ -84,7 +86,7 @@ class ConeSide(Result):
         engine's count, which splits a ring's pair of modes beyond its tolerance).
     unchanged : bool
         True: a critical mode keeps every gap open (the limit with contact is ``mu_c``);
-        False: every critical mode closes a gap somewhere (contact raises the limit).
+        False: every critical mode closes a gap somewhere (contact moves the limit outward).
     margin : float
         The best combination's smallest gap change over its largest (``-1 .. 1``; >= 0 when
         unchanged; 0 when the mode moves the touching layers together).
@@ -182,36 +184,56 @@ def _touching_pairs(a: Assembly, offsets: dict[str, tuple[float, float]], n: int
     return out
 
 
-def _torus_pairs(a: Assembly, n: int) -> Pairs:
-    """Touching pairs of the N-loop ring stacked on the ``(N, 1)`` torus curve, at zero gap.
+def _loops(a: Assembly) -> int:
+    """Loops of an N-loop ring (N >= 2), else 0.
 
-    Loop ``k`` (traversal order, one segment each) at azimuth ``theta`` is at the angle
-    ``psi_k = (theta + 2 pi k) / N`` of the curve's cross-section (:func:`.stacking.torus_curve`:
-    radial offset ``a cos psi``, height ``a sin psi``): loops ``k, k + 1`` (mod ``N``) are
-    neighbouring vertices of its ``N``-gon and touch, with the normal from ``b`` to ``a``
-    ``(cos psi_a - cos psi_b, sin psi_a - sin psi_b) / |.|``, whose height component is
-    ``n_z``; it turns along the ring, so no flat order holds the loops.
+    One segment per loop (``rodstab.problems.ring.build``: full loops of one circle from one
+    point), or one segment winding ``N`` times round its circle (a design's single ``ring``).
     """
     segs = a.segments
-    N = len(segs)
     first = segs[0]
-    ring = N >= 2 and all(
+    turns = abs(first.curvature * first.length) / (2 * math.pi)
+    if len(segs) == 1:
+        return round(turns) if round(turns) >= 2 and math.isclose(turns, round(turns),
+                                                                  rel_tol=1e-9) else 0
+    same = all(
         math.isclose(abs(s.curvature * s.length), 2 * math.pi, rel_tol=1e-9)
         and math.isclose(s.curvature, first.curvature, rel_tol=1e-12)
         and math.dist(s.start, first.start) <= COINCIDE_TOL * a.total_length
         and math.isclose(s.angle, first.angle, rel_tol=0.0, abs_tol=1e-12) for s in segs)
-    if not ring:
+    return len(segs) if same else 0
+
+
+def _torus_pairs(a: Assembly, n: int) -> Pairs:
+    """Touching pairs of the N-loop ring stacked on the ``(N, 1)`` torus curve, at zero gap.
+
+    Loop ``k`` (traversal order: segment ``k``, or the ``k``-th turn of a single segment) at
+    azimuth ``theta`` is at the angle ``psi_k = (theta + 2 pi k) / N`` of the curve's
+    cross-section (:func:`.stacking.torus_curve`: radial offset ``a cos psi``, height ``a sin
+    psi``): loops ``k, k + 1`` (mod ``N``) are neighbouring vertices of its ``N``-gon and touch,
+    with the normal from ``b`` to ``a`` ``(cos psi_a - cos psi_b, sin psi_a - sin psi_b) /
+    |.|``, whose height component is ``n_z``; it turns along the ring, so no flat order holds
+    the loops.
+    """
+    N = _loops(a)
+    if not N:
         raise RodstabInputError("layers='torus' needs an N-loop ring: N >= 2 full loops of one "
-                                "circle, one segment each, in traversal order "
-                                "(rodstab.problems.ring.build)")
+                                "circle, one segment each in traversal order "
+                                "(rodstab.problems.ring.build) or one segment of N turns")
+    single = len(a.segments) == 1
+    loop = a.segments[0].length / N if single else a.segments[0].length
     out = []
-    s = np.linspace(0.0, first.length, SAMPLES_PER_ELEMENT * n + 1)
-    theta = 2 * math.pi * s / first.length
+    s = np.linspace(0.0, loop, SAMPLES_PER_ELEMENT * (n // N if single else n) + 1)
+    theta = 2 * math.pi * s / loop
     pairs = {(k, (k + 1) % N) for k in range(N)}
     for ka, kb in sorted({(min(p), max(p)) for p in pairs if p[0] != p[1]}):
         pa, pb = (theta + 2 * math.pi * ka) / N, (theta + 2 * math.pi * kb) / N
         d = np.stack([np.cos(pa) - np.cos(pb), np.sin(pa) - np.sin(pb)])
-        out.append((ka, kb, s, s.copy(), d[1] / np.linalg.norm(d, axis=0)))
+        nz = d[1] / np.linalg.norm(d, axis=0)
+        if single:
+            out.append((0, 0, s + ka * loop, s + kb * loop, nz))
+        else:
+            out.append((ka, kb, s, s.copy(), nz))
     return out
 
 
@@ -239,13 +261,13 @@ def _best_combination(A: np.ndarray) -> tuple[np.ndarray, float]:
 
 
 def gap_matrix(a: Assembly, pencil: Any, mu_c: float, mult: int, pairs: Pairs
-               ) -> tuple[np.ndarray, list[tuple[str, str, float]]]:
+               ) -> tuple[np.ndarray, list[tuple[str, str, float, float]]]:
     """Gap changes of the critical modes: ``A[i, k] = n_z (w_a - w_b)`` at sample ``i``, mode ``k``.
 
     The critical eigenspace of ``K(mu_c)`` on the closure constraints (dense): the ``mult``
     eigenvectors with the eigenvalues nearest zero, and any other whose own critical load is
     within :data:`CLUSTER_RTOL` of ``mu_c``; each scaled to ``max |w| = 1``. Rows: every
-    sample of every touching pair, named ``(a, b, s on a)`` in the second return value.
+    sample of every touching pair, named ``(a, b, s on a, s on b)`` in the second return value.
     """
     from scipy.linalg import eigh, null_space
 
@@ -268,7 +290,8 @@ def gap_matrix(a: Assembly, pencil: Any, mu_c: float, mult: int, pairs: Pairs
         col = [nz * (_hermite(*fields[ia], sa) - _hermite(*fields[ib], sb)) / scale
                for ia, ib, sa, sb, nz in pairs]
         cols.append(np.concatenate(col) if col else np.zeros(0))
-    where = [(names[ia], names[ib], float(s)) for ia, ib, sa, _, _ in pairs for s in sa]
+    where = [(names[ia], names[ib], float(x), float(y)) for ia, ib, sa, sb, _ in pairs
+             for x, y in zip(sa, sb, strict=True)]
     return np.stack(cols, axis=1), where
 
 
@@ -276,8 +299,8 @@ def _side(a: Assembly, pencil: Any, mu_c: float, mult: int, pairs: Pairs) -> Con
     """Decide one no-contact limit against the cone (module doc)."""
     A, where = gap_matrix(a, pencil, mu_c, mult, pairs)
     mult = A.shape[1]
-    if A.shape[0] == 0:
-        return ConeSide(mu_c, mult, True, 0.0, 0.0, "")
+    if A.shape[0] == 0:  # nothing touches at zero thickness (the star: only at its welds)
+        return ConeSide(float(mu_c), mult, True, 0.0, 0.0, "")
     c, t = _best_combination(A)
     g = A @ c
     big = float(np.max(np.abs(g)))
@@ -287,8 +310,8 @@ def _side(a: Assembly, pencil: Any, mu_c: float, mult: int, pairs: Pairs) -> Con
     closes = ""
     if not unchanged:
         i = int(np.argmin(g))
-        na, nb, s = where[i]
-        closes = f"between {na!r} and {nb!r} at s = {s:.4g} of {na!r}"
+        na, nb, sa, sb = where[i]
+        closes = f"between {na!r} at s = {sa:.4g} and {nb!r} at s = {sb:.4g}"
     return ConeSide(float(mu_c), mult, bool(unchanged), float(margin),
                     big if big > floor else 0.0, closes)
 
@@ -357,3 +380,43 @@ def contact_cone(a: Assembly, layers: dict[str, Any] | str, elements_per_segment
         tuple(f"{names[ia]}/{names[ib]}" for ia, ib, _, _, _ in pairs), n,
         "first-order cone test of the critical eigenspace of P2 (2.12, FE) at zero gap: "
         "gap changes n_z (w_a - w_b), one LP per (coordinate, sign) (HiGHS)")
+
+
+def is_loop_ring(a: Assembly) -> bool:
+    """Whether ``a`` is an N-loop ring (N >= 2): one segment per loop, or one of N turns."""
+    return _loops(a) > 0
+
+
+def default_layers(a: Assembly, thickness_ratio: float = CONTACT_THICKNESS_RATIO,
+                   elements_per_segment: int = 32) -> tuple[dict[str, Any] | str, str]:
+    """Choose a layer order for the stacked held state of ``a``; say how it was chosen.
+
+    An N-loop ring: ``"torus"`` (flat layers cannot close it). Otherwise each rod, in traversal
+    order, on the lowest free layer (:func:`~.stacking.traversal_layers`); where that order
+    interpenetrates (a cycle of cusps, as the folded ring's), the rods on the vertices of a
+    polygon in traversal order (:func:`~.stacking.polygon_offsets`). Raises ``StackingError``
+    (exit 2) when neither holds, naming the first's failure: give the order.
+    """
+    from ..nonlinear.discrete import discretise as discretise_rod
+    from .stacking import StackingError, polygon_offsets, stack_layers, traversal_layers
+    from .states import ring_of
+
+    if is_loop_ring(a):
+        return "torus", "the (N, 1) torus curve (an N-loop ring)"
+    h = thickness_ratio * a.total_length / len(a.segments)
+    rod = discretise_rod(a, elements_per_segment, 1.0)
+    flat = traversal_layers(rod, h)
+    try:
+        stack_layers(rod, flat, h, 0.5 * CONTACT_DHAT_FRACTION * h)
+        return flat, "flat layers in traversal order"
+    except StackingError as first:
+        try:
+            order = [nm for nm, _ in ring_of(a).order]
+        except RodstabInputError:
+            raise first from None
+        poly = polygon_offsets(order)
+        try:
+            stack_layers(rod, poly, h, 0.5 * CONTACT_DHAT_FRACTION * h)
+        except StackingError:
+            raise first from None
+        return poly, "a polygon in traversal order (flat layers interpenetrate)"
