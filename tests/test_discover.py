@@ -246,6 +246,27 @@ def test_retraction_dense_and_sparse_solves_agree(angle, monkeypatch):
     assert solve.max_strain(sparse) < 1e-8
 
 
+def test_the_retraction_cache_gives_the_cold_results_and_follows_the_supports():
+    """The per-mesh cache (constraint._topology) is arithmetic the cold path does too: the
+    same state retracted with a warm and an emptied cache is bit for bit the same; a support
+    added in place (the same list object) is not served from the old entry."""
+    _, turned = _turned_folded_ring(0.3)
+    warm, cold = turned.copy(), turned.copy()
+    constraint.restore_inextensible(warm)  # builds (or reuses) the entry
+    constraint.restore_inextensible(turned.copy())
+    constraint._TOPOLOGIES.clear()
+    constraint.restore_inextensible(cold)
+    assert np.array_equal(warm.x, cold.x) and np.array_equal(warm.R_edge, cold.R_edge)
+    entry = constraint._topology(warm)
+    free_node = next(k for k in range(len(warm.x)) if not entry.held[k].any())
+    warm.fixed_components.append((free_node, [2]))
+    try:
+        assert constraint._topology(warm) is not entry
+        assert constraint._topology(warm).held[free_node, 2]
+    finally:
+        warm.fixed_components.pop()
+
+
 def test_restore_inextensible_leaves_an_unstrained_state_where_it_is():
     """The held folded ring is exactly inextensible (straight rods, rest length = chord)."""
     rod, _ = _turned_folded_ring(0.0)

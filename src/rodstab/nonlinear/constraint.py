@@ -61,6 +61,101 @@ def _solve_spd(A: Any, rhs: np.ndarray) -> np.ndarray:
     return sla.cho_solve(sla.cho_factor(A, check_finite=False), rhs, check_finite=False)
 
 
+class _Topology:
+    """What the retraction needs that depends only on a rod's mesh, supports and stiffness.
+
+    Built once per mesh (:func:`_topology`) instead of at every call: the graph Laplacian of
+    :func:`restore_positions` and its factorisations (one per pattern of held coordinates),
+    and the index pattern of the misfit's Jacobian in :func:`restore_inextensible`. A copy of
+    a rod (``DiscreteRod.copy``) shares these arrays, so it shares the entry.
+    """
+
+    def __init__(self, rod: DiscreteRod) -> None:
+        self.refs = (rod.edge_nodes, rod.rest_length, rod.edge_B, rod.fixed_nodes,
+                     rod.fixed_components)
+        self.supports = (tuple(rod.fixed_nodes),
+                         tuple((k, tuple(c)) for k, c in rod.fixed_components))
+        i, j = rod.edge_nodes[:, 0], rod.edge_nodes[:, 1]
+        le = rod.rest_length
+        n = len(rod.x)
+        self.i, self.j, self.le = i, j, le
+        self.w = w = PENALTY * rod.edge_B.max(axis=1) / le**3  # K_e / l_e
+        parts = (np.concatenate([w, w, -w, -w]),
+                 (np.concatenate([i, j, i, j]), np.concatenate([i, j, j, i])))
+        self.dense = n <= DENSE_MAX
+        if self.dense:
+            L: Any = np.zeros((n, n))
+            np.add.at(L, parts[1], parts[0])
+        else:
+            L = sp.csr_matrix(parts, shape=(n, n))
+        self.held = held = _held_components(rod)
+        # Coordinates with the same held nodes share one matrix (all three, unless a support
+        # holds some components only): one factorisation, several right-hand sides.
+        groups: dict[bytes, list[int]] = {}
+        for c in range(3):
+            groups.setdefault(held[:, c].tobytes(), []).append(c)
+        self.groups = []
+        for group in groups.values():
+            pattern = held[:, group[0]]
+            free, hold = np.flatnonzero(~pattern), np.flatnonzero(pattern)
+            if not len(hold) or not len(free):
+                continue  # no gauge in this coordinate: leave it (never for a built rod)
+            Lff = L[free][:, free]
+            solve = (spla.factorized(Lff.tocsc()) if sp.issparse(Lff) else
+                     _cho_solver(sla.cho_factor(Lff, check_finite=False)))
+            self.groups.append((np.array(group), free, hold, L[free][:, hold], solve))
+        # The misfit's Jacobian: rows 3e + c; +I at node j, -I at node i, l_e [d2_e]x at w_e.
+        col = np.full((n, 3), -1)
+        col[~held] = np.arange(int(np.sum(~held)))
+        self.nx = nx = int(np.sum(~held))
+        ne = len(le)
+        self.size = nx + 3 * ne
+        edges = np.arange(ne)
+        rows, cols, vals = [], [], []
+        for c in range(3):
+            for node, sign in ((j, 1.0), (i, -1.0)):
+                keep = col[node, c] >= 0
+                rows.append(3 * edges[keep] + c)
+                cols.append(col[node, c][keep])
+                vals.append(np.full(int(np.sum(keep)), sign))
+        rows.append(np.repeat(3 * edges, 9) + np.tile(np.repeat(np.arange(3), 3), ne))
+        cols.append(nx + np.repeat(3 * edges, 9) + np.tile(np.tile(np.arange(3), 3), ne))
+        self.rows, self.cols = np.concatenate(rows), np.concatenate(cols)
+        self.node_vals = np.concatenate(vals)
+        self.weight = np.repeat(w, 3)
+        self.reg = np.concatenate([np.zeros(nx), np.repeat(INEXTENSIBLE_REG * w * le**2, 3)])
+
+    def matches(self, rod: DiscreteRod) -> bool:
+        """Whether this entry was built for ``rod``'s mesh and supports as they are now."""
+        return ((len(rod.x) <= DENSE_MAX) == self.dense and all(a is b for a, b in zip(self.refs, (
+            rod.edge_nodes, rod.rest_length, rod.edge_B, rod.fixed_nodes,
+            rod.fixed_components), strict=True))
+            and self.supports == (tuple(rod.fixed_nodes),
+                                  tuple((k, tuple(c)) for k, c in rod.fixed_components)))
+
+
+def _cho_solver(factor: Any) -> Any:
+    return lambda rhs: sla.cho_solve(factor, rhs, check_finite=False)
+
+
+#: Meshes whose :class:`_Topology` is kept (most recently used); a multistable run works on a
+#: few (the ring's mesh, a finer one for the error estimate).
+TOPOLOGY_CACHE = 8
+_TOPOLOGIES: list[_Topology] = []
+
+
+def _topology(rod: DiscreteRod) -> _Topology:
+    """Return the rod's :class:`_Topology`: cached while its mesh and supports are the same."""
+    for k, t in enumerate(_TOPOLOGIES):
+        if t.matches(rod):
+            _TOPOLOGIES.insert(0, _TOPOLOGIES.pop(k))
+            return t
+    t = _Topology(rod)
+    _TOPOLOGIES.insert(0, t)
+    del _TOPOLOGIES[TOPOLOGY_CACHE:]
+    return t
+
+
 def restore_positions(rod: DiscreteRod) -> None:
     """Move the free nodes to the minimum of the stretch/shear energy for the current frames.
 
@@ -71,36 +166,14 @@ def restore_positions(rod: DiscreteRod) -> None:
     constraint (edges along their frames' tangents, at their rest lengths) instead of leaving
     stretched chords for Newton to crawl out of.
     """
-    i, j = rod.edge_nodes[:, 0], rod.edge_nodes[:, 1]
-    le = rod.rest_length
-    w = PENALTY * rod.edge_B.max(axis=1) / le**3  # K_e / l_e
-    b = le[:, None] * rod.R_edge[:, :, 1]  # target edge vectors (n_edges, 3)
-    n = len(rod.x)
-    parts = (np.concatenate([w, w, -w, -w]),
-             (np.concatenate([i, j, i, j]), np.concatenate([i, j, j, i])))
-    if n <= DENSE_MAX:
-        L = np.zeros((n, n))
-        np.add.at(L, parts[1], parts[0])
-    else:
-        L = sp.csr_matrix(parts, shape=(n, n))
-    f = np.zeros((n, 3))
-    np.add.at(f, j, w[:, None] * b)
-    np.add.at(f, i, -w[:, None] * b)
-    held = _held_components(rod)
-    # Coordinates with the same held nodes share one matrix (all three, unless a support
-    # holds some components only): one factorisation, several right-hand sides.
-    groups: dict[bytes, list[int]] = {}
-    for c in range(3):
-        groups.setdefault(held[:, c].tobytes(), []).append(c)
-    for group in groups.values():
-        coords = np.array(group)
-        pattern = held[:, group[0]]
-        free = np.flatnonzero(~pattern)
-        hold = np.flatnonzero(pattern)
-        if not len(hold) or not len(free):
-            continue  # no gauge in this coordinate: leave it (never the case for a built rod)
-        rhs = f[np.ix_(free, coords)] - L[free][:, hold] @ rod.x[np.ix_(hold, coords)]
-        z = _solve_spd(L[free][:, free], rhs)
+    t = _topology(rod)
+    b = t.le[:, None] * rod.R_edge[:, :, 1]  # target edge vectors (n_edges, 3)
+    f = np.zeros((len(rod.x), 3))
+    np.add.at(f, t.j, t.w[:, None] * b)
+    np.add.at(f, t.i, -t.w[:, None] * b)
+    for coords, free, hold, L_fh, solve in t.groups:
+        rhs = f[np.ix_(free, coords)] - L_fh @ rod.x[np.ix_(hold, coords)]
+        z = solve(rhs)
         rod.x[np.ix_(free, coords)] = np.asarray(z).reshape(len(free), len(coords))
 
 
@@ -137,43 +210,23 @@ def restore_inextensible(rod: DiscreteRod) -> None:
         The state to correct (changed in place): edge frames and free node positions.
     """
     restore_positions(rod)
-    n, ne = len(rod.x), len(rod.R_edge)
-    i, j = rod.edge_nodes[:, 0], rod.edge_nodes[:, 1]
-    le = rod.rest_length
-    w = PENALTY * rod.edge_B.max(axis=1) / le**3  # K_e / l_e, as in restore_positions
-    held = _held_components(rod)
-    col = np.full((n, 3), -1)
-    col[~held] = np.arange(int(np.sum(~held)))
-    nx = int(np.sum(~held))
-    size = nx + 3 * ne
-    edges = np.arange(ne)
-    # Rows 3e + c of the misfit's Jacobian: +I at node j, -I at node i, l_e [d2_e]x at w_e.
-    rows, cols, vals = [], [], []
-    for c in range(3):
-        for node, sign in ((j, 1.0), (i, -1.0)):
-            keep = col[node, c] >= 0
-            rows.append(3 * edges[keep] + c)
-            cols.append(col[node, c][keep])
-            vals.append(np.full(int(np.sum(keep)), sign))
-    rows.append(np.repeat(3 * edges, 9) + np.tile(np.repeat(np.arange(3), 3), ne))
-    cols.append(nx + np.repeat(3 * edges, 9) + np.tile(np.tile(np.arange(3), 3), ne))
-    rows_all, cols_all = np.concatenate(rows), np.concatenate(cols)
-    weight = np.repeat(w, 3)
-    reg = np.concatenate([np.zeros(nx), np.repeat(INEXTENSIBLE_REG * w * le**2, 3)])
+    t = _topology(rod)
+    ne, nx, size = len(rod.R_edge), t.nx, t.size
+    free = ~t.held
     for _ in range(INEXTENSIBLE_ITER):
         d2 = rod.R_edge[:, :, 1]
-        misfit = (rod.x[j] - rod.x[i] - le[:, None] * d2).ravel()
-        values = np.concatenate(vals + [(le[:, None, None] * hat(d2)).ravel()])
+        misfit = (rod.x[t.j] - rod.x[t.i] - t.le[:, None] * d2).ravel()
+        values = np.concatenate([t.node_vals, (t.le[:, None, None] * hat(d2)).ravel()])
         if size <= DENSE_MAX:  # every (row, column) of J is set once
-            J = np.zeros((3 * ne, size))
-            J[rows_all, cols_all] = values
-            A = J.T @ (weight[:, None] * J)
-            A[np.diag_indices(size)] += reg
+            J: Any = np.zeros((3 * ne, size))
+            J[t.rows, t.cols] = values
+            A: Any = J.T @ (t.weight[:, None] * J)
+            A[np.diag_indices(size)] += t.reg
         else:
-            J = sp.csr_matrix((values, (rows_all, cols_all)), shape=(3 * ne, size))
-            A = J.T @ sp.diags(weight) @ J + sp.diags(reg)
-        z = _solve_spd(A, -(J.T @ (weight * misfit)))
-        rod.x[~held] += z[:nx]
+            J = sp.csr_matrix((values, (t.rows, t.cols)), shape=(3 * ne, size))
+            A = J.T @ sp.diags(t.weight) @ J + sp.diags(t.reg)
+        z = _solve_spd(A, -(J.T @ (t.weight * misfit)))
+        rod.x[free] += z[:nx]
         rod.R_edge = rodrigues(z[nx:].reshape(-1, 3)) @ rod.R_edge  # lab-frame turn
         restore_positions(rod)
 
