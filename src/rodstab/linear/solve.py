@@ -113,21 +113,33 @@ def default_reference_load(a: Assembly) -> float:
     return ratios.pop() if len(ratios) == 1 else 0.0
 
 
-def _modes(disc, vec: np.ndarray | None) -> tuple[SegmentMode, ...]:
-    if vec is None:
-        return ()
+def node_fields(disc: Any, vec: np.ndarray
+                ) -> list[tuple[str, np.ndarray, np.ndarray, np.ndarray, np.ndarray]]:
+    """Per segment of a full FE vector: ``(name, s, w, beta, omega)`` at the element nodes.
+
+    ``s`` is the arc length (length), ``w`` the out-of-plane displacement from its joint
+    value and ``int beta ds`` (Simpson: exact, ``beta`` is quadratic on an element, so ``w``
+    is cubic there and the cubic Hermite interpolant of the nodes' ``(w, beta)`` is exact).
+    """
     out = []
     for sd in disc.segments:
         loc = sd.local(vec)
         n_el = sd.n_elements
         nodes = loc[: 2 * (n_el + 1)].reshape(-1, 2)
         mids = loc[2 * (n_el + 1):].reshape(-1, 2)
-        # w from its joint value and int beta ds (Simpson, exact for quadratic beta)
         h = sd.length / n_el
         dw = h / 6.0 * (nodes[:-1, 0] + 4.0 * mids[:, 0] + nodes[1:, 0])
         w = float(vec[sd.w_start]) + np.concatenate([[0.0], np.cumsum(dw)])
-        s = np.linspace(0.0, 1.0, n_el + 1)
-        out.append(SegmentMode(sd.name, s, w, nodes[:, 1]))
+        out.append((sd.name, np.linspace(0.0, sd.length, n_el + 1), w, nodes[:, 0],
+                    nodes[:, 1]))
+    return out
+
+
+def _modes(disc, vec: np.ndarray | None) -> tuple[SegmentMode, ...]:
+    if vec is None:
+        return ()
+    out = [SegmentMode(name, np.linspace(0.0, 1.0, len(s)), w, omega)
+           for name, s, w, _, omega in node_fields(disc, vec)]
     scale = max(float(np.max(np.abs(m.w))) for m in out) or 1.0
     return tuple(SegmentMode(m.name, m.s, m.w / scale, m.omega / scale) for m in out)
 

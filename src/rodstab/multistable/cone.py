@@ -49,7 +49,7 @@ from ..errors import (
     require_positive,
     require_positive_int,
 )
-from ..linear.solve import linear_pencil, linear_stability
+from ..linear.solve import linear_pencil, linear_stability, node_fields
 from ..model import CONTACT_DHAT_FRACTION, CONTACT_THICKNESS_RATIO, Assembly
 from ..results import Result
 
@@ -115,25 +115,6 @@ class ContactCone(Result):
     pairs: tuple[str, ...]
     elements_per_segment: int
     method: str
-
-
-def _w_fields(disc: Any, vec: np.ndarray) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
-    """Per segment: node arc lengths, ``w`` and ``beta = w'`` at the nodes of a full vector.
-
-    ``beta`` is quadratic on each element, so ``w`` (its integral from the joint value) is
-    cubic there and the cubic Hermite interpolant of the nodes' ``(w, beta)`` is exact.
-    """
-    out = []
-    for sd in disc.segments:
-        loc = sd.local(vec)
-        n = sd.n_elements
-        nodes = loc[: 2 * (n + 1)].reshape(-1, 2)
-        mids = loc[2 * (n + 1):].reshape(-1, 2)
-        h = sd.length / n
-        dw = h / 6.0 * (nodes[:-1, 0] + 4.0 * mids[:, 0] + nodes[1:, 0])
-        w = float(vec[sd.w_start]) + np.concatenate([[0.0], np.cumsum(dw)])
-        out.append((np.linspace(0.0, sd.length, n + 1), w, nodes[:, 0]))
-    return out
 
 
 def _hermite(s_nodes: np.ndarray, w: np.ndarray, dw: np.ndarray, s: np.ndarray) -> np.ndarray:
@@ -285,7 +266,7 @@ def gap_matrix(a: Assembly, pencil: Any, mu_c: float, mult: int, pairs: Pairs
     names = [s.name for s in a.segments]
     cols = []
     for k in range(mult):
-        fields = _w_fields(pencil.disc, np.asarray(modes[:, k]).ravel())
+        fields = [f[1:4] for f in node_fields(pencil.disc, np.asarray(modes[:, k]).ravel())]
         scale = max(float(np.max(np.abs(w))) for _, w, _ in fields) or 1.0
         col = [nz * (_hermite(*fields[ia], sa) - _hermite(*fields[ib], sb)) / scale
                for ia, ib, sa, sb, nz in pairs]
@@ -360,14 +341,9 @@ def contact_cone(a: Assembly, layers: dict[str, Any] | str, elements_per_segment
         pairs = _torus_pairs(a, n)
         stack_loops(discretise_rod(a, n, 1.0), h, g0)
     else:
-        unknown = sorted(set(layers) - set(names))
-        missing = [nm for nm in names if nm not in layers]
-        if unknown or missing:
-            raise RodstabInputError(f"layers must give every segment of {names} once; "
-                                    f"unknown {unknown}, missing {missing}")
-        offsets = {nm: _offset_pair(nm, layers[nm]) for nm in names}
+        # stack_layers checks the names and the order (exit 2 naming them) before the test
         stack_layers(discretise_rod(a, n, 1.0), layers, h, g0)
-        pairs = _touching_pairs(a, offsets, n)
+        pairs = _touching_pairs(a, {nm: _offset_pair(nm, layers[nm]) for nm in names}, n)
     lin = linear_stability(a, n)
     pencil = linear_pencil(a, n)
     lo, hi = lin.load_factor_interval
