@@ -114,7 +114,8 @@ def analyze(design_file: str, elements: int | None, plot_path: str | None,
             length_unit=None if u is None else u.length_unit))
     lo, hi = r.load_factor_interval
     lines = [
-        f"design       {d.source}  ({len(d.assembly.segments)} segments, {r.n_dof} dof)",
+        f"design       {d.source}  ({len(d.assembly.segments)} segment"
+        f"{'s' if len(d.assembly.segments) > 1 else ''}, {r.n_dof} dof)",
         f"stable for   {fmt(lo)} < load factor < {fmt(hi)}   (design load factor 1: "
         f"{'stable' if r.stable_at_design else 'NOT stable'})",
         f"critical     {fmt(hi)} (multiplicity {r.multiplicity}); lam = {fmt(lam)} "
