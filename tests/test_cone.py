@@ -20,8 +20,10 @@ from rodstab.model import Assembly, Segment
 from rodstab.multistable.cone import (
     _best_combination,
     _touching_pairs,
+    circle_scan_margin,
     contact_cone,
     gap_matrix,
+    ring_mode_margin,
 )
 from rodstab.multistable.stacking import StackingError, _offset_pair, polygon_offsets
 from rodstab.multistable.states import ring_of
@@ -131,35 +133,13 @@ def test_the_folded_ring_on_the_hexagon_every_combination_of_its_double_mode_clo
         A, _ = gap_matrix(a, pencil, side.load_factor, 2, pairs)
         worst = np.min(np.stack([np.cos(t), np.sin(t)], 1) @ A.T, axis=1)
         assert np.max(worst) < -0.1 * np.max(np.abs(A))
-
-
-def _fourier_margin(j: int, loops: int) -> float:
-    """Closed form: loop ``m`` of the ``(N, 1)`` torus at azimuth ``theta`` is at ``psi_m =
-    (theta + 2 pi m) / N`` of its cross-section, and the mode of eq. (3.2) with ``j`` waves
-    along the whole ring moves it out of plane by ``cos(k (theta + 2 pi m) + c)``, ``k = j /
-    N`` (rigid motions, which the engine's gauge may add, move every loop at one azimuth
-    alike). Returns the best over the phase ``c`` of the smallest gap change ``n_z (w_a -
-    w_b)`` over the neighbouring loops and ``theta`` (scans of 720 points each)."""
-    th = np.linspace(0.0, 2 * math.pi, 721)
-    k = j / loops
-    pairs = [(m, (m + 1) % loops) for m in range(loops if loops > 2 else 1)]
-    best = -math.inf
-    for c in np.linspace(0.0, 2 * math.pi, 720, endpoint=False):
-        worst = math.inf
-        for b, a in pairs:
-            pa, pb = (th + 2 * math.pi * a) / loops, (th + 2 * math.pi * b) / loops
-            d = np.stack([np.cos(pa) - np.cos(pb), np.sin(pa) - np.sin(pb)])
-            gap = d[1] / np.linalg.norm(d, axis=0) * (np.cos(k * (th + 2 * math.pi * a) + c)
-                                                      - np.cos(k * (th + 2 * math.pi * b) + c))
-            worst = min(worst, float(np.min(gap)))
-        best = max(best, worst)
-    return best
+        assert circle_scan_margin(A) == pytest.approx(float(np.max(worst)), abs=1e-3)
 
 
 @pytest.mark.parametrize("section", ["circle", "rectangle 2"])
 @pytest.mark.parametrize("loops", [2, 3, 5])
 def test_n_loop_ring_on_the_torus_agrees_with_the_fourier_modes_of_eq_3_2(section, loops):
-    """Sec. 3.1: each limit's verdict equals the closed form's (:func:`_fourier_margin` on the
+    """Sec. 3.1: each limit's verdict equals the closed form's (``ring_mode_margin`` on the
     analytic bounding mode j: a mode with j a multiple of N moves the loops together; j = 1
     on the 2-loop ring opens the gap with the phase that follows the torus's turn). Measured:
     the 2-loop ring's lower limit (j = 1) unchanged, every other limit moved outward."""
@@ -173,7 +153,7 @@ def test_n_loop_ring_on_the_torus_agrees_with_the_fourier_modes_of_eq_3_2(sectio
     assert cone.interval == pytest.approx((lo, hi), rel=5e-4)
     for side, j in ((cone.lower, j_lower), (cone.upper, j_upper)):
         assert side is not None and side.multiplicity == 2  # the cos / sin pair
-        margin = _fourier_margin(j, loops)
+        margin = ring_mode_margin(j, loops)
         assert side.unchanged is (margin >= -1e-9), (j, margin, side)
     assert (cone.lower.unchanged, cone.upper.unchanged) == ((True, False) if loops == 2
                                                            else (False, False))

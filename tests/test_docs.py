@@ -171,7 +171,7 @@ def test_claim_definitions_find_every_row_of_the_registry():
     # every id matched a Claim(...) call of its check module: section and claim were read
     assert all(r.section != hooks._UNKNOWN and r.statement for r in rows)
     assert {r.section for r in rows} <= {"2", "2.1", "2.2", "3.1", "3.2", "3.3", "4", "5",
-                                         "beyond"}
+                                         "beyond", "contact"}
     by_id = {r.id: r for r in rows}
     assert by_id["E3.1-N3"].statement == "3-loop ring interval of M by the engine"
     assert by_id["PB-threshold-folded"].statement.startswith("folded six-sided ring: where")

@@ -396,3 +396,41 @@ def default_layers(a: Assembly, thickness_ratio: float = CONTACT_THICKNESS_RATIO
         except StackingError:
             raise first from None
         return poly, "a polygon in traversal order (flat layers interpenetrate)"
+
+
+def ring_mode_margin(j: int, loops: int, samples: int = 720) -> float:
+    """Return how well eq. (3.2)'s mode ``j`` of an N-loop ring on the torus keeps the gaps.
+
+    Loop ``m`` at azimuth ``theta`` sits at ``psi_m = (theta + 2 pi m) / N`` of the torus's
+    cross-section, and the mode with ``j`` waves along the whole ring moves it out of plane by
+    ``cos(k (theta + 2 pi m) + c)``, ``k = j / N`` (eq. 3.2's ``w``; rigid motions move every
+    loop at one azimuth alike). Returns the best over the phase ``c`` of the smallest gap change
+    ``n_z (w_a - w_b)`` over neighbouring loops and ``theta`` (``samples`` points each): ``>= 0``
+    when a phase keeps every gap (up to the scan's resolution), negative otherwise. Independent
+    of the FE and of the linear programmes of :func:`contact_cone`.
+    """
+    th = np.linspace(0.0, 2 * math.pi, samples + 1)
+    k = j / loops
+    pairs = [(m, (m + 1) % loops) for m in range(loops if loops > 2 else 1)]
+    best = -math.inf
+    for c in np.linspace(0.0, 2 * math.pi, samples, endpoint=False):
+        worst = math.inf
+        for b, a in pairs:
+            pa, pb = (th + 2 * math.pi * a) / loops, (th + 2 * math.pi * b) / loops
+            d = np.stack([np.cos(pa) - np.cos(pb), np.sin(pa) - np.sin(pb)])
+            gap = d[1] / np.linalg.norm(d, axis=0) * (np.cos(k * (th + 2 * math.pi * a) + c)
+                                                      - np.cos(k * (th + 2 * math.pi * b) + c))
+            worst = min(worst, float(np.min(gap)))
+        best = max(best, worst)
+    return best
+
+
+def circle_scan_margin(A: np.ndarray, samples: int = 3600) -> float:
+    """Best smallest gap change over the unit circle of a two-mode eigenspace, by a scan.
+
+    ``A`` (samples x 2) from :func:`gap_matrix`: ``max_t min_i (A [cos t, sin t])_i`` over
+    ``samples`` angles. A check of the linear programmes that needs none of them.
+    """
+    t = np.linspace(0.0, 2 * math.pi, samples, endpoint=False)
+    return float(np.max(np.min(np.stack([np.cos(t), np.sin(t)], 1) @ A.T, axis=1)))
+
