@@ -174,6 +174,14 @@ def test_bad_input_names_the_key(call, match):
         call()
 
 
+def test_a_mesh_past_the_dense_limit_is_refused_naming_the_elements(monkeypatch):
+    from rodstab.multistable import cone
+
+    monkeypatch.setattr(cone, "MAX_DENSE_DOF", 100)
+    with pytest.raises(RodstabInputError, match="more than 100: give fewer elements"):
+        contact_cone(_stack(1.0, 2.0), {"a": 0, "b": 1}, 32)
+
+
 def test_a_layer_order_whose_rods_interpenetrate_is_refused():
     """Flat layers cannot hold the folded ring (tests/test_stacking.py): refused, not tested."""
     a = folded_ring.build(folded_ring.Params())

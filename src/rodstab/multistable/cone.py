@@ -69,6 +69,10 @@ SAMPLES_PER_ELEMENT = 3
 #: the engine's multiplicity rule counts them apart) is one eigenspace; the next modes are
 #: ~0.1 away. "Unchanged" thus means: to within this fraction.
 CLUSTER_RTOL = 1e-3
+#: The critical eigenspace is found by dense linear algebra (a null space and a symmetric
+#: eigen solve, O(n^3)): up to this many FE unknowns (3960, the 3-loop ring at 330 elements
+#: per loop: 17 s for both limits on one core).
+MAX_DENSE_DOF = 4000
 #: Points of the coarse search for the matching point on the other segment.
 MATCH_GRID = 2001
 
@@ -241,7 +245,8 @@ def _best_combination(A: np.ndarray) -> tuple[np.ndarray, float]:
     return best_c, best_t
 
 
-def gap_matrix(a: Assembly, pencil: Any, mu_c: float, mult: int, pairs: Pairs
+def gap_matrix(a: Assembly, pencil: Any, mu_c: float, mult: int, pairs: Pairs,
+               null: np.ndarray | None = None
                ) -> tuple[np.ndarray, list[tuple[str, str, float, float]]]:
     """Gap changes of the critical modes: ``A[i, k] = n_z (w_a - w_b)`` at sample ``i``, mode ``k``.
 
@@ -249,11 +254,16 @@ def gap_matrix(a: Assembly, pencil: Any, mu_c: float, mult: int, pairs: Pairs
     eigenvectors with the eigenvalues nearest zero, and any other whose own critical load is
     within :data:`CLUSTER_RTOL` of ``mu_c``; each scaled to ``max |w| = 1``. Rows: every
     sample of every touching pair, named ``(a, b, s on a, s on b)`` in the second return value.
+    ``null``: the closure constraints' null space, if already computed (the same at both ends).
     """
     from scipy.linalg import eigh, null_space
 
+    if pencil.K0.shape[0] > MAX_DENSE_DOF:
+        raise RodstabInputError(
+            f"the cone test solves dense and the FE has {pencil.K0.shape[0]} unknowns, more "
+            f"than {MAX_DENSE_DOF}: give fewer elements per segment (--elements)")
     K = (pencil.K0 + mu_c * pencil.K1).toarray()
-    N = null_space(pencil.G.toarray())
+    N = null_space(pencil.G.toarray()) if null is None else null
     lam, X = eigh(N.T @ K @ N)
     near = np.argsort(np.abs(lam))[: max(mult, 1) + 8]
     K1n = N.T @ pencil.K1.toarray() @ N
@@ -276,12 +286,13 @@ def gap_matrix(a: Assembly, pencil: Any, mu_c: float, mult: int, pairs: Pairs
     return np.stack(cols, axis=1), where
 
 
-def _side(a: Assembly, pencil: Any, mu_c: float, mult: int, pairs: Pairs) -> ConeSide:
+def _side(a: Assembly, pencil: Any, mu_c: float, mult: int, pairs: Pairs,
+          null: np.ndarray | None = None) -> ConeSide:
     """Decide one no-contact limit against the cone (module doc)."""
-    A, where = gap_matrix(a, pencil, mu_c, mult, pairs)
-    mult = A.shape[1]
-    if A.shape[0] == 0:  # nothing touches at zero thickness (the star: only at its welds)
+    if not pairs:  # nothing touches at zero thickness (the star: only at its welds)
         return ConeSide(float(mu_c), mult, True, 0.0, 0.0, "")
+    A, where = gap_matrix(a, pencil, mu_c, mult, pairs, null)
+    mult = A.shape[1]
     c, t = _best_combination(A)
     g = A @ c
     big = float(np.max(np.abs(g)))
@@ -347,9 +358,14 @@ def contact_cone(a: Assembly, layers: dict[str, Any] | str, elements_per_segment
     lin = linear_stability(a, n)
     pencil = linear_pencil(a, n)
     lo, hi = lin.load_factor_interval
+    null = None
+    if pairs and pencil.K0.shape[0] <= MAX_DENSE_DOF:
+        from scipy.linalg import null_space
+
+        null = null_space(pencil.G.toarray())
     sides = []
     for mu, mult in ((lo, lin.multiplicity_lo), (hi, lin.multiplicity)):
-        sides.append(_side(a, pencil, mu, max(int(mult), 1), pairs)
+        sides.append(_side(a, pencil, mu, max(int(mult), 1), pairs, null)
                      if math.isfinite(mu) else None)
     return ContactCone(
         (float(lo), float(hi)), sides[0], sides[1],
