@@ -290,6 +290,29 @@ def _chart_scale(r: DiscreteRod) -> np.ndarray:
     return scale
 
 
+def _scaled(H: sp.csc_matrix, d: np.ndarray) -> sp.csc_matrix:
+    """``diag(d) H diag(d)`` (CSC) by scaling the stored entries, as the products would.
+
+    ``(d_i H_ij) d_j`` in that order: the same numbers, bit for bit, as ``sp.diags(d) @ H @
+    sp.diags(d)``, without building three sparse matrices (a fifth of a string-method step).
+    """
+    A = H.tocsc(copy=True)
+    A.data = (d[A.indices] * A.data) * np.repeat(d, np.diff(A.indptr))
+    return A
+
+
+def _plus_diagonal(A: sp.csc_matrix, lam: float) -> sp.csc_matrix:
+    """Return ``A + lam I`` (CSC), added to the stored diagonal when all of it is stored."""
+    n = A.shape[0]
+    cols = np.repeat(np.arange(n), np.diff(A.indptr))
+    on = np.flatnonzero(A.indices == cols)
+    if len(on) != n:  # a diagonal entry not stored: the general sum
+        return (A + lam * sp.identity(n, format="csc")).tocsc()
+    M = A.copy()
+    M.data[on] += lam
+    return M
+
+
 def _factor(d: np.ndarray, A: sp.csc_matrix, lam: float
             ) -> tuple[Callable[[np.ndarray], np.ndarray] | None, int]:
     """Solve with ``H + lam D`` from the symmetric factorisation of ``A + lam I`` (``A = d H d``).
@@ -298,7 +321,7 @@ def _factor(d: np.ndarray, A: sp.csc_matrix, lam: float
     ``H + lam D`` (Sylvester) when no off-diagonal pivoting happened -- or ``(None, 0)`` when
     the factorisation failed or pivoted off the diagonal (inertia unknown).
     """
-    M = (A + lam * sp.identity(A.shape[0], format="csc")).tocsc() if lam else A
+    M = _plus_diagonal(A, lam) if lam else A
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         try:
@@ -335,7 +358,7 @@ def _perpendicular_step(r: DiscreteRod, free: np.ndarray, E: float, gf: np.ndarr
     taken (nothing left to gain on the plane, or no acceptable step in ``SHIFT_TRIES``).
     """
     d = jacobi_scaling(Hf)
-    A = (sp.diags(d) @ Hf @ sp.diags(d)).tocsc()
+    A = _scaled(Hf, d)
     for _ in range(SHIFT_TRIES):
         solve, neg = _factor(d, A, lam)
         if solve is None or neg > 1:
