@@ -310,7 +310,8 @@ ANALYSIS = Table("analysis", "[analysis]", "How the design is solved and reporte
         range="a segment's name", default_text="the first segment"),
     Key("contact", "boolean", "the rods are bodies that cannot pass through each other: the "
         "nonlinear engine adds the contact barrier (`rodstab equilibrium`, `rodstab "
-        "continue`; `--no-contact` turns it off for one run)", default=False,
+        "continue`), `rodstab analyze` tests each limit against the cone of gap-keeping "
+        "modes; `--no-contact` turns it off for one run", default=False,
         default_text="`false`"),
     Key("contact_thickness", "number", "with contact: the rods' out-of-plane thickness h "
         "over the mean rod length L (capsules of diameter h)", lo=0.0, hi=1.0, lo_open=True,
