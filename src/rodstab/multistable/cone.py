@@ -14,7 +14,9 @@ exactly:
 * Some nonzero ``c`` has ``g_i(Phi c) >= 0`` for every ``i``: that critical mode keeps every
   gap open, it is admissible, and the limit with contact is ``mu_c`` -- **unchanged**.
 * None has: on the compact set ``C`` intersected with the unit sphere the quadratic form
-  ``v^T K(mu_c) v`` vanishes only on ``Phi``, which it does not meet, so its minimum there is
+  ``v^T K(mu_c) v`` vanishes only on ``Phi`` (the held state stable in its plane, as the paper
+  assumes: an in-plane part, which could open a gap the out-of-plane part closes, costs
+  energy), which it does not meet, so its minimum there is
   positive and stays positive a little past ``mu_c``: contact **moves the limit outward** (the
   stable interval widens there; by an amount this method does not give, which needs the
   minimum of the form on the cone). Contact at zero gap can only widen the interval: it
