@@ -235,3 +235,17 @@ def test_analyze_with_contact_in_the_design_file_and_nothing_stacked(run_cli, tm
 def test_analyze_contact_bad_input_exits_2_naming_it(run_cli, args, words):
     r = run_cli(["analyze", "examples/birod.toml", "--elements", "16", *args])
     assert r.exit_code == 2 and words in r.stderr, r.stderr
+
+
+def test_a_coarse_fe_mesh_does_not_make_the_layer_order_unbuildable(run_cli):
+    """Found by trying every example: the 3-loop ring of one segment at 24 elements (8 per
+    loop) was refused because the order was built on that mesh, whose chords added their
+    sagitta to the strands' spacing; it is built on at least 32 elements per turn. A
+    thickness the torus cannot hold is refused naming it."""
+    r = run_cli(["analyze", "examples/ring_3_loops.toml", "--contact", "--elements", "24"])
+    assert r.exit_code == 0, r.stderr
+    assert "torus curve" in r.stdout and "moved outward" in r.stdout
+    r = run_cli(["analyze", "examples/ring_3_loops.toml", "--contact", "--elements", "24",
+                 "--contact-thickness", "0.05"])
+    assert r.exit_code == 2
+    assert "cannot be built at thickness_ratio h/L = 0.05" in r.stderr

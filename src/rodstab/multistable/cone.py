@@ -75,6 +75,9 @@ CLUSTER_RTOL = 1e-3
 #: eigen solve, O(n^3)): up to this many FE unknowns (3960, the 3-loop ring at 330 elements
 #: per loop: 17 s for both limits on one core).
 MAX_DENSE_DOF = 4000
+#: Elements per full turn of a segment, at least, of the nonlinear mesh on which the layer
+#: order is built and checked (:func:`contact_cone`).
+CHECK_ELEMENTS = 32
 #: Points of the coarse search for the matching point on the other segment.
 MATCH_GRID = 2001
 
@@ -339,7 +342,7 @@ def contact_cone(a: Assembly, layers: dict[str, Any] | str, elements_per_segment
         it unchanged or raises it (module doc), with the touching pairs tested.
     """
     from ..nonlinear.discrete import discretise as discretise_rod
-    from .stacking import _offset_pair, stack_layers, stack_loops
+    from .stacking import StackingError, _offset_pair, stack_layers, stack_loops
 
     n = require_positive_int("elements_per_segment", elements_per_segment)
     names = [s.name for s in a.segments]
@@ -347,16 +350,26 @@ def contact_cone(a: Assembly, layers: dict[str, Any] | str, elements_per_segment
                           0.0, 1.0, "h / L")
     h = hL * a.total_length / len(names)
     g0 = 0.5 * CONTACT_DHAT_FRACTION * h
-    if isinstance(layers, str):
-        if layers != "torus":
-            raise RodstabInputError(f"layers must be a mapping of segment names or 'torus', "
-                                    f"got {layers!r}")
-        pairs = _torus_pairs(a, n)
-        stack_loops(discretise_rod(a, n, 1.0), h, g0)
-    else:
-        # stack_layers checks the names and the order (exit 2 naming them) before the test
-        stack_layers(discretise_rod(a, n, 1.0), layers, h, g0)
-        pairs = _touching_pairs(a, {nm: _offset_pair(nm, layers[nm]) for nm in names}, n)
+    # The order is built on a mesh of at least CHECK_ELEMENTS per turn, whatever the FE's:
+    # its question is geometric, and coarse chords would add their sagitta to the spacing.
+    turns = max(1, max(round(abs(sg.curvature * sg.length) / (2 * math.pi)) for sg in a.segments))
+    rod = discretise_rod(a, max(n, CHECK_ELEMENTS * turns), 1.0)
+    if isinstance(layers, str) and layers != "torus":
+        raise RodstabInputError(f"layers must be a mapping of segment names or 'torus', got "
+                                f"{layers!r}")
+    try:
+        if isinstance(layers, str):
+            pairs = _torus_pairs(a, n)
+            stack_loops(rod, h, g0)
+        else:
+            # stack_layers checks the names and the order (exit 2 naming them)
+            stack_layers(rod, layers, h, g0)
+            pairs = _touching_pairs(a, {nm: _offset_pair(nm, layers[nm]) for nm in names}, n)
+    except StackingError:
+        raise
+    except RodstabInputError as exc:
+        raise RodstabInputError(f"the layer order cannot be built at thickness_ratio h/L = "
+                                f"{hL:g} (h = {h:.4g}): {exc}") from None
     lin = linear_stability(a, n)
     pencil = linear_pencil(a, n)
     lo, hi = lin.load_factor_interval
