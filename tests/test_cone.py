@@ -19,13 +19,13 @@ from rodstab.linear.solve import linear_pencil, linear_stability
 from rodstab.model import Assembly, Segment
 from rodstab.multistable.cone import (
     _best_combination,
-    _touching_pairs,
     circle_scan_margin,
     contact_cone,
     gap_matrix,
     ring_mode_margin,
+    touching_pairs,
 )
-from rodstab.multistable.stacking import StackingError, _offset_pair, polygon_offsets
+from rodstab.multistable.stacking import StackingError, polygon_offsets
 from rodstab.multistable.states import ring_of
 from rodstab.problems import birod, folded_ring, ring
 from rodstab.sections import circle, rectangle
@@ -126,7 +126,7 @@ def test_the_folded_ring_on_the_hexagon_every_combination_of_its_double_mode_clo
     cone = contact_cone(a, layers, 16)
     assert len(cone.pairs) == 6  # the hexagon's neighbours; the other pairs do not touch
     pencil = linear_pencil(a, 16)
-    pairs = _touching_pairs(a, {n: _offset_pair(n, v) for n, v in layers.items()}, 16)
+    pairs = touching_pairs(a, layers, 16)
     t = np.linspace(0.0, 2 * math.pi, 3601)
     for side in (cone.lower, cone.upper):
         assert side is not None and side.multiplicity == 2 and not side.unchanged

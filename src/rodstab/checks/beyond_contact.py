@@ -19,7 +19,7 @@ import numpy as np
 from ..analytic.ring import ring_stability
 from ..linear.solve import linear_pencil, linear_stability
 from ..multistable import cone
-from ..multistable.stacking import _offset_pair, polygon_offsets
+from ..multistable.stacking import polygon_offsets
 from ..multistable.states import ring_of, uniform_ring
 from ..problems import birod, folded_ring, ring
 from ..sections import circle, rectangle
@@ -88,7 +88,7 @@ def _scanned(a, layers: dict, n: int) -> tuple[str, str, bool]:
     """Test a state with double limits: the LP's verdicts, the circle scan's, whether agreed."""
     c = cone.contact_cone(a, layers, n)
     pencil = linear_pencil(a, n)
-    pairs = cone._touching_pairs(a, {k: _offset_pair(k, v) for k, v in layers.items()}, n)
+    pairs = cone.touching_pairs(a, layers, n)
     scans, ok = [], []
     for side in (c.lower, c.upper):
         if side is None:

@@ -227,6 +227,19 @@ def _torus_pairs(a: Assembly, n: int) -> Pairs:
     return out
 
 
+def touching_pairs(a: Assembly, layers: dict[str, Any] | str, n: int) -> Pairs:
+    """Return the touching pairs of a layer order (``"torus"`` or offsets), on ``n`` elements.
+
+    Each ``(ia, ib, s_a, s_b, n_z)``: the segments, the matched arc lengths on each and the
+    normal's height component there (:func:`_touching_pairs`, :func:`_torus_pairs`).
+    """
+    from .stacking import _offset_pair
+
+    if isinstance(layers, str):
+        return _torus_pairs(a, n)
+    return _touching_pairs(a, {nm: _offset_pair(nm, v) for nm, v in layers.items()}, n)
+
+
 def _best_combination(A: np.ndarray) -> tuple[np.ndarray, float]:
     """``c`` with ``max |c| = 1`` maximising ``min_i (A c)_i``, and that minimum.
 
@@ -342,7 +355,7 @@ def contact_cone(a: Assembly, layers: dict[str, Any] | str, elements_per_segment
         it unchanged or raises it (module doc), with the touching pairs tested.
     """
     from ..nonlinear.discrete import discretise as discretise_rod
-    from .stacking import StackingError, _offset_pair, stack_layers, stack_loops
+    from .stacking import StackingError, stack_layers, stack_loops
 
     n = require_positive_int("elements_per_segment", elements_per_segment)
     names = [s.name for s in a.segments]
@@ -357,19 +370,18 @@ def contact_cone(a: Assembly, layers: dict[str, Any] | str, elements_per_segment
     if isinstance(layers, str) and layers != "torus":
         raise RodstabInputError(f"layers must be a mapping of segment names or 'torus', got "
                                 f"{layers!r}")
-    try:
-        if isinstance(layers, str):
-            pairs = _torus_pairs(a, n)
+    if isinstance(layers, str):
+        pairs = touching_pairs(a, layers, n)  # refuses a design that is no N-loop ring
+        try:
             stack_loops(rod, h, g0)
-        else:
-            # stack_layers checks the names and the order (exit 2 naming them)
-            stack_layers(rod, layers, h, g0)
-            pairs = _touching_pairs(a, {nm: _offset_pair(nm, layers[nm]) for nm in names}, n)
-    except StackingError:
-        raise
-    except RodstabInputError as exc:
-        raise RodstabInputError(f"the layer order cannot be built at thickness_ratio h/L = "
-                                f"{hL:g} (h = {h:.4g}): {exc}") from None
+        except StackingError:
+            raise
+        except RodstabInputError as exc:  # the torus cannot hold strands this thick
+            raise RodstabInputError(f"the layer order cannot be built at thickness_ratio h/L "
+                                    f"= {hL:g} (h = {h:.4g}): {exc}") from None
+    else:  # stack_layers checks the names and the order (exit 2 naming them)
+        stack_layers(rod, layers, h, g0)
+        pairs = touching_pairs(a, layers, n)
     lin = linear_stability(a, n)
     pencil = linear_pencil(a, n)
     lo, hi = lin.load_factor_interval
