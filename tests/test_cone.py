@@ -249,3 +249,20 @@ def test_a_coarse_fe_mesh_does_not_make_the_layer_order_unbuildable(run_cli):
                  "--contact-thickness", "0.05"])
     assert r.exit_code == 2
     assert "cannot be built at thickness_ratio h/L = 0.05" in r.stderr
+
+
+def test_random_rings_the_cone_and_the_closed_form_modes_agree():
+    """Differential, seeded: N-loop rings (N 2-6) of rectangles with h/t log-uniform in
+    [0.5, 8], 24 elements per loop: at each limit the cone test's verdict equals the closed
+    form's (eq. 3.2's bounding mode on the torus, ``ring_mode_margin``)."""
+    rng = np.random.default_rng(11)
+    for _ in range(6):
+        loops = int(rng.integers(2, 7))
+        sec = rectangle(aspect=float(np.exp(rng.uniform(math.log(0.5), math.log(8.0)))))
+        an = ring_stability(sec.b1, sec.b2, loops)
+        j_upper, j_lower = an.bounding_modes
+        cone = contact_cone(ring.build(ring.Params(section=sec, loops=loops)), "torus", 24)
+        for side, j in ((cone.lower, j_lower), (cone.upper, j_upper)):
+            assert side is not None
+            margin = ring_mode_margin(j, loops)
+            assert side.unchanged is (margin >= -1e-9), (loops, sec.aspect, j, margin, side)
