@@ -13,7 +13,7 @@ from ..errors import NotConverged, RodstabInputError
 from ..io.outputs import check_output
 from ..limits import Limits
 from ..sections import Section
-from .contact_options import contact_thickness_option
+from .contact_options import path_contact_options
 from .options import (
     elements_option,
     json_option,
@@ -62,9 +62,10 @@ _BARRIER_STATES = {"six-ring": ("folded", "one-loop"), "hexagram": ("line", "sta
               help="Write DIR/path.npz: node positions of every state of the path, the "
                    "elements, rest lengths, energies and --contact-thickness, to check the gaps "
                    "independently (rodstab.io.path_file). String method.")
-@contact_thickness_option("The path's contact is judged as a transition's: pairs stacked "
-                          "in the --from state may touch but not swap layers, no other pair "
-                          "may pass through another (rodstab transitions).")
+@path_contact_options("The path's contact is judged as a transition's: pairs stacked in "
+                      "the --from state may touch but not swap layers, no other pair may pass "
+                      "through another (rodstab transitions). With --contact also the "
+                      "capsules' diameter.")
 @section_options
 @limit_options
 @json_option
@@ -72,7 +73,7 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
             from_state: str | None, to_state: str | None, load_factor: float | None,
             elements: int,
             images: int | None, plot_path: str | None, animation_path: str | None,
-            out_dir: str | None, contact_thickness: float, limits: Limits,
+            out_dir: str | None, contact: Any, limits: Limits,
             as_json: bool) -> None:
     """Energy barrier between two stable states of a ring: the saddle and the path through it.
 
@@ -82,7 +83,9 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
     states. continuation: the saddle is the subcritical branch from the --from state's
     bifurcation, traced back to the load; the path is the steepest descent from it on both
     sides; a state curved in its held geometry (the hexagram's) is refused (exit 2). An
-    unconverged barrier exits 3 after the output.
+    unconverged barrier exits 3 after the output. --contact (string): rods are capsules of
+    diameter --contact-thickness that cannot pass through each other along the path; energies
+    include the contact energy.
     """
     from ..errors import require_int
     from ..limits import require_nonlinear
@@ -108,7 +111,8 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
         if from_state is None or to_state is None:
             raise RodstabInputError(f"--from and --to name two states of {design_file} (see "
                                     "`rodstab states DESIGN`)")
-        ring, section, name, design = ring_and_section(design_file, structure, 6, section)
+        ring, section, name, design = ring_and_section(design_file, structure, 6, section,
+                                                       contact_ok=True)
         a, b_asm = (ring.held(ring.state(s).theta) for s in (from_state, to_state))
         if k is None:
             from ..multistable.atlas import common_load
@@ -130,6 +134,9 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
     if from_state == to_state:
         raise RodstabInputError(f"--to {to_state!r} is the --from state: a barrier joins two "
                                 "different states")
+    h, c = contact.judged(None if design_file is None else design.contact)
+    if c is not None and method != "string":
+        raise RodstabInputError("--contact is an option of --method string")
     # Sized before anything is built: the string relaxes its images together.
     string = method == "string"
     require_nonlinear([elements] * len(a.segments), len(a.joints()),
@@ -145,20 +152,26 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
             k, chosen = structure_common_load(structure, hexagram_ring, (from_state, to_state))
         mu = model_load_factor(structure, k)
     assert k is not None  # set above on every path (given, DESIGN's or the structure's default)
+    from ..nonlinear.contact import Interpenetration
+
     path: list[Any] = []
     try:
         if method == "string":
             from ..multistable.string_method import string_barrier
+            from ..nonlinear.equilibrium import rod_contact_model
 
+            model = None if c is None else rod_contact_model(a, h, c)
             b, path = string_barrier(a, b_asm, mu, elements_per_segment=elements,
                                      images=n_img, name_a=from_state, name_b=to_state,
-                                     limits=limits)
+                                     limits=limits, contact=model)
         else:
             from ..multistable.barrier import barrier_from_bifurcation
 
             b = barrier_from_bifurcation(a, mu, upper=model_load_factor(structure, 4.0),
                                          elements_per_segment=elements, name=from_state,
                                          named={to_state: b_asm}, limits=limits)
+    except Interpenetration as exc:  # a state outside the contact model
+        raise RodstabInputError(f"--contact-thickness {h!r}: {exc}") from exc
     except RodstabInputError as exc:
         raise RodstabInputError(f"--load-factor {k!r}, --from {from_state!r}: {exc}") from exc
     payload = b.to_dict()
@@ -220,15 +233,23 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
         from ..multistable.barrier import path_contact
 
         xs = np.stack([s.x for s in path])
-        report, edges, rest = path_contact(a, elements, xs, contact_thickness)
-        payload["contact"] = dict(report.to_dict(), thickness=contact_thickness)
-        lines.append(_contact_line(report, contact_thickness, b.from_state))
+        report, edges, rest = path_contact(a, elements, xs, h)
+        payload["contact"] = dict(report.to_dict(), thickness=h, acting=c is not None)
+        if c is not None:
+            stages = run.contact_stages
+            payload["contact"].update(dhat=c, soft_stages=stages.to_dict())
+            lines.append(f"contact      acting: capsules h/L = {fmt(h)}, dhat/h = {fmt(c)}; "
+                         f"{len(stages.stiffnesses)} soft stages took the path's closest "
+                         f"rods from {fmt(stages.distances[0] / h)} h to "
+                         f"{fmt(stages.distances[-1] / h)} h apart "
+                         "(rodstab.multistable.string_contact)")
+        lines.append(_contact_line(report, h, b.from_state, c is not None))
         if out is not None:
             from ..io.path_file import PATH_FILE, write_path_file
 
             payload["path_file"] = str(write_path_file(out / PATH_FILE, xs, edges, rest,
                                                        b.energies,
-                                                       thickness=contact_thickness))
+                                                       thickness=h))
             lines.append(f"wrote {payload['path_file']}")
     if gif is not None:
         from ..plot.animations import barrier_animation
@@ -247,10 +268,11 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
                            f"{', '.join(b.descent_ends) or 'not run'})")
 
 
-def _contact_line(report: Any, thickness: float, from_state: str) -> str:
+def _contact_line(report: Any, thickness: float, from_state: str, acting: bool) -> str:
     """Return the path's contact verdict as printed (a transition's stretch, over h)."""
     verdict = ("RODS PASS THROUGH at path point "
-               f"{report.pass_through_at:g}: not physical as computed (no contact model)"
+               f"{report.pass_through_at:g}: not physical as computed"
+               + ("" if acting else " (no contact model: --contact)")
                if report.pass_through else "no pass-through")
     overlap = ""
     if report.touching:

@@ -72,6 +72,70 @@ class ContactChoice:
         return (h if self.thickness is None else self.thickness,
                 c if self.dhat is None else self.dhat)
 
+    def judged(self, design_contact: tuple[float, float] | None) -> tuple[float, float | None]:
+        """``(h / L, dhat / h)`` of a command that judges its paths with or without contact.
+
+        ``h`` always (the path is judged against it; with contact also the capsules'
+        diameter); ``dhat`` None when contact is off (``--contact-dhat`` then refused, as by
+        :meth:`resolve`).
+        """
+        on = design_contact is not None if self.on is None else self.on
+        if on:
+            setting = self.resolve(design_contact)
+            assert setting is not None  # contact is on
+            return setting
+        if self.dhat is not None:
+            ContactChoice(False, None, self.dhat).resolve(design_contact)  # refuses it
+        h = (self.thickness if self.thickness is not None else
+             design_contact[0] if design_contact is not None else CONTACT_THICKNESS_RATIO)
+        return h, None
+
+
+#: ``--contact-dhat``: one definition for :func:`contact_options` and :func:`path_contact_options`.
+_DHAT_OPTION = click.option(
+    "--contact-dhat", "contact_dhat", type=float, default=CONTACT_DHAT_FRACTION,
+    show_default=True,
+    help="With contact: the barrier's reach dhat over h, in (0, 1); a result is shown "
+         "converged by repeating it at smaller values [default: the design's contact_dhat].")
+
+
+def _dhat_given(value: float) -> float | None:
+    """``--contact-dhat`` if given on the command line (checked: in (0, 1)), else None."""
+    if not given("contact_dhat"):
+        return None
+    c = require_positive("--contact-dhat", value)
+    if c >= 1.0:
+        raise RodstabInputError(f"--contact-dhat must be below 1 (dhat < h), got {value!r}")
+    return c
+
+
+def path_contact_options(help: str) -> Callable[..., Any]:
+    """``--contact/--no-contact``, ``--contact-thickness``, ``--contact-dhat`` of a path command.
+
+    For ``barrier``: ``--contact-thickness`` judges the path with or without contact (``help``
+    says how) and is the capsules' diameter with it. Passes ``contact``, a
+    :class:`ContactChoice` to resolve with :meth:`ContactChoice.judged`.
+    """
+
+    def decorate(f: Callable[..., Any]) -> Callable[..., Any]:
+        @click.option("--contact/--no-contact", "with_contact", default=None,
+                      help="Rods are capsules that cannot pass through each other while the "
+                           "path is computed (a smooth barrier on their gaps, "
+                           "rodstab.multistable.string_contact); without it the path is only "
+                           "judged. [default: the design's [analysis] contact, else off]")
+        @contact_thickness_option(help)
+        @_DHAT_OPTION
+        @functools.wraps(f)
+        def wrapper(with_contact: bool | None, contact_thickness: float, contact_dhat: float,
+                    **kwargs: Any) -> Any:
+            h = contact_thickness if given("contact_thickness") else None
+            return f(contact=ContactChoice(with_contact, h, _dhat_given(contact_dhat)),
+                     **kwargs)
+
+        return wrapper
+
+    return decorate
+
 
 def contact_options(f: Callable[..., Any]) -> Callable[..., Any]:
     """Add ``--contact/--no-contact``, ``--contact-thickness``, ``--contact-dhat``.
@@ -87,22 +151,12 @@ def contact_options(f: Callable[..., Any]) -> Callable[..., Any]:
                        "contact, else off]")
     @contact_thickness_option("With contact: the capsules' diameter [default: the design's "
                               "contact_thickness].")
-    @click.option("--contact-dhat", "contact_dhat", type=float, default=CONTACT_DHAT_FRACTION,
-                  show_default=True,
-                  help="With contact: the barrier's reach dhat over h, in (0, 1); a result is "
-                       "shown converged by repeating it at smaller values [default: the "
-                       "design's contact_dhat].")
+    @_DHAT_OPTION
     @functools.wraps(f)
     def wrapper(with_contact: bool | None, contact_thickness: float, contact_dhat: float,
                 **kwargs: Any) -> Any:
-        c = None
-        if given("contact_dhat"):
-            c = require_positive("--contact-dhat", contact_dhat)
-            if c >= 1.0:
-                raise RodstabInputError(f"--contact-dhat must be below 1 (dhat < h), got "
-                                        f"{contact_dhat!r}")
         h = contact_thickness if given("contact_thickness") else None
-        return f(contact=ContactChoice(with_contact, h, c), **kwargs)
+        return f(contact=ContactChoice(with_contact, h, _dhat_given(contact_dhat)), **kwargs)
 
     return wrapper
 

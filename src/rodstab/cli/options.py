@@ -271,7 +271,8 @@ def given(option: str) -> bool:
 
 
 def ring_and_section(design_file: str | None, structure: str, segments: int,
-                     section: Section) -> tuple[Any, Section, str, Any]:
+                     section: Section, *, contact_ok: bool = False
+                     ) -> tuple[Any, Section, str, Any]:
     """Return a ring command's ring: DESIGN's (:func:`~.multistable.states.ring_of`) or built in.
 
     Built-in structures (without DESIGN): ``hexagram`` (six rods of length 1, natural curvature
@@ -280,6 +281,8 @@ def ring_and_section(design_file: str | None, structure: str, segments: int,
     curvature 1 per unit load: the load is ``kappa_n R0``). With DESIGN, its section and its
     load factor; ``--structure``, ``--segments`` and the section options are refused. The
     last item is the :class:`~rodstab.io.design.Design` (None for a built-in structure).
+    A design with ``[analysis] contact = true`` is refused unless ``contact_ok`` (the command
+    models contact).
     """
     from ..multistable.states import ring_of
 
@@ -294,7 +297,8 @@ def ring_and_section(design_file: str | None, structure: str, segments: int,
         from ..io.design import load_design
 
         design = load_design(design_file)
-        design.require_no_contact(click.get_current_context().info_name or "this command")
+        if not contact_ok:
+            design.require_no_contact(click.get_current_context().info_name or "this command")
         a = design.assembly
         ring = ring_of(a)
         seg = a.segments[0]

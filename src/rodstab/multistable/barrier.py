@@ -60,6 +60,7 @@ from ..limits import DEFAULT as DEFAULT_LIMITS
 from ..limits import Limits, require_nonlinear
 from ..model import Assembly
 from ..nonlinear.constraint import retract_step
+from ..nonlinear.contact import Interpenetration
 from ..nonlinear.discrete import PENALTY, DiscreteRod, discretise
 from ..nonlinear.solve import NEWTON_RTOL, lm_step, lowest_modes, newton, zero_eigenvalue_tol
 from ..results import Result
@@ -226,8 +227,11 @@ def descents_from_saddle(saddle: DiscreteRod, vals: np.ndarray, vecs: np.ndarray
             dq = np.zeros(r.n_dof)
             dq[r.free_dofs()] = sign * kick * v
             r.apply(dq)
-            if r.energy() < e_s:
-                break
+            try:
+                if r.energy() < e_s:
+                    break
+            except Interpenetration:  # only with contact: this side leaves the model
+                pass
             kick /= 2
         descents.append(descend(r, -1.1 * float(vals[0]), retract=retract))
         ends.append(r)

@@ -101,6 +101,8 @@ and comes back to the star itself (image 10, 0.001 B3/L above it, descends to it
 crossing the saddle at 7.91 to the daisy; every image before the saddle descends to the star.
 The relaxation does not remove the loop (presumably not a contractible one). The barrier
 reported is the saddle's, which joins the two states; the loop stays in the reported path.
+
+**Contact** (rods that cannot pass through each other): :mod:`.string_contact`.
 """
 
 from __future__ import annotations
@@ -119,8 +121,10 @@ from ..limits import DEFAULT as DEFAULT_LIMITS
 from ..limits import Limits, require_nonlinear
 from ..model import Assembly
 from ..nonlinear.constraint import chart_size, restore_inextensible, retract_step
+from ..nonlinear.contact import ContactModel, Interpenetration, attach_contact
 from ..nonlinear.discrete import PENALTY, DiscreteRod
 from ..nonlinear.jets import rodrigues
+from ..nonlinear.newton import contact_fraction
 from ..nonlinear.solve import NEWTON_RTOL, lowest_modes, newton, vee_log, zero_eigenvalue_tol
 from ..numerics import jacobi_scaling
 from ..results import Result
@@ -198,10 +202,6 @@ def to_gauge(b: DiscreteRod, a: DiscreteRod) -> None:
         b.R_joint_held = a.R_joint_held.copy()
 
 
-def _frames(r: DiscreteRod | Snapshot) -> np.ndarray:
-    return np.concatenate([r.R_edge, r.R_joint])
-
-
 def _lifted_angles(a: DiscreteRod, alpha: np.ndarray) -> np.ndarray:
     """Lift the in-plane rotation angles ``alpha`` (per frame) continuously along the rods.
 
@@ -253,7 +253,7 @@ def belt_path(a: DiscreteRod, b: DiscreteRod, n_images: int) -> list[DiscreteRod
         The images at ``t = k / (n_images - 1)``.
     """
     nrm = a.R_joint[a.fixed_joints[0]][:, 2]
-    Fa, Fb = _frames(a), _frames(b)
+    Fa, Fb = (np.concatenate([r.R_edge, r.R_joint]) for r in (a, b))
     for r, F in ((a, Fa), (b, Fb)):
         off = float(np.max(np.abs((r.x - r.x[r.fixed_nodes[0]]) @ nrm)))
         if np.max(np.abs(F[:, :, 2] @ nrm - 1.0)) > BELT_PLANAR_TOL or off > BELT_PLANAR_TOL:
@@ -279,8 +279,6 @@ def belt_path(a: DiscreteRod, b: DiscreteRod, n_images: int) -> list[DiscreteRod
         band.append(r)
     band[0], band[-1] = a.copy(), b.copy()
     return band
-
-
 
 
 def _chart_scale(r: DiscreteRod) -> np.ndarray:
@@ -374,14 +372,20 @@ def _perpendicular_step(r: DiscreteRod, free: np.ndarray, E: float, gf: np.ndarr
         dq = np.zeros(r.n_dof)
         dq[free] = s
         c = min(1.0, cap / max(chart_size(r, dq), 1e-300))
+        if r.contact is not None:  # the step filter: no gap closes along the step
+            c *= contact_fraction(r, free, c * s)
         s, dq = c * s, c * dq
         pred = -float(gf @ s + 0.5 * s @ (Hf @ s))
         if pred <= 1e-14 * max(abs(E), 1.0):
             return None, lam  # nothing left to gain on the plane
         trial = r.copy()
         trial.apply(dq)
-        retract_step(trial, dq)
-        terms = trial.energy_terms()
+        try:
+            retract_step(trial, dq)
+            terms = trial.energy_terms()
+        except Interpenetration:  # only with contact: the retraction left the model
+            lam = max(4 * lam, floor)
+            continue
         actual = E - terms[0]
         if actual >= 0.25 * pred:
             r.x, r.R_edge, r.R_joint = trial.x, trial.R_edge, trial.R_joint
@@ -398,7 +402,8 @@ def reparametrise(band: list[DiscreteRod], free: np.ndarray) -> list[DiscreteRod
     is ``band[k]`` moved by the fraction of :func:`chart_difference` ``(band[k], band[k + 1])``
     (piecewise geodesic), then retracted
     (:func:`~rodstab.nonlinear.constraint.restore_inextensible`). The ends are kept (the same
-    objects).
+    objects). Raises :class:`~rodstab.nonlinear.contact.Interpenetration` for an image outside
+    the contact model.
     """
     scale = _chart_scale(band[0])
     mask = np.zeros(band[0].n_dof)
@@ -413,6 +418,8 @@ def reparametrise(band: list[DiscreteRod], free: np.ndarray) -> list[DiscreteRod
         dq = (target - s[k]) / seg[k] * diffs[k]
         r.apply(dq)
         retract_step(r, dq)
+        if r.contact is not None:
+            r.energy()  # raises outside the contact model
         out.append(r)
     out.append(band[-1])
     return out
@@ -493,20 +500,30 @@ def refine_saddle(r: DiscreteRod, *, max_iter: int = SADDLE_MAX_ITER) -> NewtonR
         if dq is None:
             break
         dq *= min(1.0, SADDLE_STEP / max(chart_size(r, dq), 1e-300))
-        r.apply(dq)
-        retract_step(r, dq)
-        _, g, H = r.energy_terms()
+        if r.contact is not None:
+            dq *= contact_fraction(r, free, dq[free])
+        trial = r.copy()
+        trial.apply(dq)
+        try:
+            retract_step(trial, dq)
+            _, g, H = trial.energy_terms()
+        except Interpenetration:  # only with contact: outside the model
+            break
+        r.x, r.R_edge, r.R_joint = trial.x, trial.R_edge, trial.R_joint
         res = float(np.max(np.abs(g[free])))
         it += 1
     if not res <= tol:
         return NewtonRun(False, it, res)
     for _ in range(POLISH_STEPS):
         dq = _newton_step(r, free, g[free], H)
-        if dq is None:
-            break
+        if dq is None or (r.contact is not None and contact_fraction(r, free, dq[free]) < 1):
+            break  # with contact: a polishing step is a full step or none
         trial = r.copy()
         trial.apply(dq)
-        _, gt, Ht = trial.energy_terms()
+        try:
+            _, gt, Ht = trial.energy_terms()
+        except Interpenetration:  # a node term entered a bent node's zone (max_step_fraction)
+            break
         if not float(np.max(np.abs(gt[free]))) < 0.1 * res:
             break  # round-off: the residual no longer falls
         r.x, r.R_edge, r.R_joint = trial.x, trial.R_edge, trial.R_joint
@@ -527,7 +544,8 @@ class StringRun(Result):
     :data:`MAX_GAP`; ``top_energies``: the highest interior image's energy after each iteration;
     ``saddle_image``: the image the saddle was refined from (-1: none); ``saddle_index``,
     ``residual``: of the last converged Newton run (-1, NaN if none); ``attempts``: Newton runs;
-    ``reparametrisations``: times the string was reparametrised.
+    ``reparametrisations``: times the string was reparametrised; ``contact_stages``: with
+    contact, the :class:`~.string_contact.ContactStages` that reached the path.
     """
 
     converged: bool
@@ -541,6 +559,7 @@ class StringRun(Result):
     residual: float
     attempts: int
     reparametrisations: int
+    contact_stages: Result | None = None
 
 
 def _index(r: DiscreteRod) -> tuple[int, np.ndarray, np.ndarray]:
@@ -618,9 +637,12 @@ def relax_string(band: list[DiscreteRod], *, max_iter: int = STRING_MAX_ITER,
         seg = [float(np.linalg.norm(scale * chart_difference(band[k], band[k + 1])[free]))
                for k in range(n - 1)]
         if max(seg) > REPARAM_RATIO * min(seg):
-            band = reparametrise(band, free)
-            terms = [ends[0]] + [None] * (n - 2) + [ends[1]]
-            reps += 1
+            try:
+                band = reparametrise(band, free)
+                terms = [ends[0]] + [None] * (n - 2) + [ends[1]]
+                reps += 1
+            except Interpenetration:  # with contact: keep the string, which is inside the model
+                pass
         moved = max(chart_size(old[i], chart_difference(old[i], band[i]))
                     for i in range(1, n - 1))
         energies = [t[0] if t is not None else r.energy()
@@ -649,7 +671,8 @@ def relax_string(band: list[DiscreteRod], *, max_iter: int = STRING_MAX_ITER,
 def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
                    elements_per_segment: int = 8, images: int = STRING_IMAGES,
                    name_a: str = "A", name_b: str = "B", max_iter: int = STRING_MAX_ITER,
-                   limits: Limits = DEFAULT_LIMITS) -> tuple[Barrier, list[Snapshot]]:
+                   limits: Limits = DEFAULT_LIMITS, contact: ContactModel | None = None
+                   ) -> tuple[Barrier, list[Snapshot]]:
     """Energy barrier between held states ``a`` and ``b`` of one ring by the string method.
 
     Both are put in one discrete model (:func:`~.discover.common_rod`) at ``load_factor`` and
@@ -677,6 +700,10 @@ def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
         The images are relaxed together: their unknowns in total are at most
         ``limits.max_dof_nonlinear`` (:func:`rodstab.limits.require_nonlinear`), checked before
         anything is built.
+    contact : ContactModel, optional
+        Rods that cannot pass through each other: both states relaxed with it, the string
+        brought inside it (:func:`~.string_contact.relax_with_contact`, recorded in
+        ``string_run.contact_stages``). None: no contact (every number as before).
 
     Returns
     -------
@@ -689,7 +716,10 @@ def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
     ------
     RodstabInputError
         Naming the value: a bad number, two states of different models, a state not stable at
-        ``load_factor``, a non-planar state, or frame loops an odd number of turns apart.
+        ``load_factor``, a non-planar state, or frame loops an odd number of turns apart;
+        with contact, a state whose rods overlap under the model (an Interpenetration).
+    NotConverged
+        With contact: no path inside the model was reached (the reason named).
     """
     mu = require_finite("load_factor", load_factor)
     n = require_int("elements_per_segment", elements_per_segment, MIN_ELEMENTS)
@@ -702,6 +732,11 @@ def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
         raise RodstabInputError(f"states {name_a!r} and {name_b!r} are not states of one "
                                 "discrete model (rest lengths or natural curvatures differ)")
     for r, label in ((rod_a, name_a), (rod_b, name_b)):
+        if contact is not None:
+            try:
+                attach_contact(r, contact)
+            except RodstabInputError as exc:
+                raise Interpenetration(f"state {label!r}: {exc}") from None
         if not newton(r)[0] or lowest_modes(r, 1)[0][0] < -zero_eigenvalue_tol(r):
             raise RodstabInputError(f"load factor {mu!r}: state {label!r} is not a stable "
                                     "equilibrium there (outside its stable interval)")
@@ -722,8 +757,16 @@ def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
         found["last"] = (vals, labels, (descents[0].steps, descents[1].steps))
         return ok
 
-    band, saddle, run = relax_string(belt_path(rod_a, rod_b, n_img), max_iter=max_iter,
-                                     accept=joins_the_states)
+    if contact is None:
+        band, saddle, run = relax_string(belt_path(rod_a, rod_b, n_img), max_iter=max_iter,
+                                         accept=joins_the_states)
+    else:
+        from .string_contact import relax_with_contact
+
+        band, saddle, run, stages = relax_with_contact(belt_path(rod_a, rod_b, n_img), contact,
+                                                       relax_string, max_iter=max_iter,
+                                                       accept=joins_the_states)
+        run = dataclasses.replace(run, contact_stages=stages)
     if saddle is None:
         energies = [r.energy() for r in band]
         top = 1 + int(np.argmax(energies[1:-1]))

@@ -29,20 +29,24 @@ from .contact_model import (
     contact_mesh,
     contact_terms,
     mesh_of_rod,
+    penalty,
     segment_distance,
     stiffness_for_line_load,
 )
 from .contact_step import (
     ContactState,
     SwitchReport,
+    attach_contact,
     contact_state,
     max_step_fraction,
     near_type_switch,
+    smallest_gap,
 )
 
 __all__ = ["EE_END_TAPER", "EE_SIN2_OFF", "EE_SIN2_ON", "EXCLUSION_FACTOR", "PHANTOM_FRACTION",
            "TAPER_FRACTION", "TAPER_MAX_TURN", "ContactMesh", "ContactModel", "ContactState",
-           "Interpenetration", "SwitchReport", "_active", "_bounds", "barrier",
+           "Interpenetration", "SwitchReport", "_active", "_bounds", "attach_contact", "barrier",
            "candidate_pairs", "contact_energy", "contact_state",
            "contact_energy_value", "contact_mesh", "contact_terms", "max_step_fraction",
-           "mesh_of_rod", "near_type_switch", "segment_distance", "stiffness_for_line_load"]
+           "mesh_of_rod", "near_type_switch", "penalty", "segment_distance", "smallest_gap",
+           "stiffness_for_line_load"]

@@ -158,6 +158,21 @@ def stiffness_for_line_load(line_load: float, dhat: float, gap_fraction: float =
     return q / (d * (f - 1.0) * (2.0 * f * math.log(f) + f - 1.0) / f)
 
 
+def penalty(g: np.ndarray, dhat: float, kappa: float) -> tuple[np.ndarray, np.ndarray,
+                                                                np.ndarray]:
+    """Cubic penalty ``p(g) = kappa (dhat - g)^3`` on ``g < dhat`` and its two derivatives.
+
+    Finite for every gap, overlaps (``g <= 0``) included, and C2 at ``g = dhat`` (``p, p',
+    p''`` vanish there): a soft contact that lets a state outside the barrier's model (a path
+    computed without contact) be pushed back into it (:mod:`rodstab.multistable.string_contact`).
+    It does not prevent interpenetration: a line load ``q`` is held at ``g = dhat - sqrt(q / 3
+    kappa)``, negative for ``q > 3 kappa dhat^2``.
+    """
+    g = np.asarray(g, float)
+    q = np.where(g < dhat, dhat - g, 0.0)
+    return kappa * q**3, -3.0 * kappa * q**2, 6.0 * kappa * q
+
+
 @dataclasses.dataclass(frozen=True)
 class ContactModel:
     """Parameters of the contact barrier.
@@ -175,12 +190,18 @@ class ContactModel:
         contact line load (scale ``B / L^3``) held at ``dhat / 2``.
     exclusion_factor : float
         Pairs closer along the structure than this times ``(r_a + r_b + dhat)`` are excluded.
+    soft : bool
+        False (default): the log barrier (:func:`barrier`), infinite as a gap closes; states
+        with overlapping capsules are outside the model. True: the cubic :func:`penalty`
+        instead, finite for every gap (overlaps allowed, no step filter): only to bring a
+        state computed without contact into the barrier's model.
     """
 
     radius: float | tuple[float, ...]
     dhat: float
     stiffness: float
     exclusion_factor: float = EXCLUSION_FACTOR
+    soft: bool = False
 
     def __post_init__(self) -> None:
         if isinstance(self.radius, (list, tuple, np.ndarray)):
@@ -516,7 +537,8 @@ def _select(mask: np.ndarray, a: Jet, b: Jet) -> Jet:
 
 
 def _barrier_jet(g: Jet, model: ContactModel) -> Jet:
-    return _fn(g, *barrier(g.v, model.dhat, model.stiffness))
+    f = penalty if model.soft else barrier
+    return _fn(g, *f(g.v, model.dhat, model.stiffness))
 
 
 # ---------------------------------------------------------------- node-segment terms
@@ -630,10 +652,12 @@ def _active(mesh: ContactMesh, x: np.ndarray
     """Node terms, mask of the active ones, and the active edge-edge pairs at ``x``."""
     pairs = candidate_pairs(mesh, x)
     ee = pairs[~mesh.excluded_elements(pairs[:, 0], pairs[:, 1])]
-    _check_gaps(mesh, x, ee)
+    if not mesh.model.soft:
+        _check_gaps(mesh, x, ee)
     nt = _node_terms(mesh, x, pairs)
     on = (nt.weight > 0.0) & (nt.gap < mesh.model.dhat)
-    if np.any(on & (nt.gap <= 0.0)):  # a line extended past a smooth node (module doc)
+    # a line extended past a smooth node (module doc)
+    if not mesh.model.soft and np.any(on & (nt.gap <= 0.0)):
         k = int(np.flatnonzero(on & (nt.gap <= 0.0))[0])
         raise Interpenetration(f"node {nt.p[k]} and element {nt.e[k]} interpenetrate: "
                                f"gap {nt.gap[k]:.6g} <= 0")

@@ -55,12 +55,14 @@ def max_step_fraction(mesh: ContactMesh, x: np.ndarray, dx: np.ndarray,
     Returns
     -------
     float
-        ``alpha`` (1 when no pair can close).
+        ``alpha`` (1 when no pair can close, and for a soft model, which allows overlaps).
     """
     x, dx = _positions(x, mesh.n_nodes), _positions(dx, mesh.n_nodes)
     sf = require_finite("safety", safety)
     if not 0.0 < sf < 1.0:
         raise RodstabInputError(f"safety must lie in (0, 1), got {safety!r}")
+    if mesh.model.soft:
+        return 1.0  # a soft model lets capsules overlap: nothing to keep open
     Mn = _norm(dx)
     E = mesh.edges
     Me = np.maximum(Mn[E[:, 0]], Mn[E[:, 1]])
@@ -198,6 +200,28 @@ class ContactState(Result):
     largest_node_force: float
 
 
+def smallest_gap(mesh: ContactMesh, x: np.ndarray) -> tuple[float, tuple[int, int]] | None:
+    """Return the smallest capsule gap (length; ``<= 0`` for an overlap) and its elements.
+
+    Over the non-excluded candidate pairs under ``mesh``'s model (bounding spheres of the
+    elements and their reach overlap, :func:`candidate_pairs`; every pair within reach is
+    one); None when there is none. Unlike :func:`contact_state` it never raises on an
+    overlap: it measures how far a state outside the model is from it (e.g. a path computed
+    without contact).
+    """
+    x = _positions(x, mesh.n_nodes)
+    pairs = candidate_pairs(mesh, x)
+    pairs = pairs[~mesh.excluded_elements(pairs[:, 0], pairs[:, 1])]
+    if not len(pairs):
+        return None
+    E = mesh.edges
+    g = segment_distance(x[E[pairs[:, 0], 0]], x[E[pairs[:, 0], 1]], x[E[pairs[:, 1], 0]],
+                         x[E[pairs[:, 1], 1]]) - mesh.radius[pairs[:, 0]] \
+        - mesh.radius[pairs[:, 1]]
+    k = int(np.argmin(g))
+    return float(g[k]), (int(pairs[k, 0]), int(pairs[k, 1]))
+
+
 def contact_state(mesh: ContactMesh, x: np.ndarray) -> ContactState:
     """Gaps and contact forces of the state ``x`` (n_nodes, 3) under ``mesh``'s model.
 
@@ -209,14 +233,8 @@ def contact_state(mesh: ContactMesh, x: np.ndarray) -> ContactState:
     pairs = candidate_pairs(mesh, x)
     pairs = pairs[~mesh.excluded_elements(pairs[:, 0], pairs[:, 1])]
     _check_gaps(mesh, x, pairs)
-    gap, pair = None, None
-    if len(pairs):
-        E = mesh.edges
-        g = segment_distance(x[E[pairs[:, 0], 0]], x[E[pairs[:, 0], 1]], x[E[pairs[:, 1], 0]],
-                             x[E[pairs[:, 1], 1]]) - mesh.radius[pairs[:, 0]] \
-            - mesh.radius[pairs[:, 1]]
-        k = int(np.argmin(g))
-        gap, pair = float(g[k]), (int(pairs[k, 0]), int(pairs[k, 1]))
+    nearest = smallest_gap(mesh, x)
+    gap, pair = (None, None) if nearest is None else nearest
     nt, on, ee = _active(mesh, x)
     _, grad, _ = contact_terms(mesh, x, 1)
     assert grad is not None  # order 1

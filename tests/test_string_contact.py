@@ -1,0 +1,260 @@
+"""The string method with contact (issue 21, part 4): ``rodstab barrier --contact``.
+
+References: the soft penalty's derivatives against differences of its value and its closed
+form; the soft model's exclusions against the final model's (the same pairs, by construction
+of the reach); the path's gaps recomputed from the written path file alone by sampling points
+along the elements (tests/contact_checks.py, no rodstab distance code); the barrier with
+contact against the one without where the saddle keeps every gap open (the contact energy is
+zero there, so the saddle is a stationary point of both energies).
+"""
+
+from __future__ import annotations
+
+import json
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+from contact_checks import judged_pairs, segment_gap
+
+from rodstab.errors import NotConverged
+from rodstab.nonlinear.contact import (
+    ContactModel,
+    contact_energy,
+    contact_mesh,
+    max_step_fraction,
+    penalty,
+    smallest_gap,
+)
+
+DHAT, KAPPA = 0.02, 3.0
+
+
+def test_penalty_is_the_cubic_its_derivatives_match_differences_and_it_is_c2_at_dhat():
+    g = np.array([-0.05, -1e-3, 0.0, 0.004, 0.013, 0.017])
+    p, dp, d2p = penalty(g, DHAT, KAPPA)
+    np.testing.assert_allclose(p, KAPPA * (DHAT - g) ** 3, rtol=1e-14)
+    h = 1e-6
+    num1 = (penalty(g + h, DHAT, KAPPA)[0] - penalty(g - h, DHAT, KAPPA)[0]) / (2 * h)
+    num2 = (penalty(g + h, DHAT, KAPPA)[1] - penalty(g - h, DHAT, KAPPA)[1]) / (2 * h)
+    # central differences: truncation p''' h^2 / 6 = kappa h^2 = 3e-12
+    np.testing.assert_allclose(dp, num1, rtol=1e-8, atol=1e-11)
+    np.testing.assert_allclose(d2p, num2, rtol=1e-8, atol=1e-9)
+    # finite for overlaps (g <= 0), zero with its first two derivatives at and beyond dhat
+    assert np.all(np.isfinite(p)) and p[0] > p[1] > p[2] > 0
+    for v in penalty(np.array([DHAT, 2 * DHAT]), DHAT, KAPPA):
+        assert np.all(v == 0.0)
+
+
+def _crossing(depth: float) -> tuple[np.ndarray, object, object]:
+    """Two rods of three elements crossing at right angles, centrelines ``depth`` apart."""
+    s = np.linspace(-0.5, 0.5, 4)
+    xa = np.stack([s, 0 * s, 0 * s], axis=1)
+    xb = np.stack([0 * s + 0.01, s + 0.02, 0 * s + depth], axis=1)
+    x = np.vstack([xa, xb])
+    edges = np.array([[0, 1], [1, 2], [2, 3], [4, 5], [5, 6], [6, 7]])
+    L = np.linalg.norm(x[edges[:, 1]] - x[edges[:, 0]], axis=1)
+    hard = ContactModel(0.05, DHAT, KAPPA)
+    soft = ContactModel(0.05, DHAT, KAPPA, soft=True)
+    return x, contact_mesh(edges, L, x, hard), contact_mesh(edges, L, x, soft)
+
+
+def test_soft_model_evaluates_overlaps_with_exact_derivatives_and_no_step_filter():
+    """Capsules of radius 0.05 crossing 0.06 apart overlap by 0.04: the barrier refuses the
+    state, the soft model gives finite energy whose gradient and Hessian match central
+    differences; the step filter lets every step through (nothing to keep open)."""
+    x, hard, soft = _crossing(0.06)
+    gap = smallest_gap(hard, x)
+    assert gap is not None and gap[0] == pytest.approx(0.06 - 0.1, abs=1e-12)
+    from rodstab.nonlinear.contact import Interpenetration
+
+    with pytest.raises(Interpenetration):
+        contact_energy(hard, x)
+    E, g, H = contact_energy(soft, x)
+    assert E > 0 and np.all(np.isfinite(g))
+    step, n = 1e-6, x.size
+    gf, Hf = np.zeros(n), np.zeros((n, n))
+    for k in range(n):
+        xp, xm = x.ravel().copy(), x.ravel().copy()
+        xp[k] += step
+        xm[k] -= step
+        Ep, gp, _ = contact_energy(soft, xp.reshape(-1, 3))
+        Em, gm, _ = contact_energy(soft, xm.reshape(-1, 3))
+        gf[k], Hf[:, k] = (Ep - Em) / (2 * step), (gp - gm) / (2 * step)
+    assert np.linalg.norm(g - gf) <= 1e-6 * np.linalg.norm(g)
+    assert np.linalg.norm(H.toarray() - Hf) <= 1e-6 * np.linalg.norm(H.toarray())
+    # The gradient pushes the rods apart: the upper rod's nodes up, the lower one's down.
+    gz = g.reshape(-1, 3)[:, 2]
+    assert gz[4:].sum() < 0 < gz[:4].sum()  # (the energy falls as they separate)
+    assert max_step_fraction(soft, x, np.ones_like(x)) == 1.0
+
+
+def test_smallest_gap_is_none_far_apart_and_contact_state_agrees_inside_the_model():
+    from rodstab.nonlinear.contact import contact_state
+
+    x, hard, _ = _crossing(0.5)  # the rods far apart: one rod's elements 0 and 2 are nearest
+    assert smallest_gap(hard, x) == (pytest.approx(1 / 3 - 0.1, abs=1e-12), (0, 2))
+    single = np.array([[0, 0, 0], [1, 0, 0], [0, 0, 5], [1, 0, 5]], float)
+    mesh = contact_mesh(np.array([[0, 1], [2, 3]]), np.ones(2), single,
+                        ContactModel(0.05, DHAT, KAPPA))
+    assert smallest_gap(mesh, single) is None  # bounding spheres of the reach apart
+    x, hard, _ = _crossing(0.11)
+    gap, pair = smallest_gap(hard, x)
+    state = contact_state(hard, x)
+    assert (state.smallest_gap, state.pair) == (gap, pair)
+    assert gap == pytest.approx(0.01, abs=1e-12)
+
+
+@pytest.fixture(scope="module")
+def hexagram_states():
+    from rodstab.nonlinear.equilibrium import rod_contact_model
+    from rodstab.problems.barrier_states import state_assembly
+    from rodstab.sections import rectangle
+
+    a, b = (state_assembly("hexagram", rectangle(aspect=4.0), s) for s in ("star", "daisy"))
+    return a, b, rod_contact_model(a, 0.02)
+
+
+def test_soft_model_excludes_exactly_the_final_models_pairs(hexagram_states):
+    """The soft model's reach is the final model's exclusion reach (exclusion factor 1): every
+    element pair of the hexagram at 6 el./rod is excluded by both or by neither."""
+    from rodstab.multistable.string_contact import soft_model
+    from rodstab.nonlinear.contact import mesh_of_rod
+    from rodstab.nonlinear.discrete import discretise
+
+    a, _, final = hexagram_states
+    rod = discretise(a, 6)
+    soft = soft_model(final, 0)
+    assert soft.soft and soft.exclusion_factor == 1.0 and soft.radius == final.radius
+    assert 2 * soft.radius + soft.dhat == pytest.approx(
+        final.exclusion_factor * (2 * final.radius + final.dhat), rel=1e-14)
+    mf, ms = mesh_of_rod(rod, final), mesh_of_rod(rod, soft)
+    i, j = np.triu_indices(len(rod.edge_nodes), 1)
+    np.testing.assert_array_equal(mf.excluded_elements(i, j), ms.excluded_elements(i, j))
+    assert soft_model(final, 2).stiffness == pytest.approx(100 * soft.stiffness, rel=1e-14)
+
+
+def test_a_path_not_brought_inside_the_model_is_not_converged_naming_the_distances(
+        hexagram_states, monkeypatch):
+    """No soft stage allowed: the belt path at 4 el./rod (rods 0.037 L apart, through capsules
+    of h = 0.05 L) stays outside the model, and the string says so (NotConverged, exit 3 on
+    the command line)."""
+    from rodstab.multistable import string_contact
+    from rodstab.multistable.string_method import belt_path, to_gauge
+    from rodstab.nonlinear.discrete import discretise
+    from rodstab.nonlinear.equilibrium import rod_contact_model
+
+    a, b, _ = hexagram_states
+    final = rod_contact_model(a, 0.05)
+    ra, rb = discretise(a, 4, 1.5), discretise(b, 4, 1.5)
+    to_gauge(rb, ra)
+    band = belt_path(ra, rb, 5)
+    monkeypatch.setattr(string_contact, "MAX_STAGES", 0)
+    as_it_is = lambda band, **kw: (band, None, SimpleNamespace(too_coarse=False))  # noqa: E731
+    with pytest.raises(NotConverged, match=r"no path inside the contact model .* 0 soft stages: "
+                                           r"smallest distances \["):
+        string_contact.relax_with_contact(band, final, as_it_is, max_iter=1,
+                                          accept=lambda s: True)
+
+
+H = 0.02
+ARGS = ["barrier", "--structure", "hexagram", "--from", "star", "--to", "daisy", "--shape",
+        "rectangle", "--aspect", "4", "--load-factor", "1.5", "--elements", "6", "--json"]
+
+
+@pytest.fixture(scope="module")
+def with_contact(tmp_path_factory):
+    from conftest import run_cli
+
+    out = tmp_path_factory.mktemp("contact")
+    r = run_cli([*ARGS, "--contact", "--out", str(out)])
+    assert r.exit_code == 0, r.stderr
+    from rodstab.io.path_file import read_path_file
+
+    return json.loads(r.stdout), read_path_file(out / "path.npz")
+
+
+def test_barrier_with_contact_keeps_every_pair_apart_checked_from_the_path_file(with_contact):
+    """Every judged pair of every state of the written path is at least h apart (sampled
+    along the elements: an upper bound of the distance, above it by at most 1/100 of an
+    element, so the bound is checked with that slack), as printed; no pass-through."""
+    payload, z = with_contact
+    x, edges = z["x"], z["edges"]
+    assert payload["contact"]["acting"] is True and z["thickness"] == H
+    judged = judged_pairs(edges, 6)
+    smallest = min(segment_gap(xs, edges, *p) for xs in x for p in judged)
+    slack = 0.01 * float(z["rest_length"].max())
+    assert smallest >= H - slack
+    assert payload["contact"]["min_distance"] >= 1.0  # over h, exact distances
+    assert payload["contact"]["min_distance"] * H <= smallest + 1e-12
+    assert payload["contact"]["pass_through"] is False
+    stages = payload["contact"]["soft_stages"]
+    assert stages["distances"][0] < H < stages["distances"][-1]  # the path was brought out
+
+
+def test_barrier_with_contact_equals_the_one_without_where_the_saddle_touches_nothing(
+        with_contact):
+    """The saddle of star -> daisy has every gap above dhat (contact energy zero), so it is
+    the saddle without contact too: the barriers agree to Newton's tolerance, while the path
+    without contact brings rods 0.02 h apart (through where the contact path goes round)."""
+    from conftest import run_cli
+
+    payload, _ = with_contact
+    r = run_cli(ARGS)
+    assert r.exit_code == 0, r.stderr
+    plain = json.loads(r.stdout)
+    assert plain["contact"]["acting"] is False
+    assert plain["contact"]["min_distance"] < 0.1
+    for key in ("barrier_forward", "barrier_backward", "energy_saddle"):
+        assert payload[key] == pytest.approx(plain[key], rel=1e-9), key
+    assert payload["converged"] and payload["saddle_index"] == 1
+    assert sorted(payload["descent_ends"]) == ["daisy", "star"]
+
+
+@pytest.mark.parametrize(("args", "named"), [
+    (["--contact-dhat", "0.1"], "--contact-dhat is a setting of contact"),
+    (["--contact", "--contact-dhat", "1.5"], "--contact-dhat must be below 1"),
+    (["--contact", "--method", "continuation"], "--contact is an option of --method string"),
+    (["--contact", "--contact-thickness", "0"], "--contact-thickness"),
+])
+def test_bad_contact_input_exits_2_naming_it(args, named):
+    from conftest import run_cli
+
+    r = run_cli(["barrier", "--structure", "hexagram", "--from", "star", "--to", "daisy",
+                 *args])
+    assert r.exit_code == 2, r.stdout + r.stderr
+    assert named in r.stderr
+
+
+def test_a_string_too_coarse_before_contact_acts_asks_for_more_images(hexagram_states):
+    from rodstab.multistable import string_contact
+
+    coarse = SimpleNamespace(too_coarse=True, largest_gap=2.52)
+    with pytest.raises(NotConverged, match="2.52 rad apart, more images are needed"):
+        string_contact.relax_with_contact([], hexagram_states[2],
+                                          lambda band, **kw: (band, None, coarse),
+                                          max_iter=1, accept=lambda s: True)
+
+
+@pytest.mark.parametrize(("on", "thickness", "dhat", "design", "expected"), [
+    (None, None, None, None, (0.02, None)),  # judged at the default thickness, no contact
+    (None, None, None, (0.03, 0.2), (0.03, 0.2)),  # the design's [analysis] contact
+    (False, None, None, (0.03, 0.2), (0.03, None)),  # --no-contact: judged at its thickness
+    (True, 0.05, None, None, (0.05, 0.1)),  # --contact --contact-thickness 0.05
+    (True, None, 0.3, (0.03, 0.2), (0.03, 0.3)),  # --contact-dhat over the design's
+])
+def test_path_contact_setting_resolves_command_line_over_design(on, thickness, dhat, design,
+                                                                expected):
+    from rodstab.cli.contact_options import ContactChoice
+    from rodstab.model import CONTACT_DHAT_FRACTION, CONTACT_THICKNESS_RATIO
+
+    assert (CONTACT_THICKNESS_RATIO, CONTACT_DHAT_FRACTION) == (0.02, 0.1)
+    assert ContactChoice(on, thickness, dhat).judged(design) == expected
+
+
+def test_contact_dhat_without_contact_is_refused_also_against_a_design():
+    from rodstab.cli.contact_options import ContactChoice
+    from rodstab.errors import RodstabInputError
+
+    with pytest.raises(RodstabInputError, match="--contact-dhat is a setting of contact"):
+        ContactChoice(False, None, 0.2).judged((0.03, 0.2))
