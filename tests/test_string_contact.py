@@ -258,3 +258,45 @@ def test_contact_dhat_without_contact_is_refused_also_against_a_design():
 
     with pytest.raises(RodstabInputError, match="--contact-dhat is a setting of contact"):
         ContactChoice(False, None, 0.2).judged((0.03, 0.2))
+
+
+TR = ["transitions", "--structure", "hexagram", "--shape", "rectangle", "--aspect", "4",
+      "--load-factor", "2", "--elements", "6", "--state", "star", "--json"]
+
+
+def test_transition_with_contact_keeps_every_pair_apart_and_its_threshold(tmp_path):
+    """The star loaded in its load factor at kappa_n R0 = 2 (6 el./rod): with contact the
+    written path (loading, the snap's two ends, release) has every judged pair at least h
+    apart (sampled from the file alone), and the threshold and target are those without
+    contact (the star's rods stay further apart than dhat, so no contact force acts)."""
+    from conftest import run_cli
+
+    from rodstab.io.path_file import read_path_file
+
+    r = run_cli([*TR, "--contact", "--out", str(tmp_path)])
+    assert r.exit_code == 0, r.stderr
+    payload = json.loads(r.stdout)
+    assert payload["contact"] == {"acting": True, "thickness": H, "dhat": 0.1}
+    (edge,) = payload["edges"]
+    assert edge["physical"] and [c["stretch"] for c in edge["contact"]] == [
+        "loading", "snap (relaxed with contact)", "release"]
+    z = read_path_file(edge["path_file"])
+    slack = 0.01 * float(z["rest_length"].max())
+    judged = judged_pairs(z["edges"], 6)
+    assert min(segment_gap(x, z["edges"], *p) for x in z["x"] for p in judged) >= H - slack
+    plain = run_cli(TR)
+    assert plain.exit_code == 0, plain.stderr
+    (ref,) = json.loads(plain.stdout)["edges"]
+    assert json.loads(plain.stdout)["contact"]["acting"] is False
+    assert (edge["to"], edge["stimulus"]) == (ref["to"], ref["stimulus"]) == ("daisy",
+                                                                              "load_factor")
+    assert edge["threshold"] == pytest.approx(ref["threshold"], rel=1e-9)
+
+
+def test_transition_from_a_stacked_state_with_contact_is_refused_naming_it():
+    """The line's rods lie on one curve (coincident): outside the contact model, exit 2."""
+    from conftest import run_cli
+
+    r = run_cli([*TR[:-3], "--state", "line", "--contact"])
+    assert r.exit_code == 2, r.stdout + r.stderr
+    assert "state 'line'" in r.stderr and "interpenetrate" in r.stderr

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import json
 import warnings
+from typing import Any
 
 import click
 
@@ -18,7 +19,7 @@ from ..io.outputs import check_output
 from ..limits import Limits, require_steps
 from ..results import jsonable
 from ..sections import Section
-from .contact_options import contact_thickness_option
+from .contact_options import path_contact_options
 from .options import (
     elements_option,
     json_option,
@@ -137,7 +138,7 @@ def discover(design_file: str | None, section: Section, structure: str, segments
     help="Load factor at which every state loaded must be stable [default: twice the "
          "star's stress-free load: kappa_n R0 = 2 for the hexagram].")
 @elements_option(default=8, minimum=2, help="Elements per rod of the discrete rod.")
-@contact_thickness_option("")
+@path_contact_options("Without --contact the paths are only judged against it.")
 @click.option("--stimulus", "stimuli", multiple=True, metavar="STATE=KEY:STOP",
               help="Load STATE in KEY from 0 (load_factor: from --load-factor) to STOP; "
                    "repeatable, replaces that state's defaults. KEY: load_factor, "
@@ -153,25 +154,29 @@ def discover(design_file: str | None, section: Section, structure: str, segments
 @click.option("--out", "out_dir", type=click.Path(file_okay=False), default=None,
               help="Directory for transitions.json, transitions.png (the graph) and a path "
                    "file per edge, path_K_FROM_TO.npz (its sampled states: loading, the "
-                   "snap's interpolated proxy, release; rodstab.io.path_file).")
+                   "snap (without --contact its interpolated proxy), release; "
+                   "rodstab.io.path_file).")
 @section_options
 @limit_options
 @json_option
 def transitions(design_file: str | None, section: Section, structure: str,
                 load_factor: float | None, elements: int,
-                contact_thickness: float, stimuli: tuple[str, ...], states_: tuple[str, ...],
+                contact: Any, stimuli: tuple[str, ...], states_: tuple[str, ...],
                 all_stimuli: bool, out_dir: str | None, limits: Limits, as_json: bool) -> None:
     """Transitions between states under a stimulus: the transition graph.
 
     Each state is loaded until it first loses stability, relaxed past it, unloaded and
-    identified. Rods have no contact: each edge reports the closest approach of rods over h
-    and whether rods would pass through each other (physical: false). On DESIGN's ring
-    (identical rods welded in a cycle, `rodstab states DESIGN`) or the hexagram.
+    identified. Each edge reports the closest approach of rods over h and whether rods would
+    pass through each other (physical: false). With --contact the rods are capsules of
+    diameter h that cannot pass through each other throughout; a state whose rods overlap
+    (stacked on one curve: the line, the eight) is skipped. On DESIGN's ring (identical rods
+    welded in a cycle, `rodstab states DESIGN`) or the hexagram.
     """
     from ..problems import ring_transitions as rt
 
-    thickness = contact_thickness
-    ring, section, name, design = ring_and_section(design_file, structure, 6, section)
+    ring, section, name, design = ring_and_section(design_file, structure, 6, section,
+                                                   contact_ok=True)
+    thickness, dhat = contact.judged(None if design is None else design.contact)
     if load_factor is None:
         load_factor = rt.default_load_factor(ring)
         if load_factor is None:
@@ -191,8 +196,9 @@ def transitions(design_file: str | None, section: Section, structure: str,
         warnings.simplefilter("ignore", RuntimeWarning)
         res = rt.transitions(ring, load_factor=load_factor, elements=elements,
                              thickness=thickness, stimuli=stim, all_stimuli=all_stimuli,
-                             load=tuple(states_) or None, limits=limits)
+                             load=tuple(states_) or None, limits=limits, dhat_fraction=dhat)
     payload = res.graph.to_json()
+    payload["contact"] = {"acting": dhat is not None, "thickness": thickness, "dhat": dhat}
     payload["structure"] = name
     payload["section"] = section.to_dict()
     units = None if design is None else design.units
@@ -230,7 +236,8 @@ def transitions(design_file: str | None, section: Section, structure: str,
         payload["json_file"] = str(out / "transitions.json")
     lines = [section_line(section),
              f"{name} at {load_name} = {fmt(load_factor)}, {elements} elements per rod, "
-             f"contact thickness h/L = {fmt(thickness)}"]
+             f"contact thickness h/L = {fmt(thickness)}"
+             + ("" if dhat is None else f", acting (capsules, dhat/h = {fmt(dhat)})")]
     if units is not None:
         u = payload["units"]
         lines += [units_line(units), f"physical     load factor {fmt(load_factor)}: natural "

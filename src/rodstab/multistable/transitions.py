@@ -10,9 +10,12 @@ are let go (a free ring again: the weld parameters' constraints removed), and th
 ``B`` is identified against the reference states by its aligned geometry, else named by its
 invariants (:func:`~rodstab.multistable.identify.identify`).
 
-No contact model exists in rodstab: rods pass through each other freely. Along every sampled
-state (the loading path, the snap -- only its two ends and the straight interpolation of the node
-positions between them, the snap's true path being dynamic -- and the release) the smallest
+Without a contact model (the default) rods pass through each other freely; with one
+(``contact``: capsules that cannot pass through each other, :mod:`rodstab.nonlinear.contact`)
+every step of the loading, the snap and the release is filtered so that no gap closes. Along
+every sampled state (the loading path, the snap -- without contact only its two ends and the
+straight interpolation of the node positions between them, the snap's true path being dynamic;
+with contact its two ends, every step between them filtered -- and the release) the smallest
 distance between judged pairs of rod centreline elements is measured (:func:`pair_distances`)
 and compared with the section's out-of-plane thickness ``h``:
 
@@ -46,8 +49,10 @@ import numpy as np
 
 from ..errors import NotConverged, RodstabInputError
 from ..model import Assembly
+from ..nonlinear.contact import ContactModel, Interpenetration, attach_contact
 from ..nonlinear.continuation import continuation
 from ..nonlinear.discrete import DiscreteRod, discretise
+from ..nonlinear.newton import contact_fraction
 from ..nonlinear.parameters import parameter
 from ..nonlinear.solve import lowest_modes, newton, relax, zero_eigenvalue_tol
 from ..results import Result
@@ -233,22 +238,37 @@ class Transition(Result):
 
 
 def _let_go(rod: DiscreteRod, a: Assembly, n: int) -> DiscreteRod:
-    """Return the state of ``rod`` on a fresh discretisation (free gauge, no loads)."""
+    """Return the state of ``rod`` on a fresh discretisation (free gauge, no loads).
+
+    The contact model, if any, is kept (one topology, one mesh).
+    """
     free = discretise(a, n, rod.load_factor)
     free.x, free.R_edge, free.R_joint = rod.x.copy(), rod.R_edge.copy(), rod.R_joint.copy()
+    free.contact = rod.contact
     return free
 
 
 def transition(a: Assembly, source: str, key: str, stop: float, *, load_factor: float,
                references: dict[str, DiscreteRod], thickness: float,
-               elements_per_segment: int = 8, n_steps: int = 16) -> Transition:
+               elements_per_segment: int = 8, n_steps: int = 16,
+               contact: ContactModel | None = None) -> Transition:
     """Load state ``source`` (assembly ``a``) in ``key`` from 0 to ``stop`` (module docstring).
 
     ``references``: the stable states to identify the target against (discretised alike);
-    ``thickness``: the out-of-plane thickness ``h`` in the length unit of ``a``.
+    ``thickness``: the out-of-plane thickness ``h`` in the length unit of ``a``. ``contact``:
+    the rods are capsules that cannot pass through each other throughout (the source relaxed
+    with it, the continuation's, the snap's and the release's steps filtered); the snap is then
+    recorded by its two ends, every step between them being filtered, instead of the
+    interpolated proxy. Raises :class:`~rodstab.nonlinear.contact.Interpenetration` when the
+    source lies outside the model.
     """
     n = elements_per_segment
     rod = discretise(a, n, load_factor)
+    if contact is not None:
+        try:
+            attach_contact(rod, contact)
+        except RodstabInputError as exc:
+            raise Interpenetration(f"state {source!r}: {exc}") from None
     if not newton(rod)[0]:
         raise NotConverged(f"state {source!r}: no equilibrium at load factor {load_factor:g}")
     if lowest_modes(rod, 1)[0][0] <= zero_eigenvalue_tol(rod):
@@ -262,7 +282,7 @@ def transition(a: Assembly, source: str, key: str, stop: float, *, load_factor: 
     work = rod.copy()
     param.prepare(work)
     path = continuation(a, key, start, stop, n_steps, elements_per_segment=n, rod=work,
-                        stop_at_first=True, branch_steps=0,
+                        stop_at_first=True, branch_steps=0, contact=contact,
                         progress=lambda: samples.append((param.get(work), work.x.copy())))
     reports = [tracker.stretch("loading", samples)]
     lost = [(p, s) for p, s in zip(path.special_points, path.states, strict=False)]
@@ -280,7 +300,10 @@ def transition(a: Assembly, source: str, key: str, stop: float, *, load_factor: 
     dq[snapped.free_dofs()] = vec[:, 0]
     disp = float(np.max(np.linalg.norm(dq[: 3 * len(snapped.x)].reshape(-1, 3), axis=1)))
     L = a.total_length / len(a.segments)
-    snapped.apply(dq * (PUSH * L / max(disp, 1e-300)))
+    dq *= PUSH * L / max(disp, 1e-300)
+    if snapped.contact is not None:  # the push closes no gap (the step filter)
+        dq *= contact_fraction(snapped, np.arange(snapped.n_dof), dq)
+    snapped.apply(dq)
     param.set(snapped, past)
     # The snap crosses a flat, strongly nonlinear landscape: one relax (600 Newton steps) may
     # stop on the way (residual ~3e2 on the line at 8 el./rod); carry on from where it stopped.
@@ -290,8 +313,14 @@ def transition(a: Assembly, source: str, key: str, stop: float, *, load_factor: 
         if ok:
             break
     stable = ok and lowest_modes(snapped, 1)[0][0] > zero_eigenvalue_tol(snapped)
-    proxy = [(past, (1 - f) * at.x + f * snapped.x) for f in np.linspace(0, 1, SNAP_SAMPLES)]
-    reports.append(tracker.stretch("snap (interpolated proxy)", proxy))
+    if contact is None:
+        snap_name = "snap (interpolated proxy)"
+        proxy = [(past, (1 - f) * at.x + f * snapped.x)
+                 for f in np.linspace(0, 1, SNAP_SAMPLES)]
+    else:  # every step of the push and the relaxation was filtered: its ends suffice
+        snap_name = "snap (relaxed with contact)"
+        proxy = [(past, at.x.copy()), (past, snapped.x.copy())]
+    reports.append(tracker.stretch(snap_name, proxy))
     under, _ = identify(_let_go(snapped, a, n), references)
     release: list[tuple[float, np.ndarray]] = []
     for p in np.linspace(past, start, RELEASE_STEPS + 1)[1:]:
@@ -306,8 +335,7 @@ def transition(a: Assembly, source: str, key: str, stop: float, *, load_factor: 
     physical = not any(r.pass_through for r in reports)
     msg = (f"{point['kind']} at {key} = {value:.6g}; snapped to {under} under load"
            + ("" if stable else " (the relaxed state under load is not stable)"))
-    stretches = (("loading", samples), ("snap (interpolated proxy)", proxy),
-                 ("release", release))
+    stretches = (("loading", samples), (snap_name, proxy), ("release", release))
     sampled = SampledPath(np.stack([x for _, part in stretches for _, x in part]),
                           rod.edge_nodes.copy(), rod.rest_length.copy(),
                           tuple((name, len(part)) for name, part in stretches))
@@ -367,7 +395,8 @@ def transition_graph(assemblies: dict[str, Assembly],
                      stimuli: Mapping[str, Sequence[tuple[str, float]]], *, load_factor: float,
                      thickness: float, elements_per_segment: int = 8,
                      n_steps: int = 16, all_stimuli: bool = False,
-                     load: Sequence[str] | None = None) -> TransitionGraph:
+                     load: Sequence[str] | None = None,
+                     contact: ContactModel | None = None) -> TransitionGraph:
     """Transitions out of every state of ``assemblies`` (one discretised ring, many states).
 
     ``stimuli[state]``: ``(key, stop)`` tried in order until one gives a transition to another
@@ -375,7 +404,8 @@ def transition_graph(assemblies: dict[str, Assembly],
     without a target (reported under ``no_transition``). ``load``: the states loaded (default
     all: then a state unstable at ``load_factor`` is skipped and listed in ``skipped``; one
     named in ``load`` must be stable); every state of ``assemblies`` is a reference for the
-    identification.
+    identification. ``contact``: passed to :func:`transition`; a state whose rods overlap
+    under it (stacked layers on one curve) is skipped (listed), or refused when named.
     """
     refs = {}
     for name, a in assemblies.items():
@@ -389,9 +419,15 @@ def transition_graph(assemblies: dict[str, Assembly],
             skipped.append((name, f"not stable at load factor {load_factor:g}"))
             continue
         for key, stop in stimuli.get(name, ()):
-            t = transition(a, name, key, stop, load_factor=load_factor, references=refs,
-                           thickness=thickness, elements_per_segment=elements_per_segment,
-                           n_steps=n_steps)
+            try:
+                t = transition(a, name, key, stop, load_factor=load_factor, references=refs,
+                               thickness=thickness, elements_per_segment=elements_per_segment,
+                               n_steps=n_steps, contact=contact)
+            except Interpenetration as exc:
+                if load is not None:
+                    raise
+                skipped.append((name, f"outside the contact model: {exc}"))
+                break
             edges.append(t)
             if t.target is not None and t.target not in states:
                 states.append(t.target)

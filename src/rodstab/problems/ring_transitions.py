@@ -173,7 +173,8 @@ def transitions(ring: Ring, *, load_factor: float, elements: int = 8,
                 thickness: float = DEFAULT_THICKNESS,
                 stimuli: dict[str, tuple[tuple[str, float], ...]] | None = None,
                 all_stimuli: bool = False, load: tuple[str, ...] | None = None,
-                limits: Limits = DEFAULT_LIMITS) -> RingTransitions:
+                limits: Limits = DEFAULT_LIMITS,
+                dhat_fraction: float | None = None) -> RingTransitions:
     """Transition graph of the states ``load`` of ``ring`` at ``load_factor`` (module docstring).
 
     ``load``: labels of :meth:`~rodstab.multistable.states.Ring.states`, each of which must be
@@ -183,6 +184,9 @@ def transitions(ring: Ring, *, load_factor: float, elements: int = 8,
     state without any is refused, naming it). The basic states and the loaded ones are the
     references for the identification, whichever are loaded. A model past
     ``limits.max_dof_nonlinear`` unknowns is refused before anything is built.
+    ``dhat_fraction``: contact acts (capsules of diameter ``thickness`` x the rod length,
+    ``dhat = dhat_fraction h``, :func:`rodstab.nonlinear.equilibrium.rod_contact_model`); a
+    basic state outside the model is skipped (listed), a named one refused. None: no contact.
     """
     # A closed ring of n rods has n joints.
     require_nonlinear([elements] * ring.segments, ring.segments, f"{elements} elements per rod",
@@ -207,10 +211,15 @@ def transitions(ring: Ring, *, load_factor: float, elements: int = 8,
     refs = tuple(dict.fromkeys(basic + tuple(load)))
     assemblies = {s: ring.held(ring.state(s).theta) for s in refs}
     # h / L to h in the ring's length unit (its rods' length L: 1 for the hexagram).
+    contact = None
+    if dhat_fraction is not None:
+        from ..nonlinear.equilibrium import rod_contact_model
+
+        contact = rod_contact_model(assemblies[refs[0]], thickness, dhat_fraction)
     graph = transition_graph(assemblies, stim, load_factor=load_factor,
                              thickness=thickness * ring.length,
                              elements_per_segment=elements, all_stimuli=all_stimuli,
-                             load=load if named else None)
+                             load=load if named else None, contact=contact)
     shapes = {}
     for s, a in assemblies.items():
         r = discretise(a, elements, load_factor)
