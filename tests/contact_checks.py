@@ -56,3 +56,21 @@ def judged_pairs(edges: np.ndarray, rods: int, same_rod_gap: int = 3) -> list[tu
                 out.append((a, b))
     return out
 
+
+
+def central_differences(energy, x: np.ndarray, step: float) -> tuple[np.ndarray, np.ndarray]:
+    """Gradient and Hessian of ``energy(x) -> (E, g, H)`` by central differences.
+
+    For the derivative checks: differences of the value give the gradient, differences of the
+    analytic gradient the Hessian (both of rodstab's own energy, not an independent model).
+    """
+    n = x.size
+    gf, Hf = np.zeros(n), np.zeros((n, n))
+    for k in range(n):
+        xp, xm = x.ravel().copy(), x.ravel().copy()
+        xp[k] += step
+        xm[k] -= step
+        Ep, gp, _ = energy(xp.reshape(x.shape))
+        Em, gm, _ = energy(xm.reshape(x.shape))
+        gf[k], Hf[:, k] = (Ep - Em) / (2 * step), (gp - gm) / (2 * step)
+    return gf, Hf

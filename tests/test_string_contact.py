@@ -15,7 +15,7 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
-from contact_checks import judged_pairs, segment_gap
+from contact_checks import central_differences, judged_pairs, segment_gap
 
 from rodstab.errors import NotConverged
 from rodstab.nonlinear.contact import (
@@ -72,15 +72,7 @@ def test_soft_model_evaluates_overlaps_with_exact_derivatives_and_no_step_filter
         contact_energy(hard, x)
     E, g, H = contact_energy(soft, x)
     assert E > 0 and np.all(np.isfinite(g))
-    step, n = 1e-6, x.size
-    gf, Hf = np.zeros(n), np.zeros((n, n))
-    for k in range(n):
-        xp, xm = x.ravel().copy(), x.ravel().copy()
-        xp[k] += step
-        xm[k] -= step
-        Ep, gp, _ = contact_energy(soft, xp.reshape(-1, 3))
-        Em, gm, _ = contact_energy(soft, xm.reshape(-1, 3))
-        gf[k], Hf[:, k] = (Ep - Em) / (2 * step), (gp - gm) / (2 * step)
+    gf, Hf = central_differences(lambda y: contact_energy(soft, y), x, 1e-6)
     assert np.linalg.norm(g - gf) <= 1e-6 * np.linalg.norm(g)
     assert np.linalg.norm(H.toarray() - Hf) <= 1e-6 * np.linalg.norm(H.toarray())
     # The gradient pushes the rods apart: the upper rod's nodes up, the lower one's down.
