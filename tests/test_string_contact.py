@@ -292,3 +292,36 @@ def test_transition_from_a_stacked_state_with_contact_is_refused_naming_it():
     r = run_cli([*TR[:-3], "--state", "line", "--contact"])
     assert r.exit_code == 2, r.stdout + r.stderr
     assert "state 'line'" in r.stderr and "interpenetrate" in r.stderr
+
+
+DISC = ["discover", "--structure", "hexagram", "--shape", "rectangle", "--aspect", "4",
+        "--load-factor", "2", "--elements", "6", "--starts", "0", "--json"]
+
+
+def test_discover_with_contact_finds_the_states_it_can_hold_with_the_same_energies():
+    """From the held states as seeds (6 el./rod, kappa_n R0 = 2): with contact the seeds whose
+    rods lie on one curve (the line, the eight) are not run and are listed; every state found
+    is one found without contact, at the same energy and index (no rods within dhat)."""
+    from conftest import run_cli
+
+    r = run_cli([*DISC, "--contact"])
+    assert r.exit_code == 0, r.stderr
+    payload = json.loads(r.stdout)
+    assert payload["contact"] == {"acting": True, "thickness": H, "dhat": 0.1}
+    assert {"seed line", "seed eight"} <= set(payload["outside_contact"])
+    plain = json.loads(run_cli(DISC).stdout)
+    assert plain["contact"]["acting"] is False and plain["outside_contact"] == []
+    ref = {s["label"]: s for s in plain["states"]}
+    labels = [s["label"] for s in payload["states"]]
+    assert {"star", "daisy"} <= set(labels) and "line" not in labels
+    for s in payload["states"]:
+        assert s["energy"] == pytest.approx(ref[s["label"]]["energy"], rel=1e-9, abs=1e-9)
+        assert s["index"] == ref[s["label"]]["index"]
+
+
+def test_discover_with_contact_from_a_stacked_state_is_refused_naming_it():
+    from conftest import run_cli
+
+    r = run_cli([*DISC[:-1], "--state", "line", "--contact"])
+    assert r.exit_code == 2, r.stdout + r.stderr
+    assert "--state 'line'" in r.stderr and "interpenetrate" in r.stderr

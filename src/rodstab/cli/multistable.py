@@ -19,7 +19,7 @@ from ..io.outputs import check_output
 from ..limits import Limits, require_steps
 from ..results import jsonable
 from ..sections import Section
-from .contact_options import path_contact_options
+from .contact_options import contact_options, path_contact_options
 from .options import (
     elements_option,
     json_option,
@@ -65,16 +65,20 @@ from .output import (
                    "(rodstab states, |kL| <= 2 pi).")
 @click.option("--plot", "plot_path", type=click.Path(dir_okay=False), default=None,
               help="Write a grid of the states found (projected on their best-fit planes).")
+@contact_options
 @section_options
 @limit_options
 @json_option
 def discover(design_file: str | None, section: Section, structure: str, segments: int,
              state: str | None, load_factor: float, starts: int, elements: int, rng_seed: int,
-             seed_states: bool, plot_path: str | None, limits: Limits, as_json: bool) -> None:
+             seed_states: bool, plot_path: str | None, contact: Any, limits: Limits,
+             as_json: bool) -> None:
     """Equilibria nobody named: deflated Newton from seeds and perturbed starts.
 
     On DESIGN's ring (identical rods welded in a cycle, `rodstab states DESIGN`) or on a
-    built-in structure.
+    built-in structure. With --contact the rods are capsules that cannot pass through each
+    other (every step filtered); seeds and starts outside the contact model (rods stacked on
+    one curve) are not run and are listed.
     """
     from ..limits import require_nonlinear
     from ..multistable.discover import RUNS_PER_START, ring_seeds, shape_2d
@@ -84,17 +88,30 @@ def discover(design_file: str | None, section: Section, structure: str, segments
     mu, n_el = load_factor, elements
     if isinstance(starts, bool) or starts < 0:
         raise RodstabInputError(f"--starts must be an integer >= 0, got {starts!r}")
-    ring, section, name, design = ring_and_section(design_file, structure, segments, section)
+    ring, section, name, design = ring_and_section(design_file, structure, segments, section,
+                                                   contact_ok=True)
+    setting = contact.resolve(None if design is None else design.contact)
     n = ring.segments
     require_nonlinear([n_el] * n, n, f"--elements {n_el}", limits)
     require_steps((starts + 4 * n) * RUNS_PER_START, f"--starts {starts}",
                   "deflated Newton runs", limits)
     start_state = "star" if state is None else state
     rod, seeds, known = ring_seeds(ring, start_state, n_el, mu, seed_states)
+    if setting is not None:
+        from ..nonlinear.contact import attach_contact
+        from ..nonlinear.equilibrium import rod_contact_model
+
+        try:
+            attach_contact(rod, rod_contact_model(rod.assembly, *setting))
+        except RodstabInputError as exc:
+            raise RodstabInputError(f"--state {start_state!r}: {exc}") from None
     found, snaps = search(rod, seeds, known, starts=starts, seed=rng_seed,
                           directions=tuple(d for _, d in ring.order))
     payload = found.to_dict() | {"structure": name, "segments": n, "start_state": start_state,
                                  "section": section.to_dict()}
+    payload["contact"] = {"acting": setting is not None,
+                          "thickness": None if setting is None else setting[0],
+                          "dhat": None if setting is None else setting[1]}
     units = None if design is None else design.units
     if design is not None and units is not None:
         payload["units"] = units.block(
@@ -126,6 +143,10 @@ def discover(design_file: str | None, section: Section, structure: str, segments
               f"{s.invariants.max_out_of_plane:>9.3g}  {s.found_from}"
               + ("" if joules is None else f"  ({fmt(joules[i])} J)")
               for i, s in enumerate(found.states)]
+    if setting is not None:
+        lines.insert(2, f"contact      acting: capsules h/L = {fmt(setting[0])}, dhat/h = "
+                        f"{fmt(setting[1])}; starts outside the model, not run: "
+                        f"{', '.join(found.outside_contact) or 'none'}")
     lines += [f"wrote {payload['plot']}"] if plot is not None else []
     emit(payload, as_json, lines)
 

@@ -43,8 +43,10 @@ import scipy.sparse.linalg as spla
 from ..errors import RodstabInputError
 from ..model import Assembly
 from ..nonlinear.constraint import mean_length, restore_positions
+from ..nonlinear.contact import Interpenetration
 from ..nonlinear.discrete import PENALTY, DiscreteRod, discretise
 from ..nonlinear.jets import vee_skew
+from ..nonlinear.newton import contact_fraction
 from ..nonlinear.solve import NEWTON_RTOL, lowest_eigenvalues, max_strain, zero_eigenvalue_tol
 from ..numerics import jacobi_scaling
 from ..results import Result
@@ -199,7 +201,8 @@ def deflated_newton(rod: DiscreteRod, known: list[Snapshot], *,
     :func:`rodstab.nonlinear.solve.newton`) at a point farther than :data:`SAME_STATE_DISTANCE` from
     every known state: ``M`` is finite there, so the root is an equilibrium. With ``known`` empty
     this is damped Newton on ``g``, which converges to saddles as well as minima (unlike
-    :func:`rodstab.nonlinear.solve.newton`).
+    :func:`rodstab.nonlinear.solve.newton`). With contact (``rod.contact``) each step is also
+    filtered so that no gap closes, and a trial outside the model is rejected (``lam`` grows).
     """
     if any(distance_sq(rod, s)[0] <= SAME_STATE_DISTANCE**2 for s in known):
         return NewtonRun(False, 0, math.nan)  # started on a known state: M g is 0 x inf
@@ -235,10 +238,17 @@ def deflated_newton(rod: DiscreteRod, known: list[Snapshot], *,
             tau = 1.0 / (1.0 - eta) if abs(1.0 - eta) > 1e-3 else 1.0
             dq = np.zeros(rod.n_dof)
             dq[free] = tau * delta
+            dq *= _cap(rod, dq)
+            if rod.contact is not None:  # the step filter: no gap closes along the step
+                dq *= contact_fraction(rod, free, dq[free])
             trial = rod.copy()
-            trial.apply(_cap(rod, dq) * dq)
-            restore_positions(trial)
-            _, gt, Ht = trial.energy_terms()
+            trial.apply(dq)
+            try:
+                restore_positions(trial)
+                _, gt, Ht = trial.energy_terms()
+            except Interpenetration:  # only with contact: the trial left the model
+                lam = max(4 * lam, lam_floor)
+                continue
             Mt, glog_t = deflation(trial, known)
             if Mt * float(np.linalg.norm(d * gt[free])) < (1.0 - 1e-4) * merit:
                 rod.x, rod.R_edge, rod.R_joint = trial.x, trial.R_edge, trial.R_joint
@@ -316,6 +326,8 @@ class Discovery(Result):
     converged_runs: int
     seeds: tuple[str, ...]
     method: str
+    #: With contact: the starts whose state lies outside the contact model (not run).
+    outside_contact: tuple[str, ...] = ()
 
 
 #: Largest node displacement of the perturbed starts, in mean segment lengths, cycled through
@@ -375,6 +387,8 @@ def discover(rod: DiscreteRod, seeds: list[tuple[str, Snapshot]], known: list[Kn
     success it runs again from the same start (:data:`RUNS_PER_START` runs at most). Returns
     the deduplicated states by increasing energy and their snapshots. ``rod`` is left in the
     last state tried. ``directions``: as in :func:`invariants` (labels by turning number).
+    With contact (``rod.contact``) a start outside the model is not run (listed in
+    ``outside_contact``).
     """
     rng = np.random.default_rng(seed)
     deflated: list[Snapshot] = []
@@ -388,10 +402,18 @@ def discover(rod: DiscreteRod, seeds: list[tuple[str, Snapshot]], known: list[Kn
         plan.append((f"start {i + 1}: seed {seeds[b][0]} perturbed by {amp:+g} L", None, b,
                      amp))
     weights = rng.standard_normal(INDEX_EIGS)
+    outside: list[str] = []
     for name, snap, b, amp in plan:
         if snap is None and amp > 0:
             weights = rng.standard_normal(INDEX_EIGS)  # a new mix for each +/- pair
-        start = snap if snap is not None else _perturbed(rod, seeds[b][1], amp, weights)
+        try:
+            start = snap if snap is not None else _perturbed(rod, seeds[b][1], amp, weights)
+            if rod.contact is not None:
+                start.put(rod)
+                rod.energy()  # raises outside the contact model
+        except Interpenetration:
+            outside.append(name)
+            continue
         for _ in range(RUNS_PER_START):
             start.put(rod)
             runs += 1
@@ -429,7 +451,8 @@ def discover(rod: DiscreteRod, seeds: list[tuple[str, Snapshot]], known: list[Kn
         seeds=tuple(lab for lab, _ in seeds),
         method=f"deflated Newton (Farrell, Beentjes, Birkisson; p = {DEFLATION_POWER:g}, shift "
                f"= {DEFLATION_SHIFT:g}) on one discrete rod, deduplicated modulo rigid motion, "
-               "reflection and relabelling"), [s for s, *_ in distinct]
+               "reflection and relabelling", outside_contact=tuple(outside)), \
+        [s for s, *_ in distinct]
 
 
 # ---------------------------------------------------------------------------------------------
