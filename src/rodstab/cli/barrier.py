@@ -191,9 +191,13 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
                 "energy_saddle", "energies")})
         joules = {key: f" ({fmt(payload['units'][key]['value'])} J)" for key in (
             "barrier_forward", "barrier_backward", "energy_saddle")}
+    # energies: of rods with B3 = L = 1 (built-in, or a design with units, converted to J
+    # below), else in the design's own units
+    scale = ("B3 = 1, L = 1" if design_file is None or units is not None else
+             "energies in the design's units: stiffness / length")
     lines = [section_line(section),
              f"{name} at {'kappa_n R0' if design_file is None else 'load factor'} = {fmt(k)}, "
-             f"{elements} elements per rod (B3 = 1, L = 1), method {method}"
+             f"{elements} elements per rod ({scale}), method {method}"
              + ("" if chosen is None else f" (chosen: the middle of the states' common stable "
                                           f"interval ({fmt(chosen[0])}, {fmt(chosen[1])}))")]
     if units is not None:
