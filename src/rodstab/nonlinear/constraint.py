@@ -72,14 +72,21 @@ class _Topology:
 
     def __init__(self, rod: DiscreteRod) -> None:
         self.refs = (rod.edge_nodes, rod.rest_length, rod.edge_B, rod.fixed_nodes,
-                     rod.fixed_components)
+                     rod.fixed_components, rod.offsets)
         self.supports = (tuple(rod.fixed_nodes),
                          tuple((k, tuple(c)) for k, c in rod.fixed_components))
         i, j = rod.edge_nodes[:, 0], rod.edge_nodes[:, 1]
         le = rod.rest_length
         n = len(rod.x)
-        self.i, self.j, self.le = i, j, le
-        self.w = w = PENALTY * rod.edge_B.max(axis=1) / le**3  # K_e / l_e
+        w_edge = PENALTY * rod.edge_B.max(axis=1) / le**3  # K_e / l_e
+        # A spanning weld's offsets (DiscreteRod.offsets) join as edges joint node -> end node
+        # with target R_J o and the end edge's weight (after the edges).
+        w = w_edge
+        if rod.offsets is not None:
+            on, _, _, ow = rod.offsets
+            i, j, w = (np.concatenate([i, on[:, 0]]), np.concatenate([j, on[:, 1]]),
+                       np.concatenate([w_edge, 2.0 * ow]))
+        self.i, self.j, self.le, self.w = i, j, le, w
         parts = (np.concatenate([w, w, -w, -w]),
                  (np.concatenate([i, j, i, j]), np.concatenate([i, j, j, i])))
         self.dense = n <= DENSE_MAX
@@ -110,26 +117,28 @@ class _Topology:
         self.nx = nx = int(np.sum(~held))
         ne = len(le)
         self.size = nx + 3 * ne
-        edges = np.arange(ne)
+        every = np.arange(len(w))  # edges, then offsets
         rows, cols, vals = [], [], []
         for c in range(3):
             for node, sign in ((j, 1.0), (i, -1.0)):
                 keep = col[node, c] >= 0
-                rows.append(3 * edges[keep] + c)
+                rows.append(3 * every[keep] + c)
                 cols.append(col[node, c][keep])
                 vals.append(np.full(int(np.sum(keep)), sign))
+        edges = np.arange(ne)
         rows.append(np.repeat(3 * edges, 9) + np.tile(np.repeat(np.arange(3), 3), ne))
         cols.append(nx + np.repeat(3 * edges, 9) + np.tile(np.tile(np.arange(3), 3), ne))
         self.rows, self.cols = np.concatenate(rows), np.concatenate(cols)
         self.node_vals = np.concatenate(vals)
         self.weight = np.repeat(w, 3)
-        self.reg = np.concatenate([np.zeros(nx), np.repeat(INEXTENSIBLE_REG * w * le**2, 3)])
+        self.reg = np.concatenate([np.zeros(nx),
+                                   np.repeat(INEXTENSIBLE_REG * w_edge * le**2, 3)])
 
     def matches(self, rod: DiscreteRod) -> bool:
         """Whether this entry was built for ``rod``'s mesh and supports as they are now."""
         return ((len(rod.x) <= DENSE_MAX) == self.dense and all(a is b for a, b in zip(self.refs, (
             rod.edge_nodes, rod.rest_length, rod.edge_B, rod.fixed_nodes,
-            rod.fixed_components), strict=True))
+            rod.fixed_components, rod.offsets), strict=True))
             and self.supports == (tuple(rod.fixed_nodes),
                                   tuple((k, tuple(c)) for k, c in rod.fixed_components)))
 
@@ -167,7 +176,7 @@ def restore_positions(rod: DiscreteRod) -> None:
     stretched chords for Newton to crawl out of.
     """
     t = _topology(rod)
-    b = t.le[:, None] * rod.R_edge[:, :, 1]  # target edge vectors (n_edges, 3)
+    b = _targets(rod, t)
     f = np.zeros((len(rod.x), 3))
     np.add.at(f, t.j, t.w[:, None] * b)
     np.add.at(f, t.i, -t.w[:, None] * b)
@@ -175,6 +184,15 @@ def restore_positions(rod: DiscreteRod) -> None:
         rhs = f[np.ix_(free, coords)] - L_fh @ rod.x[np.ix_(hold, coords)]
         z = solve(rhs)
         rod.x[np.ix_(free, coords)] = np.asarray(z).reshape(len(free), len(coords))
+
+
+def _targets(rod: DiscreteRod, t: _Topology) -> np.ndarray:
+    """Target vectors ``x_j - x_i`` of the edges (``l_e d2_e``), then of the offsets (``R_J o``)."""
+    b = t.le[:, None] * rod.R_edge[:, :, 1]
+    if rod.offsets is None:
+        return b
+    _, oj, ov, _ = rod.offsets
+    return np.concatenate([b, np.einsum("mij,mj->mi", rod.R_joint[oj], ov)])
 
 
 #: Gauss-Newton iterations of :func:`restore_inextensible`. The misfit is zero at the solution,
@@ -211,19 +229,20 @@ def restore_inextensible(rod: DiscreteRod) -> None:
     """
     restore_positions(rod)
     t = _topology(rod)
-    ne, nx, size = len(rod.R_edge), t.nx, t.size
+    nx, size = t.nx, t.size
     free = ~t.held
+    rows = 3 * len(t.w)  # edges, then offsets (their joint frames do not turn)
     for _ in range(INEXTENSIBLE_ITER):
         d2 = rod.R_edge[:, :, 1]
-        misfit = (rod.x[t.j] - rod.x[t.i] - t.le[:, None] * d2).ravel()
+        misfit = (rod.x[t.j] - rod.x[t.i] - _targets(rod, t)).ravel()
         values = np.concatenate([t.node_vals, (t.le[:, None, None] * hat(d2)).ravel()])
         if size <= DENSE_MAX:  # every (row, column) of J is set once
-            J: Any = np.zeros((3 * ne, size))
+            J: Any = np.zeros((rows, size))
             J[t.rows, t.cols] = values
             A: Any = J.T @ (t.weight[:, None] * J)
             A[np.diag_indices(size)] += t.reg
         else:
-            J = sp.csr_matrix((values, (t.rows, t.cols)), shape=(3 * ne, size))
+            J = sp.csr_matrix((values, (t.rows, t.cols)), shape=(rows, size))
             A = J.T @ sp.diags(t.weight) @ J + sp.diags(t.reg)
         z = _solve_spd(A, -(J.T @ (t.weight * misfit)))
         rod.x[free] += z[:nx]

@@ -34,7 +34,6 @@ Increments: ``x <- x + dx``, ``R <- R exp(hat(phi))``; gradients and Hessians ar
 from __future__ import annotations
 
 import dataclasses
-import math
 
 import numpy as np
 import scipy.sparse as sp
@@ -44,6 +43,9 @@ from ..model import NONLINEAR, SUPPORT_KINDS, Assembly, held_frame, kinds_of
 from .contact import ContactMesh, contact_terms
 from .element_terms import _T0, bend_jet, stretch_jet
 from .jets import Jet, JetMat, rodrigues, rotation_jet, rotation_vector, vector_jet
+from .mesh import MAX_ELEMENT_TURNING as MAX_ELEMENT_TURNING  # re-exported
+from .mesh import MAX_NATURAL_TURNING as MAX_NATURAL_TURNING  # re-exported
+from .mesh import check_mesh, element_counts
 
 #: Stretch/shear stiffness K = PENALTY * max(B1, B2, B3) / l_e^2. The discrete model tends to
 #: the inextensible, unshearable Kirchhoff rod as l_e -> 0 with an error ~ l_e^2 / PENALTY.
@@ -90,6 +92,12 @@ class DiscreteRod:
     #: (positions are the first ``3 n_nodes`` dofs). Immutable: copies share it. None: no
     #: contact, every number as without this field.
     contact: ContactMesh | None = None
+    #: spanning welds (:func:`discretise` with ``layers``): the rigid offsets of segment ends
+    #: from their joint, ``(nodes (m, 2): joint node and end node, joints (m,), vectors (m, 3)
+    #: in the joint's frame, weights (m,))``; each adds ``w |R_J^T (x_end - x_joint) - o|^2``,
+    #: the stretch penalty of the end edge on the offset's misfit. None: ends share the joint's
+    #: node (every number as without this field).
+    offsets: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None = None
 
     # ---- degrees of freedom: positions, edge rotations, joint rotations
     @property
@@ -178,7 +186,8 @@ class DiscreteRod:
         free = set(self.free_dofs().tolist())
         nx = len(self.x)
         jnodes = sorted({int(self.edge_nodes[lk[0], 0 if lk[3] == "start" else 1])
-                         for lk in self.end_links})
+                         for lk in self.end_links}
+                        | ({int(v) for v in self.offsets[0][:, 0]} if self.offsets else set()))
         border_dofs = [int(d) for n_ in jnodes for d in self.node_dofs(n_) if int(d) in free]
         b = len(border_dofs)
         zmap = np.full(self.n_dof, -1)
@@ -324,6 +333,12 @@ class DiscreteRod:
                   else self.k0_links[0] + mu * self.k0_links[1])
             scatter(bend_jet(Lm, M, Rt, start, 0.5 * le[ee], self.edge_B[ee], k0, order),
                     np.concatenate([self.edge_dofs(ee), self.joint_dofs(jj)], axis=1))
+        if self.offsets is not None:  # in absolute coordinates, also for kirchhoff_hessian
+            on, oj, ov, ow = self.offsets
+            scatter(stretch_jet(self.R_joint[oj], self.x[on[:, 1]] - self.x[on[:, 0]],
+                                np.ones(len(oj)), ow, order, ov),
+                    np.concatenate([self.node_dofs(on[:, 0]), self.node_dofs(on[:, 1]),
+                                    self.joint_dofs(oj)], axis=1))
         loaded = [j for j, m in self.joint_moment.items() if np.any(m)]
         if loaded:
             scatter(self._moment_work(np.array(loaded), order), self.joint_dofs(np.array(loaded)))
@@ -553,69 +568,9 @@ class KirchhoffHessian:
     gradient: np.ndarray | None = None  # (n,) energy gradient in z (None: not formed)
 
 
-#: Largest held turning of one element (rad): the rotation between neighbouring edge frames is
-#: stored as a Cayley vector ~ tan(theta / 2), singular at a half turn; 3/4 of it (a 3-loop
-#: ring of 8 elements, used by the tests) keeps tan(theta / 2) below 2.5.
-MAX_ELEMENT_TURNING = 0.75 * math.pi
-#: Largest |load factor x natural curvature x length| of a segment: far beyond any held state
-#: (a rod of natural radius 1e-8 of its length) and far from the energy's overflow.
-MAX_NATURAL_TURNING = 1e8
-
-
-def element_counts(a: Assembly, elements_per_segment: int | dict[str, int]) -> dict[str, int]:
-    """Return the elements of each segment (by name): one count for all, or one per segment.
-
-    As the linear engine's ``elements_per_segment``
-    (:func:`rodstab.linear.solve.linear_stability`). Raises :class:`RodstabInputError` naming
-    a count that is not an integer >= 2, or a segment without one.
-    """
-    if isinstance(elements_per_segment, dict):
-        missing = [s.name for s in a.segments if s.name not in elements_per_segment]
-        if missing:
-            raise RodstabInputError(f"elements_per_segment has no count for segment(s) "
-                                    f"{missing}")
-        counts = {s.name: elements_per_segment[s.name] for s in a.segments}
-    else:
-        counts = {s.name: elements_per_segment for s in a.segments}
-    for name, n in counts.items():
-        if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 2:
-            raise RodstabInputError(f"elements_per_segment must be an integer >= 2, got "
-                                    f"{n!r}" + (f" for segment {name!r}"
-                                                if isinstance(elements_per_segment, dict)
-                                                else ""))
-    return {name: int(n) for name, n in counts.items()}
-
-
-def check_mesh(a: Assembly, elements_per_segment: int | dict[str, int],
-               load_factor: float) -> None:
-    """Refuse a mesh or load the discrete rod cannot represent, naming what to change.
-
-    Every element turns by less than :data:`MAX_ELEMENT_TURNING` in the held state (a 3-loop
-    ring of 3 elements would have each element close on itself), and every segment's natural
-    turning ``|load_factor kappa_n L|`` is finite and at most :data:`MAX_NATURAL_TURNING`.
-    ``elements_per_segment``: one count, or a count per segment name.
-    """
-    mu = require_finite("load factor", load_factor)
-    counts = element_counts(a, elements_per_segment)
-    for s in a.segments:
-        turn = abs(s.curvature) * s.length / counts[s.name]
-        if turn > MAX_ELEMENT_TURNING * (1 + 1e-12):
-            need = math.ceil(abs(s.curvature) * s.length / MAX_ELEMENT_TURNING)
-            raise RodstabInputError(
-                f"elements per segment {counts[s.name]}: an element of segment "
-                f"{s.name!r} turns by {math.degrees(turn):.4g} deg in the held state, the "
-                f"discrete rod allows at most {math.degrees(MAX_ELEMENT_TURNING):g}; use at "
-                f"least {need} elements")
-        natural = abs(mu * s.natural_curvature) * s.length
-        if not natural <= MAX_NATURAL_TURNING:  # also catches inf and nan
-            raise RodstabInputError(
-                f"load factor {load_factor:g}: segment {s.name!r} would have a natural "
-                f"turning |load factor x natural_curvature x length| = {natural:.3g} rad, "
-                f"above {MAX_NATURAL_TURNING:g}")
-
-
 def discretise(a: Assembly, elements_per_segment: int | dict[str, int] = 32,
-               load_factor: float = 1.0) -> DiscreteRod:
+               load_factor: float = 1.0, layers: dict[str, float] | None = None
+               ) -> DiscreteRod:
     """Return the discrete rod of an assembly in its held state (an equilibrium when P2 says so).
 
     Supports are read from :data:`~rodstab.model.SUPPORT_KINDS`: a kind that holds all
@@ -624,6 +579,14 @@ def discretise(a: Assembly, elements_per_segment: int | dict[str, int] = 32,
     without :data:`~rodstab.model.NONLINEAR` in their methods (fork, pinned: not implemented
     here) raise :class:`RodstabInputError`. ``elements_per_segment``: one count for every
     segment, or a count per segment name (:func:`element_counts`).
+
+    ``layers``: the stacked state (issue 21): every node of segment ``name`` lifted by
+    ``layers[name]`` (length, along ``e3``; 0 for a segment not named). Where the segments at
+    a joint lie at different heights the weld spans the layers: the joint keeps a node of its
+    own at their mean height, and each segment end is a node held at the rigid offset ``o =
+    R_J^T (z_seg - z_J) e3`` from it (:attr:`DiscreteRod.offsets`, penalised as stiffly as
+    an edge's stretch). The lifted held state is an equilibrium whenever the planar one is
+    (chords, frames and offsets unchanged).
     """
     counts = element_counts(a, elements_per_segment)
     check_mesh(a, counts, load_factor)
@@ -633,28 +596,50 @@ def discretise(a: Assembly, elements_per_segment: int | dict[str, int] = 32,
     R_edge: list[np.ndarray] = []
     joint_node = {}
     n_nodes = 0
+    lift = {seg.name: 0.0 for seg in a.segments}
+    for name, z in (layers or {}).items():
+        a.segment(name)  # raises naming an unknown segment
+        lift[name] = require_finite(f"layers[{name!r}]", z)
 
-    def node_at(p: np.ndarray) -> int:
+    def node_at(p: np.ndarray, z: float = 0.0) -> int:
         nonlocal n_nodes
-        xs.append(np.array([p[0], p[1], 0.0]))
+        xs.append(np.array([p[0], p[1], z]))
         n_nodes += 1
         return n_nodes - 1
 
     R_joint = np.zeros((len(joints), 3, 3))
+    joint_z = np.zeros(len(joints))
+    split: set[int] = set()  # joints whose segments lie at different heights
     for k, joint in enumerate(joints):
         name, end = joint[0]
         seg = a.segment(name)
         s_end = 0.0 if end == "start" else seg.length
-        joint_node[k] = node_at(seg.position(s_end))
+        zs = [lift[nm] for nm, _ in joint]
+        joint_z[k] = float(np.mean(zs))
+        if max(zs) > min(zs):
+            split.add(k)
+        joint_node[k] = node_at(seg.position(s_end), joint_z[k])
         R_joint[k] = held_frame(seg.tangent(s_end))
+    off_nodes, off_joints, off_vecs, off_w = [], [], [], []
     ks, tws = [], []
     for seg in a.segments:
         n = counts[seg.name]
         s = np.linspace(0.0, seg.length, n + 1)
         pts = seg.position(s)
-        ids = [joint_node[joint_of[(seg.name, "start")]]]
-        ids += [node_at(p) for p in pts[1:-1]]
-        ids += [joint_node[joint_of[(seg.name, "end")]]]
+        z = lift[seg.name]
+        ends = []
+        for end, p in (("start", pts[0]), ("end", pts[-1])):
+            k = joint_of[(seg.name, end)]
+            if k not in split:
+                ends.append(joint_node[k])
+                continue
+            ends.append(node_at(p, z))
+            off_nodes.append((joint_node[k], ends[-1]))
+            off_joints.append(k)
+            off_vecs.append(R_joint[k].T @ np.array([0.0, 0.0, z - joint_z[k]]))
+            le = seg.length / n
+            off_w.append(0.5 * PENALTY * max(seg.B1, seg.B2, seg.B3) / le**3)
+        ids = [ends[0]] + [node_at(p, z) for p in pts[1:-1]] + [ends[1]]
         first = len(R_edge)
         for e in range(n):
             chord = pts[e + 1] - pts[e]
@@ -701,6 +686,9 @@ def discretise(a: Assembly, elements_per_segment: int | dict[str, int] = 32,
                       np.array(pairs, int).reshape(-1, 2), links, fixed_nodes, fixed_joints,
                       load_factor, fixed_components=fixed_components)
     rod.edge_tw = np.array(tws) if any(tws) else None
+    if off_joints:
+        rod.offsets = (np.array(off_nodes, int), np.array(off_joints, int),
+                       np.array(off_vecs), np.array(off_w))
     rod.k_held_pairs, rod.k_held_links = held_curvatures(rod)
     rod.k0_links = _balanced_link_curvatures(rod)
     rod.R_joint_held = rod.R_joint.copy()

@@ -18,8 +18,8 @@ from .jets import _HAT, _SYM, Jet, hat, vee_skew
 _T0 = np.array([0.0, 1.0, 0.0])
 
 
-def stretch_jet(R: np.ndarray, d: np.ndarray, le: np.ndarray, w: np.ndarray, order: int
-                ) -> Jet:
+def stretch_jet(R: np.ndarray, d: np.ndarray, le: np.ndarray, w: np.ndarray, order: int,
+                t0: np.ndarray = _T0) -> Jet:
     """``w |eps|^2`` of every edge and its exact derivatives in ``(dx_i, dx_j, phi)``.
 
     ``eps = (R exp(hat phi))^T (d + dx_j - dx_i) / l - e2`` (stretch and shear strain; ``R``
@@ -31,12 +31,13 @@ def stretch_jet(R: np.ndarray, d: np.ndarray, le: np.ndarray, w: np.ndarray, ord
     that for ``dx_i``); so the gradient is ``2 w J^T eps`` and the Hessian ``2 w (J^T J +
     sum_c eps_c d2 eps_c)``. The same numbers as second-order jets of the same expression
     (:mod:`.jets`) to round-off, in a fifth of the time; each derivative is computed by the
-    same arithmetic at any ``order`` (bit-identical gradients).
+    same arithmetic at any ``order`` (bit-identical gradients). ``t0``: the unstrained
+    ``R^T d / l`` (default ``e2``; (E, 3) for the rigid offsets of a spanning weld, ``l = 1``).
     """
     E = len(le)
     A = np.swapaxes(R, 1, 2) / le[:, None, None]
     u = np.einsum("eji,ej->ei", R, d) / le[:, None]
-    eps = u - _T0
+    eps = u - t0
     v = w * np.einsum("ei,ei->e", eps, eps)
     if order == 0:
         return Jet(v, None, None)

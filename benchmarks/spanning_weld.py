@@ -1,0 +1,60 @@
+"""Table: the stacked bi-rod's limit with welds that span the layers (issue 21, part 2).
+
+The bi-rod of Section 4 (circle section, one end clamped, B3 = 1, L = 1) with its two rods
+lifted apart by the spacing ``h`` (``discretise(layers=)``: the welds' rigid offsets join
+them), no contact: the load factor where the lowest Hessian eigenvalue changes sign (Brent in
+[1, 12]), for several spacings, meshes and stretch penalties (``PENALTY``, the discrete rod's
+stand-in for inextensibility). At ``h = 0`` the planar model's limit. Prints one row per
+(h, elements, penalty).
+
+Measured 2026-12-05 (docs/theory/contact.md, "Stacked states: the weld that spans the layers"):
+the limit converges to the planar one as h -> 0 (1e-6: equal to 1e-7), and at fixed h it
+grows with the penalty and with the mesh (whose stretch stiffness ``PENALTY B / l_e^2`` grows as
+the elements shorten): the mode needs the layers to slide over one another at the welds, which
+inextensible rods joined by rigid offsets cannot do. Run: ``python benchmarks/spanning_weld.py``.
+"""
+
+from __future__ import annotations
+
+import os
+
+os.environ.setdefault("OMP_NUM_THREADS", "1")
+
+from scipy.optimize import brentq  # noqa: E402
+
+from rodstab.nonlinear import constraint, discrete  # noqa: E402
+from rodstab.nonlinear.solve import lowest_modes, newton  # noqa: E402
+from rodstab.problems import birod  # noqa: E402
+from rodstab.sections import circle  # noqa: E402
+
+BIROD = birod.build(birod.Params(section=circle()))
+SPACINGS = (0.0, 1e-6, 1e-4, 1e-3, 1e-2)
+MESHES = (24, 48)
+PENALTIES = (1e3, 4e3)
+
+
+def limit(spacing: float, n: int) -> float:
+    """Load factor of the sign change of the lowest eigenvalue (NaN if none in [1, 12])."""
+    def lowest(mu: float) -> float:
+        layers = None if spacing == 0 else {"upper": spacing / 2, "lower": -spacing / 2}
+        rod = discrete.discretise(BIROD, n, mu, layers=layers)
+        newton(rod)
+        return float(lowest_modes(rod, 1)[0][0])
+
+    lo, hi = 1.0, 12.0
+    if lowest(hi) > 0:
+        return float("nan")
+    return brentq(lowest, lo, hi, xtol=1e-9)
+
+
+def main() -> None:
+    print(f"{'h/L':>8} {'el.':>4} {'penalty':>8} {'limit mu':>10}")
+    for penalty in PENALTIES:
+        discrete.PENALTY = constraint.PENALTY = penalty
+        for n in MESHES:
+            for h in SPACINGS:
+                print(f"{h:>8g} {n:>4} {penalty:>8g} {limit(h, n):>10.6g}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,76 @@
+"""The meshes the discrete rod can represent: element counts and their checks.
+
+Split from :mod:`.discrete`, which re-exports every name. The limits come from the Cayley
+measure of the rotation between neighbouring frames and from the energy's range.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..errors import RodstabInputError, require_finite
+from ..model import Assembly
+
+__all__ = ["MAX_ELEMENT_TURNING", "MAX_NATURAL_TURNING", "check_mesh", "element_counts"]
+
+#: Largest held turning of one element (rad): the rotation between neighbouring edge frames is
+#: stored as a Cayley vector ~ tan(theta / 2), singular at a half turn; 3/4 of it (a 3-loop
+#: ring of 8 elements, used by the tests) keeps tan(theta / 2) below 2.5.
+MAX_ELEMENT_TURNING = 0.75 * math.pi
+#: Largest |load factor x natural curvature x length| of a segment: far beyond any held state
+#: (a rod of natural radius 1e-8 of its length) and far from the energy's overflow.
+MAX_NATURAL_TURNING = 1e8
+
+
+def element_counts(a: Assembly, elements_per_segment: int | dict[str, int]) -> dict[str, int]:
+    """Return the elements of each segment (by name): one count for all, or one per segment.
+
+    As the linear engine's ``elements_per_segment``
+    (:func:`rodstab.linear.solve.linear_stability`). Raises :class:`RodstabInputError` naming
+    a count that is not an integer >= 2, or a segment without one.
+    """
+    if isinstance(elements_per_segment, dict):
+        missing = [s.name for s in a.segments if s.name not in elements_per_segment]
+        if missing:
+            raise RodstabInputError(f"elements_per_segment has no count for segment(s) "
+                                    f"{missing}")
+        counts = {s.name: elements_per_segment[s.name] for s in a.segments}
+    else:
+        counts = {s.name: elements_per_segment for s in a.segments}
+    for name, n in counts.items():
+        if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 2:
+            raise RodstabInputError(f"elements_per_segment must be an integer >= 2, got "
+                                    f"{n!r}" + (f" for segment {name!r}"
+                                                if isinstance(elements_per_segment, dict)
+                                                else ""))
+    return {name: int(n) for name, n in counts.items()}
+
+
+def check_mesh(a: Assembly, elements_per_segment: int | dict[str, int],
+               load_factor: float) -> None:
+    """Refuse a mesh or load the discrete rod cannot represent, naming what to change.
+
+    Every element turns by less than :data:`MAX_ELEMENT_TURNING` in the held state (a 3-loop
+    ring of 3 elements would have each element close on itself), and every segment's natural
+    turning ``|load_factor kappa_n L|`` is finite and at most :data:`MAX_NATURAL_TURNING`.
+    ``elements_per_segment``: one count, or a count per segment name.
+    """
+    mu = require_finite("load factor", load_factor)
+    counts = element_counts(a, elements_per_segment)
+    for s in a.segments:
+        turn = abs(s.curvature) * s.length / counts[s.name]
+        if turn > MAX_ELEMENT_TURNING * (1 + 1e-12):
+            need = math.ceil(abs(s.curvature) * s.length / MAX_ELEMENT_TURNING)
+            raise RodstabInputError(
+                f"elements per segment {counts[s.name]}: an element of segment "
+                f"{s.name!r} turns by {math.degrees(turn):.4g} deg in the held state, the "
+                f"discrete rod allows at most {math.degrees(MAX_ELEMENT_TURNING):g}; use at "
+                f"least {need} elements")
+        natural = abs(mu * s.natural_curvature) * s.length
+        if not natural <= MAX_NATURAL_TURNING:  # also catches inf and nan
+            raise RodstabInputError(
+                f"load factor {load_factor:g}: segment {s.name!r} would have a natural "
+                f"turning |load factor x natural_curvature x length| = {natural:.3g} rad, "
+                f"above {MAX_NATURAL_TURNING:g}")
