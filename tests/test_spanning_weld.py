@@ -105,7 +105,6 @@ def test_the_spanning_weld_limit_depends_on_the_stretch_penalty(monkeypatch):
     verdicts = []
     for factor in (1.0, 4.0):
         monkeypatch.setattr(discrete, "PENALTY", factor * 1e3)
-        monkeypatch.setattr(constraint, "PENALTY", factor * 1e3)
         rod = _layered(3.0, 1e-3)
         assert newton(rod)[0]
         verdicts.append(lowest_modes(rod, 1)[0][0] > 0)
@@ -117,3 +116,23 @@ def test_the_spanning_weld_limit_depends_on_the_stretch_penalty(monkeypatch):
 def test_bad_layers_name_the_key(layers, named):
     with pytest.raises(RodstabInputError, match=named.replace("[", r"\[").replace("]", r"\]")):
         discretise(BIROD, N, 1.0, layers=layers)
+
+
+def test_with_the_rods_axial_stiffness_the_limit_depends_on_ea_h2_over_b_only():
+    """With EA = s B / h^2 (discretise(axial_stiffness=)) in place of the penalty, the stacked
+    bi-rod's limit at s = 120 is the same at h = 1e-2 and 1e-3 L (the laminate's parameter
+    EA h^2 / B alone sets it), and it lies between the planar limit and the locked one."""
+    from scipy.optimize import brentq
+
+    def limit(h: float) -> float:
+        def lowest(mu: float) -> float:
+            rod = discretise(BIROD, N, mu, layers={"upper": h / 2, "lower": -h / 2},
+                             axial_stiffness=120.0 / h**2)
+            assert newton(rod)[0]
+            return float(lowest_modes(rod, 1)[0][0])
+
+        return brentq(lowest, 4.0, 6.0, xtol=1e-9)
+
+    wide, narrow = limit(1e-2), limit(1e-3)
+    assert wide == pytest.approx(narrow, rel=1e-6)
+    assert 2.72447 < wide < 5.5

@@ -188,7 +188,8 @@ def test_barrier_with_contact_equals_the_one_without_where_the_saddle_touches_no
         with_contact):
     """The saddle of star -> daisy has every gap above dhat (contact energy zero), so it is
     the saddle without contact too: the barriers agree to Newton's tolerance, while the path
-    without contact brings rods 0.02 h apart (through where the contact path goes round)."""
+    without contact brings rods closer than h (0.05 h measured; where the images drift along
+    soft modes is not a converged quantity, so only "overlapping" is asserted)."""
     from conftest import run_cli
 
     payload, _ = with_contact
@@ -196,7 +197,7 @@ def test_barrier_with_contact_equals_the_one_without_where_the_saddle_touches_no
     assert r.exit_code == 0, r.stderr
     plain = json.loads(r.stdout)
     assert plain["contact"]["acting"] is False
-    assert plain["contact"]["min_distance"] < 0.1
+    assert plain["contact"]["min_distance"] < 1.0  # closer than h: the rods overlap
     for key in ("barrier_forward", "barrier_backward", "energy_saddle"):
         assert payload[key] == pytest.approx(plain[key], rel=1e-9), key
     assert payload["converged"] and payload["saddle_index"] == 1

@@ -19,7 +19,7 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from .discrete import PENALTY, DiscreteRod
+from .discrete import DiscreteRod
 from .jets import hat, rodrigues
 
 
@@ -72,13 +72,13 @@ class _Topology:
 
     def __init__(self, rod: DiscreteRod) -> None:
         self.refs = (rod.edge_nodes, rod.rest_length, rod.edge_B, rod.fixed_nodes,
-                     rod.fixed_components, rod.offsets)
+                     rod.fixed_components, rod.offsets, rod.edge_K)
         self.supports = (tuple(rod.fixed_nodes),
                          tuple((k, tuple(c)) for k, c in rod.fixed_components))
         i, j = rod.edge_nodes[:, 0], rod.edge_nodes[:, 1]
         le = rod.rest_length
         n = len(rod.x)
-        w_edge = PENALTY * rod.edge_B.max(axis=1) / le**3  # K_e / l_e
+        w_edge = rod.stretch_stiffness(per_length=True)  # K_e / l_e
         # A spanning weld's offsets (DiscreteRod.offsets) join as edges joint node -> end node
         # with target R_J o and the end edge's weight (after the edges).
         w = w_edge
@@ -138,7 +138,7 @@ class _Topology:
         """Whether this entry was built for ``rod``'s mesh and supports as they are now."""
         return ((len(rod.x) <= DENSE_MAX) == self.dense and all(a is b for a, b in zip(self.refs, (
             rod.edge_nodes, rod.rest_length, rod.edge_B, rod.fixed_nodes,
-            rod.fixed_components, rod.offsets), strict=True))
+            rod.fixed_components, rod.offsets, rod.edge_K), strict=True))
             and self.supports == (tuple(rod.fixed_nodes),
                                   tuple((k, tuple(c)) for k, c in rod.fixed_components)))
 

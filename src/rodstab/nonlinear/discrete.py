@@ -38,7 +38,7 @@ import dataclasses
 import numpy as np
 import scipy.sparse as sp
 
-from ..errors import RodstabInputError, require_finite
+from ..errors import RodstabInputError, require_finite, require_positive
 from ..model import NONLINEAR, SUPPORT_KINDS, Assembly, held_frame, kinds_of
 from .contact import ContactMesh, contact_terms
 from .element_terms import _T0, bend_jet, stretch_jet
@@ -98,6 +98,21 @@ class DiscreteRod:
     #: the stretch penalty of the end edge on the offset's misfit. None: ends share the joint's
     #: node (every number as without this field).
     offsets: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None = None
+    #: the stretch/shear stiffness ``K`` of every edge (force): None for the penalty
+    #: ``PENALTY max(B) / l_e^2`` (the Kirchhoff limit), else the rods' axial stiffness EA
+    #: (:func:`discretise` ``axial_stiffness``; shear taken as stiff, slender rods)
+    edge_K: np.ndarray | None = None
+
+    def stretch_stiffness(self, per_length: bool = False) -> np.ndarray:
+        """``K`` of every edge (force): :attr:`edge_K`, else the penalty (module docstring).
+
+        ``per_length``: ``K / l_e`` instead (the retraction's weights), the penalty's by the
+        arithmetic ``PENALTY max(B) / l_e^3`` the retraction has always used.
+        """
+        le = self.rest_length
+        if self.edge_K is not None:
+            return self.edge_K / le if per_length else self.edge_K
+        return PENALTY * self.edge_B.max(axis=1) / (le**3 if per_length else le**2)
 
     # ---- degrees of freedom: positions, edge rotations, joint rotations
     @property
@@ -167,7 +182,7 @@ class DiscreteRod:
             assert dj[c].g is not None
             dj[c].g /= le[:, None]
         eps = rotation_jet(self.R_edge, 6, 3, 2).T.apply(dj)
-        K = PENALTY * self.edge_B.max(axis=1) / le**2
+        K = self.stretch_stiffness()
         S = np.zeros((ne, 6, 6))
         Jphi = np.zeros((ne, 3, 3))
         for k, ek in enumerate(eps):
@@ -314,7 +329,7 @@ class DiscreteRod:
             # Stretch and shear of every edge: variables (x_i, x_j, phi_e).
             e = np.arange(len(self.R_edge))
             i, j = self.edge_nodes[:, 0], self.edge_nodes[:, 1]
-            K = PENALTY * self.edge_B.max(axis=1) / le**2
+            K = self.stretch_stiffness()
             scatter(stretch_jet(self.R_edge, self.x[j] - self.x[i], le, 0.5 * K * le, order),
                     np.concatenate([self.node_dofs(i), self.node_dofs(j), self.edge_dofs(e)],
                                    axis=1))
@@ -569,8 +584,8 @@ class KirchhoffHessian:
 
 
 def discretise(a: Assembly, elements_per_segment: int | dict[str, int] = 32,
-               load_factor: float = 1.0, layers: dict[str, float] | None = None
-               ) -> DiscreteRod:
+               load_factor: float = 1.0, layers: dict[str, float] | None = None,
+               axial_stiffness: float | None = None) -> DiscreteRod:
     """Return the discrete rod of an assembly in its held state (an equilibrium when P2 says so).
 
     Supports are read from :data:`~rodstab.model.SUPPORT_KINDS`: a kind that holds all
@@ -587,6 +602,10 @@ def discretise(a: Assembly, elements_per_segment: int | dict[str, int] = 32,
     R_J^T (z_seg - z_J) e3`` from it (:attr:`DiscreteRod.offsets`, penalised as stiffly as
     an edge's stretch). The lifted held state is an equilibrium whenever the planar one is
     (chords, frames and offsets unchanged).
+
+    ``axial_stiffness``: the rods' EA (force; stretch and shear alike) in place of the penalty
+    that stands in for inextensibility (:attr:`DiscreteRod.edge_K`): an extensible rod, for
+    what the Kirchhoff limit does not determine (layers joined by spanning welds).
     """
     counts = element_counts(a, elements_per_segment)
     check_mesh(a, counts, load_factor)
@@ -638,7 +657,9 @@ def discretise(a: Assembly, elements_per_segment: int | dict[str, int] = 32,
             off_joints.append(k)
             off_vecs.append(R_joint[k].T @ np.array([0.0, 0.0, z - joint_z[k]]))
             le = seg.length / n
-            off_w.append(0.5 * PENALTY * max(seg.B1, seg.B2, seg.B3) / le**3)
+            K = (PENALTY * max(seg.B1, seg.B2, seg.B3) / le**2 if axial_stiffness is None
+                 else axial_stiffness)
+            off_w.append(0.5 * K / le)
         ids = [ends[0]] + [node_at(p, z) for p in pts[1:-1]] + [ends[1]]
         first = len(R_edge)
         for e in range(n):
@@ -686,6 +707,8 @@ def discretise(a: Assembly, elements_per_segment: int | dict[str, int] = 32,
                       np.array(pairs, int).reshape(-1, 2), links, fixed_nodes, fixed_joints,
                       load_factor, fixed_components=fixed_components)
     rod.edge_tw = np.array(tws) if any(tws) else None
+    if axial_stiffness is not None:
+        rod.edge_K = np.full(len(lengths), require_positive("axial_stiffness", axial_stiffness))
     if off_joints:
         rod.offsets = (np.array(off_nodes, int), np.array(off_joints, int),
                        np.array(off_vecs), np.array(off_w))
