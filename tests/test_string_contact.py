@@ -151,7 +151,7 @@ def test_a_path_not_brought_inside_the_model_is_not_converged_naming_the_distanc
 
 H = 0.02
 ARGS = ["barrier", "--structure", "hexagram", "--from", "star", "--to", "daisy", "--shape",
-        "rectangle", "--aspect", "4", "--load-factor", "1.5", "--elements", "6", "--json"]
+        "rectangle", "--aspect", "4", "--load-factor", "1.5", "--elements", "4", "--json"]
 
 
 @pytest.fixture(scope="module")
@@ -188,8 +188,8 @@ def test_barrier_with_contact_equals_the_one_without_where_the_saddle_touches_no
         with_contact):
     """The saddle of star -> daisy has every gap above dhat (contact energy zero), so it is
     the saddle without contact too: the barriers agree to Newton's tolerance, while the path
-    without contact brings rods closer than h (0.05 h measured; where the images drift along
-    soft modes is not a converged quantity, so only "overlapping" is asserted)."""
+    without contact brings rods closer than h (0.87 h measured at 4 el./rod; where the images
+    drift along soft modes is not a converged quantity, so only "overlapping" is asserted)."""
     from conftest import run_cli
 
     payload, _ = with_contact
