@@ -162,3 +162,39 @@ def test_with_contact_and_a_soft_laminate_the_limit_is_the_cone_methods():
     stacked = brentq(lowest, 2.0, 4.0, xtol=1e-9)
     assert stacked == pytest.approx(_limit(None), rel=2e-3)
     assert stacked > _limit(None)  # the laminate stiffens, never softens
+
+
+EQ = ["equilibrium", "examples/birod.toml", "--load-factor", "3.5", "--elements", "24",
+      "--contact"]
+
+
+def test_equilibrium_holds_the_stacked_birod_from_the_command_line():
+    """`--layers upper=1,lower=0 --laminate 16`: the upper rod lifted by one spacing h + g0
+    (h = 0.02 L, g0 = dhat / 2 = 0.001 L), the welds spanning the layers, EA = 16 B3 / h^2;
+    Newton with contact converges and the layers stay apart (the gap the barrier holds)."""
+    import json
+
+    from conftest import run_cli
+
+    r = run_cli([*EQ, "--layers", "upper=1,lower=0", "--laminate", "16", "--json"])
+    assert r.exit_code == 0, r.stderr
+    out = json.loads(r.stdout)
+    assert out["converged"] and out["layers"]["spanning_welds"] is True
+    assert out["layers"]["heights"] == {"upper": pytest.approx(0.021), "lower": 0.0}
+    assert out["layers"]["axial_stiffness"] == pytest.approx(16 / 0.02**2)
+    assert 0 < out["contact"]["smallest_gap"] < 0.002
+
+
+@pytest.mark.parametrize(("args", "named"), [
+    (["--layers", "upper=1,lower=0"], "--layers is a setting of contact"),
+    (["--contact", "--laminate", "16"], "--laminate is a setting of --layers"),
+    (["--contact", "--layers", "torus"], "--layers 'torus'"),
+    (["--contact", "--layers", "upper=0.5:1,lower=0"], "in-plane offsets"),
+    (["--contact", "--layers", "upper=1"], "lower"),
+])
+def test_bad_layers_on_the_command_line_exit_2_naming_them(args, named):
+    from conftest import run_cli
+
+    r = run_cli(["equilibrium", "examples/birod.toml", "--elements", "8", *args])
+    assert r.exit_code == 2, r.stdout + r.stderr
+    assert named in r.stderr

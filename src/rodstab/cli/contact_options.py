@@ -161,6 +161,13 @@ def contact_options(f: Callable[..., Any]) -> Callable[..., Any]:
     return wrapper
 
 
+def layers_option(help: str) -> Callable[..., Any]:
+    """``--layers``: the stacked rods' layer order (``analyze``'s cone, ``equilibrium``)."""
+    return click.option("--layers", default=None, help=(
+        "With contact: the stacked rods' order, NAME=K[,NAME=K...] (layer K along e3, in "
+        "spacings). " + help).strip())
+
+
 def parse_layers(text: str, names: list[str] | tuple[str, ...]) -> dict[str, Any] | str:
     """Read ``--layers``: ``torus``, or ``NAME=K`` / ``NAME=U:K`` for every segment (commas).
 
@@ -189,3 +196,24 @@ def parse_layers(text: str, names: list[str] | tuple[str, ...]) -> dict[str, Any
         raise RodstabInputError(f"--layers gives no layer for {missing}: every segment needs one")
     return out
 
+
+def stack_from_options(a: Any, touch: tuple[float, float] | None, layers: str | None,
+                       laminate: float | None
+                       ) -> tuple[dict[str, float] | None, float | None]:
+    """``--layers`` and ``--laminate`` of equilibrium: the heights and EA, or (None, None)."""
+    from ..nonlinear.equilibrium import stacked_layers
+
+    if layers is None:
+        if laminate is not None:
+            raise RodstabInputError("--laminate is a setting of --layers (a stacked state)")
+        return None, None
+    if touch is None:
+        raise RodstabInputError("--layers is a setting of contact, which is off for this run "
+                                "(--contact, or [analysis] contact = true in the design)")
+    order = parse_layers(layers, [s.name for s in a.segments])
+    if not isinstance(order, dict) or any(isinstance(k, tuple) or not float(k).is_integer()
+                                          for k in order.values()):
+        raise RodstabInputError(f"--layers {layers!r}: equilibrium lifts whole segments to "
+                                "whole layers, NAME=K (K an integer); 'torus' and in-plane "
+                                "offsets are analyze's cone test")
+    return stacked_layers(a, {k: int(v) for k, v in order.items()}, *touch, laminate)

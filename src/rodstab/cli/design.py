@@ -12,7 +12,13 @@ import click
 from ..errors import NotConverged, RodstabInputError, require_finite
 from ..io.outputs import check_output
 from ..limits import NONLINEAR_MIN_ELEMENTS, SWEEP_DEFAULT_N, Limits
-from .contact_options import ContactChoice, contact_options, parse_layers
+from .contact_options import (
+    ContactChoice,
+    contact_options,
+    layers_option,
+    parse_layers,
+    stack_from_options,
+)
 from .options import (
     COLOUR_BY,
     COLOUR_BY_SI,
@@ -34,6 +40,7 @@ from .output import (
     fmt,
     html_output,
     image_output,
+    layers_line,
     one_of,
     require_converged,
     units_line,
@@ -48,10 +55,8 @@ from .output import (
 @click.option("--plot", "plot_path", type=click.Path(dir_okay=False), default=None,
               help="Write a 3D picture of the held state and the critical mode (PNG).")
 @contact_options
-@click.option("--layers", default=None,
-              help="With contact: the stacked rods' order, 'torus' (an N-loop ring) or "
-                   "NAME=K[,NAME=K...] (layer K along e3; NAME=U:K adds an in-plane offset "
-                   "U), in spacings. [default: chosen and printed]")
+@layers_option("Or 'torus' (an N-loop ring); NAME=U:K adds an in-plane offset U. [default: "
+               "chosen and printed]")
 @limit_options
 @json_option
 def analyze(design_file: str, elements: int | None, plot_path: str | None,
@@ -167,15 +172,20 @@ def analyze(design_file: str, elements: int | None, plot_path: str | None,
               help="Write an interactive 3D view (HTML; needs plotly: rodstab[viz]).")
 @colour_option
 @contact_options
+@layers_option("Each segment lifted to its layer, welds spanning the layers (rigid offsets).")
+@click.option("--laminate", type=float, default=None,
+              help="With --layers: the rods' axial stiffness as s = EA h^2 / B3 (12: solid "
+                   "strips, 16: round rods) [default: inextensible, the stretch penalty].")
 @limit_options
 @json_option
 def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, perturb: float,
                     render_path: str | None, html_path: str | None, colour: str,
-                    contact: ContactChoice, limits: Limits, as_json: bool) -> None:
+                    contact: ContactChoice, layers: str | None, laminate: float | None,
+                    limits: Limits, as_json: bool) -> None:
     """Nonlinear equilibrium (Newton) of a design and its Hessian stability.
 
     If Newton does not converge, the table (or JSON, converged: false) is still printed and
-    the exit status is 3.
+    the exit status is 3. --layers stacks the segments (with contact) for a stacked state.
     """
     from ..io.design import load_design, nonlinear_elements
     from ..nonlinear.equilibrium import rod_contact_model
@@ -187,6 +197,7 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
     d = load_design(design_file)
     mu = load_factor
     touch = contact.resolve(d.contact)  # (h / L, dhat / h), or None
+    stack, axial = stack_from_options(d.assembly, touch, layers, laminate)
     # a mesh given is kept; otherwise one that resolves the held state at this load
     n = (elements if elements is not None
          else nonlinear_elements(d) if d.elements_given
@@ -195,7 +206,8 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
         r, rod = equilibrium(d.assembly, load_factor=mu, elements_per_segment=n,
                              perturb=require_finite("--perturb", perturb), limits=limits,
                              contact=None if touch is None else
-                             rod_contact_model(d.assembly, *touch))
+                             rod_contact_model(d.assembly, *touch), layers=stack,
+                             axial_stiffness=axial)
     except RodstabInputError as exc:
         # a mesh the rule chose (not the user) past the size limits: say that the load set it
         size = f"{n} elements per segment: "
@@ -212,6 +224,10 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
     if r.contact is not None and touch is not None:
         payload["contact"] = r.contact.to_dict() | {"thickness_ratio": touch[0]}
         contact_line = contact_lines(r.contact, touch[0])
+    if stack is not None:
+        payload["layers"] = {"heights": stack, "spanning_welds": rod.offsets is not None,
+                             "laminate": laminate, "axial_stiffness": axial}
+        contact_line.append(layers_line(stack, axial, laminate))
     if render is not None or html is not None:
         from ..plot.ribbons import RodLayout
 
@@ -381,3 +397,4 @@ def sweep(design_file: str, vary: str, out_dir: str, elements: int | None,
                            f"{', '.join(f'{row.value:g}' for row in bad[:5])}"
                            f"{', ...' if len(bad) > 5 else ''}: {bad[0].error} (those rows are "
                            "not to be trusted)")
+

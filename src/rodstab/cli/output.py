@@ -290,3 +290,11 @@ def analyze_unit_lines(block: dict[str, Any], units: Units, stable: bool) -> lis
                      f"{'STABLE' if v['stable'] else 'UNSTABLE'}, natural curvature "
                      f"{100 * v['margin']:.1f} % {v['side']} the {which} one")
     return lines
+
+
+def layers_line(heights: dict[str, float], axial: float | None, laminate: float | None) -> str:
+    """Return equilibrium's ``layers`` line: each segment's height and the rods' stretching."""
+    rods = ("inextensible (the stretch penalty: a welded stack's limit depends on it)"
+            if axial is None or laminate is None else f"of EA = {fmt(axial)} (s = {fmt(laminate)})")
+    return ("layers       " + ", ".join(f"{k} z = {fmt(z)}" for k, z in heights.items())
+            + "; welds span the layers, rods " + rods)

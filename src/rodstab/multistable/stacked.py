@@ -67,6 +67,7 @@ import numpy as np
 from ..errors import RodstabInputError, require_positive, require_positive_int
 from ..model import Assembly
 from ..nonlinear.contact import (
+    START_GAP_FRACTION,
     ContactModel,
     contact_energy,
     mesh_of_rod,
@@ -82,9 +83,6 @@ from .stacking import StackedState, _pair_gaps, _where, stack_loops
 #: Newton iterations allowed per relaxation (the first, from the torus curve, took 58 at 32
 #: elements per loop: the strands settle onto the barrier, each step cut by the filter).
 RELAX_MAX_ITER = 200
-#: ``g0`` of the start, as a fraction of ``dhat``: inside the barrier, so that the strands are
-#: held from the first step.
-START_GAP_FRACTION = 0.5
 #: Lowest eigenpairs on which the sliding mode is removed by Rayleigh-Ritz.
 RITZ_MODES = 6
 #: The sliding field counts when more than this fraction of its norm lies in their span.

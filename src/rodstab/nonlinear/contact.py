@@ -15,6 +15,7 @@ from .contact_model import (
     EE_SIN2_ON,
     EXCLUSION_FACTOR,
     PHANTOM_FRACTION,
+    START_GAP_FRACTION,
     TAPER_FRACTION,
     TAPER_MAX_TURN,
     ContactMesh,
@@ -44,9 +45,9 @@ from .contact_step import (
 )
 
 __all__ = ["EE_END_TAPER", "EE_SIN2_OFF", "EE_SIN2_ON", "EXCLUSION_FACTOR", "PHANTOM_FRACTION",
-           "TAPER_FRACTION", "TAPER_MAX_TURN", "ContactMesh", "ContactModel", "ContactState",
-           "Interpenetration", "SwitchReport", "_active", "_bounds", "attach_contact", "barrier",
-           "candidate_pairs", "contact_energy", "contact_state",
-           "contact_energy_value", "contact_mesh", "contact_terms", "max_step_fraction",
-           "mesh_of_rod", "near_type_switch", "penalty", "segment_distance", "smallest_gap",
-           "stiffness_for_line_load"]
+           "START_GAP_FRACTION", "TAPER_FRACTION", "TAPER_MAX_TURN", "ContactMesh",
+           "ContactModel", "ContactState", "Interpenetration", "SwitchReport", "_active",
+           "_bounds", "attach_contact", "barrier", "candidate_pairs", "contact_energy",
+           "contact_state", "contact_energy_value", "contact_mesh", "contact_terms",
+           "max_step_fraction", "mesh_of_rod", "near_type_switch", "penalty",
+           "segment_distance", "smallest_gap", "stiffness_for_line_load"]

@@ -88,6 +88,9 @@ EE_SIN2_ON = 1e-2
 EE_END_TAPER = 0.4
 #: Default of :attr:`ContactModel.exclusion_factor` (see the module doc).
 EXCLUSION_FACTOR = 1.5
+#: The gap ``g0`` of stacked layers at the start, as a fraction of ``dhat``: inside the
+#: barrier, so that the layers are held from the first step.
+START_GAP_FRACTION = 0.5
 
 
 class Interpenetration(RodstabInputError):

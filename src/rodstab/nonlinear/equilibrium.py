@@ -111,9 +111,32 @@ def rod_contact_model(a: Assembly, thickness_ratio: float,
                                  bending_stiffness=max(s.B3 for s in a.segments), length=L)
 
 
+def stacked_layers(a: Assembly, order: dict[str, int], thickness_ratio: float,
+                   dhat_fraction: float, laminate: float | None = None
+                   ) -> tuple[dict[str, float], float | None]:
+    """Heights of the layers ``order`` (segment -> layer K) and the rods' axial stiffness.
+
+    Layer ``K`` at ``z = K (h + g0)``: ``h = thickness_ratio L`` the capsules' diameter
+    (:func:`rod_contact_model`), ``g0 = START_GAP_FRACTION dhat`` the gap the barrier holds
+    from the first step; for :func:`~.discrete.discretise` ``layers`` (welds spanning
+    layers). ``laminate``: ``s = EA h^2 / B3`` (``B3`` the largest of the rods'), giving the
+    axial stiffness ``EA`` (force) in place of the stretch penalty; None: the penalty (a
+    stacked welded state's limit then depends on it, docs/theory/contact.md).
+    """
+    from .contact_model import START_GAP_FRACTION
+
+    h = require_positive("thickness_ratio", thickness_ratio) * a.total_length / len(a.segments)
+    spacing = h * (1.0 + START_GAP_FRACTION * require_positive("dhat_fraction", dhat_fraction))
+    layers = {name: k * spacing for name, k in order.items()}
+    if laminate is None:
+        return layers, None
+    return layers, require_positive("laminate", laminate) * max(s.B3 for s in a.segments) / h**2
+
+
 def equilibrium(a: Assembly, *, load_factor: float = 1.0,
                 elements_per_segment: int | None = None, n_eig: int = 4, perturb: float = 0.0,
-                limits: Limits = DEFAULT_LIMITS, contact: ContactModel | None = None
+                limits: Limits = DEFAULT_LIMITS, contact: ContactModel | None = None,
+                layers: dict[str, float] | None = None, axial_stiffness: float | None = None
                 ) -> tuple[Equilibrium, DiscreteRod]:
     """Find the equilibrium from the held state at ``load_factor`` and its Hessian stability.
 
@@ -128,13 +151,15 @@ def equilibrium(a: Assembly, *, load_factor: float = 1.0,
     With ``perturb``: from the held state plus a seeded random mix of its four softest modes with a
     largest node displacement of ``perturb`` x the total length, relaxed to a stable equilibrium
     when one is reachable (:func:`relax`). A model past ``limits.max_dof_nonlinear`` unknowns is
-    refused before it is built.
+    refused before it is built. ``layers``, ``axial_stiffness``: the stacked state with welds
+    spanning its layers (:func:`~.discrete.discretise`, :func:`stacked_layers`).
     """
     if elements_per_segment is None:
         elements_per_segment = resolving_elements(a, load_factor)
     require_nonlinear([elements_per_segment] * len(a.segments), len(a.joints()),
                       f"{elements_per_segment} elements per segment", limits)
-    rod = discretise(a, elements_per_segment, load_factor)
+    rod = discretise(a, elements_per_segment, load_factor, layers=layers,
+                     axial_stiffness=axial_stiffness)
     if contact is not None:
         attach_contact(rod, contact)
     settle(rod)
