@@ -199,6 +199,13 @@ def test_analyze_contact_on_the_birod_keeps_both_limits_and_names_the_order(run_
     assert c["lower"]["unchanged"] and c["upper"]["unchanged"]
     text = run_cli(["analyze", "examples/birod.toml", "--contact", "--elements", "24"]).stdout
     assert "upper      2.7207 (1 mode): unchanged: a critical mode keeps every gap" in text
+    # The limits with contact (rodstab.multistable.cone_limit): a kept limit is where the
+    # search finds a witness at once, within its tolerance of the no-contact limit.
+    for side in ("lower", "upper"):
+        lim = c["limits"][side]
+        assert lim["status"] == "bracketed" and lim["bracket"][0] == lim["no_contact"]
+        assert lim["shift"] < 1e-4 * abs(lim["no_contact"])
+    assert "with contact: kept (a witness of instability on the cone" in text
 
 
 def test_analyze_contact_on_one_segment_of_three_loops_is_the_three_segment_ring():

@@ -61,8 +61,8 @@ def _ring_claim() -> Claim:
         "New. The 2-loop ring's lower limit (mode j = 1) is kept: that mode opens the gap "
         "with the phase that follows the torus's turn. Every other limit moves outward: its "
         "mode moves the loops at one azimuth relative to one another in a way no phase "
-        "avoids. By how much is not computed (the nonlinear method, not converged, agrees on "
-        "the direction: docs/theory/contact.md).")
+        "avoids. By how much: rodstab.multistable.cone_limit, FE and eq. (3.2)'s Fourier modes "
+        "agreeing to 3e-4 (docs/theory/contact.md; not a row yet).")
 
 
 def _birod_claim() -> Claim:
@@ -106,7 +106,8 @@ def _scanned(a, layers: dict, n: int) -> tuple[str, str, bool]:
 
 
 _SCAN_NOTE = ("New. Every combination of the two critical modes closes some gap: contact moves "
-              "both limits outward (by how much: not computed).")
+              "both limits outward (by how much: not converged in the mesh; docs/theory/"
+              "contact.md).")
 
 
 def contact_checks(run: Run) -> Iterator[Claim]:

@@ -217,3 +217,25 @@ def stack_from_options(a: Any, touch: tuple[float, float] | None, layers: str | 
                                 "whole layers, NAME=K (K an integer); 'torus' and in-plane "
                                 "offsets are analyze's cone test")
     return stacked_layers(a, {k: int(v) for k, v in order.items()}, *touch, laminate)
+
+
+def cone_block(a: Any, layers: str | None, thickness_ratio: float, n: int
+               ) -> tuple[dict[str, Any], list[str]]:
+    """``analyze --contact``: the cone verdicts and the limits with contact, JSON and lines.
+
+    The layer order is ``--layers`` or the default (:func:`rodstab.multistable.cone.
+    default_layers`); the verdicts are :func:`~rodstab.multistable.cone.contact_cone`'s, the
+    limits :func:`~rodstab.multistable.cone_limit.cone_limits`' on the same FE mesh.
+    """
+    from ..multistable.cone import contact_cone, default_layers
+    from ..multistable.cone_limit import cone_limits
+    from .output import cone_lines
+
+    names = [s.name for s in a.segments]
+    order, how = ((parse_layers(layers, names), "as given") if layers is not None
+                  else default_layers(a, thickness_ratio))
+    cone = contact_cone(a, order, n, thickness_ratio=thickness_ratio)
+    limits = cone_limits(a, order, n) if cone.pairs else None
+    block = cone.to_dict() | {"layers_chosen": how, "thickness_ratio": thickness_ratio,
+                              "limits": None if limits is None else limits.to_dict()}
+    return block, cone_lines(cone, how, limits)

@@ -14,9 +14,9 @@ from ..io.outputs import check_output
 from ..limits import NONLINEAR_MIN_ELEMENTS, SWEEP_DEFAULT_N, Limits
 from .contact_options import (
     ContactChoice,
+    cone_block,
     contact_options,
     layers_option,
-    parse_layers,
     stack_from_options,
 )
 from .options import (
@@ -34,7 +34,6 @@ from .options import (
 )
 from .output import (
     analyze_unit_lines,
-    cone_lines,
     contact_lines,
     emit,
     fmt,
@@ -138,15 +137,8 @@ def analyze(design_file: str, elements: int | None, plot_path: str | None,
         payload["units"] = block
         lines += analyze_unit_lines(block, d.units, r.stable_at_design)
     if touch is not None:
-        from ..multistable.cone import contact_cone, default_layers
-
-        names = [s.name for s in d.assembly.segments]
-        order, how = ((parse_layers(layers, names), "as given") if layers is not None
-                      else default_layers(d.assembly, touch[0]))
-        cone = contact_cone(d.assembly, order, n, thickness_ratio=touch[0])
-        payload["contact"] = cone.to_dict() | {"layers_chosen": how,
-                                               "thickness_ratio": touch[0]}
-        lines += cone_lines(cone, how)
+        payload["contact"], more = cone_block(d.assembly, layers, touch[0], n)
+        lines += more
     emit(payload, as_json, lines)
     if r.reason:
         raise NotConverged(f"the FE mesh: {r.reason}; give a mesh with --elements to accept "

@@ -212,8 +212,11 @@ def quiet_indicator() -> None:
         finish()
 
 
-def cone_lines(cone: Any, how: str) -> list[str]:
-    """Return the lines of ``analyze --contact`` (a ``rodstab.multistable.cone.ContactCone``)."""
+def cone_lines(cone: Any, how: str, limits: Any = None) -> list[str]:
+    """Return the lines of ``analyze --contact`` (a ``rodstab.multistable.cone.ContactCone``).
+
+    ``limits``: the ``rodstab.multistable.cone_limit.ConeLimits`` on the same mesh, if any.
+    """
     if not cone.pairs:
         return [f"contact      layers: {how}; no rods lie on one another in the held state "
                 "(at zero thickness): contact changes no limit"]
@@ -227,7 +230,28 @@ def cone_lines(cone: Any, how: str) -> list[str]:
                    f"({side.closes_at})")
         modes = f"{side.multiplicity} mode{'s' if side.multiplicity > 1 else ''}"
         out.append(f"  {label}      {fmt(side.load_factor)} ({modes}): {verdict}")
+        lim = None if limits is None else getattr(limits, label)
+        if lim is not None:
+            out.append(f"    with contact: {_cone_limit_text(lim)}")
+    if limits is not None:
+        out.append(f"  (limits with contact at zero gap, out-of-plane perturbations, on this "
+                   f"mesh of {limits.elements_per_segment} elements per segment; their mesh "
+                   "error is not estimated)")
     return out
+
+
+def _cone_limit_text(lim: Any) -> str:
+    """One side of ``ConeLimits`` as text: the bracket, or how far it is certified."""
+    lo, hi = lim.bracket
+    if lim.status == "bracketed" and lo == lim.no_contact:
+        return (f"kept (a witness of instability on the cone {fmt(abs(hi - lo))} past it, "
+                "the search's tolerance)")
+    if lim.status == "bracketed":
+        return (f"{fmt(lim.load_factor)} (certified between {fmt(lo)} and {fmt(hi)}; "
+                f"moved {fmt(lim.shift)} outward)")
+    if lim.status == "beyond window":
+        return f"stable on the cone at least to {fmt(lo)} (the search's window)"
+    return f"stable on the cone at least to {fmt(lo)}; beyond: {lim.message}"
 
 
 def contact_lines(state: Any, hL: float) -> list[str]:

@@ -54,8 +54,8 @@ class SegmentDofs:
     moment: tuple[float, float] = (0.0, 0.0)
 
     def local(self, x: np.ndarray) -> np.ndarray:
-        """Return the segment's local unknowns of a global vector ``x``."""
-        return np.einsum("ik,ik->i", self.coef, x[self.index])
+        """Return the segment's local unknowns of a global vector ``x`` (or of its columns)."""
+        return np.einsum("ik,ik...->i...", self.coef, x[self.index])
 
 
 @dataclasses.dataclass(frozen=True)

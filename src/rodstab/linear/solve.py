@@ -120,16 +120,18 @@ def node_fields(disc: Any, vec: np.ndarray
     ``s`` is the arc length (length), ``w`` the out-of-plane displacement from its joint
     value and ``int beta ds`` (Simpson: exact, ``beta`` is quadratic on an element, so ``w``
     is cubic there and the cubic Hermite interpolant of the nodes' ``(w, beta)`` is exact).
+    ``vec`` may be ``(n_full, c)``, ``c`` vectors as columns: the fields are then ``(nodes, c)``.
     """
     out = []
     for sd in disc.segments:
         loc = sd.local(vec)
         n_el = sd.n_elements
-        nodes = loc[: 2 * (n_el + 1)].reshape(-1, 2)
-        mids = loc[2 * (n_el + 1):].reshape(-1, 2)
+        nodes = loc[: 2 * (n_el + 1)].reshape(n_el + 1, 2, *loc.shape[1:])
+        mids = loc[2 * (n_el + 1):].reshape(n_el, 2, *loc.shape[1:])
         h = sd.length / n_el
         dw = h / 6.0 * (nodes[:-1, 0] + 4.0 * mids[:, 0] + nodes[1:, 0])
-        w = float(vec[sd.w_start]) + np.concatenate([[0.0], np.cumsum(dw)])
+        w = vec[sd.w_start] + np.concatenate([np.zeros((1, *dw.shape[1:])),
+                                              np.cumsum(dw, axis=0)])
         out.append((sd.name, np.linspace(0.0, sd.length, n_el + 1), w, nodes[:, 0],
                     nodes[:, 1]))
     return out

@@ -130,7 +130,7 @@ def _hermite(s_nodes: np.ndarray, w: np.ndarray, dw: np.ndarray, s: np.ndarray) 
     """Evaluate at ``s`` the cubic Hermite interpolant of ``(w, dw)`` at the nodes."""
     from scipy.interpolate import CubicHermiteSpline
 
-    return np.asarray(CubicHermiteSpline(s_nodes, w, dw)(s))
+    return np.asarray(CubicHermiteSpline(s_nodes, w, dw, axis=0)(s))
 
 
 def _matches(a: Assembly, ia: int, ib: int, s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -289,19 +289,27 @@ def gap_matrix(a: Assembly, pencil: Any, mu_c: float, mult: int, pairs: Pairs,
     with np.errstate(divide="ignore", invalid="ignore"):
         shift = np.abs(lam[near] / rayleigh)
     order = near[(shift <= CLUSTER_RTOL * max(abs(mu_c), 1.0)) | (np.arange(len(near)) < mult)]
-    mult = len(order)
-    modes = pencil.disc.Z @ (N @ X[:, order])
+    A, scale = gap_changes(pencil, pairs, N @ X[:, order])
     names = [s.name for s in a.segments]
-    cols = []
-    for k in range(mult):
-        fields = [f[1:4] for f in node_fields(pencil.disc, np.asarray(modes[:, k]).ravel())]
-        scale = max(float(np.max(np.abs(w))) for _, w, _ in fields) or 1.0
-        col = [nz * (_hermite(*fields[ia], sa) - _hermite(*fields[ib], sb)) / scale
-               for ia, ib, sa, sb, nz in pairs]
-        cols.append(np.concatenate(col) if col else np.zeros(0))
     where = [(names[ia], names[ib], float(x), float(y)) for ia, ib, sa, sb, _ in pairs
              for x, y in zip(sa, sb, strict=True)]
-    return np.stack(cols, axis=1), where
+    return A / np.where(scale > 0, scale, 1.0), where
+
+
+def gap_changes(pencil: Any, pairs: Pairs, vecs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """First-order gap changes ``n_z (w_a - w_b)`` of perturbations, and their sizes.
+
+    ``vecs`` ``(n_reduced, c)``: perturbations in the pencil's unknowns on the closure
+    constraints (``pencil.disc.Z @ vecs`` are full FE vectors). Returns ``(rows, c)`` gap
+    changes at every sample of every touching pair (:func:`touching_pairs`' order; linear in
+    ``vecs``: with the identity it is the cone's matrix) and each column's ``max |w|``.
+    """
+    full = np.asarray(pencil.disc.Z @ vecs).reshape(pencil.disc.Z.shape[0], -1)
+    fields = [f[1:4] for f in node_fields(pencil.disc, full)]
+    scale = np.max([np.max(np.abs(w), axis=0) for _, w, _ in fields], axis=0)
+    rows = [nz[:, None] * (_hermite(*fields[ia], sa) - _hermite(*fields[ib], sb))
+            for ia, ib, sa, sb, nz in pairs]
+    return (np.vstack(rows) if rows else np.zeros((0, full.shape[1]))), scale
 
 
 def _side(a: Assembly, pencil: Any, mu_c: float, mult: int, pairs: Pairs,

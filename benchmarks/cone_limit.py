@@ -1,0 +1,69 @@
+"""The limits with contact at zero gap (rodstab.multistable.cone_limit): the table of
+docs/theory/contact.md, "By how much", by two discretisations, with timings.
+
+Run: ``python benchmarks/cone_limit.py [--elements 24] [--modes 48]``. Rings in
+``(L / 2 pi) kappa_n``; FE (P2, the torus's gaps) against eq. (3.2)'s Fourier modes.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import time
+
+from rodstab.multistable.cone_limit import cone_limits, ring_cone_limits
+from rodstab.multistable.stacking import polygon_offsets
+from rodstab.multistable.states import ring_of, uniform_ring
+from rodstab.problems import birod, folded_ring, ring
+from rodstab.sections import circle, rectangle
+
+
+def _side(s) -> str:
+    if s is None:
+        return "-"
+    if s.status == "bracketed":
+        return f"{s.no_contact:.5f} -> {s.load_factor:.5f}"
+    return f"{s.no_contact:.5f} -> {s.status} (certified to {s.bracket[0]:.5f})"
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--elements", type=int, default=24)
+    ap.add_argument("--modes", type=int, default=48)
+    args = ap.parse_args()
+    n = args.elements
+    for name, sec in (("circle", circle()), ("rectangle h/t = 2", rectangle(aspect=2.0))):
+        for loops in (2, 3):
+            t = time.perf_counter()
+            fe = cone_limits(ring.build(ring.Params(section=sec, loops=loops)), "torus", n)
+            t_fe = time.perf_counter() - t
+            t = time.perf_counter()
+            fo = ring_cone_limits(sec.b1, sec.b2, loops, args.modes)
+            t_fo = time.perf_counter() - t
+            for label, a, b in (("lower", fe.lower, fo.lower), ("upper", fe.upper, fo.upper)):
+                print(f"{loops}-loop ring ({name}) {label}: FE {n} el. "
+                      f"{a.load_factor * loops:.5f}, Fourier j <= {args.modes} "
+                      f"{b.load_factor * loops:.5f} (no contact {a.no_contact * loops:.5f}; "
+                      f"{t_fe:.1f} s / {t_fo:.1f} s)")
+    for label, a, lay in (
+            ("bi-rod (circle)", birod.build(birod.Params(section=circle())),
+             {"upper": 0, "lower": 1}),
+            ("folded six-ring (circle)", folded_ring.build(folded_ring.Params()), None),
+            ("hexagram line (rectangle h/t = 4)", None, None)):
+        if a is None:
+            sec = rectangle(aspect=4.0)
+            r6 = uniform_ring(6, weld="cusp", natural_curvature=2 * math.pi / 3, B1=sec.b1,
+                              B2=sec.b2)
+            a = r6.held(r6.state("line").theta)
+            lay = polygon_offsets([str(i) for i in range(1, 7)])
+        elif lay is None:
+            lay = polygon_offsets([k for k, _ in ring_of(a).order])
+        for m in (n // 2, n):
+            t = time.perf_counter()
+            r = cone_limits(a, lay, m)
+            print(f"{label} {m} el.: lower {_side(r.lower)}, upper {_side(r.upper)} "
+                  f"({time.perf_counter() - t:.1f} s)")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,113 @@
+"""The limits with contact at zero gap: the certified cone decision and its two discretisations.
+
+Oracles: the closed form of copositivity of a 2 x 2 matrix; a local minimiser (SLSQP from
+many starts, no code shared with the decision) on random small forms and cones; the FE engine
+against eq. (3.2)'s closed-form Fourier pencils for the N-loop rings on the torus; the cone
+test's own verdicts (:mod:`rodstab.multistable.cone`: a kept limit has a witness at once).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy.optimize import minimize
+
+from rodstab.multistable.cone import contact_cone
+from rodstab.multistable.cone_limit import cone_limits, ring_cone_limits
+from rodstab.numerics.copositive import NOT_POSITIVE, POSITIVE, UNDECIDED, positive_on_cone
+from rodstab.problems import birod, ring
+from rodstab.sections import circle
+
+
+def _slsqp_minimum(K: np.ndarray, D: np.ndarray, rng: np.random.Generator,
+                   starts: int = 30) -> float:
+    """Smallest v^T K v over {D v >= 0, |v| = 1} found by SLSQP from random starts."""
+    best = math.inf
+    for _ in range(starts):
+        v0 = rng.normal(size=len(K))
+        res = minimize(lambda v: v @ K @ v, v0 / np.linalg.norm(v0), jac=lambda v: 2 * K @ v,
+                       method="SLSQP",
+                       constraints=[{"type": "ineq", "fun": lambda v: D @ v, "jac": lambda v: D},
+                                    {"type": "eq", "fun": lambda v: v @ v - 1,
+                                     "jac": lambda v: 2 * v}])
+        if np.min(D @ res.x) > -1e-8 and abs(res.x @ res.x - 1) < 1e-6:
+            best = min(best, float(res.fun))
+    return best
+
+
+@pytest.mark.parametrize(("a", "b", "c"), [(1.0, -0.9, 1.0), (1.0, -1.1, 1.0), (2.0, 5.0, -0.1),
+                                           (0.5, 3.0, 0.5), (-0.2, 1.0, 1.0),
+                                           (4.0, -1.9, 1.0), (4.0, -2.1, 1.0)])
+def test_two_by_two_on_the_orthant_is_the_closed_form(a: float, b: float, c: float) -> None:
+    """[[a, b], [b, c]] is strictly copositive iff a > 0, c > 0 and b > -sqrt(a c)."""
+    K = np.array([[a, b], [b, c]])
+    expected = a > 0 and c > 0 and b > -math.sqrt(a * c)
+    d = positive_on_cone(K, np.eye(2))
+    assert d.status == (POSITIVE if expected else NOT_POSITIVE)
+    if d.witness is not None:
+        v = d.witness
+        assert np.all(v >= -1e-9 * np.linalg.norm(v)) and v @ K @ v < 0
+
+
+def test_random_forms_agree_with_a_local_minimiser() -> None:
+    """Seeded: 60 random forms with 1-2 negative directions on random cones, n <= 7."""
+    rng = np.random.default_rng(21)
+    for _ in range(60):
+        n, m, k = int(rng.integers(3, 8)), int(rng.integers(1, 8)), int(rng.integers(1, 3))
+        Q, _ = np.linalg.qr(rng.normal(size=(n, n)))
+        lam = np.r_[-rng.uniform(0, 1, k) * rng.choice([0.05, 1.0]), rng.uniform(0.2, 2, n - k)]
+        K = Q @ np.diag(lam) @ Q.T
+        D = rng.normal(size=(m, n))
+        d = positive_on_cone(K, D)
+        low = _slsqp_minimum(K, D, rng)
+        assert d.status in (POSITIVE, NOT_POSITIVE)
+        if d.status == POSITIVE:
+            assert low > -1e-7 and d.lower_bound > 0
+        else:
+            assert low < 1e-7
+
+
+def test_more_than_two_negative_directions_is_undecided_not_positive() -> None:
+    d = positive_on_cone(np.diag([-1.0, -1.0, -1.0, 2.0]), np.eye(4)[:1])
+    assert d.status == UNDECIDED and "3 non-positive" in d.message
+    assert positive_on_cone(np.eye(3), np.eye(3)).status == POSITIVE
+
+
+@pytest.mark.parametrize("loops", [2, 3])
+def test_fe_and_the_closed_form_fourier_modes_agree_on_the_rings(loops: int) -> None:
+    """Two discretisations of the torus's cone (FE 12 el./loop, Fourier j <= 16) within 2e-3.
+
+    Both brackets are certified for their own discretisation; at 24 elements and j <= 48 they
+    agree to 3e-4 (docs/theory/contact.md). The 2-loop ring's lower limit is kept (mode j = 1
+    keeps every gap): both put it at the no-contact limit.
+    """
+    sec = circle()
+    fe = cone_limits(ring.build(ring.Params(section=sec, loops=loops)), "torus", 12)
+    fo = ring_cone_limits(sec.b1, sec.b2, loops, 16, 96)
+    for a, b in ((fe.lower, fo.lower), (fe.upper, fo.upper)):
+        assert a is not None and b is not None
+        assert a.status == b.status == "bracketed"
+        assert a.load_factor == pytest.approx(b.load_factor, rel=2e-3)
+        assert a.shift >= -1e-9 and b.shift >= -1e-9  # contact only widens the interval
+    kept = fo.lower if loops == 2 else None
+    if kept is not None:
+        assert kept.shift < 1e-4
+    else:
+        assert min(fo.lower.shift, fo.upper.shift) > 0.1  # type: ignore[union-attr]
+
+
+def test_a_kept_limit_has_a_witness_at_once_and_a_moved_one_certified_past_it() -> None:
+    """The LP verdicts of the cone test (bi-rod kept; 3-loop ring moved) against the search."""
+    a = birod.build(birod.Params(section=circle()))
+    lay = {"upper": 0, "lower": 1}
+    cone, lim = contact_cone(a, lay, 16), cone_limits(a, lay, 16)
+    for side, v in ((lim.lower, cone.lower), (lim.upper, cone.upper)):
+        assert side is not None and v is not None and v.unchanged
+        assert side.bracket[0] == side.no_contact and side.shift < 1e-4
+    r3 = ring.build(ring.Params(section=circle(), loops=3))
+    cone3, lim3 = contact_cone(r3, "torus", 8), cone_limits(r3, "torus", 8)
+    for sign, side, v in ((-1, lim3.lower, cone3.lower), (1, lim3.upper, cone3.upper)):
+        assert side is not None and v is not None and not v.unchanged
+        assert sign * (side.bracket[0] - side.no_contact) > 0.1  # certified positive past it
