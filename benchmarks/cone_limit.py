@@ -11,7 +11,7 @@ import argparse
 import math
 import time
 
-from rodstab.multistable.cone_limit import cone_limits, ring_cone_limits
+from rodstab.multistable.cone_limit import cone_limits, ring_cone_limits, rod_cone_limits
 from rodstab.multistable.stacking import polygon_offsets
 from rodstab.multistable.states import ring_of, uniform_ring
 from rodstab.problems import birod, folded_ring, ring
@@ -40,11 +40,16 @@ def main() -> None:
             t = time.perf_counter()
             fo = ring_cone_limits(sec.b1, sec.b2, loops, args.modes)
             t_fo = time.perf_counter() - t
-            for label, a, b in (("lower", fe.lower, fo.lower), ("upper", fe.upper, fo.upper)):
+            a_ring = ring.build(ring.Params(section=sec, loops=loops))
+            rods = [rod_cone_limits(a_ring, "torus", m) for m in (n, 2 * n)]
+            for label in ("lower", "upper"):
+                a, b = getattr(fe, label), getattr(fo, label)
+                full = " / ".join(f"{getattr(r, label).load_factor * loops:.5f}" for r in rods)
                 print(f"{loops}-loop ring ({name}) {label}: FE {n} el. "
                       f"{a.load_factor * loops:.5f}, Fourier j <= {args.modes} "
                       f"{b.load_factor * loops:.5f} (no contact {a.no_contact * loops:.5f}; "
-                      f"{t_fe:.1f} s / {t_fo:.1f} s)")
+                      f"{t_fe:.1f} s / {t_fo:.1f} s); every perturbation (rod {n} / {2 * n} "
+                      f"el.) {full}")
     for label, a, lay in (
             ("bi-rod (circle)", birod.build(birod.Params(section=circle())),
              {"upper": 0, "lower": 1}),
@@ -58,10 +63,13 @@ def main() -> None:
             lay = polygon_offsets([str(i) for i in range(1, 7)])
         elif lay is None:
             lay = polygon_offsets([k for k, _ in ring_of(a).order])
-        for m in (n // 2, n):
+        for m in (n, 4 * n // 3):
             t = time.perf_counter()
             r = cone_limits(a, lay, m)
-            print(f"{label} {m} el.: lower {_side(r.lower)}, upper {_side(r.upper)} "
+            h = rod_cone_limits(a, lay, m, normals="height")
+            full = rod_cone_limits(a, lay, m)
+            print(f"{label} {m} el.: FE upper {_side(r.upper)}; rod, heights only "
+                  f"{_side(h.upper)}; rod, every perturbation {_side(full.upper)} "
                   f"({time.perf_counter() - t:.1f} s)")
 
 

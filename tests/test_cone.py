@@ -205,7 +205,8 @@ def test_analyze_contact_on_the_birod_keeps_both_limits_and_names_the_order(run_
         lim = c["limits"][side]
         assert lim["status"] == "bracketed" and lim["bracket"][0] == lim["no_contact"]
         assert lim["shift"] < 1e-4 * abs(lim["no_contact"])
-    assert "with contact: kept (a witness of instability on the cone" in text
+    assert "with contact, out of plane: kept (a witness of instability on the cone" in text
+    assert c["limits_in_plane"]["upper"]["status"] == "bracketed"
 
 
 def test_analyze_contact_on_one_segment_of_three_loops_is_the_three_segment_ring():

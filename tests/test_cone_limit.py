@@ -111,3 +111,36 @@ def test_a_kept_limit_has_a_witness_at_once_and_a_moved_one_certified_past_it() 
     for sign, side, v in ((-1, lim3.lower, cone3.lower), (1, lim3.upper, cone3.upper)):
         assert side is not None and v is not None and not v.unchanged
         assert sign * (side.bracket[0] - side.no_contact) > 0.1  # certified positive past it
+
+
+def test_the_rod_engine_agrees_with_the_fe_on_heights_and_in_plane_motions_only_bring_back():
+    """A third discretisation: the nonlinear rod's inextensible Hessian on the same cone.
+
+    With the normals' heights only it poses the FE's question (within 1.5 % at 12 elements per
+    loop; O(h^2): 0.3 % at 24). With the full normals an in-plane motion can open a gap, so
+    the limit moves out no further than with heights only -- and never inward (contact only
+    removes perturbations). The bi-rod's limits stay kept.
+    """
+    from rodstab.multistable.cone_limit import rod_cone_limits
+
+    a = ring.build(ring.Params(section=circle(), loops=3))
+    fe = cone_limits(a, "torus", 12)
+    height = rod_cone_limits(a, "torus", 12, normals="height")
+    full = rod_cone_limits(a, "torus", 12)
+    for f, h, u in ((fe.lower, height.lower, full.lower), (fe.upper, height.upper, full.upper)):
+        assert f is not None and h is not None and u is not None
+        assert h.load_factor == pytest.approx(f.load_factor, rel=1.5e-2)
+        assert -1e-6 <= u.shift <= h.shift + 1e-6
+        assert u.shift > 0.05  # still moved: the 3-loop ring's modes close gaps either way
+    b = rod_cone_limits(birod.build(birod.Params(section=circle())), {"upper": 0, "lower": 1}, 16)
+    assert b.upper is not None and b.upper.shift < 1e-4
+    assert b.upper.no_contact == pytest.approx(math.pi * math.sqrt(circle().b1 * circle().b2),
+                                               rel=5e-3)  # its own limit: Sec. 4, lambda = pi
+
+
+def test_rod_cone_limits_refuses_an_unknown_normals_model():
+    from rodstab.errors import RodstabInputError
+    from rodstab.multistable.cone_limit import rod_cone_limits
+
+    with pytest.raises(RodstabInputError, match="normals must be 'full' or 'height', got 'z'"):
+        rod_cone_limits(ring.build(ring.Params(loops=2)), "torus", 8, normals="z")

@@ -228,7 +228,7 @@ def cone_block(a: Any, layers: str | None, thickness_ratio: float, n: int
     limits :func:`~rodstab.multistable.cone_limit.cone_limits`' on the same FE mesh.
     """
     from ..multistable.cone import contact_cone, default_layers
-    from ..multistable.cone_limit import cone_limits
+    from ..multistable.cone_limit import cone_limits, rod_cone_limits
     from .output import cone_lines
 
     names = [s.name for s in a.segments]
@@ -236,6 +236,9 @@ def cone_block(a: Any, layers: str | None, thickness_ratio: float, n: int
                   else default_layers(a, thickness_ratio))
     cone = contact_cone(a, order, n, thickness_ratio=thickness_ratio)
     limits = cone_limits(a, order, n) if cone.pairs else None
+    # The rod engine's cone has the in-plane motions too: the physical limit at zero gap.
+    full = rod_cone_limits(a, order, n, thickness_ratio=thickness_ratio) if cone.pairs else None
     block = cone.to_dict() | {"layers_chosen": how, "thickness_ratio": thickness_ratio,
-                              "limits": None if limits is None else limits.to_dict()}
-    return block, cone_lines(cone, how, limits)
+                              "limits": None if limits is None else limits.to_dict(),
+                              "limits_in_plane": None if full is None else full.to_dict()}
+    return block, cone_lines(cone, how, limits, full)

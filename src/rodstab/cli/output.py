@@ -212,10 +212,11 @@ def quiet_indicator() -> None:
         finish()
 
 
-def cone_lines(cone: Any, how: str, limits: Any = None) -> list[str]:
+def cone_lines(cone: Any, how: str, limits: Any = None, full: Any = None) -> list[str]:
     """Return the lines of ``analyze --contact`` (a ``rodstab.multistable.cone.ContactCone``).
 
-    ``limits``: the ``rodstab.multistable.cone_limit.ConeLimits`` on the same mesh, if any.
+    ``limits``, ``full``: the ``rodstab.multistable.cone_limit.ConeLimits`` on the same mesh
+    (FE, out of plane; the rod engine with in-plane motions), if any.
     """
     if not cone.pairs:
         return [f"contact      layers: {how}; no rods lie on one another in the held state "
@@ -230,13 +231,15 @@ def cone_lines(cone: Any, how: str, limits: Any = None) -> list[str]:
                    f"({side.closes_at})")
         modes = f"{side.multiplicity} mode{'s' if side.multiplicity > 1 else ''}"
         out.append(f"  {label}      {fmt(side.load_factor)} ({modes}): {verdict}")
-        lim = None if limits is None else getattr(limits, label)
-        if lim is not None:
-            out.append(f"    with contact: {_cone_limit_text(lim)}")
+        for what, res in (("out of plane", limits), ("with in-plane motions", full)):
+            lim = None if res is None else getattr(res, label)
+            if lim is not None:
+                out.append(f"    with contact, {what}: {_cone_limit_text(lim)}")
     if limits is not None:
-        out.append(f"  (limits with contact at zero gap, out-of-plane perturbations, on this "
-                   f"mesh of {limits.elements_per_segment} elements per segment; their mesh "
-                   "error is not estimated)")
+        out.append(f"  (limits with contact at zero gap on this mesh of "
+                   f"{limits.elements_per_segment} elements per segment: FE of P2 out of plane; "
+                   "the rod engine with in-plane motions, which can only bring a moved limit "
+                   "back; their mesh error is not estimated)")
     return out
 
 

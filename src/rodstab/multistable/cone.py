@@ -156,11 +156,14 @@ def _touching_pairs(a: Assembly, offsets: dict[str, tuple[float, float]], n: int
     """``(ia, ib, s_a, s_b, n_z)`` for every pair of segments that lie on one another and touch.
 
     Samples: :data:`SAMPLES_PER_ELEMENT` per element of ``ia`` where the held centrelines
-    coincide (within :data:`COINCIDE_TOL` of the total length).
+    coincide (within :data:`COINCIDE_TOL` of the total length), except at a welded end of
+    either segment (the rod engine's :func:`.cone_limit.rod_cone_limits` likewise pairs no
+    joint node).
     """
     tol = COINCIDE_TOL * a.total_length
     out = []
     names = [s.name for s in a.segments]
+    welded = {e for j in a.joints() if len(j) > 1 for e in j}
     for ia in range(len(names)):
         for ib in range(ia + 1, len(names)):
             (ua, ka), (ub, kb) = offsets[names[ia]], offsets[names[ib]]
@@ -169,6 +172,16 @@ def _touching_pairs(a: Assembly, offsets: dict[str, tuple[float, float]], n: int
             s = np.linspace(0.0, a.segments[ia].length, SAMPLES_PER_ELEMENT * n + 1)
             t, dist = _matches(a, ia, ib, s)
             on = dist <= tol
+            # Not at a weld: there the spanning weld joins the layers and their order does not
+            # hold (with the weld points the folded ring's limits with contact jump with the
+            # mesh, 1.25-1.77; without, they converge: docs/theory/contact.md).
+            lb = a.segments[ib].length
+            on[0] &= (names[ia], "start") not in welded
+            on[-1] &= (names[ia], "end") not in welded
+            for k in (0, len(s) - 1):
+                for end, at in (("start", 0.0), ("end", lb)):
+                    if abs(t[k] - at) <= tol and (names[ib], end) in welded:
+                        on[k] = False
             if np.count_nonzero(on) >= 2:
                 out.append((ia, ib, s[on], t[on], np.full(np.count_nonzero(on), ka - kb)))
     return out

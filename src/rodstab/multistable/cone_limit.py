@@ -251,3 +251,187 @@ def ring_cone_limits(b1: float, b2: float, loops: int, modes: int = RING_MODES,
     return ConeLimits((lo, hi), out[0], out[1], 0,
                       f"minimum of P2 on the torus's cone in eq. (3.2)'s Fourier modes j <= "
                       f"{modes} (closed-form 2x2 pencils), {samples} azimuths per pair")
+
+
+#: Held node positions closer than this fraction of the mean element length coincide.
+NODE_COINCIDE = 1e-6
+
+
+def rod_cone_limits(a: Assembly, layers: dict[str, Any] | str, elements_per_segment: int = 24,
+                    *, normals: str = "full", thickness_ratio: float = 1e-3) -> ConeLimits:
+    """Find the limits with contact at zero gap on the nonlinear engine's rod, in-plane included.
+
+    The same question as :func:`cone_limits` on another discretisation, which also has the
+    in-plane motions: the discrete rod (:func:`rodstab.nonlinear.discrete.discretise`) at its
+    planar held state, its Hessian in Kirchhoff coordinates
+    (:meth:`~rodstab.nonlinear.discrete.DiscreteRod.kirchhoff_hessian`) restricted to the
+    inextensible, unshearable motions (every edge's strain unknowns ``eta = 0``) and to the
+    closure constraints, affine in the load factor. The touching pairs are pairs of
+    coincident nodes (not joints) whose layers touch, as in :func:`.cone.touching_pairs`; a
+    pair's gap changes by ``n . (dx_a - dx_b)`` with ``n`` the unit normal between the layers
+    (:func:`_rod_gap_rows`). ``normals="height"`` keeps only ``n``'s height component (the
+    FE's model: it must then agree with :func:`cone_limits` to the meshes' error); ``"full"``
+    lets an in-plane motion open a gap too.
+
+    The no-contact limits ``mu_c`` the search starts from are the rod's own (the lowest
+    eigenvalue's sign change next to the FE's, :func:`_own_limit`), so a shift is contact's,
+    not the two discretisations' difference.
+    """
+    from scipy.linalg import null_space
+
+    from ..nonlinear.contact_chords import position_map
+    from ..nonlinear.discrete import discretise
+
+    n = require_positive_int("elements_per_segment", elements_per_segment)
+    if normals not in ("full", "height"):
+        from ..errors import RodstabInputError
+
+        raise RodstabInputError(f"normals must be 'full' or 'height', got {normals!r}")
+    rods = [discretise(a, n, mu) for mu in (0.0, 1.0)]
+    khs = [r.kirchhoff_hessian() for r in rods]
+    kh, rod = khs[0], rods[0]
+    ne = len(rod.R_edge)
+    eta = kh.border + np.arange(3 * ne)
+    keep = np.setdiff1d(np.arange(kh.A.shape[0]), eta)
+    Q = null_space(kh.G.toarray()[:, keep])
+    A0 = kh.A.toarray()[np.ix_(keep, keep)]
+    A1 = khs[1].A.toarray()[np.ix_(keep, keep)] - A0
+    K0, K1 = Q.T @ A0 @ Q, Q.T @ A1 @ Q
+    T = position_map(rod, kh.zmap, kh.chord, kh.border).toarray()[:, keep] @ Q
+    D = _rod_gap_rows(a, rod, T, layers, normals, thickness_ratio)
+
+    def decide(mu: float) -> Any:
+        return positive_on_cone(K0 + mu * K1, D)
+
+    lin = linear_stability(a, n)
+    lo, hi = lin.load_factor_interval
+    both = math.isfinite(lo) and math.isfinite(hi)
+    out: list[ConeLimit | None] = []
+    own = []
+    for mu_c, sign, side in ((lo, -1.0, "lower"), (hi, 1.0, "upper")):
+        if not math.isfinite(mu_c):
+            out.append(None)
+            own.append(float(mu_c))
+            continue
+        width = (hi - lo) if both else max(abs(mu_c), 1.0)
+        mu_own = _own_limit(K0, K1, float(mu_c), sign, width)
+        own.append(mu_own)
+        out.append(_search(decide, mu_own, sign, width, side))
+    return ConeLimits((own[0], own[1]), out[0], out[1], n,
+                      f"minimum of the discrete rod's inextensible Hessian (Kirchhoff "
+                      f"coordinates) on the cone of gap-keeping perturbations at zero gap, "
+                      f"{len(D)} touching node pairs, normals {normals!r}: certified decisions, "
+                      "scanned and bisected in the load factor")
+
+
+def _node_places(rod: Any) -> tuple[np.ndarray, np.ndarray]:
+    """Per node: its segment (-1 for a node of two or more: a joint) and arc length on it."""
+    nx = len(rod.x)
+    seg_of = np.full(nx, -2)
+    s_of = np.zeros(nx)
+    for k in range(len(rod.assembly.segments)):
+        es = np.flatnonzero(rod.edge_segment == k)
+        nodes = np.r_[rod.edge_nodes[es, 0], rod.edge_nodes[es[-1], 1]]
+        s = np.r_[0.0, np.cumsum(rod.rest_length[es])]
+        for i, si in zip(nodes, s, strict=True):
+            seg_of[i] = k if seg_of[i] in (-2, k) else -1
+            s_of[i] = si
+    return seg_of, s_of
+
+
+def _rod_gap_rows(a: Assembly, rod: Any, T: np.ndarray, layers: dict[str, Any] | str,
+                  normals: str, thickness_ratio: float) -> np.ndarray:
+    """Rows ``n . (T_a - T_b)`` (unit norm) of every touching pair of coincident nodes.
+
+    The normal from ``b`` to ``a`` is the layers': for offsets ``(u, k)`` (units of the
+    spacing) ``((u_a - u_b) d1, k_a - k_b)``, ``d1 = t x e3`` turned by the segment's sense as
+    :func:`~.stacking.stack_layers` does; on the torus, loop ``m`` at azimuth ``theta`` at
+    ``psi = (theta + 2 pi m) / N`` (as :func:`.cone._torus_pairs`), ``(cos psi_a - cos psi_b)
+    e_r + (sin psi_a - sin psi_b) e3``, ``e_r`` outward from the ring's centre.
+    """
+    from .cone import _loops
+    from .stacking import _offset_pair, _senses
+
+    x = rod.x
+    le = float(np.mean(rod.rest_length))
+    seg_of, s_of = _node_places(rod)
+    names = [sg.name for sg in a.segments]
+    torus = isinstance(layers, str)
+    if isinstance(layers, str):
+        N = _loops(a)
+        single = len(a.segments) == 1
+        loop = a.segments[0].length / N if single else a.segments[0].length
+        centre = np.mean(x, axis=0)
+    else:
+        off = {nm: _offset_pair(nm, v) for nm, v in layers.items()}
+        sense = _senses(rod, thickness_ratio * a.total_length / len(names))
+    rows = []
+    for i in range(len(x)):
+        if seg_of[i] < 0:
+            continue
+        close = np.flatnonzero(np.linalg.norm(x[i + 1:] - x[i], axis=1) <= NODE_COINCIDE * le)
+        for j in close + i + 1:
+            if seg_of[j] < 0:
+                continue
+            ia, ib = int(seg_of[i]), int(seg_of[j])
+            if torus:
+                ka = int(s_of[i] // loop) if single else ia
+                kb = int(s_of[j] // loop) if single else ib
+                if (ka - kb) % N not in (1, N - 1) or ka == kb:
+                    continue
+                th = 2 * math.pi * (s_of[i] % loop) / loop
+                pa, pb = (th + 2 * math.pi * ka) / N, (th + 2 * math.pi * kb) / N
+                er = (x[i] - centre) * np.array([1.0, 1.0, 0.0])
+                er /= np.linalg.norm(er)
+                nrm = (math.cos(pa) - math.cos(pb)) * er + (math.sin(pa) - math.sin(pb)) * \
+                    np.array([0.0, 0.0, 1.0])
+            else:
+                (ua, ka_), (ub, kb_) = off[names[ia]], off[names[ib]]
+                if abs(math.hypot(ua - ub, ka_ - kb_) - 1.0) > 1e-9:
+                    continue
+                e = np.flatnonzero((rod.edge_segment == ia)
+                                   & np.any(rod.edge_nodes == i, axis=1))[0]
+                t = x[rod.edge_nodes[e, 1]] - x[rod.edge_nodes[e, 0]]
+                d1 = sense[ia] * np.cross(t / np.linalg.norm(t), [0.0, 0.0, 1.0])
+                nrm = (ua - ub) * d1 + (ka_ - kb_) * np.array([0.0, 0.0, 1.0])
+            nrm = nrm / np.linalg.norm(nrm)
+            if normals == "height":
+                nrm = np.array([0.0, 0.0, nrm[2]])
+            row = nrm @ (T[3 * i: 3 * i + 3] - T[3 * j: 3 * j + 3])
+            if np.linalg.norm(row) > 0:
+                rows.append(row / np.linalg.norm(row))
+    return np.array(rows).reshape(-1, T.shape[1])
+
+
+#: The rod's own no-contact limit is looked for within this many widths of the FE's.
+OWN_WINDOW = 0.05
+
+
+def _own_limit(K0: np.ndarray, K1: np.ndarray, mu_c: float, sign: float, width: float) -> float:
+    """Return the rod's no-contact limit next to the FE's ``mu_c`` (lowest eigenvalue's zero).
+
+    Bracketed by steps doubling from ``1e-4`` widths, inward (stable, positive) and outward
+    (negative), within :data:`OWN_WINDOW` widths; refined by Brent
+    (:func:`rodstab.numerics.refine_root`).
+    """
+    from scipy.linalg import eigh
+
+    from ..errors import NotConverged
+    from ..numerics import refine_root
+
+    def low(mu: float) -> float:
+        return float(eigh(K0 + mu * K1, eigvals_only=True, subset_by_index=[0, 0])[0])
+
+    ends = []
+    for direction, want in ((-sign, 1.0), (sign, -1.0)):
+        step, found = 1e-4 * width, None
+        while step <= OWN_WINDOW * width:
+            if want * low(mu_c + direction * step) > 0:
+                found = mu_c + direction * step
+                break
+            step *= 2
+        if found is None:
+            raise NotConverged(f"the rod's own no-contact limit is not within {OWN_WINDOW:g} "
+                               f"widths of the FE's {mu_c:.6g}")
+        ends.append(found)
+    return float(refine_root(low, min(ends), max(ends)))

@@ -140,13 +140,21 @@ class _Split:
         b = np.zeros(A.shape[0])
         b[-1] = 1.0
         u, _ = nnls(A, b, maxiter=50 * max(A.shape))
+        u = np.maximum(u, 0.0)  # the certificates below need u >= 0 exactly
         r = A @ u - b
         lam_part = float(self.lam_E @ (c * c))
-        if abs(r[-1]) <= 1e-12:  # infeasible: W^T u = 0, f^T u = 1
-            return _Eval(math.inf, -self.DE.T @ u, 0.0, True, None)
+        Wu = self.W.T @ u
+        fu = float(f @ u)
+        if abs(r[-1]) <= 1e-12:  # infeasible: W^T u = 0, f^T u = 1 -- checked, not assumed
+            tiny = FEASIBLE_RTOL * float(np.linalg.norm(self.W)) * float(np.linalg.norm(u))
+            if float(np.linalg.norm(Wu)) <= tiny and fu >= 0.5:
+                return _Eval(math.inf, -self.DE.T @ u, 0.0, True, None)
+            return _Eval(math.inf, np.zeros(self.k), -math.inf, False, None)  # no bound
         x = -r[:-1] / r[-1]
-        z = 2.0 * u / (1.0 - float(f @ u))
         v = self.E @ c + self.P @ x
+        if 1.0 - fu <= 0.0:  # the dual scaling fails: this solve gives no minorant
+            return _Eval(lam_part + float(x @ x), np.zeros(self.k), -math.inf, False, v)
+        z = 2.0 * u / (1.0 - fu)
         return _Eval(lam_part + float(x @ x), -self.DE.T @ z,
                      -0.25 * float(np.sum((self.W.T @ z) ** 2)), False, v)
 
@@ -197,6 +205,13 @@ def positive_on_cone(K: np.ndarray, D: np.ndarray, *,
     floor = FLOOR_RTOL
     if sp.k == 0:
         return ConeDecision(POSITIVE, 0, math.inf, math.inf, 0, None, "K is positive definite")
+    if sp.D.shape[0] == 0:  # no cone: the whole space (and no empty least-squares solve)
+        lam0 = float(sp.lam_E[0]) / sp.scale
+        if lam0 < -floor:
+            return ConeDecision(NOT_POSITIVE, sp.k, lam0, -math.inf, 0, sp.E[:, 0].copy(),
+                                "no constraints, and K has a negative eigenvalue")
+        return ConeDecision(UNDECIDED, sp.k, lam0, lam0, 0, None,
+                            "no constraints, and K's lowest eigenvalue is within the floor of 0")
     if sp.k > 2:
         return ConeDecision(UNDECIDED, sp.k, math.nan, -math.inf, 0, None,
                             f"K has {sp.k} non-positive directions; the certified decision "
