@@ -144,3 +144,10 @@ def test_rod_cone_limits_refuses_an_unknown_normals_model():
 
     with pytest.raises(RodstabInputError, match="normals must be 'full' or 'height', got 'z'"):
         rod_cone_limits(ring.build(ring.Params(loops=2)), "torus", 8, normals="z")
+
+
+def test_no_constraints_is_plain_definiteness_with_a_witness():
+    """An empty cone matrix (no touching pair) never reaches the least-squares solve."""
+    d = positive_on_cone(np.diag([-1.0, 2.0]), np.zeros((0, 2)))
+    assert d.status == NOT_POSITIVE and d.witness is not None
+    assert d.witness @ np.diag([-1.0, 2.0]) @ d.witness < 0
