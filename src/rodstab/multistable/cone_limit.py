@@ -96,7 +96,8 @@ class ConeLimits(Result):
     method: str
 
 
-def _search(decide: Any, mu_c: float, sign: float, width: float, side: str) -> ConeLimit:
+def _search(decide: Any, mu_c: float, sign: float, width: float, side: str,
+            xtol: float = XTOL) -> ConeLimit:
     """Scan outward from ``mu_c``, then bisect the first certified bracket (module doc)."""
     step = width / SCAN_STEPS
     inner, count = mu_c, 0
@@ -116,7 +117,7 @@ def _search(decide: Any, mu_c: float, sign: float, width: float, side: str) -> C
                          count, f"positive on the cone out to {inner:.6g} ({WINDOW_WIDTHS:g} "
                          "widths of the no-contact interval)")
     note = ""
-    while abs(outer - inner) > XTOL * max(abs(inner), 1.0):
+    while abs(outer - inner) > xtol * max(abs(inner), 1.0):
         mid = 0.5 * (inner + outer)
         d = decide(mid)
         count += 1
@@ -133,8 +134,8 @@ def _search(decide: Any, mu_c: float, sign: float, width: float, side: str) -> C
                      "limit), a witness at the outer" + note)
 
 
-def cone_limits(a: Assembly, layers: dict[str, Any] | str, elements_per_segment: int = 24
-                ) -> ConeLimits:
+def cone_limits(a: Assembly, layers: dict[str, Any] | str, elements_per_segment: int = 24,
+                *, xtol: float = XTOL) -> ConeLimits:
     """Limits with contact at zero gap: where P2 stops being positive on the cone (module doc).
 
     Parameters
@@ -146,6 +147,8 @@ def cone_limits(a: Assembly, layers: dict[str, Any] | str, elements_per_segment:
         (:func:`.cone.contact_cone` does that).
     elements_per_segment : int
         FE mesh of P2.
+    xtol : float
+        The bracket's width to refine to, relative to ``max(|mu|, 1)``.
 
     Returns
     -------
@@ -182,7 +185,7 @@ def cone_limits(a: Assembly, layers: dict[str, Any] | str, elements_per_segment:
             out.append(None)
             continue
         width = (hi - lo) if both else max(abs(mu_c), 1.0)
-        out.append(_search(decide, float(mu_c), sign, width, side))
+        out.append(_search(decide, float(mu_c), sign, width, side, xtol))
     return ConeLimits((float(lo), float(hi)), out[0], out[1], n,
                       "minimum of P2 (2.12, FE) on the cone of gap-keeping perturbations at zero "
                       "gap (out of plane): certified decisions (eigen-split + least-distance "
@@ -196,7 +199,7 @@ RING_SAMPLES = 192
 
 
 def ring_cone_limits(b1: float, b2: float, loops: int, modes: int = RING_MODES,
-                     samples: int = RING_SAMPLES) -> ConeLimits:
+                     samples: int = RING_SAMPLES, *, xtol: float = XTOL) -> ConeLimits:
     """Compute the N-loop ring's limits with contact on the torus from eq. (3.2)'s modes.
 
     An independent discretisation of :func:`cone_limits`' question for the ring: P2 is block
@@ -246,7 +249,7 @@ def ring_cone_limits(b1: float, b2: float, loops: int, modes: int = RING_MODES,
     def decide(mu: float) -> Any:
         return positive_on_cone(K0 + mu * K1, Dm)
 
-    out = [_search(decide, mu_c, sign, hi - lo, side)
+    out = [_search(decide, mu_c, sign, hi - lo, side, xtol)
            for mu_c, sign, side in ((lo, -1.0, "lower"), (hi, 1.0, "upper"))]
     return ConeLimits((lo, hi), out[0], out[1], 0,
                       f"minimum of P2 on the torus's cone in eq. (3.2)'s Fourier modes j <= "
@@ -258,7 +261,8 @@ NODE_COINCIDE = 1e-6
 
 
 def rod_cone_limits(a: Assembly, layers: dict[str, Any] | str, elements_per_segment: int = 24,
-                    *, normals: str = "full", thickness_ratio: float = 1e-3) -> ConeLimits:
+                    *, normals: str = "full", thickness_ratio: float = 1e-3,
+                    xtol: float = XTOL) -> ConeLimits:
     """Find the limits with contact at zero gap on the nonlinear engine's rod, in-plane included.
 
     The same question as :func:`cone_limits` on another discretisation, which also has the
@@ -316,7 +320,7 @@ def rod_cone_limits(a: Assembly, layers: dict[str, Any] | str, elements_per_segm
         width = (hi - lo) if both else max(abs(mu_c), 1.0)
         mu_own = _own_limit(K0, K1, float(mu_c), sign, width)
         own.append(mu_own)
-        out.append(_search(decide, mu_own, sign, width, side))
+        out.append(_search(decide, mu_own, sign, width, side, xtol))
     return ConeLimits((own[0], own[1]), out[0], out[1], n,
                       f"minimum of the discrete rod's inextensible Hessian (Kirchhoff "
                       f"coordinates) on the cone of gap-keeping perturbations at zero gap, "
