@@ -86,7 +86,7 @@ REGISTRY: tuple[Check, ...] = (
     Check(beyond_transitions.six_ring_transition_checks, beyond_transitions.EXPECTED_SIX, 5.7),
     Check(beyond_hexagram.hexagram_checks, beyond_hexagram.EXPECTED, 3.1),
     Check(beyond_contact.contact_checks, beyond_contact.EXPECTED, 4.5),
-    Check(beyond_contact.contact_limit_checks, beyond_contact.EXPECTED_LIMITS, 6.8),
+    Check(beyond_contact.contact_limit_checks, beyond_contact.EXPECTED_LIMITS, 3.1),
 )
 
 

@@ -68,7 +68,7 @@ ARC_SAMPLES = 9
 #: Initial arcs of the circle (``k = 2``).
 START_ARCS = 8
 #: Least-distance solves allowed before the decision is reported undecided.
-MAX_EVALUATIONS = 200
+MAX_EVALUATIONS = 80
 
 POSITIVE, NOT_POSITIVE, UNDECIDED = "positive", "not positive", "undecided"
 
