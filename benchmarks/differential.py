@@ -438,10 +438,59 @@ def assemblies(rng: np.random.Generator) -> Trial:
                  f"{_kw(data['section'])}): {desc}", _toml(data), methods, rtol, verdicts)
 
 
+# ---------------------------------------------------------------------------------------------
+# Stacked N-loop rings with contact at zero gap: the limits on the cone, three discretisations.
+
+#: FE (32 el./loop) and eq. (3.2)'s Fourier modes (j <= 32) on the torus's cone: both certified
+#: brackets, their discretisation errors ~1e-3 (docs/theory/contact.md; at 16 el./loop the FE
+#: was 5.6e-3 off on a flat strip, seed 21 index 14: tests/test_cone_limit.py) ...
+CONE_FE_RTOL = 5e-3
+#: ... and the nonlinear rod's inextensible Hessian (heights only, 32 el./loop, O(h^2): at 24
+#: el./loop it was up to 2.3e-2 off on 3-loop rings of flat ellipses, seed 22, converging as
+#: h^2 -- 6e-3 at 48).
+CONE_ROD_RTOL = 2e-2
+
+
+def _cone_values(res: Any, loops: int) -> Values:
+    out: Values = {}
+    for side in ("lower", "upper"):
+        lim = getattr(res, side)
+        ok = lim is not None and lim.status == "bracketed"
+        out[f"mult:{side} bracketed"] = float(ok)
+        if ok:
+            out[side] = loops * lim.load_factor  # (L / 2 pi) kappa_n
+    return out
+
+
+def contact_rings(rng: np.random.Generator) -> Trial:
+    """N-loop rings (N = 2..5) stacked on the torus: limits with contact at zero gap."""
+    from rodstab.multistable.cone_limit import cone_limits, ring_cone_limits, rod_cone_limits
+    from rodstab.problems import ring
+
+    sec = random_section(rng)
+    loops = int(rng.integers(2, 6))
+    section = sections.make_section(**sec)
+    a = ring.build(ring.Params(section=section, loops=loops))
+    code = (f"from rodstab.multistable.cone_limit import cone_limits, ring_cone_limits, "
+            f"rod_cone_limits; from rodstab.problems import ring; from rodstab.sections import "
+            f"make_section; s = make_section({_kw(sec)}); a = ring.build(ring.Params(section=s, "
+            f"loops={loops})); print(cone_limits(a, 'torus', 32), ring_cone_limits(s.b1, s.b2, "
+            f"{loops}, 32, 128), rod_cone_limits(a, 'torus', 32, normals='height'))")
+    methods = {
+        "cone-fourier": lambda: _cone_values(
+            ring_cone_limits(section.b1, section.b2, loops, 32, 128), loops),
+        "cone-fe": lambda: _cone_values(cone_limits(a, "torus", 32), loops),
+        "cone-rod": lambda: _cone_values(rod_cone_limits(a, "torus", 32, normals="height"),
+                                         loops)}
+    rtol = {("cone-fourier", "cone-fe"): CONE_FE_RTOL, ("cone-fourier", "cone-rod"):
+            CONE_ROD_RTOL}
+    return Trial(f"stacked ring section({_kw(sec)}) loops={loops}", code, methods, rtol)
+
+
 #: family name -> generator of one random design.
 FAMILIES: dict[str, Callable[[np.random.Generator], Trial]] = {
     "arcs": arcs, "rings": rings, "folded": folded, "cusp-rings": cusp_rings,
-    "assemblies": assemblies}
+    "assemblies": assemblies, "contact-rings": contact_rings}
 
 
 # ---------------------------------------------------------------------------------------------

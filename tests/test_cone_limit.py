@@ -151,3 +151,39 @@ def test_no_constraints_is_plain_definiteness_with_a_witness():
     d = positive_on_cone(np.diag([-1.0, 2.0]), np.zeros((0, 2)))
     assert d.status == NOT_POSITIVE and d.witness is not None
     assert d.witness @ np.diag([-1.0, 2.0]) @ d.witness < 0
+
+
+def test_a_flat_strip_ring_found_by_the_differential_test():
+    """benchmarks/differential.py --family contact-rings --seed 21 --index 14: a 2-loop ring of
+    a flat strip (rectangle h/t = 7.52, b1/b2 = 33). At 16 elements per loop the FE's upper
+    limit with contact was 5.6e-3 above the Fourier modes' (6.5616 against 6.5253, j <= 64); at
+    32 it is within 1e-3 -- the FE's mesh error, now the differential test's mesh."""
+    from rodstab.sections import make_section
+
+    s = make_section(shape="rectangle", nu=0.0599, aspect=7.52)
+    fe = cone_limits(ring.build(ring.Params(section=s, loops=2)), "torus", 32)
+    fo = ring_cone_limits(s.b1, s.b2, 2, 64, 256)
+    assert fe.upper is not None and fo.upper is not None
+    assert fe.upper.load_factor == pytest.approx(fo.upper.load_factor, rel=1e-3)
+
+
+def test_an_undecided_scan_load_is_bisected_for_a_witness_before_it():
+    """Differential test, seed 22 index 33 (5-loop circle): the FE's scan stepped from a
+    certified load past the limit to one where the next modes had crossed (4 non-positive
+    directions: undecided), while the Fourier modes found the limit in between. The search
+    now bisects towards the undecided load. Here with decisions given: positive below 1.33,
+    a witness on [1.33, 1.38), undecided beyond."""
+    from types import SimpleNamespace
+
+    from rodstab.multistable.cone_limit import _search
+
+    def decide(mu: float):
+        status = POSITIVE if mu < 1.33 else NOT_POSITIVE if mu < 1.38 else UNDECIDED
+        return SimpleNamespace(status=status, message="K has 4 non-positive directions")
+
+    lim = _search(decide, 1.0, 1.0, 4.0, "upper", 1e-6)  # scan step 0.1: 1.1, ..., 1.4
+    assert lim.status == "bracketed"
+    assert lim.bracket[0] < 1.33 <= lim.bracket[1] and lim.bracket[1] - lim.bracket[0] < 1e-5
+    never = _search(lambda mu: SimpleNamespace(
+        status=POSITIVE if mu < 1.33 else UNDECIDED, message="m"), 1.0, 1.0, 4.0, "upper", 1e-6)
+    assert never.status == "undecided" and never.bracket[0] == pytest.approx(1.33, abs=1e-5)

@@ -14,7 +14,8 @@ Search (scan, then refine; the window from the no-contact interval): loads ``mu_
 the limit with contact, which bisection shrinks to :data:`XTOL` (relative). The bracket is
 certified at both ends: positive on the cone at its inner end (or ``mu_c`` itself, where ``K``
 is positive semi-definite), a witness at its outer end. An undecided load (more than two
-non-positive directions, or the arcs not certified in the allowed solves) ends the search with
+non-positive directions, or the arcs not certified in the allowed solves) is bisected
+against the last certified load for a witness before it; failing one, the search ends with
 what is certified so far, said so. A load where the form is positive again after a witness,
 between two scan points, is not looked for.
 
@@ -109,8 +110,25 @@ def _search(decide: Any, mu_c: float, sign: float, width: float, side: str,
             outer = mu
             break
         if d.status != POSITIVE:
-            return ConeLimit(side, mu_c, "undecided", (inner, math.nan), math.nan, math.nan,
-                             count, f"at {mu:.6g}: {d.message}")
+            # A witness may lie before the undecided load (e.g. where the next modes cross and
+            # K gains more non-positive directions than the decision handles): bisect.
+            undecided, why = mu, d.message
+            outer = math.nan
+            while abs(undecided - inner) > xtol * max(abs(inner), 1.0):
+                mid = 0.5 * (inner + undecided)
+                d = decide(mid)
+                count += 1
+                if d.status == NOT_POSITIVE:
+                    outer = mid
+                    break
+                if d.status == POSITIVE:
+                    inner = mid
+                else:
+                    undecided, why = mid, d.message
+            if math.isnan(outer):
+                return ConeLimit(side, mu_c, "undecided", (inner, math.nan), math.nan,
+                                 math.nan, count, f"at {undecided:.6g}: {why}")
+            break
         inner = mu
     else:
         return ConeLimit(side, mu_c, "beyond window", (inner, math.nan), math.nan, math.nan,
