@@ -97,6 +97,33 @@ class ConeLimits(Result):
     method: str
 
 
+def _bisect(decide: Any, inner: float, outer: float, far: float, xtol: float
+            ) -> tuple[float, float, int, str]:
+    """Shrink towards the limit from ``inner`` (certified positive on the cone).
+
+    ``outer``: a load with a witness (``nan``: none yet); ``far``: an undecided load beyond
+    (``nan``: none). Bisects against ``outer`` if known, else ``far``, to ``xtol`` (relative);
+    an undecided midpoint moves ``far`` while no witness is known, and stops the refinement
+    once one is. Returns ``(inner, outer, decisions, why it stopped early or "")``.
+    """
+    count, why = 0, ""
+    while True:
+        target = outer if math.isfinite(outer) else far
+        if abs(target - inner) <= xtol * max(abs(inner), 1.0):
+            return inner, outer, count, why
+        mid = 0.5 * (inner + target)
+        d = decide(mid)
+        count += 1
+        if d.status == NOT_POSITIVE:
+            outer = mid
+        elif d.status == POSITIVE:
+            inner = mid
+        elif math.isfinite(outer):
+            return inner, outer, count, f"; refinement stopped at {mid:.6g}: {d.message}"
+        else:
+            far, why = mid, d.message
+
+
 def _search(decide: Any, mu_c: float, sign: float, width: float, side: str,
             xtol: float = XTOL) -> ConeLimit:
     """Scan outward from ``mu_c``, then bisect the first certified bracket (module doc)."""
@@ -106,50 +133,27 @@ def _search(decide: Any, mu_c: float, sign: float, width: float, side: str,
         mu = mu_c + sign * i * step
         d = decide(mu)
         count += 1
-        if d.status == NOT_POSITIVE:
-            outer = mu
-            break
-        if d.status != POSITIVE:
-            # A witness may lie before the undecided load (e.g. where the next modes cross and
-            # K gains more non-positive directions than the decision handles): bisect.
-            undecided, why = mu, d.message
-            outer = math.nan
-            while abs(undecided - inner) > xtol * max(abs(inner), 1.0):
-                mid = 0.5 * (inner + undecided)
-                d = decide(mid)
-                count += 1
-                if d.status == NOT_POSITIVE:
-                    outer = mid
-                    break
-                if d.status == POSITIVE:
-                    inner = mid
-                else:
-                    undecided, why = mid, d.message
-            if math.isnan(outer):
-                return ConeLimit(side, mu_c, "undecided", (inner, math.nan), math.nan,
-                                 math.nan, count, f"at {undecided:.6g}: {why}")
-            break
-        inner = mu
-    else:
-        return ConeLimit(side, mu_c, "beyond window", (inner, math.nan), math.nan, math.nan,
-                         count, f"positive on the cone out to {inner:.6g} ({WINDOW_WIDTHS:g} "
-                         "widths of the no-contact interval)")
-    note = ""
-    while abs(outer - inner) > xtol * max(abs(inner), 1.0):
+        if d.status == POSITIVE:
+            inner = mu
+            continue
+        # A witness ends the scan; so does an undecided load, before which a witness may
+        # still lie (e.g. where the next modes cross and K gains more non-positive directions
+        # than the decision handles): bisect towards it.
+        witness = d.status == NOT_POSITIVE
+        inner, outer, more, why = _bisect(decide, inner, mu if witness else math.nan,
+                                          math.nan if witness else mu, xtol)
+        count += more
+        if not math.isfinite(outer):
+            return ConeLimit(side, mu_c, "undecided", (inner, math.nan), math.nan, math.nan,
+                             count, f"{why or d.message} (certified to {inner:.6g})")
         mid = 0.5 * (inner + outer)
-        d = decide(mid)
-        count += 1
-        if d.status == NOT_POSITIVE:
-            outer = mid
-        elif d.status == POSITIVE:
-            inner = mid
-        else:
-            note = f"; refinement stopped at {mid:.6g}: {d.message}"
-            break
-    mid = 0.5 * (inner + outer)
-    return ConeLimit(side, mu_c, "bracketed", (inner, outer), mid, sign * (mid - mu_c), count,
-                     "certified: positive on the cone at the inner end (or the no-contact "
-                     "limit), a witness at the outer" + note)
+        stopped = why if why.startswith(";") else ""
+        return ConeLimit(side, mu_c, "bracketed", (inner, outer), mid, sign * (mid - mu_c),
+                         count, "certified: positive on the cone at the inner end (or the "
+                         "no-contact limit), a witness at the outer" + stopped)
+    return ConeLimit(side, mu_c, "beyond window", (inner, math.nan), math.nan, math.nan, count,
+                     f"positive on the cone out to {inner:.6g} ({WINDOW_WIDTHS:g} widths of "
+                     "the no-contact interval)")
 
 
 def cone_limits(a: Assembly, layers: dict[str, Any] | str, elements_per_segment: int = 24,
