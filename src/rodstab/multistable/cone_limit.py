@@ -325,6 +325,13 @@ def rod_cone_limits(a: Assembly, layers: dict[str, Any] | str, elements_per_segm
     K0, K1 = Q.T @ A0 @ Q, Q.T @ A1 @ Q
     T = position_map(rod, kh.zmap, kh.chord, kh.border).toarray()[:, keep] @ Q
     D = _rod_gap_rows(a, rod, T, layers, normals, thickness_ratio)
+    if not len(D):  # never the whole space in silence: the limits would be the no-contact ones
+        from ..errors import RodstabInputError
+
+        raise RodstabInputError(
+            f"layers = {layers!r}: no two nodes of touching layers coincide on the rod's mesh "
+            f"of {n} elements per segment (rods of unequal lengths do not share nodes); the "
+            "rod engine's cone needs them")
 
     def decide(mu: float) -> Any:
         return positive_on_cone(K0 + mu * K1, D)
