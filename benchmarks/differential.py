@@ -3,17 +3,19 @@
     python benchmarks/differential.py [--n 1000] [--seed 0] [--family arcs,rings,...] [--workers 2]
     python benchmarks/differential.py --family rings --seed 0 --index 17 -v   # one design again
 
-Seeded random designs over every family (:data:`FAMILIES`): clamped arcs, N-loop rings, folded
-rings and bi-rods, cusp-welded rings of identical rods in their closed held states (read from a
-design file like examples/hexagram.toml), and planar assemblies from design files (kinked chains,
-Y-joints, split arcs; clamped ends). Sections of every closed-form shape (rectangle and ellipse
-h/t 0.3-10, circle, tube, nu 0-0.5) and given ratios b1, b2 in 0.05-50. Every design is solved
-by every method that applies (the problem modules' ``METHODS``, the linear FE engine, the
-transfer methods: monodromy, shooting, full system, Bloch; the closed forms; the nonlinear rod's
-critical load), each pair compared within its stated tolerance (``AGREE_RTOL`` of the problem
-modules, :mod:`rodstab.checks.rules` for the others; multiplicities exactly), and the nonlinear
-rod's verdict (:func:`rodstab.nonlinear.solve.equilibrium`) is asked at load factors just inside
-and just outside every limit of the family's reference method (:data:`VERDICT_MARGIN`).
+Seeded random designs over every family (:data:`FAMILIES`): clamped arcs, N-loop rings, folded rings
+and bi-rods, cusp-welded rings of identical rods in their closed held states (read from a design
+file like examples/hexagram.toml), planar assemblies from design files (kinked chains, Y-joints,
+split arcs; clamped ends), and N-loop rings stacked on the torus with contact at zero gap
+(``contact-rings``: the limits on the cone by the FE, eq. (3.2)'s Fourier modes and the nonlinear
+rod's Hessian, :mod:`rodstab.multistable.cone_limit`). Sections of every closed-form shape
+(rectangle and ellipse h/t 0.3-10, circle, tube, nu 0-0.5) and given ratios b1, b2 in 0.05-50. Every
+design is solved by every method that applies (the problem modules' ``METHODS``, the linear FE
+engine, the transfer methods: monodromy, shooting, full system, Bloch; the closed forms; the
+nonlinear rod's critical load), each pair compared within its stated tolerance (``AGREE_RTOL`` of
+the problem modules, :mod:`rodstab.checks.rules` for the others; multiplicities exactly), and the
+nonlinear rod's verdict (:func:`rodstab.nonlinear.solve.equilibrium`) is asked at load factors just
+inside and just outside every limit of the family's reference method (:data:`VERDICT_MARGIN`).
 
 Prints per family and method pair the relative differences ``|a - b| / max(|a|, |b|, 1)`` (as
 :func:`rodstab.problems.agree`): count, median, max, number beyond tolerance; wrong verdicts;
