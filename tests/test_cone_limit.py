@@ -192,3 +192,23 @@ def test_an_undecided_scan_load_is_bisected_for_a_witness_before_it():
     never = _search(lambda mu: SimpleNamespace(
         status=POSITIVE if mu < 1.33 else UNDECIDED, message="m"), 1.0, 1.0, 4.0, "upper", 1e-6)
     assert never.status == "undecided" and never.bracket[0] == pytest.approx(1.33, abs=1e-5)
+
+
+def test_a_witness_past_an_undecided_load_closes_the_bracket_from_the_last_certified_one():
+    """The rod engine's 3-loop ring at 48 el./loop: a scan load next to the limit stayed
+    undecided (one arc not certified in 80 solves) and no witness lay before it; the witness is
+    at the next scan load. Decisions given: positive below 1.3, undecided on [1.3, 1.36), a
+    witness from 1.36 on: the bracket runs from the last load certified (just below 1.3, by the
+    bisection towards the undecided load) to the witness at 1.4, and says where it stopped."""
+    from types import SimpleNamespace
+
+    from rodstab.multistable.cone_limit import _search
+
+    def decide(mu: float):
+        status = POSITIVE if mu < 1.3 else UNDECIDED if mu < 1.36 else NOT_POSITIVE
+        return SimpleNamespace(status=status, message="1 arc not certified")
+
+    lim = _search(decide, 1.0, 1.0, 4.0, "upper", 1e-6)  # scan: 1.1, 1.2, 1.3 (undecided), 1.4
+    assert lim.status == "bracketed"
+    assert 1.2 <= lim.bracket[0] < 1.3 and lim.bracket[1] == pytest.approx(1.4)
+    assert "1 arc not certified" in lim.message

@@ -230,14 +230,25 @@ def _torus_pairs(a: Assembly, n: int) -> Pairs:
     theta = 2 * math.pi * s / loop
     pairs = {(k, (k + 1) % N) for k in range(N)}
     for ka, kb in sorted({(min(p), max(p)) for p in pairs if p[0] != p[1]}):
-        pa, pb = (theta + 2 * math.pi * ka) / N, (theta + 2 * math.pi * kb) / N
-        d = np.stack([np.cos(pa) - np.cos(pb), np.sin(pa) - np.sin(pb)])
-        nz = d[1] / np.linalg.norm(d, axis=0)
+        _, nz = torus_normal(theta, ka, kb, N)
         if single:
             out.append((0, 0, s + ka * loop, s + kb * loop, nz))
         else:
             out.append((ka, kb, s, s.copy(), nz))
     return out
+
+
+def torus_normal(theta: Any, ka: int, kb: int, loops: int) -> tuple[Any, Any]:
+    """Return the unit normal from loop ``kb`` to ``ka`` on the ``(N, 1)`` torus at ``theta``.
+
+    Loop ``m`` sits at the angle ``psi_m = (theta + 2 pi m) / N`` of the curve's cross-section
+    (radial offset ``cos psi``, height ``sin psi``, :func:`.stacking.torus_curve`); returns the
+    normal's radial and height components ``(n_r, n_z)`` (arrays like ``theta``).
+    """
+    pa, pb = (theta + 2 * math.pi * ka) / loops, (theta + 2 * math.pi * kb) / loops
+    dr, dz = np.cos(pa) - np.cos(pb), np.sin(pa) - np.sin(pb)
+    size = np.hypot(dr, dz)
+    return dr / size, dz / size
 
 
 def touching_pairs(a: Assembly, layers: dict[str, Any] | str, n: int) -> Pairs:

@@ -13,11 +13,11 @@ Search (scan, then refine; the window from the no-contact interval): loads ``mu_
 :data:`WINDOW_WIDTHS` widths; the first load with a witness and the last certified one bracket
 the limit with contact, which bisection shrinks to :data:`XTOL` (relative). The bracket is
 certified at both ends: positive on the cone at its inner end (or ``mu_c`` itself, where ``K``
-is positive semi-definite), a witness at its outer end. An undecided load (more than two
-non-positive directions, or the arcs not certified in the allowed solves) is bisected
-against the last certified load for a witness before it; failing one, the search ends with
-what is certified so far, said so. A load where the form is positive again after a witness,
-between two scan points, is not looked for.
+is positive semi-definite), a witness at its outer end. An undecided load (more than two non-
+positive directions, or the arcs not certified in the allowed solves) is bisected against the
+last certified load for a witness before it; failing one, the scan goes on past it, and ends
+with what is certified so far, said so, if no witness follows. A load where the form is
+positive again after a witness, between two scan points, is not looked for.
 
 What it is exact for: the FE's perturbations are P2's, out of plane (``w`` and the twist); a
 gap whose normal has an in-plane part (the torus curve's, the hexagon's) is only tested in its
@@ -34,12 +34,12 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import require_positive_int
+from ..errors import NotConverged, RodstabInputError, require_positive, require_positive_int
 from ..linear.solve import linear_pencil, linear_stability
 from ..model import Assembly
 from ..numerics.copositive import NOT_POSITIVE, POSITIVE, positive_on_cone
 from ..results import Result
-from .cone import MAX_DENSE_DOF, gap_changes, touching_pairs
+from .cone import MAX_DENSE_DOF, gap_changes, torus_normal, touching_pairs
 
 #: Scan step: this fraction of the no-contact interval's width (or of ``max(|mu_c|, 1)`` when
 #: the interval is one-sided).
@@ -88,7 +88,11 @@ class ConeLimit(Result):
 
 @dataclasses.dataclass(frozen=True)
 class ConeLimits(Result):
-    """Both sides' limits with contact at zero gap (:func:`cone_limits`)."""
+    """Both sides' limits with contact at zero gap (:func:`cone_limits` and the others).
+
+    ``interval``: the no-contact limits the searches start from; ``elements_per_segment``: the
+    mesh (0 for :func:`ring_cone_limits`, which has none).
+    """
 
     interval: tuple[float, float]
     lower: ConeLimit | None
@@ -126,34 +130,76 @@ def _bisect(decide: Any, inner: float, outer: float, far: float, xtol: float
 
 def _search(decide: Any, mu_c: float, sign: float, width: float, side: str,
             xtol: float = XTOL) -> ConeLimit:
-    """Scan outward from ``mu_c``, then bisect the first certified bracket (module doc)."""
+    """Scan outward from ``mu_c``, then bisect the first certified bracket (module doc).
+
+    An undecided scan load (next to the limit, where the form's minimum on the cone is within
+    the decision's floor of zero; or where the next modes cross and ``K`` has more
+    non-positive directions than the decision handles) is bisected towards, for a witness
+    before it; failing that, the scan goes on past it, and a witness found there closes a
+    bracket whose inner end is the last load certified before the undecided one.
+    """
     step = width / SCAN_STEPS
-    inner, count = mu_c, 0
+    inner, count, undecided = mu_c, 0, ""
     for i in range(1, int(math.ceil(SCAN_STEPS * WINDOW_WIDTHS)) + 1):
         mu = mu_c + sign * i * step
         d = decide(mu)
         count += 1
         if d.status == POSITIVE:
-            inner = mu
+            if not undecided:
+                inner = mu
             continue
-        # A witness ends the scan; so does an undecided load, before which a witness may
-        # still lie (e.g. where the next modes cross and K gains more non-positive directions
-        # than the decision handles): bisect towards it.
         witness = d.status == NOT_POSITIVE
+        if not witness and undecided:
+            continue
         inner, outer, more, why = _bisect(decide, inner, mu if witness else math.nan,
                                           math.nan if witness else mu, xtol)
         count += more
         if not math.isfinite(outer):
-            return ConeLimit(side, mu_c, "undecided", (inner, math.nan), math.nan, math.nan,
-                             count, f"{why or d.message} (certified to {inner:.6g})")
+            undecided = f"{why or d.message} (certified to {inner:.6g})"
+            continue
         mid = 0.5 * (inner + outer)
         stopped = why if why.startswith(";") else ""
+        if undecided and not stopped:
+            stopped = f"; undecided between: {undecided}"
         return ConeLimit(side, mu_c, "bracketed", (inner, outer), mid, sign * (mid - mu_c),
                          count, "certified: positive on the cone at the inner end (or the "
                          "no-contact limit), a witness at the outer" + stopped)
+    if undecided:
+        return ConeLimit(side, mu_c, "undecided", (inner, math.nan), math.nan, math.nan, count,
+                         undecided)
     return ConeLimit(side, mu_c, "beyond window", (inner, math.nan), math.nan, math.nan, count,
                      f"positive on the cone out to {inner:.6g} ({WINDOW_WIDTHS:g} widths of "
                      "the no-contact interval)")
+
+
+def _both_sides(decide: Any, lo: float, hi: float, xtol: float, start: Any = None
+                ) -> tuple[ConeLimit | None, ConeLimit | None]:
+    """Search each finite end of the no-contact interval ``(lo, hi)`` outward (:func:`_search`).
+
+    ``start(mu_c, sign, width)``: the load the search starts from (default ``mu_c``).
+    """
+    both = math.isfinite(lo) and math.isfinite(hi)
+    out: list[ConeLimit | None] = []
+    for mu_c, sign, side in ((lo, -1.0, "lower"), (hi, 1.0, "upper")):
+        if not math.isfinite(mu_c):
+            out.append(None)
+            continue
+        width = (hi - lo) if both else max(abs(mu_c), 1.0)
+        mu0 = float(mu_c) if start is None else start(float(mu_c), sign, width)
+        out.append(_search(decide, mu0, sign, width, side, xtol))
+    return out[0], out[1]
+
+
+#: A cone row this small against the largest is a gap nothing changes (a normal with no height,
+#: up to round-off): dropped, since scaled to unit length its round-off sign would constrain.
+ZERO_ROW_RTOL = 1e-9
+
+
+def _unit_rows(D: np.ndarray) -> np.ndarray:
+    """Return the cone's rows scaled to unit length, those below :data:`ZERO_ROW_RTOL` dropped."""
+    norms = np.linalg.norm(D, axis=1)
+    keep = norms > ZERO_ROW_RTOL * (float(np.max(norms)) if norms.size else 0.0)
+    return D[keep] / norms[keep, None]
 
 
 def cone_limits(a: Assembly, layers: dict[str, Any] | str, elements_per_segment: int = 24,
@@ -184,31 +230,20 @@ def cone_limits(a: Assembly, layers: dict[str, Any] | str, elements_per_segment:
     lin = linear_stability(a, n)
     pencil = linear_pencil(a, n)
     if pencil.K0.shape[0] > MAX_DENSE_DOF:
-        from ..errors import RodstabInputError
-
         raise RodstabInputError(f"elements_per_segment = {n}: {pencil.K0.shape[0]} FE unknowns, "
                                 f"more than the dense solve's {MAX_DENSE_DOF}")
     pairs = touching_pairs(a, layers, n)
     N = null_space(pencil.G.toarray())
     K0 = N.T @ pencil.K0.toarray() @ N
     K1 = N.T @ pencil.K1.toarray() @ N
-    D, _ = gap_changes(pencil, pairs, N)
-    norms = np.linalg.norm(D, axis=1)
-    D = D[norms > 0] / norms[norms > 0, None]  # side-by-side pairs (n_z = 0): no row
+    D = _unit_rows(gap_changes(pencil, pairs, N)[0])  # side by side (n_z = 0): no row
 
     def decide(mu: float) -> Any:
         return positive_on_cone(K0 + mu * K1, D)
 
     lo, hi = lin.load_factor_interval
-    both = math.isfinite(lo) and math.isfinite(hi)
-    out: list[ConeLimit | None] = []
-    for mu_c, sign, side in ((lo, -1.0, "lower"), (hi, 1.0, "upper")):
-        if not math.isfinite(mu_c):
-            out.append(None)
-            continue
-        width = (hi - lo) if both else max(abs(mu_c), 1.0)
-        out.append(_search(decide, float(mu_c), sign, width, side, xtol))
-    return ConeLimits((float(lo), float(hi)), out[0], out[1], n,
+    lower, upper = _both_sides(decide, lo, hi, xtol)
+    return ConeLimits((float(lo), float(hi)), lower, upper, n,
                       "minimum of P2 (2.12, FE) on the cone of gap-keeping perturbations at zero "
                       "gap (out of plane): certified decisions (eigen-split + least-distance "
                       "programmes), scanned and bisected in the load factor")
@@ -235,6 +270,8 @@ def ring_cone_limits(b1: float, b2: float, loops: int, modes: int = RING_MODES,
     """
     from ..analytic.ring import ring_mode_pencil, ring_stability
 
+    require_positive("b1", b1)
+    require_positive("b2", b2)
     N = require_positive_int("loops", loops)
     js = [j for j in range(1, require_positive_int("modes", modes) + 1) if j != N]
     nb = 2 * len(js)  # (A, B) per phase
@@ -246,9 +283,7 @@ def ring_cone_limits(b1: float, b2: float, loops: int, modes: int = RING_MODES,
                     if m != (m + 1) % N})
     rows = []
     for ka, kb in pairs:
-        pa, pb = (phi + 2 * math.pi * ka) / N, (phi + 2 * math.pi * kb) / N
-        nz = (np.sin(pa) - np.sin(pb)) / np.hypot(np.cos(pa) - np.cos(pb),
-                                                  np.sin(pa) - np.sin(pb))
+        _, nz = torus_normal(phi, ka, kb, N)
         D = np.zeros((len(phi), 2 * nb))
         for i, j in enumerate(js):
             k = j / N
@@ -262,18 +297,15 @@ def ring_cone_limits(b1: float, b2: float, loops: int, modes: int = RING_MODES,
                 wb = -np.cos(k * tb) / k if ph == 0 else -np.sin(k * tb) / k
                 D[:, ph * nb + 2 * i + 1] = nz * (wa - wb)
         rows.append(D)
-    Dm = np.vstack(rows)
-    Dm = Dm[np.linalg.norm(Dm, axis=1) > 1e-12]
-    Dm = Dm / np.linalg.norm(Dm, axis=1, keepdims=True)
+    Dm = _unit_rows(np.vstack(rows))
     an = ring_stability(b1, b2, N)
     lo, hi = 1.0 - an.M_interval[1], 1.0 - an.M_interval[0]
 
     def decide(mu: float) -> Any:
         return positive_on_cone(K0 + mu * K1, Dm)
 
-    out = [_search(decide, mu_c, sign, hi - lo, side, xtol)
-           for mu_c, sign, side in ((lo, -1.0, "lower"), (hi, 1.0, "upper"))]
-    return ConeLimits((lo, hi), out[0], out[1], 0,
+    lower, upper = _both_sides(decide, lo, hi, xtol)
+    return ConeLimits((lo, hi), lower, upper, 0,
                       f"minimum of P2 on the torus's cone in eq. (3.2)'s Fourier modes j <= "
                       f"{modes} (closed-form 2x2 pencils), {samples} azimuths per pair")
 
@@ -309,9 +341,8 @@ def rod_cone_limits(a: Assembly, layers: dict[str, Any] | str, elements_per_segm
     from ..nonlinear.discrete import discretise
 
     n = require_positive_int("elements_per_segment", elements_per_segment)
+    require_positive("thickness_ratio", thickness_ratio)
     if normals not in ("full", "height"):
-        from ..errors import RodstabInputError
-
         raise RodstabInputError(f"normals must be 'full' or 'height', got {normals!r}")
     rods = [discretise(a, n, mu) for mu in (0.0, 1.0)]
     khs = [r.kirchhoff_hessian() for r in rods]
@@ -326,8 +357,6 @@ def rod_cone_limits(a: Assembly, layers: dict[str, Any] | str, elements_per_segm
     T = position_map(rod, kh.zmap, kh.chord, kh.border).toarray()[:, keep] @ Q
     D = _rod_gap_rows(a, rod, T, layers, normals, thickness_ratio)
     if not len(D):  # never the whole space in silence: the limits would be the no-contact ones
-        from ..errors import RodstabInputError
-
         raise RodstabInputError(
             f"layers = {layers!r}: no two nodes of touching layers coincide on the rod's mesh "
             f"of {n} elements per segment (rods of unequal lengths do not share nodes); the "
@@ -336,21 +365,12 @@ def rod_cone_limits(a: Assembly, layers: dict[str, Any] | str, elements_per_segm
     def decide(mu: float) -> Any:
         return positive_on_cone(K0 + mu * K1, D)
 
-    lin = linear_stability(a, n)
-    lo, hi = lin.load_factor_interval
-    both = math.isfinite(lo) and math.isfinite(hi)
-    out: list[ConeLimit | None] = []
-    own = []
-    for mu_c, sign, side in ((lo, -1.0, "lower"), (hi, 1.0, "upper")):
-        if not math.isfinite(mu_c):
-            out.append(None)
-            own.append(float(mu_c))
-            continue
-        width = (hi - lo) if both else max(abs(mu_c), 1.0)
-        mu_own = _own_limit(K0, K1, float(mu_c), sign, width)
-        own.append(mu_own)
-        out.append(_search(decide, mu_own, sign, width, side, xtol))
-    return ConeLimits((own[0], own[1]), out[0], out[1], n,
+    lo, hi = linear_stability(a, n).load_factor_interval
+    lower, upper = _both_sides(decide, lo, hi, xtol,
+                               lambda mu_c, sign, width: _own_limit(K0, K1, mu_c, sign, width))
+    own = tuple(float(side.no_contact) if side is not None else float(mu)
+                for side, mu in ((lower, lo), (upper, hi)))
+    return ConeLimits((own[0], own[1]), lower, upper, n,
                       f"minimum of the discrete rod's inextensible Hessian (Kirchhoff "
                       f"coordinates) on the cone of gap-keeping perturbations at zero gap, "
                       f"{len(D)} touching node pairs, normals {normals!r}: certified decisions, "
@@ -374,7 +394,7 @@ def _node_places(rod: Any) -> tuple[np.ndarray, np.ndarray]:
 
 def _rod_gap_rows(a: Assembly, rod: Any, T: np.ndarray, layers: dict[str, Any] | str,
                   normals: str, thickness_ratio: float) -> np.ndarray:
-    """Rows ``n . (T_a - T_b)`` (unit norm) of every touching pair of coincident nodes.
+    """Return the rows ``n . (T_a - T_b)`` (unit norm) of the touching coincident node pairs.
 
     The normal from ``b`` to ``a`` is the layers': for offsets ``(u, k)`` (units of the
     spacing) ``((u_a - u_b) d1, k_a - k_b)``, ``d1 = t x e3`` turned by the segment's sense as
@@ -412,12 +432,9 @@ def _rod_gap_rows(a: Assembly, rod: Any, T: np.ndarray, layers: dict[str, Any] |
                 kb = int(s_of[j] // loop) if single else ib
                 if (ka - kb) % N not in (1, N - 1) or ka == kb:
                     continue
-                th = 2 * math.pi * (s_of[i] % loop) / loop
-                pa, pb = (th + 2 * math.pi * ka) / N, (th + 2 * math.pi * kb) / N
+                nr, nz = torus_normal(2 * math.pi * (s_of[i] % loop) / loop, ka, kb, N)
                 er = (x[i] - centre) * np.array([1.0, 1.0, 0.0])
-                er /= np.linalg.norm(er)
-                nrm = (math.cos(pa) - math.cos(pb)) * er + (math.sin(pa) - math.sin(pb)) * \
-                    np.array([0.0, 0.0, 1.0])
+                nrm = nr * er / np.linalg.norm(er) + nz * np.array([0.0, 0.0, 1.0])
             else:
                 (ua, ka_), (ub, kb_) = off[names[ia]], off[names[ib]]
                 if abs(math.hypot(ua - ub, ka_ - kb_) - 1.0) > 1e-9:
@@ -430,10 +447,8 @@ def _rod_gap_rows(a: Assembly, rod: Any, T: np.ndarray, layers: dict[str, Any] |
             nrm = nrm / np.linalg.norm(nrm)
             if normals == "height":
                 nrm = np.array([0.0, 0.0, nrm[2]])
-            row = nrm @ (T[3 * i: 3 * i + 3] - T[3 * j: 3 * j + 3])
-            if np.linalg.norm(row) > 0:
-                rows.append(row / np.linalg.norm(row))
-    return np.array(rows).reshape(-1, T.shape[1])
+            rows.append(nrm @ (T[3 * i: 3 * i + 3] - T[3 * j: 3 * j + 3]))
+    return _unit_rows(np.array(rows).reshape(-1, T.shape[1]))
 
 
 #: The rod's own no-contact limit is looked for within this many widths of the FE's.
@@ -449,7 +464,6 @@ def _own_limit(K0: np.ndarray, K1: np.ndarray, mu_c: float, sign: float, width: 
     """
     from scipy.linalg import eigh
 
-    from ..errors import NotConverged
     from ..numerics import refine_root
 
     def low(mu: float) -> float:
