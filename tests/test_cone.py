@@ -274,3 +274,22 @@ def test_random_rings_the_cone_and_the_closed_form_modes_agree():
             assert side is not None
             margin = ring_mode_margin(j, loops)
             assert side.unchanged is (margin >= -1e-9), (loops, sec.aspect, j, margin, side)
+
+
+def test_analyze_contact_on_the_hexagram_eight_says_only_its_lobes_are_checked(run_cli, tmp_path):
+    """The eight (examples/hexagram.toml with full circles): flat layers on each lobe by
+    default, the output saying the weld point is not built; a lobe with two strands on one
+    layer exits 2 naming them."""
+    text = open("examples/hexagram.toml").read().replace(
+        "curvature = 2.0943951023931953\nnatural", "curvature = 6.283185307179586\nnatural")
+    f = tmp_path / "eight.toml"
+    f.write_text(text.replace("reference_load = 1.0", "reference_load = 3.0"))
+    r = run_cli(["analyze", str(f), "--contact", "--elements", "12", "--json"])
+    assert r.exit_code == 0, r.stderr
+    c = json.loads(r.stdout)["contact"]
+    assert "each lobe of the eight" in c["layers_chosen"]
+    assert c["realised"].startswith("lobes only") and len(c["pairs"]) == 4
+    assert c["limits"]["lower"]["load_factor"] < c["interval"][0] - 0.3
+    bad = run_cli(["analyze", str(f), "--contact", "--elements", "12", "--layers",
+                   "r1=0,r3=0,r5=1,r2=0,r4=1,r6=2"])
+    assert bad.exit_code == 2 and "'r1' and 'r3' lie on one lobe" in bad.stderr

@@ -223,6 +223,8 @@ def cone_lines(cone: Any, how: str, limits: Any = None, full: Any = None) -> lis
                 "(at zero thickness): contact changes no limit"]
     out = [f"contact      layers: {how} ({len(cone.pairs)} touching pairs); each limit "
            "tested against the cone of gap-keeping modes at zero gap"]
+    if cone.realised:
+        out.append(f"  order      {cone.realised}")
     for label, side in (("lower", cone.lower), ("upper", cone.upper)):
         if side is None:
             continue
@@ -238,8 +240,9 @@ def cone_lines(cone: Any, how: str, limits: Any = None, full: Any = None) -> lis
     if limits is not None:
         out.append(f"  (limits with contact at zero gap on this mesh of "
                    f"{limits.elements_per_segment} elements per segment: FE of P2 out of plane; "
-                   "the rod engine with in-plane motions, which can only bring a moved limit "
-                   "back; their mesh error is not estimated)")
+                   "the rod engine with in-plane motions, which on one mesh can only bring a "
+                   "moved limit back, but whose own mesh error differs; neither mesh error is "
+                   "estimated: compare at a finer --elements)")
     return out
 
 

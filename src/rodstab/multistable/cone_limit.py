@@ -448,7 +448,38 @@ def _rod_gap_rows(a: Assembly, rod: Any, T: np.ndarray, layers: dict[str, Any] |
             if normals == "height":
                 nrm = np.array([0.0, 0.0, nrm[2]])
             rows.append(nrm @ (T[3 * i: 3 * i + 3] - T[3 * j: 3 * j + 3]))
+            rows.extend(nrm @ r for r in _edge_rows(rod, T, i, int(j), seg_of,
+                                                   NODE_COINCIDE * le))
     return _unit_rows(np.array(rows).reshape(-1, T.shape[1]))
+
+
+def _edge_rows(rod: Any, T: np.ndarray, i: int, j: int, seg_of: np.ndarray, tol: float
+               ) -> list[np.ndarray]:
+    """Displacement differences near two joints at one place next to a touching pair ``(i, j)``.
+
+    Where the edges from ``i`` and from ``j`` end at two different joints at one place (the
+    welds of a cusp point, whose strands' order can tie their motions together there), the
+    points ``xi = 1 - 2^-G`` of the way along both edges (``G`` = :data:`~.cone.WELD_GRADING`)
+    are paired as the nodes are, as the FE's samples are graded toward a weld
+    (:func:`.cone._touching_pairs`). The rod's centreline is straight between nodes, so the
+    differences are linear in ``xi`` and this one point's row implies every ``xi`` before it.
+    Each item: the ``(3, c)`` difference ``T_a - T_b`` there.
+    """
+    from .cone import WELD_GRADING
+
+    E, x = rod.edge_nodes, rod.x
+    xi = 1.0 - 0.5 ** WELD_GRADING
+    out = []
+    for ea in np.flatnonzero(np.any(E == i, axis=1)):
+        ip = int(E[ea, 1] if E[ea, 0] == i else E[ea, 0])
+        if seg_of[ip] != -1:
+            continue
+        for eb in np.flatnonzero(np.any(E == j, axis=1)):
+            jp = int(E[eb, 1] if E[eb, 0] == j else E[eb, 0])
+            if jp != ip and seg_of[jp] == -1 and np.linalg.norm(x[jp] - x[ip]) <= tol:
+                out.append((1.0 - xi) * (T[3 * i: 3 * i + 3] - T[3 * j: 3 * j + 3])
+                           + xi * (T[3 * ip: 3 * ip + 3] - T[3 * jp: 3 * jp + 3]))
+    return out
 
 
 #: The rod's own no-contact limit is looked for within this many widths of the FE's.
@@ -479,6 +510,7 @@ def _own_limit(K0: np.ndarray, K1: np.ndarray, mu_c: float, sign: float, width: 
             step *= 2
         if found is None:
             raise NotConverged(f"the rod's own no-contact limit is not within {OWN_WINDOW:g} "
-                               f"widths of the FE's {mu_c:.6g}")
+                               f"widths of the FE's {mu_c:.6g} (the two discretisations differ "
+                               "more than that on this mesh: give more elements per segment)")
         ends.append(found)
     return float(refine_root(low, min(ends), max(ends)))

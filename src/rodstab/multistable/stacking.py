@@ -45,9 +45,9 @@ rod 1's natural curvature is negative) fails at cusp ``1.end - 2.end`` (``x = L`
 ``2n - 1``). What holds is the torus curve's cross-section: rod ``i`` (traversal order) at
 vertex ``i`` of a regular ``2n``-gon of circumradius ``(h + g0) / (2 sin(pi / 2n))``
 (:func:`polygon_offsets`), every cusp joining neighbouring vertices. Likewise the hexagram's
-line; its star needs only layers 0, 1 alternating (:func:`traversal_layers`). Not done: the
-eight, whose six welds meet where its lobes touch: on the hexagon rods of the two lobes
-alternate and cross as the lobes part; with the lobes on two sides the cycle of welds crosses.
+line; its star needs only layers 0, 1 alternating (:func:`traversal_layers`). Not built: the
+eight, whose six welds meet where its lobes touch and need a braid there (the cone checks its
+lobes only: :func:`.cone.check_lobes`).
 """
 
 from __future__ import annotations
