@@ -1,13 +1,17 @@
 """The limits with contact at zero gap (rodstab.multistable.cone_limit): the table of
 docs/theory/contact.md, "By how much", by two discretisations, with timings.
 
-Run: ``python benchmarks/cone_limit.py [--elements 24] [--modes 48]``. Rings in
+Run: ``python benchmarks/cone_limit.py [--elements 24] [--modes 48] [--hexagram]``. Rings in
 ``(L / 2 pi) kappa_n``; FE (P2, the torus's gaps) against eq. (3.2)'s Fourier modes.
+``--hexagram``: instead, the eight's limits over its 36 flat lobe orders (h/t = 4, 16 el.) and
+the four-state threshold with contact at 12, 24 and 48 el./rod ("The hexagram's four states
+with contact" in docs/theory/contact.md).
 """
 
 from __future__ import annotations
 
 import argparse
+import itertools
 import math
 import time
 
@@ -30,7 +34,11 @@ def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--elements", type=int, default=24)
     ap.add_argument("--modes", type=int, default=48)
+    ap.add_argument("--hexagram", action="store_true")
     args = ap.parse_args()
+    if args.hexagram:
+        hexagram_table()
+        return
     n = args.elements
     for name, sec in (("circle", circle()), ("rectangle h/t = 2", rectangle(aspect=2.0))):
         for loops in (2, 3):
@@ -71,6 +79,38 @@ def main() -> None:
             print(f"{label} {m} el.: FE upper {_side(r.upper)}; rod, heights only "
                   f"{_side(h.upper)}; rod, every perturbation {_side(full.upper)} "
                   f"({time.perf_counter() - t:.1f} s)")
+
+
+def hexagram_table() -> None:
+    """The eight's flat lobe orders, then the threshold with contact on three meshes."""
+    from rodstab.problems import hexagram
+
+    sec = rectangle(aspect=4.0)
+    r6 = uniform_ring(6, weld="cusp", natural_curvature=2 * math.pi / 3, B1=sec.b1, B2=sec.b2)
+    eight = r6.held(2 * math.pi)
+    lows, highs, undecided = [], [], 0
+    t = time.perf_counter()
+    for pa in itertools.permutations(range(3)):
+        for pb in itertools.permutations(range(3)):
+            lay = {str(2 * i + 1): pa[i] for i in range(3)} | {
+                str(2 * i + 2): pb[i] for i in range(3)}
+            r = cone_limits(eight, lay, 16, xtol=1e-4)
+            if r.lower is None or r.upper is None or "undecided" in (r.lower.status,
+                                                                     r.upper.status):
+                undecided += 1
+                continue
+            lows.append(r.lower.load_factor)
+            highs.append(r.upper.load_factor)
+    print(f"eight, 36 flat lobe orders (h/t = 4, 16 el.): lower {min(lows):.4f}-{max(lows):.4f}"
+          f", upper {min(highs):.4f}-{max(highs):.4f}, {undecided} undecided "
+          f"({time.perf_counter() - t:.1f} s)")
+    free = hexagram.threshold()
+    print(f"threshold without contact: h/t > {free.aspect_threshold:.5f} ({free.binding})")
+    for n in (12, 24, 48):
+        t = time.perf_counter()
+        th = hexagram.contact_threshold(elements=n)
+        print(f"threshold with contact, {n} el./rod: h/t > {th.aspect_threshold:.5f}, kappa_n R0"
+              f" = {th.kappa_R0:.5f} ({th.binding}; {time.perf_counter() - t:.1f} s)")
 
 
 if __name__ == "__main__":

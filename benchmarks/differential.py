@@ -8,7 +8,8 @@ and bi-rods, cusp-welded rings of identical rods in their closed held states (re
 file like examples/hexagram.toml), planar assemblies from design files (kinked chains, Y-joints,
 split arcs; clamped ends), and N-loop rings stacked on the torus with contact at zero gap
 (``contact-rings``: the limits on the cone by the FE, eq. (3.2)'s Fourier modes and the nonlinear
-rod's Hessian, :mod:`rodstab.multistable.cone_limit`). Sections of every closed-form shape
+rod's Hessian, :mod:`rodstab.multistable.cone_limit`; ``contact-eights``: figure-eights of 4 and 6
+rods by the FE and the rod). Sections of every closed-form shape
 (rectangle and ellipse h/t 0.3-10, circle, tube, nu 0-0.5) and given ratios b1, b2 in 0.05-50. Every
 design is solved by every method that applies (the problem modules' ``METHODS``, the linear FE
 engine, the transfer methods: monodromy, shooting, full system, Bloch; the closed forms; the
@@ -489,10 +490,43 @@ def contact_rings(rng: np.random.Generator) -> Trial:
     return Trial(f"stacked ring section({_kw(sec)}) loops={loops}", code, methods, rtol)
 
 
+#: Figure-eights (FE 24 el./rod against the rod engine at 48, heights only): the rod's upper
+#: limit converges from below as O(h) (the eight at h/t = 4: 4.988, 5.063 at 24, 48 against the
+#: FE's 5.164, docs/theory/contact.md); its lower within 3e-3 at 48.
+CONE_EIGHT_RTOL = 3e-2
+
+
+def contact_eights(rng: np.random.Generator) -> Trial:
+    """Figure-eights of 2m full circles (m = 2, 3), lobes in flat layers: limits with contact."""
+    from rodstab.multistable.cone import lobe_layers
+    from rodstab.multistable.cone_limit import cone_limits, rod_cone_limits
+    from rodstab.multistable.states import uniform_ring
+
+    sec = random_section(rng)
+    m = int(rng.integers(2, 4))
+    section = sections.make_section(**sec)
+    rg = uniform_ring(2 * m, weld="cusp", natural_curvature=2 * math.pi / 3, B1=section.b1,
+                      B2=section.b2)
+    a = rg.held(2 * math.pi)
+    lay = lobe_layers(a)
+    code = (f"import math; from rodstab.multistable.cone import lobe_layers; from "
+            f"rodstab.multistable.cone_limit import cone_limits, rod_cone_limits; from "
+            f"rodstab.multistable.states import uniform_ring; from rodstab.sections import "
+            f"make_section; s = make_section({_kw(sec)}); a = uniform_ring({2 * m}, weld='cusp', "
+            f"natural_curvature=2 * math.pi / 3, B1=s.b1, B2=s.b2).held(2 * math.pi); "
+            f"print(cone_limits(a, lobe_layers(a), 24), rod_cone_limits(a, lobe_layers(a), 48, "
+            f"normals='height'))")
+    methods = {"cone-fe": lambda: _cone_values(cone_limits(a, lay, 24), 1),
+               "cone-rod": lambda: _cone_values(rod_cone_limits(a, lay, 48, normals="height"),
+                                                1)}
+    return Trial(f"eight section({_kw(sec)}) rods={2 * m}", code, methods,
+                 {("cone-fe", "cone-rod"): CONE_EIGHT_RTOL})
+
+
 #: family name -> generator of one random design.
 FAMILIES: dict[str, Callable[[np.random.Generator], Trial]] = {
     "arcs": arcs, "rings": rings, "folded": folded, "cusp-rings": cusp_rings,
-    "assemblies": assemblies, "contact-rings": contact_rings}
+    "assemblies": assemblies, "contact-rings": contact_rings, "contact-eights": contact_eights}
 
 
 # ---------------------------------------------------------------------------------------------

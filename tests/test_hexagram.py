@@ -148,3 +148,43 @@ def test_cli_hexagram_bad_input_exits_2_naming_the_value(capsys, argv, name):
     assert exc.value.code == 2
     err = capsys.readouterr()
     assert err.out == "" and name in err.err and len(err.err.strip().splitlines()) == 1
+
+
+# ---------------------------------------------------------------- with contact (issue 21)
+def test_contact_keeps_the_untouched_states_and_widens_the_stacked_ones():
+    """Contact at zero gap only removes perturbations: the star and the daisy (touching only
+    at welds) keep their exact intervals, the line and the eight widen; the sides that cannot
+    bind are not searched, and the overlap of all four widens (h/t = 4)."""
+    from rodstab.problems import hexagram as hx
+
+    sec = rectangle(aspect=4.0)
+    at = hx.contact_atlas(sec, 12)
+    for s in ("star", "daisy"):
+        assert at.states[s] == hx.transfer_interval(hx.Params(section=sec, state=s))
+        assert at.states[s] == at.no_contact[s] and "unchanged" in at.layers[s]
+    assert at.states["line"][1] > at.no_contact["line"][1]  # 2.2483 -> 2.274 (rod engine)
+    assert at.states["eight"][0] < at.no_contact["eight"][0] - 0.4  # 1.903 -> 1.39 (FE)
+    assert at.skipped == ("line.lower", "eight.upper")
+    assert at.binding == ("eight.lower", "line.upper")
+    free = hx.atlas(sec)
+    assert at.width > hx.overlap_width(free) + 0.4
+
+
+def test_contact_lowers_the_four_state_threshold():
+    """At h/t = 3.5, just below the threshold without contact (3.5102), the four states do not
+    overlap; with contact (the line's and the eight's intervals widened) they do, by far: the
+    threshold with contact is below 3.5 (2.8654 converged, docs/theory/contact.md)."""
+    sec = rectangle(aspect=3.5)
+    assert -0.05 < hx.overlap_width(hx.atlas(sec)) < 0
+    assert hx.contact_atlas(sec, 12).width > 0.3
+
+
+@pytest.mark.parametrize("args, words", [
+    (["--contact", "--chart", "x.png"], "--chart and --method cannot be given with it"),
+    (["--elements", "12"], "--elements is a setting of --contact"),
+    (["--contact", "--threshold", "--aspect", "3"], "--threshold varies rectangles' h/t"),
+    (["--contact", "--elements", "0"], "elements"),
+])
+def test_hexagram_contact_bad_input_exits_2(run_cli, args, words):
+    r = run_cli(["hexagram", "--shape", "rectangle", *args])
+    assert r.exit_code == 2 and words in r.stderr, r.stderr

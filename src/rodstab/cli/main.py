@@ -14,7 +14,7 @@ import click
 
 from .. import __version__
 from ..errors import NotConverged, RodstabInputError
-from . import barrier, continuation, design, multistable, paper, states
+from . import barrier, continuation, design, hexagram, multistable, paper, states
 from .output import SHOWN_WARNINGS, elapsed_indicator, warnings_as_lines
 
 #: Exit statuses of the ``rodstab`` command (module docstring, ``rodstab --help``,
@@ -45,7 +45,7 @@ def cli(ctx: click.Context) -> None:
 # In the order of the one-file CLI (``rodstab --help`` sorts them by name).
 for _command in (paper.section, paper.ring, paper.arc, paper.arc_max_length, paper.michell,
                  design.analyze, design.equilibrium_cmd, continuation.continue_cmd,
-                 design.sweep, paper.birod, paper.folded_ring, states.states, states.hexagram,
+                 design.sweep, paper.birod, paper.folded_ring, states.states, hexagram.hexagram,
                  paper.reproduce, multistable.discover, multistable.transitions,
                  barrier.barrier, states.atlas_cmd):
     cli.add_command(_command)

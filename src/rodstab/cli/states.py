@@ -14,8 +14,6 @@ from ..errors import NotConverged, RodstabInputError
 from ..io.outputs import check_output
 from ..limits import Limits
 from ..results import jsonable
-from ..sections import Section
-from .dimensions import DIMENSION_OPTIONS, opt
 from .options import (
     VARY_UNITS_HELP,
     given,
@@ -23,11 +21,10 @@ from .options import (
     limit_options,
     load_factor_option,
     read_vary,
-    section_options,
     vary_option,
     where_options,
 )
-from .output import emit, fmt, image_output, section_line, units_line
+from .output import emit, fmt, image_output, units_line
 
 
 @click.command()
@@ -127,74 +124,6 @@ def states(design_file: str | None, segments: int, cusps: bool, max_turns: float
             f"{phys['energy']['value'][i]:>10.6g}")
          for i, row in enumerate(rows)]
       + ([f"wrote {payload['plot']}"] if plot is not None else []))
-
-
-@click.command()
-@click.option("--threshold", "find_threshold", is_flag=True,
-              help="Solve for the smallest rectangle h/t above which all four states are "
-                   "stable together (uses --nu and --torsion; --aspect is the unknown).")
-@click.option("--method", type=click.Choice(["transfer", "fe"]), default="transfer",
-              show_default=True,
-              help="Exact arc with a Bloch phase per harmonic, or the FE engine "
-                   "(mesh refined from 32/64 elements per rod to an estimated 2.5e-7).")
-@click.option("--chart", "chart_path", type=click.Path(dir_okay=False), default=None,
-              help="Write the stable bands of the four states against h/t in [1, 6] "
-                   "(rectangles of --nu, --torsion; PNG).")
-@section_options
-@limit_options
-@json_option
-def hexagram(section: Section, find_threshold: bool, method: str, chart_path: str | None,
-             limits: Limits, as_json: bool) -> None:
-    """Stable kappa_n R0 of the curved-sided hexagram's four states (six rods, cusps)."""
-    from ..problems import REGISTRY
-
-    problem = REGISTRY["hexagram"]
-    ctx = click.get_current_context()
-    torsion = ctx.params["torsion"]
-    chart = None if chart_path is None else image_output("--chart", chart_path)
-    rect_only = find_threshold or chart is not None
-    if rect_only:
-        what = "--threshold" if find_threshold else "--chart"
-        for option, name in (("shape", "--shape"), ("aspect", "--aspect"), ("b1", "--b1"),
-                             ("b2", "--b2"), *((k, opt(k)) for k in DIMENSION_OPTIONS)):
-            if given(option) and not (option == "shape" and ctx.params["shape"] == "rectangle"):
-                raise RodstabInputError(
-                    f"{what} varies rectangles' h/t: {name} {ctx.params[option]!r} cannot be "
-                    "given with it (use --nu and --torsion)")
-    nu = float(ctx.params["nu"])
-    payload: dict[str, Any]
-    if find_threshold:
-        th = problem.threshold(nu=nu, torsion=torsion, method=method)
-        payload = {"aspect_threshold": th.aspect_threshold, "kappa_R0": th.kappa_R0,
-                   "binding": list(th.binding), "bracket": list(th.bracket), "nu": nu,
-                   "torsion": torsion, "method": th.method,
-                   "published_threshold": problem.PUBLISHED_THRESHOLD,
-                   "published_binding": list(problem.PUBLISHED_BINDING)}
-        lines = [f"rectangles, nu {fmt(nu)}, torsion {torsion}: all four states stable "
-                 f"together for h/t > {fmt(th.aspect_threshold)} (kappa_n R0 = "
-                 f"{fmt(th.kappa_R0)} there)",
-                 f"binding      {th.binding[0]} = {th.binding[1]}; published: h/t > "
-                 f"{problem.PUBLISHED_THRESHOLD:g} ({', '.join(problem.PUBLISHED_BINDING)})"]
-    else:
-        at = problem.atlas(section, method, limits)
-        payload = {"states": {s: list(v) for s, v in at.states.items()},
-                   "all_four": None if at.all_four is None else list(at.all_four),
-                   "method": method, "section": section.to_dict()}
-        lines = [section_line(section)] + [
-            f"{s:>6}       {fmt(lo)} < kappa_n R0 < {fmt(hi)}"
-            for s, (lo, hi) in at.states.items()] + [
-            "all four     " + ("never stable together" if at.all_four is None else
-                               f"{fmt(at.all_four[0])} < kappa_n R0 < {fmt(at.all_four[1])}")]
-    if chart is not None:
-        from ..plot.plots import plot_stable_bands
-
-        data = problem.chart_data(nu=nu, torsion=torsion, method=method)
-        mark = payload["aspect_threshold"] if find_threshold else None
-        payload["chart"] = str(plot_stable_bands(
-            data, problem.STATES, chart, threshold=mark,
-            title=f"hexagram, rectangles, nu = {nu:.4g}, torsion {torsion}, {method}"))
-        lines.append(f"wrote {payload['chart']}")
-    emit(payload, as_json, lines)
 
 
 #: Default N of ``rodstab atlas --vary KEY=START:STOP[:N]``.

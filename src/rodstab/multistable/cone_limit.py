@@ -172,16 +172,27 @@ def _search(decide: Any, mu_c: float, sign: float, width: float, side: str,
                      "the no-contact interval)")
 
 
-def _both_sides(decide: Any, lo: float, hi: float, xtol: float, start: Any = None
-                ) -> tuple[ConeLimit | None, ConeLimit | None]:
+#: Both ends of the interval: what the searches look for by default.
+SIDES = ("lower", "upper")
+
+
+def _check_sides(sides: tuple[str, ...]) -> tuple[str, ...]:
+    if not sides or any(x not in SIDES for x in sides):
+        raise RodstabInputError(f"sides must be some of {SIDES}, got {sides!r}")
+    return tuple(sides)
+
+
+def _both_sides(decide: Any, lo: float, hi: float, xtol: float, start: Any = None,
+                sides: tuple[str, ...] = SIDES) -> tuple[ConeLimit | None, ConeLimit | None]:
     """Search each finite end of the no-contact interval ``(lo, hi)`` outward (:func:`_search`).
 
-    ``start(mu_c, sign, width)``: the load the search starts from (default ``mu_c``).
+    ``start(mu_c, sign, width)``: the load the search starts from (default ``mu_c``); only the
+    ``sides`` asked for are searched (the others are None).
     """
     both = math.isfinite(lo) and math.isfinite(hi)
     out: list[ConeLimit | None] = []
     for mu_c, sign, side in ((lo, -1.0, "lower"), (hi, 1.0, "upper")):
-        if not math.isfinite(mu_c):
+        if not math.isfinite(mu_c) or side not in sides:
             out.append(None)
             continue
         width = (hi - lo) if both else max(abs(mu_c), 1.0)
@@ -203,7 +214,7 @@ def _unit_rows(D: np.ndarray) -> np.ndarray:
 
 
 def cone_limits(a: Assembly, layers: dict[str, Any] | str, elements_per_segment: int = 24,
-                *, xtol: float = XTOL) -> ConeLimits:
+                *, xtol: float = XTOL, sides: tuple[str, ...] = SIDES) -> ConeLimits:
     """Limits with contact at zero gap: where P2 stops being positive on the cone (module doc).
 
     Parameters
@@ -217,15 +228,18 @@ def cone_limits(a: Assembly, layers: dict[str, Any] | str, elements_per_segment:
         FE mesh of P2.
     xtol : float
         The bracket's width to refine to, relative to ``max(|mu|, 1)``.
+    sides : tuple of str
+        The ends to search (``"lower"``, ``"upper"``).
 
     Returns
     -------
     ConeLimits
-        Per finite side of the no-contact interval, the certified bracket of the limit with
-        contact (load factors).
+        Per finite side of the no-contact interval asked for, the certified bracket of the
+        limit with contact (load factors); None for a side not asked for or not finite.
     """
     from scipy.linalg import null_space
 
+    sides = _check_sides(sides)
     n = require_positive_int("elements_per_segment", elements_per_segment)
     lin = linear_stability(a, n)
     pencil = linear_pencil(a, n)
@@ -242,7 +256,7 @@ def cone_limits(a: Assembly, layers: dict[str, Any] | str, elements_per_segment:
         return positive_on_cone(K0 + mu * K1, D)
 
     lo, hi = lin.load_factor_interval
-    lower, upper = _both_sides(decide, lo, hi, xtol)
+    lower, upper = _both_sides(decide, lo, hi, xtol, sides=sides)
     return ConeLimits((float(lo), float(hi)), lower, upper, n,
                       "minimum of P2 (2.12, FE) on the cone of gap-keeping perturbations at zero "
                       "gap (out of plane): certified decisions (eigen-split + least-distance "
@@ -316,7 +330,7 @@ NODE_COINCIDE = 1e-6
 
 def rod_cone_limits(a: Assembly, layers: dict[str, Any] | str, elements_per_segment: int = 24,
                     *, normals: str = "full", thickness_ratio: float = 1e-3,
-                    xtol: float = XTOL) -> ConeLimits:
+                    xtol: float = XTOL, sides: tuple[str, ...] = SIDES) -> ConeLimits:
     """Find the limits with contact at zero gap on the nonlinear engine's rod, in-plane included.
 
     The same question as :func:`cone_limits` on another discretisation, which also has the
@@ -333,13 +347,15 @@ def rod_cone_limits(a: Assembly, layers: dict[str, Any] | str, elements_per_segm
 
     The no-contact limits ``mu_c`` the search starts from are the rod's own (the lowest
     eigenvalue's sign change next to the FE's, :func:`_own_limit`), so a shift is contact's,
-    not the two discretisations' difference.
+    not the two discretisations' difference. ``sides``: the ends searched (as
+    :func:`cone_limits`).
     """
     from scipy.linalg import null_space
 
     from ..nonlinear.contact_chords import position_map
     from ..nonlinear.discrete import discretise
 
+    sides = _check_sides(sides)
     n = require_positive_int("elements_per_segment", elements_per_segment)
     require_positive("thickness_ratio", thickness_ratio)
     if normals not in ("full", "height"):
@@ -367,7 +383,8 @@ def rod_cone_limits(a: Assembly, layers: dict[str, Any] | str, elements_per_segm
 
     lo, hi = linear_stability(a, n).load_factor_interval
     lower, upper = _both_sides(decide, lo, hi, xtol,
-                               lambda mu_c, sign, width: _own_limit(K0, K1, mu_c, sign, width))
+                               lambda mu_c, sign, width: _own_limit(K0, K1, mu_c, sign, width),
+                               sides)
     own = tuple(float(side.no_contact) if side is not None else float(mu)
                 for side, mu in ((lower, lo), (upper, hi)))
     return ConeLimits((own[0], own[1]), lower, upper, n,
@@ -375,6 +392,24 @@ def rod_cone_limits(a: Assembly, layers: dict[str, Any] | str, elements_per_segm
                       f"coordinates) on the cone of gap-keeping perturbations at zero gap, "
                       f"{len(D)} touching node pairs, normals {normals!r}: certified decisions, "
                       "scanned and bisected in the load factor")
+
+
+def limits_with_contact(a: Assembly, layers: dict[str, Any] | str, elements_per_segment: int = 24,
+                        *, xtol: float = XTOL, sides: tuple[str, ...] = SIDES) -> ConeLimits:
+    """Return the limits with contact at zero gap under every perturbation, in-plane included.
+
+    Where every touching pair's normal is a height (flat layers: the bi-rod, the eight's
+    lobes), in-plane motions change no gap and the planar state's second variation does not
+    couple them to the out-of-plane ones, so the FE's out-of-plane question
+    (:func:`cone_limits`, whose gap samples are denser) is the whole question. Otherwise (a
+    polygon, the torus) the rod engine with the full normals (:func:`rod_cone_limits`).
+    ``method`` of the result names the engine.
+    """
+    pairs = touching_pairs(a, layers, require_positive_int("elements_per_segment",
+                                                           elements_per_segment))
+    if pairs and all(np.all(np.abs(np.abs(nz) - 1.0) <= 1e-12) for *_, nz in pairs):
+        return cone_limits(a, layers, elements_per_segment, xtol=xtol, sides=sides)
+    return rod_cone_limits(a, layers, elements_per_segment, xtol=xtol, sides=sides)
 
 
 def _node_places(rod: Any) -> tuple[np.ndarray, np.ndarray]:

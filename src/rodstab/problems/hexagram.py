@@ -23,7 +23,7 @@ import dataclasses
 import functools
 import math
 
-from ..errors import NotConverged, RodstabInputError, require_positive
+from ..errors import NotConverged, RodstabInputError, require_positive, require_positive_int
 from ..limits import DEFAULT as DEFAULT_LIMITS
 from ..limits import Limits
 from ..linear.solve import LinearStability
@@ -283,3 +283,132 @@ def chart_data(*, nu: float = 1 / 3, torsion: str = "exact", method: str = "tran
     bands = rectangle_atlas(_grid(*ASPECT_RANGE, n_points), nu=nu, torsion=torsion,
                             method=method, ks=(len(STATES),)).bands()
     return {"aspect": bands.pop("value"), **bands}
+
+
+# ---------------------------------------------------------------- with contact (issue 21)
+#: Elements per rod of the limits with contact (:func:`contact_atlas`). Measured at h/t = 4
+#: against 48: the line's upper limit (rod engine) 2.2734 / 2.2730 at 24 / 32, the eight's
+#: lower (FE, lobes' heights) 1.4118 / 1.4131 at 24 / 48.
+CONTACT_ELEMENTS = 24
+
+
+@dataclasses.dataclass(frozen=True)
+class ContactAtlas(Result):
+    """Stable intervals of ``kappa_n R0`` of the four states with contact at zero gap.
+
+    ``states``: each state's interval with contact (a side that cannot bind, listed in
+    ``skipped``, keeps its no-contact value); ``no_contact``: the intervals without;
+    ``layers``: how each state's layers were chosen, or that nothing touches; ``all_four``: the
+    common part (``None`` when empty), bound by ``binding``; ``elements``: the mesh of the
+    cone limits (per rod).
+    """
+
+    states: dict[str, tuple[float, float]]
+    no_contact: dict[str, tuple[float, float]]
+    layers: dict[str, str]
+    skipped: tuple[str, ...]
+    all_four: tuple[float, float] | None
+    binding: tuple[str, str]
+    width: float
+    elements: int
+    method: str
+
+
+def contact_atlas(section: Section, elements: int = CONTACT_ELEMENTS) -> ContactAtlas:
+    """Return the four states' stable intervals with contact at zero gap, every perturbation.
+
+    A state whose rods touch nowhere at zero thickness (the star, the daisy: only at their
+    welds) keeps its interval (:func:`transfer_interval`). A stacked state (the line on the
+    hexagon, the eight's lobes in flat layers: :func:`..multistable.cone.default_layers`)
+    gets the limits with contact of :func:`..multistable.cone_limit.limits_with_contact` on
+    ``elements`` per rod, for the sides that can bind: contact only widens an interval, so a
+    lower limit already below an untouched state's lower limit (or an upper above an untouched
+    upper) cannot bind, is not searched, and is listed in ``skipped``. Raises
+    :class:`NotConverged` (exit 3) if a side that can bind is not bracketed.
+    """
+    from ..multistable.cone import default_layers, touching_pairs
+    from ..multistable.cone_limit import limits_with_contact
+
+    n = require_positive_int("elements", elements)
+    free = {s: transfer_interval(Params(section=section, state=s)) for s in STATES}
+    stacked, how = {}, {}
+    for s in STATES:
+        a = build(Params(section=section, state=s))
+        layers, why = default_layers(a)
+        if touching_pairs(a, layers, n):
+            stacked[s], how[s] = (a, layers), why
+        else:
+            how[s] = "no rods lie on one another at zero thickness: unchanged"
+    lo_free = max((free[s][0] for s in STATES if s not in stacked), default=-math.inf)
+    hi_free = min((free[s][1] for s in STATES if s not in stacked), default=math.inf)
+    out, skipped = dict(free), []
+    for s, (a, layers) in stacked.items():
+        lo, hi = free[s]
+        sides = tuple(side for side, can in (("lower", lo > lo_free), ("upper", hi < hi_free))
+                      if can)
+        skipped += [f"{s}.{side}" for side in ("lower", "upper") if side not in sides]
+        if not sides:
+            continue
+        lim = limits_with_contact(a, layers, n, sides=sides)
+        ends = []
+        for side, nc in (("lower", lo), ("upper", hi)):
+            found = getattr(lim, side)
+            if side not in sides:
+                ends.append(nc)
+            elif found is None or found.status != "bracketed":
+                raise NotConverged(f"hexagram {s}, b1 = {section.b1:.6g}, b2 = {section.b2:.6g}: "
+                                   f"the {side} limit with "
+                                   f"contact is not bracketed ("
+                                   f"{'no limit' if found is None else found.message})")
+            else:
+                ends.append(found.load_factor)
+        out[s] = (ends[0], ends[1])
+    both = ring_atlas.best_overlap(out, len(out))
+    return ContactAtlas(
+        states=out, no_contact=free, layers=how, skipped=tuple(skipped),
+        all_four=both.load_interval if both.width > 0 else None, binding=both.binding,
+        width=both.width, elements=n,
+        method=f"limits with contact at zero gap, {n} el./rod (the FE where every touching "
+               "normal is a height, else the rod engine); untouched states by the exact arc")
+
+
+#: The threshold with contact is refined to this in h/t (each width costs a cone search; the
+#: limits' own mesh error, ~1e-3 relative at :data:`CONTACT_ELEMENTS`, is larger).
+CONTACT_ASPECT_XTOL = 1e-4
+
+
+@functools.lru_cache(maxsize=256)
+def _contact_width(aspect: float, nu: float, torsion: str, elements: int) -> float:
+    """Overlap width of :func:`contact_atlas` for a rectangle (memoized: scan and Brent)."""
+    return contact_atlas(rectangle(aspect=aspect, nu=nu, torsion=torsion), elements).width
+
+
+def contact_threshold(*, nu: float = 1 / 3, torsion: str = "exact",
+                      elements: int = CONTACT_ELEMENTS,
+                      aspect_range: tuple[float, float] = ASPECT_RANGE) -> Threshold:
+    """Smallest rectangle h/t above which the four states are mutually stable with contact.
+
+    As :func:`threshold`, on the overlap width of :func:`contact_atlas` (limits with contact
+    at zero gap, ``elements`` per rod): scanned on :data:`THRESHOLD_SCAN` intervals of
+    ``aspect_range``, the last sign change refined by Brent (the package root finder). Raises
+    :class:`RodstabInputError` naming the range if the four are not stable together at its end
+    or are so everywhere in it.
+    """
+    from ..numerics import refine_root
+
+    n = require_positive_int("elements", elements)
+    grid = _grid(*aspect_range, THRESHOLD_SCAN + 1)
+    widths = [_contact_width(a, nu, torsion, n) for a in grid]
+    if widths[-1] <= 0 or all(w > 0 for w in widths):
+        raise RodstabInputError(f"aspect range {aspect_range}: the four states with contact are "
+                                f"not all stable together at h/t = {grid[-1]:g}, or are so "
+                                "everywhere in it: no threshold inside it")
+    k = max(i for i in range(len(grid) - 1) if widths[i] <= 0 < widths[i + 1])
+    root = refine_root(lambda a: _contact_width(a, nu, torsion, n), grid[k], grid[k + 1],
+                       rel_xtol=CONTACT_ASPECT_XTOL / (grid[k + 1] - grid[k]))
+    there = contact_atlas(rectangle(aspect=root, nu=nu, torsion=torsion), n)
+    lower = there.states[there.binding[0].split(".")[0]][0]  # the binding lower limit
+    return Threshold(aspect_threshold=root, kappa_R0=lower, binding=there.binding,
+                     bracket=(grid[k], grid[k + 1]), nu=nu, torsion=torsion,
+                     method=f"with contact at zero gap ({there.method}): grid of "
+                            f"{THRESHOLD_SCAN} intervals + Brent on the overlap width")
