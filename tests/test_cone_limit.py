@@ -73,9 +73,31 @@ def test_random_forms_agree_with_a_local_minimiser() -> None:
             assert low < 1e-7
 
 
-def test_more_than_two_negative_directions_is_undecided_not_positive() -> None:
-    d = positive_on_cone(np.diag([-1.0, -1.0, -1.0, 2.0]), np.eye(4)[:1])
-    assert d.status == UNDECIDED and "3 non-positive" in d.message
+def test_random_forms_with_three_negative_directions_agree_with_a_local_minimiser() -> None:
+    """Seeded: 25 random forms with 3 non-positive directions (the sphere's faces), n <= 8."""
+    rng = np.random.default_rng(33)
+    decided = 0
+    for _ in range(25):
+        n, m = int(rng.integers(4, 9)), int(rng.integers(2, 9))
+        Q, _ = np.linalg.qr(rng.normal(size=(n, n)))
+        lam = np.r_[-rng.uniform(0, 1, 3) * rng.choice([0.05, 1.0]), rng.uniform(0.2, 2, n - 3)]
+        K = Q @ np.diag(lam) @ Q.T
+        D = rng.normal(size=(m, n))
+        d = positive_on_cone(K, D)
+        assert d.negative_directions == 3
+        low = _slsqp_minimum(K, D, rng, starts=15)
+        if d.status == POSITIVE:
+            assert low > -1e-7 and d.lower_bound > 0
+        elif d.status == NOT_POSITIVE:
+            assert low < 1e-7 and d.witness is not None
+            assert np.all(D @ d.witness >= -1e-9 * np.linalg.norm(d.witness))
+        decided += d.status != UNDECIDED
+    assert decided >= 20
+
+
+def test_four_negative_directions_is_undecided_not_positive() -> None:
+    d = positive_on_cone(np.diag([-1.0, -1.0, -1.0, -1.0, 2.0]), np.eye(5)[:1])
+    assert d.status == UNDECIDED and "4 non-positive" in d.message
     assert positive_on_cone(np.eye(3), np.eye(3)).status == POSITIVE
 
 

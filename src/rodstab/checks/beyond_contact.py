@@ -225,8 +225,8 @@ def _eight_limits_claim() -> Claim:
         "New. Contact widens the eight's interval on both sides (lower 1.903 -> 1.413, upper "
         "4.239 -> 5.164 at 32-48 el.; the rod's upper converges from below, 5.06 at 48). The "
         "layers' cycle of orders round the weld point ties the strands there. Other flat "
-        "orders give other limits (lower 1.32-1.41 at 16 el.; 6 of the 36 undecided, with "
-        "three non-positive directions).")
+        "orders give other limits (lower 1.32-1.41 at 16 el.; 6 of the 36 certified only "
+        "past 0.965 and 5.617, where the form has four non-positive directions).")
 
 
 def contact_checks(run: Run) -> Iterator[Claim]:

@@ -40,7 +40,15 @@ E c')^T u > 0``. So every evaluation of ``F`` at one ``c`` bounds ``F`` from bel
   (positive, certified), or ``F < -floor`` at a point (a witness ``v`` in ``C`` with ``v^T K v
   < 0``, returned and checked: not positive), or :data:`MAX_EVALUATIONS` solves are spent
   (undecided).
-* ``k >= 3``: undecided (a sphere is not cut into arcs here).
+* ``k = 3``: the unit sphere, cut into spherical triangles (the octahedron's 8 faces,
+  each split in 4 at its edges' normalised midpoints). On each face the best minorant plus
+  ``sum lam_i c_i^2`` is bounded below by its values at the points of a grid of the face
+  (:data:`PATCH_DIVISIONS`, normalised) less ``L rho``: ``L = 2 max |lam| + |slope|`` bounds
+  its gradient on the sphere and ``rho`` bounds the angle from a point of the face to its
+  nearest grid point (:func:`_face_samples`). The faces with the lowest bound are split
+  first; as for ``k = 2`` the outcome is certified, a checked witness, or undecided after
+  :data:`MAX_EVALUATIONS_3` solves.
+* ``k >= 4``: undecided.
 
 The floor is :data:`FLOOR_RTOL` ``max |lam|``: a form whose minimum on the cone is within it of
 zero is undecided, never called positive -- which is what happens exactly at a limit.
@@ -50,6 +58,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from typing import Any
 
 import numpy as np
 
@@ -69,6 +78,10 @@ ARC_SAMPLES = 9
 START_ARCS = 8
 #: Least-distance solves allowed before the decision is reported undecided.
 MAX_EVALUATIONS = 80
+#: ... with three non-positive directions (a sphere: four solves per split face).
+MAX_EVALUATIONS_3 = 240
+#: Divisions of a face's edges for its sample grid (``k = 3``): ``(m + 1)(m + 2) / 2`` points.
+PATCH_DIVISIONS = 8
 
 POSITIVE, NOT_POSITIVE, UNDECIDED = "positive", "not positive", "undecided"
 
@@ -183,6 +196,57 @@ def _arc_bound(lam: np.ndarray, evals: list[_Eval], t0: float, t1: float) -> flo
     return best
 
 
+def _unit(x: np.ndarray) -> np.ndarray:
+    return x / np.linalg.norm(x, axis=-1, keepdims=True)
+
+
+def _face_samples(face: np.ndarray) -> tuple[np.ndarray, float]:
+    """Grid points of a spherical triangle (rows of ``face``) and their covering angle.
+
+    The flat triangle's points ``(i a + j b + l c) / m`` (``i + j + l = m``,
+    :data:`PATCH_DIVISIONS`), normalised. A point ``P`` of the flat triangle lies in a
+    sub-triangle of the grid, within its longest edge ``d`` (the flat edge over ``m``) of a grid
+    point ``Q``; with ``|P|, |Q| >= r`` (the flat plane's distance from the origin) the angle
+    between them has ``sin <= d / r`` (``|P x Q| <= |Q| |P - Q|``) and is below 90 degrees
+    (a face lies in an octant). Returns the points and ``arcsin(min(1, d / r))``.
+    """
+    m = PATCH_DIVISIONS
+    w = np.array([(i, j, m - i - j) for i in range(m + 1) for j in range(m + 1 - i)], float) / m
+    pts = _unit(w @ face)
+    a, b, c = face
+    d = max(float(np.linalg.norm(a - b)), float(np.linalg.norm(b - c)),
+            float(np.linalg.norm(c - a))) / m
+    normal = np.cross(b - a, c - a)
+    r = abs(float(normal @ a)) / float(np.linalg.norm(normal))
+    return pts, math.asin(min(1.0, d / r))
+
+
+def _face_bound(lam: np.ndarray, evals: list[_Eval], face: np.ndarray) -> float:
+    """Certified lower bound of ``F`` on a spherical triangle from every minorant (module doc)."""
+    pts, rho = _face_samples(face)
+    base = pts**2 @ lam
+    best = -math.inf
+    for e in evals:
+        s = pts @ e.slope
+        slope = float(np.linalg.norm(e.slope))
+        if e.farkas:
+            if float(np.min(s)) - slope * rho > 0:
+                return math.inf
+            continue
+        lip = 2.0 * float(np.max(np.abs(lam))) + slope
+        best = max(best, float(np.min(base + s + e.offset)) - lip * rho)
+    return best
+
+
+def _octahedron() -> list[np.ndarray]:
+    faces = []
+    for sx in (1.0, -1.0):
+        for sy in (1.0, -1.0):
+            for sz in (1.0, -1.0):
+                faces.append(np.array([[sx, 0, 0], [0, sy, 0], [0, 0, sz]]))
+    return faces
+
+
 def positive_on_cone(K: np.ndarray, D: np.ndarray, *,
                      max_evaluations: int = MAX_EVALUATIONS) -> ConeDecision:
     """Decide whether ``v^T K v > 0`` for every nonzero ``v`` with ``D v >= 0`` (module doc).
@@ -212,10 +276,10 @@ def positive_on_cone(K: np.ndarray, D: np.ndarray, *,
                                 "no constraints, and K has a negative eigenvalue")
         return ConeDecision(UNDECIDED, sp.k, lam0, lam0, 0, None,
                             "no constraints, and K's lowest eigenvalue is within the floor of 0")
-    if sp.k > 2:
+    if sp.k > 3:
         return ConeDecision(UNDECIDED, sp.k, math.nan, -math.inf, 0, None,
                             f"K has {sp.k} non-positive directions; the certified decision "
-                            "handles at most 2")
+                            "handles at most 3")
     lam = sp.lam_E / sp.scale
     evals: list[_Eval] = []
 
@@ -251,6 +315,8 @@ def positive_on_cone(K: np.ndarray, D: np.ndarray, *,
             return ConeDecision(POSITIVE, 1, low, low, 2, None, "F(+1), F(-1) > 0, exactly")
         return ConeDecision(UNDECIDED, 1, low, low, 2, None,
                             f"min F = {low:.3e} (relative) within the floor {floor:g} of zero")
+    if sp.k == 3:
+        return _sphere(lam, run, witness, evals, floor)
     # Every solve's minorant holds on the whole circle: each arc keeps its best bound so far,
     # raised by each new solve (work: solves x arcs, not their square).
     bound: dict[tuple[float, float], float] = {}
@@ -292,3 +358,39 @@ def positive_on_cone(K: np.ndarray, D: np.ndarray, *,
         raise_bounds(new)
         for arc in ((t0, tm), (tm, t1)):
             bound[arc] = _arc_bound(lam, evals, *arc)
+
+
+def _sphere(lam: np.ndarray, run: Any, witness: Any, evals: list[_Eval], floor: float
+            ) -> ConeDecision:
+    """``k = 3``: certify ``F > 0`` on the unit sphere face by face (module doc)."""
+    faces: list[tuple[float, np.ndarray]] = []
+    for face in _octahedron():
+        found = witness(run(_unit(face.sum(axis=0))))
+        if found:
+            return found
+    for face in _octahedron():
+        faces.append((_face_bound(lam, evals, face), face))
+    while True:
+        open_ = [i for i, (b, _) in enumerate(faces) if b <= floor]
+        lower = min(b for b, _ in faces)
+        low = min(e.F for e in evals)
+        if not open_:
+            return ConeDecision(POSITIVE, 3, low, lower, len(evals), None,
+                                f"every face's lower bound above the floor ({len(faces)} faces)")
+        if len(evals) + 4 > MAX_EVALUATIONS_3:
+            return ConeDecision(UNDECIDED, 3, low, lower, len(evals), None,
+                                f"{len(open_)} faces not certified after {len(evals)} solves "
+                                f"(lower bound {lower:.3e}, smallest F {low:.3e}, relative)")
+        worst = min(open_, key=lambda i: faces[i][0])
+        _, (a, b, c) = faces.pop(worst)
+        ab, bc, ca = _unit(a + b), _unit(b + c), _unit(c + a)
+        children = [np.array(f) for f in ((a, ab, ca), (ab, b, bc), (ca, bc, c), (ab, bc, ca))]
+        new = []
+        for f in children:
+            e = run(_unit(f.sum(axis=0)))
+            found = witness(e)
+            if found:
+                return found
+            new.append(e)
+        faces = [(max(bd, _face_bound(lam, new, f)), f) for bd, f in faces]
+        faces += [(_face_bound(lam, evals, f), f) for f in children]
