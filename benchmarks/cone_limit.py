@@ -58,11 +58,15 @@ def main() -> None:
                       f"{b.load_factor * loops:.5f} (no contact {a.no_contact * loops:.5f}; "
                       f"{t_fe:.1f} s / {t_fo:.1f} s); every perturbation (rod {n} / {2 * n} "
                       f"el.) {full}")
-    for label, a, lay in (
-            ("bi-rod (circle)", birod.build(birod.Params(section=circle())),
-             {"upper": 0, "lower": 1}),
-            ("folded six-ring (circle)", folded_ring.build(folded_ring.Params()), None),
-            ("hexagram line (rectangle h/t = 4)", None, None)):
+    birods = [(f"bi-rod ({name})", birod.build(birod.Params(section=sec)),
+               {"upper": 0, "lower": 1})
+              for name, sec in (("circle", circle()), ("rectangle h/t = 2", rectangle(aspect=2.0)),
+                                ("rectangle h/t = 4", rectangle(aspect=4.0)))]
+    folded = [(f"folded six-ring ({name})", folded_ring.build(folded_ring.Params(section=sec)),
+               None)
+              for name, sec in (("circle", circle()), ("rectangle h/t = 2", rectangle(aspect=2.0)),
+                                ("rectangle h/t = 4", rectangle(aspect=4.0)))]
+    for label, a, lay in (*birods, *folded, ("hexagram line (rectangle h/t = 4)", None, None)):
         if a is None:
             sec = rectangle(aspect=4.0)
             r6 = uniform_ring(6, weld="cusp", natural_curvature=2 * math.pi / 3, B1=sec.b1,
