@@ -78,7 +78,8 @@ ARC_SAMPLES = 9
 START_ARCS = 8
 #: Least-distance solves allowed before the decision is reported undecided.
 MAX_EVALUATIONS = 80
-#: ... with three non-positive directions (a sphere: four solves per split face).
+#: ... with three non-positive directions (a sphere: four solves per split face); scaled with
+#: ``max_evaluations`` of :func:`positive_on_cone`.
 MAX_EVALUATIONS_3 = 240
 #: Divisions of a face's edges for its sample grid (``k = 3``): ``(m + 1)(m + 2) / 2`` points.
 PATCH_DIVISIONS = 8
@@ -258,7 +259,8 @@ def positive_on_cone(K: np.ndarray, D: np.ndarray, *,
     D : numpy.ndarray
         ``(m, n)``: the cone's rows (``m = 0``: plain definiteness).
     max_evaluations : int
-        Least-distance solves allowed (``k = 2``) before giving up as undecided.
+        Least-distance solves allowed (``k = 2``; ``k = 3``: that times
+        ``MAX_EVALUATIONS_3 / MAX_EVALUATIONS``) before giving up as undecided.
 
     Returns
     -------
@@ -315,82 +317,69 @@ def positive_on_cone(K: np.ndarray, D: np.ndarray, *,
             return ConeDecision(POSITIVE, 1, low, low, 2, None, "F(+1), F(-1) > 0, exactly")
         return ConeDecision(UNDECIDED, 1, low, low, 2, None,
                             f"min F = {low:.3e} (relative) within the floor {floor:g} of zero")
-    if sp.k == 3:
-        return _sphere(lam, run, witness, evals, floor)
-    # Every solve's minorant holds on the whole circle: each arc keeps its best bound so far,
-    # raised by each new solve (work: solves x arcs, not their square).
-    bound: dict[tuple[float, float], float] = {}
+    if sp.k == 2:
+        # arcs (t0, t1) of the circle, halved at their middles
+        regions: list[Any] = [(2 * math.pi * i / START_ARCS, 2 * math.pi * (i + 1) / START_ARCS)
+                              for i in range(START_ARCS)]
 
-    def raise_bounds(new: list[_Eval]) -> None:
-        for arc in bound:
-            bound[arc] = max(bound[arc], _arc_bound(lam, new, *arc))
+        def centre(arc: Any) -> np.ndarray:
+            tm = 0.5 * (arc[0] + arc[1])
+            return np.array([math.cos(tm), math.sin(tm)])
 
-    for i in range(START_ARCS):
-        t0, t1 = 2 * math.pi * i / START_ARCS, 2 * math.pi * (i + 1) / START_ARCS
-        tm = 0.5 * (t0 + t1)
-        found = witness(run(np.array([math.cos(tm), math.sin(tm)])))
-        if found:
-            return found
-        bound[(t0, t1)] = -math.inf
-    raise_bounds(evals)
-    while True:
-        open_ = [(b, arc) for arc, b in bound.items() if b <= floor]
-        lower = min(bound.values())
-        low = min(e.F for e in evals)
-        if not open_:
-            return ConeDecision(POSITIVE, 2, low, lower, len(evals), None,
-                                f"every arc's lower bound above the floor ({len(bound)} arcs)")
-        if len(evals) + 2 > max_evaluations:
-            return ConeDecision(UNDECIDED, 2, low, lower, len(evals), None,
-                                f"{len(open_)} arcs not certified after {len(evals)} solves "
-                                f"(lower bound {lower:.3e}, smallest F {low:.3e}, relative)")
-        _, (t0, t1) = min(open_, key=lambda x: x[0])
-        del bound[(t0, t1)]
-        tm = 0.5 * (t0 + t1)
-        new = []
-        for a, b in ((t0, tm), (tm, t1)):
-            tq = 0.5 * (a + b)
-            e = run(np.array([math.cos(tq), math.sin(tq)]))
-            found = witness(e)
-            if found:
-                return found
-            new.append(e)
-        raise_bounds(new)
-        for arc in ((t0, tm), (tm, t1)):
-            bound[arc] = _arc_bound(lam, evals, *arc)
+        def split(arc: Any) -> list[Any]:
+            tm = 0.5 * (arc[0] + arc[1])
+            return [(arc[0], tm), (tm, arc[1])]
 
+        return _refine(2, regions, centre, split, lambda ev, arc: _arc_bound(lam, ev, *arc), run,
+                       witness, evals, floor, max_evaluations, "arcs")
+    faces = _octahedron()  # k = 3: spherical triangles, split in four
 
-def _sphere(lam: np.ndarray, run: Any, witness: Any, evals: list[_Eval], floor: float
-            ) -> ConeDecision:
-    """``k = 3``: certify ``F > 0`` on the unit sphere face by face (module doc)."""
-    faces: list[tuple[float, np.ndarray]] = []
-    for face in _octahedron():
-        found = witness(run(_unit(face.sum(axis=0))))
-        if found:
-            return found
-    for face in _octahedron():
-        faces.append((_face_bound(lam, evals, face), face))
-    while True:
-        open_ = [i for i, (b, _) in enumerate(faces) if b <= floor]
-        lower = min(b for b, _ in faces)
-        low = min(e.F for e in evals)
-        if not open_:
-            return ConeDecision(POSITIVE, 3, low, lower, len(evals), None,
-                                f"every face's lower bound above the floor ({len(faces)} faces)")
-        if len(evals) + 4 > MAX_EVALUATIONS_3:
-            return ConeDecision(UNDECIDED, 3, low, lower, len(evals), None,
-                                f"{len(open_)} faces not certified after {len(evals)} solves "
-                                f"(lower bound {lower:.3e}, smallest F {low:.3e}, relative)")
-        worst = min(open_, key=lambda i: faces[i][0])
-        _, (a, b, c) = faces.pop(worst)
+    def split_face(face: Any) -> list[Any]:
+        a, b, c = face
         ab, bc, ca = _unit(a + b), _unit(b + c), _unit(c + a)
-        children = [np.array(f) for f in ((a, ab, ca), (ab, b, bc), (ca, bc, c), (ab, bc, ca))]
+        return [np.array(f) for f in ((a, ab, ca), (ab, b, bc), (ca, bc, c), (ab, bc, ca))]
+
+    return _refine(3, faces, lambda face: _unit(face.sum(axis=0)), split_face,
+                   lambda ev, face: _face_bound(lam, ev, face), run, witness, evals, floor,
+                   max_evaluations * MAX_EVALUATIONS_3 // MAX_EVALUATIONS, "faces")
+
+
+def _refine(k: int, regions: list[Any], centre: Any, split: Any, bound: Any, run: Any,
+            witness: Any, evals: list[_Eval], floor: float, budget: int, what: str
+            ) -> ConeDecision:
+    """Certify ``F > 0`` on the circle or sphere region by region (module doc).
+
+    ``F`` is solved at each region's ``centre`` (a witness ends the search); every solve's
+    minorant holds everywhere, so each region keeps its best ``bound`` so far, raised by each
+    new solve (work: solves x regions, not their square). The region with the lowest bound is
+    ``split`` first, until every bound is above ``floor`` or ``budget`` solves are spent.
+    """
+    for region in regions:
+        found = witness(run(centre(region)))
+        if found:
+            return found
+    live = [(bound(evals, r), r) for r in regions]
+    while True:
+        open_ = [i for i, (b, _) in enumerate(live) if b <= floor]
+        lower = min(b for b, _ in live)
+        low = min(e.F for e in evals)
+        if not open_:
+            return ConeDecision(POSITIVE, k, low, lower, len(evals), None,
+                                f"the lower bounds of all {len(live)} {what} above the "
+                                "floor")
+        worst = min(open_, key=lambda i: live[i][0])
+        pieces = split(live[worst][1])
+        if len(evals) + len(pieces) > budget:
+            return ConeDecision(UNDECIDED, k, low, lower, len(evals), None,
+                                f"{len(open_)} {what} not certified after {len(evals)} solves "
+                                f"(lower bound {lower:.3e}, smallest F {low:.3e}, relative)")
+        live.pop(worst)
         new = []
-        for f in children:
-            e = run(_unit(f.sum(axis=0)))
+        for piece in pieces:
+            e = run(centre(piece))
             found = witness(e)
             if found:
                 return found
             new.append(e)
-        faces = [(max(bd, _face_bound(lam, new, f)), f) for bd, f in faces]
-        faces += [(_face_bound(lam, evals, f), f) for f in children]
+        live = [(max(b, bound(new, r)), r) for b, r in live]
+        live += [(bound(evals, p), p) for p in pieces]
