@@ -492,8 +492,9 @@ def contact_rings(rng: np.random.Generator) -> Trial:
 
 #: Figure-eights (FE 24 el./rod against the rod engine at 48, heights only): the rod's upper
 #: limit converges from below as O(h) (the eight at h/t = 4: 4.988, 5.063 at 24, 48 against the
-#: FE's 5.164, docs/theory/contact.md); its lower within 3e-3 at 48.
-CONE_EIGHT_RTOL = 3e-2
+#: FE's 5.164, docs/theory/contact.md); its lower within 3e-3 at 48. Seeds 15 and 16 (12 + 24
+#: designs): every difference above 1e-2 an upper limit with the rod below, at most 2.47e-2.
+CONE_EIGHT_RTOL = 5e-2
 
 
 def contact_eights(rng: np.random.Generator) -> Trial:
