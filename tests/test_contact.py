@@ -368,6 +368,21 @@ def test_extra_connections_count_as_adjacency():
     assert contact_energy_value(mesh_for(x, edges, connections=[(10, 11)]), x) == 0.0
 
 
+def test_graph_distance_lookup_is_the_sparse_matrix_entry():
+    """The sorted-key lookup of the distances along the structure against scipy's indexing of
+    the same sparse matrix, on every node pair of two welded rods (in reach or not)."""
+    h = 2 * R_CAP
+    x = np.vstack([line(np.linspace(-1, 0, 11)), line(np.linspace(0.0, 1, 11), 0.0, 0.5 * h)])
+    edges = np.vstack([chain(10), chain(10, 11)])
+    mesh = mesh_for(x, edges, connections=[(10, 11)])
+    p, q = (a.ravel() for a in np.meshgrid(np.arange(22), np.arange(22)))
+    v = np.asarray(mesh.near[p, q]).ravel()
+    expected = np.where(v > 0.0, v - 1.0, np.inf)
+    np.testing.assert_array_equal(mesh.graph_distance(p, q), expected)
+    assert np.isfinite(expected).sum() > 22 and np.isinf(expected).sum() > 22
+    assert mesh.graph_distance(np.zeros(0, int), np.zeros(0, int)).shape == (0,)
+
+
 def _ring(loops: int) -> Assembly:
     s = Segment(name="r", length=2 * math.pi * loops, curvature=1.0, natural_curvature=1.0,
                 B1=1.0, B2=1.0, B3=1.0)

@@ -54,6 +54,7 @@ curve of radius ``R`` the chord of an arc ``s`` is ``s (1 - s^2 / 24 R^2)``, so 
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 from collections.abc import Sequence
 from typing import Any
@@ -284,9 +285,27 @@ class ContactMesh:
     near: sp.csr_matrix
     cutoff: float
 
+    @functools.cached_property
+    def _near_keys(self) -> tuple[np.ndarray, np.ndarray]:
+        """``near``'s stored entries as sorted keys ``row n + col`` and their values."""
+        coo = self.near.tocoo()
+        coo.sum_duplicates()  # one entry per (row, col), as indexing would sum them
+        keys = coo.row.astype(np.int64) * self.n_nodes + coo.col
+        order = np.argsort(keys)
+        return keys[order], coo.data[order]
+
     def graph_distance(self, p: np.ndarray, q: np.ndarray) -> np.ndarray:
-        """Distance along the structure between nodes ``p`` and ``q`` (inf beyond cutoff)."""
-        v = np.asarray(self.near[p, q]).ravel() if len(p) else np.zeros(0)
+        """Distance along the structure between nodes ``p`` and ``q`` (inf beyond cutoff).
+
+        A sorted-key lookup of ``near`` (scipy's fancy indexing of a sparse matrix cost 15 %
+        of a contact evaluation at 32 elements per rod).
+        """
+        keys, vals = self._near_keys
+        if not len(p) or not len(keys):
+            return np.full(len(p), np.inf)
+        want = np.asarray(p, dtype=np.int64) * self.n_nodes + np.asarray(q, dtype=np.int64)
+        k = np.minimum(np.searchsorted(keys, want), len(keys) - 1)
+        v = np.where(keys[k] == want, vals[k], 0.0)
         return np.where(v > 0.0, v - 1.0, np.inf)
 
     def excluded_node_element(self, p: np.ndarray, e: np.ndarray) -> np.ndarray:
