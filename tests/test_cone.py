@@ -289,6 +289,7 @@ def test_analyze_contact_on_the_hexagram_eight_says_only_its_lobes_are_checked(r
     c = json.loads(r.stdout)["contact"]
     assert "each lobe of the eight" in c["layers_chosen"]
     assert c["realised"].startswith("lobes only") and len(c["pairs"]) == 4
+    # moved by 0.49 (the rod engine, 24 el.) and 0.51 (an independent minimiser, 8 el.)
     assert c["limits"]["lower"]["load_factor"] < c["interval"][0] - 0.3
     bad = run_cli(["analyze", str(f), "--contact", "--elements", "12", "--layers",
                    "r1=0,r3=0,r5=1,r2=0,r4=1,r6=2"])

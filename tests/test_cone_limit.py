@@ -92,7 +92,7 @@ def test_random_forms_with_three_negative_directions_agree_with_a_local_minimise
             assert low < 1e-7 and d.witness is not None
             assert np.all(D @ d.witness >= -1e-9 * np.linalg.norm(d.witness))
         decided += d.status != UNDECIDED
-    assert decided >= 20
+    assert decided >= 20  # a coverage floor, not a reference: 199 of 200 such forms decide
 
 
 def test_four_negative_directions_is_undecided_not_positive() -> None:

@@ -267,19 +267,15 @@ def check_lobes(a: Assembly, layers: dict[str, Any]) -> None:
     ``StackingError`` (exit 2) naming them; unknown or missing names: ``RodstabInputError``.
     The weld point, where every weld meets and the order changes, is not built.
     """
-    from .stacking import StackingError, _offset_pair
+    from .stacking import StackingError, layer_offsets
 
     segs = a.segments
-    every = [sg.name for sg in segs]
-    unknown, missing = sorted(set(layers) - set(every)), [m for m in every if m not in layers]
-    if unknown or missing:
-        raise RodstabInputError(f"layers must give every segment of {every} once; unknown "
-                                f"{unknown}, missing {missing}")
+    off = layer_offsets([sg.name for sg in segs], layers)
     for lobe in (0, 1):
         names = [sg.name for sg in segs[lobe::2]]
         for i, na in enumerate(names):
             for nb in names[i + 1:]:
-                d = math.dist(_offset_pair(na, layers[na]), _offset_pair(nb, layers[nb]))
+                d = math.dist(off[na], off[nb])
                 if d < 1.0 - TOUCH_TOL:
                     raise StackingError(
                         f"the stacked eight interpenetrates: segments {na!r} and {nb!r} lie on "
@@ -337,11 +333,11 @@ def touching_pairs(a: Assembly, layers: dict[str, Any] | str, n: int) -> Pairs:
     Each ``(ia, ib, s_a, s_b, n_z)``: the segments, the matched arc lengths on each and the
     normal's height component there (:func:`_touching_pairs`, :func:`_torus_pairs`).
     """
-    from .stacking import _offset_pair
+    from .stacking import layer_offsets
 
     if isinstance(layers, str):
         return _torus_pairs(a, n)
-    return _touching_pairs(a, {nm: _offset_pair(nm, v) for nm, v in layers.items()}, n)
+    return _touching_pairs(a, layer_offsets([s.name for s in a.segments], layers), n)
 
 
 def _best_combination(A: np.ndarray) -> tuple[np.ndarray, float]:

@@ -438,7 +438,7 @@ def _rod_gap_rows(a: Assembly, rod: Any, T: np.ndarray, layers: dict[str, Any] |
     e_r + (sin psi_a - sin psi_b) e3``, ``e_r`` outward from the ring's centre.
     """
     from .cone import _loops
-    from .stacking import _offset_pair, _senses
+    from .stacking import _senses, layer_offsets
 
     x = rod.x
     le = float(np.mean(rod.rest_length))
@@ -451,7 +451,7 @@ def _rod_gap_rows(a: Assembly, rod: Any, T: np.ndarray, layers: dict[str, Any] |
         loop = a.segments[0].length / N if single else a.segments[0].length
         centre = np.mean(x, axis=0)
     else:
-        off = {nm: _offset_pair(nm, v) for nm, v in layers.items()}
+        off = layer_offsets(names, layers)
         sense = _senses(rod, thickness_ratio * a.total_length / len(names))
     rows = []
     for i in range(len(x)):

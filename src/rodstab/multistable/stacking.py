@@ -46,8 +46,7 @@ rod 1's natural curvature is negative) fails at cusp ``1.end - 2.end`` (``x = L`
 vertex ``i`` of a regular ``2n``-gon of circumradius ``(h + g0) / (2 sin(pi / 2n))``
 (:func:`polygon_offsets`), every cusp joining neighbouring vertices. Likewise the hexagram's
 line; its star needs only layers 0, 1 alternating (:func:`traversal_layers`). Not built: the
-eight, whose six welds meet where its lobes touch and need a braid there (the cone checks its
-lobes only: :func:`.cone.check_lobes`).
+eight, whose welds meet where its lobes touch, need a braid (:func:`.cone.check_lobes`).
 """
 
 from __future__ import annotations
@@ -653,17 +652,25 @@ def polygon_offsets(names: list[str] | tuple[str, ...]) -> dict[str, tuple[float
     return {n: (rc * math.cos(t), rc * math.sin(t)) for n, t in zip(names, ang, strict=True)}
 
 
-def _offset_pair(name: str, value: Any) -> tuple[float, float]:
-    if isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool):
-        pair = (0.0, float(value))
-    elif isinstance(value, (tuple, list)) and len(value) == 2:
-        pair = (float(value[0]), float(value[1]))
-    else:
-        raise RodstabInputError(f"layers[{name!r}] must be a layer number or an offset (u, k), "
-                                f"got {value!r}")
-    if not all(math.isfinite(v) for v in pair):
-        raise RodstabInputError(f"layers[{name!r}] must be finite, got {value!r}")
-    return pair
+def layer_offsets(names: list[str], layers: dict[str, Any]) -> dict[str, tuple[float, float]]:
+    """Every segment's offset ``(u, k)``: a layer ``k`` or a pair; exit 2 naming a bad one."""
+    unknown, missing = sorted(set(layers) - set(names)), [n for n in names if n not in layers]
+    if unknown or missing:
+        raise RodstabInputError(f"layers must give every segment of {names} once; unknown "
+                                f"{unknown}, missing {missing}")
+    off = {}
+    for name in names:
+        value = layers[name]
+        if isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool):
+            off[name] = (0.0, float(value))
+        elif isinstance(value, (tuple, list)) and len(value) == 2:
+            off[name] = (float(value[0]), float(value[1]))
+        else:
+            raise RodstabInputError(f"layers[{name!r}] must be a layer number or an offset (u, "
+                                    f"k), got {value!r}")
+        if not all(math.isfinite(v) for v in off[name]):
+            raise RodstabInputError(f"layers[{name!r}] must be finite, got {value!r}")
+    return off
 
 
 def _senses(rod: DiscreteRod, thickness: float) -> np.ndarray:
@@ -703,10 +710,9 @@ def stack_layers(rod: DiscreteRod, layers: dict[str, Any], thickness: float, gap
     rod : DiscreteRod
         Planar state (``discretise`` or ``common_rod``), e.g. with coincident rods.
     layers : dict
-        For every segment name: a layer ``k`` (offset ``k (h + g0) e3``) or an offset ``(u,
-        k)`` in units of ``h + g0``, ``u`` along the segment's held ``d1 = t x e3``, turned
-        round on a rod that runs against the first rod it lies on (:func:`_senses`)
-        (:func:`traversal_layers`, :func:`polygon_offsets`).
+        For every segment name: a layer ``k`` or an offset ``(u, k)`` in units of ``h + g0``
+        (:func:`layer_offsets`), ``u`` along the held ``d1 = t x e3``, turned round on a rod
+        running against the first rod it lies on (:func:`_senses`).
     thickness : float
         ``h``: capsule diameter (length).
     gap : float
@@ -730,12 +736,7 @@ def stack_layers(rod: DiscreteRod, layers: dict[str, Any], thickness: float, gap
     model = default_model(h) if model is None else model
     a = rod.assembly
     names = [s.name for s in a.segments]
-    unknown = sorted(set(layers) - set(names))
-    missing = [n for n in names if n not in layers]
-    if unknown or missing:
-        raise RodstabInputError(f"layers must give every segment of {names} once; unknown "
-                                f"{unknown}, missing {missing}")
-    off = {n: _offset_pair(n, layers[n]) for n in names}
+    off = layer_offsets(names, layers)
     ell = RAMP_FRACTION * model.exclusion_factor * (h + model.dhat) if ramp is None else \
         require_positive("ramp", ramp)
 
