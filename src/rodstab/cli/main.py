@@ -14,6 +14,7 @@ import click
 
 from .. import __version__
 from ..errors import NotConverged, RodstabInputError
+from ..numerics import serial_blas
 from . import barrier, continuation, design, hexagram, multistable, paper, states
 from .output import SHOWN_WARNINGS, elapsed_indicator, warnings_as_lines
 
@@ -70,8 +71,9 @@ def main(argv: list[str] | None = None) -> None:
     and propagates with its traceback.
     """
     SHOWN_WARNINGS.clear()
+    # One BLAS thread unless the user chose a count (rodstab.numerics.threads says why).
     try:
-        with warnings_as_lines():
+        with warnings_as_lines(), serial_blas():
             status = cli.main(args=argv, prog_name="rodstab", standalone_mode=False)
     except click.exceptions.Abort:
         click.echo("rodstab: aborted", err=True)

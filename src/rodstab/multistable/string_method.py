@@ -126,7 +126,7 @@ from ..nonlinear.discrete import PENALTY, DiscreteRod
 from ..nonlinear.jets import rodrigues
 from ..nonlinear.newton import contact_fraction
 from ..nonlinear.solve import NEWTON_RTOL, lowest_modes, newton, vee_log, zero_eigenvalue_tol
-from ..numerics import jacobi_scaling
+from ..numerics import jacobi_scaling, serially
 from ..results import Result
 from .barrier import MIN_ELEMENTS, Barrier, descents_from_saddle, same_model, state_label
 from .discover import NewtonRun, Snapshot, common_rod
@@ -568,6 +568,7 @@ def _index(r: DiscreteRod) -> tuple[int, np.ndarray, np.ndarray]:
     return int(np.sum(vals < -zero_eigenvalue_tol(r))), vals, vecs
 
 
+@serially
 def relax_string(band: list[DiscreteRod], *, max_iter: int = STRING_MAX_ITER,
                  try_every: int = SADDLE_TRY_EVERY,
                  accept: Callable[[DiscreteRod], bool] | None = None

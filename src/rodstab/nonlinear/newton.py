@@ -20,7 +20,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from ..errors import NotConverged
-from ..numerics import jacobi_scaling, lowest_eigenpairs
+from ..numerics import jacobi_scaling, lowest_eigenpairs, serially
 from .contact import Interpenetration, max_step_fraction
 from .discrete import PENALTY, DiscreteRod
 from .stability import lowest_modes, soft_eigenvalue_floor, zero_eigenvalue_tol
@@ -76,6 +76,7 @@ def residual_tolerance(rod: DiscreteRod) -> np.ndarray:
 ALIGN_SHEAR = 1e-2
 
 
+@serially
 def newton(rod: DiscreteRod, *, max_iter: int = NEWTON_MAX_ITER) -> tuple[bool, int, float]:
     """Newton's method with backtracking on the energy, in place. Returns (ok, its, residual).
 

@@ -3,7 +3,8 @@
 Every characteristic equation and every linear stability pencil in the package goes through
 this package, so that the accuracy statement is made once. Its modules: :mod:`.roots` (scalar
 and matrix roots, the multiplicity rule), :mod:`.eigen` (pencils, eigenpairs, constrained
-factorisations), :mod:`.richardson`; every public name is re-exported here
+factorisations), :mod:`.richardson`, :mod:`.threads` (one BLAS thread for the small dense
+systems); every public name is re-exported here
 (``from rodstab.numerics import find_roots``).
 
 * :func:`find_roots` -- roots of a real scalar function on an interval: scan on a uniform grid,
@@ -77,6 +78,7 @@ from .roots import (
     refine_root,
     sigma_min_2x2,
 )
+from .threads import serial_blas, serially
 
 __all__ = [
     "ConstrainedFactor",
@@ -118,5 +120,7 @@ __all__ = [
     "pencil_window",
     "refine_root",
     "richardson",
+    "serial_blas",
+    "serially",
     "sigma_min_2x2",
 ]
