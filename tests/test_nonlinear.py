@@ -693,3 +693,25 @@ def test_hat_is_the_cross_product_and_vee_skew_inverts_it_twice():
     assert np.allclose(vee_skew(hat(a)), 2 * a, atol=1e-14)
     M = rng.standard_normal((7, 3, 3))
     assert np.allclose(vee_skew(M), vee_skew(M - np.swapaxes(M, -1, -2)) / 2, atol=1e-14)
+
+
+def test_hessian_plan_sums_the_triplets_as_scipy_does_and_is_kept_per_layout():
+    """The cached CSR layout (hessian_plan.HessianPlan) against scipy's own triplet conversion,
+    on random terms with repeated dofs (summed), and the same plan for the same layout only."""
+    import scipy.sparse as sp
+
+    from rodstab.nonlinear.hessian_plan import hessian_plan
+
+    rng = np.random.default_rng(7)
+    n = 40
+    blocks = [rng.integers(0, n, (25, 6)), rng.integers(0, n, (10, 9))]
+    vals = [rng.standard_normal((len(b), b.shape[1], b.shape[1])).ravel() for b in blocks]
+    rows = np.concatenate([np.repeat(b, b.shape[1], axis=1).ravel() for b in blocks])
+    cols = np.concatenate([np.tile(b, (1, b.shape[1])).ravel() for b in blocks])
+    ref = sp.csr_matrix((np.concatenate(vals), (rows, cols)), shape=(n, n))
+    H = hessian_plan(blocks, n).assemble(np.concatenate(vals))
+    assert abs(H - ref).max() <= 1e-14 * abs(ref).max()
+    assert H.nnz == ref.nnz and H.has_sorted_indices
+    assert hessian_plan([b.copy() for b in blocks], n) is hessian_plan(blocks, n)
+    other = [blocks[0], blocks[1][:, ::-1].copy()]
+    assert hessian_plan(other, n) is not hessian_plan(blocks, n)

@@ -20,7 +20,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from .discrete import DiscreteRod
-from .jets import hat, rodrigues
+from .jets import rodrigues
 
 
 def mean_length(rod: DiscreteRod) -> float:
@@ -36,12 +36,12 @@ def chart_size(rod: DiscreteRod, dq: np.ndarray) -> float:
     return float(max(np.max(disp, initial=0.0), np.max(rot, initial=0.0)))
 
 
-#: Systems of up to this many unknowns are solved dense (Cholesky): below a few hundred, the
-#: fixed cost of each scipy.sparse operation (~0.1 ms: construction, fancy indexing, SuperLU's
-#: set-up) exceeded the whole dense solve, and the retraction ran ~5 ms per call on a 37-node
-#: hexagram, two thirds of a string-method barrier (measured 2026-12-05). Both are direct
-#: solves of the same symmetric positive definite system: they agree to round-off
-#: (tests/test_constraint.py compares them).
+#: Systems of up to this many unknowns (free node coordinates) are solved dense (Cholesky):
+#: below a few hundred, the fixed cost of each scipy.sparse operation (~0.1 ms: construction,
+#: fancy indexing, SuperLU's set-up) exceeded the whole dense solve, and the retraction ran
+#: ~5 ms per call on a 37-node hexagram, two thirds of a string-method barrier (measured
+#: 2026-12-05). Both are direct solves of the same symmetric positive definite system: they
+#: agree to round-off (tests/test_discover.py compares them).
 DENSE_MAX = 400
 
 
@@ -111,28 +111,21 @@ class _Topology:
             solve = (spla.factorized(Lff.tocsc()) if sp.issparse(Lff) else
                      _cho_solver(sla.cho_factor(Lff, check_finite=False)))
             self.groups.append((np.array(group), free, hold, L[free][:, hold], solve))
-        # The misfit's Jacobian: rows 3e + c; +I at node j, -I at node i, l_e [d2_e]x at w_e.
+        # The reduced system of restore_inextensible (node moves only): 3x3 blocks +W at
+        # (i, i), (j, j), -W at (i, j), (j, i) of every edge and offset, in the numbering of
+        # the free node components; a block entry on a held component is dropped.
         col = np.full((n, 3), -1)
         col[~held] = np.arange(int(np.sum(~held)))
-        self.nx = nx = int(np.sum(~held))
-        ne = len(le)
-        self.size = nx + 3 * ne
-        every = np.arange(len(w))  # edges, then offsets
-        rows, cols, vals = [], [], []
-        for c in range(3):
-            for node, sign in ((j, 1.0), (i, -1.0)):
-                keep = col[node, c] >= 0
-                rows.append(3 * every[keep] + c)
-                cols.append(col[node, c][keep])
-                vals.append(np.full(int(np.sum(keep)), sign))
-        edges = np.arange(ne)
-        rows.append(np.repeat(3 * edges, 9) + np.tile(np.repeat(np.arange(3), 3), ne))
-        cols.append(nx + np.repeat(3 * edges, 9) + np.tile(np.tile(np.arange(3), 3), ne))
-        self.rows, self.cols = np.concatenate(rows), np.concatenate(cols)
-        self.node_vals = np.concatenate(vals)
-        self.weight = np.repeat(w, 3)
-        self.reg = np.concatenate([np.zeros(nx),
-                                   np.repeat(INEXTENSIBLE_REG * w_edge * le**2, 3)])
+        self.nx = int(np.sum(~held))
+        ones = np.ones((1, 3, 3), int)
+        rb = np.concatenate([col[p][:, :, None] * ones for p in (i, j, i, j)])  # (4 m, 3, 3)
+        cb = np.concatenate([col[q][:, None, :] * ones for q in (i, j, j, i)])
+        self.block_keep = ((rb >= 0) & (cb >= 0)).ravel()
+        self.block_rows = rb.ravel()[self.block_keep]
+        self.block_cols = cb.ravel()[self.block_keep]
+        self.block_sign = np.repeat([1.0, 1.0, -1.0, -1.0], len(w))
+        self.n_edges = len(le)
+        self.reg = INEXTENSIBLE_REG * w_edge * le**2
 
     def matches(self, rod: DiscreteRod) -> bool:
         """Whether this entry was built for ``rod``'s mesh and supports as they are now."""
@@ -217,6 +210,11 @@ def restore_inextensible(rod: DiscreteRod) -> None:
     ``sum_e (K_e / 2 l_e) |r_e|^2`` over node moves and lab-frame turns ``w_e`` of the edge
     frames (``d2_e -> d2_e + w_e x d2_e``), with the Tikhonov term ``INEXTENSIBLE_REG
     (K_e l_e / 2) |w_e|^2`` that picks the least turn; then :func:`restore_positions`. In place.
+    The turns enter one edge each, so they are eliminated edge by edge in closed form (their
+    3x3 block ``w l^2 (I - d d^T) + reg I`` inverts by hand): the solve is over the node moves
+    only, with the weight ``w d d^T + w reg / (w l^2 + reg) (I - d d^T)`` per edge -- half the
+    unknowns of the whole system, the same step (tests/test_discover.py compares it with the
+    whole system's least-squares solution).
 
     Joint frames are not moved (no stiff term involves them). An equilibrium carries a strain of
     ``O(1 / PENALTY)`` (its shear forces), which this removes: it is a retraction for steps far
@@ -229,24 +227,38 @@ def restore_inextensible(rod: DiscreteRod) -> None:
     """
     restore_positions(rod)
     t = _topology(rod)
-    nx, size = t.nx, t.size
+    ne, nx = t.n_edges, t.nx
     free = ~t.held
-    rows = 3 * len(t.w)  # edges, then offsets (their joint frames do not turn)
     for _ in range(INEXTENSIBLE_ITER):
         d2 = rod.R_edge[:, :, 1]
-        misfit = (rod.x[t.j] - rod.x[t.i] - _targets(rod, t)).ravel()
-        values = np.concatenate([t.node_vals, (t.le[:, None, None] * hat(d2)).ravel()])
-        if size <= DENSE_MAX:  # every (row, column) of J is set once
-            J: Any = np.zeros((rows, size))
-            J[t.rows, t.cols] = values
-            A: Any = J.T @ (t.weight[:, None] * J)
-            A[np.diag_indices(size)] += t.reg
+        misfit = rod.x[t.j] - rod.x[t.i] - _targets(rod, t)  # (edges + offsets, 3)
+        # The turns are eliminated edge by edge (their block is diagonal): on the node moves
+        # acts W_eff = w d d^T + w reg / (w l^2 + reg) (I - d d^T) per edge, w I per offset.
+        we, le = t.w[:ne], t.le
+        soft = we * t.reg / (we * le**2 + t.reg)
+        dd = d2[:, :, None] * d2[:, None, :]
+        W = np.empty((len(t.w), 3, 3))
+        W[:ne] = (we - soft)[:, None, None] * dd + soft[:, None, None] * np.eye(3)
+        W[ne:] = t.w[ne:, None, None] * np.eye(3)
+        vals = (np.tile(W, (4, 1, 1)) * t.block_sign[:, None, None]).ravel()[t.block_keep]
+        gk = np.einsum("kab,kb->ka", W, misfit)
+        f = np.zeros((len(rod.x), 3))
+        np.add.at(f, t.j, -gk)
+        np.add.at(f, t.i, gk)
+        rhs = f[free]
+        if nx <= DENSE_MAX:
+            S: Any = np.bincount(t.block_rows * nx + t.block_cols, weights=vals,
+                                 minlength=nx * nx).reshape(nx, nx)
         else:
-            J = sp.csr_matrix((values, (t.rows, t.cols)), shape=(rows, size))
-            A = J.T @ sp.diags(t.weight) @ J + sp.diags(t.reg)
-        z = _solve_spd(A, -(J.T @ (t.weight * misfit)))
-        rod.x[free] += z[:nx]
-        rod.R_edge = rodrigues(z[nx:].reshape(-1, 3)) @ rod.R_edge  # lab-frame turn
+            S = sp.csr_matrix((vals, (t.block_rows, t.block_cols)), shape=(nx, nx))
+        dx = np.zeros((len(rod.x), 3))
+        dx[free] = _solve_spd(S, rhs)
+        # Each edge's least turn for the moved nodes: w_e = l w d x (r_e + dx_j - dx_i) /
+        # (w l^2 + reg) (the eliminated block's solve).
+        rj = misfit[:ne] + dx[t.j[:ne]] - dx[t.i[:ne]]
+        turn = ((le * we) / (we * le**2 + t.reg))[:, None] * np.cross(d2, rj)
+        rod.x += dx
+        rod.R_edge = rodrigues(turn) @ rod.R_edge  # lab-frame turn
         restore_positions(rod)
 
 

@@ -42,6 +42,7 @@ from ..errors import RodstabInputError, require_finite, require_positive
 from ..model import NONLINEAR, SUPPORT_KINDS, Assembly, held_frame, kinds_of
 from .contact import ContactMesh, contact_terms
 from .element_terms import _T0, bend_jet, stretch_jet
+from .hessian_plan import hessian_plan, padded
 from .jets import Jet, JetMat, rodrigues, rotation_jet, rotation_vector, vector_jet
 from .mesh import MAX_ELEMENT_TURNING as MAX_ELEMENT_TURNING  # re-exported
 from .mesh import MAX_NATURAL_TURNING as MAX_NATURAL_TURNING  # re-exported
@@ -307,7 +308,8 @@ class DiscreteRod:
         ``stretch`` False leaves out the stretch/shear penalty, ``with_contact`` False the
         contact energy (:meth:`kirchhoff_hessian` forms both in its own coordinates).
         """
-        rows, cols, vals = [], [], []
+        blocks: list[np.ndarray] = []  # the terms' dof lists, in order (the plan's key)
+        vals: list[np.ndarray] = []
         grad = np.zeros(self.n_dof) if order >= 1 else None
         total = 0.0
 
@@ -317,10 +319,7 @@ class DiscreteRod:
             if grad is not None and jet.g is not None:
                 np.add.at(grad, dofs, jet.g)
             if jet.H is not None:
-                r = np.repeat(dofs[:, :, None], dofs.shape[1], axis=2)
-                c = np.repeat(dofs[:, None, :], dofs.shape[1], axis=1)
-                rows.append(r.ravel())
-                cols.append(c.ravel())
+                blocks.append(dofs)
                 vals.append(jet.H.ravel())
 
         mu = self.load_factor
@@ -362,22 +361,17 @@ class DiscreteRod:
             total -= F * float(direction @ (self.x[node] - x_ref))
             if grad is not None:
                 grad[self.node_dofs(node)] -= F * direction
+        H = None
+        if order >= 2:
+            H = hessian_plan(blocks, self.n_dof).assemble(np.concatenate(vals))
         if self.contact is not None and with_contact:
             # Raises contact.Interpenetration outside the model (Newton rejects such a trial).
             Ec, gc, Hc = contact_terms(self.contact, self.x, order)
             total += Ec
             if grad is not None and gc is not None:
                 grad[: gc.size] += gc
-            if Hc is not None:
-                hc = Hc.tocoo()
-                rows.append(hc.row)
-                cols.append(hc.col)
-                vals.append(hc.data)
-        H = None
-        if order >= 2:
-            H = sp.csr_matrix((np.concatenate(vals),
-                               (np.concatenate(rows), np.concatenate(cols))),
-                              shape=(self.n_dof, self.n_dof))
+            if H is not None and Hc is not None:
+                H = (H + padded(Hc, self.n_dof)).tocsr()
         return total, grad, H
 
     def _k0(self, k_held: np.ndarray | None, e: np.ndarray, mu: float) -> np.ndarray:

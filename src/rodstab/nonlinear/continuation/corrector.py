@@ -57,6 +57,13 @@ MAX_ITER = 25
 #: after their first update, and all 149 that exceeded 1 went on to fail after MAX_ITER (29 %
 #: of all the Newton iterations, 64 % of the transition checks').
 DIVERGED_RTOL = 1.0
+#: Largest turn of the path's tangent over one accepted step (rad). Near a fold the tangent
+#: is almost pure q and the corrector, which moves across it, may slide far in p within the
+#: jump guard's ``2 h``: the six-ring's saddle path at 12 el./segment (the T-six check) once
+#: jumped from kappa_n R0 = 0.0733 past its fold (0.0726) to -0.264, turning its tangent by
+#: 54 deg, while every other step of that path and of the 8-element one turned by at most
+#: 32 deg (the first, off the bifurcation) and mostly by under 10 (measured 2026-12-06).
+MAX_TANGENT_TURN = math.pi / 4
 
 
 def force_scale(rod: DiscreteRod) -> float:
@@ -219,8 +226,9 @@ class Stepper:
     """Pseudo-arclength predictor-corrector on ``rod`` (updated in place).
 
     Predictor ``(q, p) + h t``, :func:`correct` with the arclength row, next tangent from
-    :func:`tangent`. The step halves when the corrector fails or the corrected point lies
-    farther than ``2 h`` from the step's start (it jumped to another branch), and grows by 1.5
+    :func:`tangent`. The step halves when the corrector fails, the corrected point lies
+    farther than ``2 h`` from the step's start (it jumped to another branch) or the tangent
+    turned by more than :data:`MAX_TANGENT_TURN` (it slid past a fold), and grows by 1.5
     after a success up to ``h_max``. On a non-circular state of a uniform closed ring the
     material-sliding family is pinned by its own mode; otherwise by ``phase`` if given.
     ``terms``: the energy terms at the state of the last accepted step (None before one; no
@@ -257,12 +265,13 @@ class Stepper:
                              acc_p=self.h * self.tp, phase=phase)
             if result is not None and pinned_equilibrium(rod, result, phase) \
                     and distance(rod, saved, self.param.get(rod) - p0) <= 2 * self.h:
-                self.terms = result.terms
-                self.tq, self.tp = tangent(rod, self.param, self.tq, self.tp, phase,
-                                           result.terms)
-                self.last_h = self.h
-                self.h = min(1.5 * self.h, self.h_max)
-                return True
+                tq, tp = tangent(rod, self.param, self.tq, self.tp, phase, result.terms)
+                if float(tq @ self.tq) + tp * self.tp >= math.cos(MAX_TANGENT_TURN):
+                    self.terms = result.terms
+                    self.tq, self.tp = tq, tp
+                    self.last_h = self.h
+                    self.h = min(1.5 * self.h, self.h_max)
+                    return True
             rod.assign(saved)
             self.h *= 0.5
         return False
