@@ -16,7 +16,7 @@ import math
 import time
 
 from rodstab.multistable.cone_limit import cone_limits, ring_cone_limits, rod_cone_limits
-from rodstab.multistable.stacking import polygon_offsets
+from rodstab.multistable.layer_orders import polygon_offsets
 from rodstab.multistable.states import ring_of, uniform_ring
 from rodstab.problems import birod, folded_ring, ring
 from rodstab.sections import circle, rectangle

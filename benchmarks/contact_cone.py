@@ -47,7 +47,7 @@ import math
 import time
 
 from rodstab.multistable.cone import ConeSide, contact_cone
-from rodstab.multistable.stacking import polygon_offsets
+from rodstab.multistable.layer_orders import polygon_offsets
 from rodstab.multistable.states import ring_of, uniform_ring
 from rodstab.problems import birod, folded_ring, ring
 from rodstab.sections import circle, rectangle

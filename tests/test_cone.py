@@ -25,7 +25,8 @@ from rodstab.multistable.cone import (
     ring_mode_margin,
     touching_pairs,
 )
-from rodstab.multistable.stacking import StackingError, polygon_offsets
+from rodstab.multistable.layer_orders import polygon_offsets
+from rodstab.multistable.stacking import StackingError
 from rodstab.multistable.states import ring_of
 from rodstab.problems import birod, folded_ring, ring
 from rodstab.sections import circle, rectangle

@@ -238,7 +238,7 @@ def test_a_witness_past_an_undecided_load_closes_the_bracket_from_the_last_certi
 
 
 def _folded_ring_on_its_hexagon():
-    from rodstab.multistable.stacking import polygon_offsets
+    from rodstab.multistable.layer_orders import polygon_offsets
     from rodstab.multistable.states import ring_of
     from rodstab.problems import folded_ring
 

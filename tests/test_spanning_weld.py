@@ -127,7 +127,10 @@ def test_the_spanning_weld_limit_depends_on_the_stretch_penalty(monkeypatch):
 
 
 @pytest.mark.parametrize(("layers", "named"), [({"middle": 0.1}, "middle"),
-                                                 ({"upper": float("nan")}, "layers['upper']")])
+                                                 ({"upper": float("nan")}, "layers['upper']"),
+                                                 ({"upper": (0.0, 1.0)}, "layers['upper']"),
+                                                 ({"upper": (0.0, 0.0, np.inf)},
+                                                  "layers['upper']")])
 def test_bad_layers_name_the_key(layers, named):
     with pytest.raises(RodstabInputError, match=named.replace("[", r"\[").replace("]", r"\]")):
         discretise(BIROD, N, 1.0, layers=layers)
@@ -215,3 +218,53 @@ def test_bad_layers_on_the_command_line_exit_2_naming_them(args, named):
     r = run_cli(["equilibrium", "examples/birod.toml", "--elements", "8", *args])
     assert r.exit_code == 2, r.stdout + r.stderr
     assert named in r.stderr
+
+
+def test_the_hexagram_line_on_the_hexagon_is_an_equilibrium_and_holds_with_contact():
+    """The line's six rods translated to the vertices of a hexagon across their common line
+    (layer_orders.layer_translations of polygon_offsets in traversal order), the welds
+    spanning the layers: each rod moved rigidly, so the held state stays an equilibrium with
+    the planar energy (the welds' rigid offsets carry the cusps' moments); with capsules of h
+    = 0.02 L (dhat = 0.1 h) Newton with contact holds it at kappa_n R0 = 1 (rectangle h/t =
+    4, inside the line's planar interval |kappa_n R0| < 2.248) and it is stable. Every
+    translation is across the line (no x part) and neighbours in traversal order, whose cusps
+    join them, sit one spacing h + g0 apart."""
+    from rodstab.multistable.layer_orders import layer_translations, polygon_offsets
+    from rodstab.multistable.states import ring_of
+    from rodstab.nonlinear.equilibrium import attach_contact, rod_contact_model
+    from rodstab.nonlinear.stability import zero_eigenvalue_tol
+    from rodstab.problems.barrier_states import state_assembly
+    from rodstab.sections import rectangle
+
+    line = state_assembly("hexagram", rectangle(aspect=4.0), "line")
+    model = rod_contact_model(line, 0.02)
+    h, g0 = 2 * model.radius, 0.5 * model.dhat
+    planar = discretise(line, 8, 1.0)
+    order = [k for k, _ in ring_of(line).order]
+    shift = layer_translations(planar, polygon_offsets(order), h, g0)
+    for k, name in enumerate(order):
+        nxt = order[(k + 1) % len(order)]
+        assert abs(shift[name][0]) < 1e-15 * h
+        assert np.linalg.norm(shift[name] - shift[nxt]) == pytest.approx(h + g0, rel=1e-12)
+    rod = discretise(line, 8, 1.0, layers=shift)
+    _, g, _ = rod.energy_terms()
+    assert np.abs(g[rod.free_dofs()]).max() < 1e-7
+    assert rod.energy() == pytest.approx(planar.energy(), rel=1e-10)
+    attach_contact(rod, model)
+    ok, _, _ = newton(rod)
+    assert ok
+    assert lowest_modes(rod, 1)[0][0] > zero_eigenvalue_tol(rod)
+
+
+def test_a_translation_across_a_curved_rod_is_refused_naming_it():
+    from rodstab.multistable.layer_orders import layer_translations
+    from rodstab.problems.barrier_states import state_assembly
+    from rodstab.sections import rectangle
+
+    star = state_assembly("hexagram", rectangle(aspect=4.0), "star")
+    rod = discretise(star, 6, 1.0)
+    layers = {s.name: 0 for s in star.segments} | {"2": (0.5, 1)}
+    with pytest.raises(RodstabInputError, match=r"layers\['2'\].*straight segment"):
+        layer_translations(rod, layers, 0.02, 0.001)
+    assert set(layer_translations(rod, {s.name: k % 2 for k, s in enumerate(star.segments)},
+                                  0.02, 0.001)) == {s.name for s in star.segments}

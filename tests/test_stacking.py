@@ -14,19 +14,17 @@ import numpy as np
 import pytest
 
 from rodstab.errors import RodstabInputError
+from rodstab.multistable.layer_orders import overlapping_segments, polygon_offsets, traversal_layers
 from rodstab.multistable.stacking import (
     StackingError,
     bending_excess_coefficient,
     default_model,
-    overlapping_segments,
-    polygon_offsets,
     stack_layers,
     stack_loops,
     strand_distance,
     torus_curve,
     torus_length,
     torus_point,
-    traversal_layers,
 )
 from rodstab.multistable.states import ring_of, uniform_ring
 from rodstab.nonlinear.contact import contact_energy, mesh_of_rod, segment_distance

@@ -21,7 +21,7 @@ from ..analytic.ring import ring_stability
 from ..linear.solve import linear_pencil, linear_stability
 from ..multistable import cone
 from ..multistable.cone_limit import cone_limits, ring_cone_limits, rod_cone_limits
-from ..multistable.stacking import polygon_offsets
+from ..multistable.layer_orders import polygon_offsets
 from ..multistable.states import ring_of, uniform_ring
 from ..problems import birod, folded_ring, ring
 from ..sections import circle, rectangle

@@ -445,7 +445,7 @@ def contact_cone(a: Assembly, layers: dict[str, Any] | str, elements_per_segment
     layers : dict or "torus"
         Every segment's layer ``k`` or offset ``(u, k)`` in units of the spacing, as for
         :func:`rodstab.multistable.stacking.stack_layers` (e.g.
-        :func:`~rodstab.multistable.stacking.traversal_layers`); or ``"torus"`` for an N-loop
+        :func:`~rodstab.multistable.layer_orders.traversal_layers`); or ``"torus"`` for an N-loop
         ring stacked on the ``(N, 1)`` torus curve (:func:`~.stacking.stack_loops`), whose
         contact normals turn along the ring (:func:`_torus_pairs`).
     elements_per_segment : int
@@ -525,13 +525,14 @@ def default_layers(a: Assembly, thickness_ratio: float = CONTACT_THICKNESS_RATIO
     """Choose a layer order for the stacked held state of ``a``; say how it was chosen.
 
     An N-loop ring: ``"torus"`` (flat layers cannot close it). Otherwise each rod, in traversal
-    order, on the lowest free layer (:func:`~.stacking.traversal_layers`); where that order
+    order, on the lowest free layer (:func:`~.layer_orders.traversal_layers`); where that order
     interpenetrates (a cycle of cusps, as the folded ring's), the rods on the vertices of a
-    polygon in traversal order (:func:`~.stacking.polygon_offsets`). Raises ``StackingError``
+    polygon in traversal order (:func:`~.layer_orders.polygon_offsets`). Raises ``StackingError``
     (exit 2) when neither holds, naming the first's failure: give the order.
     """
     from ..nonlinear.discrete import discretise as discretise_rod
-    from .stacking import StackingError, polygon_offsets, stack_layers, traversal_layers
+    from .layer_orders import polygon_offsets, traversal_layers
+    from .stacking import StackingError, stack_layers
     from .states import ring_of
 
     if is_loop_ring(a):

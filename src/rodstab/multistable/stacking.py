@@ -44,9 +44,10 @@ adjacent pairs) cannot hold. The traversal order (:func:`~.states.ring_of` runs 
 rod 1's natural curvature is negative) fails at cusp ``1.end - 2.end`` (``x = L``, layers 0 and
 ``2n - 1``). What holds is the torus curve's cross-section: rod ``i`` (traversal order) at
 vertex ``i`` of a regular ``2n``-gon of circumradius ``(h + g0) / (2 sin(pi / 2n))``
-(:func:`polygon_offsets`), every cusp joining neighbouring vertices. Likewise the hexagram's
-line; its star needs only layers 0, 1 alternating (:func:`traversal_layers`). Not built: the
-eight, whose welds meet where its lobes touch, need a braid (:func:`.cone.check_lobes`).
+(:func:`~.layer_orders.polygon_offsets`), every cusp joining neighbouring vertices. Likewise
+the hexagram's line; its star needs only layers 0, 1 alternating
+(:func:`~.layer_orders.traversal_layers`). Not built: the eight, whose welds meet where its
+lobes touch, need a braid (:func:`.cone.check_lobes`).
 """
 
 from __future__ import annotations
@@ -586,72 +587,6 @@ def _segment_arclength(rod: DiscreteRod, k: int) -> tuple[np.ndarray, np.ndarray
     return nodes, np.linspace(0.0, rod.assembly.segments[k].length, len(nodes))
 
 
-def overlapping_segments(rod: DiscreteRod, thickness: float) -> tuple[tuple[str, str], ...]:
-    """Pairs of segments whose capsules (diameter ``h``) overlap in the current state.
-
-    Element pairs excluded by the contact model (neighbours along the structure,
-    :func:`default_model`) do not count: two rods meeting at a weld at an angle do not overlap.
-
-    Returns
-    -------
-    tuple of (str, str)
-        Segment names, each pair in assembly order, pairs sorted.
-    """
-    P, g = _pair_gaps(rod, default_model(thickness))
-    seg = rod.edge_segment
-    found = {tuple(sorted((int(seg[a]), int(seg[b])))) for a, b in P[g <= 0.0]
-             if seg[a] != seg[b]}
-    names = [s.name for s in rod.assembly.segments]
-    return tuple((names[a], names[b]) for a, b in sorted(found))
-
-
-def _traversal_rank(rod: DiscreteRod) -> dict[str, int]:
-    """Position of each segment along the ring's traversal, else in assembly order."""
-    try:
-        return {name: i for i, (name, _) in enumerate(ring_of(rod.assembly).order)}
-    except RodstabInputError:  # not a ring (supports, branches): the assembly's order
-        return {s.name: i for i, s in enumerate(rod.assembly.segments)}
-
-
-def traversal_layers(rod: DiscreteRod, thickness: float) -> dict[str, int]:
-    """Default layer order: each rod, in traversal order, on the lowest layer left free.
-
-    Segments are taken along the ring's traversal (:func:`~.states.ring_of`; the assembly's
-    order if it is not a ring); each takes the lowest layer that no segment already placed and
-    overlapping it (:func:`overlapping_segments`) holds. Rods lying all on one another get
-    layers 0, 1, 2, ... in traversal order; rods overlapping only their neighbours near cusps
-    (the star) alternate 0, 1, 0, 1.
-    """
-    names = [s.name for s in rod.assembly.segments]
-    near: dict[str, set[str]] = {n: set() for n in names}
-    for a, b in overlapping_segments(rod, thickness):
-        near[a].add(b)
-        near[b].add(a)
-    rank = _traversal_rank(rod)
-    layers: dict[str, int] = {}
-    for n in sorted(names, key=rank.__getitem__):
-        taken = {layers[m] for m in near[n] if m in layers}
-        layers[n] = min(set(range(len(names) + 1)) - taken)
-    return layers
-
-
-def polygon_offsets(names: list[str] | tuple[str, ...]) -> dict[str, tuple[float, float]]:
-    """Offsets ``(u, k)`` (units of ``h + g0``) putting rod ``i`` at vertex ``i`` of a ``p``-gon.
-
-    A regular polygon of ``p = len(names)`` vertices, circumradius ``1 / (2 sin(pi / p))``
-    (neighbours one spacing apart, the others further), vertex 0 on top (``+e3``), the rest
-    clockwise seen along the rods' tangent: the cross-section of the ``(N, 1)`` torus curve,
-    for bundles of straight rods whose welds join rods ``i, i + 1`` (the folded ring of Sec. 5,
-    module doc).
-    """
-    p = len(names)
-    if p < 2:
-        raise RodstabInputError(f"polygon_offsets needs at least 2 names, got {list(names)}")
-    rc = 0.5 / math.sin(math.pi / p)
-    ang = [0.5 * math.pi - 2 * math.pi * i / p for i in range(p)]
-    return {n: (rc * math.cos(t), rc * math.sin(t)) for n, t in zip(names, ang, strict=True)}
-
-
 def layer_offsets(names: list[str], layers: dict[str, Any]) -> dict[str, tuple[float, float]]:
     """Every segment's offset ``(u, k)``: a layer ``k`` or a pair; exit 2 naming a bad one."""
     unknown, missing = sorted(set(layers) - set(names)), [n for n in names if n not in layers]
@@ -695,6 +630,18 @@ def _senses(rod: DiscreteRod, thickness: float) -> np.ndarray:
         if dist[j] <= thickness:
             sense[k] = sense[seg[before[j]]] * (1.0 if tan[e] @ tan[before[j]] >= 0 else -1.0)
     return sense
+
+
+def _lab_offset(seg: Any, s: np.ndarray, uk: tuple[float, float], sense: float, d: float
+                ) -> np.ndarray:
+    """Lab offset vectors (m, 3) of ``seg`` at arclengths ``s``: ``d (u n + k e3)``.
+
+    ``n = t x e3`` of the held tangent, turned round where ``sense`` is -1 (:func:`_senses`).
+    """
+    u, z = uk
+    t = sense * seg.tangent(s).reshape(-1, 2)
+    n = np.stack([t[:, 1], -t[:, 0], np.zeros(len(t))], axis=1)
+    return d * (u * n + z * np.array([0.0, 0.0, 1.0]))
 
 
 def _fmt(o: tuple[float, float]) -> str:
@@ -743,11 +690,7 @@ def stack_layers(rod: DiscreteRod, layers: dict[str, Any], thickness: float, gap
     sense = _senses(rod, h)
 
     def offset(k: int, s: np.ndarray) -> np.ndarray:
-        """Lab offset vectors (m, 3) of segment ``k`` at arclengths ``s``."""
-        u, z = off[names[k]]
-        t = sense[k] * a.segments[k].tangent(s).reshape(-1, 2)
-        n = np.stack([t[:, 1], -t[:, 0], np.zeros(len(t))], axis=1)  # t x e3
-        return d * (u * n + z * np.array([0.0, 0.0, 1.0]))
+        return _lab_offset(a.segments[k], s, off[names[k]], sense[k], d)
 
     # the offset of every weld: the mean of its ends' offsets
     index = {nm: i for i, nm in enumerate(names)}

@@ -34,11 +34,12 @@ Increments: ``x <- x + dx``, ``R <- R exp(hat(phi))``; gradients and Hessians ar
 from __future__ import annotations
 
 import dataclasses
+from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
 
-from ..errors import RodstabInputError, require_finite, require_positive
+from ..errors import RodstabInputError, require_positive
 from ..model import NONLINEAR, SUPPORT_KINDS, Assembly, held_frame, kinds_of
 from .contact import ContactMesh, contact_terms
 from .element_terms import _T0, bend_jet, stretch_jet
@@ -578,7 +579,7 @@ class KirchhoffHessian:
 
 
 def discretise(a: Assembly, elements_per_segment: int | dict[str, int] = 32,
-               load_factor: float = 1.0, layers: dict[str, float] | None = None,
+               load_factor: float = 1.0, layers: dict[str, Any] | None = None,
                axial_stiffness: float | None = None) -> DiscreteRod:
     """Return the discrete rod of an assembly in its held state (an equilibrium when P2 says so).
 
@@ -590,12 +591,14 @@ def discretise(a: Assembly, elements_per_segment: int | dict[str, int] = 32,
     segment, or a count per segment name (:func:`element_counts`).
 
     ``layers``: the stacked state (issue 21): every node of segment ``name`` lifted by
-    ``layers[name]`` (length, along ``e3``; 0 for a segment not named). Where the segments at
-    a joint lie at different heights the weld spans the layers: the joint keeps a node of its
-    own at their mean height, and each segment end is a node held at the rigid offset ``o =
-    R_J^T (z_seg - z_J) e3`` from it (:attr:`DiscreteRod.offsets`, penalised as stiffly as
-    an edge's stretch). The lifted held state is an equilibrium whenever the planar one is
-    (chords, frames and offsets unchanged).
+    ``layers[name]`` (length, along ``e3``; 0 for a segment not named), or moved by it when
+    it is a translation ``(x, y, z)`` (lab frame; a bundle of straight rods offset across
+    their common line, :func:`rodstab.multistable.stacking.layer_translations`). Where the
+    segments at a joint lie at different offsets the weld spans them: the joint keeps a node
+    of its own at their mean offset ``v_J``, and each segment end is a node held at the rigid
+    offset ``o = R_J^T (v_seg - v_J)`` from it (:attr:`DiscreteRod.offsets`, penalised as
+    stiffly as an edge's stretch). The moved held state is an equilibrium whenever the planar
+    one is (each segment translated rigidly: chords, frames and offsets unchanged).
 
     ``axial_stiffness``: the rods' EA (force; stretch and shear alike) in place of the penalty
     that stands in for inextensibility (:attr:`DiscreteRod.edge_K`): an extensible rod, for
@@ -609,29 +612,33 @@ def discretise(a: Assembly, elements_per_segment: int | dict[str, int] = 32,
     R_edge: list[np.ndarray] = []
     joint_node = {}
     n_nodes = 0
-    lift = {seg.name: 0.0 for seg in a.segments}
+    lift = {seg.name: np.zeros(3) for seg in a.segments}
     for name, z in (layers or {}).items():
         a.segment(name)  # raises naming an unknown segment
-        lift[name] = require_finite(f"layers[{name!r}]", z)
+        v = np.atleast_1d(np.asarray(z, float))
+        if v.shape not in ((1,), (3,)) or not np.all(np.isfinite(v)):
+            raise RodstabInputError(f"layers[{name!r}] must be a finite height or a finite "
+                                    f"translation (x, y, z), got {z!r}")
+        lift[name] = v if len(v) == 3 else np.array([0.0, 0.0, v[0]])
 
-    def node_at(p: np.ndarray, z: float = 0.0) -> int:
+    def node_at(p: np.ndarray, v: np.ndarray | None = None) -> int:
         nonlocal n_nodes
-        xs.append(np.array([p[0], p[1], z]))
+        xs.append(np.array([p[0], p[1], 0.0]) + (0.0 if v is None else v))
         n_nodes += 1
         return n_nodes - 1
 
     R_joint = np.zeros((len(joints), 3, 3))
-    joint_z = np.zeros(len(joints))
-    split: set[int] = set()  # joints whose segments lie at different heights
+    joint_v = np.zeros((len(joints), 3))
+    split: set[int] = set()  # joints whose segments lie at different offsets
     for k, joint in enumerate(joints):
         name, end = joint[0]
         seg = a.segment(name)
         s_end = 0.0 if end == "start" else seg.length
-        zs = [lift[nm] for nm, _ in joint]
-        joint_z[k] = float(np.mean(zs))
-        if max(zs) > min(zs):
+        vs = np.array([lift[nm] for nm, _ in joint])
+        joint_v[k] = vs.mean(axis=0)
+        if np.any(vs.max(axis=0) > vs.min(axis=0)):
             split.add(k)
-        joint_node[k] = node_at(seg.position(s_end), joint_z[k])
+        joint_node[k] = node_at(seg.position(s_end), joint_v[k])
         R_joint[k] = held_frame(seg.tangent(s_end))
     off_nodes, off_joints, off_vecs, off_w = [], [], [], []
     ks, tws = [], []
@@ -649,7 +656,7 @@ def discretise(a: Assembly, elements_per_segment: int | dict[str, int] = 32,
             ends.append(node_at(p, z))
             off_nodes.append((joint_node[k], ends[-1]))
             off_joints.append(k)
-            off_vecs.append(R_joint[k].T @ np.array([0.0, 0.0, z - joint_z[k]]))
+            off_vecs.append(R_joint[k].T @ (z - joint_v[k]))
             le = seg.length / n
             K = (PENALTY * max(seg.B1, seg.B2, seg.B3) / le**2 if axial_stiffness is None
                  else axial_stiffness)
