@@ -268,3 +268,42 @@ def test_a_translation_across_a_curved_rod_is_refused_naming_it():
         layer_translations(rod, layers, 0.02, 0.001)
     assert set(layer_translations(rod, {s.name: k % 2 for k, s in enumerate(star.segments)},
                                   0.02, 0.001)) == {s.name for s in star.segments}
+
+
+def test_lift_keeps_the_welds_offsets_and_the_stacked_line_is_its_own_lift():
+    """layered.lift: the line lifted into its own stacked model is that model's state to
+    round-off; the star lifted is a state of the same model (same_model) whose every spanning
+    weld has its ends exactly at R_J o from the joint's node. Its closest rods are the closed
+    form at a cusp whose rods curve across their offsets: neighbours on the hexagon are h + g0
+    apart at 30 deg to the plane, so crossing in the plane they stay (h + g0) sin 30 deg apart
+    in height (0.525 h)."""
+    from rodstab.multistable.barrier import same_model
+    from rodstab.multistable.discover import common_rod
+    from rodstab.multistable.layer_orders import layer_translations, polygon_offsets
+    from rodstab.multistable.layered import lift
+    from rodstab.multistable.states import ring_of
+    from rodstab.multistable.string_method import to_gauge
+    from rodstab.nonlinear.contact import mesh_of_rod, smallest_gap
+    from rodstab.nonlinear.equilibrium import rod_contact_model
+    from rodstab.problems.barrier_states import state_assembly
+    from rodstab.sections import rectangle
+
+    sec = rectangle(aspect=4.0)
+    line, star = (state_assembly("hexagram", sec, s) for s in ("line", "star"))
+    model = rod_contact_model(line, 0.02)
+    h, g0 = 2 * model.radius, 0.5 * model.dhat
+    pa, pb = common_rod(line, 8, 1.0), common_rod(star, 8, 1.0)
+    newton(pa)
+    newton(pb)
+    to_gauge(pb, pa)
+    order = [k for k, _ in ring_of(line).order]
+    L = common_rod(line, 8, 1.0, layers=layer_translations(pa, polygon_offsets(order), h, g0))
+    A = lift(L, pa, pa)
+    assert np.abs(A.x - L.x).max() < 1e-14 and np.abs(A.R_edge - L.R_edge).max() < 1e-13
+    B = lift(L, pa, pb)
+    assert same_model(B, L)
+    on, oj, ov, _ = L.offsets
+    ends = B.x[on[:, 1]] - B.x[on[:, 0]]
+    assert np.abs(ends - np.einsum("mij,mj->mi", B.R_joint[oj], ov)).max() < 1e-15
+    gap, *_ = smallest_gap(mesh_of_rod(B, model), B.x)
+    assert gap + h == pytest.approx(0.5 * (h + g0), rel=1e-3)

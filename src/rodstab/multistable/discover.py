@@ -35,6 +35,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import warnings
+from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
@@ -81,16 +82,18 @@ INDEX_EIGS = 8
 
 # ---------------------------------------------------------------------------------------------
 # One rod for every state
-def common_rod(a: Assembly, elements_per_segment: int, load_factor: float) -> DiscreteRod:
+def common_rod(a: Assembly, elements_per_segment: int, load_factor: float,
+               layers: dict[str, Any] | None = None) -> DiscreteRod:
     """Discretise ``a`` with the held-state-free rest lengths and natural curvatures.
 
     The state (positions, frames) is the held state of ``a``; the model (rest length
     ``L_seg / elements``, natural Cayley curvature ``(0, 0, mu kappa_n)`` at every joint and
     half-joint) is the one the straight held state gives, so any two rods built from states of
     the same ring have the same energy function (module docstring). Natural twist is refused
-    (the held twisted ring is not a state of the discrete model).
+    (the held twisted ring is not a state of the discrete model). ``layers``: the stacked
+    state with welds spanning its layers (``discretise``'s ``layers``).
     """
-    rod = discretise(a, elements_per_segment, load_factor)
+    rod = discretise(a, elements_per_segment, load_factor, layers=layers)
     if rod.edge_tw is not None:
         raise RodstabInputError("discover: segments with natural twist are not supported")
     seg_len = np.repeat([s.length for s in a.segments], elements_per_segment)

@@ -1,0 +1,74 @@
+"""States of a ring whose welds span its layers, for barriers from a stacked state (issue 21).
+
+A stacked state (the hexagram's line, the folded six-ring) is held with its rods on layers
+joined by welds that span them (:func:`~rodstab.nonlinear.discrete.discretise` ``layers``;
+the layers' translations from :func:`~.layer_orders.layer_translations`): each segment end is
+a node held at a rigid offset ``o`` from its joint's node, in the joint's frame. The offsets
+are part of the model: a path from the stacked state to another state keeps them, so the
+other state is the planar one with every weld carrying its offsets -- its rods leave each
+weld ``R_J o`` apart.
+
+:func:`lift` puts a state of the planar model (a string image, the other end state) into the
+layered model: each joint's node at the planar joint plus its offset in the stacked state
+turned with the joint's frame, segment ends at ``R_J o`` from it, each segment's nodes between
+moved by the linear blend of its two ends' offsets, frames turned onto the new chords.
+Lifted rods may overlap where the planar state's rods leave a weld together (a cusp) on the
+side opposite to their offsets. Measured (``python
+benchmarks/layered_star.py``): the hexagram's star lifted into the line on the hexagon
+(rectangle h/t = 4, 8 el./rod, h = 0.02 L, kappa_n R0 = 1) has two of its six cusps so, in
+all 12 assignments of the rods to the hexagon's vertices (the weld between neighbours turns
+their offset by 60 degrees from one weld to the next, while every cusp of the star curves its
+rods apart the same way): closest rods 0.525 h apart. Relaxed with soft contact the rods
+there pass over one another out of the plane (up to 4 h before the barrier, 6.9 h with it),
+and Newton with the barrier does not converge (the rods press together as the gap closes, at
+1, 100 and 10^4 times its stiffness): a barrier from the stacked line to the star is not
+built yet.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..nonlinear.discrete import DiscreteRod
+
+
+def _segment_nodes(rod: DiscreteRod, k: int) -> np.ndarray:
+    """Nodes of segment ``k`` from its start to its end."""
+    es = np.flatnonzero(rod.edge_segment == k)
+    return np.concatenate([[rod.edge_nodes[es[0], 0]], rod.edge_nodes[es, 1]])
+
+
+def lift(model: DiscreteRod, held: DiscreteRod, planar: DiscreteRod) -> DiscreteRod:
+    """Return ``planar``'s state in the layered ``model`` (module docstring).
+
+    ``model`` is ``held`` (the planar state it was made from, e.g. the line) with spanning
+    welds, and ``planar`` another state of ``held``'s model (same segments, elements and
+    joints). A joint's node keeps its offset from ``held``'s joint, turned with the joint's
+    frame; the segment ends keep theirs (``R_J o``). The copy of ``model`` returned has
+    ``planar``'s frames and load factor; ``lift(model, held, held)`` is ``model``'s state.
+    """
+    if model.offsets is None:
+        return planar.copy()
+    out = model.copy()
+    out.R_edge, out.R_joint = planar.R_edge.copy(), planar.R_joint.copy()
+    out.load_factor = planar.load_factor
+    on, oj, ov, _ = model.offsets
+    n_joints = len(model.R_joint)
+    # each joint node's offset from the held joint, in the joint's frame, turned to planar's
+    c = np.einsum("jik,ji->jk", model.R_joint, model.x[:n_joints] - held.x[:n_joints])
+    w = np.einsum("jik,jk->ji", planar.R_joint, c)
+    x = np.zeros_like(model.x)
+    x[:n_joints] = planar.x[:n_joints] + w  # joint nodes come first in both (discretise)
+    shift = {int(end): w[j] + planar.R_joint[j] @ o
+             for (_, end), j, o in zip(on, oj, ov, strict=True)}
+    for k in range(len(model.assembly.segments)):
+        mine, theirs = _segment_nodes(model, k), _segment_nodes(planar, k)
+        s = np.linspace(0.0, 1.0, len(mine))[:, None]
+        ends = []
+        for node, joint_node in ((mine[0], theirs[0]), (mine[-1], theirs[-1])):
+            ends.append(shift.get(int(node), w[int(joint_node)] if joint_node < n_joints
+                                  else np.zeros(3)))
+        x[mine] = planar.x[theirs] + (1.0 - s) * ends[0] + s * ends[1]
+    out.x = x
+    out.align_frames()
+    return out
