@@ -5,7 +5,10 @@ Run: ``python benchmarks/cone_limit.py [--elements 24] [--modes 48] [--hexagram]
 ``(L / 2 pi) kappa_n``; FE (P2, the torus's gaps) against eq. (3.2)'s Fourier modes.
 ``--hexagram``: instead, the eight's limits over its 36 flat lobe orders (h/t = 4, 16 el.) and
 the four-state threshold with contact at 12, 24 and 48 el./rod ("The hexagram's four states
-with contact" in docs/theory/contact.md).
+with contact" in docs/theory/contact.md). ``--held``: instead, the N-loop rings (N = 2, 3, 4,
+circle and rectangle h/t = 2) with every touching pair held closed
+(``rod_cone_limits(held_closed=True)``) at 12, 24 and 48 el./loop, Richardson from the last
+two, beside N times the one-loop ring's interval (eq. 3.3 at N = 1).
 """
 
 from __future__ import annotations
@@ -35,7 +38,11 @@ def main() -> None:
     ap.add_argument("--elements", type=int, default=24)
     ap.add_argument("--modes", type=int, default=48)
     ap.add_argument("--hexagram", action="store_true")
+    ap.add_argument("--held", action="store_true")
     args = ap.parse_args()
+    if args.held:
+        held_table()
+        return
     if args.hexagram:
         hexagram_table()
         return
@@ -115,6 +122,27 @@ def hexagram_table() -> None:
         th = hexagram.contact_threshold(elements=n)
         print(f"threshold with contact, {n} el./rod: h/t > {th.aspect_threshold:.5f}, kappa_n R0"
               f" = {th.kappa_R0:.5f} ({th.binding}; {time.perf_counter() - t:.1f} s)")
+
+
+
+def held_table() -> None:
+    """The N-loop rings with every touching pair held closed (module docstring)."""
+    from rodstab.analytic.ring import ring_stability
+
+    for name, sec in (("circle", circle()), ("rectangle h/t = 2", rectangle(aspect=2.0))):
+        one = ring_stability(sec.b1, sec.b2, 1).kappa_L_over_2pi_interval
+        for N in (2, 3, 4):
+            a = ring.build(ring.Params(section=sec, loops=N))
+            t0 = time.perf_counter()
+            rows = []
+            for n in (12, 24, 48):
+                r = rod_cone_limits(a, "torus", n, held_closed=True)
+                rows.append([N * s.load_factor for s in (r.lower, r.upper)])
+            rich = [(4 * rows[2][i] - rows[1][i]) / 3 for i in (0, 1)]
+            cells = " | ".join(f"{lo:.5f}, {hi:.5f}" for lo, hi in rows)
+            print(f"{name}, N = {N}: {cells} | Richardson {rich[0]:.4f}, {rich[1]:.4f} | "
+                  f"N x one loop {N * one[0]:.4f}, {N * one[1]:.4f} "
+                  f"({time.perf_counter() - t0:.1f} s)")
 
 
 if __name__ == "__main__":

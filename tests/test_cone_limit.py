@@ -300,3 +300,28 @@ def test_an_eight_with_two_strands_of_a_lobe_on_one_layer_is_refused():
         contact_cone(a, {"1": 0, "3": 0, "5": 1, "2": 0, "4": 1, "6": 2}, 8)
     with pytest.raises(RodstabInputError, match="missing"):
         contact_cone(a, {"1": 0, "3": 1, "5": 2, "2": 0, "4": 1}, 8)
+
+
+def test_held_closed_three_loop_ring_is_one_ring_three_times_as_stiff():
+    """Every touching pair of the 3-loop circular ring on the torus held closed both ways
+    (rod_cone_limits(held_closed=True): definiteness on D v = 0, a subspace of the cone, so
+    its interval contains the cone's, which contains eq. (3.3)'s at N = 3) is that of ONE
+    ring of the same radius and three times the stiffness: eq. (3.3) at N = 1, in (L / 2 pi)
+    kappa_n = N R0 kappa_n: (0, 3 x 1.86156). Observed (docs/theory/contact.md: it holds for
+    N = 3 on both sections measured and fails for N = 4), Richardson from 12 and 24
+    elements per loop: measured 5e-4 on the upper end, 3e-3 on the lower."""
+    from rodstab.analytic.ring import ring_stability
+    from rodstab.multistable.cone_limit import rod_cone_limits
+
+    sec, N = circle(), 3
+    a = ring.build(ring.Params(section=sec, loops=N))
+    lo1, hi1 = ring_stability(sec.b1, sec.b2, 1).kappa_L_over_2pi_interval
+    runs = [rod_cone_limits(a, "torus", n, held_closed=True) for n in (12, 24)]
+    assert all(r.lower.status == r.upper.status == "bracketed" for r in runs)
+    lower = (4 * runs[1].lower.load_factor - runs[0].lower.load_factor) / 3 * N
+    upper = (4 * runs[1].upper.load_factor - runs[0].upper.load_factor) / 3 * N
+    assert lo1 == 0.0 and abs(lower - N * lo1) < 1e-2
+    assert upper == pytest.approx(N * hi1, rel=2e-3)
+    loN, hiN = ring_stability(sec.b1, sec.b2, N).kappa_L_over_2pi_interval
+    assert N * runs[1].lower.load_factor < loN and N * runs[1].upper.load_factor > hiN
+    assert "holding every touching pair's gap closed" in runs[1].method

@@ -46,6 +46,10 @@ from .cone import MAX_DENSE_DOF, gap_changes, torus_normal, touching_pairs
 SCAN_STEPS = 40
 #: How far past ``mu_c`` the scan goes, in widths.
 WINDOW_WIDTHS = 1.0
+#: The search window of :func:`rod_cone_limits` with ``held_closed``, in widths: pairs held
+#: closed stiffen the stack far more than the cone (the 3-loop circular ring's upper limit
+#: moves 1.4 widths past the no-contact one).
+HELD_WINDOW_WIDTHS = 3.0
 #: The bracket is refined to this, relative to ``max(|mu|, 1)``.
 XTOL = 1e-5
 
@@ -129,7 +133,7 @@ def _bisect(decide: Any, inner: float, outer: float, far: float, xtol: float
 
 
 def _search(decide: Any, mu_c: float, sign: float, width: float, side: str,
-            xtol: float = XTOL) -> ConeLimit:
+            xtol: float = XTOL, window: float = WINDOW_WIDTHS) -> ConeLimit:
     """Scan outward from ``mu_c``, then bisect the first certified bracket (module doc).
 
     An undecided scan load (next to the limit, where the form's minimum on the cone is within
@@ -140,7 +144,7 @@ def _search(decide: Any, mu_c: float, sign: float, width: float, side: str,
     """
     step = width / SCAN_STEPS
     inner, count, undecided = mu_c, 0, ""
-    for i in range(1, int(math.ceil(SCAN_STEPS * WINDOW_WIDTHS)) + 1):
+    for i in range(1, int(math.ceil(SCAN_STEPS * window)) + 1):
         mu = mu_c + sign * i * step
         d = decide(mu)
         count += 1
@@ -168,7 +172,7 @@ def _search(decide: Any, mu_c: float, sign: float, width: float, side: str,
         return ConeLimit(side, mu_c, "undecided", (inner, math.nan), math.nan, math.nan, count,
                          undecided)
     return ConeLimit(side, mu_c, "beyond window", (inner, math.nan), math.nan, math.nan, count,
-                     f"positive on the cone out to {inner:.6g} ({WINDOW_WIDTHS:g} widths of "
+                     f"positive on the cone out to {inner:.6g} ({window:g} widths of "
                      "the no-contact interval)")
 
 
@@ -183,7 +187,8 @@ def _check_sides(sides: tuple[str, ...]) -> tuple[str, ...]:
 
 
 def _both_sides(decide: Any, lo: float, hi: float, xtol: float, start: Any = None,
-                sides: tuple[str, ...] = SIDES) -> tuple[ConeLimit | None, ConeLimit | None]:
+                sides: tuple[str, ...] = SIDES, window: float = WINDOW_WIDTHS
+                ) -> tuple[ConeLimit | None, ConeLimit | None]:
     """Search each finite end of the no-contact interval ``(lo, hi)`` outward (:func:`_search`).
 
     ``start(mu_c, sign, width)``: the load the search starts from (default ``mu_c``); only the
@@ -197,7 +202,7 @@ def _both_sides(decide: Any, lo: float, hi: float, xtol: float, start: Any = Non
             continue
         width = (hi - lo) if both else max(abs(mu_c), 1.0)
         mu0 = float(mu_c) if start is None else start(float(mu_c), sign, width)
-        out.append(_search(decide, mu0, sign, width, side, xtol))
+        out.append(_search(decide, mu0, sign, width, side, xtol, window))
     return out[0], out[1]
 
 
@@ -330,7 +335,8 @@ NODE_COINCIDE = 1e-6
 
 def rod_cone_limits(a: Assembly, layers: dict[str, Any] | str, elements_per_segment: int = 24,
                     *, normals: str = "full", thickness_ratio: float = 1e-3,
-                    xtol: float = XTOL, sides: tuple[str, ...] = SIDES) -> ConeLimits:
+                    xtol: float = XTOL, sides: tuple[str, ...] = SIDES,
+                    held_closed: bool = False) -> ConeLimits:
     """Find the limits with contact at zero gap on the nonlinear engine's rod, in-plane included.
 
     The same question as :func:`cone_limits` on another discretisation, which also has the
@@ -349,6 +355,13 @@ def rod_cone_limits(a: Assembly, layers: dict[str, Any] | str, elements_per_segm
     eigenvalue's sign change next to the FE's, :func:`_own_limit`), so a shift is contact's,
     not the two discretisations' difference. ``sides``: the ends searched (as
     :func:`cone_limits`).
+
+    ``held_closed``: every touching pair's gap held at zero both ways (the subspace ``D v =
+    0`` in place of the cone ``D v >= 0``): layers pressed together with a force, which a
+    perturbation can neither open (first order, it would do work against the force) nor
+    close. Its limits lie outside the cone's (a subspace of the cone); those of a stack whose
+    pairs carry force, as the nonlinear method's at finite thickness, lie between the two as
+    the force vanishes (docs/theory/contact.md).
     """
     from scipy.linalg import null_space
 
@@ -377,21 +390,27 @@ def rod_cone_limits(a: Assembly, layers: dict[str, Any] | str, elements_per_segm
             f"layers = {layers!r}: no two nodes of touching layers coincide on the rod's mesh "
             f"of {n} elements per segment (rods of unequal lengths do not share nodes); the "
             "rod engine's cone needs them")
+    rows, Kf = len(D), (K0, K1)  # the no-contact limits are the whole space's
+    if held_closed:  # definiteness on the subspace: the cone module's plain case (no rows)
+        Z = null_space(D)
+        K0, K1, D = Z.T @ K0 @ Z, Z.T @ K1 @ Z, np.zeros((0, Z.shape[1]))
 
     def decide(mu: float) -> Any:
         return positive_on_cone(K0 + mu * K1, D)
 
     lo, hi = linear_stability(a, n).load_factor_interval
     lower, upper = _both_sides(decide, lo, hi, xtol,
-                               lambda mu_c, sign, width: _own_limit(K0, K1, mu_c, sign, width),
-                               sides)
+                               lambda mu_c, sign, width: _own_limit(*Kf, mu_c, sign, width),
+                               sides, HELD_WINDOW_WIDTHS if held_closed else WINDOW_WIDTHS)
     own = tuple(float(side.no_contact) if side is not None else float(mu)
                 for side, mu in ((lower, lo), (upper, hi)))
+    where = ("on the subspace of perturbations holding every touching pair's gap closed"
+             if held_closed else "on the cone of gap-keeping perturbations at zero gap")
     return ConeLimits((own[0], own[1]), lower, upper, n,
                       f"minimum of the discrete rod's inextensible Hessian (Kirchhoff "
-                      f"coordinates) on the cone of gap-keeping perturbations at zero gap, "
-                      f"{len(D)} touching node pairs, normals {normals!r}: certified decisions, "
-                      "scanned and bisected in the load factor")
+                      f"coordinates) {where}, {rows} touching node pairs, normals "
+                      f"{normals!r}: certified decisions, scanned and bisected in the load "
+                      "factor")
 
 
 def limits_with_contact(a: Assembly, layers: dict[str, Any] | str, elements_per_segment: int = 24,
