@@ -307,3 +307,44 @@ def test_lift_keeps_the_welds_offsets_and_the_stacked_line_is_its_own_lift():
     assert np.abs(ends - np.einsum("mij,mj->mi", B.R_joint[oj], ov)).max() < 1e-15
     gap, *_ = smallest_gap(mesh_of_rod(B, model), B.x)
     assert gap + h == pytest.approx(0.5 * (h + g0), rel=1e-3)
+
+
+#: The line's rods in two columns across the line (odd rods on one side, even on the other,
+#: layers 0, 1, 2 in each): every cusp of the star it reaches then curves its rods apart on
+#: the side of their offsets (docs/theory/contact.md).
+TWO_COLUMNS = {"1": (-0.5, 0), "3": (-0.5, 1), "5": (-0.5, 2),
+               "2": (0.5, 0), "4": (0.5, 1), "6": (0.5, 2)}
+
+
+def test_the_line_in_two_columns_and_the_star_it_reaches_hold_with_contact():
+    """layered.stacked_band on a belt path of three images (line -> star, rectangle h/t = 4,
+    6 el./rod, h = 0.02 L, kappa_n R0 = 1): both ends relax with contact and are stable; every
+    lifted state is one model; the star's closest non-excluded rods are at least h apart (the
+    hexagon's order leaves two cusps crossing at 0.525 h, the test above). Without a contact
+    model the layers are refused, naming them."""
+    from rodstab.errors import RodstabInputError as Bad
+    from rodstab.multistable.barrier import same_model
+    from rodstab.multistable.discover import common_rod
+    from rodstab.multistable.layered import stacked_band
+    from rodstab.multistable.string_method import belt_path, to_gauge
+    from rodstab.nonlinear.contact import smallest_gap
+    from rodstab.nonlinear.equilibrium import rod_contact_model
+    from rodstab.nonlinear.stability import zero_eigenvalue_tol
+    from rodstab.problems.barrier_states import state_assembly
+    from rodstab.sections import rectangle
+
+    sec = rectangle(aspect=4.0)
+    line, star = (state_assembly("hexagram", sec, s) for s in ("line", "star"))
+    model = rod_contact_model(line, 0.02)
+    a, b = common_rod(line, 6, 1.0), common_rod(star, 6, 1.0)
+    newton(a)
+    newton(b)
+    to_gauge(b, a)
+    band = stacked_band(belt_path(a, b, 3), TWO_COLUMNS, model, ("line", "star"))
+    assert all(same_model(r, band[0]) for r in band)
+    for end in (band[0], band[-1]):
+        assert lowest_modes(end, 1)[0][0] > zero_eigenvalue_tol(end)
+        assert smallest_gap(end.contact, end.x)[0] > 0.0
+    assert band[-1].energy() == pytest.approx(b.energy(), abs=1e-3)  # the planar star's
+    with pytest.raises(Bad, match=r"layers = .*need a contact model"):
+        stacked_band(belt_path(a, b, 3), TWO_COLUMNS, None)

@@ -27,8 +27,12 @@ built yet.
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
+from ..errors import RodstabInputError
+from ..nonlinear.contact import ContactModel, Interpenetration
 from ..nonlinear.discrete import DiscreteRod
 
 
@@ -71,4 +75,50 @@ def lift(model: DiscreteRod, held: DiscreteRod, planar: DiscreteRod) -> Discrete
         x[mine] = planar.x[theirs] + (1.0 - s) * ends[0] + s * ends[1]
     out.x = x
     out.align_frames()
+    return out
+
+
+def stacked_band(band: list[DiscreteRod], layers: dict[str, Any], contact: ContactModel | None,
+                 names: tuple[str, str] = ("A", "B")) -> list[DiscreteRod]:
+    """Return the string ``band`` of the planar model lifted into its stacked model.
+
+    ``band[0]`` is the stacked state's planar held state (the rods on one another), relaxed;
+    ``layers`` its layer order (:func:`~.layer_orders.layer_translations`: a layer ``k`` or an
+    offset ``(u, k)`` per segment, in units of ``h + g0``, ``h`` the contact model's capsule
+    diameter and ``g0 = START_GAP_FRACTION dhat``). The stacked model
+    (:func:`~.discover.common_rod` with the translations: welds spanning the layers) gets every
+    image by :func:`lift`; the ends are relaxed with ``contact`` by Newton and must be stable.
+
+    Raises
+    ------
+    RodstabInputError
+        No contact model (the stacked rods need one), an end outside it (naming the
+        elements) or not a stable equilibrium with contact.
+    """
+    from ..nonlinear.contact import attach_contact
+    from ..nonlinear.contact_model import START_GAP_FRACTION
+    from ..nonlinear.newton import newton
+    from ..nonlinear.solve import lowest_modes, zero_eigenvalue_tol
+    from .discover import common_rod
+    from .layer_orders import layer_translations
+
+    if contact is None:
+        raise RodstabInputError(f"layers = {layers!r} need a contact model (the stacked rods)")
+    held = band[0]
+    h = 2.0 * float(np.max(contact.radius))
+    shift = layer_translations(held, layers, h, START_GAP_FRACTION * contact.dhat)
+    n = len(held.R_edge) // len(held.assembly.segments)
+    model = common_rod(held.assembly, n, held.load_factor, layers=shift)
+    out = [lift(model, held, r) for r in band]
+    for r, label in ((out[0], names[0]), (out[-1], names[1])):
+        try:
+            attach_contact(r, contact)
+        except RodstabInputError as exc:
+            raise Interpenetration(f"state {label!r} on its layers {layers}: {exc}") from None
+        if not newton(r)[0] or lowest_modes(r, 1)[0][0] < -zero_eigenvalue_tol(r):
+            raise RodstabInputError(f"layers = {layers}: state {label!r} on them is not a "
+                                    "stable equilibrium with contact at load factor "
+                                    f"{held.load_factor:g}")
+    for r in out[1:-1]:
+        r.contact = None
     return out

@@ -36,10 +36,8 @@ dimension. ``alpha_e`` is lifted continuously along the rods (breadth-first from
 and ``G`` depends on ``alpha`` only modulo ``4 pi``: a ring whose two frame loops differ by two
 full turns (the folded and one-loop six-rings) closes -- Dirac's belt trick; an odd number of turns
 cannot close and is refused (no continuous path of frames exists). The gauge joint itself turns
-by ``R_m(2 pi t)``: each image is moved back into A's gauge rigidly. (Without this the first
-images of the relaxed string were A itself turned about its own line, a detour of zero energy
-18 chart units long, six-ring at 8 el./rod: the band of the retired nudged elastic band had the
-same defect.) Each image is then made inextensible
+by ``R_m(2 pi t)``: each image is moved back into A's gauge rigidly (else the first images
+were A turned about its own line, a detour of zero energy). Each image is then made inextensible
 (:func:`~rodstab.nonlinear.constraint.restore_inextensible`: where the turned frames' tangents do
 not close round the ring, positions alone leave a penalty strain -- 7.5e5 B3/L on the hexagram's
 star -> daisy path -- which least frame turns remove). Highest initial energies: 99 B3/L
@@ -47,29 +45,24 @@ star -> daisy path -- which least frame turns remove). Highest initial energies:
 
 **String iteration** (:func:`relax_string`). Each interior image takes one step that minimises
 the quadratic model ``g . s + 1/2 s^T H s`` on the plane ``tau . s = 0`` perpendicular to its
-central tangent ``tau``: a Newton step on that plane. Where the model is not convex on the
-plane the Levenberg shift ``H + lam D`` (``D = |diag H|``) is raised until it is; only the plane
-has to be convex, not the string's own direction: ``H + lam D`` may keep one negative eigenvalue
-if ``tau . (H + lam D)^-1 tau < 0`` (the inertia of the bordered matrix), both read off the
-pivots of a symmetric factorisation. (Along the six-ring's string at 8 el./rod the unshifted
-``H`` had no negative eigenvalue at 134 of 360 steps, one at 53, more at 173.) Every trial state is
-retracted onto the inextensible states (:func:`~rodstab.nonlinear.constraint.retract_step`): a chart
-step opens the ring's closure at second order, and at 0.1 rad the penalty strain that leaves (0.83
-B3/L on the six-ring) swamps the predicted change (0.04), so unretracted steps were accepted only
-below ~0.03 rad and a version of this loop without the retraction needed 190 iterations where it
-needs 40. The step is accepted when the energy falls by a quarter of the model's prediction, else
-``lam`` grows 4x (Levenberg-Marquardt, as :func:`~rodstab.nonlinear.solve.lm_step`). A step moves
-nothing by more than :data:`STEP_FRACTION` of the
-image's smaller chart gap to its neighbours (images do not overtake each other). No springs:
-when the longest chart segment of the string exceeds :data:`REPARAM_RATIO` times the shortest,
-the string is reparametrised to equal arclength (:func:`reparametrise`: piecewise geodesic in
-the chart, then the retraction). E et al. reparametrise every iteration; here each
-interpolation raises the images' penalty strain and gradient, which the next step then spends
-itself undoing: in a version without the retraction, from one string the top image's energy
-fell from 17.96 to 16.05 B3/L in 95 iterations so, to 14.52 in 55 when reparametrised only
-when uneven. When neighbouring
-images are more than :data:`MAX_GAP` apart the string stops as too coarse (an interpolation
-near half a turn flips the branch of the log: energies of 1e7 seen).
+central tangent ``tau``: a Newton step on that plane. Where the model is not convex on the plane
+the Levenberg shift ``H + lam D`` (``D = |diag H|``) is raised until it is; only the plane has
+to be convex, not the string's own direction: ``H + lam D`` may keep one negative eigenvalue if
+``tau . (H + lam D)^-1 tau < 0`` (the inertia of the bordered matrix), both read off the pivots
+of a symmetric factorisation (on the six-ring's string, 8 el./rod, ``H`` had no negative
+eigenvalue at 134 of 360 steps, one at 53, more at 173). Every trial state is retracted
+(:func:`~rodstab.nonlinear.constraint.retract_step`): a chart step opens the ring's closure at
+second order, and at 0.1 rad the penalty strain left (0.83 B3/L, six-ring) swamps the predicted
+change (0.04): without it this loop needed 190 iterations where it needs 40. A step is accepted
+when the energy falls by a quarter of the model's prediction, else ``lam`` grows 4x
+(Levenberg-Marquardt, as :func:`~rodstab.nonlinear.solve.lm_step`); it moves nothing by more
+than :data:`STEP_FRACTION` of the image's smaller chart gap to its neighbours (images do not
+overtake each other). No springs: when the longest chart segment of the string exceeds
+:data:`REPARAM_RATIO` times the shortest, it is reparametrised to equal arclength
+(:func:`reparametrise`: piecewise geodesic in the chart, then the retraction; not every
+iteration, as E et al.: each interpolation raises the images' strain, which the next step then
+undoes). Neighbouring images more than :data:`MAX_GAP` apart stop the string as too coarse (an
+interpolation near half a turn flips the branch of the log: energies of 1e7 seen).
 
 **Saddle** (:func:`refine_saddle`). Once the string has settled (:data:`SETTLE_RTOL`), every
 :data:`SADDLE_TRY_EVERY` iterations copies of the local maxima of its energies are refined by
@@ -99,10 +92,10 @@ may also make a detour: between the hexagram's star and daisy (kappa_n R0 = 1.5,
 images) it leaves the star, loops over a hump of 19.3 B3/L (near a stationary point at 19.29)
 and comes back to the star itself (image 10, 0.001 B3/L above it, descends to it) before
 crossing the saddle at 7.91 to the daisy; every image before the saddle descends to the star.
-The relaxation does not remove the loop (presumably not a contractible one). The barrier
-reported is the saddle's, which joins the two states; the loop stays in the reported path.
+The barrier reported is the saddle's, which joins the two states; the loop stays in the path.
 
-**Contact** (rods that cannot pass through each other): :mod:`.string_contact`.
+**Contact** (rods that cannot pass through each other): :mod:`.string_contact`; from a
+stacked state, its welds spanning the layers: :func:`~.layered.stacked_band`.
 """
 
 from __future__ import annotations
@@ -111,6 +104,7 @@ import dataclasses
 import math
 import warnings
 from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
@@ -130,6 +124,7 @@ from ..numerics import jacobi_scaling, serially
 from ..results import Result
 from .barrier import MIN_ELEMENTS, Barrier, descents_from_saddle, same_model, state_label
 from .discover import NewtonRun, Snapshot, common_rod
+from .layered import stacked_band
 
 #: Lowest eigenvalues computed to count a stationary point's index.
 INDEX_EIGS = 4
@@ -672,8 +667,8 @@ def relax_string(band: list[DiscreteRod], *, max_iter: int = STRING_MAX_ITER,
 def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
                    elements_per_segment: int = 8, images: int = STRING_IMAGES,
                    name_a: str = "A", name_b: str = "B", max_iter: int = STRING_MAX_ITER,
-                   limits: Limits = DEFAULT_LIMITS, contact: ContactModel | None = None
-                   ) -> tuple[Barrier, list[Snapshot]]:
+                   limits: Limits = DEFAULT_LIMITS, contact: ContactModel | None = None,
+                   layers: dict[str, Any] | None = None) -> tuple[Barrier, list[Snapshot]]:
     """Energy barrier between held states ``a`` and ``b`` of one ring by the string method.
 
     Both are put in one discrete model (:func:`~.discover.common_rod`) at ``load_factor`` and
@@ -705,6 +700,9 @@ def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
         Rods that cannot pass through each other: both states relaxed with it, the string
         brought inside it (:func:`~.string_contact.relax_with_contact`, recorded in
         ``string_run.contact_stages``). None: no contact (every number as before).
+    layers : dict, optional
+        With ``contact``: ``a`` is a stacked state and this its layer order; the path runs in
+        the stacked model, welds spanning the layers (:func:`~.layered.stacked_band`).
 
     Returns
     -------
@@ -733,7 +731,7 @@ def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
         raise RodstabInputError(f"states {name_a!r} and {name_b!r} are not states of one "
                                 "discrete model (rest lengths or natural curvatures differ)")
     for r, label in ((rod_a, name_a), (rod_b, name_b)):
-        if contact is not None:
+        if contact is not None and layers is None:
             try:
                 attach_contact(r, contact)
             except RodstabInputError as exc:
@@ -742,6 +740,10 @@ def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
             raise RodstabInputError(f"load factor {mu!r}: state {label!r} is not a stable "
                                     "equilibrium there (outside its stable interval)")
     to_gauge(rod_b, rod_a)
+    start = belt_path(rod_a, rod_b, n_img)
+    if layers is not None:
+        start = stacked_band(start, layers, contact, (name_a, name_b))
+        rod_a, rod_b = start[0], start[-1]
     e_a, e_b = rod_a.energy(), rod_b.energy()
     refs = [(name_a, Snapshot.of(rod_a), e_a), (name_b, Snapshot.of(rod_b), e_b)]
     found: dict[str, tuple] = {}
@@ -759,14 +761,12 @@ def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
         return ok
 
     if contact is None:
-        band, saddle, run = relax_string(belt_path(rod_a, rod_b, n_img), max_iter=max_iter,
-                                         accept=joins_the_states)
+        band, saddle, run = relax_string(start, max_iter=max_iter, accept=joins_the_states)
     else:
         from .string_contact import relax_with_contact
 
-        band, saddle, run, stages = relax_with_contact(belt_path(rod_a, rod_b, n_img), contact,
-                                                       relax_string, max_iter=max_iter,
-                                                       accept=joins_the_states)
+        band, saddle, run, stages = relax_with_contact(start, contact, relax_string,
+                                                       max_iter=max_iter, accept=joins_the_states)
         run = dataclasses.replace(run, contact_stages=stages)
     if saddle is None:
         energies = [r.energy() for r in band]
