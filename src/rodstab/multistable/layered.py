@@ -95,10 +95,7 @@ def stacked_band(band: list[DiscreteRod], layers: dict[str, Any], contact: Conta
         No contact model (the stacked rods need one), an end outside it (naming the
         elements) or not a stable equilibrium with contact.
     """
-    from ..nonlinear.contact import attach_contact
     from ..nonlinear.contact_model import START_GAP_FRACTION
-    from ..nonlinear.newton import newton
-    from ..nonlinear.solve import lowest_modes, zero_eigenvalue_tol
     from .discover import common_rod
     from .layer_orders import layer_translations
 
@@ -111,14 +108,28 @@ def stacked_band(band: list[DiscreteRod], layers: dict[str, Any], contact: Conta
     model = common_rod(held.assembly, n, held.load_factor, layers=shift)
     out = [lift(model, held, r) for r in band]
     for r, label in ((out[0], names[0]), (out[-1], names[1])):
-        try:
-            attach_contact(r, contact)
-        except RodstabInputError as exc:
-            raise Interpenetration(f"state {label!r} on its layers {layers}: {exc}") from None
-        if not newton(r)[0] or lowest_modes(r, 1)[0][0] < -zero_eigenvalue_tol(r):
-            raise RodstabInputError(f"layers = {layers}: state {label!r} on them is not a "
-                                    "stable equilibrium with contact at load factor "
-                                    f"{held.load_factor:g}")
+        stable_end(r, label, contact, f"layers = {layers}, load factor {held.load_factor:g}")
     for r in out[1:-1]:
         r.contact = None
     return out
+
+
+def stable_end(r: DiscreteRod, label: str, contact: ContactModel | None, where: str) -> None:
+    """Relax an end state of a path by Newton (with ``contact`` if given); refuse it unless stable.
+
+    Raises :class:`~rodstab.nonlinear.contact.Interpenetration` when ``r``'s rods overlap under
+    ``contact``, :class:`~rodstab.errors.RodstabInputError` when Newton fails or the state is
+    unstable; ``where`` (e.g. ``"load factor 1"``) leads the message.
+    """
+    from ..nonlinear.contact import attach_contact
+    from ..nonlinear.newton import newton
+    from ..nonlinear.solve import lowest_modes, zero_eigenvalue_tol
+
+    if contact is not None:
+        try:
+            attach_contact(r, contact)
+        except RodstabInputError as exc:
+            raise Interpenetration(f"state {label!r}: {exc}") from None
+    if not newton(r)[0] or lowest_modes(r, 1)[0][0] < -zero_eigenvalue_tol(r):
+        raise RodstabInputError(f"{where}: state {label!r} is not a stable equilibrium there "
+                                "(outside its stable interval)")

@@ -115,16 +115,16 @@ from ..limits import DEFAULT as DEFAULT_LIMITS
 from ..limits import Limits, require_nonlinear
 from ..model import Assembly
 from ..nonlinear.constraint import chart_size, restore_inextensible, retract_step
-from ..nonlinear.contact import ContactModel, Interpenetration, attach_contact
+from ..nonlinear.contact import ContactModel, Interpenetration
 from ..nonlinear.discrete import PENALTY, DiscreteRod
 from ..nonlinear.jets import rodrigues
 from ..nonlinear.newton import contact_fraction
-from ..nonlinear.solve import NEWTON_RTOL, lowest_modes, newton, vee_log, zero_eigenvalue_tol
+from ..nonlinear.solve import NEWTON_RTOL, lowest_modes, vee_log, zero_eigenvalue_tol
 from ..numerics import jacobi_scaling, serially
 from ..results import Result
 from .barrier import MIN_ELEMENTS, Barrier, descents_from_saddle, same_model, state_label
 from .discover import NewtonRun, Snapshot, common_rod
-from .layered import stacked_band
+from .layered import stable_end, stacked_band
 
 #: Lowest eigenvalues computed to count a stationary point's index.
 INDEX_EIGS = 4
@@ -731,14 +731,7 @@ def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
         raise RodstabInputError(f"states {name_a!r} and {name_b!r} are not states of one "
                                 "discrete model (rest lengths or natural curvatures differ)")
     for r, label in ((rod_a, name_a), (rod_b, name_b)):
-        if contact is not None and layers is None:
-            try:
-                attach_contact(r, contact)
-            except RodstabInputError as exc:
-                raise Interpenetration(f"state {label!r}: {exc}") from None
-        if not newton(r)[0] or lowest_modes(r, 1)[0][0] < -zero_eigenvalue_tol(r):
-            raise RodstabInputError(f"load factor {mu!r}: state {label!r} is not a stable "
-                                    "equilibrium there (outside its stable interval)")
+        stable_end(r, label, contact if layers is None else None, f"load factor {mu!r}")
     to_gauge(rod_b, rod_a)
     start = belt_path(rod_a, rod_b, n_img)
     if layers is not None:
