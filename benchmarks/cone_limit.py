@@ -8,7 +8,8 @@ the four-state threshold with contact at 12, 24 and 48 el./rod ("The hexagram's 
 with contact" in docs/theory/contact.md). ``--held``: instead, the N-loop rings (N = 2, 3, 4,
 circle and rectangle h/t = 2) with every touching pair held closed
 (``rod_cone_limits(held_closed=True)``) at 12, 24 and 48 el./loop, Richardson from the last
-two, beside N times the one-loop ring's interval (eq. 3.3 at N = 1).
+two, beside N times the one-loop ring's interval (eq. 3.3 at N = 1); then N = 3 on eight
+random sections (seed 5).
 """
 
 from __future__ import annotations
@@ -143,6 +144,26 @@ def held_table() -> None:
             print(f"{name}, N = {N}: {cells} | Richardson {rich[0]:.4f}, {rich[1]:.4f} | "
                   f"N x one loop {N * one[0]:.4f}, {N * one[1]:.4f} "
                   f"({time.perf_counter() - t0:.1f} s)")
+    # N = 3 on random sections (seed 5): rectangles and ellipses, h/t log-uniform in [0.3, 6]
+    import numpy as np
+
+    from rodstab.sections import ellipse
+
+    rng = np.random.default_rng(5)
+    for k in range(8):
+        shape = (rectangle, ellipse)[k % 2]
+        sec = shape(aspect=float(np.exp(rng.uniform(np.log(0.3), np.log(6.0)))))
+        one = ring_stability(sec.b1, sec.b2, 1).kappa_L_over_2pi_interval
+        a = ring.build(ring.Params(section=sec, loops=3))
+        rows = []
+        for n in (12, 24):
+            r = rod_cone_limits(a, "torus", n, held_closed=True)
+            rows.append([3 * s.load_factor if s.status == "bracketed" else math.nan
+                         for s in (r.lower, r.upper)])
+        rich = [(4 * rows[1][i] - rows[0][i]) / 3 for i in (0, 1)]
+        print(f"{shape.__name__} h/t = {sec.aspect:.3f} (b1 {sec.b1:.3f}, b2 {sec.b2:.3f}), N = 3:"
+              f" Richardson (12, 24) {rich[0]:.4f}, {rich[1]:.4f} | 3 x one loop "
+              f"{3 * one[0]:.4f}, {3 * one[1]:.4f}")
 
 
 if __name__ == "__main__":
