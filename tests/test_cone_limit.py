@@ -307,8 +307,9 @@ def test_held_closed_three_loop_ring_is_one_ring_three_times_as_stiff():
     (rod_cone_limits(held_closed=True): definiteness on D v = 0, a subspace of the cone, so
     its interval contains the cone's, which contains eq. (3.3)'s at N = 3) is that of ONE
     ring of the same radius and three times the stiffness: eq. (3.3) at N = 1, in (L / 2 pi)
-    kappa_n = N R0 kappa_n: (0, 3 x 1.86156). Observed (docs/theory/contact.md: it holds for
-    N = 3 on both sections measured and fails for N = 4), Richardson from 12 and 24
+    kappa_n = N R0 kappa_n: (0, 3 x 1.86156). Observed by the rod engine (docs/theory/
+    contact.md; it fails for N = 4); for the circle an independent reduced model agrees,
+    (0.001, 5.584), for anisotropic sections it does not (open). Richardson from 12 and 24
     elements per loop: measured 5e-4 on the upper end, 3e-3 on the lower."""
     from rodstab.analytic.ring import ring_stability
     from rodstab.multistable.cone_limit import rod_cone_limits
