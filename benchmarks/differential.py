@@ -9,8 +9,7 @@ file like examples/hexagram.toml), planar assemblies from design files (kinked c
 split arcs; clamped ends), and N-loop rings stacked on the torus with contact at zero gap
 (``contact-rings``: the limits on the cone by the FE, eq. (3.2)'s Fourier modes and the nonlinear
 rod's Hessian, :mod:`rodstab.multistable.cone_limit`; ``contact-eights``: figure-eights of 4 and 6
-rods by the FE and the rod; ``held-rings``: 3-loop rings with every touching pair held closed,
-against three times the one-loop ring's closed form). Sections of every closed-form shape
+rods by the FE and the rod). Sections of every closed-form shape
 (rectangle and ellipse h/t 0.3-10, circle, tube, nu 0-0.5) and given ratios b1, b2 in 0.05-50. Every
 design is solved by every method that applies (the problem modules' ``METHODS``, the linear FE
 engine, the transfer methods: monodromy, shooting, full system, Bloch; the closed forms; the
@@ -525,51 +524,10 @@ def contact_eights(rng: np.random.Generator) -> Trial:
                  {("cone-fe", "cone-rod"): CONE_EIGHT_RTOL})
 
 
-#: 3-loop rings on the torus with every touching pair held closed (the rod, Richardson from 24
-#: and 48 el./loop) against three times the one-loop ring's interval, eq. (3.3) at N = 1: an
-#: observation, not a derivation (docs/theory/contact.md). From 12 and 24 el./loop three of
-#: seed 17's first 24 sections raised (the 12-element rod's own no-contact limit too far from
-#: the FE's) and b1 = 8.704, b2 = 40.39 differed by 0.14; at 24, 48, 96 it converges to the
-#: closed form (51.614, 51.526, 51.497 against 51.486). A lower end outside the rod's search
-#: window is not compared. An independent reduced model disagrees for b1 >~ 2.25
-#: (docs/theory/contact.md, open): this family tests the rod engine against the bound.
-HELD_RTOL = 5e-3
-
-
-def held_rings(rng: np.random.Generator) -> Trial:
-    """3-loop rings held closed on the torus against one ring three times as stiff."""
-    from rodstab.analytic.ring import ring_stability
-    from rodstab.multistable.cone_limit import rod_cone_limits
-    from rodstab.problems import ring
-
-    sec = random_section(rng)
-    section = sections.make_section(**sec)
-    a = ring.build(ring.Params(section=section, loops=3))
-    code = (f"from rodstab.multistable.cone_limit import rod_cone_limits; from rodstab.problems "
-            f"import ring; from rodstab.sections import make_section; s = make_section("
-            f"{_kw(sec)}); a = ring.build(ring.Params(section=s, loops=3)); print(*("
-            f"rod_cone_limits(a, 'torus', n, held_closed=True) for n in (24, 48)))")
-
-    def held() -> Values:
-        coarse, fine = (_cone_values(rod_cone_limits(a, "torus", n, held_closed=True), 3)
-                        for n in (24, 48))
-        return {k: (4 * fine[k] - coarse[k]) / 3 for k in ("lower", "upper")
-                if k in fine and k in coarse}
-
-    def closed() -> Values:
-        lo, hi = ring_stability(section.b1, section.b2, 1).kappa_L_over_2pi_interval
-        return {"lower": 3 * lo, "upper": 3 * hi}
-
-    return Trial(f"held-closed 3-loop ring section({_kw(sec)})", code,
-                 {"held-rod": held, "three-one-loop": closed},
-                 {("held-rod", "three-one-loop"): HELD_RTOL})
-
-
 #: family name -> generator of one random design.
 FAMILIES: dict[str, Callable[[np.random.Generator], Trial]] = {
     "arcs": arcs, "rings": rings, "folded": folded, "cusp-rings": cusp_rings,
-    "assemblies": assemblies, "contact-rings": contact_rings, "contact-eights": contact_eights,
-    "held-rings": held_rings}
+    "assemblies": assemblies, "contact-rings": contact_rings, "contact-eights": contact_eights}
 
 
 # ---------------------------------------------------------------------------------------------

@@ -72,9 +72,6 @@ CASES = [
     # two straight rods welded at -126.56 deg, clamped: the nonlinear rod's verdicts at the FE's
     # limits (item 1: the FE's second variation at an angled weld)
     pytest.param("assemblies", 16, {"fe", "verdict"}, id="kinked-chain"),
-    # a 3-loop ring held closed on the torus (the rod, Richardson from 24 and 48 el./loop)
-    # against three times the one-loop ring's closed form: an observation the family tests
-    pytest.param("held-rings", 1, {"held-rod", "three-one-loop"}, id="held-3-loop"),
 ]
 
 
