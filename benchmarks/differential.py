@@ -9,7 +9,8 @@ file like examples/hexagram.toml), planar assemblies from design files (kinked c
 split arcs; clamped ends), and N-loop rings stacked on the torus with contact at zero gap
 (``contact-rings``: the limits on the cone by the FE, eq. (3.2)'s Fourier modes and the nonlinear
 rod's Hessian, :mod:`rodstab.multistable.cone_limit`; ``contact-eights``: figure-eights of 4 and 6
-rods by the FE and the rod). Sections of every closed-form shape
+rods by the FE and the rod; ``held-rings``: 3-loop rings with every touching pair held closed,
+by the rod and by the reduced theory). Sections of every closed-form shape
 (rectangle and ellipse h/t 0.3-10, circle, tube, nu 0-0.5) and given ratios b1, b2 in 0.05-50. Every
 design is solved by every method that applies (the problem modules' ``METHODS``, the linear FE
 engine, the transfer methods: monodromy, shooting, full system, Bloch; the closed forms; the
@@ -524,10 +525,52 @@ def contact_eights(rng: np.random.Generator) -> Trial:
                  {("cone-fe", "cone-rod"): CONE_EIGHT_RTOL})
 
 
+#: 3-loop rings on the torus with every touching pair held closed: the rod (Richardson from 48
+#: and 96 el./loop) against the zero-thickness reduced theory
+#: (:func:`rodstab.analytic.ring.held_ring_interval`: the common motion and the strands'
+#: triangle turning). A lower end outside the rod's search window is not compared. From 24/48
+#: el. the rod is short of the asymptotic range at large b1 or b2: 2.8e-2 on the lower ends of
+#: b1 = 29.75, b2 = 4.765 and b1 = 33.53, b2 = 3.977 (seed 18, indices 20 and 25), 8.8e-3 on
+#: b1 = 8.704, b2 = 40.39 (seed 17, index 20); from 48/96 el. 3e-4 and 2e-4.
+HELD_RTOL = 5e-3
+
+
+def held_rings(rng: np.random.Generator) -> Trial:
+    """3-loop rings held closed on the torus: the rod against the reduced theory."""
+    from rodstab.analytic.ring import held_ring_interval
+    from rodstab.multistable.cone_limit import rod_cone_limits
+    from rodstab.problems import ring
+
+    sec = random_section(rng)
+    section = sections.make_section(**sec)
+    a = ring.build(ring.Params(section=section, loops=3))
+    code = (f"from rodstab.analytic.ring import held_ring_interval; from "
+            f"rodstab.multistable.cone_limit import rod_cone_limits; from rodstab.problems "
+            f"import ring; from rodstab.sections import make_section; s = make_section("
+            f"{_kw(sec)}); a = ring.build(ring.Params(section=s, loops=3)); "
+            f"print(held_ring_interval(s.b1, s.b2), *(rod_cone_limits(a, 'torus', n, "
+            f"held_closed=True) for n in (48, 96)))")
+
+    def held() -> Values:
+        coarse, fine = (_cone_values(rod_cone_limits(a, "torus", n, held_closed=True), 3)
+                        for n in (48, 96))
+        return {k: (4 * fine[k] - coarse[k]) / 3 for k in ("lower", "upper")
+                if k in fine and k in coarse}
+
+    def reduced() -> Values:
+        lo, hi = held_ring_interval(section.b1, section.b2).kappa_L_over_2pi_interval
+        return {"lower": lo, "upper": hi}
+
+    return Trial(f"held-closed 3-loop ring section({_kw(sec)})", code,
+                 {"held-rod": held, "held-reduced": reduced},
+                 {("held-rod", "held-reduced"): HELD_RTOL})
+
+
 #: family name -> generator of one random design.
 FAMILIES: dict[str, Callable[[np.random.Generator], Trial]] = {
     "arcs": arcs, "rings": rings, "folded": folded, "cusp-rings": cusp_rings,
-    "assemblies": assemblies, "contact-rings": contact_rings, "contact-eights": contact_eights}
+    "assemblies": assemblies, "contact-rings": contact_rings, "contact-eights": contact_eights,
+    "held-rings": held_rings}
 
 
 # ---------------------------------------------------------------------------------------------

@@ -200,3 +200,80 @@ def ring_overlap(b1: float, b2: float, loops_a: int = 1, loops_b: int = 3) -> Ri
     ia, ib = ra.kappa_L_over_2pi_interval, rb.kappa_L_over_2pi_interval
     lo, hi = max(ia[0], ib[0]), min(ia[1], ib[1])
     return RingOverlap((ra.loops, rb.loops), (ia, ib), (lo, hi) if lo < hi else None)
+
+
+@dataclasses.dataclass(frozen=True)
+class HeldRing(Result):
+    """Stable interval of the 3-loop ring with every touching pair held closed (zero gap).
+
+    ``M_interval`` and ``kappa_L_over_2pi_interval`` as :class:`RingStability`'s;
+    ``binding``: what bounds each end (``"common j"``: the one-loop mode ``j`` of the strands
+    moving together; ``"turning n"``: the strands' triangle turning with ``f_n``).
+    """
+
+    b1: float
+    b2: float
+    M_interval: tuple[float, float]
+    kappa_L_over_2pi_interval: tuple[float, float]
+    binding: tuple[str, str]
+    method: str
+
+
+#: Fourier components ``f_n`` of the triangle's turning checked by :func:`held_ring_interval`.
+HELD_TURNING_MODES = 12
+
+
+def _turning_energy(k: float, M: float, b1: float, b2: float) -> float:
+    """P2 of the out-of-plane mode ``k`` with its twist amplitude eliminated, plus in-plane.
+
+    Per unit amplitude of ``u3`` and of ``u_r`` (equal in the turning): the Schur complement
+    of the pencil (3.2) ``A - M C`` (:func:`ring_mode_pencil`) on ``omega``'s amplitude, times
+    ``k^2`` (``u3 = -beta / k``), plus the inextensible in-plane bending ``(1 - k^2)^2`` in the
+    same prefactor.
+    """
+    A, C = ring_mode_pencil(k, b1, b2)
+    Q = A - M * C
+    return k * k * (Q[0, 0] * Q[1, 1] - Q[0, 1] ** 2) / Q[0, 0] + (1.0 - k * k) ** 2
+
+
+def held_ring_interval(b1: float, b2: float, *, modes: int = HELD_TURNING_MODES) -> HeldRing:
+    """Stable interval of the 3-loop ring on the torus with every touching pair held closed.
+
+    Zero-thickness linear theory (docs/theory/contact.md; derived independently of the rod
+    engine's :func:`rodstab.multistable.cone_limit.rod_cone_limits` ``held_closed``, which it
+    checks): holding the strands' pairwise gaps closed leaves their common motion, the
+    one-loop ring three times as stiff (:func:`ring_stability` at ``N = 1``), and one relative
+    motion, the triangle of strands turning about its centre, ``u = f(theta) t(theta)``. A
+    component ``f_n`` of ``f`` moves the wavenumbers ``k = n -+ 1/3`` together, each with equal
+    ``u3`` and ``u_r``: energy ``S_n(M) = q(n - 1/3) + q(n + 1/3)`` (``S_0 = q(1/3)``,
+    :func:`_turning_energy`). The interval in ``M`` is the one-loop interval where every
+    ``S_n > 0`` (``n <= modes``), found by :func:`rodstab.numerics.find_roots` on ``min_n
+    S_n``, the part containing the free 3-loop ring's interval.
+    """
+    from ..numerics import find_roots
+
+    b1 = require_positive("b1", b1)
+    b2 = require_positive("b2", b2)
+    one = ring_stability(b1, b2, 1)
+    lo, hi = one.M_interval
+    inside = float(np.mean(ring_stability(b1, b2, 3).M_interval))
+
+    def turning(M: float) -> tuple[float, int]:
+        vals = [_turning_energy(1 / 3, M, b1, b2)] + [
+            _turning_energy(n - 1 / 3, M, b1, b2) + _turning_energy(n + 1 / 3, M, b1, b2)
+            for n in range(1, modes + 1)]
+        i = int(np.argmin(vals))
+        return float(vals[i]), i
+
+    roots = find_roots(lambda M: turning(M)[0], lo, hi).values
+    below = [r for r in roots if r < inside]
+    above = [r for r in roots if r > inside]
+    m_lo, m_hi = (max(below) if below else lo), (min(above) if above else hi)
+    binding = (f"turning n={turning(m_hi - 1e-9 * (hi - lo))[1]}" if above else
+               f"common j={one.bounding_modes[1]}",
+               f"turning n={turning(m_lo + 1e-9 * (hi - lo))[1]}" if below else
+               f"common j={one.bounding_modes[0]}")
+    return HeldRing(b1, b2, (m_lo, m_hi), (3 * (1 - m_hi), 3 * (1 - m_lo)), binding,
+                    f"common motion (eq. 3.3 at N = 1) and the triangle's turning f_n, n <= "
+                    f"{modes} (Schur complement of the (3.2) pencil plus in-plane bending), "
+                    "roots of min_n S_n by scan and Brent")
