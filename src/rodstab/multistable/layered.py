@@ -34,12 +34,7 @@ import numpy as np
 from ..errors import RodstabInputError
 from ..nonlinear.contact import ContactModel, Interpenetration
 from ..nonlinear.discrete import DiscreteRod
-
-
-def _segment_nodes(rod: DiscreteRod, k: int) -> np.ndarray:
-    """Nodes of segment ``k`` from its start to its end."""
-    es = np.flatnonzero(rod.edge_segment == k)
-    return np.concatenate([[rod.edge_nodes[es[0], 0]], rod.edge_nodes[es, 1]])
+from .stacking import _segment_nodes
 
 
 def lift(model: DiscreteRod, held: DiscreteRod, planar: DiscreteRod) -> DiscreteRod:

@@ -39,7 +39,7 @@ class HessianPlan:
         return H
 
 
-#: Dof layouts whose :class:`HessianPlan` is kept (most recently used first).
+#: Dof layouts whose :class:`HessianPlan` is kept (the least recently used is dropped first).
 HESSIAN_PLANS = 8
 _PLANS: dict[tuple[int, bytes], HessianPlan] = {}
 
