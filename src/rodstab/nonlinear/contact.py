@@ -10,7 +10,7 @@ steps and rejects trials outside the model.
 from __future__ import annotations
 
 from .contact_model import (
-    EE_END_TAPER,
+    EE_NODE_EXCESS,
     EE_SIN2_OFF,
     EE_SIN2_ON,
     EXCLUSION_FACTOR,
@@ -44,7 +44,7 @@ from .contact_step import (
     smallest_gap,
 )
 
-__all__ = ["EE_END_TAPER", "EE_SIN2_OFF", "EE_SIN2_ON", "EXCLUSION_FACTOR", "PHANTOM_FRACTION",
+__all__ = ["EE_NODE_EXCESS", "EE_SIN2_OFF", "EE_SIN2_ON", "EXCLUSION_FACTOR", "PHANTOM_FRACTION",
            "START_GAP_FRACTION", "TAPER_FRACTION", "TAPER_MAX_TURN", "ContactMesh",
            "ContactModel", "ContactState", "Interpenetration", "SwitchReport", "_active",
            "_bounds", "attach_contact", "barrier", "candidate_pairs", "contact_energy",
