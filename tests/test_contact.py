@@ -142,7 +142,7 @@ def _config(kind: str, rng: np.random.Generator):
         xb = np.array([[1 + 0.4 * d0, 0, 0.9 * d0], [1.5, 0.1, 2.0]]) + j(0.003)
     elif kind == "partition":  # B's node over A's smooth node, inside the partition zone
         xa = np.array([[0, 0, 0], [1, 0, 0], [2, 0.05, 0.0]]) + j(0.01)
-        xb = np.array([[1.01, 0, d0], [1.01, 0.2, d0 + 1.0]]) + j(0.005)
+        xb = np.array([[1.001, 0, d0], [1.001, 0.2, d0 + 1.0]]) + j(0.005)
     elif kind == "edge-edge":  # an X, closest points mid-segment
         xa = np.array([[-0.5, 0, 0], [0.5, 0, 0.0]]) + j(0.01)
         xb = np.array([[0, -0.5, d0], [0.05, 0.5, d0]]) + j(0.01)
@@ -586,3 +586,46 @@ def test_a_crossing_near_nodes_is_held_by_its_true_gap(theta_deg):
                 _, grad, _ = contact_energy(mesh, x)
                 worst = min(worst, -grad[3 * 3 + 2::3].sum() / ref)
     assert worst >= 0.5, worst
+
+
+def test_step_filter_lets_pressed_rods_slide_and_turn_over_one_another():
+    """B presses on A at 1e-3 dhat, crossing at 15 degrees, and slides 0.2 along itself while
+    turning 10 degrees about the contact normal: the gap never changes (a rigid motion of B
+    that keeps its plane), so the step is allowed whole; the relative speed bound alone
+    allowed 0.9 g / (max node move), 1e-4 of it."""
+    g0 = 1e-3 * DHAT
+    th = math.radians(15.0)
+    u = np.array([math.cos(th), math.sin(th), 0.0])
+    xa = line(np.array([-0.5, 0.0, 0.5]))
+    xb = np.array([0.0, 0.0, 2 * R_CAP + g0]) + np.outer([-0.5, 0.0, 0.5], u)
+    x, mesh = two_rods(xa, xb)
+    turn = math.radians(10.0)
+    Rz = np.array([[math.cos(turn), -math.sin(turn), 0], [math.sin(turn), math.cos(turn), 0],
+                   [0, 0, 1]])
+    dx = np.zeros_like(x)
+    dx[3:] = (xb + 0.2 * u) @ Rz.T - xb  # end state: slid and turned (nodes move linearly)
+    alpha = max_step_fraction(mesh, x, dx)
+    assert alpha > 0.99, alpha
+    assert _sampled_min_gap(x, dx, mesh, alpha, 100, 201) > 0.1 * g0
+
+
+def test_step_filter_is_certified_on_random_moves_near_contact():
+    """Random pairs of segments within dhat of one another and random moves: along the step
+    the filter allows, the densely sampled gap (independent of rodstab's distance code) keeps
+    (1 - safety) of its starting value."""
+    rng = np.random.default_rng(21)
+    for _ in range(30):
+        c = rng.uniform(-0.1, 0.1, 3)
+        a = rng.normal(size=3)
+        b = rng.normal(size=3)
+        n = np.cross(a, b)
+        n /= np.linalg.norm(n)
+        g0 = DHAT * 10 ** rng.uniform(-3, 0)
+        xa = c + np.outer([-0.3, 0.0, 0.3], a / np.linalg.norm(a))
+        xb = c + (2 * R_CAP + g0) * n + np.outer([-0.3, 0.0, 0.3], b / np.linalg.norm(b))
+        x, mesh = two_rods(xa, xb)
+        dx = rng.normal(size=x.shape) * 10 ** rng.uniform(-3, -1)
+        start = _sampled_min_gap(x, dx, mesh, 0.0, 1, 101)
+        alpha = max_step_fraction(mesh, x, dx, safety=0.9)
+        assert 0 < alpha <= 1
+        assert _sampled_min_gap(x, dx, mesh, alpha, 40, 101) >= 0.1 * start - 1e-9 * R_CAP

@@ -84,8 +84,8 @@ def test_soft_model_evaluates_overlaps_with_exact_derivatives_and_no_step_filter
 def test_smallest_gap_is_none_far_apart_and_contact_state_agrees_inside_the_model():
     from rodstab.nonlinear.contact import contact_state
 
-    x, hard, _ = _crossing(0.5)  # the rods far apart: one rod's elements 0 and 2 are nearest
-    assert smallest_gap(hard, x) == (pytest.approx(1 / 3 - 0.1, abs=1e-12), (0, 2))
+    x, hard, _ = _crossing(0.5)  # the rods far apart; one rod's elements 0 and 2 are 0.233
+    assert smallest_gap(hard, x) is None  # apart by more than their reach (0.1 + dhat)
     single = np.array([[0, 0, 0], [1, 0, 0], [0, 0, 5], [1, 0, 5]], float)
     mesh = contact_mesh(np.array([[0, 1], [2, 3]]), np.ones(2), single,
                         ContactModel(0.05, DHAT, KAPPA))

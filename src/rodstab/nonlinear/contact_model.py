@@ -36,7 +36,7 @@ in the reference state) each of its elements carries ``S(u)``, ``u`` the signed 
 -delta`` to 1 at ``u = delta``, ``S(u) + S(-u) = 1`` (``delta``: ``TAPER_FRACTION``); there
 the distance is to the element's *line*, so the factors sum to one exactly on a straight rod.
 On the convex side of a node turning by ``turn`` that line stands ``delta sin(turn)`` nearer
-than the rod, at most ``PHANTOM_FRACTION * dhat`` (in the reference state): rods side by side
+than the rod, at most ``PHANTOM_FRACTION * dhat`` up to ``TAPER_MAX_TURN``: rods side by side
 in the plane of a bend need gaps above that (else :class:`Interpenetration`); layers stacked
 across the plane are unaffected. At every other end (free end, joint of three elements, sharp
 weld, extra connection) the factor is 1 and the distance is to the segment, clamped there.
@@ -74,8 +74,11 @@ from .jets import Jet
 TAPER_MAX_TURN = 0.5
 #: Half-width ``delta`` of the partition at a smooth node: this fraction of the shorter of its
 #: two elements (below 1/2, so an element's two transition zones never overlap), at most
-#: ``PHANTOM_FRACTION * dhat / sin(turn)``, so the line it extends past a node turning by
-#: ``turn`` (in the reference state) stands at most that fraction of dhat nearer than the rod.
+#: ``PHANTOM_FRACTION * dhat / sin(TAPER_MAX_TURN)`` (0.21 dhat), so the line it extends past a
+#: node stands at most that fraction of dhat nearer than the rod while the node turns by up to
+#: ``TAPER_MAX_TURN`` in any state, and at most ``delta`` at any turn. (Bounded by the turn of
+#: the reference state only, before: a straight line's rods, 6 el., bent 1.2 degrees at a node
+#: near a saddle, put a phantom 0.55 dhat nearer than the rod, 3.7e-6 from another node.)
 TAPER_FRACTION = 0.4
 PHANTOM_FRACTION = 0.1
 #: Edge-edge mollifier on ``c = sin^2`` of the angle between two segments: 0 below
@@ -386,10 +389,10 @@ def contact_mesh(edges: np.ndarray, rest_length: np.ndarray, x_ref: np.ndarray,
     ta = x_ref[edges[k0 // 2, 1 - k0 % 2]] - x_ref[two]  # from the node into each element
     tb = x_ref[edges[k1 // 2, 1 - k1 % 2]] - x_ref[two]
     cos = -np.einsum("ij,ij->i", ta, tb) / (_norm(ta) * _norm(tb))
-    ok = (turn := np.arccos(np.clip(cos, -1.0, 1.0))) < TAPER_MAX_TURN
+    ok = np.arccos(np.clip(cos, -1.0, 1.0)) < TAPER_MAX_TURN
     delta = np.zeros((ne, 2))
     dl = np.minimum(TAPER_FRACTION * np.minimum(L[k0 // 2], L[k1 // 2]),
-                    PHANTOM_FRACTION * model.dhat / np.maximum(np.sin(turn), 1e-300))
+                    PHANTOM_FRACTION * model.dhat / math.sin(TAPER_MAX_TURN))
     delta.flat[k0[ok]] = delta.flat[k1[ok]] = dl[ok]
     # Graph distances up to the largest reach that an exclusion can ask for.
     cutoff = model.exclusion_factor * (2.0 * r.max() + model.dhat)
