@@ -347,3 +347,26 @@ def test_held_closed_rings_by_the_rod_against_the_reduced_theory():
             value = (4 * f.load_factor - c.load_factor) / 3 * N
             assert abs(value - ref[k]) <= 2e-3 * max(abs(ref[k]), 1.0), (side, value, ref)
         assert "holding every touching pair's gap closed" in runs[1].method
+
+
+def test_the_folded_ring_in_two_columns_reaches_the_independent_pi_over_two():
+    """The folded ring stacked in two columns (one loop per layer): its out-of-plane limit with
+    contact is lam = pi / 2 by an independent derivation (helper-14: twist eliminated, the
+    cross-layer welds tie every gap and slope at x = 0, Poincare), 3/2 of the paper's pi / 3;
+    the FE cone within 1e-3 (measured 3.9e-4) on a rectangle h/t = 4, both sides."""
+    from rodstab.analytic.folded_ring import TWO_COLUMNS, two_column_contact_limit
+    from rodstab.multistable.states import ring_of
+    from rodstab.problems import folded_ring
+    from rodstab.sections import rectangle
+
+    sec = rectangle(aspect=4.0)
+    a = folded_ring.build(folded_ring.Params(section=sec))
+    layers = dict(zip([k for k, _ in ring_of(a).order], TWO_COLUMNS, strict=True))
+    fe = cone_limits(a, layers, 8, xtol=XT)
+    exact = two_column_contact_limit() * math.sqrt(sec.b1 * sec.b2)
+    assert fe.upper is not None and fe.lower is not None
+    assert fe.upper.no_contact == pytest.approx(math.pi / 3 * math.sqrt(sec.b1 * sec.b2),
+                                                rel=1e-4)
+    for side in (fe.upper, fe.lower):
+        assert side.status == "bracketed"
+        assert abs(side.load_factor) == pytest.approx(exact, rel=1e-3)

@@ -210,6 +210,11 @@ def test_barrier_with_contact_equals_the_one_without_where_the_saddle_touches_no
     (["--contact", "--contact-dhat", "1.5"], "--contact-dhat must be below 1"),
     (["--contact", "--method", "continuation"], "--contact is an option of --method string"),
     (["--contact", "--contact-thickness", "0"], "--contact-thickness"),
+    (["--layers", "1=0,2=1,3=0,4=1,5=0,6=1"], "--layers '1=0,2=1,3=0,4=1,5=0,6=1' is a setting "
+                                              "of contact"),
+    (["--contact", "--layers", "torus"], "not 'torus'"),
+    (["--contact", "--layers", "1=0,2=1"], "--layers gives no layer for ['3', '4', '5', '6']"),
+    (["--contact", "--layers", "1=0,2=x,3=0,4=1,5=0,6=1"], "--layers item '2=x'"),
 ])
 def test_bad_contact_input_exits_2_naming_it(args, named):
     from conftest import run_cli

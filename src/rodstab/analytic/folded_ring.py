@@ -103,3 +103,41 @@ def folded_ring_paper_method(lo: float = 0.05, hi: float = 8.0, n_scan: int = 80
         lam_critical=first.x if first else math.nan,
         multiplicity=first.multiplicity if first else 0, first_columns_residual=resid,
         method="transfer matrices (5.8), joints (5.9), monodromy (5.10)-(5.12)")
+
+
+#: The two-column stacking of the folded ring (segments in traversal order ``1..6``): odd
+#: segments in one column, even in the other, loop ``k`` (segments ``2k - 1, 2k``) on layer
+#: ``k - 1``; offsets ``(u, k)`` for :func:`~rodstab.multistable.layer_orders.layer_offsets`.
+TWO_COLUMNS = tuple(((-0.5 if i % 2 == 0 else 0.5), i // 2) for i in range(6))
+
+
+def two_column_contact_limit() -> float:
+    """Critical ``lam`` of the folded six-ring stacked in two columns, with contact: ``pi / 2``.
+
+    Zero gap, heights only (perturbations normal to the plane of the folded state and the twist
+    they couple to; contact forbids a layer to move into the one beneath it). Derived
+    independently of the FE cone (helper-14, session 17, from (5.3)-(5.7)); the FE's cone limit
+    (:func:`~rodstab.multistable.cone_limit.cone_limits`) agrees (report row
+    C-folded-columns). Loops ``A = (1, 2)``, ``B = (3, 4)``, ``C = (5, 6)`` on three layers,
+    odd segments in one column and even in the other (:data:`TWO_COLUMNS`); the cusps at ``x =
+    1`` stay in their layer, those at ``x = 0`` join ``A-B``, ``B-C``, ``C-A``. The steps:
+
+    * Eliminating the twist (``a_i' = -lam sigma_i w_i + d_i``, ``w = u'``, with the closure
+      around the ring) gives ``2 P2 = A - lam^2 B``, ``A = sum int u_i''^2``, ``B = sum int
+      u_i'^2 - (sum_i [u_i(1) - u_i(0)])^2 / 6 >= 0``; without contact the critical ``w`` is
+      one period round the ring's six segments, ``lam = pi / 3`` (double).
+    * The welds at ``x = 0`` tie the gaps there: ``g13 + g35 + g46 = 0`` and ``g24 = g35 -
+      g46``, and the same for their slopes, so with every gap ``>= 0`` all gaps and slopes
+      vanish at ``x = 0``: the six rods' heights and slopes are equal there.
+    * Then ``w_i(0) = 0`` (rigid motion removed) and Poincare's inequality ``int w'^2 >= (pi /
+      2)^2 int w^2`` gives ``A >= (pi / 2)^2 B``; equality for ``u_(2k-1) = u_(2k) = c_k (1 -
+      cos(pi x / 2))`` with ``sum c_k = 0`` and ``c_A >= c_B >= c_C`` (admissible: each loop
+      peels off like a cantilever clamped at ``x = 0``), so ``lam_c = pi / 2``.
+
+    In ``lam`` the problem has no section parameter, so the ratio to the no-contact limit is
+    ``3 / 2`` for every section (``L kappa_n = lam sqrt(b1 b2)``). Holds for this stacking
+    only: on the hexagon (the default, :func:`~rodstab.multistable.cone.default_layers`) the
+    FE gives 1.3766 times, and with the loops winding in opposite senses the helper's FE did not
+    converge (0.468 pi at 64 el., falling).
+    """
+    return math.pi / 2

@@ -34,6 +34,13 @@ EXPECTED = {"C-rings": REPRODUCED, "C-bi-rod": REPRODUCED, "C-folded": REPRODUCE
 #: ... and for each row of :func:`contact_limit_checks`.
 EXPECTED_LIMITS = {"C-ring-limits": REPRODUCED, "C-hexagon-limits": REPRODUCED,
                    "C-eight-limits": REPRODUCED}
+#: ... and for :func:`contact_column_checks`.
+EXPECTED_COLUMNS = {"C-folded-columns": REPRODUCED}
+#: The folded ring in two columns: FE (:data:`COLUMN_ELEMENTS` per rod) within this of
+#: ``(pi / 2) sqrt(b1 b2)`` (measured 3.9e-4 for all three sections, the brackets' middles;
+#: at 12 and 16 el. the brackets' outer ends, the witnesses, are within 1e-7 of it).
+COLUMN_RTOL = 1e-3
+COLUMN_ELEMENTS = 8
 #: The folded ring's and the line's limits with contact: FE and the rod engine (heights only)
 #: within this at :data:`HEXAGON_ELEMENTS` per rod (measured 3.7e-4 and 1.9e-4 with the samples
 #: graded toward the welds; 2.1 % before, with uniform samples).
@@ -193,6 +200,44 @@ def _hexagon_limits_claim(states: list[tuple[str, Any, dict[str, Any]]]) -> Clai
         "1.03976 with in-plane motions; line 3.09486 / 3.09505, 2.27304.")
 
 
+def _two_column_claim() -> Claim:
+    """C-folded-columns: the folded ring stacked in two columns, FE against lam = pi / 2."""
+    from ..analytic.folded_ring import TWO_COLUMNS, two_column_contact_limit
+
+    lam = two_column_contact_limit()
+    ours, second, ok = [], [], []
+    for name, sec in (("circle", circle()), ("h/t = 2", rectangle(aspect=2.0)),
+                      ("h/t = 4", rectangle(aspect=4.0))):
+        a = folded_ring.build(folded_ring.Params(section=sec))
+        layers = dict(zip([k for k, _ in ring_of(a).order], TWO_COLUMNS, strict=True))
+        fe = cone_limits(a, layers, COLUMN_ELEMENTS, xtol=LIMIT_XTOL)
+        exact = lam * math.sqrt(sec.b1 * sec.b2)
+        if (fe.lower is None or fe.upper is None
+                or {fe.lower.status, fe.upper.status} != {"bracketed"}):
+            ok.append(False)
+            continue
+        sides = (fe.lower, fe.upper)
+        ours.append(f"{name} {fmt(fe.upper.no_contact)} -> {fmt(fe.upper.load_factor)} "
+                    f"(lower {fmt(fe.lower.load_factor)})")
+        second.append(f"{name} {fmt(exact)}")
+        ok.append(all(math.isclose(abs(x.load_factor), exact, rel_tol=COLUMN_RTOL)
+                      for x in sides))
+    return Claim(
+        "C-folded-columns", "contact", "5", "folded six-ring stacked in two columns (odd "
+        "segments in one, even in the other, one loop per layer): the limits with contact at "
+        "zero gap, out of plane, circle and rectangles h/t = 2, 4", "contact not considered",
+        "; ".join(ours),
+        "independent derivation (twist eliminated; the welds at x = 0 tie all gaps and slopes "
+        "there; Poincare): lam_c = pi / 2, L kappa_n = (pi / 2) sqrt(b1 b2): " + "; ".join(second),
+        f"minimum of P2 (FE, {COLUMN_ELEMENTS} el./rod) on the cone, certified "
+        "(rodstab.multistable.cone_limit); rodstab.analytic.folded_ring.two_column_contact_limit",
+        holds(bool(ok) and all(ok)),
+        "New. Contact raises the folded ring's limits by 3/2 for every section in this "
+        "stacking (derived: in lam the problem has no section parameter); on the hexagon "
+        "(row C-hexagon-limits) by 1.3766. The stacking decides: each loop peels off like a "
+        "cantilever clamped at the cross-layer welds.")
+
+
 def _eight_limits_claim() -> Claim:
     """C-eight-limits: the hexagram's eight, lobes in traversal order, FE and rod."""
     sec = rectangle(aspect=4.0)
@@ -264,4 +309,10 @@ def contact_limit_checks(run: Run) -> Iterator[Claim]:
          polygon_offsets([str(i) for i in range(1, 7)]))])
     run.progress()
     yield _eight_limits_claim()
+    run.progress()
+
+
+def contact_column_checks(run: Run) -> Iterator[Claim]:
+    """Row C-folded-columns: the folded ring in two columns, FE against lam = pi / 2."""
+    yield _two_column_claim()
     run.progress()

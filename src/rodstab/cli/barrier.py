@@ -13,7 +13,7 @@ from ..errors import NotConverged, RodstabInputError
 from ..io.outputs import check_output
 from ..limits import Limits
 from ..sections import Section
-from .contact_options import path_contact_options
+from .contact_options import layers_option, parse_layers, path_contact_options
 from .options import (
     elements_option,
     json_option,
@@ -66,6 +66,9 @@ _BARRIER_STATES = {"six-ring": ("folded", "one-loop"), "hexagram": ("line", "sta
                       "the --from state may touch but not swap layers, no other pair may pass "
                       "through another (rodstab transitions). With --contact also the "
                       "capsules' diameter.")
+@layers_option("Barrier: the --from state is stacked in this order (NAME=U:K: in-plane "
+               "offset U and layer K, in units of h + g0, for straight rods only) and the "
+               "path runs with its welds spanning the layers. String method, --contact.")
 @section_options
 @limit_options
 @json_option
@@ -73,7 +76,7 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
             from_state: str | None, to_state: str | None, load_factor: float | None,
             elements: int,
             images: int | None, plot_path: str | None, animation_path: str | None,
-            out_dir: str | None, contact: Any, limits: Limits,
+            out_dir: str | None, contact: Any, layers: str | None, limits: Limits,
             as_json: bool) -> None:
     """Energy barrier between two stable states of a ring: the saddle and the path through it.
 
@@ -137,6 +140,16 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
     h, c = contact.judged(None if design_file is None else design.contact)
     if c is not None and method != "string":
         raise RodstabInputError("--contact is an option of --method string")
+    order = None
+    if layers is not None:
+        if c is None:
+            raise RodstabInputError(f"--layers {layers!r} is a setting of contact, which is off "
+                                    "for this run (--contact)")
+        parsed = parse_layers(layers, [s.name for s in a.segments])
+        if not isinstance(parsed, dict):
+            raise RodstabInputError(f"--layers {layers!r}: a barrier takes NAME=K or NAME=U:K "
+                                    "for every segment, not 'torus'")
+        order = parsed
     # Sized before anything is built: the string relaxes its images together.
     string = method == "string"
     require_nonlinear([elements] * len(a.segments), len(a.joints()),
@@ -163,7 +176,7 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
             model = None if c is None else rod_contact_model(a, h, c)
             b, path = string_barrier(a, b_asm, mu, elements_per_segment=elements,
                                      images=n_img, name_a=from_state, name_b=to_state,
-                                     limits=limits, contact=model)
+                                     limits=limits, contact=model, layers=order)
         else:
             from ..multistable.barrier import barrier_from_bifurcation
 
@@ -237,7 +250,13 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
         from ..multistable.barrier import path_contact
 
         xs = np.stack([s.x for s in path])
-        report, edges, rest = path_contact(a, elements, xs, h)
+        stacked = None
+        if order is not None:  # the path's model: the stacked one (welds spanning layers)
+            from ..multistable.discover import common_rod
+            from ..multistable.layered import stacked_model
+
+            stacked = stacked_model(common_rod(a, elements, mu), order, model)
+        report, edges, rest = path_contact(a, elements, xs, h, rod=stacked)
         payload["contact"] = dict(report.to_dict(), thickness=h, acting=c is not None)
         if c is not None:
             stages = run.contact_stages

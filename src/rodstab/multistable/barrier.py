@@ -376,8 +376,8 @@ def monotone_from_saddle(b: Barrier) -> bool:
     return bool(np.all(np.diff(e[: k + 1]) >= -slack) and np.all(np.diff(e[k:]) <= slack))
 
 
-def path_contact(a: Assembly, elements_per_segment: int, xs: np.ndarray, thickness: float
-                 ) -> tuple[Any, np.ndarray, np.ndarray]:
+def path_contact(a: Assembly, elements_per_segment: int, xs: np.ndarray, thickness: float,
+                 rod: DiscreteRod | None = None) -> tuple[Any, np.ndarray, np.ndarray]:
     """Contact along a path of ``a``'s states: the transitions' judgement, and the topology.
 
     ``xs`` (n_states, n_nodes, 3): node positions of the path's states in order, on the
@@ -386,11 +386,13 @@ def path_contact(a: Assembly, elements_per_segment: int, xs: np.ndarray, thickne
     transition (:class:`~.transitions.ContactTracker`: pairs stacked in the first state may
     touch but not swap layers; any other pair must not pass through another). Returns the
     :class:`~.transitions.ContactReport` (distances over ``h``), the elements' node index
-    pairs and their rest lengths.
+    pairs and their rest lengths. ``rod``: the discrete model of the path when it is not
+    ``a``'s plain one (a stacked model, :func:`~.layered.stacked_model`).
     """
     from .transitions import ContactTracker
 
-    rod = discretise(a, require_int("elements_per_segment", elements_per_segment, 1))
+    n = require_int("elements_per_segment", elements_per_segment, 1)
+    rod = discretise(a, n) if rod is None else rod
     h = require_finite("thickness", thickness) * a.total_length / len(a.segments)
     tracker = ContactTracker(rod, h, xs[0])
     report = tracker.stretch("path", [(float(i), x) for i, x in enumerate(xs)])

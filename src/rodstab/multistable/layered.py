@@ -90,23 +90,35 @@ def stacked_band(band: list[DiscreteRod], layers: dict[str, Any], contact: Conta
         No contact model (the stacked rods need one), an end outside it (naming the
         elements) or not a stable equilibrium with contact.
     """
-    from ..nonlinear.contact_model import START_GAP_FRACTION
-    from .discover import common_rod
-    from .layer_orders import layer_translations
-
-    if contact is None:
-        raise RodstabInputError(f"layers = {layers!r} need a contact model (the stacked rods)")
     held = band[0]
-    h = 2.0 * float(np.max(contact.radius))
-    shift = layer_translations(held, layers, h, START_GAP_FRACTION * contact.dhat)
-    n = len(held.R_edge) // len(held.assembly.segments)
-    model = common_rod(held.assembly, n, held.load_factor, layers=shift)
+    model = stacked_model(held, layers, contact)
     out = [lift(model, held, r) for r in band]
     for r, label in ((out[0], names[0]), (out[-1], names[1])):
         stable_end(r, label, contact, f"layers = {layers}, load factor {held.load_factor:g}")
     for r in out[1:-1]:
         r.contact = None
     return out
+
+
+def stacked_model(held: DiscreteRod, layers: dict[str, Any], contact: ContactModel | None
+                  ) -> DiscreteRod:
+    """Return ``held``'s model with its segments on ``layers``, welds spanning them.
+
+    As :func:`stacked_band` builds it: capsules of ``contact``'s diameter ``h``, layers ``h +
+    g0`` apart (:func:`~.layer_orders.layer_translations`), the same elements per segment and
+    load factor as ``held``; its nodes differ from ``held``'s (each weld's segment ends are
+    nodes of their own).
+    """
+    from ..nonlinear.contact_model import START_GAP_FRACTION
+    from .discover import common_rod
+    from .layer_orders import layer_translations
+
+    if contact is None:
+        raise RodstabInputError(f"layers = {layers!r} need a contact model (the stacked rods)")
+    h = 2.0 * float(np.max(contact.radius))
+    shift = layer_translations(held, layers, h, START_GAP_FRACTION * contact.dhat)
+    n = len(held.R_edge) // len(held.assembly.segments)
+    return common_rod(held.assembly, n, held.load_factor, layers=shift)
 
 
 def stable_end(r: DiscreteRod, label: str, contact: ContactModel | None, where: str) -> None:

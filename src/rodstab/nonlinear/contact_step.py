@@ -30,6 +30,10 @@ from .contact_model import (
 #: Most samples of a step :func:`max_step_fraction` takes to certify a pair that its relative
 #: speed bound limits (pressed rods sliding: 3e-5 apart, moving 0.03 L: 1e-3 of the step).
 CCD_MAX_SAMPLES = 512
+#: Pairs certified together, most limiting first, and the coarse grid tried before the full one
+#: (a stacked line at 6 el./rod: 375 pairs limited a random step; 89 ms for all at once).
+CCD_BATCH = 16
+CCD_COARSE = 32
 
 
 def max_step_fraction(mesh: ContactMesh, x: np.ndarray, dx: np.ndarray,
@@ -111,11 +115,20 @@ def max_step_fraction(mesh: ContactMesh, x: np.ndarray, dx: np.ndarray,
     r = np.concatenate([mesh.radius[ee[:, 0]] + mesh.radius[ee[:, 1]],
                         mesh.node_radius[p] + mesh.radius[e]])
     lim = np.flatnonzero(bound < 1.0)
-    if len(lim):
-        speed = np.linalg.norm(V[lim], axis=2).max(axis=1)
-        K = np.minimum(np.ceil(8.0 * speed / (sf * g[lim])), CCD_MAX_SAMPLES).astype(int)
-        bound[lim] = np.maximum(bound[lim], _certified_fraction(X[lim], V[lim], r[lim],
-                                                                g[lim], sf, K))
+    lim = lim[np.argsort(bound[lim], kind="stable")]
+    K = np.minimum(np.ceil(8.0 * np.linalg.norm(V, axis=2).max(axis=1) / (sf * g)),
+                   CCD_MAX_SAMPLES).astype(int)
+    best = np.inf  # the least certified bound so far
+    for i in range(0, len(lim), CCD_BATCH):
+        if best <= bound[lim[i]]:
+            break  # the rest are bounded above it already: the step's alpha is found
+        b = lim[i:i + CCD_BATCH]
+        for k in (np.minimum(K[b], CCD_COARSE), K[b]):  # coarse first: most pairs need no more
+            bound[b] = np.maximum(bound[b], _certified_fraction(X[b], V[b], r[b], g[b], sf, k))
+            b = b[bound[b] < 1.0]
+            if not len(b):
+                break
+        best = min(best, float(bound[lim[i:i + CCD_BATCH]].min()))
     alpha = float(np.min(bound, initial=1.0))
     return min(alpha, float(np.min(0.1 * ln / np.maximum(shrink, 1e-300), initial=1.0)))
 
