@@ -431,3 +431,36 @@ def test_cli_barrier_design_bad_input_exits_2(args: list[str], named: str,
         main(["barrier", *args])
     assert exc.value.code == 2
     assert named in capsys.readouterr().err
+
+
+def test_string_runs_a_rejected_saddles_descents_once(monkeypatch) -> None:
+    """A saddle whose descents do not join the two states is rejected; the string refines the
+    same saddle again at its next tries, and its descents (minutes with contact) are not run
+    again. Here every saddle is made to fail (its descents' ends relabelled)."""
+    import rodstab.multistable.string_method as mep
+
+    calls, energies = {"accept": 0}, []
+    real = mep.descents_from_saddle
+
+    def counted(saddle, *args, **kwargs):
+        energies.append(saddle.energy())
+        return real(saddle, *args, **kwargs)
+
+    real_refine = mep.refine_saddle
+
+    def refine(r, **kwargs):
+        calls["accept"] += 1  # each refinement may reach the acceptance test
+        return real_refine(r, **kwargs)
+
+    monkeypatch.setattr(mep, "descents_from_saddle", counted)
+    monkeypatch.setattr(mep, "refine_saddle", refine)
+    monkeypatch.setattr(mep, "state_label", lambda r, refs: "elsewhere")
+    p = folded_ring.Params(section=R4)
+    b, _ = mep.string_barrier(folded_ring.build(p), one_loop_assembly(p), THETA,
+                              elements_per_segment=N, images=11, name_a="folded",
+                              name_b="one-loop", max_iter=120)
+    assert not b.converged
+    assert len(energies) >= 1 and calls["accept"] > len(energies)
+    distinct = [e for i, e in enumerate(energies)
+                if all(abs(e - f) > 1e-9 * abs(e) for f in energies[:i])]
+    assert len(distinct) == len(energies), energies

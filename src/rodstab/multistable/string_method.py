@@ -123,7 +123,7 @@ from ..nonlinear.solve import NEWTON_RTOL, lowest_modes, vee_log, zero_eigenvalu
 from ..numerics import jacobi_scaling, serially
 from ..results import Result
 from .barrier import MIN_ELEMENTS, Barrier, descents_from_saddle, same_model, state_label
-from .discover import NewtonRun, Snapshot, common_rod
+from .discover import NewtonRun, Snapshot, common_rod, same_state
 from .layered import stable_end, stacked_band
 
 #: Lowest eigenvalues computed to count a stationary point's index.
@@ -740,10 +740,15 @@ def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
     e_a, e_b = rod_a.energy(), rod_b.energy()
     refs = [(name_a, Snapshot.of(rod_a), e_a), (name_b, Snapshot.of(rod_b), e_b)]
     found: dict[str, tuple] = {}
+    rejected: list[tuple[Snapshot, float]] = []
 
     def joins_the_states(saddle: DiscreteRod) -> bool:
         # The saddle sought is the one whose two descents end on a and b (modulo the ring's
-        # symmetry); another index-1 saddle of the string joins other states.
+        # symmetry); another index-1 saddle of the string joins other states. The string
+        # refines the same saddle again and again: its descents (minutes with contact) once.
+        here, e = Snapshot.of(saddle), saddle.energy()
+        if any(same_state(saddle, here, s, e, es) for s, es in rejected):
+            return False
         index, vals, vecs = _index(saddle)
         descents, tips = descents_from_saddle(saddle, vals, vecs, retract=True)
         labels = tuple(state_label(r, refs) for r in tips)
@@ -751,6 +756,8 @@ def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
         ok = (all(d.converged and d.lowest_eigenvalue > -tol for d in descents)
               and sorted(labels) == sorted((name_a, name_b)))
         found["last"] = (vals, labels, (descents[0].steps, descents[1].steps))
+        if not ok:
+            rejected.append((here, e))
         return ok
 
     if contact is None:
