@@ -10,7 +10,8 @@ split arcs; clamped ends), and N-loop rings stacked on the torus with contact at
 (``contact-rings``: the limits on the cone by the FE, eq. (3.2)'s Fourier modes and the nonlinear
 rod's Hessian, :mod:`rodstab.multistable.cone_limit`; ``contact-eights``: figure-eights of 4 and 6
 rods by the FE and the rod; ``held-rings``: 3-loop rings with every touching pair held closed,
-by the rod and by the reduced theory). Sections of every closed-form shape
+by the rod and by the reduced theory; ``folded-columns``: the folded six-ring stacked in two
+columns, the FE cone against its derived lam = pi / 2). Sections of every closed-form shape
 (rectangle and ellipse h/t 0.3-10, circle, tube, nu 0-0.5) and given ratios b1, b2 in 0.05-50. Every
 design is solved by every method that applies (the problem modules' ``METHODS``, the linear FE
 engine, the transfer methods: monodromy, shooting, full system, Bloch; the closed forms; the
@@ -566,11 +567,47 @@ def held_rings(rng: np.random.Generator) -> Trial:
                  {("held-rod", "held-reduced"): HELD_RTOL})
 
 
+#: The folded ring in two columns: FE (12 el./rod) against lam = pi / 2 (relative; measured
+#: 2.6e-4 for circle and rectangles h/t = 2, 4: the bracket's middle, its width 5e-4).
+COLUMNS_RTOL = 1e-3
+
+
+def folded_columns(rng: np.random.Generator) -> Trial:
+    """The folded six-ring stacked in two columns: the FE cone against lam_c = pi / 2."""
+    from rodstab.analytic.folded_ring import TWO_COLUMNS, two_column_contact_limit
+    from rodstab.multistable.cone_limit import cone_limits
+    from rodstab.multistable.states import ring_of
+    from rodstab.problems import folded_ring
+
+    sec = random_section(rng)
+    section = sections.make_section(**sec)
+    a = folded_ring.build(folded_ring.Params(section=section))
+    layers = dict(zip([k for k, _ in ring_of(a).order], TWO_COLUMNS, strict=True))
+    code = (f"from rodstab.analytic.folded_ring import TWO_COLUMNS; from rodstab.multistable."
+            f"cone_limit import cone_limits; from rodstab.multistable.states import ring_of; "
+            f"from rodstab.problems import folded_ring; from rodstab.sections import "
+            f"make_section; s = make_section({_kw(sec)}); a = folded_ring.build(folded_ring."
+            f"Params(section=s)); print(cone_limits(a, dict(zip([k for k, _ in ring_of(a)."
+            f"order], TWO_COLUMNS)), 12))")
+
+    def fe() -> Values:
+        return _cone_values(cone_limits(a, layers, 12), 1)
+
+    def derived() -> Values:
+        lam = two_column_contact_limit() * math.sqrt(section.b1 * section.b2)
+        return {"lower": -lam, "upper": lam, "mult:lower bracketed": 1.0,
+                "mult:upper bracketed": 1.0}
+
+    return Trial(f"folded six-ring in two columns section({_kw(sec)})", code,
+                 {"columns-fe": fe, "columns-derived": derived},
+                 {("columns-fe", "columns-derived"): COLUMNS_RTOL})
+
+
 #: family name -> generator of one random design.
 FAMILIES: dict[str, Callable[[np.random.Generator], Trial]] = {
     "arcs": arcs, "rings": rings, "folded": folded, "cusp-rings": cusp_rings,
     "assemblies": assemblies, "contact-rings": contact_rings, "contact-eights": contact_eights,
-    "held-rings": held_rings}
+    "held-rings": held_rings, "folded-columns": folded_columns}
 
 
 # ---------------------------------------------------------------------------------------------

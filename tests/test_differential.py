@@ -72,6 +72,8 @@ CASES = [
     # two straight rods welded at -126.56 deg, clamped: the nonlinear rod's verdicts at the FE's
     # limits (item 1: the FE's second variation at an angled weld)
     pytest.param("assemblies", 16, {"fe", "verdict"}, id="kinked-chain"),
+    # the folded six-ring stacked in two columns: the FE cone against the derived lam = pi / 2
+    pytest.param("folded-columns", 0, {"columns-fe", "columns-derived"}, id="folded-columns"),
 ]
 
 
