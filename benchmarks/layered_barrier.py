@@ -56,7 +56,8 @@ def main(n: int = 6, images: int = 17, factor: float = 1.0) -> None:
     newton(A)
     newton(B)
     to_gauge(B, A)
-    band = stacked_band(belt_path(A, B, images), TWO_COLUMNS, model, ("line", "star"))
+    band = relax_string(belt_path(A, B, images), max_iter=300, accept=None)[0]
+    band = stacked_band(band, TWO_COLUMNS, model, ("line", "star"))
     band, saddle, run, stages = relax_with_contact(band, model, relax_string, max_iter=300,
                                                    accept=lambda s: True)
     energies = [r.energy() for r in band]

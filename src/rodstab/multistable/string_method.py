@@ -116,15 +116,16 @@ from ..limits import Limits, require_nonlinear
 from ..model import Assembly
 from ..nonlinear.constraint import chart_size, restore_inextensible, retract_step
 from ..nonlinear.contact import ContactModel, Interpenetration
-from ..nonlinear.discrete import PENALTY, DiscreteRod
+from ..nonlinear.discrete import DiscreteRod
 from ..nonlinear.jets import rodrigues
 from ..nonlinear.newton import contact_fraction
-from ..nonlinear.solve import NEWTON_RTOL, lowest_modes, vee_log, zero_eigenvalue_tol
+from ..nonlinear.solve import lowest_modes, vee_log, zero_eigenvalue_tol
 from ..numerics import jacobi_scaling, serially
 from ..results import Result
 from .barrier import MIN_ELEMENTS, Barrier, descents_from_saddle, same_model, state_label
-from .discover import NewtonRun, Snapshot, common_rod, same_state
+from .discover import Snapshot, common_rod, same_state
 from .layered import stable_end, stacked_band
+from .saddle import SHIFT_TRIES, refine_saddle
 
 #: Lowest eigenvalues computed to count a stationary point's index.
 INDEX_EIGS = 4
@@ -155,19 +156,10 @@ SADDLE_CANDIDATES = 3
 #: interpolated image has neighbouring frames half a turn apart (energies ~1e7 seen at gaps of
 #: 3.1 rad, hexagram star -> daisy with 11 images); more images are needed.
 MAX_GAP = 2.5
-#: Newton steps towards the saddle move no node (over L) or frame (rad) by more than this.
-SADDLE_STEP = 0.1
-#: Most Newton steps of one attempt (from the basin: 4 .. 40, measured).
-SADDLE_MAX_ITER = 40
-#: Extra Newton steps past the tolerance, each kept only if it divides the residual by 10.
-POLISH_STEPS = 2
 #: Largest |frame d3 . gauge normal - 1| and out-of-plane node coordinate of an end state that
 #: :func:`belt_path` takes as planar (its path turns frames about that normal). Not the
 #: identification's :data:`~.identify.PLANAR_TOL` (which only names states planar).
 BELT_PLANAR_TOL = 1e-8
-#: Levenberg shifts tried per step (``lam`` grows 4x from the floor ~1e-11: 20 tries reach
-#: the largest shifts needed, ~1).
-SHIFT_TRIES = 60
 
 
 def chart_difference(a: DiscreteRod, b: DiscreteRod | Snapshot) -> np.ndarray:
@@ -438,95 +430,6 @@ def _tangent(band: list[DiscreteRod], i: int, free: np.ndarray, scale: np.ndarra
     return ahead / np.linalg.norm(scale * ahead) + back / np.linalg.norm(scale * back)
 
 
-def _newton_step(r: DiscreteRod, free: np.ndarray, gf: np.ndarray, H: sp.csr_matrix
-                 ) -> np.ndarray | None:
-    """Return ``dq`` of the Newton step ``-H^-1 g`` on ``free``, or None.
-
-    ``H`` is shifted by the smallest ``lam D`` that lets the LU factorisation succeed when it
-    is singular.
-    """
-    Hf = H[free][:, free].tocsc()
-    Hf = 0.5 * (Hf + Hf.T)
-    dg = np.abs(Hf.diagonal())
-    floor = zero_eigenvalue_tol(r)
-    lam = 0.0
-    for _ in range(SHIFT_TRIES):
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            try:  # LU with partial pivoting: H is indefinite at a saddle
-                step = -spla.splu((Hf + lam * sp.diags(dg)).tocsc()).solve(gf)
-            except RuntimeError:
-                step = None
-        if step is not None and np.all(np.isfinite(step)):
-            dq = np.zeros(r.n_dof)
-            dq[free] = step
-            return dq
-        lam = max(4 * lam, floor)
-    return None
-
-
-def refine_saddle(r: DiscreteRod, *, max_iter: int = SADDLE_MAX_ITER) -> NewtonRun:
-    """Newton's method on the gradient from ``r`` (in place) to the stationary point nearby.
-
-    Steps ``s = -H^-1 g`` on the free unknowns, scaled to move nothing by more than
-    :data:`SADDLE_STEP`, and retracted onto the inextensible states while larger than
-    :data:`~rodstab.nonlinear.constraint.RETRACT_ABOVE`
-    (:func:`~rodstab.nonlinear.constraint.retract_step`, module docstring). No merit function: it
-    converges to saddles as well as minima, from their basin. Once the residual is below the
-    tolerance, up to :data:`POLISH_STEPS` more plain Newton steps are taken while each lowers it:
-    near soft modes the energy error is ~``g^2 / lambda``, 1e-6 B3/L at the tolerance (hexagram
-    daisy -> eight, 8 el.: saddle energies 8.7e-7 apart at residuals 5e-6 and 3e-9), and Newton's
-    quadratic convergence removes it in a step or two.
-
-    Returns
-    -------
-    NewtonRun
-        ``converged``: the free gradient's max-norm fell below ``NEWTON_RTOL`` times the stiff
-        force scale (as :func:`~rodstab.nonlinear.solve.newton`); its iterations and the final
-        residual.
-    """
-    free = r.free_dofs()
-    tol = NEWTON_RTOL * float(PENALTY * np.max(r.edge_B) / np.min(r.rest_length))
-    _, g, H = r.energy_terms()
-    res = float(np.max(np.abs(g[free])))
-    it = 0
-    while res > tol and math.isfinite(res) and it < max_iter:
-        dq = _newton_step(r, free, g[free], H)
-        if dq is None:
-            break
-        dq *= min(1.0, SADDLE_STEP / max(chart_size(r, dq), 1e-300))
-        if r.contact is not None:
-            dq *= contact_fraction(r, free, dq[free])
-        trial = r.copy()
-        trial.apply(dq)
-        try:
-            retract_step(trial, dq)
-            _, g, H = trial.energy_terms()
-        except Interpenetration:  # only with contact: outside the model
-            break
-        r.x, r.R_edge, r.R_joint = trial.x, trial.R_edge, trial.R_joint
-        res = float(np.max(np.abs(g[free])))
-        it += 1
-    if not res <= tol:
-        return NewtonRun(False, it, res)
-    for _ in range(POLISH_STEPS):
-        dq = _newton_step(r, free, g[free], H)
-        if dq is None or (r.contact is not None and contact_fraction(r, free, dq[free]) < 1):
-            break  # with contact: a polishing step is a full step or none
-        trial = r.copy()
-        trial.apply(dq)
-        try:
-            _, gt, Ht = trial.energy_terms()
-        except Interpenetration:  # a node term entered a bent node's zone (max_step_fraction)
-            break
-        if not float(np.max(np.abs(gt[free]))) < 0.1 * res:
-            break  # round-off: the residual no longer falls
-        r.x, r.R_edge, r.R_joint = trial.x, trial.R_edge, trial.R_joint
-        g, H, res = gt, Ht, float(np.max(np.abs(gt[free])))
-        it += 1
-    return NewtonRun(True, it, res)
-
-
 @dataclasses.dataclass(frozen=True)
 class StringRun(Result):
     """The string's relaxation and the saddle refined from one of its images.
@@ -734,7 +637,9 @@ def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
         stable_end(r, label, contact if layers is None else None, f"load factor {mu!r}")
     to_gauge(rod_b, rod_a)
     start = belt_path(rod_a, rod_b, n_img)
-    if layers is not None:
+    if layers is not None:  # the planar path without contact, lifted: the belt path lifted
+        # stalled in the soft stages (hexagram line -> star, 6 el.), this one did not
+        start = relax_string(start, max_iter=max_iter, accept=None)[0]
         start = stacked_band(start, layers, contact, (name_a, name_b))
         rod_a, rod_b = start[0], start[-1]
     e_a, e_b = rod_a.energy(), rod_b.energy()

@@ -78,7 +78,8 @@ TAPER_MAX_TURN = 0.5
 #: node stands at most that fraction of dhat nearer than the rod while the node turns by up to
 #: ``TAPER_MAX_TURN`` in any state, and at most ``delta`` at any turn. (Bounded by the turn of
 #: the reference state only, before: a straight line's rods, 6 el., bent 1.2 degrees at a node
-#: near a saddle, put a phantom 0.55 dhat nearer than the rod, 3.7e-6 from another node.)
+#: near a saddle, put a phantom 0.55 dhat nearer than the rod, 3.7e-6 from another node.) A
+#: soft model (:attr:`ContactModel.soft`, overlaps allowed) keeps the reference-state bound.
 TAPER_FRACTION = 0.4
 PHANTOM_FRACTION = 0.1
 #: Edge-edge mollifier on ``c = sin^2`` of the angle between two segments: 0 below
@@ -96,6 +97,11 @@ EE_SIN2_ON = 1e-2
 #: segment, before: a crossing 8 % from two nodes at 17 degrees was held by 0.3 % of its
 #: term, the nodes seeing 0.16 dhat more than the true gap, 1.7e-6 dhat.)
 EE_NODE_EXCESS = 0.05
+#: A soft model's edge-edge term fades over this fraction of each segment instead: overlaps are
+#: allowed there, so a faded crossing is not held shut, and with the barrier's rule the soft
+#: stages of the hexagram's star -> daisy (6 and 8 el., dhat = 0.025 h) did not separate the
+#: rods (8 stages; 4 with this).
+EE_SOFT_TAPER = 0.4
 #: Default of :attr:`ContactModel.exclusion_factor` (see the module doc).
 EXCLUSION_FACTOR = 1.5
 #: The gap ``g0`` of stacked layers at the start, as a fraction of ``dhat``: inside the
@@ -389,10 +395,15 @@ def contact_mesh(edges: np.ndarray, rest_length: np.ndarray, x_ref: np.ndarray,
     ta = x_ref[edges[k0 // 2, 1 - k0 % 2]] - x_ref[two]  # from the node into each element
     tb = x_ref[edges[k1 // 2, 1 - k1 % 2]] - x_ref[two]
     cos = -np.einsum("ij,ij->i", ta, tb) / (_norm(ta) * _norm(tb))
-    ok = np.arccos(np.clip(cos, -1.0, 1.0)) < TAPER_MAX_TURN
+    turn = np.arccos(np.clip(cos, -1.0, 1.0))
+    ok = turn < TAPER_MAX_TURN
     delta = np.zeros((ne, 2))
+    # A soft model lets capsules overlap: a phantom is a penalty there, not a wall, and the
+    # reference state's turn bounds it (a partition as narrow as the barrier's left the star ->
+    # daisy soft stages at 6 el., dhat = 0.05 h, short of the model after 8 stages; 3 with it).
+    sin = np.maximum(np.sin(turn), 1e-300) if model.soft else math.sin(TAPER_MAX_TURN)
     dl = np.minimum(TAPER_FRACTION * np.minimum(L[k0 // 2], L[k1 // 2]),
-                    PHANTOM_FRACTION * model.dhat / math.sin(TAPER_MAX_TURN))
+                    PHANTOM_FRACTION * model.dhat / sin)
     delta.flat[k0[ok]] = delta.flat[k1[ok]] = dl[ok]
     # Graph distances up to the largest reach that an exclusion can ask for.
     cutoff = model.exclusion_factor * (2.0 * r.max() + model.dhat)
@@ -661,7 +672,10 @@ def _edge_jets(mesh: ContactMesh, x: np.ndarray, pairs: np.ndarray, order: int
     offset_on = np.sqrt(2.0 * EE_NODE_EXCESS * mesh.model.dhat * r)
     cross = _sqrt(nn)
     for u, other in ((s, C), (t, A)):
-        scale = cross / _sqrt(other) * (1.0 / offset_on)
+        if mesh.model.soft:  # over a fixed fraction (EE_SOFT_TAPER, its doc says why)
+            scale = 1.0 / EE_SOFT_TAPER
+        else:
+            scale = cross / _sqrt(other) * (1.0 / offset_on)
         weight = weight * _step_jet(u * scale) * _step_jet((1.0 - u) * scale)
     term = _barrier_jet(_sqrt(d2) - r, mesh.model) * weight
     term = term * (0.25 * (mesh.rest_length[pairs[:, 0]] + mesh.rest_length[pairs[:, 1]]))
