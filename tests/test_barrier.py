@@ -464,3 +464,26 @@ def test_string_runs_a_rejected_saddles_descents_once(monkeypatch) -> None:
     distinct = [e for i, e in enumerate(energies)
                 if all(abs(e - f) > 1e-9 * abs(e) for f in energies[:i])]
     assert len(distinct) == len(energies), energies
+
+
+def test_saddle_step_outside_the_model_falls_back_to_plain_then_halves(monkeypatch) -> None:
+    """``saddle._inside``: a retraction that leaves the contact model gives way to the plain
+    step (the one the filter bounded); a step outside even plain gives None (refine_saddle
+    halves it)."""
+    import rodstab.multistable.saddle as S
+    from rodstab.nonlinear.contact import Interpenetration
+    from rodstab.nonlinear.discrete import discretise
+
+    rod = discretise(folded_ring.build(folded_ring.Params(section=R4)), 4, 1.0)
+    dq = np.zeros(rod.n_dof)
+    dq[: 3 * len(rod.x)] = 1e-3
+
+    def outside(*args, **kwargs):
+        raise Interpenetration("retraction outside")
+
+    monkeypatch.setattr(S, "retract_step", outside)
+    found = S._inside(rod, dq)
+    assert found is not None
+    assert np.allclose(found[0].x, rod.x + dq[: 3 * len(rod.x)].reshape(-1, 3))
+    monkeypatch.setattr(type(rod), "energy_terms", outside)
+    assert S._inside(rod, dq) is None

@@ -629,3 +629,15 @@ def test_step_filter_is_certified_on_random_moves_near_contact():
         alpha = max_step_fraction(mesh, x, dx, safety=0.9)
         assert 0 < alpha <= 1
         assert _sampled_min_gap(x, dx, mesh, alpha, 40, 101) >= 0.1 * start - 1e-9 * R_CAP
+
+
+def test_partition_width_is_bounded_by_dhat_for_the_barrier_and_by_the_turn_for_a_penalty():
+    """A straight rod of 0.5-long elements: the barrier's partition at a smooth node is at most
+    0.1 dhat / sin(TAPER_MAX_TURN) (a phantom line stays within 0.1 dhat up to that turn in any
+    state); the soft penalty's is the reference state's, 0.4 of the element on a straight rod."""
+    x = line(np.array([0.0, 0.5, 1.0, 1.5]))
+    hard = mesh_for(x, chain(3), MODEL)
+    soft = mesh_for(x, chain(3), ContactModel(R_CAP, DHAT, KAPPA, soft=True))
+    inner = hard.delta[hard.delta > 0]
+    assert inner.size and np.allclose(inner, 0.1 * DHAT / math.sin(C.TAPER_MAX_TURN))
+    assert np.allclose(soft.delta[soft.delta > 0], 0.4 * 0.5)
