@@ -387,6 +387,11 @@ def test_cli_barrier_unconverged_exits_3_after_the_output(string_six: tuple,
     assert exc.value.code == 3
     assert json.loads(captured.out)["converged"] is False
     assert "did not converge" in captured.err and "saddle index 2" in captured.err
+    with pytest.raises(SystemExit):  # as text: the highest image, not called a saddle
+        main(["barrier", "--shape", "rectangle", "--aspect", "4"])
+    out = capsys.readouterr().out
+    assert "highest image (no saddle joining the two states was found): index 2" in out
+    assert "\nsaddle " not in out
 
 
 def test_cli_barrier_reads_the_states_of_a_design_ring(string_six: tuple,

@@ -224,8 +224,11 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
     else:
         lines.append(f"branch       from kappa_n R0 = "
                      f"{fmt(structure_load(structure, b.load_factor_critical))}")
+    # an unconverged string reports its highest image, not a saddle (string_barrier)
+    top = ("saddle       " if b.converged or method != "string" else
+           "highest image (no saddle joining the two states was found): ")
     lines += [
-        f"saddle       index {b.saddle_index}, energy {fmt(b.energy_saddle)}"
+        f"{top}index {b.saddle_index}, energy {fmt(b.energy_saddle)}"
         f"{joules.get('energy_saddle', '')}, descents end on "
         f"{', '.join(b.descent_ends) or 'not run'}",
         f"forward      {b.from_state} -> {b.to_state}: {fmt(b.barrier_forward)}"
