@@ -379,7 +379,9 @@ def test_cli_barrier_unconverged_exits_3_after_the_output(string_six: tuple,
     from rodstab.cli import main
 
     b, path = string_six
-    failed = dataclasses.replace(b, converged=False, saddle_index=2)
+    failed = dataclasses.replace(b, converged=False, saddle_index=2, other_saddles=(
+        {"energy": 14.5, "descent_ends": ("folded", "unnamed"), "end_energies": (13.0, 12.0),
+         "ends_converged": (True, False)},))
     monkeypatch.setattr(mep, "string_barrier", lambda *a, **k: (failed, path))
     with pytest.raises(SystemExit) as exc:
         main(["barrier", "--shape", "rectangle", "--aspect", "4", "--json"])
@@ -392,6 +394,8 @@ def test_cli_barrier_unconverged_exits_3_after_the_output(string_six: tuple,
     out = capsys.readouterr().out
     assert "highest image (no saddle joining the two states was found): index 2" in out
     assert "\nsaddle " not in out
+    assert ("other saddle index 1, energy 14.5, descents end on folded 13, unnamed 12 (not "
+            "converged)") in out
 
 
 def test_cli_barrier_reads_the_states_of_a_design_ring(string_six: tuple,
@@ -469,6 +473,11 @@ def test_string_runs_a_rejected_saddles_descents_once(monkeypatch) -> None:
     distinct = [e for i, e in enumerate(energies)
                 if all(abs(e - f) > 1e-9 * abs(e) for f in energies[:i])]
     assert len(distinct) == len(energies), energies
+    # each rejected saddle is reported with where its descents end
+    assert [o["energy"] for o in b.other_saddles] == pytest.approx(energies, rel=1e-12)
+    assert all(o["descent_ends"] == ("elsewhere", "elsewhere") for o in b.other_saddles)
+    assert all(len(o["end_energies"]) == 2 and o["end_energies"][0] < o["energy"]
+               for o in b.other_saddles)
 
 
 def test_saddle_step_outside_the_model_falls_back_to_plain_then_halves(monkeypatch) -> None:

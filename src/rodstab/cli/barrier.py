@@ -236,6 +236,11 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
         f"backward     {b.to_state} -> {b.from_state}: {fmt(b.barrier_backward)}"
         + joules.get("barrier_backward", ""),
         f"converged    {b.converged} ({len(b.energies)} path points)"]
+    for o in b.other_saddles:  # saddles of the string that join other states
+        ends = ", ".join(f"{lab} {fmt(e)}{'' if ok else ' (not converged)'}" for lab, e, ok
+                         in zip(o["descent_ends"], o["end_energies"], o["ends_converged"],
+                                strict=True))
+        lines.append(f"other saddle index 1, energy {fmt(o['energy'])}, descents end on {ends}")
     if plot is not None:
         from ..plot.plots import plot_barrier_path
 

@@ -159,6 +159,9 @@ class Barrier(Result):
     scale). ``load_factor_critical``: the bifurcation the continuation's branch leaves (NaN for
     the string). ``images``, ``iterations``: the string's (0 for the continuation);
     ``string_run``: its :class:`~.string_method.StringRun` (``None`` for the continuation).
+    ``other_saddles``: the string's index-1 saddles rejected because their descents do not join
+    the two states, each ``{"energy", "descent_ends", "end_energies", "ends_converged"}`` (an
+    intermediate state of a chain of transitions, or a saddle between two other states).
     """
 
     barrier_forward: float
@@ -185,6 +188,7 @@ class Barrier(Result):
     iterations: int = 0
     path_arclength: tuple[float, ...] = ()
     string_run: Result | None = None
+    other_saddles: tuple[dict[str, Any], ...] = ()
 
     def to_dict(self) -> dict[str, Any]:
         """JSON form; ``from``/``to`` as well as ``from_state``/``to_state``."""

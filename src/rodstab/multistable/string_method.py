@@ -646,6 +646,7 @@ def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
     refs = [(name_a, Snapshot.of(rod_a), e_a), (name_b, Snapshot.of(rod_b), e_b)]
     found: dict[str, tuple] = {}
     rejected: list[tuple[Snapshot, float]] = []
+    others: list[dict[str, Any]] = []
 
     def joins_the_states(saddle: DiscreteRod) -> bool:
         # The saddle sought is the one whose two descents end on a and b (modulo the ring's
@@ -663,6 +664,10 @@ def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
         found["last"] = (vals, labels, (descents[0].steps, descents[1].steps))
         if not ok:
             rejected.append((here, e))
+            others.append({"energy": e, "descent_ends": labels,
+                           "end_energies": tuple(d.energies[-1] for d in descents),
+                           "ends_converged": tuple(d.converged and d.lowest_eigenvalue > -tol
+                                                   for d in descents)})
         return ok
 
     if contact is None:
@@ -701,5 +706,6 @@ def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
                "maximum of its energies, index 1, whose steepest descents end on the two "
                "states (same_state)",
         descent_ends=labels, images=n_img, iterations=run.iterations,
-        path_arclength=tuple(float(x) for x in arclength(path)), string_run=run), \
+        path_arclength=tuple(float(x) for x in arclength(path)), string_run=run,
+        other_saddles=tuple(others)), \
         [Snapshot.of(r) for r in path]
