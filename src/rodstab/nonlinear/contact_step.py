@@ -51,6 +51,10 @@ def max_step_fraction(mesh: ContactMesh, x: np.ndarray, dx: np.ndarray,
     (a term entering a partition zone during the step is not bounded: near a bent smooth node
     its line may be nearer than the segment by up to ``delta sin(turn)``, and evaluating the
     energy there raises :class:`Interpenetration`; a line search should then backtrack).
+    Where this bound limits the step, the pair is certified along it instead, most limiting
+    first (:func:`_certified_fraction`; up to :data:`CCD_MAX_SAMPLES` samples), and the larger
+    of the two certified fractions counts: pressed rods sliding or tilting together keep the
+    whole step.
 
     Parameters
     ----------
