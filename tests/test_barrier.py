@@ -393,6 +393,7 @@ def test_cli_barrier_unconverged_exits_3_after_the_output(string_six: tuple,
         main(["barrier", "--shape", "rectangle", "--aspect", "4"])
     out = capsys.readouterr().out
     assert "highest image (no saddle joining the two states was found): index 2" in out
+    assert "iterations; highest: image" in out and "saddle from" not in out
     assert "\nsaddle " not in out
     assert ("other saddle index 1, energy 14.5, descents end on folded 13, unnamed 12 (not "
             "converged)") in out

@@ -219,8 +219,9 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
                       f"{units.segment!r}; energies in J = model energy x B3/L"]
     run: Any = b.string_run
     if method == "string":
-        lines.append(f"string       {b.images} images, {b.iterations} iterations; saddle from "
-                     f"image {b.saddle_position} of the path")
+        lines.append(f"string       {b.images} images, {b.iterations} iterations; "
+                     f"{'saddle from' if b.converged else 'highest:'} image "
+                     f"{b.saddle_position} of the path")
     else:
         lines.append(f"branch       from kappa_n R0 = "
                      f"{fmt(structure_load(structure, b.load_factor_critical))}")
