@@ -370,3 +370,22 @@ def test_the_folded_ring_in_two_columns_reaches_the_independent_pi_over_two():
     for side in (fe.upper, fe.lower):
         assert side.status == "bracketed"
         assert abs(side.load_factor) == pytest.approx(exact, rel=1e-3)
+
+
+def test_the_folded_ring_on_the_hexagon_reaches_the_independent_root():
+    """The folded ring stacked on the hexagon (the default): its out-of-plane limit with
+    contact is the smallest positive root of (5 cos lam - 2) sin lam = lam (4 cos^2 lam - 1),
+    1.4421095 (helper-15's independent derivation and FE, order 4, certified on a relaxed
+    cone); the FE cone's certified bracket contains it (circle, 8 el.)."""
+    from rodstab.analytic.folded_ring import hexagon_contact_limit
+    from rodstab.multistable.layer_orders import polygon_offsets
+    from rodstab.multistable.states import ring_of
+    from rodstab.problems import folded_ring
+
+    lam = hexagon_contact_limit()
+    assert lam == pytest.approx(0.4590377152 * math.pi, rel=1e-9)  # the helper's root
+    a = folded_ring.build(folded_ring.Params(section=circle()))
+    fe = cone_limits(a, polygon_offsets([k for k, _ in ring_of(a).order]), 8, xtol=XT).upper
+    assert fe is not None and fe.status == "bracketed"
+    exact = lam * math.sqrt(0.75)
+    assert fe.bracket[0] <= exact <= fe.bracket[1]

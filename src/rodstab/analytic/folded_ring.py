@@ -141,3 +141,30 @@ def two_column_contact_limit() -> float:
     converge (0.468 pi at 64 el., falling).
     """
     return math.pi / 2
+
+
+def hexagon_contact_limit() -> float:
+    """Critical ``lam`` of the folded six-ring stacked on a hexagon, with contact: 1.4421095.
+
+    Rods at the vertices of a regular hexagon of side ``h`` in traversal order, rod 1 on top
+    (:func:`~rodstab.multistable.layer_orders.polygon_offsets`, the default of
+    :func:`~rodstab.multistable.cone.default_layers`); zero gap, heights only (a pair's gap
+    changes by ``n3 (u_(i+1) - u_i)``, ``n3`` its contact normal's out-of-plane part).
+    Derived independently of the FE cone (helper-15, session 17, from (5.3)-(5.7)): the gaps
+    order the heights in two chains, ``u1 >= u2 >= u3 >= u4`` and ``u1 >= u6 >= u5 >= u4``;
+    at the limit all six heights are equal at one end (the three welds there at one height,
+    pairs (2, 3), (4, 5), (6, 1) closed); there the eigenvalue is double, in the rotation
+    sector ``u_(i+2) = omega u_i`` (``omega = exp(2 pi i / 3)``), where the twist's non-local
+    term vanishes, and the conditions at the other end reduce to ``(5 cos lam - 2) sin lam =
+    lam (4 cos^2 lam - 1)``; its smallest positive root (found here by :func:`find_roots`,
+    bracketed) is the limit. Certified globally by the helper on a relaxed cone (25 faces,
+    meshes of 8, 16 and 32 elements). A 60-degree arc of the double mode is admissible, so the
+    critical mode is not unique. In ``lam`` no section parameter is left: ``L kappa_n = lam
+    sqrt(b1 b2)`` for every section, 1.37711 times the no-contact ``pi / 3``.
+    """
+    def f(lam: float) -> float:
+        return (5.0 * math.cos(lam) - 2.0) * math.sin(lam) - lam * (4.0 * math.cos(lam) ** 2
+                                                                    - 1.0)
+
+    # f ~ lam^3 > 0 near 0 (the trivial root); the first sign change lies below pi / 2
+    return float(find_roots(f, 0.05, math.pi / 2, n_scan=200).values[0])
