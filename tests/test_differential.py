@@ -74,6 +74,7 @@ CASES = [
     pytest.param("assemblies", 16, {"fe", "verdict"}, id="kinked-chain"),
     # the folded six-ring stacked in two columns: the FE cone against the derived lam = pi / 2
     pytest.param("folded-columns", 0, {"columns-fe", "columns-derived"}, id="folded-columns"),
+    pytest.param("folded-hexagon", 0, {"hexagon-fe", "hexagon-derived"}, id="folded-hexagon"),
 ]
 
 
