@@ -605,7 +605,8 @@ def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
         ``string_run.contact_stages``). None: no contact (every number as before).
     layers : dict, optional
         With ``contact``: ``a`` is a stacked state and this its layer order; the path runs in
-        the stacked model, welds spanning the layers (:func:`~.layered.stacked_band`).
+        the stacked model, welds spanning the layers (:func:`~.layered.stacked_band`), from
+        the planar path relaxed without contact to its first index-1 saddle, lifted.
 
     Returns
     -------

@@ -23,7 +23,8 @@ Energy (a sum of smooth terms, no min over distance types):
   ``(l_a + l_b) / 4 * m_par * m_end``: ``m_par`` switches the term off as the segments turn
   parallel (``sin^2`` of their angle from ``EE_SIN2_ON`` down to ``EE_SIN2_OFF``, where the node
   terms see the pair), ``m_end`` as a closest point nears an end, within an offset across the
-  other segment where the end node's term sees the gap to ``EE_NODE_EXCESS dhat``. Where both
+  other segment where the end node's term sees the gap to ``EE_NODE_EXCESS dhat`` (a soft
+  model: over ``EE_SOFT_TAPER`` of the segment). Where both
   kinds are active (near-parallel crossings, a crossing on a node) the sum is a different but
   consistent barrier: every term is positive, none uses a distance larger than the true one, and
   it tends to the same hard constraint ``g >= 0`` as ``dhat -> 0``. A crossing's energy depends on
@@ -95,7 +96,7 @@ EE_SIN2_ON = 1e-2
 #: So no crossing is held only by a faded term: the node terms see every gap within this
 #: fraction of dhat where the edge-edge term is not fully on. (A taper over a fixed 0.4 of the
 #: segment, before: a crossing 8 % from two nodes at 17 degrees was held by 0.3 % of its
-#: term, the nodes seeing 0.16 dhat more than the true gap, 1.7e-6 dhat.)
+#: term, the nodes seeing 0.16 dhat more than the true gap of 1.7e-6 L.)
 EE_NODE_EXCESS = 0.05
 #: A soft model's edge-edge term fades over this fraction of each segment instead: overlaps are
 #: allowed there, so a faded crossing is not held shut, and with the barrier's rule the soft
