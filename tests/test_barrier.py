@@ -363,7 +363,8 @@ def test_cli_barrier_string_json_plot_and_animation(string_six: tuple, tmp_path,
     assert seen == {"elements_per_segment": 8, "images": 11, "name_a": "folded",
                     "name_b": "one-loop", "mu": pytest.approx(THETA), "segments": 6,
                     "limits": Limits(), "contact": None,
-                    "layers": None}  # default limits; no contact, no layers
+                    "layers": None, "named": {}}  # default limits; no contact, no layers;
+    # the six-ring has no other state to name a minimum with
     assert png.stat().st_size > 0
     assert Image.open(gif).n_frames == len(path)
 
@@ -447,10 +448,11 @@ def test_string_runs_a_rejected_saddles_descents_once(monkeypatch) -> None:
     """A saddle whose descents do not join the two states is rejected; the string refines the
     same saddle again at its next tries, and its descents (minutes with contact) are not run
     again. Here every saddle is made to fail (its descents' ends relabelled)."""
+    import rodstab.multistable.landscape as land
     import rodstab.multistable.string_method as mep
 
     calls, energies = {"accept": 0}, []
-    real = mep.descents_from_saddle
+    real = land.descents_from_saddle
 
     def counted(saddle, *args, **kwargs):
         energies.append(saddle.energy())
@@ -462,14 +464,14 @@ def test_string_runs_a_rejected_saddles_descents_once(monkeypatch) -> None:
         calls["accept"] += 1  # each refinement may reach the acceptance test
         return real_refine(r, **kwargs)
 
-    monkeypatch.setattr(mep, "descents_from_saddle", counted)
+    monkeypatch.setattr(land, "descents_from_saddle", counted)
     monkeypatch.setattr(mep, "refine_saddle", refine)
-    monkeypatch.setattr(mep, "state_label", lambda r, refs: "elsewhere")
+    monkeypatch.setattr(land.Landscape, "name", lambda self, r, add=True: "elsewhere")
     p = folded_ring.Params(section=R4)
     b, _ = mep.string_barrier(folded_ring.build(p), one_loop_assembly(p), THETA,
                               elements_per_segment=N, images=11, name_a="folded",
-                              name_b="one-loop", max_iter=120)
-    assert not b.converged
+                              name_b="one-loop", max_iter=120, chain_depth=0)
+    assert not b.converged and b.chain is None
     assert len(energies) >= 1 and calls["accept"] > len(energies)
     distinct = [e for i, e in enumerate(energies)
                 if all(abs(e - f) > 1e-9 * abs(e) for f in energies[:i])]

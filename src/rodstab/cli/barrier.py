@@ -117,13 +117,20 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
         ring, section, name, design = ring_and_section(design_file, structure, 6, section,
                                                        contact_ok=True)
         a, b_asm = (ring.held(ring.state(s).theta) for s in (from_state, to_state))
+        others = {st.label: ring.held(st.theta) for st in ring.states().states
+                  if st.label not in (from_state, to_state)}  # to name the minima a path passes
         if k is None:
             from ..multistable.atlas import common_load
 
             k, chosen = common_load(ring, (from_state, to_state))
         mu = k
     else:
-        from ..problems.barrier_states import check_state, model_load_factor, state_assembly
+        from ..problems.barrier_states import (
+            STRUCTURE_STATES,
+            check_state,
+            model_load_factor,
+            state_assembly,
+        )
 
         name = structure
         from_state = from_state or _BARRIER_STATES[structure][0]
@@ -134,6 +141,8 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
             raise RodstabInputError(f"--to {to_state!r} is the --from state: a barrier joins "
                                     "two different states")
         a, b_asm = (state_assembly(structure, section, s) for s in (from_state, to_state))
+        others = {s: state_assembly(structure, section, s) for s in STRUCTURE_STATES[structure]
+                  if s not in (from_state, to_state)}  # to name the minima a path passes
     if from_state == to_state:
         raise RodstabInputError(f"--to {to_state!r} is the --from state: a barrier joins two "
                                 "different states")
@@ -176,7 +185,8 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
             model = None if c is None else rod_contact_model(a, h, c)
             b, path = string_barrier(a, b_asm, mu, elements_per_segment=elements,
                                      images=n_img, name_a=from_state, name_b=to_state,
-                                     limits=limits, contact=model, layers=order)
+                                     limits=limits, contact=model, layers=order,
+                                     named=others)
         else:
             from ..multistable.barrier import barrier_from_bifurcation
 
@@ -237,6 +247,18 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
         f"backward     {b.to_state} -> {b.from_state}: {fmt(b.barrier_backward)}"
         + joules.get("barrier_backward", ""),
         f"converged    {b.converged} ({len(b.energies)} path points)"]
+    if b.chain is not None:  # the string passed other minima: one saddle per step
+        ch: Any = b.chain
+        steps = " ".join(
+            f"-[{fmt(lk.energy_saddle) if lk.converged else '<= ' + fmt(lk.energy_bound)}]-> "
+            f"{lk.to_state} {fmt(lk.energy_to)}" for lk in ch.links)
+        lines.append(f"chain        {ch.states[0]} {fmt(ch.energies[0])} {steps}"
+                     + ("" if ch.converged else " (not converged)"))
+        lines.append("             (minima and energies; [saddle] between them, or [<= the "
+                     "highest energy of a path] where that is below the chain's saddle)")
+        if ch.lowest is not None and not ch.lowest["energy"] >= ch.energy_saddle:  # NaN: none
+            lines.append(f"lowest       over every saddle found: {fmt(ch.lowest['energy'])} via "
+                         f"{' -> '.join(ch.lowest['states'])}")
     for o in b.other_saddles:  # saddles of the string that join other states
         ends = ", ".join(f"{lab} {fmt(e)}{'' if ok else ' (not converged)'}" for lab, e, ok
                          in zip(o["descent_ends"], o["end_energies"], o["ends_converged"],

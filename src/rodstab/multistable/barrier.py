@@ -106,7 +106,7 @@ def _residual_scale(rod: DiscreteRod) -> float:
 
 
 def descend(rod: DiscreteRod, lam0: float, *, max_steps: int = DESCENT_MAX_STEPS,
-            retract: bool = False) -> Descent:
+            retract: bool = False, trace: list[DiscreteRod] | None = None) -> Descent:
     """Follow the energy downhill from ``rod`` (in place) to a minimum, recording the energy.
 
     Steps ``s = -(H + lam D)^-1 g`` on the free unknowns (``D = |diag H|``, ``lam`` starting at
@@ -116,7 +116,8 @@ def descend(rod: DiscreteRod, lam0: float, *, max_steps: int = DESCENT_MAX_STEPS
     after a step the model predicted well. Ends with :func:`newton` once the gradient is below
     its tolerance. ``retract``: large trial steps are retracted onto the inextensible states
     (:func:`~rodstab.nonlinear.constraint.retract_step`), which lets them be larger (module
-    :mod:`.string_method`).
+    :mod:`.string_method`). ``trace``: a copy of the state after every accepted step is
+    appended to it (the curve itself, e.g. to join a string to the minimum it reached).
     """
     free = rod.free_dofs()
     tol = NEWTON_RTOL * _residual_scale(rod)
@@ -134,6 +135,8 @@ def descend(rod: DiscreteRod, lam0: float, *, max_steps: int = DESCENT_MAX_STEPS
         E, g, H = terms
         energies.append(E)
         steps += 1
+        if trace is not None:
+            trace.append(rod.copy())
     ok, _, res = newton(rod)
     energies.append(rod.energy())
     ev = float(lowest_modes(rod, 1)[0][0])
@@ -162,6 +165,8 @@ class Barrier(Result):
     ``other_saddles``: the string's index-1 saddles rejected because their descents do not join
     the two states, each ``{"energy", "descent_ends", "end_energies", "ends_converged"}`` (an
     intermediate state of a chain of transitions, or a saddle between two other states).
+    ``chain``: the string's :class:`~.chain.Chain` when it was split at intermediate minima
+    (``converged`` is then the chain's: every link found its saddle).
     """
 
     barrier_forward: float
@@ -189,6 +194,7 @@ class Barrier(Result):
     path_arclength: tuple[float, ...] = ()
     string_run: Result | None = None
     other_saddles: tuple[dict[str, Any], ...] = ()
+    chain: Result | None = None
 
     def to_dict(self) -> dict[str, Any]:
         """JSON form; ``from``/``to`` as well as ``from_state``/``to_state``."""

@@ -119,12 +119,20 @@ from ..nonlinear.contact import ContactModel, Interpenetration
 from ..nonlinear.discrete import DiscreteRod
 from ..nonlinear.jets import rodrigues
 from ..nonlinear.newton import contact_fraction
-from ..nonlinear.solve import lowest_modes, vee_log, zero_eigenvalue_tol
+from ..nonlinear.solve import lowest_modes, zero_eigenvalue_tol
 from ..numerics import jacobi_scaling, serially
 from ..results import Result
-from .barrier import MIN_ELEMENTS, Barrier, descents_from_saddle, same_model, state_label
-from .discover import Snapshot, common_rod, same_state
+from .barrier import MIN_ELEMENTS, Barrier, same_model
+from .chain import CHAIN_DEPTH, chain, chain_result
+from .discover import Snapshot, common_rod
+from .landscape import Landscape
 from .layered import stable_end, stacked_band
+from .path_chart import (
+    arclength,
+    chart_difference,
+    chart_scale,
+    reparametrise,
+)
 from .saddle import SHIFT_TRIES, refine_saddle
 
 #: Lowest eigenvalues computed to count a stationary point's index.
@@ -160,17 +168,6 @@ MAX_GAP = 2.5
 #: :func:`belt_path` takes as planar (its path turns frames about that normal). Not the
 #: identification's :data:`~.identify.PLANAR_TOL` (which only names states planar).
 BELT_PLANAR_TOL = 1e-8
-
-
-def chart_difference(a: DiscreteRod, b: DiscreteRod | Snapshot) -> np.ndarray:
-    """State ``b`` minus state ``a`` in ``a``'s chart, ``(n_dof,)``.
-
-    Nodes ``x_b - x_a``; frames the rotation vectors of ``R_a^T R_b`` (body frame of ``a``),
-    so that ``a.apply(chart_difference(a, b))`` reproduces ``b`` (rotations below a half turn).
-    """
-    phi_e = vee_log(np.swapaxes(a.R_edge, 1, 2) @ b.R_edge)
-    phi_j = vee_log(np.swapaxes(a.R_joint, 1, 2) @ b.R_joint)
-    return np.concatenate([(b.x - a.x).ravel(), phi_e.ravel(), phi_j.ravel()])
 
 
 def to_gauge(b: DiscreteRod, a: DiscreteRod) -> None:
@@ -266,13 +263,6 @@ def belt_path(a: DiscreteRod, b: DiscreteRod, n_images: int) -> list[DiscreteRod
         band.append(r)
     band[0], band[-1] = a.copy(), b.copy()
     return band
-
-
-def _chart_scale(r: DiscreteRod) -> np.ndarray:
-    """Per-unknown scale of chart norms, ``(n_dof,)``: ``1 / L`` for positions, 1 for frames."""
-    scale = np.ones(r.n_dof)
-    scale[: 3 * len(r.x)] = len(r.assembly.segments) / r.assembly.total_length
-    return scale
 
 
 def _scaled(H: sp.csc_matrix, d: np.ndarray) -> sp.csc_matrix:
@@ -381,47 +371,6 @@ def _perpendicular_step(r: DiscreteRod, free: np.ndarray, E: float, gf: np.ndarr
     return None, lam
 
 
-def reparametrise(band: list[DiscreteRod], free: np.ndarray) -> list[DiscreteRod]:
-    """Return the string through ``band`` with its interior images at equal chart arclength.
-
-    Arclength: the Euclidean chart norm (positions over ``L``, radians) of the free parts of
-    consecutive differences. A new image at arclength ``s`` between images ``k`` and ``k + 1``
-    is ``band[k]`` moved by the fraction of :func:`chart_difference` ``(band[k], band[k + 1])``
-    (piecewise geodesic), then retracted
-    (:func:`~rodstab.nonlinear.constraint.restore_inextensible`). The ends are kept (the same
-    objects). Raises :class:`~rodstab.nonlinear.contact.Interpenetration` for an image outside
-    the contact model.
-    """
-    scale = _chart_scale(band[0])
-    mask = np.zeros(band[0].n_dof)
-    mask[free] = 1.0
-    diffs = [mask * chart_difference(band[k], band[k + 1]) for k in range(len(band) - 1)]
-    seg = np.array([np.linalg.norm(scale * dk) for dk in diffs])
-    s = np.concatenate([[0.0], np.cumsum(seg)])
-    out = [band[0]]
-    for target in np.linspace(0.0, s[-1], len(band))[1:-1]:
-        k = min(int(np.searchsorted(s, target, side="right")) - 1, len(seg) - 1)
-        r = band[k].copy()
-        dq = (target - s[k]) / seg[k] * diffs[k]
-        r.apply(dq)
-        retract_step(r, dq)
-        if r.contact is not None:
-            r.energy()  # raises outside the contact model
-        out.append(r)
-    out.append(band[-1])
-    return out
-
-
-def arclength(band: list[DiscreteRod]) -> np.ndarray:
-    """Cumulative chart arclength of ``band`` at its images, normalised to end at 1."""
-    free = band[0].free_dofs()
-    scale = _chart_scale(band[0])[free]
-    seg = [float(np.linalg.norm(scale * chart_difference(band[k], band[k + 1])[free]))
-           for k in range(len(band) - 1)]
-    s = np.concatenate([[0.0], np.cumsum(seg)])
-    return s / s[-1]
-
-
 def _tangent(band: list[DiscreteRod], i: int, free: np.ndarray, scale: np.ndarray
              ) -> np.ndarray:
     """Central unit tangent of the string at interior image ``i`` (its chart, free unknowns)."""
@@ -503,7 +452,7 @@ def relax_string(band: list[DiscreteRod], *, max_iter: int = STRING_MAX_ITER,
     n = len(band)
     free = band[0].free_dofs()
     floor = zero_eigenvalue_tol(band[0])
-    scale = _chart_scale(band[0])[free]
+    scale = chart_scale(band[0])[free]
     lams = [floor] * n
     terms: list[tuple[float, np.ndarray, sp.csr_matrix] | None] = [None] * n
     ends = [band[0].energy_terms(), band[-1].energy_terms()]
@@ -567,11 +516,26 @@ def relax_string(band: list[DiscreteRod], *, max_iter: int = STRING_MAX_ITER,
     return band, None, run(False, -1)
 
 
+def _named(named: dict[str, Assembly], n: int, mu: float, contact: ContactModel | None
+           ) -> list[tuple[str, DiscreteRod]]:
+    """Return the states of ``named`` that are stable minima at ``mu`` (``contact``), as models."""
+    out = []
+    for label, asm in named.items():
+        r = common_rod(asm, n, mu)
+        try:
+            stable_end(r, label, contact, "")
+        except (RodstabInputError, Interpenetration):
+            continue  # not a minimum here: it names nothing
+        out.append((label, r))
+    return out
+
+
 def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
                    elements_per_segment: int = 8, images: int = STRING_IMAGES,
                    name_a: str = "A", name_b: str = "B", max_iter: int = STRING_MAX_ITER,
                    limits: Limits = DEFAULT_LIMITS, contact: ContactModel | None = None,
-                   layers: dict[str, Any] | None = None) -> tuple[Barrier, list[Snapshot]]:
+                   layers: dict[str, Any] | None = None, chain_depth: int = CHAIN_DEPTH,
+                   named: dict[str, Assembly] | None = None) -> tuple[Barrier, list[Snapshot]]:
     """Energy barrier between held states ``a`` and ``b`` of one ring by the string method.
 
     Both are put in one discrete model (:func:`~.discover.common_rod`) at ``load_factor`` and
@@ -607,13 +571,23 @@ def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
         With ``contact``: ``a`` is a stacked state and this its layer order; the path runs in
         the stacked model, welds spanning the layers (:func:`~.layered.stacked_band`), from
         the planar path relaxed without contact to its first index-1 saddle, lifted.
+    chain_depth : int
+        When the string finds no saddle joining the two states, it is split into a chain of
+        saddles between the minima its images descend to (:func:`~.chain.chain`), at most this
+        many splits deep; 0: not split.
+    named : dict, optional
+        Other held states of the ring, by label: those stable at ``load_factor`` in the same
+        discrete model name the minima a descent or the chain reaches (else ``m1``, ``m2``, ...).
+        Not used with ``layers`` (the stacked model is another model).
 
     Returns
     -------
     tuple
         The :class:`~.barrier.Barrier` (``converged`` false when no index-1 saddle was found or
         its descents do not end on the two states; the barriers are then those of the highest
-        image) and the path's states (string images, the highest replaced by the saddle).
+        image; when the string was split, ``chain`` holds the :class:`~.chain.Chain`, the path
+        is its links' paths in order and the barrier its highest saddle) and the path's states
+        (string images, the highest replaced by the saddle).
 
     Raises
     ------
@@ -644,32 +618,14 @@ def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
         start = stacked_band(start, layers, contact, (name_a, name_b))
         rod_a, rod_b = start[0], start[-1]
     e_a, e_b = rod_a.energy(), rod_b.energy()
-    refs = [(name_a, Snapshot.of(rod_a), e_a), (name_b, Snapshot.of(rod_b), e_b)]
-    found: dict[str, tuple] = {}
-    rejected: list[tuple[Snapshot, float]] = []
-    others: list[dict[str, Any]] = []
+    land = Landscape.of([(name_a, rod_a), (name_b, rod_b)]
+                        + ([] if layers is not None else _named(named or {}, n, mu, contact)))
 
     def joins_the_states(saddle: DiscreteRod) -> bool:
         # The saddle sought is the one whose two descents end on a and b (modulo the ring's
         # symmetry); another index-1 saddle of the string joins other states. The string
         # refines the same saddle again and again: its descents (minutes with contact) once.
-        here, e = Snapshot.of(saddle), saddle.energy()
-        if any(same_state(saddle, here, s, e, es) for s, es in rejected):
-            return False
-        index, vals, vecs = _index(saddle)
-        descents, tips = descents_from_saddle(saddle, vals, vecs, retract=True)
-        labels = tuple(state_label(r, refs) for r in tips)
-        tol = zero_eigenvalue_tol(saddle)
-        ok = (all(d.converged and d.lowest_eigenvalue > -tol for d in descents)
-              and sorted(labels) == sorted((name_a, name_b)))
-        found["last"] = (vals, labels, (descents[0].steps, descents[1].steps))
-        if not ok:
-            rejected.append((here, e))
-            others.append({"energy": e, "descent_ends": labels,
-                           "end_energies": tuple(d.energies[-1] for d in descents),
-                           "ends_converged": tuple(d.converged and d.lowest_eigenvalue > -tol
-                                                   for d in descents)})
-        return ok
+        return land.joins(saddle, name_a, name_b)
 
     if contact is None:
         band, saddle, run = relax_string(start, max_iter=max_iter, accept=joins_the_states)
@@ -679,20 +635,54 @@ def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
         band, saddle, run, stages = relax_with_contact(start, contact, relax_string,
                                                        max_iter=max_iter, accept=joins_the_states)
         run = dataclasses.replace(run, contact_stages=stages)
-    if saddle is None:
+    chained = None
+    if saddle is None and not run.too_coarse and chain_depth > 0:
+        links, paths, basins = chain(band, land, (name_a, name_b), relax_string, images=n_img,
+                                     max_iter=max_iter, max_depth=chain_depth)
+        chained = chain_result(links, basins, land, (name_a, name_b))
+    labels: tuple[str, ...]
+    if chained is not None and chained.converged:
+        band = [r for p in paths for r in p]
+        k = int(np.nanargmax([lk.energy_saddle for lk in chained.links]))
+        top = sum(len(p) for p in paths[:k]) + chained.links[k].saddle_image
+        saddle, index = band[top], 1
+        residual = float(np.max(np.abs(saddle.energy_terms()[1][saddle.free_dofs()])))
+        rec = land.judge(saddle)
+        vals, labels, steps = rec["eigenvalues"], rec["descent_ends"], rec["descent_steps"]
+    elif saddle is None:
         energies = [r.energy() for r in band]
         top = 1 + int(np.argmax(energies[1:-1]))
         saddle = band[top]
         vals = lowest_modes(saddle, INDEX_EIGS)[0]
         index = int(np.sum(vals < -zero_eigenvalue_tol(saddle)))
         residual = float(np.max(np.abs(saddle.energy_terms()[1][saddle.free_dofs()])))
-        labels: tuple[str, ...] = ()
+        labels = ()
         steps = (0, 0)
     else:
         top, index, residual = run.saddle_image, run.saddle_index, run.residual
-        vals, labels, steps = found["last"]
+        rec = land.judge(saddle)
+        vals, labels, steps = rec["eigenvalues"], rec["descent_ends"], rec["descent_steps"]
+    on_path = [(lk.energy_saddle, {lk.from_state, lk.to_state})
+               for lk in (chained.links if chained is not None else ())]
+
+    def other(rec: dict[str, Any]) -> bool:  # neither the saddle sought nor a chain's link
+        ends = set(rec["descent_ends"])
+        return ends != {name_a, name_b} and not any(
+            ends == pair and abs(rec["energy"] - e) <= 1e-12 * abs(e) for e, pair in on_path)
+
+    others = tuple({k: rec[k] for k in ("energy", "descent_ends", "end_energies",
+                                         "ends_converged")}
+                   for rec in land.saddles if other(rec))
     path = band[:top] + [saddle] + band[top + 1:]
     energies = [r.energy() for r in path]
+    method = ("string: belt path, perpendicular Newton steps retracted onto the inextensible "
+              "states, reparametrised to equal chart arclength; saddle = Newton from a local "
+              "maximum of its energies, index 1, whose steepest descents end on the two "
+              "states (same_state)")
+    if chained is not None:
+        method += ("; no saddle joined the two states: the string split at the minima its "
+                   "images descend to, a string and saddle per neighbouring pair (chain.py), "
+                   "the barrier the chain's highest saddle")
     e_s = energies[top]
     return Barrier(
         barrier_forward=float(e_s - e_a), barrier_backward=float(e_s - e_b),
@@ -700,13 +690,10 @@ def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
         from_state=name_a, to_state=name_b, energy_from=float(e_a), energy_to=float(e_b),
         energy_saddle=float(e_s), lowest_eigenvalues_saddle=tuple(float(x) for x in vals),
         load_factor=mu, load_factor_critical=math.nan,
-        converged=run.converged, residual=residual,
+        converged=run.converged if chained is None else chained.converged, residual=residual,
         descent_steps=steps, elements_per_segment=n, n_dof=len(saddle.free_dofs()),
-        method="string: belt path, perpendicular Newton steps retracted onto the inextensible "
-               "states, reparametrised to equal chart arclength; saddle = Newton from a local "
-               "maximum of its energies, index 1, whose steepest descents end on the two "
-               "states (same_state)",
+        method=method,
         descent_ends=labels, images=n_img, iterations=run.iterations,
         path_arclength=tuple(float(x) for x in arclength(path)), string_run=run,
-        other_saddles=tuple(others)), \
+        other_saddles=others, chain=chained), \
         [Snapshot.of(r) for r in path]
