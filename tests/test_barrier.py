@@ -398,6 +398,21 @@ def test_cli_barrier_unconverged_exits_3_after_the_output(string_six: tuple,
     assert "\nsaddle " not in out
     assert ("other saddle index 1, energy 14.5, descents end on folded 13, unnamed 12 (not "
             "converged)") in out
+    # a chain: a link with its saddle, one bounded by its path, one with neither
+    from rodstab.multistable.chain import Chain, Link
+
+    links = (Link("folded", "m1", 13.0, 13.2, 14.5, True, 3, 10, 0, 14.51, 14.5),
+             Link("m1", "m2", 13.2, 13.1, math.nan, False, -1, 0, 0, 13.9, 13.5),
+             Link("m2", "one-loop", 13.1, 0.5, math.nan, False, -1, 300, 0, math.inf, 13.4))
+    chained = dataclasses.replace(failed, chain=Chain(
+        ("folded", "m1", "m2", "one-loop"), (13.0, 13.2, 13.1, 0.5), links, False, math.nan,
+        ("m1", "m2")))
+    monkeypatch.setattr(mep, "string_barrier", lambda *a, **k: (chained, path))
+    with pytest.raises(SystemExit):
+        main(["barrier", "--shape", "rectangle", "--aspect", "4"])
+    out = capsys.readouterr().out
+    assert ("chain        folded 13 -[14.5]-> m1 13.2 -[<= 13.9]-> m2 13.1 -[~ 13.4]-> one-loop "
+            "0.5 (not converged)") in out
 
 
 def test_cli_barrier_reads_the_states_of_a_design_ring(string_six: tuple,

@@ -5,6 +5,7 @@ Parsing and printing only.
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import click
@@ -249,13 +250,13 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
         f"converged    {b.converged} ({len(b.energies)} path points)"]
     if b.chain is not None:  # the string passed other minima: one saddle per step
         ch: Any = b.chain
-        steps = " ".join(
-            f"-[{fmt(lk.energy_saddle) if lk.converged else '<= ' + fmt(lk.energy_bound)}]-> "
-            f"{lk.to_state} {fmt(lk.energy_to)}" for lk in ch.links)
+        steps = " ".join(f"-[{_link_text(lk)}]-> {lk.to_state} {fmt(lk.energy_to)}"
+                         for lk in ch.links)
         lines.append(f"chain        {ch.states[0]} {fmt(ch.energies[0])} {steps}"
                      + ("" if ch.converged else " (not converged)"))
-        lines.append("             (minima and energies; [saddle] between them, or [<= the "
-                     "highest energy of a path] where that is below the chain's saddle)")
+        lines.append("             (minima and energies; [saddle] between them, [<= the highest "
+                     "energy along a path], or [~ a path's highest image] where neither was "
+                     "found)")
         if ch.lowest is not None and not ch.lowest["energy"] >= ch.energy_saddle:  # NaN: none
             lines.append(f"lowest       over every saddle found: {fmt(ch.lowest['energy'])} via "
                          f"{' -> '.join(ch.lowest['states'])}")
@@ -320,6 +321,15 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
                            f"{why} (residual {b.residual:.3g}, saddle index "
                            f"{b.saddle_index}, descents end on "
                            f"{', '.join(b.descent_ends) or 'not run'})")
+
+
+def _link_text(lk: Any) -> str:
+    """Return a chain link's saddle, else its path's bound, else its highest image (~)."""
+    if lk.converged:
+        return fmt(lk.energy_saddle)
+    if math.isfinite(lk.energy_bound):
+        return "<= " + fmt(lk.energy_bound)
+    return "~ " + fmt(lk.energy_highest)
 
 
 def _contact_line(report: Any, thickness: float, from_state: str, acting: bool) -> str:

@@ -166,7 +166,9 @@ class Barrier(Result):
     the two states, each ``{"energy", "descent_ends", "end_energies", "ends_converged"}`` (an
     intermediate state of a chain of transitions, or a saddle between two other states).
     ``chain``: the string's :class:`~.chain.Chain` when it was split at intermediate minima
-    (``converged`` is then the chain's: every link found its saddle).
+    (``converged`` is then the chain's; ``energies`` along the links' paths in order, and
+    ``saddle_position`` the highest link's saddle in it, or that link's highest point when its
+    saddle was one another string had found).
     """
 
     barrier_forward: float

@@ -18,7 +18,9 @@ minima, not on A and B, and the string method alone finds no barrier. :func:`cha
    descent curve: ``images`` of them, picked at equal chart arclength (no interpolation, so
    with contact every start image is inside the model). It is relaxed until a saddle whose
    descents end on X and Y is found (:meth:`~.landscape.Landscape.joins`); a link whose string
-   finds none is split again: at most :data:`CHAIN_DEPTH` splits deep in all.
+   finds none is split again: at most :data:`CHAIN_DEPTH` splits deep in all. A link whose two
+   minima a saddle judged before already joins (the first string's rejected saddles) takes
+   that saddle and is not relaxed.
 3. **Only the links that can matter.** Any continuous path from X to Y bounds their barrier
    from above (:func:`~.path_chart.path_bound`: its highest energy, sampled). The links
    are relaxed highest bound first, and one whose bound lies below the highest saddle already
@@ -35,6 +37,7 @@ contact, 0.1 s without.
 from __future__ import annotations
 
 import dataclasses
+import math
 from collections.abc import Callable
 from typing import Any
 
@@ -58,10 +61,14 @@ class Link(Result):
     """One saddle of a chain, between neighbouring minima ``from_state`` and ``to_state``.
 
     ``energy_saddle``: the saddle's energy (NaN when its string found none or it was not
-    relaxed: ``converged`` false); ``saddle_image``: its place in the link's path (-1: none);
+    relaxed: ``converged`` false); ``saddle_image``: its place in the link's path (-1: the
+    saddle was one another string had found, :meth:`~.landscape.Landscape.saddle_between`,
+    and the link's path is its start);
     ``iterations``: its string's (0: not relaxed); ``depth``: 0 for a link of the first split;
     ``energy_bound``: the highest energy along the link's path
-    (:func:`~.path_chart.path_bound`), at least its barrier's saddle.
+    (:func:`~.path_chart.path_bound`), at least its barrier's saddle (``inf`` when the path
+    between its images leaves the contact model); ``energy_highest``: its path's highest image
+    (not a bound: an estimate where no saddle and no bound were found).
     """
 
     from_state: str
@@ -74,6 +81,7 @@ class Link(Result):
     iterations: int
     depth: int
     energy_bound: float
+    energy_highest: float
 
 
 @dataclasses.dataclass(frozen=True)
@@ -169,6 +177,15 @@ def _link_bands(band: list[DiscreteRod], route: list[tuple[str, int, int]],
     return out
 
 
+def _link(land: Landscape, x: str, y: str, path: list[DiscreteRod], depth: int,
+          saddle: float = float("nan"), image: int = -1, iterations: int = 0,
+          bound: float | None = None) -> Link:
+    """Return the :class:`Link` from ``x`` to ``y`` along ``path`` (converged if ``saddle``)."""
+    return Link(x, y, land.energy(x), land.energy(y), saddle, not math.isnan(saddle), image,
+                iterations, depth, path_bound(path) if bound is None else bound,
+                max(r.energy() for r in path))
+
+
 def chain(band: list[DiscreteRod], land: Landscape, ends: tuple[str, str],
           relax: Callable[..., tuple[list[DiscreteRod], DiscreteRod | None, Any]], *,
           images: int, max_iter: int, depth: int = 0, max_depth: int = CHAIN_DEPTH,
@@ -189,8 +206,7 @@ def chain(band: list[DiscreteRod], land: Landscape, ends: tuple[str, str],
     labels, downs = _basins(band, land, ends)
     route = _route(labels)
     if depth > 0 and len(route) == 2:  # a link's string passes no other minimum: no new split
-        return [Link(*ends, land.energy(ends[0]), land.energy(ends[1]), float("nan"), False, -1,
-                     0, depth, path_bound(band))], [band], labels
+        return [_link(land, *ends, band, depth)], [band], labels
     starts = _link_bands(band, route, downs, images)
     bounds = [path_bound(b) for b in starts]
     done: dict[int, tuple[list[Link], list[list[DiscreteRod]]]] = {}
@@ -200,29 +216,31 @@ def chain(band: list[DiscreteRod], land: Landscape, ends: tuple[str, str],
             break
         k = max(todo, key=lambda m: bounds[m])
         x, y = route[k][0], route[k + 1][0]
+        known = land.saddle_between(x, y)
+        if known is not None:  # a saddle another string found: its path is this link's start
+            best[0] = max(best[0], known)
+            done[k] = ([_link(land, x, y, starts[k], depth, known)], [starts[k]])
+            continue
         out, saddle, run = relax(starts[k], max_iter=max_iter,
                                  accept=lambda s, x=x, y=y: land.joins(s, x, y))
         if saddle is not None:
             e = saddle.energy()
             best[0] = max(best[0], e)
             i = run.saddle_image
-            done[k] = ([Link(x, y, land.energy(x), land.energy(y), e, True, i, run.iterations,
-                             depth, path_bound(out[:i] + [saddle] + out[i + 1:]))],
-                       [out[:i] + [saddle] + out[i + 1:]])
+            path = out[:i] + [saddle] + out[i + 1:]
+            done[k] = ([_link(land, x, y, path, depth, e, i, run.iterations)], [path])
         elif depth + 1 < max_depth and not run.too_coarse:
             more, more_paths, _ = chain(out, land, (x, y), relax, images=images,
                                         max_iter=max_iter, depth=depth + 1,
                                         max_depth=max_depth, best=best)
             done[k] = (more, more_paths)
         else:
-            done[k] = ([Link(x, y, land.energy(x), land.energy(y), float("nan"), False, -1,
-                             run.iterations, depth, path_bound(out))], [out])
+            done[k] = ([_link(land, x, y, out, depth, iterations=run.iterations)], [out])
     links: list[Link] = []
     paths: list[list[DiscreteRod]] = []
     for k, start in enumerate(starts):
         x, y = route[k][0], route[k + 1][0]
-        more, more_paths = done.get(k, ([Link(x, y, land.energy(x), land.energy(y),
-                                              float("nan"), False, -1, 0, depth, bounds[k])],
+        more, more_paths = done.get(k, ([_link(land, x, y, start, depth, bound=bounds[k])],
                                         [start]))
         links += more
         paths += more_paths

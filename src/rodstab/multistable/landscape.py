@@ -96,6 +96,12 @@ class Landscape:
         rec = self.judge(saddle)
         return all(rec["ends_converged"]) and sorted(rec["descent_ends"]) == sorted((a, b))
 
+    def saddle_between(self, a: str, b: str) -> float | None:
+        """Energy of the lowest saddle judged so far that joins ``a`` and ``b``, or None."""
+        found = [rec["energy"] for rec in self.saddles
+                 if all(rec["ends_converged"]) and sorted(rec["descent_ends"]) == sorted((a, b))]
+        return min(found) if found else None
+
     def energy(self, label: str) -> float:
         """Energy of minimum ``label``."""
         return next(e for lab, _, e in self.minima if lab == label)

@@ -644,10 +644,15 @@ def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
     if chained is not None and chained.converged:
         band = [r for p in paths for r in p]
         k = int(np.nanargmax([lk.energy_saddle for lk in chained.links]))
-        top = sum(len(p) for p in paths[:k]) + chained.links[k].saddle_image
-        saddle, index = band[top], 1
+        i = chained.links[k].saddle_image
+        # a saddle the landscape held: its link's path is its start, marked at its highest point
+        top = sum(len(p) for p in paths[:k]) + (
+            i if i >= 0 else int(np.argmax([r.energy() for r in paths[k]])))
+        rec = min(land.saddles, key=lambda r: abs(r["energy"] - chained.energy_saddle))
+        saddle, index = band[0].copy(), 1
+        rec["state"].put(saddle)
         residual = float(np.max(np.abs(saddle.energy_terms()[1][saddle.free_dofs()])))
-        rec = land.judge(saddle)
+        saddle = band[top]
         vals, labels, steps = rec["eigenvalues"], rec["descent_ends"], rec["descent_steps"]
     elif saddle is None:
         energies = [r.energy() for r in band]
@@ -683,7 +688,7 @@ def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
         method += ("; no saddle joined the two states: the string split at the minima its "
                    "images descend to, a string and saddle per neighbouring pair (chain.py), "
                    "the barrier the chain's highest saddle")
-    e_s = energies[top]
+    e_s = energies[top] if chained is None or not chained.converged else chained.energy_saddle
     return Barrier(
         barrier_forward=float(e_s - e_a), barrier_backward=float(e_s - e_b),
         saddle_index=index, energies=tuple(float(e) for e in energies), saddle_position=top,
