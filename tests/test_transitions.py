@@ -14,6 +14,7 @@ import math
 
 import numpy as np
 import pytest
+from contact_checks import judged_pairs, segment_gap
 
 from rodstab.cli import main
 from rodstab.errors import RodstabInputError
@@ -26,6 +27,9 @@ from rodstab.nonlinear.solve import newton
 from rodstab.problems import hexagram as hx
 from rodstab.problems import ring_transitions as rt
 from rodstab.sections import rectangle
+
+#: The hexagram's line in two columns (odd rods on one side, even on the other, layers 0-2).
+TWO_COLUMNS = "1=-0.5:0,3=-0.5:1,5=-0.5:2,2=0.5:0,4=0.5:1,6=0.5:2"
 
 N = 8
 SECTION = rectangle(aspect=4.0)
@@ -243,7 +247,6 @@ def test_cli_graph_json_schema_on_a_design(tmp_path, capsys, hexagram_line) -> N
     # The edge's sampled states in a path file (rodstab.io.path_file): the stretches in
     # order, the default thickness, and the pairs stacked in its first state -- recomputed
     # from the file alone (contact_checks) -- as the loading's contact report counts them.
-    from contact_checks import judged_pairs, segment_gap
 
     from rodstab.io.path_file import read_path_file
 
@@ -269,6 +272,12 @@ def test_cli_graph_json_schema_on_a_design(tmp_path, capsys, hexagram_line) -> N
     (["--stimulus", "hexagon=load_factor:3"], "'hexagon'"),
     (["--stimulus", "star=load_factor:x"], "'x'"),
     (["--stimulus", "star=welds.0,3.rotation.sideways:1"], "'sideways'"),
+    (["--state", "line", "--layers", TWO_COLUMNS], "--contact"),
+    (["--contact", "--layers", TWO_COLUMNS], "one --state"),
+    (["--contact", "--state", "line", "--layers", "torus"], "'torus'"),
+    (["--contact", "--state", "line", "--layers", "1=0,2=1"], "'3'"),
+    (["--contact", "--state", "line", "--layers", TWO_COLUMNS, "--stimulus",
+      "line=weld.2.moment.binormal:12"], "'weld.2.moment.binormal'"),
 ])
 def test_bad_inputs_exit_2_naming_the_value(args, named, capsys) -> None:
     """Bad states, weld indices and stimulus keys: exit 2, one stderr line naming the value."""
@@ -277,6 +286,26 @@ def test_bad_inputs_exit_2_naming_the_value(args, named, capsys) -> None:
     assert exc.value.code == 2
     err = capsys.readouterr().err
     assert named in err and len(err.strip().splitlines()) == 1
+
+
+def test_the_stacked_line_with_contact_holds_past_the_planar_limit_rods_apart(tmp_path,
+                                                                             capsys) -> None:
+    """The line stacked in two columns with contact (`--layers`), loaded in the natural
+    curvature: it loses stability above the planar line's limit without contact, 2.24825
+    (rodstab hexagram, h/t = 4; contact only adds restrictions there: the derived zero-gap
+    limit in two columns is 3/2 of it), and every judged pair of its written path stays at
+    least h apart (dense sampling of the path file, no rodstab distance code)."""
+    main(["transitions", "--shape", "rectangle", "--aspect", "4", "--load-factor", "1",
+          "--contact", "--state", "line", "--layers", TWO_COLUMNS, "--elements", "6", "--out",
+          str(tmp_path), "--json"])
+    out = json.loads(capsys.readouterr().out)
+    (edge,) = out["edges"]
+    assert edge["from"] == "line" and edge["physical"] and edge["converged"]
+    assert 2.24825 * 1.05 < edge["threshold"] < 4.0
+    z = np.load(edge["path_file"])
+    pairs = judged_pairs(z["edges"], 6)
+    smallest = min(segment_gap(x, z["edges"], *p, n=21) for x in z["x"] for p in pairs)
+    assert smallest >= z["thickness"], smallest / z["thickness"]
 
 
 def test_a_state_unstable_at_the_load_is_skipped_with_a_line_not_a_failure() -> None:

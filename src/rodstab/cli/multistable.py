@@ -19,7 +19,12 @@ from ..io.outputs import check_output
 from ..limits import Limits, require_steps
 from ..results import jsonable
 from ..sections import Section
-from .contact_options import contact_options, path_contact_options
+from .contact_options import (
+    contact_options,
+    layers_option,
+    parse_layers,
+    path_contact_options,
+)
 from .options import (
     elements_option,
     json_option,
@@ -170,6 +175,9 @@ def discover(design_file: str | None, section: Section, structure: str, segments
 @click.option("--state", "states_", multiple=True, metavar="STATE",
               help="Load only these states (repeatable; labels of `rodstab states`; default: "
                    "the line, star, daisy and eight the ring has).")
+@layers_option("Offsets NAME=U:K (in-plane U, layer K) also accepted. The one --state "
+               "loaded is stacked in this order, its welds spanning the layers, and loaded "
+               "in load_factor (needs --contact).")
 @click.option("--all", "all_stimuli", is_flag=True,
               help="Try every stimulus of each state, not only up to the first transition.")
 @click.option("--out", "out_dir", type=click.Path(file_okay=False), default=None,
@@ -183,7 +191,8 @@ def discover(design_file: str | None, section: Section, structure: str, segments
 def transitions(design_file: str | None, section: Section, structure: str,
                 load_factor: float | None, elements: int,
                 contact: Any, stimuli: tuple[str, ...], states_: tuple[str, ...],
-                all_stimuli: bool, out_dir: str | None, limits: Limits, as_json: bool) -> None:
+                layers: str | None, all_stimuli: bool, out_dir: str | None, limits: Limits,
+                as_json: bool) -> None:
     """Transitions between states under a stimulus: the transition graph.
 
     Each state is loaded until it first loses stability, relaxed past it, unloaded and
@@ -212,12 +221,30 @@ def transitions(design_file: str | None, section: Section, structure: str,
         state, key, stop = rt.parse_stimulus(text, labels)
         chosen.setdefault(state, []).append((key, stop))
     stim = rt.default_stimuli(ring) | {s: tuple(v) for s, v in chosen.items()}
+    order = None
+    if layers is not None:
+        if dhat is None:
+            raise RodstabInputError(f"--layers {layers!r} is a setting of contact, which is off "
+                                    "for this run (--contact)")
+        if len(states_) != 1:
+            raise RodstabInputError(f"--layers {layers!r} stacks one state: name it with one "
+                                    f"--state (got {list(states_)})")
+        held = ring.held(ring.state(states_[0]).theta)
+        parsed = parse_layers(layers, [seg.name for seg in held.segments])
+        if not isinstance(parsed, dict):
+            raise RodstabInputError(f"--layers {layers!r}: transitions take NAME=K or NAME=U:K "
+                                    "for every segment, not 'torus'")
+        order = {states_[0]: parsed}
+        if states_[0] not in chosen:  # its default stimuli in the load factor (the others
+            # hold welds of the planar model's topology)
+            stim[states_[0]] = tuple(p for p in stim.get(states_[0], ()) if p[0] == "load_factor")
     out = None if out_dir is None else check_output("--out", out_dir, directory=True)
     with warnings_as_lines(), warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)
         res = rt.transitions(ring, load_factor=load_factor, elements=elements,
                              thickness=thickness, stimuli=stim, all_stimuli=all_stimuli,
-                             load=tuple(states_) or None, limits=limits, dhat_fraction=dhat)
+                             load=tuple(states_) or None, limits=limits, dhat_fraction=dhat,
+                             layers=order)
     payload = res.graph.to_json()
     payload["contact"] = {"acting": dhat is not None, "thickness": thickness, "dhat": dhat}
     payload["structure"] = name

@@ -240,8 +240,10 @@ def chain(band: list[DiscreteRod], land: Landscape, ends: tuple[str, str],
     paths: list[list[DiscreteRod]] = []
     for k, start in enumerate(starts):
         x, y = route[k][0], route[k + 1][0]
-        more, more_paths = done.get(k, ([_link(land, x, y, start, depth, bound=bounds[k])],
-                                        [start]))
+        known = land.saddle_between(x, y)  # below the chain's saddle, yet known: say which
+        more, more_paths = done.get(k, ([_link(land, x, y, start, depth,
+                                               math.nan if known is None else known,
+                                               bound=bounds[k])], [start]))
         links += more
         paths += more_paths
     return links, paths, labels

@@ -170,7 +170,11 @@ def ring_rms(rod: DiscreteRod, x: np.ndarray, y: np.ndarray) -> float:
     over ``L``).
     """
     nodes = ring_nodes(rod)
-    xs, ys = x[nodes], y[nodes]
+    return _relabelled_rms(rod, x[nodes], y[nodes])
+
+
+def _relabelled_rms(rod: DiscreteRod, xs: np.ndarray, ys: np.ndarray) -> float:
+    """Smallest :func:`kabsch_rms` of ring nodes ``xs``, ``ys`` over the ring's relabellings."""
     n = _elements(rod)
     best = math.inf
     for image in (xs, np.concatenate([xs[:1], xs[:0:-1]])):
@@ -316,10 +320,14 @@ def identify(rod: DiscreteRod, references: Mapping[str, DiscreteRod]) -> tuple[s
 
     A match is an :func:`aligned_distance` below :data:`MATCH_RMS` (modulo rigid motion,
     reflection and relabelling of the rods); otherwise ``other(w=<weld points>,T=<turning>)``
-    from :func:`invariants`. ``references``: states of the same discrete model.
+    from :func:`invariants`. ``references``: states of the same ring with as many elements
+    per rod; their models may differ in nodes off the ring's line (a stacked model's welds
+    spanning layers: each model's own ring nodes are compared, :func:`ring_nodes`).
     """
     L = mean_length(rod)
-    dist = {name: ring_rms(rod, rod.x, ref.x) / L for name, ref in references.items()}
+    mine = rod.x[ring_nodes(rod)]
+    dist = {name: _relabelled_rms(rod, mine, ref.x[ring_nodes(ref)]) / L
+            for name, ref in references.items()}
     name = min(dist, key=lambda k: dist[k])
     if dist[name] < MATCH_RMS:
         return name, dist[name]

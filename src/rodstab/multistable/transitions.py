@@ -44,6 +44,7 @@ from __future__ import annotations
 import dataclasses
 import math
 from collections.abc import Mapping, Sequence
+from typing import Any
 
 import numpy as np
 
@@ -248,10 +249,30 @@ def _let_go(rod: DiscreteRod, a: Assembly, n: int) -> DiscreteRod:
     return free
 
 
+def _stacked_source(a: Assembly, source: str, n: int, load_factor: float,
+                    layers: dict[str, Any], contact: ContactModel | None) -> DiscreteRod:
+    """Return ``source`` held with its rods on ``layers`` (welds spanning them), relaxed.
+
+    The planar state in the common model (:func:`~.discover.common_rod`) lifted into its
+    stacked model (:func:`~.layered.stacked_model`, :func:`~.layered.lift`) and relaxed with
+    ``contact`` (:func:`~.layered.stable_end`: refused unless stable).
+    """
+    from .discover import common_rod
+    from .layered import lift, stable_end, stacked_model
+
+    planar = common_rod(a, n, load_factor)
+    if not newton(planar)[0]:
+        raise NotConverged(f"state {source!r}: no equilibrium at load factor {load_factor:g}")
+    rod = lift(stacked_model(planar, layers, contact), planar, planar)
+    stable_end(rod, source, contact, f"layers = {layers}, load factor {load_factor:g}")
+    return rod
+
+
 def transition(a: Assembly, source: str, key: str, stop: float, *, load_factor: float,
                references: dict[str, DiscreteRod], thickness: float,
                elements_per_segment: int = 8, n_steps: int = 16,
-               contact: ContactModel | None = None) -> Transition:
+               contact: ContactModel | None = None,
+               layers: dict[str, Any] | None = None) -> Transition:
     """Load state ``source`` (assembly ``a``) in ``key`` from 0 to ``stop`` (module docstring).
 
     ``references``: the stable states to identify the target against (discretised alike);
@@ -260,17 +281,28 @@ def transition(a: Assembly, source: str, key: str, stop: float, *, load_factor: 
     with it, the continuation's, the snap's and the release's steps filtered); the snap is then
     recorded by its two ends, every step between them being filtered, instead of the
     interpolated proxy. Raises :class:`~rodstab.nonlinear.contact.Interpenetration` when the
-    source lies outside the model.
+    source lies outside the model. ``layers`` (with ``contact``, stimulus ``load_factor``):
+    the source is a stacked state with this layer order (:func:`_stacked_source`), loaded,
+    snapped and released in its stacked model (welds spanning the layers); the state reached
+    is identified against ``references`` by its ring nodes
+    (:func:`~.identify.identify`).
     """
     n = elements_per_segment
-    rod = discretise(a, n, load_factor)
-    if contact is not None:
-        try:
-            attach_contact(rod, contact)
-        except RodstabInputError as exc:
-            raise Interpenetration(f"state {source!r}: {exc}") from None
-    if not newton(rod)[0]:
-        raise NotConverged(f"state {source!r}: no equilibrium at load factor {load_factor:g}")
+    if layers is not None:
+        if key != "load_factor":
+            raise RodstabInputError(f"layers = {layers!r}: a stacked state is loaded in "
+                                    f"load_factor only, got {key!r}")
+        rod = _stacked_source(a, source, n, load_factor, layers, contact)
+    else:
+        rod = discretise(a, n, load_factor)
+        if contact is not None:
+            try:
+                attach_contact(rod, contact)
+            except RodstabInputError as exc:
+                raise Interpenetration(f"state {source!r}: {exc}") from None
+        if not newton(rod)[0]:
+            raise NotConverged(f"state {source!r}: no equilibrium at load factor "
+                               f"{load_factor:g}")
     if lowest_modes(rod, 1)[0][0] <= zero_eigenvalue_tol(rod):
         raise RodstabInputError(f"state {source!r} is not stable at load factor "
                                 f"{load_factor:g}: choose a load inside its stable interval")
@@ -321,13 +353,14 @@ def transition(a: Assembly, source: str, key: str, stop: float, *, load_factor: 
         snap_name = "snap (relaxed with contact)"
         proxy = [(past, at.x.copy()), (past, snapped.x.copy())]
     reports.append(tracker.stretch(snap_name, proxy))
-    under, _ = identify(_let_go(snapped, a, n), references)
+    let_go = (lambda r: r.copy()) if layers is not None else (lambda r: _let_go(r, a, n))
+    under, _ = identify(let_go(snapped), references)
     release: list[tuple[float, np.ndarray]] = []
     for p in np.linspace(past, start, RELEASE_STEPS + 1)[1:]:
         param.set(snapped, float(p))
         ok = relax(snapped)[0] and ok
         release.append((float(p), snapped.x.copy()))
-    free = _let_go(snapped, a, n)
+    free = let_go(snapped)
     ok = relax(free)[0] and ok
     release.append((start, free.x.copy()))
     reports.append(tracker.stretch("release", release))
@@ -396,7 +429,8 @@ def transition_graph(assemblies: dict[str, Assembly],
                      thickness: float, elements_per_segment: int = 8,
                      n_steps: int = 16, all_stimuli: bool = False,
                      load: Sequence[str] | None = None,
-                     contact: ContactModel | None = None) -> TransitionGraph:
+                     contact: ContactModel | None = None,
+                     layers: Mapping[str, dict[str, Any]] | None = None) -> TransitionGraph:
     """Transitions out of every state of ``assemblies`` (one discretised ring, many states).
 
     ``stimuli[state]``: ``(key, stop)`` tried in order until one gives a transition to another
@@ -406,6 +440,7 @@ def transition_graph(assemblies: dict[str, Assembly],
     named in ``load`` must be stable); every state of ``assemblies`` is a reference for the
     identification. ``contact``: passed to :func:`transition`; a state whose rods overlap
     under it (stacked layers on one curve) is skipped (listed), or refused when named.
+    ``layers[state]``: that state is stacked in this layer order (:func:`transition`).
     """
     refs = {}
     for name, a in assemblies.items():
@@ -422,7 +457,8 @@ def transition_graph(assemblies: dict[str, Assembly],
             try:
                 t = transition(a, name, key, stop, load_factor=load_factor, references=refs,
                                thickness=thickness, elements_per_segment=elements_per_segment,
-                               n_steps=n_steps, contact=contact)
+                               n_steps=n_steps, contact=contact,
+                               layers=(layers or {}).get(name))
             except Interpenetration as exc:
                 if load is not None:
                     raise

@@ -174,7 +174,8 @@ def transitions(ring: Ring, *, load_factor: float, elements: int = 8,
                 stimuli: dict[str, tuple[tuple[str, float], ...]] | None = None,
                 all_stimuli: bool = False, load: tuple[str, ...] | None = None,
                 limits: Limits = DEFAULT_LIMITS,
-                dhat_fraction: float | None = None) -> RingTransitions:
+                dhat_fraction: float | None = None,
+                layers: dict[str, dict[str, Any]] | None = None) -> RingTransitions:
     """Transition graph of the states ``load`` of ``ring`` at ``load_factor`` (module docstring).
 
     ``load``: labels of :meth:`~rodstab.multistable.states.Ring.states`, each of which must be
@@ -187,6 +188,8 @@ def transitions(ring: Ring, *, load_factor: float, elements: int = 8,
     ``dhat_fraction``: contact acts (capsules of diameter ``thickness`` x the rod length,
     ``dhat = dhat_fraction h``, :func:`rodstab.nonlinear.equilibrium.rod_contact_model`); a
     basic state outside the model is skipped (listed), a named one refused. None: no contact.
+    ``layers[state]``: with contact, that state is stacked in this layer order, its welds
+    spanning the layers (:func:`~rodstab.multistable.transitions.transition`).
     """
     # A closed ring of n rods has n joints.
     require_nonlinear([elements] * ring.segments, ring.segments, f"{elements} elements per rod",
@@ -219,7 +222,7 @@ def transitions(ring: Ring, *, load_factor: float, elements: int = 8,
     graph = transition_graph(assemblies, stim, load_factor=load_factor,
                              thickness=thickness * ring.length,
                              elements_per_segment=elements, all_stimuli=all_stimuli,
-                             load=load if named else None, contact=contact)
+                             load=load if named else None, contact=contact, layers=layers)
     shapes = {}
     for s, a in assemblies.items():
         r = discretise(a, elements, load_factor)
