@@ -1,10 +1,11 @@
 """A string that passes other minima, split into one saddle per neighbouring pair (issue 21).
 
-A minimum energy path between two states A and B may pass through other local minima. With
-contact it does on the hexagram's stacked line -> star path (rectangle h/t = 4, kappa_n R0 = 1,
-6 el./rod, 17 images): images 1-4 descend to four distinct stacked arrangements 0.03-0.45 B3/L
-above the line. The string's local maxima then refine to saddles whose descents end on those
-minima, not on A and B, and the string method alone finds no barrier. :func:`chain` splits it
+A minimum energy path between two states A and B may pass through other local minima: the
+hexagram's line -> daisy at kappa_n R0 = 1.5 passes the star (rectangle h/t = 4, 6 el./rod,
+33 images); with contact, the stacked line -> star path (kappa_n R0 = 1, 17 images) has images
+1-3 in three stacked arrangements 0.027-0.108 B3/L above the line. The string's local maxima
+then refine to saddles whose descents end on those minima, not on A and B, and the string
+method alone finds no barrier. :func:`chain` splits it
 (the "connect" step of discrete path sampling, Wales, Mol. Phys. 100, 3285, 2002):
 
 1. **Basins.** Every interior image of the relaxed string is followed downhill
