@@ -186,3 +186,46 @@ def test_bad_input_names_the_key_and_value(call, key):
     """Each bad input raises RodstabInputError naming the key (and its value)."""
     with pytest.raises(RodstabInputError, match=key):
         call()
+
+
+def test_the_pressed_stacked_line_is_held_to_the_held_closed_bound(monkeypatch):
+    """The hexagram's line in two columns with contact (layers out of the barrier's reach),
+    loaded quasi-statically (each state relaxed from the last, benchmarks/stacked_line_hold.py):
+    past the planar 2.25 its loops press on one another, and the pressed stack keeps a
+    positive Hessian to the held-closed bound of the rod engine's linear method
+    (rod_cone_limits, held_closed: 6.82427 at 8 el.), and not past it: stable at 0.98 of it,
+    Newton at 1.02 of it (from the last stable state) lands on an unstable equilibrium."""
+    import rodstab.nonlinear.contact_model as cm
+    from rodstab.multistable.cone_limit import rod_cone_limits
+    from rodstab.multistable.discover import common_rod
+    from rodstab.multistable.layered import lift, stacked_model
+    from rodstab.nonlinear.contact import attach_contact
+    from rodstab.nonlinear.equilibrium import rod_contact_model
+    from rodstab.nonlinear.newton import newton, relax
+    from rodstab.nonlinear.solve import lowest_modes, zero_eigenvalue_tol
+    from rodstab.problems.barrier_states import state_assembly
+    from rodstab.sections import rectangle
+
+    two = {"1": (-0.5, 0), "3": (-0.5, 1), "5": (-0.5, 2),
+           "2": (0.5, 0), "4": (0.5, 1), "6": (0.5, 2)}
+    n = 8
+    line = state_assembly("hexagram", rectangle(aspect=4.0), "line")
+    bound = rod_cone_limits(line, two, n, held_closed=True, sides=("upper",)).upper
+    assert bound.status == "bracketed"
+    held = float(bound.load_factor)
+    monkeypatch.setattr(cm, "START_GAP_FRACTION", 1.5)  # out of reach: no force at the start
+    model = rod_contact_model(line, 0.02, 0.05)
+    planar = common_rod(line, n, 2.2)
+    newton(planar)
+    rod = lift(stacked_model(planar, two, model), planar, planar)
+    attach_contact(rod, model)
+    assert newton(rod)[0]
+    for lam in [*np.arange(2.2, 0.98 * held, 0.2), 0.98 * held]:
+        rod.load_factor = float(lam)
+        assert relax(rod)[0], lam
+    tol = zero_eigenvalue_tol(rod)
+    assert lowest_modes(rod, 1)[0][0] > tol  # held at 0.98 of the bound
+    past = rod.copy()
+    past.load_factor = 1.02 * held
+    assert newton(past)[0]
+    assert lowest_modes(past, 1)[0][0] < -tol  # the pressed stack is lost past the bound
