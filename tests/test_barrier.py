@@ -485,7 +485,7 @@ def test_string_runs_a_rejected_saddles_descents_once(monkeypatch) -> None:
     p = folded_ring.Params(section=R4)
     b, _ = mep.string_barrier(folded_ring.build(p), one_loop_assembly(p), THETA,
                               elements_per_segment=N, images=11, name_a="folded",
-                              name_b="one-loop", max_iter=120, chain_depth=0)
+                              name_b="one-loop", max_iter=60, chain_depth=0)
     assert not b.converged and b.chain is None
     assert len(energies) >= 1 and calls["accept"] > len(energies)
     distinct = [e for i, e in enumerate(energies)

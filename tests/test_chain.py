@@ -13,7 +13,6 @@ from rodstab.multistable.chain import _route, chain, chain_result
 from rodstab.multistable.discover import common_rod
 from rodstab.multistable.landscape import Landscape
 from rodstab.multistable.string_method import (
-    STRING_IMAGES,
     relax_string,
     string_barrier,
     to_gauge,
@@ -55,7 +54,7 @@ def test_lowest_path_is_the_min_max_path() -> None:
 
 
 SEC = rectangle(aspect=4.0)
-MU, N = 1.5, 6
+MU, N, IMAGES = 1.5, 6, 11
 
 
 @pytest.fixture(scope="module")
@@ -63,14 +62,14 @@ def direct() -> dict[str, object]:
     """The string method's barriers line -> star and star -> daisy (hexagram, h/t = 4,
     kappa_n R0 = 1.5, 6 el./rod), each run on its own: results and paths."""
     line, star, daisy = (state_assembly("hexagram", SEC, s) for s in ("line", "star", "daisy"))
-    return {names: string_barrier(a, b, MU, elements_per_segment=N, name_a=names[0],
-                                  name_b=names[1])
+    return {names: string_barrier(a, b, MU, elements_per_segment=N, images=IMAGES,
+                                  name_a=names[0], name_b=names[1])
             for a, b, names in ((line, star, ("line", "star")),
                                 (star, daisy, ("star", "daisy")))}
 
 
 def test_a_path_through_the_star_splits_into_the_two_direct_barriers(direct) -> None:
-    """The two direct paths joined at the star (line -> star -> daisy, 33 images): the chain
+    """The two direct paths joined at the star (line -> star -> daisy, 21 images): the chain
     finds the images' basins line, star, daisy in that order; the highest link's own string
     finds the direct string's saddle again (same energy to 1e-8), and the other link, bounded
     by its path below that saddle, is not relaxed (its bound lies above its direct saddle)."""
@@ -89,7 +88,7 @@ def test_a_path_through_the_star_splits_into_the_two_direct_barriers(direct) -> 
         band += images if not band else images[1:]
     land = Landscape.of([("line", band[0]), ("daisy", band[-1])])
     links, paths, basins = chain(band, land, ("line", "daisy"), relax_string,
-                                 images=STRING_IMAGES, max_iter=300)
+                                 images=IMAGES, max_iter=300)
     result = chain_result(links, basins, land, ("line", "daisy"))
     assert result.converged, result
     assert len(result.states) == 3 and result.states[::2] == ("line", "daisy")
