@@ -277,7 +277,7 @@ def test_cli_graph_json_schema_on_a_design(tmp_path, capsys, hexagram_line) -> N
     (["--contact", "--state", "line", "--layers", "torus"], "'torus'"),
     (["--contact", "--state", "line", "--layers", "1=0,2=1"], "'3'"),
     (["--contact", "--state", "line", "--layers", TWO_COLUMNS, "--stimulus",
-      "line=weld.2.moment.binormal:12"], "'weld.2.moment.binormal'"),
+      "line=weld.2.moment.binormal:12"], "--stimulus line=weld.2.moment.binormal:12"),
 ])
 def test_bad_inputs_exit_2_naming_the_value(args, named, capsys) -> None:
     """Bad states, weld indices and stimulus keys: exit 2, one stderr line naming the value."""

@@ -238,6 +238,10 @@ def transitions(design_file: str | None, section: Section, structure: str,
         if states_[0] not in chosen:  # its default stimuli in the load factor (the others
             # hold welds of the planar model's topology)
             stim[states_[0]] = tuple(p for p in stim.get(states_[0], ()) if p[0] == "load_factor")
+        for key, stop in stim.get(states_[0], ()):
+            if key != "load_factor":
+                raise RodstabInputError(f"--stimulus {states_[0]}={key}:{stop:g}: a state "
+                                        "stacked with --layers is loaded in load_factor only")
     out = None if out_dir is None else check_output("--out", out_dir, directory=True)
     with warnings_as_lines(), warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)
