@@ -284,7 +284,8 @@ def transitions(design_file: str | None, section: Section, structure: str,
             payload, res.shapes, out / "transitions.png",
             title=f"{name}, {section_label(section)}, "
                   f"{load_name} = {load_factor:g}{load_si}, {elements} elements per rod, h/L = "
-                  f"{thickness:g}"))
+                  f"{thickness:g}" + ("" if dhat is None else ", contact acting")
+                  + ("" if order is None else f", {states_[0]} stacked (--layers)")))
         payload["json_file"] = str(out / "transitions.json")
     lines = [section_line(section),
              f"{name} at {load_name} = {fmt(load_factor)}, {elements} elements per rod, "

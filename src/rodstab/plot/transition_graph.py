@@ -11,6 +11,7 @@ transition is not physical as computed); a legend says so.
 from __future__ import annotations
 
 import math
+import textwrap
 from pathlib import Path
 from typing import Any
 
@@ -131,7 +132,7 @@ def plot_transition_graph(graph: dict[str, Any], shapes: dict[str, np.ndarray],
                                strict=True)],
                loc="lower center", fontsize=7, frameon=False, title="transitions",
                title_fontsize=7)
-    fig.suptitle(title, fontsize=9)
+    fig.suptitle(textwrap.fill(title, 100), fontsize=9)  # a long title wraps, not clipped
     _fit_view(fig, ax)
     out = Path(path)
     fig.savefig(out, dpi=120)
