@@ -10,10 +10,10 @@ smallest capsule gap (over dhat) and the relaxation's Newton iterations. The lin
 the state stays within a fraction of h of it; where it leaves (the RMS jumps) or the relaxation
 fails, the run no longer shows it held.
 
-``gap``: the layers' start gap g0 over dhat (``START_GAP_FRACTION``; the model's default is
-0.5, inside the barrier's reach, so every stacked pair carries force; 1.5 puts them out of
-reach: zero contact force at the start). Compare with the limit with contact at zero gap,
-3/2 x 2.24825 = 3.37238 in two columns (docs/theory/contact.md).
+``gap``: the layers' start gap g0 over dhat (``pressed_hold``'s ``gap_fraction``; the stacked
+model's default is 0.5, inside the barrier's reach, so every stacked pair carries force; 1.5
+puts them out of reach: zero contact force at the start). Compare with the rod engine's
+held-closed bound (6.82427 at 8 el.) and its cone at zero force (3.12294; docs/theory/contact.md).
 
 Run: ``python benchmarks/stacked_line_hold.py [elements] [h] [dhat/h] [gap] [start] [stop]
 [step]`` (defaults 8 0.02 0.1 1.5 2.2 3.8 0.05; ~10 s; to 7 in steps of 0.05: ~3 min).
@@ -26,14 +26,10 @@ import time
 
 import numpy as np
 
-import rodstab.nonlinear.contact_model as cm
-from rodstab.multistable.discover import common_rod
 from rodstab.multistable.identify import mean_length, ring_rms
-from rodstab.multistable.layered import lift, stacked_model
-from rodstab.nonlinear.contact import attach_contact, smallest_gap
+from rodstab.multistable.layered import pressed_hold
+from rodstab.nonlinear.contact import smallest_gap
 from rodstab.nonlinear.equilibrium import rod_contact_model
-from rodstab.nonlinear.newton import newton, relax
-from rodstab.nonlinear.solve import lowest_modes
 from rodstab.problems.barrier_states import state_assembly
 from rodstab.sections import rectangle
 
@@ -43,28 +39,23 @@ TWO_COLUMNS = {"1": (-0.5, 0), "3": (-0.5, 1), "5": (-0.5, 2),
 
 def main(n: int = 8, h: float = 0.02, dhat: float = 0.1, gap: float = 1.5, start: float = 2.2,
          stop: float = 3.8, step: float = 0.05) -> None:
-    cm.START_GAP_FRACTION = gap  # read when the stacked model is built (layered.stacked_model)
     line = state_assembly("hexagram", rectangle(aspect=4.0), "line")
     model = rod_contact_model(line, h, dhat)
-    planar = common_rod(line, n, start)
-    newton(planar)
-    rod = lift(stacked_model(planar, TWO_COLUMNS, model), planar, planar)
-    attach_contact(rod, model)
-    newton(rod)
-    ref = rod.x.copy()
-    L = mean_length(rod)
+    loads = np.arange(start, stop + step / 2, step)
     print(f"{n} el./rod, h = {h}, dhat = {dhat} h, g0 = {gap} dhat; kappa_n R0 from {start}")
-    print(" kappa   lowest eig   rms/L     gap/dhat  relax its")
+    print(" kappa   lowest eig   rms/L     gap/dhat")
     t0 = time.perf_counter()
-    for lam in np.arange(start, stop + step / 2, step):
-        rod.load_factor = float(lam)
-        ok, its, _ = relax(rod)
-        ev = float(lowest_modes(rod, 1)[0][0])
+    ref = pressed_hold(line, TWO_COLUMNS, model, n, loads[:1], gap_fraction=gap)[0].x.copy()
+
+    def show(rod, row) -> None:
+        lam, ok, ev = row
         near = smallest_gap(rod.contact, rod.x)
         g = float("inf") if near is None else near[0] / (dhat * h)
-        rms = ring_rms(rod, rod.x, ref) / L
-        print(f"{lam:6.3f}  {ev: .3e}  {rms:.4e}  {g:9.4f}  {its:4d}"
-              f"{'' if ok else ' NOT CONVERGED'}", flush=True)
+        rms = ring_rms(rod, rod.x, ref) / mean_length(rod)
+        print(f"{lam:6.3f}  {ev: .3e}  {rms:.4e}  {g:9.4f}{'' if ok else ' NOT CONVERGED'}",
+              flush=True)
+
+    pressed_hold(line, TWO_COLUMNS, model, n, loads, gap_fraction=gap, each=show)
     print(f"{time.perf_counter() - t0:.0f} s")
 
 

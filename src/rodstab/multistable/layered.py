@@ -27,14 +27,19 @@ built yet.
 
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
 from typing import Any
 
 import numpy as np
 
 from ..errors import RodstabInputError
+from ..model import Assembly
 from ..nonlinear.contact import ContactModel, Interpenetration
 from ..nonlinear.discrete import DiscreteRod
 from .stacking import _segment_nodes
+
+#: Layers' start gap over dhat for :func:`pressed_hold`: out of the barrier's reach (1).
+OUT_OF_REACH = 1.5
 
 
 def lift(model: DiscreteRod, held: DiscreteRod, planar: DiscreteRod) -> DiscreteRod:
@@ -100,14 +105,17 @@ def stacked_band(band: list[DiscreteRod], layers: dict[str, Any], contact: Conta
     return out
 
 
-def stacked_model(held: DiscreteRod, layers: dict[str, Any], contact: ContactModel | None
-                  ) -> DiscreteRod:
+def stacked_model(held: DiscreteRod, layers: dict[str, Any], contact: ContactModel | None,
+                  *, gap_fraction: float | None = None) -> DiscreteRod:
     """Return ``held``'s model with its segments on ``layers``, welds spanning them.
 
     As :func:`stacked_band` builds it: capsules of ``contact``'s diameter ``h``, layers ``h +
     g0`` apart (:func:`~.layer_orders.layer_translations`), the same elements per segment and
     load factor as ``held``; its nodes differ from ``held``'s (each weld's segment ends are
-    nodes of their own).
+    nodes of their own). ``g0 = gap_fraction dhat`` (default
+    :data:`~rodstab.nonlinear.contact_model.START_GAP_FRACTION`, 0.5: inside the barrier's
+    reach, every stacked pair pressed by it; above 1 the layers start out of reach, with no
+    contact force).
     """
     from ..nonlinear.contact_model import START_GAP_FRACTION
     from .discover import common_rod
@@ -116,7 +124,8 @@ def stacked_model(held: DiscreteRod, layers: dict[str, Any], contact: ContactMod
     if contact is None:
         raise RodstabInputError(f"layers = {layers!r} need a contact model (the stacked rods)")
     h = 2.0 * float(np.max(contact.radius))
-    shift = layer_translations(held, layers, h, START_GAP_FRACTION * contact.dhat)
+    g0 = (START_GAP_FRACTION if gap_fraction is None else gap_fraction) * contact.dhat
+    shift = layer_translations(held, layers, h, g0)
     n = len(held.R_edge) // len(held.assembly.segments)
     return common_rod(held.assembly, n, held.load_factor, layers=shift)
 
@@ -140,3 +149,37 @@ def stable_end(r: DiscreteRod, label: str, contact: ContactModel | None, where: 
     if not newton(r)[0] or lowest_modes(r, 1)[0][0] < -zero_eigenvalue_tol(r):
         raise RodstabInputError(f"{where}: state {label!r} is not a stable equilibrium there "
                                 "(outside its stable interval)")
+
+
+def pressed_hold(a: Assembly, layers: dict[str, Any], contact: ContactModel, n: int,
+                 loads: Sequence[float], *, gap_fraction: float = OUT_OF_REACH,
+                 each: Callable[[DiscreteRod, tuple[float, bool, float]], None] | None = None
+                 ) -> tuple[DiscreteRod, list[tuple[float, bool, float]]]:
+    """Load stacked state ``a`` quasi-statically in the load factor; return its last state.
+
+    The planar state in the common model lifted into its stacked model (layers ``gap_fraction
+    dhat`` apart: out of the barrier's reach by default, no force at the start), then for each
+    load of ``loads`` in turn relaxed from the last (:func:`~rodstab.nonlinear.newton.relax`:
+    Newton, then down any unstable mode, every step filtered). Returns the final state and,
+    per load, ``(load, relaxed, lowest scaled Hessian eigenvalue)``. Past the first loss of
+    stability the rods move through the clearance and press on one another; the pressed stack
+    is held while the eigenvalue stays positive (docs/theory/contact.md). ``each`` is called
+    with the state and its row after every load.
+    """
+    from ..nonlinear.contact import attach_contact
+    from ..nonlinear.newton import newton, relax
+    from ..nonlinear.solve import lowest_modes
+    from .discover import common_rod
+
+    planar = common_rod(a, n, float(loads[0]))
+    newton(planar)
+    rod = lift(stacked_model(planar, layers, contact, gap_fraction=gap_fraction), planar, planar)
+    attach_contact(rod, contact)
+    out = []
+    for lam in loads:
+        rod.load_factor = float(lam)
+        ok = relax(rod)[0]
+        out.append((float(lam), bool(ok), float(lowest_modes(rod, 1)[0][0])))
+        if each is not None:
+            each(rod, out[-1])
+    return rod, out
