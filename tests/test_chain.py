@@ -96,9 +96,10 @@ def test_a_path_through_the_star_splits_into_the_two_direct_barriers(direct) -> 
     ls, sd = direct[("line", "star")][0], direct[("star", "daisy")][0]
     assert first.converged and first.energy_saddle == pytest.approx(ls.energy_saddle, rel=1e-8)
     # star -> daisy is bounded by its path below line -> star's saddle: not relaxed; the bound
-    # is a bound: at least the direct string's saddle
+    # is a bound: at least the direct string's saddle (here equal to it up to round-off: the
+    # link's start is the direct path, saddle included)
     assert not second.converged and second.iterations == 0
-    assert sd.energy_saddle <= second.energy_bound < first.energy_saddle
+    assert sd.energy_saddle * (1 - 1e-12) <= second.energy_bound < first.energy_saddle
     assert result.energy_saddle == first.energy_saddle
     assert first.energy_saddle <= first.energy_bound <= first.energy_saddle * (1 + 1e-3)
     assert result.lowest is None  # no saddle star -> daisy was sought: the graph is not joined

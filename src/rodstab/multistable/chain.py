@@ -190,7 +190,7 @@ def _link(land: Landscape, x: str, y: str, path: list[DiscreteRod], depth: int,
 def chain(band: list[DiscreteRod], land: Landscape, ends: tuple[str, str],
           relax: Callable[..., tuple[list[DiscreteRod], DiscreteRod | None, Any]], *,
           images: int, max_iter: int, depth: int = 0, max_depth: int = CHAIN_DEPTH,
-          best: list[float] | None = None
+          best: list[float] | None = None, iterations: int = 0
           ) -> tuple[list[Link], list[list[DiscreteRod]], list[str | None]]:
     """Split the relaxed string ``band`` from minimum ``ends[0]`` to ``ends[1]`` at its basins.
 
@@ -201,13 +201,14 @@ def chain(band: list[DiscreteRod], land: Landscape, ends: tuple[str, str],
     below). ``relax`` is :func:`~.string_method.relax_string` (passed in: this module sits
     below it); ``land`` holds the minima (``ends`` among them) and grows. Returns the links in
     order, each link's path (its saddle in place of the image it was refined from) and the
-    basins of ``band``'s images.
+    basins of ``band``'s images. ``iterations``: the string iterations that relaxed ``band``
+    (kept by a nested split's link that passes no other minimum).
     """
     best = [-np.inf] if best is None else best
     labels, downs = _basins(band, land, ends)
     route = _route(labels)
     if depth > 0 and len(route) == 2:  # a link's string passes no other minimum: no new split
-        return [_link(land, *ends, band, depth)], [band], labels
+        return [_link(land, *ends, band, depth, iterations=iterations)], [band], labels
     starts = _link_bands(band, route, downs, images)
     bounds = [path_bound(b) for b in starts]
     done: dict[int, tuple[list[Link], list[list[DiscreteRod]]]] = {}
@@ -233,7 +234,8 @@ def chain(band: list[DiscreteRod], land: Landscape, ends: tuple[str, str],
         elif depth + 1 < max_depth and not run.too_coarse:
             more, more_paths, _ = chain(out, land, (x, y), relax, images=images,
                                         max_iter=max_iter, depth=depth + 1,
-                                        max_depth=max_depth, best=best)
+                                        max_depth=max_depth, best=best,
+                                        iterations=run.iterations)
             done[k] = (more, more_paths)
         else:
             done[k] = ([_link(land, x, y, out, depth, iterations=run.iterations)], [out])
