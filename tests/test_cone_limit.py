@@ -12,7 +12,7 @@ import math
 
 import numpy as np
 import pytest
-from scipy.optimize import minimize
+from scipy.optimize import brentq, minimize
 
 from rodstab.errors import RodstabInputError
 from rodstab.multistable.cone import contact_cone
@@ -370,6 +370,34 @@ def test_the_folded_ring_in_two_columns_reaches_the_independent_pi_over_two():
     for side in (fe.upper, fe.lower):
         assert side.status == "bracketed"
         assert abs(side.load_factor) == pytest.approx(exact, rel=1e-3)
+
+
+@pytest.mark.parametrize("section", ["rectangle 4", "circle"])
+def test_the_line_in_two_columns_held_closed_converges_to_the_independent_pi(section):
+    """The hexagram's line (the folded six-ring) in two columns with every touching pair held
+    closed: the rod engine (full normals, in-plane motions included) converges at order 2 to
+    lam = pi (helper-16's independent derivation, by hand in ``two_column_held_limit``),
+    three times the no-contact pi / 3. Richardson from 12 / 16 el. within 3e-4 (measured
+    1.0e-4 on the rectangle), observed order 1.7-2.3 from 8 / 12 / 16 el."""
+    from rodstab.analytic.folded_ring import two_column_held_limit
+    from rodstab.multistable.cone_limit import rod_cone_limits
+    from rodstab.problems.barrier_states import state_assembly
+    from rodstab.problems.hexagram import L_OVER_R0
+    from rodstab.sections import rectangle
+
+    sec = rectangle(aspect=4.0) if section == "rectangle 4" else circle()
+    line = state_assembly("hexagram", sec, "line")
+    two = {"1": (-0.5, 0), "3": (-0.5, 1), "5": (-0.5, 2),
+           "2": (0.5, 0), "4": (0.5, 1), "6": (0.5, 2)}
+    mu = [rod_cone_limits(line, two, n, held_closed=True, sides=("upper",)).upper.load_factor
+          for n in (8, 12, 16)]
+    exact = two_column_held_limit() * math.sqrt(sec.b1 * sec.b2) / L_OVER_R0
+    ratio = (mu[0] - mu[1]) / (mu[1] - mu[2])
+    order = brentq(lambda p: (8.0**-p - 12.0**-p) / (12.0**-p - 16.0**-p) - ratio, 0.5, 6.0)
+    assert 1.7 <= order <= 2.3, (mu, order)
+    extrapolated = (16**2 * mu[2] - 12**2 * mu[1]) / (16**2 - 12**2)
+    assert extrapolated == pytest.approx(exact, rel=3e-4), (mu, exact)
+    assert all(m > exact for m in mu)  # the discrete rod is stiffer, as on every mesh here
 
 
 def test_the_folded_ring_on_the_hexagon_reaches_the_independent_root():

@@ -143,6 +143,36 @@ def two_column_contact_limit() -> float:
     return math.pi / 2
 
 
+def two_column_held_limit() -> float:
+    """Critical ``lam`` of the folded six-ring in two columns held closed (every pair): ``pi``.
+
+    The stacking of :func:`two_column_contact_limit`; each touching pair's gap held at zero
+    both ways (a stack whose layers press: the subspace ``D v = 0`` of
+    :func:`~rodstab.multistable.cone_limit.rod_cone_limits` with ``held_closed``). In-plane
+    motions carry no prestress term and the in-plane pairs (1, 2), (3, 4), (5, 6) constrain
+    only them, so the heights decide. Derived independently of the rod engine (helper-16,
+    session 19: the full 3D second variation from (5.1), three discretisations to 1e-10) and
+    checked here by hand:
+
+    * The columns hold ``u1 = u3 = u5 = U_A`` and ``u2 = u4 = u6 = U_B`` (heights); the cusps
+      tie ``U_A = U_B`` and their slopes at ``x = 0`` and ``x = 1``. With the twist eliminated
+      as in :func:`two_column_contact_limit`, ``2 P2 = A - lam^2 B``.
+    * Write ``U_A = S + D``, ``U_B = S - D``: ``A = 6 int (S''^2 + D''^2)``, ``B = 6 [int S'^2 -
+      (int S')^2 + int D'^2]`` with ``D = D' = 0`` at both ends.
+    * ``S' - mean`` has zero mean: Wirtinger's inequality gives ``int S''^2 >= pi^2 (int S'^2 -
+      (int S')^2)``, equality for ``S = sin(pi x)``: the whole bundle bows in one half-wave,
+      the two columns twisting in opposite senses, no end force, moment or torque, so no
+      contact force either. ``D' `` vanishes at both ends with zero mean: ``int D''^2 >= (2
+      pi)^2 int D'^2``.
+
+    So ``lam_c = pi`` (simple; next ``2 pi``, double), three times the no-contact ``pi / 3``
+    and twice the zero-force cone's ``pi / 2``, for every section (``L kappa_n = lam sqrt(b1
+    b2)``). Holds for this stacking; the rod engine's held-closed bound converges to it at order
+    2 (tests/test_cone_limit.py).
+    """
+    return math.pi
+
+
 def hexagon_contact_limit() -> float:
     """Critical ``lam`` of the folded six-ring stacked on a hexagon, with contact: 1.4421095.
 

@@ -319,11 +319,13 @@ def _eight_limits_claim() -> Claim:
 
 def _pressed_line_claim() -> Claim:
     """C-line-pressed: the stacked line in two columns loaded quasi-statically with contact."""
+    from ..analytic.folded_ring import two_column_held_limit
     from ..multistable.layered import pressed_hold
     from ..nonlinear.equilibrium import rod_contact_model
     from ..nonlinear.newton import newton
     from ..nonlinear.solve import lowest_modes, zero_eigenvalue_tol
     from ..problems.barrier_states import state_assembly
+    from ..problems.hexagram import L_OVER_R0
 
     two = {"1": (-0.5, 0), "3": (-0.5, 1), "5": (-0.5, 2),
            "2": (0.5, 0), "4": (0.5, 1), "6": (0.5, 2)}
@@ -346,7 +348,10 @@ def _pressed_line_claim() -> Claim:
         ok = bool(kept and lost)
         ours = (f"held (Hessian > 0) at {fmt(loads[-1])}: {kept}; lost at "
                 f"{fmt(PRESSED_ABOVE * b)}: {lost}")
-        second = f"held-closed bound {fmt(b)} (the cone at zero force: {fmt(zero.load_factor)})"
+        exact = two_column_held_limit() * math.sqrt(line.segments[0].B1
+                                                    * line.segments[0].B2) / L_OVER_R0
+        second = (f"held-closed bound {fmt(b)}, converging at order 2 to the closed form "
+                  f"lam = pi, {fmt(exact)} (the cone at zero force: {fmt(zero.load_factor)})")
     return Claim(
         "C-line-pressed", "contact", "-", "hexagram line (rectangle h/t = 4) stacked in two "
         f"columns, loaded in kappa_n R0 from 2.2 with contact ({n} el./rod, h = "
@@ -361,7 +366,8 @@ def _pressed_line_claim() -> Claim:
         "New. Past the planar 2.248 the loops move through their clearance and press on one "
         "another; a pressed pair cannot open to first order, so the stack is held to the "
         "held-closed bound (6.826 against 6.82427 at 8 el., lost between 6.75 and 6.80 around "
-        "6.78108 at 12), not to the zero-force cone's limit. The barrier against leaving it "
+        "6.78108 at 12; the closed form lam = pi, helper-16, is three times the no-contact "
+        "pi / 3), not to the zero-force cone's limit. The barrier against leaving it "
         "past the cone's limit vanishes with the clearance (argued, not computed: "
         "docs/theory/contact.md).")
 
