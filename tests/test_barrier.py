@@ -331,6 +331,29 @@ def test_reparametrise_spaces_the_images_equally(ends: tuple) -> None:
     assert new[0] is uneven[0] and new[-1] is uneven[-1]
 
 
+def test_a_refused_reparametrisation_is_counted_and_the_string_kept(ends: tuple,
+                                                                   monkeypatch) -> None:
+    """With contact an interpolated image can lie outside the model; the string is then kept
+    as it is (inside) and the refusal counted, so an unconverged barrier can say why its images
+    bunched (docs/theory/contact.md: the stacked line -> star stalled that way). Here every
+    reparametrisation is made to fail on an uneven string that asks for one each iteration."""
+    import rodstab.multistable.string_method as sm
+    from rodstab.nonlinear.contact_model import Interpenetration
+
+    a, b = ends
+    band = sm.belt_path(a, b, 7)
+    uneven = [band[0], band[1], band[3], band[4], band[5], band[6]]
+
+    def refuse(*args, **kwargs):
+        raise Interpenetration("an interpolated image overlaps")
+
+    monkeypatch.setattr(sm, "reparametrise", refuse)
+    out, saddle, run = sm.relax_string(uneven, max_iter=3, try_every=100)
+    assert saddle is None and run.iterations == 3
+    assert run.refused_reparametrisations == 3 and run.reparametrisations == 0
+    assert len(out) == len(uneven) and out[0] is uneven[0] and out[-1] is uneven[-1]
+
+
 def test_cli_barrier_string_json_plot_and_animation(string_six: tuple, tmp_path,
                                                     capsys: pytest.CaptureFixture[str],
                                                     monkeypatch: pytest.MonkeyPatch) -> None:
@@ -390,6 +413,13 @@ def test_cli_barrier_unconverged_exits_3_after_the_output(string_six: tuple,
     assert exc.value.code == 3
     assert json.loads(captured.out)["converged"] is False
     assert "did not converge" in captured.err and "saddle index 2" in captured.err
+    stalled = dataclasses.replace(failed, string_run=dataclasses.replace(
+        b.string_run, converged=False, refused_reparametrisations=4))
+    monkeypatch.setattr(mep, "string_barrier", lambda *a, **k: (stalled, path))
+    with pytest.raises(SystemExit):
+        main(["barrier", "--shape", "rectangle", "--aspect", "4", "--json"])
+    assert ("4 of the string's reparametrisations were refused because the path between "
+            "neighbouring images passes rods through each other") in capsys.readouterr().err
     with pytest.raises(SystemExit):  # as text: the highest image, not called a saddle
         main(["barrier", "--shape", "rectangle", "--aspect", "4"])
     out = capsys.readouterr().out

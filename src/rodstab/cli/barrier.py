@@ -317,6 +317,11 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
         if run is not None and run.too_coarse:
             why = (f": neighbouring images are {fmt(run.largest_gap)} rad apart, more "
                    "--images are needed")
+        elif run is not None and run.refused_reparametrisations:
+            why = (f": {run.refused_reparametrisations} of the string's reparametrisations "
+                   "were refused because the path between neighbouring images passes rods "
+                   "through each other, so its images bunched and stalled; more --images "
+                   "may join them inside the contact model")
         raise NotConverged(f"the barrier {b.from_state} -> {b.to_state} did not converge"
                            f"{why} (residual {b.residual:.3g}, saddle index "
                            f"{b.saddle_index}, descents end on "

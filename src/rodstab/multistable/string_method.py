@@ -392,7 +392,12 @@ class StringRun(Result):
     ``saddle_image``: the image the saddle was refined from (-1: none); ``saddle_index``,
     ``residual``: of the last converged Newton run (-1, NaN if none); ``attempts``: Newton runs;
     ``reparametrisations``: times the string was reparametrised; ``contact_stages``: with
-    contact, the :class:`~.string_contact.ContactStages` that reached the path.
+    contact, the :class:`~.string_contact.ContactStages` that reached the path;
+    ``refused_reparametrisations``: with contact, times a reparametrisation was refused because
+    an interpolated image lay outside the model. Then neighbouring images are not joined
+    inside it (the chart path between them passes rods through each other), the images bunch
+    and the step cap (a fraction of the smaller neighbouring gap) stalls them: measured on the
+    stacked line -> star at 6 el. (docs/theory/contact.md).
     """
 
     converged: bool
@@ -407,6 +412,7 @@ class StringRun(Result):
     attempts: int
     reparametrisations: int
     contact_stages: Result | None = None
+    refused_reparametrisations: int = 0
 
 
 def _index(r: DiscreteRod) -> tuple[int, np.ndarray, np.ndarray]:
@@ -458,7 +464,7 @@ def relax_string(band: list[DiscreteRod], *, max_iter: int = STRING_MAX_ITER,
     ends = [band[0].energy_terms(), band[-1].energy_terms()]
     terms[0], terms[-1] = ends
     tops: list[float] = []
-    attempts = reps = 0
+    attempts = reps = refused = 0
     index, residual, moved, it, last_try = -1, math.nan, math.inf, 0, 0
 
     def gaps() -> list[float]:
@@ -467,7 +473,8 @@ def relax_string(band: list[DiscreteRod], *, max_iter: int = STRING_MAX_ITER,
 
     def run(converged: bool, saddle_image: int, too_coarse: bool = False) -> StringRun:
         return StringRun(converged, it, moved, max(gaps()), too_coarse, tuple(tops),
-                         saddle_image, index, residual, attempts, reps)
+                         saddle_image, index, residual, attempts, reps,
+                         refused_reparametrisations=refused)
 
     for it in range(1, max_iter + 1):
         old = [r.copy() for r in band]
@@ -490,7 +497,7 @@ def relax_string(band: list[DiscreteRod], *, max_iter: int = STRING_MAX_ITER,
                 terms = [ends[0]] + [None] * (n - 2) + [ends[1]]
                 reps += 1
             except Interpenetration:  # with contact: keep the string, which is inside the model
-                pass
+                refused += 1
         moved = max(chart_size(old[i], chart_difference(old[i], band[i]))
                     for i in range(1, n - 1))
         energies = [t[0] if t is not None else r.energy()
