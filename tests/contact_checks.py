@@ -39,6 +39,16 @@ def segment_gap(x: np.ndarray, edges: np.ndarray, a: int, b: int, n: int = 101) 
     return float(np.linalg.norm(pa[:, None] - pb[None], axis=2).min())
 
 
+def separation(x: np.ndarray, edges: np.ndarray, a: int, b: int, n: int = 41) -> np.ndarray:
+    """Vector from element ``a`` to element ``b`` between their closest of ``n`` points each."""
+    u = np.linspace(0.0, 1.0, n)[:, None]
+    pa = x[edges[a, 0]] + u * (x[edges[a, 1]] - x[edges[a, 0]])
+    pb = x[edges[b, 0]] + u * (x[edges[b, 1]] - x[edges[b, 0]])
+    d = pb[None, :] - pa[:, None]
+    i, j = np.unravel_index(np.argmin(np.einsum("ijk,ijk->ij", d, d)), d.shape[:2])
+    return d[i, j]
+
+
 def judged_pairs(edges: np.ndarray, rods: int, same_rod_gap: int = 3) -> list[tuple[int, int]]:
     """The element pairs ``rodstab transitions`` judges for contact, from the elements alone.
 

@@ -128,6 +128,16 @@ def _saddle_tolerance(context: dict[str, Any]) -> float:
     return NEWTON_RTOL * PENALTY * B * float(context["elements_per_segment"])
 
 
+#: Session 19: the pass-through test also judges the straight path between two samples
+#: (rodstab.multistable.transitions: a pair whose separation reversed while it was further
+#: apart than h at a sample was missed). On e0b77e8's ``transitions --elements 6`` three edges
+#: reported physical have centrelines crossing exactly between two samples (the straight path
+#: at distance 0, separations reversed, cos = -1.00; tests/test_transitions.py has the rule).
+#: A verdict may turn from no pass-through to pass-through, never back; where both found one,
+#: the place may be an earlier sample.
+PASS_THROUGH = ("contact.pass_through", "edges.physical", "contact.pass_through_at")
+
+
 #: The two states a barrier's descents end on, in the order of the saddle's unstable mode's
 #: two directions, whose sign an eigen solver may give either way: compared as a set (and
 #: the descents' step counts in the matching order).
@@ -199,6 +209,18 @@ def _compare(old: Any, new: Any, path: str, errors: list[str], context: dict[str
     if path.endswith(DISTANCE) and isinstance(old, float):
         if not (isinstance(new, float) and abs(new - old) <= RTOL * abs(old) + DISTANCE_ATOL):
             errors.append(f"{path}: {new!r} (was {old!r}, tolerance {DISTANCE_ATOL:g} h)")
+        return
+    if path.endswith(PASS_THROUGH[0]):
+        if not (new is old or (old is False and new is True)):
+            errors.append(f"{path}: {new!r} (was {old!r}: a pass-through is never lost)")
+        return
+    if path.endswith(PASS_THROUGH[1]) and context.get("contact") is not None:
+        if not (new is old or (old is True and new is False)):
+            errors.append(f"{path}: {new!r} (was {old!r}: a pass-through is never lost)")
+        return
+    if path.endswith(PASS_THROUGH[2]):
+        if old is not None and new is None:
+            errors.append(f"{path}: {new!r} (was {old!r}: a pass-through is never lost)")
         return
     if path.endswith(DESCENT_ENDS):
         if not (isinstance(new, list) and sorted(new) == sorted(old)):

@@ -11,7 +11,7 @@ import json
 
 import numpy as np
 import pytest
-from contact_checks import judged_pairs, segment_gap
+from contact_checks import judged_pairs, segment_gap, separation
 
 from rodstab.io.path_file import read_path_file, write_path_file
 
@@ -64,7 +64,29 @@ def test_printed_contact_is_recomputed_from_the_file_alone(run):
     printed = payload["contact"]["min_distance"]
     assert printed <= smallest + 1e-12
     assert smallest - printed <= 0.05 + 1e-12
-    assert payload["contact"]["pass_through"] is False  # a stacked pair keeps its layers
+
+
+def test_printed_pass_through_has_a_witness_in_the_file(run):
+    """The path (5 points, no contact model) is judged to pass rods through each other at
+    the point where, from the file alone, a stacked pair's out-of-plane order (its separation's
+    height, the folded state lying in a horizontal plane) reverses while the straight path
+    from the point before comes within h (sampled at 33 states, 41 points per element). Until
+    session 19 only the points were judged, and this 5-point path was called clean."""
+    payload, z = run
+    x, edges = z["x"], z["edges"]
+    assert np.ptp(x[0][:, 2]) < 1e-9  # the folded state is planar, in z = const
+    k = int(payload["contact"]["pass_through_at"])
+    assert payload["contact"]["pass_through"] is True and k >= 1
+    stacked = [p for p in judged_pairs(edges, 6) if segment_gap(x[0], edges, *p) < H]
+
+    def height(xs, p):  # the separation's height between the sampled closest points
+        return separation(xs, edges, *p)[2]
+
+    witnesses = [p for p in stacked
+                 if height(x[k - 1], p) * height(x[k], p) < 0
+                 and min(segment_gap((1 - t) * x[k - 1] + t * x[k], edges, *p, n=41)
+                         for t in np.linspace(0.0, 1.0, 33)) < H]
+    assert witnesses
 
 
 def test_write_and_read_round_trip_without_a_thickness(tmp_path):

@@ -15,7 +15,7 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
-from contact_checks import central_differences, judged_pairs, segment_gap
+from contact_checks import central_differences, judged_pairs, sampled_distance, segment_gap
 
 from rodstab.errors import NotConverged
 from rodstab.nonlinear.contact import (
@@ -169,7 +169,11 @@ def with_contact(tmp_path_factory):
 def test_barrier_with_contact_keeps_every_pair_apart_checked_from_the_path_file(with_contact):
     """Every judged pair of every state of the written path is at least h apart (sampled
     along the elements: an upper bound of the distance, above it by at most 1/100 of an
-    element, so the bound is checked with that slack), as printed; no pass-through."""
+    element, so the bound is checked with that slack), as printed; no pass-through. So is
+    every state on the straight path between two neighbouring path points: with contact the
+    path is the saddle's two descents, every step filtered (the string's images, which it
+    was before, were joined by segments that passed within 0.1 h at 4 el.), so its energies
+    fall from the saddle to both ends."""
     payload, z = with_contact
     x, edges = z["x"], z["edges"]
     assert payload["contact"]["acting"] is True and z["thickness"] == H
@@ -177,6 +181,11 @@ def test_barrier_with_contact_keeps_every_pair_apart_checked_from_the_path_file(
     smallest = min(segment_gap(xs, edges, *p) for xs in x for p in judged)
     slack = 0.01 * float(z["rest_length"].max())
     assert smallest >= H - slack
+    between = min(sampled_distance((1 - t) * x[k] + t * x[k + 1], edges, judged)
+                  for k in range(len(x) - 1) for t in np.linspace(0.0, 1.0, 9))
+    assert between >= H - slack
+    e, top = np.asarray(payload["energies"]), payload["saddle_position"]
+    assert np.all(np.diff(e[: top + 1]) >= 0) and np.all(np.diff(e[top:]) <= 0)
     assert payload["contact"]["min_distance"] >= 1.0  # over h, exact distances
     assert payload["contact"]["min_distance"] * H <= smallest + 1e-12
     assert payload["contact"]["pass_through"] is False

@@ -191,6 +191,45 @@ def test_pair_distance_of_crossing_segments() -> None:
     assert d[0] == pytest.approx(0.3) and np.allclose(w[0], [0, 0, 0.3])
 
 
+def _two_parallel_rods(monkeypatch):
+    """A tracker on two parallel elements along x (one judged pair), ``h = 0.05``."""
+    from types import SimpleNamespace
+
+    import rodstab.multistable.transitions as tr
+
+    monkeypatch.setattr(tr, "judged_pairs", lambda rod: np.array([[0, 1]]))
+    rod = SimpleNamespace(edge_nodes=np.array([[0, 1], [2, 3]]),
+                          assembly=SimpleNamespace(total_length=2.0, segments=[0, 1]))
+
+    def at(y: float, z: float) -> np.ndarray:
+        return np.array([[-1.0, 0, 0], [1.0, 0, 0], [-1.0, y, z], [1.0, y, z]])
+
+    return (lambda: tr.ContactTracker(rod, 0.05, at(0.0, 0.2))), at
+
+
+@pytest.mark.parametrize("joined_inside", [False, True])
+def test_a_pass_through_between_two_samples_both_h_apart_is_seen(monkeypatch, joined_inside):
+    """The second rod moves from 4 h above the first to 4 h below: at both samples the pair is
+    further apart than h, so a rule judging samples alone misses it; the straight path between
+    them passes through (distance 0, separation reversed). Unless the samples are joined by
+    filtered steps (then the straight path is not the path, and is not judged)."""
+    tracker, at = _two_parallel_rods(monkeypatch)
+    rep = tracker().stretch("s", [(0.0, at(0.0, 0.2)), (1.0, at(0.0, -0.2))],
+                            joined_inside=joined_inside)
+    assert rep.min_distance == pytest.approx(4.0)
+    assert rep.pass_through is (not joined_inside)
+    assert rep.pass_through_at == (None if joined_inside else 1.0)
+
+
+def test_a_pair_going_round_the_other_h_apart_is_no_pass_through(monkeypatch):
+    """The separation turns by 120 degrees at 4 h (reversed: cos = -0.5) while the straight
+    path between the samples stays 2 h apart: the rod went round, not through."""
+    tracker, at = _two_parallel_rods(monkeypatch)
+    turned = at(0.2 * np.sin(2 * np.pi / 3), 0.2 * np.cos(2 * np.pi / 3))
+    rep = tracker().stretch("s", [(0.0, at(0.0, 0.2)), (1.0, turned)])
+    assert rep.pass_through is False and rep.min_distance == pytest.approx(4.0)
+
+
 def test_invariants_of_the_basic_states() -> None:
     """Held states: weld points, turning numbers of multistable.states (line 2/0 .. eight 1/6)."""
     expect = {"line": (2, 0.0), "star": (6, 2.0), "daisy": (6, 4.0), "eight": (1, 6.0)}

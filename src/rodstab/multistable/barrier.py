@@ -155,9 +155,11 @@ class Barrier(Result):
     at the saddle (1 for a transition state); ``energies``: along the path from A through the
     saddle (``energies[saddle_position]``) to B -- the two steepest descents (continuation), or
     the string's images with its highest image replaced by the saddle refined from it (string,
-    at ``path_arclength``: chart arclength normalised to 1); ``to_state``: a named state's label,
-    or ``"unnamed"``; ``converged``: saddle Newton-converged (on ``load_factor``), index 1, both
-    descents converged to minima: A and the other named state (``descent_ends``).
+    at ``path_arclength``: chart arclength normalised to 1; with contact the saddle's two
+    descents, whose every step was filtered, so the path is joined inside the model);
+    ``to_state``: a named state's label, or ``"unnamed"``; ``converged``: saddle
+    Newton-converged (on ``load_factor``), index 1, both descents converged to minima: A and
+    the other named state (``descent_ends``).
     ``residual``: the saddle's free-gradient max-norm (tolerance ``NEWTON_RTOL`` x the penalty
     scale). ``load_factor_critical``: the bifurcation the continuation's branch leaves (NaN for
     the string). ``images``, ``iterations``: the string's (0 for the continuation);
@@ -206,7 +208,9 @@ class Barrier(Result):
 
 
 def descents_from_saddle(saddle: DiscreteRod, vals: np.ndarray, vecs: np.ndarray, *,
-                         retract: bool = False) -> tuple[list[Descent], list[DiscreteRod]]:
+                         retract: bool = False,
+                         traces: tuple[list[DiscreteRod], list[DiscreteRod]] | None = None
+                         ) -> tuple[list[Descent], list[DiscreteRod]]:
     """Follow the two steepest descents from ``saddle`` along ``+-`` its unstable eigenvector.
 
     Each starts from the saddle kicked by :data:`KICK` (largest component, times the mean
@@ -222,6 +226,11 @@ def descents_from_saddle(saddle: DiscreteRod, vals: np.ndarray, vecs: np.ndarray
         :func:`~rodstab.nonlinear.solve.lowest_modes` returns them; the first is the unstable one.
     retract : bool
         Passed to :func:`descend`.
+    traces : tuple of two lists, optional
+        Filled with each descent's states in order: the kicked start, every accepted step
+        (:func:`descend`'s ``trace``) and the end. With contact every step between them is
+        filtered (the kick, ``KICK`` of a segment, is far below ``h``), so neighbouring states
+        are joined inside the model.
 
     Returns
     -------
@@ -231,7 +240,8 @@ def descents_from_saddle(saddle: DiscreteRod, vals: np.ndarray, vecs: np.ndarray
     e_s = saddle.energy()
     v = vecs[:, 0] / np.max(np.abs(vecs[:, 0]))
     kick = KICK * saddle.assembly.total_length / len(saddle.assembly.segments)
-    descents, ends = [], []
+    descents: list[Descent] = []
+    ends: list[DiscreteRod] = []
     for sign in (1.0, -1.0):
         r = saddle.copy()
         for _ in range(20):
@@ -245,7 +255,12 @@ def descents_from_saddle(saddle: DiscreteRod, vals: np.ndarray, vecs: np.ndarray
             except Interpenetration:  # only with contact: this side leaves the model
                 pass
             kick /= 2
-        descents.append(descend(r, -1.1 * float(vals[0]), retract=retract))
+        trace = None if traces is None else traces[len(ends)]
+        if trace is not None:
+            trace.append(r.copy())
+        descents.append(descend(r, -1.1 * float(vals[0]), retract=retract, trace=trace))
+        if trace is not None:
+            trace.append(r.copy())
         ends.append(r)
     return descents, ends
 

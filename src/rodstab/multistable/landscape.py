@@ -44,6 +44,10 @@ class Landscape:
     minima: list[tuple[str, Snapshot, float]]
     rods: dict[str, DiscreteRod]
     saddles: list[dict[str, Any]] = dataclasses.field(default_factory=list)
+    #: Keep each judged saddle's two descent curves (``rec["traces"]``: the states in order,
+    #: :func:`~.barrier.descents_from_saddle`): with contact they are the path that is joined
+    #: inside the model.
+    keep_traces: bool = False
 
     @classmethod
     def of(cls, named: list[tuple[str, DiscreteRod]]) -> Landscape:
@@ -79,7 +83,9 @@ class Landscape:
             if same_state(saddle, here, rec["state"], e, rec["energy"]):
                 return rec
         vals, vecs = lowest_modes(saddle, INDEX_EIGS)
-        descents, tips = descents_from_saddle(saddle, vals, vecs, retract=True)
+        traces: tuple[list[DiscreteRod], list[DiscreteRod]] | None = (
+            ([], []) if self.keep_traces else None)
+        descents, tips = descents_from_saddle(saddle, vals, vecs, retract=True, traces=traces)
         tol = zero_eigenvalue_tol(saddle)
         ok = tuple(bool(d.converged and d.lowest_eigenvalue > -tol) for d in descents)
         rec = {"state": here, "energy": e,
@@ -88,6 +94,8 @@ class Landscape:
                "end_energies": tuple(d.energies[-1] for d in descents), "ends_converged": ok,
                "descent_steps": tuple(d.steps for d in descents),
                "eigenvalues": tuple(float(v) for v in vals)}
+        if traces is not None:
+            rec["traces"] = traces
         self.saddles.append(rec)
         return rec
 

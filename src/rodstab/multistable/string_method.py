@@ -627,6 +627,7 @@ def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
     e_a, e_b = rod_a.energy(), rod_b.energy()
     land = Landscape.of([(name_a, rod_a), (name_b, rod_b)]
                         + ([] if layers is not None else _named(named or {}, n, mu, contact)))
+    land.keep_traces = contact is not None
 
     def joins_the_states(saddle: DiscreteRod) -> bool:
         # The saddle sought is the one whose two descents end on a and b (modulo the ring's
@@ -686,11 +687,19 @@ def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
                                          "ends_converged")}
                    for rec in land.saddles if other(rec))
     path = band[:top] + [saddle] + band[top + 1:]
+    if chained is None and run.converged and contact is not None:
+        # With contact the string's images are joined by chart segments that no filter
+        # checked; the saddle's two descents are joined inside the model step by step.
+        to_a, to_b = (rec["traces"] if labels[0] == name_a else rec["traces"][::-1])
+        path, top = to_a[::-1] + [saddle] + to_b, len(to_a)
     energies = [r.energy() for r in path]
     method = ("string: belt path, perpendicular Newton steps retracted onto the inextensible "
               "states, reparametrised to equal chart arclength; saddle = Newton from a local "
               "maximum of its energies, index 1, whose steepest descents end on the two "
               "states (same_state)")
+    if chained is None and run.converged and contact is not None:
+        method += ("; with contact the path is the saddle's two steepest descents, every step "
+                   "filtered, so it is joined inside the model")
     if chained is not None:
         method += ("; no saddle joined the two states: the string split at the minima its "
                    "images descend to, a string and saddle per neighbouring pair (chain.py), "
