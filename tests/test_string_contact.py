@@ -268,6 +268,8 @@ def test_contact_dhat_without_contact_is_refused_also_against_a_design():
         ContactChoice(False, None, 0.2).judged((0.03, 0.2))
 
 
+from rodstab.multistable.transitions import RELEASE_STEPS  # noqa: E402
+
 TR = ["transitions", "--structure", "hexagram", "--shape", "rectangle", "--aspect", "4",
       "--load-factor", "2", "--elements", "6", "--state", "star", "--json"]
 
@@ -292,6 +294,13 @@ def test_transition_with_contact_keeps_every_pair_apart_and_its_threshold(tmp_pa
     slack = 0.01 * float(z["rest_length"].max())
     judged = judged_pairs(z["edges"], 6)
     assert min(segment_gap(x, z["edges"], *p) for x in z["x"] for p in judged) >= H - slack
+    # the snap and the release are written step by step (each step filtered), so the straight
+    # path between neighbouring states keeps the rods apart too
+    x = z["x"]
+    assert len(x) > 4 + RELEASE_STEPS + 1  # more than the loading, the snap's ends, release
+    between = min(sampled_distance((1 - t) * x[k] + t * x[k + 1], z["edges"], judged)
+                  for k in range(len(x) - 1) for t in np.linspace(0.0, 1.0, 9))
+    assert between >= H - slack
     plain = run_cli(TR)
     assert plain.exit_code == 0, plain.stderr
     (ref,) = json.loads(plain.stdout)["edges"]

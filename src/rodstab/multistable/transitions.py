@@ -15,9 +15,9 @@ Without a contact model (the default) rods pass through each other freely; with 
 every step of the loading, the snap and the release is filtered so that no gap closes. Along
 every sampled state (the loading path, the snap -- without contact only its two ends and the
 straight interpolation of the node positions between them, the snap's true path being dynamic;
-with contact its two ends, every step between them filtered -- and the release) the smallest
-distance between judged pairs of rod centreline elements is measured (:func:`pair_distances`)
-and compared with the section's out-of-plane thickness ``h``:
+with contact every step of it, each filtered -- and the release, with contact every step)
+the smallest distance between judged pairs of rod centreline elements is measured
+(:func:`pair_distances`) and compared with the section's out-of-plane thickness ``h``:
 
 * judged pairs: elements of two rods that share no joint, and elements of one rod at least
   :data:`SAME_ROD_GAP` elements apart (neighbouring rods meet at their weld by construction);
@@ -370,11 +370,14 @@ def transition(a: Assembly, source: str, key: str, stop: float, *, load_factor: 
         dq *= contact_fraction(snapped, np.arange(snapped.n_dof), dq)
     snapped.apply(dq)
     param.set(snapped, past)
+    # With contact the snap is recorded step by step: every step is filtered, so neighbouring
+    # states are joined inside the model, and so is the written path (not only its ends).
+    steps: list[np.ndarray] | None = None if contact is None else [at.x.copy(), snapped.x.copy()]
     # The snap crosses a flat, strongly nonlinear landscape: one relax (600 Newton steps) may
     # stop on the way (residual ~3e2 on the line at 8 el./rod); carry on from where it stopped.
     ok = False
     for _ in range(SNAP_RELAXES):
-        ok = relax(snapped)[0]
+        ok = relax(snapped, trace=steps)[0]
         if ok:
             break
     stable = ok and lowest_modes(snapped, 1)[0][0] > zero_eigenvalue_tol(snapped)
@@ -382,19 +385,23 @@ def transition(a: Assembly, source: str, key: str, stop: float, *, load_factor: 
         snap_name = "snap (interpolated proxy)"
         proxy = [(past, (1 - f) * at.x + f * snapped.x)
                  for f in np.linspace(0, 1, SNAP_SAMPLES)]
-    else:  # every step of the push and the relaxation was filtered: its ends suffice
+    else:  # every step of the push and the relaxation, filtered
         snap_name = "snap (relaxed with contact)"
-        proxy = [(past, at.x.copy()), (past, snapped.x.copy())]
+        proxy = [(past, x) for x in steps or []]
     reports.append(tracker.stretch(snap_name, proxy, joined_inside=inside))
     let_go = (lambda r: r.copy()) if layers is not None else (lambda r: _let_go(r, a, n))
     under, _ = identify(let_go(snapped), references)
     release: list[tuple[float, np.ndarray]] = []
     for p in np.linspace(past, start, RELEASE_STEPS + 1)[1:]:
         param.set(snapped, float(p))
-        ok = relax(snapped)[0] and ok
+        steps = None if contact is None else []
+        ok = relax(snapped, trace=steps)[0] and ok
+        release.extend((float(p), x) for x in steps or [])
         release.append((float(p), snapped.x.copy()))
     free = let_go(snapped)
-    ok = relax(free)[0] and ok
+    steps = None if contact is None else []
+    ok = relax(free, trace=steps)[0] and ok
+    release.extend((start, x) for x in steps or [])
     release.append((start, free.x.copy()))
     reports.append(tracker.stretch("release", release, joined_inside=inside))
     target, rms = identify(free, references)

@@ -77,7 +77,8 @@ ALIGN_SHEAR = 1e-2
 
 
 @serially
-def newton(rod: DiscreteRod, *, max_iter: int = NEWTON_MAX_ITER) -> tuple[bool, int, float]:
+def newton(rod: DiscreteRod, *, max_iter: int = NEWTON_MAX_ITER,
+           trace: list[np.ndarray] | None = None) -> tuple[bool, int, float]:
     """Newton's method with backtracking on the energy, in place. Returns (ok, its, residual).
 
     Steps are taken along ``-H^-1 g`` when ``H`` (free part) is positive definite, else along a
@@ -90,11 +91,13 @@ def newton(rod: DiscreteRod, *, max_iter: int = NEWTON_MAX_ITER) -> tuple[bool, 
     model and the iteration crawls. Newton finds an equilibrium, stable or not: see
     :func:`relax` for a stable one. With contact (``rod.contact``) steps are filtered and
     trials outside the model rejected (:func:`lm_step`); a start outside it raises
-    :class:`.contact.Interpenetration` (bad input, naming the pair).
+    :class:`.contact.Interpenetration` (bad input, naming the pair). ``trace``: the node
+    positions after every accepted step are appended to it (with contact, neighbouring ones
+    are joined by a filtered step, so the list is a path inside the model).
     """
     if np.max(rod.shear()) > ALIGN_SHEAR:
         rod.align_frames()
-    return _newton(rod, max_iter)
+    return _newton(rod, max_iter, trace)
 
 
 #: Imposed end rotations are applied in steps of at most this angle (rad), Newton after each.
@@ -126,14 +129,17 @@ def settle(rod: DiscreteRod) -> None:
 RELAX_MAX_ITER = 600
 
 
-def relax(rod: DiscreteRod, *, escapes: int = 4) -> tuple[bool, int, float]:
+def relax(rod: DiscreteRod, *, escapes: int = 4, trace: list[np.ndarray] | None = None
+          ) -> tuple[bool, int, float]:
     """Relax to a stable equilibrium below the start's energy when one is reachable.
 
     Newton, then, while the equilibrium found is unstable, a step down along its unstable mode (both
     signs tried, the lower energy kept) and Newton again. Returns (ok, iterations, residual).
     With contact the step along the mode is shortened by :func:`.contact.max_step_fraction`.
+    ``trace``: the node positions after every step kept (Newton's and the escapes') are
+    appended to it, in order (:func:`newton`).
     """
-    ok, its, res = newton(rod, max_iter=RELAX_MAX_ITER)
+    ok, its, res = newton(rod, max_iter=RELAX_MAX_ITER, trace=trace)
     scale = 0.01 * rod.assembly.total_length
     for _ in range(escapes):
         if not ok:
@@ -150,17 +156,20 @@ def relax(rod: DiscreteRod, *, escapes: int = 4) -> tuple[bool, int, float]:
             if rod.contact is not None:  # the escape step closes no gap (step filter)
                 dq *= max_step_fraction(rod.contact, rod.x, dq[: 3 * len(rod.x)].reshape(-1, 3))
             trial.apply(dq)
+            steps = None if trace is None else [trial.x.copy()]
             try:
-                t_ok, t_its, t_res = newton(trial, max_iter=RELAX_MAX_ITER)
+                t_ok, t_its, t_res = newton(trial, max_iter=RELAX_MAX_ITER, trace=steps)
             except Interpenetration:  # only with contact: this side is outside the model
                 continue
             its += t_its
             if t_ok and (best is None or trial.energy() < best[0].energy()):
-                best = (trial, t_res)
+                best = (trial, t_res, steps)
         if best is None:
             break
         rod.assign(best[0])
         res = best[1]
+        if trace is not None and best[2] is not None:
+            trace.extend(best[2])
     return ok, its, res
 
 
@@ -296,7 +305,8 @@ def _retract_if_lower(trial: DiscreteRod, dq: np.ndarray) -> None:
         trial.assign(plain)
 
 
-def _newton(rod: DiscreteRod, max_iter: int) -> tuple[bool, int, float]:
+def _newton(rod: DiscreteRod, max_iter: int, trace: list[np.ndarray] | None = None
+            ) -> tuple[bool, int, float]:
     """Run the iteration of :func:`newton`: Newton with a Levenberg-Marquardt safeguard.
 
     Each step solves ``(H + lam D) s = -g`` (``D`` = |diag H|, so ``lam`` is on the scale of
@@ -331,3 +341,5 @@ def _newton(rod: DiscreteRod, max_iter: int) -> tuple[bool, int, float]:
         if terms is None:
             return False, it, res
         E, g, H = terms
+        if trace is not None:
+            trace.append(rod.x.copy())
