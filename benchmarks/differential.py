@@ -10,7 +10,8 @@ split arcs; clamped ends), and N-loop rings stacked on the torus with contact at
 (``contact-rings``: the limits on the cone by the FE, eq. (3.2)'s Fourier modes and the nonlinear
 rod's Hessian, :mod:`rodstab.multistable.cone_limit`; ``contact-eights``: figure-eights of 4 and 6
 rods by the FE and the rod; ``held-rings``: 3-loop rings with every touching pair held closed,
-by the rod and by the reduced theory; ``folded-columns``, ``folded-hexagon``: the folded
+by the rod and by the reduced theory; ``held-columns``: the folded six-ring in two columns held
+closed, by the rod and the closed form; ``folded-columns``, ``folded-hexagon``: the folded
 six-ring stacked in two columns or on the hexagon, the FE cone against the derived limits).
 Sections of every closed-form shape
 (rectangle and ellipse h/t 0.3-10, circle, tube, nu 0-0.5) and given ratios b1, b2 in 0.05-50. Every
@@ -629,11 +630,53 @@ def folded_stacking(rng: np.random.Generator, stacking: str) -> Trial:
                  {(f"{stacking}-fe", f"{stacking}-derived"): STACKING_RTOL})
 
 
+#: The folded six-ring in two columns held closed: the rod (Richardson from 12 and 16 el./rod,
+#: order 2: tests/test_cone_limit.py) against the closed form ``lam = pi``
+#: (:func:`~rodstab.analytic.folded_ring.two_column_held_limit`). Measured: 1.0e-4 on the
+#: rectangle h/t = 4; seed 31 (16 designs) median 9.5e-5, max 1.1e-4; seed 32 (60 designs)
+#: median 9.5e-5, max 4.5e-4 (session 19).
+HELD_COLUMNS_RTOL = 2e-3
+
+
+def held_columns(rng: np.random.Generator) -> Trial:
+    """The folded six-ring in two columns held closed: the rod against ``lam = pi``."""
+    from rodstab.analytic.folded_ring import TWO_COLUMNS, two_column_held_limit
+    from rodstab.multistable.cone_limit import rod_cone_limits
+    from rodstab.multistable.states import ring_of
+    from rodstab.problems import folded_ring
+
+    sec = random_section(rng)
+    section = sections.make_section(**sec)
+    a = folded_ring.build(folded_ring.Params(section=section))
+    layers = dict(zip([k for k, _ in ring_of(a).order], TWO_COLUMNS, strict=True))
+    code = (f"from rodstab.analytic.folded_ring import TWO_COLUMNS; from rodstab.multistable."
+            f"cone_limit import rod_cone_limits; from rodstab.multistable.states import "
+            f"ring_of; from rodstab.problems import folded_ring; from rodstab.sections import "
+            f"make_section; s = make_section({_kw(sec)}); a = folded_ring.build(folded_ring."
+            f"Params(section=s)); layers = dict(zip([k for k, _ in ring_of(a).order], "
+            f"TWO_COLUMNS)); print(*(rod_cone_limits(a, layers, n, held_closed=True) for n in "
+            f"(12, 16)))")
+    exact = two_column_held_limit() * math.sqrt(section.b1 * section.b2)
+
+    def held() -> Values:
+        coarse, fine = (_cone_values(rod_cone_limits(a, layers, n, held_closed=True), 1)
+                        for n in (12, 16))
+        return {k: (16**2 * fine[k] - 12**2 * coarse[k]) / (16**2 - 12**2)
+                for k in ("lower", "upper") if k in fine and k in coarse}
+
+    def closed() -> Values:
+        return {"lower": -exact, "upper": exact}
+
+    return Trial(f"folded six-ring, two columns held closed, section({_kw(sec)})", code,
+                 {"held-columns-rod": held, "held-columns-closed": closed},
+                 {("held-columns-rod", "held-columns-closed"): HELD_COLUMNS_RTOL})
+
+
 #: family name -> generator of one random design.
 FAMILIES: dict[str, Callable[[np.random.Generator], Trial]] = {
     "arcs": arcs, "rings": rings, "folded": folded, "cusp-rings": cusp_rings,
     "assemblies": assemblies, "contact-rings": contact_rings, "contact-eights": contact_eights,
-    "held-rings": held_rings,
+    "held-rings": held_rings, "held-columns": held_columns,
     "folded-columns": lambda rng: folded_stacking(rng, "columns"),
     "folded-hexagon": lambda rng: folded_stacking(rng, "hexagon")}
 

@@ -75,6 +75,9 @@ CASES = [
     # the folded six-ring stacked in two columns: the FE cone against the derived lam = pi / 2
     pytest.param("folded-columns", 0, {"columns-fe", "columns-derived"}, id="folded-columns"),
     pytest.param("folded-hexagon", 0, {"hexagon-fe", "hexagon-derived"}, id="folded-hexagon"),
+    # ... and held closed: the rod against the closed form lam = pi
+    pytest.param("held-columns", 0, {"held-columns-rod", "held-columns-closed"},
+                 id="held-columns"),
 ]
 
 
