@@ -9,6 +9,7 @@ import name`` names ``PKG.name`` when that is a module, else ``PKG``).
 from __future__ import annotations
 
 import ast
+import functools
 from pathlib import Path
 
 import pytest
@@ -61,7 +62,10 @@ def _module(path: Path) -> tuple[str, bool]:
 FILES = {_module(p)[0]: p for p in sorted(PACKAGE.rglob("*.py"))}
 
 
+@functools.cache
 def _edges() -> dict[str, set[str]]:
+    """Module -> the package modules it imports (parsed once, when a test first asks: every
+    xdist worker collects this file, one runs it)."""
     out: dict[str, set[str]] = {}
     for mod, path in FILES.items():
         package = mod if _module(path)[1] else mod.rpartition(".")[0]
@@ -82,8 +86,6 @@ def _edges() -> dict[str, set[str]]:
     return out
 
 
-EDGES = _edges()
-
 
 def _floor(mod: str) -> tuple[int, str]:
     """(floor index, the prefix that put it there)."""
@@ -93,7 +95,7 @@ def _floor(mod: str) -> tuple[int, str]:
 
 
 def test_every_module_is_on_a_floor_and_every_import_names_a_module():
-    for mod, targets in EDGES.items():
+    for mod, targets in _edges().items():
         _floor(mod)
         for t in targets:
             assert t in FILES, f"{mod} imports {t}, which is no module of the package"
@@ -118,21 +120,21 @@ def test_the_cli_modules_are_short():
 
 
 def test_no_module_imports_from_a_higher_floor():
-    up = [(mod, t) for mod, targets in EDGES.items() for t in targets
+    up = [(mod, t) for mod, targets in _edges().items() for t in targets
           if _floor(t)[0] > _floor(mod)[0]]
     assert not up, "\n".join(f"{m} (floor {_floor(m)[1]}) imports {t} (floor {_floor(t)[1]})"
                              for m, t in up)
 
 
 def test_the_engines_do_not_import_each_other():
-    crossings = {(_floor(mod)[1], _floor(t)[1]) for mod, targets in EDGES.items()
+    crossings = {(_floor(mod)[1], _floor(t)[1]) for mod, targets in _edges().items()
                  for t in targets if _floor(mod)[1] in ENGINES and _floor(t)[1] in ENGINES
                  and _floor(mod)[1] != _floor(t)[1]}
     assert crossings <= set(ENGINE_CROSSINGS), crossings - set(ENGINE_CROSSINGS)
 
 
 def test_multistable_needs_neither_problems_nor_the_cli():
-    for mod, targets in EDGES.items():
+    for mod, targets in _edges().items():
         if mod.startswith("rodstab.multistable"):
             assert not {t for t in targets if t.startswith(("rodstab.problems", "rodstab.cli",
                                                             "rodstab.checks"))}, mod
@@ -150,7 +152,7 @@ def _circles() -> list[frozenset[str]]:
         index[v] = low[v] = len(index)
         stack.append(v)
         on.add(v)
-        for w in EDGES.get(v, ()):
+        for w in _edges().get(v, ()):
             if w not in index:
                 visit(w)
                 low[v] = min(low[v], low[w])
@@ -164,10 +166,10 @@ def _circles() -> list[frozenset[str]]:
                 comp.add(w)
                 if w == v:
                     break
-            if len(comp) > 1 or v in EDGES.get(v, ()):
+            if len(comp) > 1 or v in _edges().get(v, ()):
                 found.append(frozenset(comp))
 
-    for v in sorted(EDGES):
+    for v in sorted(_edges()):
         if v not in index:
             visit(v)
     return found
@@ -185,6 +187,6 @@ def test_the_circle_solve_discover_is_gone(old, new):
     Newton's step (``lm_step``, which retracts) left nonlinear.solve for nonlinear.newton when
     solve was split (issue 20); solve only re-exports, and neither imports discover.
     """
-    assert new in EDGES[old] and "rodstab.multistable.discover" not in EDGES[old]
-    assert "rodstab.multistable.discover" not in EDGES["rodstab.nonlinear.solve"]
-    assert old not in EDGES[new]
+    assert new in _edges()[old] and "rodstab.multistable.discover" not in _edges()[old]
+    assert "rodstab.multistable.discover" not in _edges()["rodstab.nonlinear.solve"]
+    assert old not in _edges()[new]
