@@ -137,10 +137,12 @@ def docs_build_command(out: Path) -> tuple[list[str], dict[str, str]]:
 
 #: Workers of ``-n auto`` beyond the usable cores. The suite waits on other processes (the
 #: dask sweeps and their killed runs, fresh interpreters, the background docs build, the
-#: session's one reproduction that other workers wait for): a spare worker runs tests in
-#: those waits. Measured on 2 cores, same tree, back to back (2026-12-05): 2 workers 161 s,
-#: 3 workers 147 s (and 221 s against 184 s in an earlier, busier pair).
-SPARE_WORKERS = 1
+#: session's one reproduction that other workers wait for), where a spare worker could run
+#: tests; but the reproduction and the docs build run beside the workers on the same cores.
+#: Measured on 2 cores, same tree, back to back: 2026-12-05, 2 workers 161 s, 3 workers 147 s;
+#: 2026-12-06 (session 19), 2 workers 196.5 s, 3 workers 229.0 s (and 196 s against 224-239 s
+#: in earlier runs that day). The later pair decides.
+SPARE_WORKERS = 0
 
 
 def pytest_xdist_auto_num_workers(config: pytest.Config) -> int:
