@@ -186,6 +186,10 @@ def test_barrier_with_contact_keeps_every_pair_apart_checked_from_the_path_file(
     assert between >= H - slack
     e, top = np.asarray(payload["energies"]), payload["saddle_position"]
     assert np.all(np.diff(e[: top + 1]) >= 0) and np.all(np.diff(e[top:]) <= 0)
+    # both ends embedded planar rings: unknots (tests/test_knots.py for the classification)
+    knots = payload["contact"]["knots"]
+    assert set(knots) == {"star", "daisy"}
+    assert all(k["kind"] == "unknot" for k in knots.values())
     assert payload["contact"]["min_distance"] >= 1.0  # over h, exact distances
     assert payload["contact"]["min_distance"] * H <= smallest + 1e-12
     assert payload["contact"]["pass_through"] is False

@@ -299,6 +299,11 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
                          f"{fmt(stages.distances[-1] / h)} h apart "
                          "(rodstab.multistable.string_contact)")
         lines.append(_contact_line(report, h, b.from_state, c is not None))
+        if c is not None:
+            from ..nonlinear.discrete import discretise
+
+            lines.append(_knot_line(payload, stacked or discretise(a, elements), xs,
+                                    b.from_state, b.to_state))
         if out is not None:
             from ..io.path_file import PATH_FILE, write_path_file
 
@@ -335,6 +340,17 @@ def _link_text(lk: Any) -> str:
     if math.isfinite(lk.energy_bound):
         return "<= " + fmt(lk.energy_bound)
     return "~ " + fmt(lk.energy_highest)
+
+
+def _knot_line(payload: dict[str, Any], rod: Any, xs: Any, a: str, b: str) -> str:
+    """Return the knot types of the path's two ends (JSON ``contact.knots``), as printed."""
+    from ..multistable.knots import apart_by_topology, describe, knot_class, ring_polygon
+
+    ka, kb = (knot_class(ring_polygon(rod, x)) for x in (xs[0], xs[-1]))
+    payload["contact"]["knots"] = {a: ka.to_dict(), b: kb.to_dict()}
+    verdict = ("different knots: no path joins them without passing rods through each other"
+               if apart_by_topology(ka, kb) else "rods that cannot cross keep the knot type")
+    return f"knots        {describe(a, ka)}; {describe(b, kb)}: {verdict}"
 
 
 def _contact_line(report: Any, thickness: float, from_state: str, acting: bool) -> str:
