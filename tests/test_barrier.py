@@ -420,6 +420,16 @@ def test_cli_barrier_unconverged_exits_3_after_the_output(string_six: tuple,
         main(["barrier", "--shape", "rectangle", "--aspect", "4", "--json"])
     assert ("4 of the string's reparametrisations were refused because the path between "
             "neighbouring images passes rods through each other") in capsys.readouterr().err
+    from rodstab.multistable.string_contact import ContactStages
+
+    crossed = dataclasses.replace(failed, string_run=dataclasses.replace(
+        b.string_run, converged=False, refused_reparametrisations=4,
+        contact_stages=ContactStages((1.0,), 0.03, (0.01, 0.03), start_crossing=2)))
+    monkeypatch.setattr(mep, "string_barrier", lambda *a, **k: (crossed, path))
+    with pytest.raises(SystemExit):
+        main(["barrier", "--shape", "rectangle", "--aspect", "4", "--json"])
+    assert ("passes rods through each other between its images 2 and 3"
+            in capsys.readouterr().err)  # the cause named before its symptom
     with pytest.raises(SystemExit):  # as text: the highest image, not called a saddle
         main(["barrier", "--shape", "rectangle", "--aspect", "4"])
     out = capsys.readouterr().out

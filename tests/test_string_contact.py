@@ -195,6 +195,9 @@ def test_barrier_with_contact_keeps_every_pair_apart_checked_from_the_path_file(
     assert payload["contact"]["pass_through"] is False
     stages = payload["contact"]["soft_stages"]
     assert stages["distances"][0] < H < stages["distances"][-1]  # the path was brought out
+    # whether the stages' path crosses between images is said (not fatal: the saddle's
+    # descents are the path written)
+    assert stages["start_crossing"] is None or 0 <= stages["start_crossing"] < len(x)
 
 
 def test_barrier_with_contact_equals_the_one_without_where_the_saddle_touches_nothing(

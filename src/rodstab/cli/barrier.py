@@ -322,6 +322,11 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
         if run is not None and run.too_coarse:
             why = (f": neighbouring images are {fmt(run.largest_gap)} rad apart, more "
                    "--images are needed")
+        elif run is not None and getattr(run.contact_stages, "start_crossing", None) is not None:
+            k = run.contact_stages.start_crossing
+            why = (f": the path the soft stages reached passes rods through each other between "
+                   f"its images {k} and {k + 1} (on opposite sides of a rod), which no image "
+                   "shows, so the string cannot relax it inside the contact model")
         elif run is not None and run.refused_reparametrisations:
             why = (f": {run.refused_reparametrisations} of the string's reparametrisations "
                    "were refused because the path between neighbouring images passes rods "

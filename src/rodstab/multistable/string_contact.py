@@ -66,12 +66,28 @@ class ContactStages(Result):
     ``stiffnesses``: the soft model's stiffness at every stage (force / length^2, its
     penalty ``kappa (dhat_s - g)^3`` per unit length); ``reach``: ``h + dhat_s`` (length);
     ``distances``: the smallest centreline distance of non-excluded elements over the interior
-    images before the first stage and after each (length), the last above ``h``.
+    images before the first stage and after each (length), the last above ``h``;
+    ``start_crossing``: ``k`` when images ``k`` and ``k + 1`` of the path the stages reached
+    pass rods through each other between them (a pair's separation reverses while the
+    straight path between them comes within ``h``,
+    :class:`~.transitions.ContactTracker`), else None. Each image is inside the model, but the
+    path is not: the string may then stall (the stacked line -> star) or still converge to a
+    saddle whose descents are the path (star -> daisy).
     """
 
     stiffnesses: tuple[float, ...]
     reach: float
     distances: tuple[float, ...]
+    start_crossing: int | None = None
+
+
+def _start_crossing(band: list[DiscreteRod], h: float) -> int | None:
+    """First ``k`` whose images ``k``, ``k + 1`` pass rods through each other, else None."""
+    from .transitions import ContactTracker
+
+    rep = ContactTracker(band[0], h, band[0].x).stretch(
+        "start", [(float(i), r.x) for i, r in enumerate(band)])
+    return None if rep.pass_through_at is None else int(rep.pass_through_at) - 1
 
 
 def soft_model(final: ContactModel, stage: int) -> ContactModel:
@@ -165,7 +181,8 @@ def relax_with_contact(band: list[DiscreteRod], final: ContactModel,
         band, _, run = relax_string(band, max_iter=STAGE_ITER, try_every=STAGE_ITER + 1)
         _coarse(run)
         dist.append(path_distance(band, final))
-    stages = ContactStages(tuple(kappas), h + soft_model(final, 0).dhat, tuple(dist))
+    stages = ContactStages(tuple(kappas), h + soft_model(final, 0).dhat, tuple(dist),
+                           _start_crossing(band, h))
     if not (dist[-1] > h and _with_model(band, final)):
         raise NotConverged(f"the string found no path inside the contact model (thickness "
                            f"{h:g}) in {len(kappas)} soft stages: smallest distances "
