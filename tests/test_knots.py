@@ -98,3 +98,15 @@ def test_the_hexagram_states_and_the_stacked_line_in_two_columns():
             x[[end, start], 0] += 0.005 * s
         k = knot_class(ring_polygon(rod, x))
         assert k.kind == "unknot" and k.determinant == 1, shifts
+
+
+def test_certificates_that_disagree_leave_the_type_undecided(monkeypatch):
+    """Either certificate alone would decide; a contradiction (a defect) decides nothing."""
+    import rodstab.multistable.knots as knots
+
+    wavy = np.stack([np.cos(T), np.sin(T), 0.1 * np.sin(5 * T)], axis=1)
+    monkeypatch.setattr(knots, "knot_determinant", lambda poly: 3)
+    k = knot_class(wavy)
+    assert k.left == 3 and k.kind == "undecided"
+    assert knots.describe("ring", KnotClass("undecided", None, 9, 9)) == (
+        "ring undecided (not reduced below 9 vertices, determinant not given)")

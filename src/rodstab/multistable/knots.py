@@ -19,7 +19,8 @@ answer:
   random directions (the vertices moved first by a tenth of the clearance, an isotopy) must
   agree, else the value is not given.
 
-:func:`knot_class` combines them: ``"unknot"``, ``"knotted"`` or ``"undecided"``. The centreline
+:func:`knot_class` combines them: ``"unknot"``, ``"knotted"``, ``"meets itself"`` (no knot type)
+or ``"undecided"`` (neither certified, or the two disagree, which would be a defect). The centreline
 is :func:`ring_polygon`: every node of every rod in ring order, rods welded across layers
 joined by their spanning link.
 """
@@ -250,8 +251,9 @@ class KnotClass(Result):
 
     ``kind``: ``"unknot"`` (the deletions reached a triangle), ``"knotted"`` (determinant
     other than 1), ``"meets itself"`` (two edges that share no vertex touch: no knot type) or
-    ``"undecided"``; ``determinant``: ``|Delta(-1)|`` (None if not given);
-    ``vertices``, ``left``: the polygon's vertices and those the deletions left.
+    ``"undecided"`` (neither certified, or the two disagree); ``determinant``:
+    ``|Delta(-1)|`` (None if not given); ``vertices``, ``left``: the polygon's vertices and
+    those the deletions left.
     """
 
     kind: str
@@ -268,9 +270,9 @@ def knot_class(poly: np.ndarray) -> KnotClass:
         return KnotClass("meets itself", None, len(poly), len(poly))
     left = unknot_certificate(poly)
     det = knot_determinant(poly)
-    if left == 3:
+    if left == 3 and det in (None, 1):
         kind = "unknot"
-    elif det is not None and det != 1:
+    elif left > 3 and det is not None and det != 1:
         kind = "knotted"
     else:
         kind = "undecided"
@@ -295,4 +297,5 @@ def describe(label: str, k: KnotClass) -> str:
         return f"{label} knotted (certified: determinant {k.determinant})"
     if k.kind == "meets itself":
         return f"{label} meets itself (no knot type: two links or rods touch)"
-    return f"{label} undecided (not reduced below {k.left} vertices, determinant {k.determinant})"
+    det = "not given" if k.determinant is None else str(k.determinant)
+    return f"{label} undecided (not reduced below {k.left} vertices, determinant {det})"
