@@ -67,7 +67,7 @@ from scipy.sparse.csgraph import dijkstra
 from scipy.spatial import cKDTree
 
 from ..errors import RodstabInputError, require_finite, require_positive
-from .jets import Jet
+from .jets import Jet, QuadraticProducts
 
 #: Smooth nodes: turning angle (rad) between their two elements in the reference state below
 #: which the partition of unity replaces the end clamps (a sharper corner keeps its clamps: a
@@ -557,21 +557,6 @@ def _step_jet(u: Jet) -> Jet:
     return _fn(u, *_smoothstep(u.v))
 
 
-def _dots(X: np.ndarray, cu: tuple[float, ...], cv: tuple[float, ...], order: int) -> Jet:
-    """Jet of ``u . v``, ``u = sum_i cu_i X_i``, ``v = sum_i cv_i X_i`` (``X`` (m, k, 3)).
-
-    Local variable ``3 i + c``; the Hessian is constant. Distances built from a few such
-    products cost a third of jets of vector components (measured).
-    """
-    a, b = np.asarray(cu, float), np.asarray(cv, float)
-    u, v = np.einsum("i,mic->mc", a, X), np.einsum("i,mic->mc", b, X)
-    m, k = X.shape[:2]
-    g = (a[None, :, None] * v[:, None] + b[None, :, None] * u[:, None]).reshape(m, 3 * k)
-    H = np.broadcast_to(np.kron(np.outer(a, b) + np.outer(b, a), np.eye(3)), (m, 3 * k, 3 * k))
-    return Jet(np.einsum("mc,mc->m", u, v), g if order >= 1 else None,
-               H if order >= 2 else None)
-
-
 def _select(mask: np.ndarray, a: Jet, b: Jet) -> Jet:
     """Return ``a`` where ``mask``, else ``b``."""
     g = None if a.g is None or b.g is None else np.where(mask[:, None], a.g, b.g)
@@ -631,12 +616,12 @@ def _node_jets(mesh: ContactMesh, x: np.ndarray, t: _NodeTerms, on: np.ndarray, 
     i, j = mesh.edges[e, 0], mesh.edges[e, 1]
     X = np.stack([x[p], x[i], x[j]], axis=1)
     w, ev, pb = (1.0, -1.0, 0.0), (0.0, -1.0, 1.0), (1.0, 0.0, -1.0)  # p - a, b - a, p - b
-    ww, we, ee = _dots(X, w, w, order), _dots(X, w, ev, order), _dots(X, ev, ev, order)
+    Q = QuadraticProducts(X, ((w, w), (w, ev), (ev, ev), (pb, pb)), order)
+    ww, we, ee, bb = Q.jets
     ln = _sqrt(ee)
     u0 = we / ln
     # Distance to the element's line (tapered or interior), or to a clamped end node.
-    d2 = _select(t.start[on], ww,
-                 _select(t.end[on], _dots(X, pb, pb, order), ww - we * we / ee))
+    d2 = _select(t.start[on], ww, _select(t.end[on], bb, ww - we * we / ee))
     term = _barrier_jet(_sqrt(d2) - (mesh.node_radius[p] + mesh.radius[e]), mesh.model)
     for k, u in ((0, u0), (1, ln - u0)):
         # A clamped end (delta = 0) gets the argument 1, where the smoothstep is 1, flat.
@@ -644,7 +629,7 @@ def _node_jets(mesh: ContactMesh, x: np.ndarray, t: _NodeTerms, on: np.ndarray, 
         dls = np.where(dl > 0, dl, 1.0)
         y = (u + dls) * (0.5 / dls)
         term = term * _step_jet(_select(dl > 0, y, Jet(np.ones(len(p)), y.g, y.H)))
-    term = term * (0.5 * mesh.node_weight[p])
+    term = Q.lift(term * (0.5 * mesh.node_weight[p]))
     dofs = 3 * np.stack([p, i, j], axis=1)[:, :, None] + np.arange(3)
     return term, dofs.reshape(len(p), 9)
 
@@ -656,8 +641,8 @@ def _edge_jets(mesh: ContactMesh, x: np.ndarray, pairs: np.ndarray, order: int
     nodes = mesh.edges[pairs].reshape(len(pairs), 4)
     X = x[nodes]
     ea, eb, w0 = (-1.0, 1.0, 0.0, 0.0), (0.0, 0.0, -1.0, 1.0), (0.5, 0.5, -0.5, -0.5)
-    A, B, C = _dots(X, ea, ea, order), _dots(X, ea, eb, order), _dots(X, eb, eb, order)
-    D, Ed, F = _dots(X, ea, w0, order), _dots(X, eb, w0, order), _dots(X, w0, w0, order)
+    Q = QuadraticProducts(X, ((ea, ea), (ea, eb), (eb, eb), (ea, w0), (eb, w0), (w0, w0)), order)
+    A, B, C, D, Ed, F = Q.jets
     nn = A * C - B * B  # |ea x eb|^2
     inv = nn.reciprocal()
     # The lines' squared distance: Gram determinant of (w0, ea, eb) over |ea x eb|^2, with w0
@@ -679,7 +664,8 @@ def _edge_jets(mesh: ContactMesh, x: np.ndarray, pairs: np.ndarray, order: int
             scale = cross / _sqrt(other) * (1.0 / offset_on)
         weight = weight * _step_jet(u * scale) * _step_jet((1.0 - u) * scale)
     term = _barrier_jet(_sqrt(d2) - r, mesh.model) * weight
-    term = term * (0.25 * (mesh.rest_length[pairs[:, 0]] + mesh.rest_length[pairs[:, 1]]))
+    term = Q.lift(term * (0.25 * (mesh.rest_length[pairs[:, 0]]
+                                  + mesh.rest_length[pairs[:, 1]])))
     dofs = 3 * nodes[:, :, None] + np.arange(3)
     return term, dofs.reshape(len(pairs), 12)
 
