@@ -348,3 +348,49 @@ def test_the_line_in_two_columns_and_the_star_it_reaches_hold_with_contact():
     assert band[-1].energy() == pytest.approx(b.energy(), abs=1e-3)  # the planar star's
     with pytest.raises(Bad, match=r"layers = .*need a contact model"):
         stacked_band(belt_path(a, b, 3), TWO_COLUMNS, None)
+
+
+def test_every_two_column_order_of_the_line_has_welds_whose_spans_cross():
+    """The line's welds at x = 0 join R(2) -> L(3), R(4) -> L(5), R(6) -> L(1), those at x = L
+    L(1) -> R(2), L(3) -> R(4), L(5) -> R(6), each span in the plane across the line at its
+    end. Spans of one plane miss one another only if they keep the layers' order: the ranks of
+    (l1, l3, l5) would equal those of (r2, r4, r6) and of (l3, l5, l1), a cyclic shift of three
+    distinct ranks, which never equals itself. So in all 36 orders some spans cross (distance
+    0), and a circle of rods in one column (traversal order) too (the closing weld crosses)."""
+    import itertools
+
+    from rodstab.multistable.discover import common_rod
+    from rodstab.multistable.layered import stacked_model, weld_spans
+    from rodstab.nonlinear.equilibrium import rod_contact_model
+    from rodstab.problems.barrier_states import state_assembly
+    from rodstab.sections import rectangle
+
+    line = state_assembly("hexagram", rectangle(aspect=4.0), "line")
+    model = rod_contact_model(line, 0.02, 0.1)
+    planar = common_rod(line, 4, 1.0)
+    assert newton(planar)[0]
+    for L, R in itertools.product(itertools.permutations(range(3)), repeat=2):
+        order = {"1": (-0.5, L[0]), "3": (-0.5, L[1]), "5": (-0.5, L[2]),
+                 "2": (0.5, R[0]), "4": (0.5, R[1]), "6": (0.5, R[2])}
+        w = weld_spans(stacked_model(planar, order, model), 0.02)
+        assert w.clearance < 1e-9 and w.overlapping, (L, R)
+    one = weld_spans(stacked_model(planar, {str(k): k - 1 for k in range(1, 7)}, model), 0.02)
+    assert one.clearance < 1e-9 and ("6.end + 1.start" in sum(one.overlapping, ()))
+
+
+def test_the_birods_welds_are_clear_of_one_another_and_say_so():
+    """The bi-rod's two welds lie a rod length apart: clearance L / h = 50 at h = 0.02 L; the
+    command line prints it (and a planar model has no spanning welds)."""
+    from click.testing import CliRunner
+
+    from rodstab.cli.main import cli
+    from rodstab.multistable.layered import weld_spans
+
+    w = weld_spans(_layered(2.0, 0.021), 0.02)
+    assert not w.overlapping and w.clearance == pytest.approx(50.0, rel=1e-6)
+    assert weld_spans(discretise(BIROD, 8, 2.0), 0.02).clearance == math.inf
+    out = CliRunner().invoke(cli, ["equilibrium", "examples/birod.toml", "--load-factor", "3.5",
+                                   "--elements", "16", "--contact", "--layers",
+                                   "upper=1,lower=0"])
+    assert out.exit_code == 0, out.output
+    assert "welds        spans clear of one another (closest 50 h)" in out.output

@@ -24,7 +24,7 @@ from .options import (
     section_options,
     structure_option,
 )
-from .output import emit, fmt, image_output, section_line, units_line
+from .output import emit, fmt, image_output, section_line, units_line, weld_line
 
 #: Default ``--from`` / ``--to`` of ``rodstab barrier`` per built-in structure.
 _BARRIER_STATES = {"six-ring": ("folded", "one-loop"), "hexagram": ("line", "star")}
@@ -304,6 +304,12 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
 
             lines.append(_knot_line(payload, stacked or discretise(a, elements), xs,
                                     b.from_state, b.to_state))
+        if stacked is not None and model is not None:
+            from ..multistable.layered import weld_spans
+
+            welds = weld_spans(stacked, 2.0 * float(np.max(model.radius)))
+            payload["contact"]["welds"] = welds.to_dict()
+            lines.append(weld_line(welds))
         if out is not None:
             from ..io.path_file import PATH_FILE, write_path_file
 

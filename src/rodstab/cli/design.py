@@ -44,6 +44,7 @@ from .output import (
     require_converged,
     units_line,
     warnings_as_lines,
+    weld_line,
 )
 
 
@@ -217,9 +218,16 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
         payload["contact"] = r.contact.to_dict() | {"thickness_ratio": touch[0]}
         contact_line = contact_lines(r.contact, touch[0])
     if stack is not None:
+        from ..multistable.layered import weld_spans
+
+        welds = (None if rod.contact is None
+                 else weld_spans(rod, 2.0 * float(rod.contact.radius.max())))
         payload["layers"] = {"heights": stack, "spanning_welds": rod.offsets is not None,
-                             "laminate": laminate, "axial_stiffness": axial}
+                             "laminate": laminate, "axial_stiffness": axial,
+                             "welds": None if welds is None else welds.to_dict()}
         contact_line.append(layers_line(stack, axial, laminate))
+        if welds is not None and rod.offsets is not None:
+            contact_line.append(weld_line(welds))
     if render is not None or html is not None:
         from ..plot.ribbons import RodLayout
 

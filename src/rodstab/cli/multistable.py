@@ -42,6 +42,7 @@ from .output import (
     section_line,
     units_line,
     warnings_as_lines,
+    weld_line,
 )
 
 
@@ -305,6 +306,10 @@ def transitions(design_file: str | None, section: Section, structure: str,
     lines += [f"{e['from']:>6}    none     {e['stimulus']} up to {fmt(e['stop'])}: "
               f"{e['message']}" for e in payload["no_transition"]]
     lines += [f"{s['state']:>6}    skipped: {s['why']}" for s in payload["skipped"]]
+    welds = next((e.welds for e in res.graph.edges if e.welds is not None), None)
+    if welds is not None:
+        payload["contact"]["welds"] = welds.to_dict()
+        lines.append(weld_line(welds))
     if out is not None:
         n_paths = sum("path_file" in e for e in payload["edges"])
         lines += [f"wrote {payload['figure']}, {payload['json_file']} and {n_paths} path "

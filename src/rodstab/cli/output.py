@@ -328,3 +328,18 @@ def layers_line(heights: dict[str, float], axial: float | None, laminate: float 
             if axial is None or laminate is None else f"of EA = {fmt(axial)} (s = {fmt(laminate)})")
     return ("layers       " + ", ".join(f"{k} z = {fmt(z)}" for k, z in heights.items())
             + "; welds span the layers, rods " + rods)
+
+
+def weld_line(spans: Any) -> str:
+    """Return the ``welds`` line of a stacked model: whether its spanning welds overlap.
+
+    ``spans``: :class:`~rodstab.multistable.layered.WeldSpans`.
+    """
+    if spans.overlapping:
+        return ("welds        SPANS OVERLAP: the welds "
+                + "; ".join(f"{a} and {b}" for a, b in spans.overlapping)
+                + f" come within {fmt(spans.clearance)} h, so welds as thick as the rods pass "
+                "through each other, which contact (rods only) does not see: no object is "
+                "built so (welds at one place whose spans cross need staggering along the "
+                "rods, which --layers cannot do)")
+    return f"welds        spans clear of one another (closest {fmt(spans.clearance)} h)"

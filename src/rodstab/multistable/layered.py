@@ -27,6 +27,7 @@ built yet.
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable, Sequence
 from typing import Any
 
@@ -34,8 +35,9 @@ import numpy as np
 
 from ..errors import RodstabInputError
 from ..model import Assembly
-from ..nonlinear.contact import ContactModel, Interpenetration
+from ..nonlinear.contact import ContactModel, Interpenetration, segment_distance
 from ..nonlinear.discrete import DiscreteRod
+from ..results import Result
 from .stacking import _segment_nodes
 
 #: Layers' start gap over dhat for :func:`pressed_hold`: out of the barrier's reach (1).
@@ -183,3 +185,47 @@ def pressed_hold(a: Assembly, layers: dict[str, Any], contact: ContactModel, n: 
         if each is not None:
             each(rod, out[-1])
     return rod, out
+
+
+@dataclasses.dataclass(frozen=True)
+class WeldSpans(Result):
+    """Whether a stacked model's spanning welds overlap one another (:func:`weld_spans`).
+
+    ``overlapping``: pairs of welds (each named by its segment ends, ``"1.end + 2.start"``)
+    whose spans come nearer than ``h``; ``clearance``: the smallest distance between spans of
+    two welds over ``h`` (inf with fewer than two spanning welds).
+    """
+
+    overlapping: tuple[tuple[str, str], ...]
+    clearance: float
+
+
+def weld_spans(rod: DiscreteRod, thickness: float) -> WeldSpans:
+    """Check a stacked model's spanning welds against one another.
+
+    A spanning weld (:attr:`~rodstab.nonlinear.discrete.DiscreteRod.offsets`) joins its
+    segments' ends, each at a rigid offset from the joint's node; its span is the straight
+    segments joint node -> end node. A weld is at least as thick as the rods it joins, so two
+    welds whose spans come nearer than ``h`` (``thickness``, length) overlap. Contact sees the
+    rods only, so such welds pass through each other unseen: a model no object can be built
+    as. The hexagram's line in two columns has its three welds at ``x = 0`` so (the spans
+    ``R0 -> L1``, ``R1 -> L2`` and ``R2 -> L0`` of the columns' layers lie in one plane and
+    the last crosses the other two; its ring centreline meets itself,
+    :func:`~.knots.knot_class`; ``tests/test_spanning_weld.py``).
+    """
+    h = float(thickness)
+    names = [" + ".join(f"{seg}.{end}" for seg, end in ends)
+             for ends in rod.assembly.joints()]
+    if rod.offsets is None:
+        return WeldSpans(overlapping=(), clearance=float("inf"))
+    on, oj = rod.offsets[0], rod.offsets[1]
+    a, b = np.triu_indices(len(on), 1)
+    a, b = a[oj[a] != oj[b]], b[oj[a] != oj[b]]
+    if not len(a):
+        return WeldSpans(overlapping=(), clearance=float("inf"))
+    x = rod.x
+    d = segment_distance(x[on[a, 0]], x[on[a, 1]], x[on[b, 0]], x[on[b, 1]]) / h
+    close = sorted({tuple(sorted((int(oj[i]), int(oj[k])))) for i, k in
+                    zip(a[d < 1.0], b[d < 1.0], strict=True)})
+    return WeldSpans(overlapping=tuple((names[i], names[k]) for i, k in close),
+                     clearance=float(d.min()))

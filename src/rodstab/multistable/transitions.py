@@ -268,6 +268,9 @@ class Transition(Result):
     #: writes them to a path file per edge).
     path: SampledPath | None = dataclasses.field(default=None, repr=False,
                                                  metadata={"json": False})
+    #: A stacked source's spanning welds checked against one another
+    #: (:func:`~.layered.weld_spans`, at its relaxed stacked state); None for a planar source.
+    welds: Any = None
 
 
 def _let_go(rod: DiscreteRod, a: Assembly, n: int) -> DiscreteRod:
@@ -325,7 +328,11 @@ def transition(a: Assembly, source: str, key: str, stop: float, *, load_factor: 
             raise RodstabInputError(f"layers = {layers!r}: a stacked state is loaded in "
                                     f"load_factor only, got {key!r}")
         rod = _stacked_source(a, source, n, load_factor, layers, contact)
+        from .layered import weld_spans
+
+        welds = weld_spans(rod, thickness)
     else:
+        welds = None
         rod = discretise(a, n, load_factor)
         if contact is not None:
             try:
@@ -355,7 +362,8 @@ def transition(a: Assembly, source: str, key: str, stop: float, *, load_factor: 
         return Transition(source, key, stop, math.nan, "", "", None, math.nan, None,
                           tuple(reports), not reports[0].pass_through, path.converged,
                           f"stable up to {key} = {path.value[-1]:.6g}"
-                          + ("" if path.converged else " (the path stopped there)"))
+                          + ("" if path.converged else " (the path stopped there)"),
+                          welds=welds)
     point, (value, at) = lost[0][0], lost[0][1]
     direction = math.copysign(1.0, stop - start)
     past = value + direction * max(OVERSHOOT * abs(value - start), OVERSHOOT_MIN)
@@ -414,7 +422,7 @@ def transition(a: Assembly, source: str, key: str, stop: float, *, load_factor: 
                           tuple((name, len(part)) for name, part in stretches))
     return Transition(source, key, stop, float(value), point["kind"], under, target, rms,
                       invariants(free), tuple(reports), physical, bool(ok and path.converged),
-                      msg, mean_radius(free, free.x), sampled)
+                      msg, mean_radius(free, free.x), sampled, welds)
 
 
 def _invariants_json(e: Transition) -> dict | None:
