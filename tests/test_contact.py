@@ -641,3 +641,16 @@ def test_partition_width_is_bounded_by_dhat_for_the_barrier_and_by_the_turn_for_
     inner = hard.delta[hard.delta > 0]
     assert inner.size and np.allclose(inner, 0.1 * DHAT / math.sin(C.TAPER_MAX_TURN))
     assert np.allclose(soft.delta[soft.delta > 0], 0.4 * 0.5)
+
+
+def test_the_pruned_sampled_distance_of_the_checks_equals_the_full_one():
+    """contact_checks.smallest_distance skips pairs by a bounding-sphere lower bound: on random
+    segments (some near, some far) it returns exactly sampled_distance over all pairs."""
+    from contact_checks import sampled_distance, smallest_distance
+
+    rng = np.random.default_rng(5)
+    for _ in range(5):
+        x = rng.uniform(-1.0, 1.0, (40, 3))
+        edges = np.arange(40).reshape(20, 2)
+        pairs = [(a, b) for a in range(20) for b in range(a + 1, 20)]
+        assert smallest_distance(x, edges, pairs, n=11) == sampled_distance(x, edges, pairs, 11)

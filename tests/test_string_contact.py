@@ -15,7 +15,7 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
-from contact_checks import central_differences, judged_pairs, sampled_distance, segment_gap
+from contact_checks import central_differences, judged_pairs, smallest_distance
 
 from rodstab.errors import NotConverged
 from rodstab.nonlinear.contact import (
@@ -178,10 +178,10 @@ def test_barrier_with_contact_keeps_every_pair_apart_checked_from_the_path_file(
     x, edges = z["x"], z["edges"]
     assert payload["contact"]["acting"] is True and z["thickness"] == H
     judged = judged_pairs(edges, 6)
-    smallest = min(segment_gap(xs, edges, *p) for xs in x for p in judged)
+    smallest = min(smallest_distance(xs, edges, judged) for xs in x)
     slack = 0.01 * float(z["rest_length"].max())
     assert smallest >= H - slack
-    between = min(sampled_distance((1 - t) * x[k] + t * x[k + 1], edges, judged)
+    between = min(smallest_distance((1 - t) * x[k] + t * x[k + 1], edges, judged, n=21)
                   for k in range(len(x) - 1) for t in np.linspace(0.0, 1.0, 9))
     assert between >= H - slack
     e, top = np.asarray(payload["energies"]), payload["saddle_position"]
@@ -300,12 +300,12 @@ def test_transition_with_contact_keeps_every_pair_apart_and_its_threshold(tmp_pa
     z = read_path_file(edge["path_file"])
     slack = 0.01 * float(z["rest_length"].max())
     judged = judged_pairs(z["edges"], 6)
-    assert min(segment_gap(x, z["edges"], *p) for x in z["x"] for p in judged) >= H - slack
+    assert min(smallest_distance(x, z["edges"], judged) for x in z["x"]) >= H - slack
     # the snap and the release are written step by step (each step filtered), so the straight
     # path between neighbouring states keeps the rods apart too
     x = z["x"]
     assert len(x) > 4 + RELEASE_STEPS + 1  # more than the loading, the snap's ends, release
-    between = min(sampled_distance((1 - t) * x[k] + t * x[k + 1], z["edges"], judged)
+    between = min(smallest_distance((1 - t) * x[k] + t * x[k + 1], z["edges"], judged, n=21)
                   for k in range(len(x) - 1) for t in np.linspace(0.0, 1.0, 9))
     assert between >= H - slack
     plain = run_cli(TR)
