@@ -95,17 +95,21 @@ def main(elements: int = 32, repeats: int = 7, dhats: tuple[float, ...] = (1e-4,
                 its[("resolve", contact)] = newton(r)[1]
 
             rows[("resolve", contact)] = median_time(resolve, repeats)
-        at = solved[True]
-        bare = at.copy()
-        bare.contact = None
-        rows[("evaluate", True)] = median_time(at.energy_terms, 5 * repeats)
-        rows[("evaluate", False)] = median_time(bare.energy_terms, 5 * repeats)
+        _evaluate_rows(rows, solved[True], repeats)
         for what in ("newton", "resolve", "evaluate"):
             t1, t0 = rows[(what, True)], rows[(what, False)]
             n_it = (f"{its[(what, True)]}/{its[(what, False)]}" if (what, True) in its else "")
             print(f"{dhat:8.0e} {what:>9} {t1:10.4f} {t0:10.4f} {t1 / t0:7.2f} {n_it:>9}")
     stacked_line(elements, repeats)
     print(f"target: ratio <= {TARGET:g} (issue 21)")
+
+
+def _evaluate_rows(rows: dict, at: DiscreteRod, repeats: int) -> None:
+    """Time one ``energy_terms()`` at ``at`` with its contact term and without it."""
+    bare = at.copy()
+    bare.contact = None
+    rows[("evaluate", True)] = median_time(at.energy_terms, 5 * repeats)
+    rows[("evaluate", False)] = median_time(bare.energy_terms, 5 * repeats)
 
 
 def stacked_line(elements: int, repeats: int) -> None:
@@ -152,11 +156,7 @@ def stacked_line(elements: int, repeats: int) -> None:
             pits[contact] = newton(moved.copy())[1]
 
         rows[("perturbed", contact)] = median_time(resolve, repeats)
-    at = solved[True]
-    bare = at.copy()
-    bare.contact = None
-    rows[("evaluate", True)] = median_time(at.energy_terms, 5 * repeats)
-    rows[("evaluate", False)] = median_time(bare.energy_terms, 5 * repeats)
+    _evaluate_rows(rows, solved[True], repeats)
     for what in ("perturbed", "evaluate"):
         t1, t0 = rows[(what, True)], rows[(what, False)]
         n_it = f"{pits[True]}/{pits[False]}" if what == "perturbed" else ""

@@ -16,6 +16,7 @@ distance of its length cannot deflect at first order, so the linear clamped-clam
 (deflection ``F L^3 / (192 B)`` under a midspan force ``F``) is the sliding-clamped rod's.
 """
 
+import contextlib
 import math
 from pathlib import Path
 
@@ -327,21 +328,28 @@ def test_stacked_beams_are_in_the_linear_limit(monkeypatch):
 
 
 # ---------------------------------------------------------------- Newton
+@contextlib.contextmanager
+def _fractions():
+    """Record every step fraction the filter gives Newton (``newton.contact_fraction``)."""
+    seen: list[float] = []
+    orig = N.contact_fraction
+
+    def spy(r, free, step):
+        seen.append(orig(r, free, step))
+        return seen[-1]
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(N, "contact_fraction", spy)
+        yield seen
+
+
 def test_newton_filters_steps_and_never_interpenetrates():
     """Case (a) at 16 elements from the unloaded state: the first Newton step (the upper rod
     alone, deflecting 2 delta through a gap of dhat) is shortened by the step filter, no trial
     closes a gap (every evaluated state has positive gaps: :class:`Interpenetration` is never
     raised), and Newton converges."""
     rod, _, _ = stacked(16, 1e-4, 384 * B * DELTA / L**3, 1e-4)
-    alphas = []
-    orig = N.contact_fraction
-
-    def spy(r, free, step):
-        alphas.append(orig(r, free, step))
-        return alphas[-1]
-
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(N, "contact_fraction", spy)
+    with _fractions() as alphas:
         ok, its, _ = newton(rod)
     assert ok and alphas[0] < 0.2 and len(alphas) >= its
     assert C.contact_energy_value(rod.contact, rod.x) > 0  # in contact
@@ -350,24 +358,16 @@ def test_newton_filters_steps_and_never_interpenetrates():
 def test_a_step_the_filter_cuts_to_a_sliver_raises_the_shift_first():
     """Case (a) at 16 elements from the unloaded state, the rods 1e-5 L apart (dhat too): the
     pure Newton step (the upper rod through the lower one, 2e-3 L) would be cut below
-    ``CUT_RETRY`` of itself. ``lm_step`` then counts
-    it as a rejection and raises the shift until the filter leaves at least that fraction (or
-    the shift reaches ``LAM_CUT_MAX``): it does not take the sliver at the pure Newton shift 0.
-    (Taking such slivers, each lowering the energy a little, was how Newton crawled: 600
-    iterations on a stacked line, docs/theory/contact.md.)"""
+    ``CUT_RETRY`` of itself. ``lm_step`` then counts it as a rejection and raises the shift
+    until the filter leaves at least that fraction (or the shift reaches ``LAM_CUT_MAX``): it
+    does not take the sliver at the pure Newton shift 0. (Taking such slivers, each lowering
+    the energy a little, was how Newton crawled: 600 iterations on a stacked line,
+    docs/theory/contact.md.)"""
     rod, _, _ = stacked(16, 1e-5, 384 * B * DELTA / L**3, 1e-5)
     free = rod.free_dofs()
     E, g, H = rod.energy_terms()
     Hf = H[free][:, free].tocsc()
-    taken = []
-    orig = N.contact_fraction
-
-    def spy(r, fr, step):
-        taken.append(orig(r, fr, step))
-        return taken[-1]
-
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(N, "contact_fraction", spy)
+    with _fractions() as taken:
         terms, lam = N.lm_step(rod, free, E, g[free], 0.5 * (Hf + Hf.T), 0.0, 1e-12)
     assert terms is not None and taken[0] < N.CUT_RETRY  # the pure Newton step: a sliver
     assert lam > 0.0 and (taken[-1] >= N.CUT_RETRY or lam >= N.LAM_CUT_MAX)
