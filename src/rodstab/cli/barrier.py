@@ -307,7 +307,9 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
         if stacked is not None and model is not None:
             from ..multistable.layered import weld_spans
 
-            welds = weld_spans(stacked, 2.0 * float(np.max(model.radius)))
+            start = stacked.copy()  # the path's first state, as the knots line judges it
+            start.x = xs[0]
+            welds = weld_spans(start, 2.0 * float(np.max(model.radius)))
             payload["contact"]["welds"] = welds.to_dict()
             lines.append(weld_line(welds))
         if out is not None:
