@@ -342,4 +342,6 @@ def weld_line(spans: Any) -> str:
                 "through each other, which contact (rods only) does not see: no object is "
                 "built so (welds at one place whose spans cross need staggering along the "
                 "rods, which --layers cannot do)")
+    if spans.clearance is None:
+        return "welds        fewer than two welds span the layers: none can meet another"
     return f"welds        spans clear of one another (closest {fmt(spans.clearance)} h)"

@@ -193,11 +193,11 @@ class WeldSpans(Result):
 
     ``overlapping``: pairs of welds (each named by its segment ends, ``"1.end + 2.start"``)
     whose spans come nearer than ``h``; ``clearance``: the smallest distance between spans of
-    two welds over ``h`` (inf with fewer than two spanning welds).
+    two welds over ``h`` (None with fewer than two spanning welds: nothing to measure).
     """
 
     overlapping: tuple[tuple[str, str], ...]
-    clearance: float
+    clearance: float | None
 
 
 def weld_spans(rod: DiscreteRod, thickness: float) -> WeldSpans:
@@ -208,21 +208,21 @@ def weld_spans(rod: DiscreteRod, thickness: float) -> WeldSpans:
     segments joint node -> end node. A weld is at least as thick as the rods it joins, so two
     welds whose spans come nearer than ``h`` (``thickness``, length) overlap. Contact sees the
     rods only, so such welds pass through each other unseen: a model no object can be built
-    as. The hexagram's line in two columns has its three welds at ``x = 0`` so (the spans
-    ``R0 -> L1``, ``R1 -> L2`` and ``R2 -> L0`` of the columns' layers lie in one plane and
-    the last crosses the other two; its ring centreline meets itself,
+    as. The hexagram's line in two columns has its three welds at ``x = 0`` so, in every
+    order of its layers (the spans lie in one plane across the line and cannot all keep the
+    layers' order; as constructed its ring centreline meets itself,
     :func:`~.knots.knot_class`; ``tests/test_spanning_weld.py``).
     """
     h = float(thickness)
     names = [" + ".join(f"{seg}.{end}" for seg, end in ends)
              for ends in rod.assembly.joints()]
     if rod.offsets is None:
-        return WeldSpans(overlapping=(), clearance=float("inf"))
+        return WeldSpans(overlapping=(), clearance=None)
     on, oj = rod.offsets[0], rod.offsets[1]
     a, b = np.triu_indices(len(on), 1)
     a, b = a[oj[a] != oj[b]], b[oj[a] != oj[b]]
     if not len(a):
-        return WeldSpans(overlapping=(), clearance=float("inf"))
+        return WeldSpans(overlapping=(), clearance=None)
     x = rod.x
     d = segment_distance(x[on[a, 0]], x[on[a, 1]], x[on[b, 0]], x[on[b, 1]]) / h
     close = sorted({tuple(sorted((int(oj[i]), int(oj[k])))) for i, k in
