@@ -394,3 +394,52 @@ def test_the_birods_welds_are_clear_of_one_another_and_say_so():
                                    "upper=1,lower=0"])
     assert out.exit_code == 0, out.output
     assert "welds        spans clear of one another (closest 50 h)" in out.output
+
+
+STAGGERED = "1=-0.5:0:0,3=-0.5:1:1,5=-0.5:2:2,2=0.5:0:1,4=0.5:1:2,6=0.5:2:0"
+
+
+def test_a_shift_along_the_rods_staggers_the_lines_welds_clear_of_one_another():
+    """NAME=U:K:S shifts a straight rod S spacings along itself. Rods 1-6 of the line in two
+    columns shifted 0, 1, 1, 2, 2, 0: the welds at x = 0 (2-3, 4-5, 6-1) then lie at distinct
+    places along the line, 1, 2 and 0 spacings, and so do those at x = L; every two welds'
+    spans are at least one spacing (h + g0 = 1.05 h) apart. From the command line the
+    transition prints it; an unknown fourth number and a shift in the cone's model are
+    refused (exit 2, naming them)."""
+    from conftest import run_cli
+
+    from rodstab.cli.contact_options import parse_layers
+    from rodstab.multistable.discover import common_rod
+    from rodstab.multistable.layered import stacked_model, weld_spans
+    from rodstab.nonlinear.equilibrium import rod_contact_model
+    from rodstab.problems.barrier_states import state_assembly
+    from rodstab.sections import rectangle
+
+    line = state_assembly("hexagram", rectangle(aspect=4.0), "line")
+    names = [s.name for s in line.segments]
+    order = parse_layers(STAGGERED, names)
+    assert order["4"] == (0.5, 1.0, 2.0)
+    model = rod_contact_model(line, 0.02, 0.1)
+    planar = common_rod(line, 4, 1.0)
+    assert newton(planar)[0]
+    w = weld_spans(stacked_model(planar, order, model), 0.02)
+    assert not w.overlapping and w.clearance == pytest.approx(1.05, rel=1e-6)
+    with pytest.raises(RodstabInputError, match="NAME=U:K:S"):
+        parse_layers("1=0:0:0:1,2=0,3=1,4=1,5=2,6=2", names)
+    bad = run_cli(["analyze", "examples/birod.toml", "--contact", "--layers",
+                   "upper=0:1:1,lower=0"])
+    assert bad.exit_code == 2 and "shift along the rod" in bad.stderr
+
+
+def test_a_shift_of_a_curved_rod_is_refused_naming_it():
+    """A rigid shift along a curved rod's tangent would move it off its arc (the hexagram's
+    star: six arcs): refused, naming the rod."""
+    from rodstab.multistable.discover import common_rod
+    from rodstab.multistable.layer_orders import layer_translations
+    from rodstab.problems.barrier_states import state_assembly
+    from rodstab.sections import rectangle
+
+    star = common_rod(state_assembly("hexagram", rectangle(aspect=4.0), "star"), 4, 1.0)
+    order = {str(k): (0.0, float(k % 2), 1.0 if k == 3 else 0.0) for k in range(1, 7)}
+    with pytest.raises(RodstabInputError, match="'3'.*curvature"):
+        layer_translations(star, order, 0.02, 0.001)

@@ -68,8 +68,9 @@ _BARRIER_STATES = {"six-ring": ("folded", "one-loop"), "hexagram": ("line", "sta
                       "through another (rodstab transitions). With --contact also the "
                       "capsules' diameter.")
 @layers_option("Barrier: the --from state is stacked in this order (NAME=U:K: in-plane "
-               "offset U and layer K, in units of h + g0, for straight rods only) and the "
-               "path runs with its welds spanning the layers. String method, --contact.")
+               "offset U and layer K, in units of h + g0; NAME=U:K:S also shifts the rod S "
+               "along itself, to stagger welds; straight rods only) and the path runs with "
+               "its welds spanning the layers. String method, --contact.")
 @section_options
 @limit_options
 @json_option
@@ -157,8 +158,8 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
                                     "for this run (--contact)")
         parsed = parse_layers(layers, [s.name for s in a.segments])
         if not isinstance(parsed, dict):
-            raise RodstabInputError(f"--layers {layers!r}: a barrier takes NAME=K or NAME=U:K "
-                                    "for every segment, not 'torus'")
+            raise RodstabInputError(f"--layers {layers!r}: a barrier takes NAME=K, NAME=U:K or "
+                                    "NAME=U:K:S for every segment, not 'torus'")
         order = parsed
     # Sized before anything is built: the string relaxes its images together.
     string = method == "string"

@@ -169,11 +169,13 @@ def layers_option(help: str) -> Callable[..., Any]:
 
 
 def parse_layers(text: str, names: list[str] | tuple[str, ...]) -> dict[str, Any] | str:
-    """Read ``--layers``: ``torus``, or ``NAME=K`` / ``NAME=U:K`` for every segment (commas).
+    """Read ``--layers``: ``torus``, or ``NAME=K`` / ``NAME=U:K`` / ``NAME=U:K:S`` (commas).
 
     ``K`` is the layer (height in spacings along ``e3``), ``U:K`` an offset with an in-plane
-    part ``U`` (:func:`rodstab.multistable.stacking.stack_layers`). Refuses (exit 2) a
-    malformed item, an unknown name or a missing one, naming it.
+    part ``U`` (:func:`rodstab.multistable.stacking.stack_layers`), ``U:K:S`` also a shift of
+    ``S`` spacings along the rod (:func:`rodstab.multistable.layer_orders.layer_translations`:
+    the stacked model of ``transitions`` and ``barrier``). Refuses (exit 2) a malformed item,
+    an unknown name or a missing one, naming it.
     """
     text = text.strip()
     if text == "torus":
@@ -186,11 +188,11 @@ def parse_layers(text: str, names: list[str] | tuple[str, ...]) -> dict[str, Any
             parts = [float(v) for v in value.split(":")]
         except ValueError:
             parts = []
-        if not eq or name not in names or len(parts) not in (1, 2) or name in out:
+        if not eq or name not in names or len(parts) not in (1, 2, 3) or name in out:
             raise RodstabInputError(
-                f"--layers item {item!r}: expected NAME=K or NAME=U:K with NAME one of "
-                f"{list(names)} (each once), or 'torus'")
-        out[name] = parts[0] if len(parts) == 1 else (parts[0], parts[1])
+                f"--layers item {item!r}: expected NAME=K, NAME=U:K or NAME=U:K:S with NAME one "
+                f"of {list(names)} (each once), or 'torus'")
+        out[name] = parts[0] if len(parts) == 1 else tuple(parts)
     missing = [n for n in names if n not in out]
     if missing:
         raise RodstabInputError(f"--layers gives no layer for {missing}: every segment needs one")

@@ -176,7 +176,8 @@ def discover(design_file: str | None, section: Section, structure: str, segments
 @click.option("--state", "states_", multiple=True, metavar="STATE",
               help="Load only these states (repeatable; labels of `rodstab states`; default: "
                    "the line, star, daisy and eight the ring has).")
-@layers_option("Offsets NAME=U:K (in-plane U, layer K) also accepted. The one --state "
+@layers_option("Offsets NAME=U:K (in-plane U, layer K) and NAME=U:K:S (also shifted S along "
+               "the rod, to stagger welds) also accepted. The one --state "
                "loaded is stacked in this order, its welds spanning the layers, and loaded "
                "in load_factor (needs --contact).")
 @click.option("--all", "all_stimuli", is_flag=True,
@@ -233,8 +234,8 @@ def transitions(design_file: str | None, section: Section, structure: str,
         held = ring.held(ring.state(states_[0]).theta)
         parsed = parse_layers(layers, [seg.name for seg in held.segments])
         if not isinstance(parsed, dict):
-            raise RodstabInputError(f"--layers {layers!r}: transitions take NAME=K or NAME=U:K "
-                                    "for every segment, not 'torus'")
+            raise RodstabInputError(f"--layers {layers!r}: transitions take NAME=K, NAME=U:K or "
+                                    "NAME=U:K:S for every segment, not 'torus'")
         order = {states_[0]: parsed}
         if states_[0] not in chosen:  # its default stimuli in the load factor (the others
             # hold welds of the planar model's topology)

@@ -340,8 +340,7 @@ def weld_line(spans: Any) -> str:
                 + "; ".join(f"{a} and {b}" for a, b in spans.overlapping)
                 + f" come within {fmt(spans.clearance)} h, so welds as thick as the rods pass "
                 "through each other, which contact (rods only) does not see: no object is "
-                "built so (welds at one place whose spans cross need staggering along the "
-                "rods, which --layers cannot do)")
+                "built so (stagger the welds along the rods: --layers NAME=U:K:S)")
     if spans.clearance is None:
         return "welds        fewer than two welds span the layers: none can meet another"
     return f"welds        spans clear of one another (closest {fmt(spans.clearance)} h)"

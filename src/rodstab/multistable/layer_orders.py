@@ -94,18 +94,28 @@ def layer_translations(rod: DiscreteRod, layers: dict[str, Any], thickness: floa
     moves a segment rigidly, so its in-plane part is the offset of :func:`stack_layers` only
     on a straight segment: a curved one with ``u != 0`` raises (exit 2, naming it). The welds
     then span the layers (:func:`~rodstab.nonlinear.discrete.discretise`) instead of ramping.
+    An offset ``(u, k, s)`` also shifts the segment by ``s`` spacings along its held tangent
+    (turned by :func:`_senses`, so rods lying on one another share the direction; straight
+    segments only): welds at one place whose spans would cross are staggered along the rods
+    (:func:`~.layered.weld_spans`; the hexagram's line in two columns needs it).
     """
     h = require_positive("thickness", thickness)
     d = h + require_positive("gap", gap)
     names = [seg.name for seg in rod.assembly.segments]
-    off = layer_offsets(names, layers)
+    shifts = {k: float(v[2]) if isinstance(v, (tuple, list)) and len(v) == 3 else 0.0
+              for k, v in layers.items()}
+    off = layer_offsets(names, {k: tuple(v[:2]) if isinstance(v, (tuple, list)) and len(v) == 3
+                                else v for k, v in layers.items()})
     sense = _senses(rod, h)
     out = {}
     for k, seg in enumerate(rod.assembly.segments):
-        if off[seg.name][0] != 0.0 and seg.curvature != 0.0:
+        if (off[seg.name][0] != 0.0 or shifts.get(seg.name, 0.0) != 0.0) \
+                and seg.curvature != 0.0:
             raise RodstabInputError(f"layers[{seg.name!r}] = {layers[seg.name]!r}: an in-plane "
-                                    f"offset translates only a straight segment; {seg.name!r} "
-                                    f"has curvature {seg.curvature:g}")
-        out[seg.name] = _lab_offset(seg, np.array([0.5 * seg.length]), off[seg.name],
-                                    sense[k], d)[0]
+                                    f"offset or a shift translates only a straight segment; "
+                                    f"{seg.name!r} has curvature {seg.curvature:g}")
+        mid = np.array([0.5 * seg.length])
+        t = sense[k] * seg.tangent(mid).reshape(2)
+        out[seg.name] = (_lab_offset(seg, mid, off[seg.name], sense[k], d)[0]
+                         + shifts.get(seg.name, 0.0) * d * np.array([t[0], t[1], 0.0]))
     return out

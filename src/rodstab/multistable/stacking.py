@@ -600,6 +600,11 @@ def layer_offsets(names: list[str], layers: dict[str, Any]) -> dict[str, tuple[f
             off[name] = (0.0, float(value))
         elif isinstance(value, (tuple, list)) and len(value) == 2:
             off[name] = (float(value[0]), float(value[1]))
+        elif isinstance(value, (tuple, list)) and len(value) == 3:
+            raise RodstabInputError(f"layers[{name!r}] = {value!r}: a shift along the rod (the "
+                                    "third number) is a setting of the stacked model whose "
+                                    "welds span the layers (transitions, barrier), not of "
+                                    "this method")
         else:
             raise RodstabInputError(f"layers[{name!r}] must be a layer number or an offset (u, "
                                     f"k), got {value!r}")
