@@ -653,4 +653,5 @@ def test_the_pruned_sampled_distance_of_the_checks_equals_the_full_one():
         x = rng.uniform(-1.0, 1.0, (40, 3))
         edges = np.arange(40).reshape(20, 2)
         pairs = [(a, b) for a in range(20) for b in range(a + 1, 20)]
-        assert smallest_distance(x, edges, pairs, n=11) == sampled_distance(x, edges, pairs, 11)
+        assert smallest_distance(x, edges, pairs, n=11) == pytest.approx(
+            sampled_distance(x, edges, pairs, 11), rel=1e-12)  # chunks may round apart

@@ -102,10 +102,10 @@ def layer_translations(rod: DiscreteRod, layers: dict[str, Any], thickness: floa
     h = require_positive("thickness", thickness)
     d = h + require_positive("gap", gap)
     names = [seg.name for seg in rod.assembly.segments]
-    shifts = {k: float(v[2]) if isinstance(v, (tuple, list)) and len(v) == 3 else 0.0
-              for k, v in layers.items()}
-    off = layer_offsets(names, {k: tuple(v[:2]) if isinstance(v, (tuple, list)) and len(v) == 3
-                                else v for k, v in layers.items()})
+    shifted = {k for k, v in layers.items() if isinstance(v, (tuple, list)) and len(v) == 3}
+    shifts = {k: float(layers[k][2]) for k in shifted}
+    off = layer_offsets(names, {k: tuple(v[:2]) if k in shifted else v
+                                for k, v in layers.items()})
     sense = _senses(rod, h)
     out = {}
     for k, seg in enumerate(rod.assembly.segments):

@@ -53,7 +53,7 @@ from __future__ import annotations
 import dataclasses
 import math
 from collections.abc import Mapping, Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -67,6 +67,9 @@ from ..nonlinear.parameters import parameter
 from ..nonlinear.solve import lowest_modes, newton, relax, zero_eigenvalue_tol
 from ..results import Result
 from .identify import Invariants, identify, invariants, mean_radius
+
+if TYPE_CHECKING:  # layered imports nothing of this module; typing only
+    from .layered import WeldSpans
 
 #: Elements of one rod closer than this many elements along it are not judged for contact.
 SAME_ROD_GAP = 3
@@ -270,7 +273,7 @@ class Transition(Result):
                                                  metadata={"json": False})
     #: A stacked source's spanning welds checked against one another
     #: (:func:`~.layered.weld_spans`, at its relaxed stacked state); None for a planar source.
-    welds: Any = None
+    welds: WeldSpans | None = None
 
 
 def _let_go(rod: DiscreteRod, a: Assembly, n: int) -> DiscreteRod:
