@@ -71,14 +71,19 @@ from .output import (
                    "(rodstab states, |kL| <= 2 pi).")
 @click.option("--plot", "plot_path", type=click.Path(dir_okay=False), default=None,
               help="Write a grid of the states found (projected on their best-fit planes).")
+@click.option("--saddle-modes", type=int, default=0, show_default=True,
+              help="Also climb from every stable state found along its K softest modes, both "
+                   "ways (eigenvector following), to the index-1 saddles, and follow each "
+                   "saddle's two steepest descents: which states it joins, over what barrier "
+                   "(0: no climbs).")
 @contact_options
 @section_options
 @limit_options
 @json_option
 def discover(design_file: str | None, section: Section, structure: str, segments: int,
              state: str | None, load_factor: float, starts: int, elements: int, rng_seed: int,
-             seed_states: bool, plot_path: str | None, contact: Any, limits: Limits,
-             as_json: bool) -> None:
+             seed_states: bool, plot_path: str | None, saddle_modes: int, contact: Any,
+             limits: Limits, as_json: bool) -> None:
     """Equilibria nobody named: deflated Newton from seeds and perturbed starts.
 
     On DESIGN's ring (identical rods welded in a cycle, `rodstab states DESIGN`) or on a
@@ -94,6 +99,11 @@ def discover(design_file: str | None, section: Section, structure: str, segments
     mu, n_el = load_factor, elements
     if isinstance(starts, bool) or starts < 0:
         raise RodstabInputError(f"--starts must be an integer >= 0, got {starts!r}")
+    from ..multistable.saddle_search import CLIMB_EIGS
+
+    if not 0 <= saddle_modes <= CLIMB_EIGS:
+        raise RodstabInputError(f"--saddle-modes must lie in 0..{CLIMB_EIGS}, got "
+                                f"{saddle_modes!r}")
     ring, section, name, design = ring_and_section(design_file, structure, segments, section,
                                                    contact_ok=True)
     setting = contact.resolve(None if design is None else design.contact)
@@ -153,8 +163,34 @@ def discover(design_file: str | None, section: Section, structure: str, segments
         lines.insert(2, f"contact      acting: capsules h/L = {fmt(setting[0])}, dhat/h = "
                         f"{fmt(setting[1])}; starts outside the model, not run: "
                         f"{', '.join(found.outside_contact) or 'none'}")
+    if saddle_modes:
+        lines += _saddle_lines(rod, found, snaps, saddle_modes, ring, payload)
     lines += [f"wrote {payload['plot']}"] if plot is not None else []
     emit(payload, as_json, lines)
+
+
+def _saddle_lines(rod: Any, found: Any, snaps: list, modes: int, ring: Any,
+                  payload: dict[str, Any]) -> list[str]:
+    """Climb from the stable states found (``#row``), put the search in ``payload``, its lines."""
+    from ..multistable.saddle_search import search_saddles
+
+    minima = [(f"#{i + 1}" + ("" if s.label == "unnamed" else f" {s.label}"), snaps[i])
+              for i, s in enumerate(found.states) if s.stable]
+    result = search_saddles(rod, minima, modes, directions=tuple(d for _, d in ring.order))
+    payload["saddle_search"] = result.to_dict()
+    tally = ", ".join(f"{k} {v}" for k, v in sorted(result.outcomes().items()))
+    lines = [f"saddles      {result.method}: {len(result.climbs)} climbs from "
+             f"{len(minima)} stable states ({tally}); {len(result.saddles)} distinct"]
+    for k, sd in enumerate(result.saddles):
+        ends = " and ".join(
+            j if b is None else f"{j} (barrier {fmt(b)})"
+            for j, b in zip(sd.joins, sd.barriers, strict=True))
+        lines.append(f"{'S' + str(k + 1):>14} {sd.energy:>10.6g}     1  joins {ends}; "
+                     f"{'planar' if sd.invariants.planar else '3D'}; first from "
+                     f"{sd.found_from} ({sd.times_found} climbs)")
+    lines += [f"{lab:>14} {e:>10.6g}     0  a minimum a descent reached, not found above"
+              for lab, e in result.new_minima]
+    return lines
 
 
 @click.command()

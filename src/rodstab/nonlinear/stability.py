@@ -282,6 +282,22 @@ def sliding_mode(rod: DiscreteRod) -> np.ndarray | None:
     return vf if np.linalg.norm(vf) > SLIDING_RATIO * raw else None
 
 
+def scaled_free_hessian(rod: DiscreteRod, hessian: sp.spmatrix | None = None
+                        ) -> tuple[np.ndarray, np.ndarray, sp.csc_matrix]:
+    """Return ``(free, d, A)``: the free unknowns, their Jacobi scaling and ``A = D H_f D``.
+
+    ``H_f`` is the free block of the Hessian, symmetrised; every scaled eigenvalue rodstab
+    reports is one of ``A``'s (a free step is ``D y`` for ``y`` in ``A``'s unknowns).
+    ``hessian``: the full Hessian at ``rod``'s state when the caller has it.
+    """
+    H = rod.energy_terms()[2] if hessian is None else hessian
+    free = rod.free_dofs()
+    Hf = H[free][:, free].tocsc()
+    Hf = 0.5 * (Hf + Hf.T)
+    d = jacobi_scaling(Hf)
+    return free, d, (sp.diags(d) @ Hf @ sp.diags(d)).tocsc()
+
+
 def lowest_modes(rod: DiscreteRod, k: int = 4, hessian: sp.spmatrix | None = None
                  ) -> tuple[np.ndarray, np.ndarray]:
     """Return the lowest ``k`` eigenpairs of the Jacobi-scaled free Hessian.
@@ -290,12 +306,7 @@ def lowest_modes(rod: DiscreteRod, k: int = 4, hessian: sp.spmatrix | None = Non
     ring the eigenpair that is the material-sliding zero mode (:func:`sliding_mode`) is left out.
     ``hessian``: the full Hessian at ``rod``'s state when the caller has it (not formed again).
     """
-    H = rod.energy_terms()[2] if hessian is None else hessian
-    free = rod.free_dofs()
-    Hf = H[free][:, free].tocsc()
-    Hf = 0.5 * (Hf + Hf.T)
-    d = jacobi_scaling(Hf)
-    A = (sp.diags(d) @ Hf @ sp.diags(d)).tocsc()
+    free, d, A = scaled_free_hessian(rod, hessian)
     slide = sliding_mode(rod)
     vals, vecs = lowest_eigenpairs(A, k + (1 if slide is not None else 0))
     vecs = d[:, None] * vecs

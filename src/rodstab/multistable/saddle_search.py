@@ -1,0 +1,323 @@
+"""Saddles found from one minimum: eigenvector following (issue 22, section 1; issue 21).
+
+The string method (:mod:`.string_method`) needs both ends of a transition and a path between
+them. Eigenvector following needs only the state it leaves: from a minimum it climbs along one
+of its soft modes, minimising in every other direction, until the followed curvature turns
+negative, then converges on the index-1 saddle (Cerjan and Miller, J. Chem. Phys. 75, 2800,
+1981; the partitioned rational-function step of Baker, J. Comput. Chem. 7, 385, 1986; Wales,
+*Energy Landscapes*, 2003, Sec. 6.2). The two steepest descents from the saddle then say which
+minima it joins (:meth:`.landscape.Landscape.judge`).
+
+One step, in the Jacobi-scaled unknowns ``y`` (``q = D y``, ``A = D H D``, the scaling of every
+eigenvalue rodstab reports), with ``u`` the followed unit eigenvector of ``A`` (eigenvalue
+``b``; tracked from step to step by the largest overlap with the previous one, and its sign
+kept) and ``g`` the scaled gradient:
+
+- along ``u``: while ``b`` is positive (the climb out of the basin) a push of the trust radius
+  uphill; once negative, the P-RFO step ``g_u / (lambda_p - b)``,
+  ``lambda_p = b/2 + sqrt(b^2/4 + g_u^2)``, which moves up to the maximum along ``u``;
+- across ``u``: the Newton step ``-(A + mu I)^-1 g_perp`` projected off ``u``, where ``mu``
+  lifts any other eigenvalue below the zero band and adds :data:`COMPLEMENT_SHIFT` ``|b|``.
+  Without that share of ``|b|`` the near-zero modes of a ring (rods rolling on one another)
+  take the whole trust radius and the climb stalls (hexagram star, 8 el.: 1500 steps at
+  ~11.4 B3/L); with the full ``|b|`` it rarely reaches the saddle; 0.1 found it from both the
+  line and the star;
+- each part is capped to the trust radius (largest node displacement over ``L``, or frame
+  rotation, :func:`~rodstab.nonlinear.constraint.chart_size`); with contact the step is filtered
+  (:func:`~rodstab.nonlinear.newton.contact_fraction`) and retracted as the saddle refinement's
+  (:func:`~.saddle.refine_saddle`). A step whose energy change is not within a factor 4 of the
+  quadratic model's is halved.
+
+Once the followed curvature is negative, every other one is not, and the step has fallen below
+:data:`CLOSE`, Newton's method (:func:`~.saddle.refine_saddle`) converges on the saddle and its
+index is counted. A climb can fail: the followed mode may lead into ever stiffer bending
+without an inflection (energy far above any saddle), fall into another basin, or run out of
+steps; the result says which. Measured (hexagram, rectangle h/t = 4, 8 el./rod, 4 modes x 2
+signs from each stable state): at kappa_n R0 = 1 the line -> star saddle (14.2795117 B3/L, the
+string method's) from the line's third mode in 103 steps and from the star's in 340; at 1.5
+the star -> daisy saddle (7.9138426, barrier 4.69217, the string method's) from six of the
+sixteen climbs. The other climbs fail: a failed climb is not evidence that no saddle exists.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from typing import Any, Literal
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from ..errors import RodstabInputError
+from ..nonlinear.constraint import chart_size
+from ..nonlinear.discrete import DiscreteRod
+from ..nonlinear.newton import contact_fraction
+from ..nonlinear.stability import lowest_modes, scaled_free_hessian, zero_eigenvalue_tol
+from ..numerics.eigen import lowest_eigenpairs
+from ..results import Result
+from .barrier import INDEX_EIGS, descents_from_saddle, state_label
+from .identify import Invariants, Snapshot, invariants, same_state
+from .saddle import _inside, refine_saddle
+
+#: Largest step (trust radius): node displacement over L, or frame rotation (rad).
+CLIMB_STEP = 0.02
+#: Most steps of one climb (the saddles above took 95-340).
+CLIMB_MAX_ITER = 400
+#: Eigenpairs computed per step: the followed one is tracked among them.
+CLIMB_EIGS = 6
+#: Share of the followed eigenvalue's magnitude added to the complement's shift (module doc).
+COMPLEMENT_SHIFT = 0.1
+#: The trust radius is not halved below this (the model is then wrong at every length).
+TRUST_MIN = 1e-5
+#: Past the inflection, a step shorter than this hands over to Newton's method.
+CLOSE = 1e-3
+
+Outcome = Literal["saddle", "not a saddle", "fell into another basin", "no step fits the model",
+                  "out of steps", "newton did not converge"]
+
+
+@dataclasses.dataclass(frozen=True)
+class Climb(Result):
+    """One eigenvector-following climb from a minimum.
+
+    ``outcome``: ``"saddle"`` when Newton converged on a stationary point of index exactly 1
+    (``index`` counted from the :data:`CLIMB_EIGS` lowest scaled eigenvalues); otherwise why
+    not. ``energy``: where it ended (units of ``B3 / L``); ``steps``: climbing steps taken;
+    ``start``: the label of the minimum it left (set by :func:`search_saddles`).
+    """
+
+    mode: int
+    sign: int
+    outcome: Outcome
+    steps: int
+    energy: float
+    index: int | None
+    residual: float | None
+    start: str = ""
+
+    @property
+    def found(self) -> bool:
+        """Whether the climb ended on an index-1 saddle."""
+        return self.outcome == "saddle"
+
+
+def _on_free(r: DiscreteRod, free: np.ndarray, v: np.ndarray) -> np.ndarray:
+    dq = np.zeros(r.n_dof)
+    dq[free] = v
+    return dq
+
+
+def _capped(r: DiscreteRod, free: np.ndarray, d: np.ndarray, y: np.ndarray, cap: float,
+            exactly: bool = False) -> np.ndarray:
+    """``y`` scaled so that its step ``D y`` moves nothing by more than (``exactly``) ``cap``."""
+    size = chart_size(r, _on_free(r, free, d * y))
+    return y * ((cap if exactly else min(cap, size)) / max(size, 1e-300))
+
+
+def follow_mode(rod: DiscreteRod, mode: int, sign: int = 1, *, step: float = CLIMB_STEP,
+                max_iter: int = CLIMB_MAX_ITER) -> Climb:
+    """Climb from minimum ``rod`` (in place) along its ``mode``-th softest mode to a saddle.
+
+    Parameters
+    ----------
+    rod : DiscreteRod
+        A converged minimum (with contact, inside the model); left where the climb ended.
+    mode : int
+        Which of the lowest scaled eigenvectors to follow (0: the softest), < :data:`CLIMB_EIGS`.
+    sign : int
+        +1 or -1: which way along it.
+    step : float
+        Trust radius (module docstring).
+    max_iter : int
+        Most climbing steps.
+
+    Returns
+    -------
+    Climb
+        The outcome; on ``"saddle"`` ``rod`` is the Newton-converged saddle.
+    """
+    if not 0 <= mode < CLIMB_EIGS or sign not in (1, -1):
+        raise ValueError(f"mode must be in [0, {CLIMB_EIGS}) and sign +-1, got {mode}, {sign}")
+    E, g, H = rod.energy_terms()
+    e_start = E
+    floor = zero_eigenvalue_tol(rod)
+    w: np.ndarray | None = None
+    tau = step
+
+    def ended(outcome: Outcome, steps: int) -> Climb:
+        return Climb(mode, sign, outcome, steps, float(rod.energy()), None, None)
+
+    for it in range(max_iter):
+        free, d, A = scaled_free_hessian(rod, H)
+        vals, vecs = lowest_eigenpairs(A, CLIMB_EIGS)
+        j = mode if w is None else int(np.argmax(np.abs(vecs.T @ w)))
+        u = vecs[:, j] * (sign if w is None else np.sign(vecs[:, j] @ w) or 1.0)
+        b = float(vals[j])
+        others = float(np.min(np.delete(vals, j)))
+        gy = d * g[free]
+        gu = float(u @ gy)
+        mu = (floor - others if others < floor else 0.0) + COMPLEMENT_SHIFT * abs(b)
+        z = -spla.splu((A + mu * sp.identity(A.shape[0])).tocsc()).solve(gy - gu * u)
+        z -= (u @ z) * u
+        if b > floor:  # still in the basin: push uphill by the trust radius
+            along = None
+        else:
+            lam_p = 0.5 * b + np.sqrt(0.25 * b * b + gu * gu)
+            along = -gu / (b - lam_p) * u
+        while True:
+            up = _capped(rod, free, d, u, tau, exactly=True) if along is None else along
+            dy = _capped(rod, free, d, up + _capped(rod, free, d, z, tau), tau)
+            dq = _on_free(rod, free, d * dy)
+            if rod.contact is not None:
+                frac = contact_fraction(rod, free, dq[free])
+                dq, dy = dq * frac, dy * frac
+            pred = float(gy @ dy + 0.5 * dy @ (A @ dy))
+            found = _inside(rod, dq)
+            if found is not None:
+                trial, (Et, gt, Ht) = found
+                flat = abs(Et - E) <= 1e-10 * max(1.0, abs(E))
+                rho = (Et - E) / pred if pred != 0.0 else 1.0
+                if flat or 0.25 < rho < 4.0:
+                    break
+            tau /= 2
+            if tau < TRUST_MIN:
+                return ended("no step fits the model", it)
+        rod.x, rod.R_edge, rod.R_joint = trial.x, trial.R_edge, trial.R_joint
+        E, g, H = Et, gt, Ht
+        if flat or 0.75 < rho < 1.33:
+            tau = min(2 * tau, step)
+        w = u
+        if E < e_start - 1e-6 * max(1.0, abs(e_start)):
+            return ended("fell into another basin", it + 1)
+        if b < -floor and others > -floor and chart_size(rod, dq) < CLOSE:
+            run = refine_saddle(rod)
+            if not run.converged:
+                return Climb(mode, sign, "newton did not converge", it + 1, float(rod.energy()),
+                             None, float(run.residual))
+            ev = lowest_modes(rod, CLIMB_EIGS)[0]
+            index = int(np.sum(ev < -floor))
+            return Climb(mode, sign, "saddle" if index == 1 else "not a saddle", it + 1,
+                         float(rod.energy()), index, float(run.residual))
+    return ended("out of steps", max_iter)
+
+
+
+@dataclasses.dataclass(frozen=True)
+class SaddleFound(Result):
+    """One index-1 saddle met by the climbs, deduplicated, and the minima it joins.
+
+    ``joins``: the labels of the minima its two steepest descents end on
+    (:func:`~.barrier.descents_from_saddle`, named by :func:`~.identify.same_state`), a label
+    ``"new k"`` for a minimum that was not among the given ones, ``"unresolved"`` for a descent
+    that did not end on a minimum; ``barriers``: the saddle's energy above each (None when
+    unresolved). ``found_from``: the first climb that reached it; ``times_found``: how many did.
+    """
+
+    energy: float
+    joins: tuple[str, str]
+    barriers: tuple[float | None, float | None]
+    invariants: Invariants
+    found_from: str
+    times_found: int
+
+
+@dataclasses.dataclass(frozen=True)
+class SaddleSearch(Result):
+    """Every climb from the given minima, the distinct saddles and any new minima reached."""
+
+    climbs: tuple[Climb, ...]
+    saddles: tuple[SaddleFound, ...]
+    new_minima: tuple[tuple[str, float], ...]
+    modes: int
+    method: str
+
+    def outcomes(self) -> dict[str, int]:
+        """How many climbs ended each way."""
+        out: dict[str, int] = {}
+        for c in self.climbs:
+            out[c.outcome] = out.get(c.outcome, 0) + 1
+        return out
+
+
+def search_saddles(rod: DiscreteRod, minima: list[tuple[str, Snapshot]], modes: int, *,
+                   directions: tuple[int, ...] | None = None, step: float = CLIMB_STEP,
+                   max_iter: int = CLIMB_MAX_ITER) -> SaddleSearch:
+    """Climb from every minimum along its ``modes`` softest modes, both ways, and judge the saddles.
+
+    Parameters
+    ----------
+    rod : DiscreteRod
+        The discrete model all states belong to (its state is changed; with contact, the
+        climbs and descents are filtered).
+    minima : list of (str, Snapshot)
+        Labelled stable states to climb from (also the names the descents' ends are matched to).
+    modes : int
+        Modes per minimum, 1 .. :data:`CLIMB_EIGS` (each followed with both signs).
+    directions : tuple of int, optional
+        As in :func:`~.identify.invariants`.
+    step, max_iter : float, int
+        Passed to :func:`follow_mode`.
+
+    Returns
+    -------
+    SaddleSearch
+        Climbs in order; saddles by increasing energy, each with the minima it joins.
+    """
+    if not 1 <= modes <= CLIMB_EIGS:
+        raise RodstabInputError(f"modes must lie in 1..{CLIMB_EIGS}, got {modes!r}")
+    climbs: list[Climb] = []
+    found: list[list[Any]] = []  # [snapshot, energy, found_from, count]
+    for label, snap in minima:
+        for mode in range(modes):
+            for sign in (1, -1):
+                snap.put(rod)
+                climb = dataclasses.replace(follow_mode(rod, mode, sign, step=step,
+                                                        max_iter=max_iter), start=label)
+                climbs.append(climb)
+                if not climb.found:
+                    continue
+                here = Snapshot.of(rod)
+                for rec in found:
+                    if same_state(rod, here, rec[0], climb.energy, rec[1]):
+                        rec[3] += 1
+                        break
+                else:
+                    found.append([here, climb.energy,
+                                  f"{label} mode {mode}{'+' if sign > 0 else '-'}", 1])
+    named = [(lab, snap, _energy(rod, snap)) for lab, snap in minima]
+    new: list[tuple[str, float]] = []
+    saddles = []
+    tol = zero_eigenvalue_tol(rod)
+    for here, energy, src, count in sorted(found, key=lambda rec: rec[1]):
+        here.put(rod)
+        vals, vecs = lowest_modes(rod, INDEX_EIGS)
+        descents, ends = descents_from_saddle(rod, vals, vecs, retract=True)
+        joins: list[str] = []
+        barriers: list[float | None] = []
+        for d, end in zip(descents, ends, strict=True):
+            if not (d.converged and d.lowest_eigenvalue > -tol):
+                joins.append("unresolved")
+                barriers.append(None)
+                continue
+            lab = state_label(end, named)
+            if lab == "unnamed":
+                lab = f"new {len(new) + 1}"
+                named.append((lab, Snapshot.of(end), float(end.energy())))
+                new.append((lab, float(end.energy())))
+            joins.append(lab)
+            barriers.append(float(energy - end.energy()))
+        here.put(rod)
+        saddles.append(SaddleFound(float(energy), (joins[0], joins[1]),
+                                   (barriers[0], barriers[1]),
+                                   invariants(rod, here, directions), src, count))
+    return SaddleSearch(
+        tuple(climbs), tuple(saddles), tuple(new), modes,
+        f"eigenvector following (P-RFO, trust radius {step:g}) along the {modes} softest modes of "
+        "each minimum both ways, Newton on the saddle, its index counted, its two steepest "
+        "descents named")
+
+
+def _energy(rod: DiscreteRod, s: Snapshot) -> float:
+    """Energy of state ``s`` in model ``rod`` (its state is changed)."""
+    s.put(rod)
+    return float(rod.energy())

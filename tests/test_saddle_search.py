@@ -1,0 +1,120 @@
+"""Eigenvector following from one minimum to a saddle (multistable.saddle_search).
+
+Its saddles are checked against the string method's (an independent method: a path relaxed
+between two named states, :func:`~rodstab.multistable.string_method.string_barrier`), on
+two transitions of the paper's rings at 6 elements per rod.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from rodstab.multistable.discover import common_rod
+from rodstab.multistable.landscape import Landscape
+from rodstab.multistable.saddle_search import CLIMB_EIGS, follow_mode
+from rodstab.nonlinear.solve import lowest_modes, newton, zero_eigenvalue_tol
+from rodstab.problems.barrier_states import state_assembly
+from rodstab.sections import rectangle
+
+R4 = rectangle(aspect=4.0)
+N = 6
+
+
+def _relaxed(structure: str, state: str, mu: float):
+    r = common_rod(state_assembly(structure, R4, state), N, mu)
+    assert newton(r)[0]
+    return r
+
+
+@pytest.fixture(scope="module")
+def string_line_star():
+    """The hexagram's line -> star at kappa_n R0 = 1 by the string method (7 images)."""
+    from rodstab.multistable.string_method import string_barrier
+
+    b, _ = string_barrier(state_assembly("hexagram", R4, "line"),
+                          state_assembly("hexagram", R4, "star"), 1.0,
+                          elements_per_segment=N, images=7, name_a="line", name_b="star")
+    assert b.converged and b.saddle_index == 1
+    return b
+
+
+def test_the_climb_from_the_line_reaches_the_string_methods_saddle(string_line_star) -> None:
+    """From the hexagram's line along its third softest mode: the string method's saddle.
+
+    The climb knows neither the star nor any path; its saddle has index exactly one, the
+    string's energy (to Newton's tolerance, 1e-9 relative) and descends to both states. (The
+    same state in the six-ring's model, whose rods are numbered and gauged otherwise, has the
+    same lowest eigenvalues to 1e-8, yet none of its eight climbs along modes 0-3 finds a saddle
+    in 400 steps: which climb reaches a saddle is not a property of the state alone.)
+    """
+    line, star = _relaxed("hexagram", "line", 1.0), _relaxed("hexagram", "star", 1.0)
+    r = line.copy()
+    climb = follow_mode(r, 2, -1)
+    assert climb.found and climb.index == 1
+    assert climb.energy == pytest.approx(string_line_star.energy_saddle, rel=1e-9)
+    vals = lowest_modes(r, 3)[0]
+    tol = zero_eigenvalue_tol(r)
+    assert vals[0] < -tol < tol < vals[1]
+    land = Landscape.of([("line", line), ("star", star)])
+    assert land.joins(r, "line", "star")
+
+
+def test_climbs_from_both_ends_meet_on_the_star_daisy_saddle() -> None:
+    """Hexagram at kappa_n R0 = 1.5: from the star and from the daisy, one saddle.
+
+    Its energy minus the star's is the barrier the string method gives at 6 el. (4.97423,
+    docs/theory/contact.md's table, computed by ``rodstab barrier --from star --to daisy``).
+    """
+    star, daisy = _relaxed("hexagram", "star", 1.5), _relaxed("hexagram", "daisy", 1.5)
+    found = []
+    for start, mode in ((star, 1), (daisy, 0)):
+        r = start.copy()
+        climb = follow_mode(r, mode, 1)
+        assert climb.found, climb
+        found.append(climb.energy)
+    assert found[0] == pytest.approx(found[1], rel=1e-10)
+    assert found[0] - star.energy() == pytest.approx(4.97423, abs=5e-6)
+
+
+def test_a_failed_climb_says_why_and_claims_no_saddle() -> None:
+    """Too few steps: 'out of steps', no index, and the start is not reported as a saddle."""
+    r = _relaxed("hexagram", "star", 1.5)
+    climb = follow_mode(r, 1, 1, max_iter=5)
+    assert not climb.found and climb.outcome == "out of steps" and climb.index is None
+    assert np.isfinite(climb.energy)
+
+
+@pytest.mark.parametrize("mode, sign", [(-1, 1), (CLIMB_EIGS, 1), (0, 0)])
+def test_a_mode_or_sign_out_of_range_is_refused(mode: int, sign: int) -> None:
+    with pytest.raises(ValueError, match="mode must be"):
+        follow_mode(_relaxed("hexagram", "star", 1.5), mode, sign)
+
+
+def test_cli_discover_climbs_to_the_saddle_and_names_the_state_beyond_it(run_cli) -> None:
+    """``discover --saddle-modes 2`` from the star alone: the star -> daisy saddle, and the daisy.
+
+    With no other seed the daisy is not among the states found; the saddle's second descent
+    reaches it and it is listed as a new minimum, with the energy of the daisy relaxed on its
+    own (Newton from its held geometry in the same model).
+    """
+    import json
+
+    res = run_cli(["discover", "--shape", "rectangle", "--aspect", "4", "--load-factor", "1.5",
+                   "--elements", str(N), "--starts", "0", "--no-seed-states",
+                   "--saddle-modes", "2", "--json"])
+    assert res.exit_code == 0, res.stderr
+    out = json.loads(res.stdout)["saddle_search"]
+    assert len(out["climbs"]) == 4 and out["modes"] == 2
+    (sd,) = out["saddles"]
+    assert sorted(sd["joins"]) == ["#1 star", "new 1"]
+    daisy = _relaxed("hexagram", "daisy", 1.5).energy()
+    assert out["new_minima"] == [["new 1", pytest.approx(daisy, rel=1e-9)]]
+    star_side = sd["barriers"][sd["joins"].index("#1 star")]
+    assert star_side == pytest.approx(4.97423, abs=5e-6)  # the string method's (docstring above)
+
+
+@pytest.mark.parametrize("value", ["-1", str(CLIMB_EIGS + 1)])
+def test_cli_saddle_modes_out_of_range_exits_2_naming_it(run_cli, value: str) -> None:
+    res = run_cli(["discover", "--elements", "4", "--saddle-modes", value])
+    assert res.exit_code == 2 and "--saddle-modes" in res.stderr and value in res.stderr
