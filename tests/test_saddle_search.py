@@ -118,3 +118,42 @@ def test_cli_discover_climbs_to_the_saddle_and_names_the_state_beyond_it(run_cli
 def test_cli_saddle_modes_out_of_range_exits_2_naming_it(run_cli, value: str) -> None:
     res = run_cli(["discover", "--elements", "4", "--saddle-modes", value])
     assert res.exit_code == 2 and "--saddle-modes" in res.stderr and value in res.stderr
+
+
+def _crossing_sign(x: np.ndarray, edge_nodes: np.ndarray, pair: np.ndarray) -> float:
+    """Sign of ``(t_a x t_b) . w``: which way element b passes element a (w: a to b)."""
+    from rodstab.multistable.transitions import pair_distances
+
+    _, w = pair_distances(x, edge_nodes, pair[None, :])
+    a, b = edge_nodes[pair[0]], edge_nodes[pair[1]]
+    return float(np.sign(np.cross(x[a[1]] - x[a[0]], x[b[1]] - x[b[0]]) @ w[0]))
+
+
+def test_the_line_star_saddle_without_contact_passes_rods_through_each_other() -> None:
+    """Without contact the line -> star saddle is the moment two pairs of rods cross.
+
+    At the saddle (hexagram, rectangle h/t = 4, 6 el., kappa_n R0 = 1) exactly two pairs of
+    elements of non-neighbouring rods intersect (distance ~1e-11 L, round-off), and along
+    the two steepest descents each pair passes on opposite sides: a crossing change of the
+    centreline at the saddle itself, with opposite signs for the two pairs (so the ribbon's
+    linking number, the only obstruction for a framed unknot, is the same at both ends).
+    Rods that cannot pass through each other cannot take this path: with contact the barrier
+    is set by another saddle (docs/theory/contact.md).
+    """
+    from rodstab.multistable.barrier import descents_from_saddle
+    from rodstab.multistable.transitions import judged_pairs, pair_distances
+
+    r = _relaxed("hexagram", "line", 1.0)
+    assert follow_mode(r, 2, -1).found
+    pairs = judged_pairs(r)
+    dist = pair_distances(r.x, r.edge_nodes, pairs)[0]
+    crossing = pairs[dist < 1e-8]
+    assert len(crossing) == 2
+    assert np.sort(dist)[2] > 0.02  # every other pair is more than h = 0.02 L apart (0.039 L)
+    vals, vecs = lowest_modes(r, 4)
+    traces: tuple[list, list] = ([], [])
+    descents_from_saddle(r, vals, vecs, retract=True, traces=traces)
+    sides = [[_crossing_sign(t[3].x, r.edge_nodes, p) for p in crossing] for t in traces]
+    assert all(s != 0 for s in sides[0] + sides[1])
+    assert sides[0] == [-s for s in sides[1]]  # each pair crosses at the saddle
+    assert sides[0][0] == -sides[0][1]  # the two crossings have opposite signs
