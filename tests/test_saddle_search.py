@@ -102,7 +102,7 @@ def test_cli_discover_climbs_to_the_saddle_and_names_the_state_beyond_it(run_cli
 
     res = run_cli(["discover", "--shape", "rectangle", "--aspect", "4", "--load-factor", "1.5",
                    "--elements", str(N), "--starts", "0", "--no-seed-states",
-                   "--saddle-modes", "2", "--json"])
+                   "--saddle-modes", "2", "--climb-steps", "150", "--json"])
     assert res.exit_code == 0, res.stderr
     out = json.loads(res.stdout)["saddle_search"]
     assert len(out["climbs"]) == 4 and out["modes"] == 2
@@ -114,10 +114,13 @@ def test_cli_discover_climbs_to_the_saddle_and_names_the_state_beyond_it(run_cli
     assert star_side == pytest.approx(4.97423, abs=5e-6)  # the string method's (docstring above)
 
 
-@pytest.mark.parametrize("value", ["-1", str(CLIMB_EIGS + 1)])
-def test_cli_saddle_modes_out_of_range_exits_2_naming_it(run_cli, value: str) -> None:
-    res = run_cli(["discover", "--elements", "4", "--saddle-modes", value])
-    assert res.exit_code == 2 and "--saddle-modes" in res.stderr and value in res.stderr
+@pytest.mark.parametrize("args, value", [
+    (["--saddle-modes", "-1"], "-1"), (["--saddle-modes", str(CLIMB_EIGS + 1)], "7"),
+    (["--saddle-modes", "1", "--climb-steps", "0"], "0"), (["--climb-steps", "5"], "5")])
+def test_cli_saddle_options_out_of_range_exit_2_naming_them(run_cli, args: list[str],
+                                                            value: str) -> None:
+    res = run_cli(["discover", "--elements", "4", *args])
+    assert res.exit_code == 2 and args[-2] in res.stderr and value in res.stderr
 
 
 def _crossing_sign(x: np.ndarray, edge_nodes: np.ndarray, pair: np.ndarray) -> float:

@@ -76,13 +76,17 @@ from .output import (
                    "ways (eigenvector following), to the index-1 saddles, and follow each "
                    "saddle's two steepest descents: which states it joins, over what barrier "
                    "(0: no climbs).")
+@click.option("--climb-steps", type=int, default=None,
+              help="Most steps of one climb (default 400; the saddles of the paper's rings "
+                   "took 95-340).")
 @contact_options
 @section_options
 @limit_options
 @json_option
 def discover(design_file: str | None, section: Section, structure: str, segments: int,
              state: str | None, load_factor: float, starts: int, elements: int, rng_seed: int,
-             seed_states: bool, plot_path: str | None, saddle_modes: int, contact: Any,
+             seed_states: bool, plot_path: str | None, saddle_modes: int,
+             climb_steps: int | None, contact: Any,
              limits: Limits, as_json: bool) -> None:
     """Equilibria nobody named: deflated Newton from seeds and perturbed starts.
 
@@ -99,11 +103,15 @@ def discover(design_file: str | None, section: Section, structure: str, segments
     mu, n_el = load_factor, elements
     if isinstance(starts, bool) or starts < 0:
         raise RodstabInputError(f"--starts must be an integer >= 0, got {starts!r}")
-    from ..multistable.saddle_search import CLIMB_EIGS
+    from ..multistable.saddle_search import CLIMB_EIGS, CLIMB_MAX_ITER
 
     if not 0 <= saddle_modes <= CLIMB_EIGS:
         raise RodstabInputError(f"--saddle-modes must lie in 0..{CLIMB_EIGS}, got "
                                 f"{saddle_modes!r}")
+    if climb_steps is not None and (climb_steps < 1 or not saddle_modes):
+        raise RodstabInputError(f"--climb-steps must be an integer >= 1 and needs "
+                                f"--saddle-modes, got {climb_steps!r}"
+                                + ("" if saddle_modes else " without --saddle-modes"))
     ring, section, name, design = ring_and_section(design_file, structure, segments, section,
                                                    contact_ok=True)
     setting = contact.resolve(None if design is None else design.contact)
@@ -164,19 +172,21 @@ def discover(design_file: str | None, section: Section, structure: str, segments
                         f"{fmt(setting[1])}; starts outside the model, not run: "
                         f"{', '.join(found.outside_contact) or 'none'}")
     if saddle_modes:
-        lines += _saddle_lines(rod, found, snaps, saddle_modes, ring, payload)
+        lines += _saddle_lines(rod, found, snaps, saddle_modes, ring, payload,
+                               CLIMB_MAX_ITER if climb_steps is None else climb_steps)
     lines += [f"wrote {payload['plot']}"] if plot is not None else []
     emit(payload, as_json, lines)
 
 
 def _saddle_lines(rod: Any, found: Any, snaps: list, modes: int, ring: Any,
-                  payload: dict[str, Any]) -> list[str]:
+                  payload: dict[str, Any], steps: int) -> list[str]:
     """Climb from the stable states found (``#row``), put the search in ``payload``, its lines."""
     from ..multistable.saddle_search import search_saddles
 
     minima = [(f"#{i + 1}" + ("" if s.label == "unnamed" else f" {s.label}"), snaps[i])
               for i, s in enumerate(found.states) if s.stable]
-    result = search_saddles(rod, minima, modes, directions=tuple(d for _, d in ring.order))
+    result = search_saddles(rod, minima, modes, directions=tuple(d for _, d in ring.order),
+                            max_iter=steps)
     payload["saddle_search"] = result.to_dict()
     tally = ", ".join(f"{k} {v}" for k, v in sorted(result.outcomes().items()))
     lines = [f"saddles      {result.method}: {len(result.climbs)} climbs from "
