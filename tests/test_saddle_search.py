@@ -91,7 +91,24 @@ def test_a_mode_or_sign_out_of_range_is_refused(mode: int, sign: int) -> None:
         follow_mode(_relaxed("hexagram", "star", 1.5), mode, sign)
 
 
-def test_cli_discover_climbs_to_the_saddle_and_names_the_state_beyond_it(run_cli) -> None:
+def test_disconnectivity_joins_superbasins_at_their_lowest_saddle() -> None:
+    """Four minima, four saddles (two redundant), one minimum joined by none: by hand."""
+    from rodstab.multistable.landscape import disconnectivity
+
+    tree = disconnectivity({"a": 0.0, "b": 1.0, "c": 2.0, "d": 5.0},
+                           [(4.0, "b", "c"), (3.5, "a", "b"), (10.0, "c", "a"),
+                            (3.0, "b", "a")])
+    assert [(m.energy, m.left, m.right) for m in tree.merges] == [
+        (3.0, ("b",), ("a",)), (4.0, ("b", "a"), ("c",))]
+    got = {frozenset((x, y)): (lvl, {x: bx, y: by}) for x, y, lvl, bx, by in tree.barriers}
+    assert got == {frozenset("ab"): (3.0, {"a": 3.0, "b": 2.0}),
+                   frozenset("ac"): (4.0, {"a": 4.0, "c": 2.0}),
+                   frozenset("bc"): (4.0, {"b": 3.0, "c": 2.0})}
+    assert tree.order[-1] == "d" and set(tree.order[:3]) == set("abc")
+
+
+def test_cli_discover_climbs_to_the_saddle_and_names_the_state_beyond_it(run_cli,
+                                                                       tmp_path) -> None:
     """``discover --saddle-modes 2`` from the star alone: the star -> daisy saddle, and the daisy.
 
     With no other seed the daisy is not among the states found; the saddle's second descent
@@ -102,7 +119,8 @@ def test_cli_discover_climbs_to_the_saddle_and_names_the_state_beyond_it(run_cli
 
     res = run_cli(["discover", "--shape", "rectangle", "--aspect", "4", "--load-factor", "1.5",
                    "--elements", str(N), "--starts", "0", "--no-seed-states",
-                   "--saddle-modes", "2", "--climb-steps", "150", "--json"])
+                   "--saddle-modes", "2", "--climb-steps", "150", "--json",
+                   "--graph", str(tmp_path / "graph.png")])
     assert res.exit_code == 0, res.stderr
     out = json.loads(res.stdout)["saddle_search"]
     assert len(out["climbs"]) == 4 and out["modes"] == 2
@@ -112,11 +130,16 @@ def test_cli_discover_climbs_to_the_saddle_and_names_the_state_beyond_it(run_cli
     assert out["new_minima"] == [["new 1", pytest.approx(daisy, rel=1e-9)]]
     star_side = sd["barriers"][sd["joins"].index("#1 star")]
     assert star_side == pytest.approx(4.97423, abs=5e-6)  # the string method's (docstring above)
+    payload = json.loads(res.stdout)
+    (row,) = payload["disconnectivity"]["barriers"]
+    assert row[2] == pytest.approx(sd["energy"], rel=1e-12)
+    assert (tmp_path / "graph.png").stat().st_size > 1000
 
 
 @pytest.mark.parametrize("args, value", [
     (["--saddle-modes", "-1"], "-1"), (["--saddle-modes", str(CLIMB_EIGS + 1)], "7"),
-    (["--saddle-modes", "1", "--climb-steps", "0"], "0"), (["--climb-steps", "5"], "5")])
+    (["--saddle-modes", "1", "--climb-steps", "0"], "0"), (["--climb-steps", "5"], "5"),
+    (["--graph", "g.png"], "g.png")])
 def test_cli_saddle_options_out_of_range_exit_2_naming_them(run_cli, args: list[str],
                                                             value: str) -> None:
     res = run_cli(["discover", "--elements", "4", *args])

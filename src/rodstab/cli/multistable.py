@@ -76,6 +76,9 @@ from .output import (
                    "ways (eigenvector following), to the index-1 saddles, and follow each "
                    "saddle's two steepest descents: which states it joins, over what barrier "
                    "(0: no climbs).")
+@click.option("--graph", "graph_path", type=click.Path(dir_okay=False), default=None,
+              help="With --saddle-modes: write the disconnectivity graph of the stable states "
+                   "and the saddles found (PNG or SVG).")
 @click.option("--climb-steps", type=int, default=None,
               help="Most steps of one climb (default 400; the saddles of the paper's rings "
                    "took 95-340).")
@@ -86,7 +89,7 @@ from .output import (
 def discover(design_file: str | None, section: Section, structure: str, segments: int,
              state: str | None, load_factor: float, starts: int, elements: int, rng_seed: int,
              seed_states: bool, plot_path: str | None, saddle_modes: int,
-             climb_steps: int | None, contact: Any,
+             graph_path: str | None, climb_steps: int | None, contact: Any,
              limits: Limits, as_json: bool) -> None:
     """Equilibria nobody named: deflated Newton from seeds and perturbed starts.
 
@@ -100,6 +103,7 @@ def discover(design_file: str | None, section: Section, structure: str, segments
     from ..multistable.discover import discover as search
 
     plot = None if plot_path is None else image_output("--plot", plot_path)
+    graph = None if graph_path is None else image_output("--graph", graph_path)
     mu, n_el = load_factor, elements
     if isinstance(starts, bool) or starts < 0:
         raise RodstabInputError(f"--starts must be an integer >= 0, got {starts!r}")
@@ -112,6 +116,9 @@ def discover(design_file: str | None, section: Section, structure: str, segments
         raise RodstabInputError(f"--climb-steps must be an integer >= 1 and needs "
                                 f"--saddle-modes, got {climb_steps!r}"
                                 + ("" if saddle_modes else " without --saddle-modes"))
+    if graph is not None and not saddle_modes:
+        raise RodstabInputError(f"--graph {graph_path!r} needs --saddle-modes (the saddles it "
+                                "joins the states by)")
     ring, section, name, design = ring_and_section(design_file, structure, segments, section,
                                                    contact_ok=True)
     setting = contact.resolve(None if design is None else design.contact)
@@ -173,14 +180,19 @@ def discover(design_file: str | None, section: Section, structure: str, segments
                         f"{', '.join(found.outside_contact) or 'none'}")
     if saddle_modes:
         lines += _saddle_lines(rod, found, snaps, saddle_modes, ring, payload,
-                               CLIMB_MAX_ITER if climb_steps is None else climb_steps)
+                               CLIMB_MAX_ITER if climb_steps is None else climb_steps, graph)
     lines += [f"wrote {payload['plot']}"] if plot is not None else []
     emit(payload, as_json, lines)
 
 
 def _saddle_lines(rod: Any, found: Any, snaps: list, modes: int, ring: Any,
-                  payload: dict[str, Any], steps: int) -> list[str]:
-    """Climb from the stable states found (``#row``), put the search in ``payload``, its lines."""
+                  payload: dict[str, Any], steps: int, graph: Any) -> list[str]:
+    """Climb from the stable states found (``#row``), put the search in ``payload``, its lines.
+
+    Also the disconnectivity graph of the stable states by the saddles found (``graph``: where
+    to draw it, or None) and the lowest barrier between every pair it joins.
+    """
+    from ..multistable.landscape import disconnectivity
     from ..multistable.saddle_search import search_saddles
 
     minima = [(f"#{i + 1}" + ("" if s.label == "unnamed" else f" {s.label}"), snaps[i])
@@ -200,6 +212,20 @@ def _saddle_lines(rod: Any, found: Any, snaps: list, modes: int, ring: Any,
                      f"{sd.found_from} ({sd.times_found} climbs)")
     lines += [f"{lab:>14} {e:>10.6g}     0  a minimum a descent reached, not found above"
               for lab, e in result.new_minima]
+    energies = {lab: found.states[int(lab[1:].split()[0]) - 1].energy for lab, _ in minima}
+    energies |= dict(result.new_minima)
+    tree = disconnectivity(energies, [(sd.energy, *sd.joins) for sd in result.saddles
+                                      if "unresolved" not in sd.joins
+                                      and sd.joins[0] != sd.joins[1]])
+    payload["disconnectivity"] = tree.to_dict()
+    lines += [f"barriers     lowest over the saddles found: {a} <-> {b} at {fmt(level)} "
+              f"({fmt(ba)} out of {a.split()[0]}, {fmt(bb)} out of {b.split()[0]})"
+              for a, b, level, ba, bb in tree.barriers]
+    if graph is not None:
+        from ..plot.disconnectivity import plot_disconnectivity
+
+        payload["graph"] = str(plot_disconnectivity(tree, graph))
+        lines.append(f"wrote {payload['graph']}")
     return lines
 
 

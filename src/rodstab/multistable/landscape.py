@@ -25,6 +25,7 @@ import numpy as np
 
 from ..nonlinear.discrete import DiscreteRod
 from ..nonlinear.solve import lowest_modes, zero_eigenvalue_tol
+from ..results import Result
 from .barrier import INDEX_EIGS, descents_from_saddle, state_label
 from .discover import Snapshot, same_state
 
@@ -159,3 +160,63 @@ class Landscape:
             path.append(back[path[-1]])
         path.reverse()
         return float(level), path, [best[frozenset(p)] for p in zip(path, path[1:], strict=False)]
+
+
+@dataclasses.dataclass(frozen=True)
+class Merge:
+    """Two superbasins joined at a saddle energy: the members (minimum labels) of each."""
+
+    energy: float
+    left: tuple[str, ...]
+    right: tuple[str, ...]
+
+
+@dataclasses.dataclass(frozen=True)
+class Disconnectivity(Result):
+    """The disconnectivity graph of minima joined by index-1 saddles (Becker and Karplus).
+
+    ``minima``: label -> energy; ``merges``: in increasing energy, each joining two superbasins
+    (sets of minima connected by saddles no higher than it); ``order``: the leaves left to
+    right so that every superbasin is contiguous (for drawing); ``barriers``: for every pair
+    of minima the merge joins, ``(a, b, level, level - E_a, level - E_b)`` -- the lowest, over
+    the saddles found, of the highest saddle on a path between them, and the barriers out of
+    each. Pairs no saddle path joins are absent.
+    """
+
+    minima: dict[str, float]
+    merges: tuple[Merge, ...]
+    order: tuple[str, ...]
+    barriers: tuple[tuple[str, str, float, float, float], ...]
+
+
+def disconnectivity(minima: dict[str, float], saddles: list[tuple[float, str, str]]
+                    ) -> Disconnectivity:
+    """Join ``minima`` (label -> energy) by ``saddles`` ``(energy, a, b)`` in increasing energy.
+
+    A saddle whose two minima are already in one superbasin adds nothing; one naming a label
+    not in ``minima`` is an error of the caller (KeyError).
+    """
+    members: dict[str, tuple[str, ...]] = {lab: (lab,) for lab in minima}
+    root = {lab: lab for lab in minima}
+
+    def find(x: str) -> str:
+        while root[x] != x:
+            root[x] = root[root[x]]
+            x = root[x]
+        return x
+
+    merges: list[Merge] = []
+    barriers = []
+    for e, a, b in sorted(saddles):
+        ra, rb = find(a), find(b)
+        if ra == rb:
+            continue
+        left, right = members.pop(ra), members.pop(rb)
+        merges.append(Merge(float(e), left, right))
+        barriers += [(x, y, float(e), float(e - minima[x]), float(e - minima[y]))
+                     for x in left for y in right]
+        root[rb] = ra
+        members[ra] = left + right
+    order = tuple(lab for group in sorted(members.values(), key=lambda g: min(
+        minima[x] for x in g)) for lab in group)
+    return Disconnectivity(dict(minima), tuple(merges), order, tuple(barriers))
