@@ -1,0 +1,51 @@
+"""``discover --saddle-modes``: the climbs to saddles and the disconnectivity graph, printed."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from .output import fmt
+
+
+def saddle_lines(rod: Any, found: Any, snaps: list, modes: int, ring: Any,
+                  payload: dict[str, Any], steps: int, graph: Any) -> list[str]:
+    """Climb from the stable states found (``#row``), put the search in ``payload``, its lines.
+
+    Also the disconnectivity graph of the stable states by the saddles found (``graph``: where
+    to draw it, or None) and the lowest barrier between every pair it joins.
+    """
+    from ..multistable.landscape import disconnectivity
+    from ..multistable.saddle_search import search_saddles
+
+    minima = [(f"#{i + 1}" + ("" if s.label == "unnamed" else f" {s.label}"), snaps[i])
+              for i, s in enumerate(found.states) if s.stable]
+    result = search_saddles(rod, minima, modes, directions=tuple(d for _, d in ring.order),
+                            max_iter=steps)
+    payload["saddle_search"] = result.to_dict()
+    tally = ", ".join(f"{k} {v}" for k, v in sorted(result.outcomes().items()))
+    lines = [f"saddles      {result.method}: {len(result.climbs)} climbs from "
+             f"{len(minima)} stable states ({tally}); {len(result.saddles)} distinct"]
+    for k, sd in enumerate(result.saddles):
+        ends = " and ".join(
+            j if b is None else f"{j} (barrier {fmt(b)})"
+            for j, b in zip(sd.joins, sd.barriers, strict=True))
+        lines.append(f"{'S' + str(k + 1):>14} {sd.energy:>10.6g}     1  joins {ends}; "
+                     f"{'planar' if sd.invariants.planar else '3D'}; first from "
+                     f"{sd.found_from} ({sd.times_found} climbs)")
+    lines += [f"{lab:>14} {e:>10.6g}     0  a minimum a descent reached, not found above"
+              for lab, e in result.new_minima]
+    energies = {lab: found.states[int(lab[1:].split()[0]) - 1].energy for lab, _ in minima}
+    energies |= dict(result.new_minima)
+    tree = disconnectivity(energies, [(sd.energy, *sd.joins) for sd in result.saddles
+                                      if "unresolved" not in sd.joins
+                                      and sd.joins[0] != sd.joins[1]])
+    payload["disconnectivity"] = tree.to_dict()
+    lines += [f"barriers     lowest over the saddles found: {a} <-> {b} at {fmt(level)} "
+              f"({fmt(ba)} out of {a.split()[0]}, {fmt(bb)} out of {b.split()[0]})"
+              for a, b, level, ba, bb in tree.barriers]
+    if graph is not None:
+        from ..plot.disconnectivity import plot_disconnectivity
+
+        payload["graph"] = str(plot_disconnectivity(tree, graph))
+        lines.append(f"wrote {payload['graph']}")
+    return lines
