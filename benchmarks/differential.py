@@ -12,7 +12,9 @@ rod's Hessian, :mod:`rodstab.multistable.cone_limit`; ``contact-eights``: figure
 rods by the FE and the rod; ``held-rings``: 3-loop rings with every touching pair held closed,
 by the rod and by the reduced theory; ``held-columns``: the folded six-ring in two columns held
 closed, by the rod and the closed form; ``folded-columns``, ``folded-hexagon``: the folded
-six-ring stacked in two columns or on the hexagon, the FE cone against the derived limits).
+six-ring stacked in two columns or on the hexagon, the FE cone against the derived limits;
+``saddles``: a saddle between two mutually stable states of the hexagram, by the string method
+and by eigenvector following from the states alone, ~25 s a design that has a pair).
 Sections of every closed-form shape
 (rectangle and ellipse h/t 0.3-10, circle, tube, nu 0-0.5) and given ratios b1, b2 in 0.05-50. Every
 design is solved by every method that applies (the problem modules' ``METHODS``, the linear FE
@@ -672,13 +674,81 @@ def held_columns(rng: np.random.Generator) -> Trial:
                  {("held-columns-rod", "held-columns-closed"): HELD_COLUMNS_RTOL})
 
 
+#: The star <-> daisy saddle's energy by the string method and by eigenvector following: both
+#: Newton-converge the same stationary point of one discrete model (to ~1e-9 relative).
+SADDLE_RTOL = 1e-7
+#: Elements per rod, images of the string, modes climbed from the star (both ways).
+SADDLE_ELEMENTS, SADDLE_IMAGES, SADDLE_MODES = 6, 7, 3
+
+
+def saddles(rng: np.random.Generator) -> Trial:
+    """A saddle between two of the hexagram's held states: the string method against climbs.
+
+    Any section; line and star or star and daisy when they are mutually stable (Bloch intervals,
+    :func:`rodstab.multistable.atlas.mutual_sets`), the load factor at a random point of the
+    middle 60 % of their common interval. The string method needs both states and
+    a path; the climbs (:mod:`rodstab.multistable.saddle_search`) start from each state alone
+    and know no path. When no climb reaches a saddle joining the two states (or the string does
+    not converge) the design compares nothing -- a failed climb is not evidence -- and has no
+    row; so does a section where neither pair is stable together.
+    """
+    from rodstab.multistable.atlas import mutual_sets, select_states, transfer_interval
+    from rodstab.multistable.discover import Snapshot, common_rod
+    from rodstab.multistable.saddle_search import search_saddles
+    from rodstab.multistable.string_method import string_barrier
+    from rodstab.nonlinear.solve import newton
+    from rodstab.problems import hexagram
+    from rodstab.problems.barrier_states import state_assembly
+
+    sec = random_section(rng)
+    section = sections.make_section(**sec)
+    ring = hexagram.ring(section)
+    names = ("star", "daisy", "eight", "line")
+    intervals = {s.label: transfer_interval(ring, s).interval
+                 for s in select_states(ring, names)}
+    # the pairs a direct saddle joins (line -> star and star -> daisy: tests/test_saddle_search;
+    # daisy <-> line passes the star, an eight's pair needs a finer mesh than 6 el.)
+    sets = [(o, pair) for o in mutual_sets(intervals) if o.width > 0
+            for pair in (("line", "star"), ("daisy", "star")) if set(pair) <= set(o.members)]
+    label = f"hexagram, section({_kw(sec)})"
+    if not sets:
+        return Trial(f"{label}: neither line and star nor star and daisy stable together", "",
+                     {}, {})
+    chosen, pair = sets[int(rng.integers(len(sets)))]
+    lo, hi = chosen.load_interval
+    mu = _r(lo + (0.2 + 0.6 * float(rng.random())) * (hi - lo), 6)
+    a, b = (state_assembly("hexagram", section, st) for st in pair)
+    code = (f"# rodstab barrier --from {pair[0]} --to {pair[1]} --load-factor {mu} --elements "
+            f"{SADDLE_ELEMENTS} --images {SADDLE_IMAGES}, and rodstab discover --load-factor "
+            f"{mu} --elements {SADDLE_ELEMENTS} --saddle-modes {SADDLE_MODES}, section "
+            f"make_section({_kw(sec)})")
+
+    def string() -> Values:
+        res, _ = string_barrier(a, b, mu, elements_per_segment=SADDLE_ELEMENTS,
+                                images=SADDLE_IMAGES, name_a=pair[0], name_b=pair[1])
+        return {"saddle": res.energy_saddle} if res.converged else {}
+
+    def climb() -> Values:
+        rods = {st: common_rod(x, SADDLE_ELEMENTS, mu) for st, x in zip(pair, (a, b),
+                                                                         strict=True)}
+        for r in rods.values():
+            newton(r)
+        found = search_saddles(rods[pair[0]].copy(),
+                               [(k, Snapshot.of(r)) for k, r in rods.items()], SADDLE_MODES)
+        joining = [sd.energy for sd in found.saddles if sorted(sd.joins) == list(pair)]
+        return {"saddle": min(joining)} if joining else {}
+
+    return Trial(f"{label}, {pair[0]} <-> {pair[1]} at kappa_n R0 {mu}", code,
+                 {"string": string, "climb": climb}, {("string", "climb"): SADDLE_RTOL})
+
+
 #: family name -> generator of one random design.
 FAMILIES: dict[str, Callable[[np.random.Generator], Trial]] = {
     "arcs": arcs, "rings": rings, "folded": folded, "cusp-rings": cusp_rings,
     "assemblies": assemblies, "contact-rings": contact_rings, "contact-eights": contact_eights,
     "held-rings": held_rings, "held-columns": held_columns,
     "folded-columns": lambda rng: folded_stacking(rng, "columns"),
-    "folded-hexagon": lambda rng: folded_stacking(rng, "hexagon")}
+    "folded-hexagon": lambda rng: folded_stacking(rng, "hexagon"), "saddles": saddles}
 
 
 # ---------------------------------------------------------------------------------------------
