@@ -677,8 +677,9 @@ def held_columns(rng: np.random.Generator) -> Trial:
 #: The star <-> daisy saddle's energy by the string method and by eigenvector following: both
 #: Newton-converge the same stationary point of one discrete model (to ~1e-9 relative).
 SADDLE_RTOL = 1e-7
-#: Elements per rod, images of the string, modes climbed from the star (both ways).
-SADDLE_ELEMENTS, SADDLE_IMAGES, SADDLE_MODES = 6, 7, 3
+#: Elements per rod, images of the string (its default: with 7 the star -> daisy strings
+#: of seed 3 stopped with images 2.6 rad apart, asking for more), modes climbed (both ways).
+SADDLE_ELEMENTS, SADDLE_IMAGES, SADDLE_MODES = 6, 17, 3
 
 
 def saddles(rng: np.random.Generator) -> Trial:

@@ -159,7 +159,7 @@ def test_the_line_star_saddle_without_contact_passes_rods_through_each_other() -
     """Without contact the line -> star saddle is the moment two pairs of rods cross.
 
     At the saddle (hexagram, rectangle h/t = 4, 6 el., kappa_n R0 = 1) exactly two pairs of
-    elements of non-neighbouring rods intersect (distance ~1e-11 L, round-off), and along
+    elements of non-neighbouring rods intersect (distance ~1e-12 L, round-off), and along
     the two steepest descents each pair passes on opposite sides: a crossing change of the
     centreline at the saddle itself, with opposite signs for the two pairs (so the ribbon's
     linking number, the only obstruction for a framed unknot, is the same at both ends).
