@@ -46,6 +46,8 @@ def saddle_lines(rod: Any, found: Any, snaps: list, modes: int, ring: Any,
     if graph is not None:
         from ..plot.disconnectivity import plot_disconnectivity
 
-        payload["graph"] = str(plot_disconnectivity(tree, graph))
+        title = (f"{payload['structure']}, load factor {fmt(found.load_factor)}: "
+                 f"stable states and the saddles found")
+        payload["graph"] = str(plot_disconnectivity(tree, graph, title=title))
         lines.append(f"wrote {payload['graph']}")
     return lines
