@@ -183,3 +183,29 @@ def test_the_line_star_saddle_without_contact_passes_rods_through_each_other() -
     assert all(s != 0 for s in sides[0] + sides[1])
     assert sides[0] == [-s for s in sides[1]]  # each pair crosses at the saddle
     assert sides[0][0] == -sides[0][1]  # the two crossings have opposite signs
+
+
+def test_a_climb_ending_on_another_stationary_point_lists_it_once(monkeypatch) -> None:
+    """'not a saddle' ends: a given minimum is skipped, another state listed once with its count.
+
+    The climbs are replaced by ones that end on the daisy (twice) or on the star itself, so the
+    bookkeeping is checked without depending on where real climbs go.
+    """
+    from rodstab.multistable import saddle_search
+    from rodstab.multistable.discover import Snapshot
+    from rodstab.multistable.saddle_search import Climb, search_saddles
+
+    star, daisy = _relaxed("hexagram", "star", 1.5), _relaxed("hexagram", "daisy", 1.5)
+    ends = iter([daisy, star, daisy, star])
+
+    def fake(rod, mode, sign, **_):
+        end = next(ends)
+        Snapshot.of(end).put(rod)
+        return Climb(mode, sign, "not a saddle", 1, float(rod.energy()), 0, 0.0)
+
+    monkeypatch.setattr(saddle_search, "follow_mode", fake)
+    out = search_saddles(star.copy(), [("star", Snapshot.of(star))], 2)
+    assert len(out.climbs) == 4 and not out.saddles
+    ((energy, index, planar, src, count),) = out.other_stationary
+    assert energy == pytest.approx(daisy.energy(), rel=1e-12)
+    assert (index, planar, src, count) == (0, True, "star mode 0+", 2)

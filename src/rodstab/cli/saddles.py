@@ -34,6 +34,9 @@ def saddle_lines(rod: Any, found: Any, snaps: list, modes: int, ring: Any,
                      f"{sd.found_from} ({sd.times_found} climbs)")
     lines += [f"{lab:>14} {e:>10.6g}     0  a minimum a descent reached, not found above"
               for lab, e in result.new_minima]
+    lines += [f"{'other':>14} {e:>10.6g} {idx:>5}  a stationary point a climb ended on; "
+              f"{'planar' if planar else '3D'}; first from {src} ({n} climbs)"
+              for e, idx, planar, src, n in result.other_stationary]
     energies = {lab: found.states[int(lab[1:].split()[0]) - 1].energy for lab, _ in minima}
     energies |= dict(result.new_minima)
     tree = disconnectivity(energies, [(sd.energy, *sd.joins) for sd in result.saddles

@@ -223,13 +223,19 @@ class SaddleFound(Result):
 
 @dataclasses.dataclass(frozen=True)
 class SaddleSearch(Result):
-    """Every climb from the given minima, the distinct saddles and any new minima reached."""
+    """Every climb from the given minima, the distinct saddles and any new minima reached.
+
+    ``other_stationary``: the distinct stationary points of another index that climbs ended
+    on (Newton converged, index not 1, not one of the given minima): ``(energy, index, planar,
+    found_from, times_found)``.
+    """
 
     climbs: tuple[Climb, ...]
     saddles: tuple[SaddleFound, ...]
     new_minima: tuple[tuple[str, float], ...]
     modes: int
     method: str
+    other_stationary: tuple[tuple[float, int, bool, str, int], ...] = ()
 
     def outcomes(self) -> dict[str, int]:
         """How many climbs ended each way."""
@@ -267,6 +273,8 @@ def search_saddles(rod: DiscreteRod, minima: list[tuple[str, Snapshot]], modes: 
         raise RodstabInputError(f"modes must lie in 1..{CLIMB_EIGS}, got {modes!r}")
     climbs: list[Climb] = []
     found: list[list[Any]] = []  # [snapshot, energy, found_from, count]
+    other: list[list[Any]] = []  # [snapshot, energy, found_from, count, index, planar]
+    named = [(lab, snap, _energy(rod, snap)) for lab, snap in minima]
     for label, snap in minima:
         for mode in range(modes):
             for sign in (1, -1):
@@ -274,21 +282,24 @@ def search_saddles(rod: DiscreteRod, minima: list[tuple[str, Snapshot]], modes: 
                 climb = dataclasses.replace(follow_mode(rod, mode, sign, step=step,
                                                         max_iter=max_iter), start=label)
                 climbs.append(climb)
-                if not climb.found:
+                if climb.outcome == "not a saddle" and state_label(rod, named) != "unnamed":
+                    continue  # Newton fell back to a given minimum
+                if not (climb.found or climb.outcome == "not a saddle"):
                     continue
                 here = Snapshot.of(rod)
-                for rec in found:
+                into = found if climb.found else other
+                for rec in into:
                     if same_state(rod, here, rec[0], climb.energy, rec[1]):
                         rec[3] += 1
                         break
                 else:
-                    found.append([here, climb.energy,
-                                  f"{label} mode {mode}{'+' if sign > 0 else '-'}", 1])
-    named = [(lab, snap, _energy(rod, snap)) for lab, snap in minima]
+                    into.append([here, climb.energy,
+                                 f"{label} mode {mode}{'+' if sign > 0 else '-'}", 1,
+                                 climb.index, invariants(rod, here, directions).planar])
     new: list[tuple[str, float]] = []
     saddles = []
     tol = zero_eigenvalue_tol(rod)
-    for here, energy, src, count in sorted(found, key=lambda rec: rec[1]):
+    for here, energy, src, count, _, _ in sorted(found, key=lambda rec: rec[1]):
         here.put(rod)
         vals, vecs = lowest_modes(rod, INDEX_EIGS)
         descents, ends = descents_from_saddle(rod, vals, vecs, retract=True)
@@ -314,7 +325,9 @@ def search_saddles(rod: DiscreteRod, minima: list[tuple[str, Snapshot]], modes: 
         tuple(climbs), tuple(saddles), tuple(new), modes,
         f"eigenvector following (P-RFO, trust radius {step:g}) along the {modes} softest modes of "
         "each minimum both ways, Newton on the saddle, its index counted, its two steepest "
-        "descents named")
+        "descents named",
+        tuple((float(e), int(idx), bool(planar), src, int(n))
+              for _, e, src, n, idx, planar in sorted(other, key=lambda rec: rec[1])))
 
 
 def _energy(rod: DiscreteRod, s: Snapshot) -> float:
