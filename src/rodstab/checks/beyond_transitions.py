@@ -11,6 +11,7 @@ from collections.abc import Iterator
 import numpy as np
 
 from ..model import Assembly
+from ..nonlinear.discrete import DiscreteRod
 from ..numerics import richardson
 from ..problems import folded_ring, ring, unfolded_ring
 from ..sections import circle, rectangle
@@ -108,6 +109,22 @@ def _saddle(folded: Assembly, n: int, window: tuple[float, float], n_steps: int,
                                       land_at=(theta,))
 
 
+def _intersecting_pairs(state: DiscreteRod) -> tuple[int, float]:
+    """Pairs of elements of non-neighbouring rods that intersect in ``state``, and the closest.
+
+    Intersect: closer than ``1e-6`` times the rod length (a crossing converged by Newton is
+    3e-10 apart; the next pair of the line -> star saddle is 0.04 apart at 6 el.,
+    tests/test_saddle_search.py), among the judged pairs of
+    :func:`rodstab.multistable.transitions.judged_pairs`.
+    """
+    from ..multistable.transitions import judged_pairs, pair_distances
+
+    pairs = judged_pairs(state)
+    dist = pair_distances(state.x, state.edge_nodes, pairs)[0]
+    length = state.assembly.total_length / len(state.assembly.segments)
+    return int(np.sum(dist < 1e-6 * length)), float(np.min(dist) / length)
+
+
 def _richardson(coarse: float, fine: float, n0: int, n1: int) -> float:
     """Second-order Richardson extrapolation from meshes of n0 < n1 elements.
 
@@ -137,6 +154,7 @@ def _six_ring_transition_claim(run: Run) -> Claim:
     one_lo, one_hi = lin_one.load_factor_interval  # kappa_n R0 (R0 = 1/theta: mu / theta)
     meshes = (8, 12)
     ends, barriers, paths = [], [], []
+    crossings: list[tuple[int, float]] = []
     for n in meshes:
         path = _saddle(folded, n, (0.0, 6.0), SADDLE_STEPS, theta)
         # The turning point on the one-loop state: a fold of the discrete path (its symmetry is
@@ -149,6 +167,7 @@ def _six_ring_transition_claim(run: Run) -> Claim:
         # the folded state's closed form.
         at1 = [state for value, state in path.landed if value == theta]
         barriers.append(at1[0].energy() - 3 * theta**2 if at1 else math.nan)
+        crossings.append(_intersecting_pairs(at1[0]) if at1 else (0, math.nan))
         run.progress()
     end = _richardson(ends[0], ends[1], *meshes)
     barrier = _richardson(barriers[0], barriers[1], *meshes)
@@ -162,7 +181,9 @@ def _six_ring_transition_claim(run: Run) -> Claim:
                                 "radius": list(path.radius[: i + 1]), "theta": theta,
                                 "bistable": [float(one_lo), float(fold_c)],
                                 "barrier_at_1": float(barrier),
-                                "barriers_by_mesh": dict(zip(meshes, barriers, strict=True))}
+                                "barriers_by_mesh": dict(zip(meshes, barriers, strict=True)),
+                                "saddle_intersections": dict(zip(meshes, crossings,
+                                                                 strict=True))}
     return Claim(
         "T-six", "beyond", "5", "Six-sided ring (h/t = 4): folded <-> one-loop transition",
         "experiment at kappa_n R0 = 1: both states stable; bending the folded ring's ends makes "
@@ -183,7 +204,12 @@ def _six_ring_transition_claim(run: Run) -> Claim:
         "state into its mirror image. At the experiment's kappa_n R0 = 1 the folded ring stores "
         f"{fmt(3 * theta**2, 3)} B3/L but is held by a barrier of only {fmt(barrier, 3)} "
         "through this saddle: a moderate forced bending releases it, and the snap is "
-        f"energetic -- consistent with Fig. 10c. Past kappa_n R0 = {fmt(fold_c, 3)} the folded "
+        f"energetic -- consistent with Fig. 10c. But the rods have no thickness here: at the "
+        f"saddle {crossings[0][0]} and {crossings[1][0]} pairs of elements of non-neighbouring "
+        f"rods intersect (8, 12 el.; at most {fmt(max(c[1] for c in crossings), 2)} L apart), and "
+        "along the path they pass through each other there (docs/theory/contact.md), so for "
+        "rods that cannot the barrier is above this one; their path (with contact) is not "
+        f"found. Past kappa_n R0 = {fmt(fold_c, 3)} the folded "
         f"ring snaps open by itself (the one-loop ring is stable there up to {fmt(one_hi, 4)}); "
         f"below {fmt(one_lo, 3)} the one-loop ring folds itself. The double eigenvalue has two "
         "branch directions, both subcritical for h/t = 4 (PB-folded); the path followed is the "
