@@ -81,7 +81,7 @@ from .output import (
                    "and the saddles found (PNG or SVG).")
 @click.option("--climb-steps", type=int, default=None,
               help="Most steps of one climb (default 400; the saddles of the paper's rings "
-                   "took 95-340).")
+                   "took 96-341).")
 @contact_options
 @section_options
 @limit_options

@@ -34,7 +34,7 @@ index is counted. A climb can fail: the followed mode may lead into ever stiffer
 without an inflection (energy far above any saddle), fall into another basin, or run out of
 steps; the result says which. Measured (hexagram, rectangle h/t = 4, 8 el./rod, 4 modes x 2
 signs from each stable state): at kappa_n R0 = 1 the line -> star saddle (14.2795117 B3/L, the
-string method's) from the line's third mode in 103 steps and from the star's in 340; at 1.5
+string method's) from the line's third mode in 103 steps and from the star's in 341; at 1.5
 the star -> daisy saddle (7.9138426, barrier 4.69217, the string method's) from six of the
 sixteen climbs. The other climbs fail: a failed climb is not evidence that no saddle exists.
 """
@@ -61,7 +61,7 @@ from .saddle import _inside, refine_saddle
 
 #: Largest step (trust radius): node displacement over L, or frame rotation (rad).
 CLIMB_STEP = 0.02
-#: Most steps of one climb (the saddles above took 95-340).
+#: Most steps of one climb (the saddles above took 96-341).
 CLIMB_MAX_ITER = 400
 #: Eigenpairs computed per step: the followed one is tracked among them.
 CLIMB_EIGS = 6
