@@ -44,7 +44,7 @@ def saddle_lines(rod: Any, found: Any, snaps: list, modes: int, ring: Any,
                                       and sd.joins[0] != sd.joins[1]])
     payload["disconnectivity"] = tree.to_dict()
     lines += [f"barriers     lowest over the saddles found: {a} <-> {b} at {fmt(level)} "
-              f"({fmt(ba)} out of {a.split()[0]}, {fmt(bb)} out of {b.split()[0]})"
+              f"({fmt(ba)} out of {a}, {fmt(bb)} out of {b})"
               for a, b, level, ba, bb in tree.barriers]
     if graph is not None:
         from ..plot.disconnectivity import plot_disconnectivity
