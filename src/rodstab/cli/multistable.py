@@ -182,7 +182,8 @@ def discover(design_file: str | None, section: Section, structure: str, segments
         from .saddles import saddle_lines
 
         lines += saddle_lines(rod, found, snaps, saddle_modes, ring, payload,
-                               CLIMB_MAX_ITER if climb_steps is None else climb_steps, graph)
+                               CLIMB_MAX_ITER if climb_steps is None else climb_steps, graph,
+                               load)
     lines += [f"wrote {payload['plot']}"] if plot is not None else []
     emit(payload, as_json, lines)
 

@@ -8,11 +8,12 @@ from .output import fmt
 
 
 def saddle_lines(rod: Any, found: Any, snaps: list, modes: int, ring: Any,
-                  payload: dict[str, Any], steps: int, graph: Any) -> list[str]:
+                 payload: dict[str, Any], steps: int, graph: Any, load: str) -> list[str]:
     """Climb from the stable states found (``#row``), put the search in ``payload``, its lines.
 
     Also the disconnectivity graph of the stable states by the saddles found (``graph``: where
-    to draw it, or None) and the lowest barrier between every pair it joins.
+    to draw it, or None; ``load``: what the load factor is called) and the lowest barrier
+    between every pair it joins.
     """
     from ..multistable.landscape import disconnectivity
     from ..multistable.saddle_search import search_saddles
@@ -49,7 +50,7 @@ def saddle_lines(rod: Any, found: Any, snaps: list, modes: int, ring: Any,
     if graph is not None:
         from ..plot.disconnectivity import plot_disconnectivity
 
-        title = (f"{payload['structure']}, load factor {fmt(found.load_factor)}: "
+        title = (f"{payload['structure']}, {load} = {fmt(found.load_factor)}: "
                  f"stable states and the saddles found")
         payload["graph"] = str(plot_disconnectivity(tree, graph, title=title))
         lines.append(f"wrote {payload['graph']}")

@@ -40,7 +40,7 @@ def plot_disconnectivity(graph: Disconnectivity, path: str | Path | None = None,
             ax.plot([pos[k], pos[k]], [low[k], m.energy], color="k", lw=1.4)
         ax.plot([pos[ka], pos[kb]], [m.energy, m.energy], color="k", lw=1.4)
         ax.annotate(f"{m.energy:.4g}", (0.5 * (pos[ka] + pos[kb]), m.energy),
-                    textcoords="offset points", xytext=(0, 3), ha="center", fontsize=7)
+                    textcoords="offset points", xytext=(4, 3), ha="left", fontsize=7)
         pos[ka], low[ka] = 0.5 * (pos[ka] + pos[kb]), m.energy
         for lab in m.right:
             head[lab] = ka
