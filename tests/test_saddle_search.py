@@ -85,6 +85,16 @@ def test_a_failed_climb_says_why_and_claims_no_saddle() -> None:
     assert np.isfinite(climb.energy)
 
 
+def test_a_ceiling_below_the_saddle_stops_the_climb_that_would_reach_it() -> None:
+    """The star -> daisy saddle is 4.97 above the star: a ceiling of 1 stops that climb there."""
+    star = _relaxed("hexagram", "star", 1.5)
+    r = star.copy()
+    climb = follow_mode(r, 1, 1, max_rise=1.0)
+    assert climb.outcome == "rose past the ceiling" and not climb.found
+    assert 1.0 < climb.energy - star.energy() < 1.5  # stopped at the first step past it
+    assert follow_mode(star.copy(), 1, 1, max_rise=6.0).found  # above the saddle: no effect
+
+
 @pytest.mark.parametrize("mode, sign", [(-1, 1), (CLIMB_EIGS, 1), (0, 0)])
 def test_a_mode_or_sign_out_of_range_is_refused(mode: int, sign: int) -> None:
     with pytest.raises(ValueError, match="mode must be"):
@@ -139,7 +149,8 @@ def test_cli_discover_climbs_to_the_saddle_and_names_the_state_beyond_it(run_cli
 @pytest.mark.parametrize("args, value", [
     (["--saddle-modes", "-1"], "-1"), (["--saddle-modes", str(CLIMB_EIGS + 1)], "7"),
     (["--saddle-modes", "1", "--climb-steps", "0"], "0"), (["--climb-steps", "5"], "5"),
-    (["--graph", "g.png"], "g.png")])
+    (["--graph", "g.png"], "g.png"), (["--saddle-modes", "1", "--max-barrier", "-1"], "-1"),
+    (["--max-barrier", "3"], "3")])
 def test_cli_saddle_options_out_of_range_exit_2_naming_them(run_cli, args: list[str],
                                                             value: str) -> None:
     res = run_cli(["discover", "--elements", "4", *args])

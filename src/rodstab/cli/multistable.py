@@ -6,6 +6,7 @@ Parsing and printing only.
 from __future__ import annotations
 
 import json
+import math
 import warnings
 from typing import Any
 
@@ -79,6 +80,9 @@ from .output import (
 @click.option("--graph", "graph_path", type=click.Path(dir_okay=False), default=None,
               help="With --saddle-modes: write the disconnectivity graph of the stable states "
                    "and the saddles found (PNG or SVG).")
+@click.option("--max-barrier", type=float, default=None,
+              help="With --saddle-modes: stop a climb once its energy is this far above the "
+                   "state it left (B3/L): saddles higher than that are not sought.")
 @click.option("--climb-steps", type=int, default=None,
               help="Most steps of one climb (default 400; the saddles of the paper's rings "
                    "took 96-341).")
@@ -89,7 +93,8 @@ from .output import (
 def discover(design_file: str | None, section: Section, structure: str, segments: int,
              state: str | None, load_factor: float, starts: int, elements: int, rng_seed: int,
              seed_states: bool, plot_path: str | None, saddle_modes: int,
-             graph_path: str | None, climb_steps: int | None, contact: Any,
+             graph_path: str | None, max_barrier: float | None, climb_steps: int | None,
+             contact: Any,
              limits: Limits, as_json: bool) -> None:
     """Equilibria nobody named: deflated Newton from seeds and perturbed starts.
 
@@ -116,6 +121,10 @@ def discover(design_file: str | None, section: Section, structure: str, segments
         raise RodstabInputError(f"--climb-steps must be an integer >= 1 and needs "
                                 f"--saddle-modes, got {climb_steps!r}"
                                 + ("" if saddle_modes else " without --saddle-modes"))
+    if max_barrier is not None and (not saddle_modes or not max_barrier > 0
+                                    or not math.isfinite(max_barrier)):
+        raise RodstabInputError(f"--max-barrier must be a positive number and needs "
+                                f"--saddle-modes, got {max_barrier!r}")
     if graph is not None and not saddle_modes:
         raise RodstabInputError(f"--graph {graph_path!r} needs --saddle-modes (the saddles it "
                                 "joins the states by)")
@@ -183,7 +192,7 @@ def discover(design_file: str | None, section: Section, structure: str, segments
 
         lines += saddle_lines(rod, found, snaps, saddle_modes, ring, payload,
                                CLIMB_MAX_ITER if climb_steps is None else climb_steps, graph,
-                               load)
+                               load, max_barrier)
     lines += [f"wrote {payload['plot']}"] if plot is not None else []
     emit(payload, as_json, lines)
 

@@ -8,12 +8,13 @@ from .output import fmt
 
 
 def saddle_lines(rod: Any, found: Any, snaps: list, modes: int, ring: Any,
-                 payload: dict[str, Any], steps: int, graph: Any, load: str) -> list[str]:
+                 payload: dict[str, Any], steps: int, graph: Any, load: str,
+                 max_rise: float | None) -> list[str]:
     """Climb from the stable states found (``#row``), put the search in ``payload``, its lines.
 
     Also the disconnectivity graph of the stable states by the saddles found (``graph``: where
     to draw it, or None; ``load``: what the load factor is called) and the lowest barrier
-    between every pair it joins.
+    between every pair it joins. ``max_rise``: :func:`~.multistable.saddle_search.follow_mode`'s.
     """
     from ..multistable.landscape import disconnectivity
     from ..multistable.saddle_search import search_saddles
@@ -21,7 +22,7 @@ def saddle_lines(rod: Any, found: Any, snaps: list, modes: int, ring: Any,
     minima = [(f"#{i + 1}" + ("" if s.label == "unnamed" else f" {s.label}"), snaps[i])
               for i, s in enumerate(found.states) if s.stable]
     result = search_saddles(rod, minima, modes, directions=tuple(d for _, d in ring.order),
-                            max_iter=steps)
+                            max_iter=steps, max_rise=max_rise)
     payload["saddle_search"] = result.to_dict()
     tally = ", ".join(f"{k} {v}" for k, v in sorted(result.outcomes().items()))
     lines = [f"saddles      {result.method}: {len(result.climbs)} climbs from "

@@ -73,6 +73,7 @@ TRUST_MIN = 1e-5
 CLOSE = 1e-3
 
 Outcome = Literal["saddle", "not a saddle", "fell into another basin", "no step fits the model",
+                  "rose past the ceiling",
                   "out of steps", "newton did not converge"]
 
 
@@ -115,7 +116,7 @@ def _capped(r: DiscreteRod, free: np.ndarray, d: np.ndarray, y: np.ndarray, cap:
 
 
 def follow_mode(rod: DiscreteRod, mode: int, sign: int = 1, *, step: float = CLIMB_STEP,
-                max_iter: int = CLIMB_MAX_ITER) -> Climb:
+                max_iter: int = CLIMB_MAX_ITER, max_rise: float | None = None) -> Climb:
     """Climb from minimum ``rod`` (in place) along its ``mode``-th softest mode to a saddle.
 
     Parameters
@@ -130,6 +131,11 @@ def follow_mode(rod: DiscreteRod, mode: int, sign: int = 1, *, step: float = CLI
         Trust radius (module docstring).
     max_iter : int
         Most climbing steps.
+    max_rise : float, optional
+        Stop once the energy is this far above the start's (units of ``B3 / L``): saddles
+        higher than that are not sought ("rose past the ceiling"). Most failed climbs rise far
+        above every saddle (to 20-80 B3/L from the hexagram's line, whose saddle is 1.1 above
+        it) before they run out of steps.
 
     Returns
     -------
@@ -187,6 +193,8 @@ def follow_mode(rod: DiscreteRod, mode: int, sign: int = 1, *, step: float = CLI
         if flat or 0.75 < rho < 1.33:
             tau = min(2 * tau, step)
         w = u
+        if max_rise is not None and E > e_start + max_rise:
+            return ended("rose past the ceiling", it + 1)
         if E < e_start - 1e-6 * max(1.0, abs(e_start)):
             return ended("fell into another basin", it + 1)
         if b < -floor and others > -floor and chart_size(rod, dq) < CLOSE:
@@ -247,7 +255,8 @@ class SaddleSearch(Result):
 
 def search_saddles(rod: DiscreteRod, minima: list[tuple[str, Snapshot]], modes: int, *,
                    directions: tuple[int, ...] | None = None, step: float = CLIMB_STEP,
-                   max_iter: int = CLIMB_MAX_ITER) -> SaddleSearch:
+                   max_iter: int = CLIMB_MAX_ITER, max_rise: float | None = None
+                   ) -> SaddleSearch:
     """Climb from every minimum along its ``modes`` softest modes, both ways, and judge the saddles.
 
     Parameters
@@ -261,7 +270,7 @@ def search_saddles(rod: DiscreteRod, minima: list[tuple[str, Snapshot]], modes: 
         Modes per minimum, 1 .. :data:`CLIMB_EIGS` (each followed with both signs).
     directions : tuple of int, optional
         As in :func:`~.identify.invariants`.
-    step, max_iter : float, int
+    step, max_iter, max_rise : float, int, float or None
         Passed to :func:`follow_mode`.
 
     Returns
@@ -280,7 +289,8 @@ def search_saddles(rod: DiscreteRod, minima: list[tuple[str, Snapshot]], modes: 
             for sign in (1, -1):
                 snap.put(rod)
                 climb = dataclasses.replace(follow_mode(rod, mode, sign, step=step,
-                                                        max_iter=max_iter), start=label)
+                                                        max_iter=max_iter, max_rise=max_rise),
+                                            start=label)
                 climbs.append(climb)
                 if climb.outcome == "not a saddle" and state_label(rod, named) != "unnamed":
                     continue  # Newton fell back to a given minimum
