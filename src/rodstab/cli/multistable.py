@@ -94,8 +94,7 @@ def discover(design_file: str | None, section: Section, structure: str, segments
              state: str | None, load_factor: float, starts: int, elements: int, rng_seed: int,
              seed_states: bool, plot_path: str | None, saddle_modes: int,
              graph_path: str | None, max_barrier: float | None, climb_steps: int | None,
-             contact: Any,
-             limits: Limits, as_json: bool) -> None:
+             contact: Any, limits: Limits, as_json: bool) -> None:
     """Equilibria nobody named: deflated Newton from seeds and perturbed starts.
 
     On DESIGN's ring (identical rods welded in a cycle, `rodstab states DESIGN`) or on a

@@ -49,6 +49,8 @@ class Landscape:
     #: :func:`~.barrier.descents_from_saddle`): with contact they are the path that is joined
     #: inside the model.
     keep_traces: bool = False
+    #: Label prefix of a minimum met that was not given (``m1``, ``m2``, ...).
+    new_label: str = "m"
 
     @classmethod
     def of(cls, named: list[tuple[str, DiscreteRod]]) -> Landscape:
@@ -59,13 +61,14 @@ class Landscape:
     def name(self, r: DiscreteRod, *, add: bool = True) -> str:
         """Label of the minimum ``r`` is; a new one (``m<k>``) is added unless ``add`` is false.
 
-        ``r`` must be a converged minimum (the caller checks); ``"unnamed"`` when not ``add``
-        and unknown.
+        New labels are :attr:`new_label` and a count. ``r`` must be a converged minimum (the
+        caller checks); ``"unnamed"`` when not ``add`` and unknown.
         """
         lab = state_label(r, self.minima)
         if lab != "unnamed" or not add:
             return lab
-        lab = f"m{sum(lab.startswith('m') for lab in self.rods) + 1}"
+        pre = self.new_label
+        lab = f"{pre}{sum(lab.startswith(pre) for lab in self.rods) + 1}"
         while lab in self.rods:
             lab += "'"
         self.minima.append((lab, Snapshot.of(r), r.energy()))
@@ -122,22 +125,10 @@ class Landscape:
         in order from ``a`` to ``b`` and the energy of the saddle between each neighbouring
         pair (the lowest such saddle) -- or None when the saddles found do not connect them.
         """
-        edges = sorted((rec["energy"], *rec["descent_ends"]) for rec in self.saddles
-                       if all(rec["ends_converged"]) and len(set(rec["descent_ends"])) == 2)
-        parent = {lab: lab for lab in self.rods}
-
-        def root(x: str) -> str:
-            while parent[x] != x:
-                parent[x] = parent[parent[x]]
-                x = parent[x]
-            return x
-
-        level = None
-        for e, u, v in edges:
-            parent[root(u)] = root(v)
-            if root(a) == root(b):
-                level = e
-                break
+        edges = [(rec["energy"], *rec["descent_ends"]) for rec in self.saddles
+                 if all(rec["ends_converged"]) and len(set(rec["descent_ends"])) == 2]
+        tree = disconnectivity({lab: e for lab, _, e in self.minima}, edges)
+        level = next((lvl for x, y, lvl, _, _ in tree.barriers if {x, y} == {a, b}), None)
         if level is None:
             return None
         best: dict[frozenset[str], float] = {}

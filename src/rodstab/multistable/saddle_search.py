@@ -55,8 +55,9 @@ from ..nonlinear.newton import contact_fraction
 from ..nonlinear.stability import lowest_modes, scaled_free_hessian, zero_eigenvalue_tol
 from ..numerics.eigen import lowest_eigenpairs
 from ..results import Result
-from .barrier import INDEX_EIGS, descents_from_saddle, state_label
+from .barrier import state_label
 from .identify import Invariants, Snapshot, invariants, same_state
+from .landscape import Landscape
 from .saddle import _inside, refine_saddle
 
 #: Largest step (trust radius): node displacement over L, or frame rotation (rad).
@@ -306,31 +307,19 @@ def search_saddles(rod: DiscreteRod, minima: list[tuple[str, Snapshot]], modes: 
                     into.append([here, climb.energy,
                                  f"{label} mode {mode}{'+' if sign > 0 else '-'}", 1,
                                  climb.index, invariants(rod, here, directions).planar])
-    new: list[tuple[str, float]] = []
+    land = Landscape.of([(lab, _at(rod, snap)) for lab, snap in minima])
+    land.new_label = "new "
     saddles = []
-    tol = zero_eigenvalue_tol(rod)
     for here, energy, src, count, _, _ in sorted(found, key=lambda rec: rec[1]):
         here.put(rod)
-        vals, vecs = lowest_modes(rod, INDEX_EIGS)
-        descents, ends = descents_from_saddle(rod, vals, vecs, retract=True)
-        joins: list[str] = []
-        barriers: list[float | None] = []
-        for d, end in zip(descents, ends, strict=True):
-            if not (d.converged and d.lowest_eigenvalue > -tol):
-                joins.append("unresolved")
-                barriers.append(None)
-                continue
-            lab = state_label(end, named)
-            if lab == "unnamed":
-                lab = f"new {len(new) + 1}"
-                named.append((lab, Snapshot.of(end), float(end.energy())))
-                new.append((lab, float(end.energy())))
-            joins.append(lab)
-            barriers.append(float(energy - end.energy()))
+        judged = land.judge(rod)  # both descents, each end named (a new minimum: "new k")
+        ups = [float(energy - e) if ok else None
+               for e, ok in zip(judged["end_energies"], judged["ends_converged"], strict=True)]
         here.put(rod)
-        saddles.append(SaddleFound(float(energy), (joins[0], joins[1]),
-                                   (barriers[0], barriers[1]),
+        saddles.append(SaddleFound(float(energy), judged["descent_ends"], (ups[0], ups[1]),
                                    invariants(rod, here, directions), src, count))
+    given = {lab for lab, _ in minima}
+    new = [(lab, float(e)) for lab, _, e in land.minima if lab not in given]
     return SaddleSearch(
         tuple(climbs), tuple(saddles), tuple(new), modes,
         f"eigenvector following (P-RFO, trust radius {step:g}) along the {modes} softest modes of "
@@ -344,3 +333,9 @@ def _energy(rod: DiscreteRod, s: Snapshot) -> float:
     """Energy of state ``s`` in model ``rod`` (its state is changed)."""
     s.put(rod)
     return float(rod.energy())
+
+
+def _at(rod: DiscreteRod, s: Snapshot) -> DiscreteRod:
+    """Return a copy of model ``rod`` in state ``s`` (``rod``'s state is changed)."""
+    s.put(rod)
+    return rod.copy()
