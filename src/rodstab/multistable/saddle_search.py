@@ -144,7 +144,8 @@ def follow_mode(rod: DiscreteRod, mode: int, sign: int = 1, *, step: float = CLI
         The outcome; on ``"saddle"`` ``rod`` is the Newton-converged saddle.
     """
     if not 0 <= mode < CLIMB_EIGS or sign not in (1, -1):
-        raise ValueError(f"mode must be in [0, {CLIMB_EIGS}) and sign +-1, got {mode}, {sign}")
+        raise RodstabInputError(f"mode must be in [0, {CLIMB_EIGS}) and sign +-1, got {mode}, "
+                                f"{sign}")
     E, g, H = rod.energy_terms()
     e_start = E
     floor = zero_eigenvalue_tol(rod)
