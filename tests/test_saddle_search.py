@@ -39,7 +39,17 @@ def string_line_star():
     return b
 
 
-def test_the_climb_from_the_line_reaches_the_string_methods_saddle(string_line_star) -> None:
+@pytest.fixture(scope="module")
+def line_saddle():
+    """The hexagram's line at kappa_n R0 = 1, the climb along its third mode and its saddle."""
+    line = _relaxed("hexagram", "line", 1.0)
+    r = line.copy()
+    climb = follow_mode(r, 2, -1)
+    return line, r, climb
+
+
+def test_the_climb_from_the_line_reaches_the_string_methods_saddle(string_line_star,
+                                                                   line_saddle) -> None:
     """From the hexagram's line along its third softest mode: the string method's saddle.
 
     The climb knows neither the star nor any path; its saddle has index exactly one, the
@@ -48,9 +58,8 @@ def test_the_climb_from_the_line_reaches_the_string_methods_saddle(string_line_s
     same lowest eigenvalues to 1e-8, yet none of its eight climbs along modes 0-3 finds a saddle
     in 400 steps: which climb reaches a saddle is not a property of the state alone.)
     """
-    line, star = _relaxed("hexagram", "line", 1.0), _relaxed("hexagram", "star", 1.0)
-    r = line.copy()
-    climb = follow_mode(r, 2, -1)
+    line, r, climb = line_saddle
+    star = _relaxed("hexagram", "star", 1.0)
     assert climb.found and climb.index == 1
     assert climb.energy == pytest.approx(string_line_star.energy_saddle, rel=1e-9)
     vals = lowest_modes(r, 3)[0]
@@ -166,7 +175,8 @@ def _crossing_sign(x: np.ndarray, edge_nodes: np.ndarray, pair: np.ndarray) -> f
     return float(np.sign(np.cross(x[a[1]] - x[a[0]], x[b[1]] - x[b[0]]) @ w[0]))
 
 
-def test_the_line_star_saddle_without_contact_passes_rods_through_each_other() -> None:
+def test_the_line_star_saddle_without_contact_passes_rods_through_each_other(line_saddle
+                                                                           ) -> None:
     """Without contact the line -> star saddle is the moment two pairs of rods cross.
 
     At the saddle (hexagram, rectangle h/t = 4, 6 el., kappa_n R0 = 1) exactly two pairs of
@@ -180,8 +190,8 @@ def test_the_line_star_saddle_without_contact_passes_rods_through_each_other() -
     from rodstab.multistable.barrier import descents_from_saddle
     from rodstab.multistable.transitions import judged_pairs, pair_distances
 
-    r = _relaxed("hexagram", "line", 1.0)
-    assert follow_mode(r, 2, -1).found
+    r = line_saddle[1].copy()
+    assert line_saddle[2].found
     pairs = judged_pairs(r)
     dist = pair_distances(r.x, r.edge_nodes, pairs)[0]
     crossing = pairs[dist < 1e-8]
@@ -220,3 +230,115 @@ def test_a_climb_ending_on_another_stationary_point_lists_it_once(monkeypatch) -
     ((energy, index, planar, src, count),) = out.other_stationary
     assert energy == pytest.approx(daisy.energy(), rel=1e-12)
     assert (index, planar, src, count) == (0, True, "star mode 0+", 2)
+
+
+# --------------------------------------------------------------- saddles continued into contact
+def test_the_crossing_saddle_continued_into_contact_keeps_index_one_and_its_sides(line_saddle
+                                                                                ) -> None:
+    """With contact the line -> star saddle continues to an index-1 saddle the rods can reach.
+
+    Capsules h = 0.02 L, dhat = 0.1 h; both intersecting pairs pushed to side +1. The state
+    reached is a stationary point of rod plus contact energy (Newton's residual below its
+    tolerance) of index exactly one, inside the model; the two pairs touch (gap within dhat:
+    contact holds them) on the sides they were pushed to, so the continuation never passed them
+    through each other; every other pair is at least h apart; and it lies above the saddle
+    without contact (the rods bend round one another).
+    """
+    from rodstab.multistable.contact_saddle import crossing_pairs, stiffen_saddle
+    from rodstab.multistable.transitions import judged_pairs, pair_distances
+    from rodstab.nonlinear.equilibrium import rod_contact_model
+
+    saddle = line_saddle[1]
+    crossing = crossing_pairs(saddle)
+    assert len(crossing) == 2
+    model = rod_contact_model(saddle.assembly, 0.02, 0.1)
+    res, r = stiffen_saddle(saddle, model, (1, 1))
+    assert res.found and res.index == 1, res.outcome
+    assert r.contact is not None and r.contact.model == model
+    vals = lowest_modes(r, 3)[0]
+    tol = zero_eigenvalue_tol(r)
+    assert vals[0] < -tol < tol < vals[1]
+    assert res.gap is not None and 0.0 < res.gap < model.dhat
+    assert [_crossing_sign(r.x, r.edge_nodes, p) for p in crossing] == [1.0, 1.0]
+    dist = pair_distances(r.x, r.edge_nodes, judged_pairs(r))[0]
+    assert dist.min() > 0.02
+    assert res.energy > saddle.energy() + 1e-3
+    assert res.distances[-1] > 1.0 and res.stiffnesses[-1] == pytest.approx(model.stiffness)
+
+
+def test_a_saddle_that_touches_nothing_is_its_own_continuation() -> None:
+    """Star <-> daisy at kappa_n R0 = 1.5: no pair within reach, the same saddle with contact.
+
+    The barrier vanishes beyond dhat, so a saddle whose every gap is wider is a stationary
+    point of both energies with the same index: the continuation must return it unchanged.
+    """
+    from rodstab.multistable.contact_saddle import crossing_pairs, stiffen_saddle
+    from rodstab.nonlinear.contact import mesh_of_rod, smallest_gap
+    from rodstab.nonlinear.equilibrium import rod_contact_model
+
+    saddle = _relaxed("hexagram", "star", 1.5)
+    assert follow_mode(saddle, 1, 1).found
+    model = rod_contact_model(saddle.assembly, 0.02, 0.1)
+    near = smallest_gap(mesh_of_rod(saddle, model), saddle.x)
+    assert near is None or near[0] > model.dhat
+    assert not len(crossing_pairs(saddle))
+    res, r = stiffen_saddle(saddle, model, ())
+    assert res.found and res.index == 1
+    assert res.energy == pytest.approx(saddle.energy(), rel=1e-10)
+    assert np.max(np.abs(r.x - saddle.x)) < 1e-8
+
+
+def test_continuing_into_contact_refuses_bad_sides_and_a_state_with_contact(line_saddle
+                                                                           ) -> None:
+    from rodstab.errors import RodstabInputError
+    from rodstab.multistable.contact_saddle import stiffen_saddle
+    from rodstab.nonlinear.contact import mesh_of_rod
+    from rodstab.nonlinear.equilibrium import rod_contact_model
+
+    saddle = line_saddle[1]
+    model = rod_contact_model(saddle.assembly, 0.02, 0.1)
+    for sides in [(1,), (1, 0), (1, 1, 1)]:
+        with pytest.raises(RodstabInputError, match="sides must be"):
+            stiffen_saddle(saddle, model, sides)
+    star = _relaxed("hexagram", "star", 1.5)
+    star.contact = mesh_of_rod(star, model)
+    with pytest.raises(RodstabInputError, match="already has a contact model"):
+        stiffen_saddle(star, model, ())
+
+
+def test_cli_into_contact_that_reaches_no_saddle_prints_every_branch_and_exits_3(
+        run_cli, monkeypatch) -> None:
+    """``barrier --into-contact``: a branch that fails says why; none held -> exit 3.
+
+    The continuations are replaced by ones that fail (the real ones are the tests above), so
+    the command's bookkeeping is checked: one line and one JSON record per choice of sides of
+    the two intersecting pairs, printed before the exit.
+    """
+    import json
+
+    from rodstab.multistable import contact_saddle
+    from rodstab.multistable.contact_saddle import StiffenedSaddle
+
+    def failing(saddle, final):
+        pairs = tuple(tuple(int(v) for v in p) for p in contact_saddle.crossing_pairs(saddle))
+        return [(StiffenedSaddle("newton did not converge", pairs, sides, (), (), (), 0),
+                 saddle) for sides in [(1, 1), (1, -1), (-1, 1), (-1, -1)]]
+
+    monkeypatch.setattr(contact_saddle, "stiffen_all", failing)
+    res = run_cli(["barrier", "--structure", "hexagram", "--shape", "rectangle", "--aspect",
+                   "4", "--load-factor", "1", "--elements", str(N), "--images", "7",
+                   "--into-contact", "--json"])
+    assert res.exit_code == 3, res.stderr
+    assert "no branch reached a saddle with contact" in res.stderr
+    out = json.loads(res.stdout)["into_contact"]
+    assert out["thickness"] == 0.02 and out["dhat"] == 0.1 and len(out["pairs"]) == 2
+    assert [b["outcome"] for b in out["branches"]] == ["newton did not converge"] * 4
+
+
+@pytest.mark.parametrize("extra", [["--contact"], ["--method", "continuation"]])
+def test_cli_into_contact_needs_a_string_without_contact(run_cli, extra: list[str]) -> None:
+    res = run_cli(["barrier", "--structure", "six-ring", "--elements", str(N), "--into-contact",
+                   *extra])
+    assert res.exit_code == 2
+    assert "--into-contact continues the saddle of a barrier computed without contact" in (
+        res.stderr)

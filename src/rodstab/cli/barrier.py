@@ -5,6 +5,7 @@ Parsing and printing only.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from typing import Any
 
@@ -13,7 +14,9 @@ import click
 from ..errors import NotConverged, RodstabInputError
 from ..io.outputs import check_output
 from ..limits import Limits
+from ..model import CONTACT_DHAT_FRACTION
 from ..sections import Section
+from .barrier_contact import contact_line, knot_line
 from .contact_options import layers_option, parse_layers, path_contact_options
 from .options import (
     elements_option,
@@ -71,6 +74,11 @@ _BARRIER_STATES = {"six-ring": ("folded", "one-loop"), "hexagram": ("line", "sta
                "offset U and layer K, in units of h + g0; NAME=U:K:S also shifts the rod S "
                "along itself, to stagger welds; straight rods only) and the path runs with "
                "its welds spanning the layers. String method, --contact.")
+@click.option("--into-contact", is_flag=True,
+              help="Continue the saddle found without contact into contact (capsules "
+                   "--contact-thickness, dhat --contact-dhat), one branch per side of each "
+                   "pair of rods intersecting at it, and name where each saddle's descents "
+                   "with contact end (rodstab.multistable.contact_saddle). String method.")
 @section_options
 @limit_options
 @json_option
@@ -78,8 +86,8 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
             from_state: str | None, to_state: str | None, load_factor: float | None,
             elements: int,
             images: int | None, plot_path: str | None, animation_path: str | None,
-            out_dir: str | None, contact: Any, layers: str | None, limits: Limits,
-            as_json: bool) -> None:
+            out_dir: str | None, contact: Any, layers: str | None, into_contact: bool,
+            limits: Limits, as_json: bool) -> None:
     """Energy barrier between two stable states of a ring: the saddle and the path through it.
 
     string (default): the minimum energy path between the two states by the string method
@@ -148,6 +156,13 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
     if from_state == to_state:
         raise RodstabInputError(f"--to {to_state!r} is the --from state: a barrier joins two "
                                 "different states")
+    given = None if design_file is None or design.contact is None else design.contact[1]
+    into_dhat = contact.dhat or given or CONTACT_DHAT_FRACTION
+    if into_contact:
+        if method != "string" or contact.on:
+            raise RodstabInputError("--into-contact continues the saddle of a barrier "
+                                    "computed without contact: --method string, no --contact")
+        contact = dataclasses.replace(contact, on=False, dhat=None)
     h, c = contact.judged(None if design_file is None else design.contact)
     if c is not None and method != "string":
         raise RodstabInputError("--contact is an option of --method string")
@@ -299,11 +314,11 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
                          f"rods from {fmt(stages.distances[0] / h)} h to "
                          f"{fmt(stages.distances[-1] / h)} h apart "
                          "(rodstab.multistable.string_contact)")
-        lines.append(_contact_line(report, h, b.from_state, c is not None))
+        lines.append(contact_line(report, h, b.from_state, c is not None))
         if c is not None:
             from ..nonlinear.discrete import discretise
 
-            lines.append(_knot_line(payload, stacked or discretise(a, elements), xs,
+            lines.append(knot_line(payload, stacked or discretise(a, elements), xs,
                                     b.from_state, b.to_state))
         if stacked is not None and model is not None:
             from ..multistable.layered import weld_spans
@@ -325,7 +340,18 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
 
         payload["animation"] = str(barrier_animation(b, path, a, gif, name=name))
         lines.append(f"wrote {payload['animation']}")
+    held = True
+    if into_contact and b.converged and b.chain is None:
+        from .barrier_contact import into_contact_lines
+
+        more, held = into_contact_lines(a, elements, mu, path[b.saddle_position],
+                                        {from_state: a, to_state: b_asm}, h, into_dhat, payload)
+        lines += more
+    elif into_contact:
+        lines.append("into contact no saddle joining the two states to continue")
     emit(payload, as_json, lines)
+    if not held:
+        raise NotConverged("--into-contact: no branch reached a saddle with contact")
     if not b.converged:
         why = ""
         if run is not None and run.too_coarse:
@@ -354,30 +380,3 @@ def _link_text(lk: Any) -> str:
     if math.isfinite(lk.energy_bound):
         return "<= " + fmt(lk.energy_bound)
     return "~ " + fmt(lk.energy_highest)
-
-
-def _knot_line(payload: dict[str, Any], rod: Any, xs: Any, a: str, b: str) -> str:
-    """Return the knot types of the path's two ends (JSON ``contact.knots``), as printed."""
-    from ..multistable.knots import apart_by_topology, describe, knot_class, ring_polygon
-
-    ka, kb = (knot_class(ring_polygon(rod, x)) for x in (xs[0], xs[-1]))
-    payload["contact"]["knots"] = {a: ka.to_dict(), b: kb.to_dict()}
-    verdict = ("different knots: no path joins them without passing rods through each other"
-               if apart_by_topology(ka, kb) else "rods that cannot cross keep the knot type")
-    return f"knots        {describe(a, ka)}; {describe(b, kb)}: {verdict}"
-
-
-def _contact_line(report: Any, thickness: float, from_state: str, acting: bool) -> str:
-    """Return the path's contact verdict as printed (a transition's stretch, over h)."""
-    verdict = ("RODS PASS THROUGH at path point "
-               f"{report.pass_through_at:g}: not physical as computed"
-               + ("" if acting else " (no contact model: --contact)")
-               if report.pass_through else "no pass-through")
-    overlap = ""
-    if report.touching:
-        points = ", ".join(f"{a:g}" if a == b else f"{a:g}-{b:g}" for a, b in report.touching)
-        overlap = f" (closer than h, the rods overlap: path points {points})"
-    return (f"contact      h/L = {fmt(thickness)}, judged at the {report.samples} path points: "
-            f"{report.stacked_pairs} element pairs stacked in {from_state} (may touch, not "
-            f"swap layers); the others come within {fmt(report.min_distance)} h{overlap}; "
-            + verdict)
