@@ -578,9 +578,40 @@ class KirchhoffHessian:
     gradient: np.ndarray | None = None  # (n,) energy gradient in z (None: not formed)
 
 
+def _cusp_offsets(a: Assembly, joints: list[Any], width: float | None
+                  ) -> dict[tuple[str, str], np.ndarray]:
+    """Offsets (lab frame) of the segment ends of every cusp weld of ``width`` (discretise)."""
+    if width is None or width == 0.0:
+        return {}
+    w = require_positive("cusp_width", width)
+    out: dict[tuple[str, str], np.ndarray] = {}
+    for joint in joints:
+        if len(joint) != 2:
+            continue
+        leave, bend = [], []
+        for name, end in joint:
+            seg = a.segment(name)
+            s0, sign = (0.0, 1.0) if end == "start" else (seg.length, -1.0)
+            t = sign * np.asarray(seg.tangent(s0), float)
+            d = 1e-3 * seg.length
+            b = np.asarray(seg.position(s0 + sign * d), float) - seg.position(s0)
+            leave.append(np.array([t[0], t[1], 0.0]))
+            bend.append(np.array([b[0], b[1], 0.0]))
+        if float(np.dot(leave[0], leave[1])) < 1.0 - 1e-9:
+            continue
+        n = np.cross([0.0, 0.0, 1.0], leave[0])
+        side = [float(np.sign(np.dot(b, n))) for b in bend]
+        if side[0] == side[1] or 0.0 in side:
+            side = [1.0, -1.0]
+        for (name, end), sgn in zip(joint, side, strict=True):
+            out[(name, end)] = 0.5 * w * sgn * n
+    return out
+
+
 def discretise(a: Assembly, elements_per_segment: int | dict[str, int] = 32,
                load_factor: float = 1.0, layers: dict[str, Any] | None = None,
-               axial_stiffness: float | None = None) -> DiscreteRod:
+               axial_stiffness: float | None = None,
+               cusp_width: float | None = None) -> DiscreteRod:
     """Return the discrete rod of an assembly in its held state (an equilibrium when P2 says so).
 
     Supports are read from :data:`~rodstab.model.SUPPORT_KINDS`: a kind that holds all
@@ -603,6 +634,17 @@ def discretise(a: Assembly, elements_per_segment: int | dict[str, int] = 32,
     ``axial_stiffness``: the rods' EA (force; stretch and shear alike) in place of the penalty
     that stands in for inextensibility (:attr:`DiscreteRod.edge_K`): an extensible rod, for
     what the Kirchhoff limit does not determine (layers joined by spanning welds).
+
+    ``cusp_width``: a weld of that width (length) at every cusp, where two segment ends leave
+    their joint along one line (outward tangents equal to 1e-9). Rods of thickness ``h``
+    cannot both leave a point along one line; with contact they are forced apart within an
+    element of the weld, at a cost that grows without bound as the elements shorten
+    (docs/theory/contact.md). Here the two ends are held ``cusp_width / 2`` on either side of
+    the joint's node, across the tangent in the plane, by the spanning weld's rigid offsets;
+    each end goes to the side its segment curves towards (the first-listed end to ``+n``,
+    ``n = e3 x t``, when they curve alike). Only the end nodes move, so the state returned
+    is not an equilibrium: relax it (Newton). ``None`` or 0: point welds, every number as
+    without it.
     """
     counts = element_counts(a, elements_per_segment)
     check_mesh(a, counts, load_factor)
@@ -630,13 +672,14 @@ def discretise(a: Assembly, elements_per_segment: int | dict[str, int] = 32,
     R_joint = np.zeros((len(joints), 3, 3))
     joint_v = np.zeros((len(joints), 3))
     split: set[int] = set()  # joints whose segments lie at different offsets
+    cusp_off = _cusp_offsets(a, joints, cusp_width)
     for k, joint in enumerate(joints):
         name, end = joint[0]
         seg = a.segment(name)
         s_end = 0.0 if end == "start" else seg.length
         vs = np.array([lift[nm] for nm, _ in joint])
         joint_v[k] = vs.mean(axis=0)
-        if np.any(vs.max(axis=0) > vs.min(axis=0)):
+        if np.any(vs.max(axis=0) > vs.min(axis=0)) or (name, end) in cusp_off:
             split.add(k)
         joint_node[k] = node_at(seg.position(s_end), joint_v[k])
         R_joint[k] = held_frame(seg.tangent(s_end))
@@ -653,10 +696,11 @@ def discretise(a: Assembly, elements_per_segment: int | dict[str, int] = 32,
             if k not in split:
                 ends.append(joint_node[k])
                 continue
-            ends.append(node_at(p, z))
+            v = z + cusp_off.get((seg.name, end), 0.0)
+            ends.append(node_at(p, v))
             off_nodes.append((joint_node[k], ends[-1]))
             off_joints.append(k)
-            off_vecs.append(R_joint[k].T @ (z - joint_v[k]))
+            off_vecs.append(R_joint[k].T @ (v - joint_v[k]))
             le = seg.length / n
             K = (PENALTY * max(seg.B1, seg.B2, seg.B3) / le**2 if axial_stiffness is None
                  else axial_stiffness)

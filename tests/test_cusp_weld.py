@@ -1,0 +1,84 @@
+"""Cusp welds of finite width (``discretise(..., cusp_width=w)``, issue 21).
+
+Two rods of thickness h cannot both leave a point along one line; with contact the point cusp
+weld forces them apart within an element, at a cost that grows as the elements shorten
+(docs/theory/contact.md). A cusp weld of width w holds the two ends w apart across the tangent.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from rodstab.errors import RodstabInputError
+from rodstab.multistable.discover import common_rod
+from rodstab.nonlinear.contact import attach_contact, smallest_gap
+from rodstab.nonlinear.discrete import discretise
+from rodstab.nonlinear.equilibrium import rod_contact_model
+from rodstab.nonlinear.solve import newton
+from rodstab.problems.barrier_states import state_assembly
+from rodstab.sections import rectangle
+
+H = 0.02
+
+
+def _star():
+    return state_assembly("hexagram", rectangle(aspect=4.0), "star")
+
+
+@pytest.mark.parametrize("width", [None, 0.0])
+def test_no_width_is_the_point_weld(width) -> None:
+    a = _star()
+    r0, r1 = discretise(a, 8), discretise(a, 8, cusp_width=width)
+    assert r1.offsets is None and np.array_equal(r0.x, r1.x)
+
+
+def test_a_cusp_weld_holds_the_ends_apart_across_the_tangent() -> None:
+    """Every one of the star's six cusps: its two end nodes w apart, across the tangent."""
+    a, w = _star(), 0.03
+    r = discretise(a, 8, cusp_width=w)
+    on, oj, ov, _ = r.offsets
+    assert len(oj) == 12 and sorted(set(oj.tolist())) == list(range(6))
+    for k in range(6):
+        ends = on[oj == k, 1]
+        gap = r.x[ends[0]] - r.x[ends[1]]
+        assert np.linalg.norm(gap) == pytest.approx(w, rel=1e-12)
+        t = r.R_joint[k][:, 1]  # the held frame's columns: n, t, e3
+        assert abs(gap @ t) < 1e-12 and abs(gap[2]) < 1e-15
+
+
+def test_the_stress_free_star_opens_its_cusps_at_no_cost() -> None:
+    """Hexagram star at kappa_n R0 = 1 (stress-free arcs): every arc translated radially opens
+    every cusp across its tangent, so relaxed with welds of width w it keeps the point-weld
+    energy (the discretisation's own, 3.6e-4 at 8 el.) to Newton's tolerance."""
+    a = _star()
+    point = common_rod(a, 8, 1.0)
+    assert newton(point)[0]
+    wide = common_rod(a, 8, 1.0, cusp_width=0.03)
+    assert newton(wide)[0]
+    assert wide.energy() == pytest.approx(point.energy(), rel=1e-6, abs=1e-12)
+
+
+def test_with_welds_of_width_the_fine_star_is_inside_the_contact_model() -> None:
+    """16 el./rod, h = 0.02 L: with point cusp welds the star's rods overlap at its cusps
+    (outside the model); with welds h + 1.5 dhat wide nothing is within the barrier's reach
+    after relaxing, so the energy with contact is the one without."""
+    a = _star()
+    model = rod_contact_model(a, H, 0.1)
+    point = common_rod(a, 16, 1.0)
+    assert newton(point)[0]
+    with pytest.raises(RodstabInputError, match="interpenetrate"):
+        attach_contact(point, model)
+    wide = common_rod(a, 16, 1.0, cusp_width=H + 1.5 * model.dhat)
+    assert newton(wide)[0]
+    e = wide.energy()
+    attach_contact(wide, model)
+    assert newton(wide)[0]
+    near = smallest_gap(wide.contact, wide.x)
+    assert near is None or near[0] > model.dhat
+    assert wide.energy() == pytest.approx(e, rel=1e-9, abs=1e-12)
+
+
+def test_a_negative_width_is_refused() -> None:
+    with pytest.raises(RodstabInputError, match="cusp_width"):
+        discretise(_star(), 8, cusp_width=-0.01)
