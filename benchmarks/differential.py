@@ -14,7 +14,8 @@ by the rod and by the reduced theory; ``held-columns``: the folded six-ring in t
 closed, by the rod and the closed form; ``folded-columns``, ``folded-hexagon``: the folded
 six-ring stacked in two columns or on the hexagon, the FE cone against the derived limits;
 ``saddles``: a saddle between two mutually stable states of the hexagram, by the string method
-and by eigenvector following from the states alone, ~25 s a design that has a pair).
+and by eigenvector following from the states alone, and the string's saddle continued into
+contact where no pair is within the barrier's reach, ~25 s a design that has a pair).
 Sections of every closed-form shape
 (rectangle and ellipse h/t 0.3-10, circle, tube, nu 0-0.5) and given ratios b1, b2 in 0.05-50. Every
 design is solved by every method that applies (the problem modules' ``METHODS``, the linear FE
@@ -733,10 +734,33 @@ def saddles(rng: np.random.Generator) -> Trial:
             f"{mu} --elements {SADDLE_ELEMENTS} --saddle-modes {SADDLE_MODES}, section "
             f"make_section({_kw(sec)})")
 
+    run: list[Any] = []  # the string's result and path, computed once for two methods
+
     def string() -> Values:
-        res, _ = string_barrier(a, b, mu, elements_per_segment=SADDLE_ELEMENTS,
-                                images=SADDLE_IMAGES, name_a=pair[0], name_b=pair[1])
-        return {"saddle": res.energy_saddle} if res.converged else {}
+        if not run:
+            run.extend(string_barrier(a, b, mu, elements_per_segment=SADDLE_ELEMENTS,
+                                      images=SADDLE_IMAGES, name_a=pair[0], name_b=pair[1]))
+        res = run[0]
+        return {"saddle": res.energy_saddle} if res.converged and res.chain is None else {}
+
+    def into_contact() -> Values:
+        """The string's saddle continued into contact (h = 0.02 L, dhat = 0.1 h): where no
+        pair is within the barrier's reach it must come back unchanged; otherwise nothing is
+        compared (no second method continues a saddle into contact)."""
+        from rodstab.multistable.contact_saddle import stiffen_saddle
+        from rodstab.nonlinear.contact import mesh_of_rod, smallest_gap
+        from rodstab.nonlinear.equilibrium import rod_contact_model
+
+        if not string():
+            return {}
+        rod = common_rod(a, SADDLE_ELEMENTS, mu)
+        run[1][run[0].saddle_position].put(rod)
+        model = rod_contact_model(a, 0.02, 0.1)
+        near = smallest_gap(mesh_of_rod(rod, model), rod.x)
+        if near is not None and near[0] <= model.dhat:
+            return {}
+        res, _ = stiffen_saddle(rod, model, ())
+        return {"saddle": res.energy} if res.found else {"saddle": math.nan}
 
     def climb() -> Values:
         rods = {st: common_rod(x, SADDLE_ELEMENTS, mu) for st, x in zip(pair, (a, b),
@@ -749,7 +773,8 @@ def saddles(rng: np.random.Generator) -> Trial:
         return {"saddle": min(joining)} if joining else {}
 
     return Trial(f"{label}, {pair[0]} <-> {pair[1]} at kappa_n R0 {mu}", code,
-                 {"string": string, "climb": climb}, {("string", "climb"): SADDLE_RTOL})
+                 {"string": string, "climb": climb, "into contact": into_contact},
+                 {("string", "climb"): SADDLE_RTOL, ("string", "into contact"): SADDLE_RTOL})
 
 
 #: family name -> generator of one random design.
