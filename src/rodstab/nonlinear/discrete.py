@@ -47,7 +47,7 @@ from .hessian_plan import hessian_plan, padded
 from .jets import Jet, JetMat, rodrigues, rotation_jet, rotation_vector, vector_jet
 from .mesh import MAX_ELEMENT_TURNING as MAX_ELEMENT_TURNING  # re-exported
 from .mesh import MAX_NATURAL_TURNING as MAX_NATURAL_TURNING  # re-exported
-from .mesh import check_mesh, element_counts
+from .mesh import check_mesh, cusp_offsets, element_counts
 
 #: Stretch/shear stiffness K = PENALTY * max(B1, B2, B3) / l_e^2. The discrete model tends to
 #: the inextensible, unshearable Kirchhoff rod as l_e -> 0 with an error ~ l_e^2 / PENALTY.
@@ -578,36 +578,6 @@ class KirchhoffHessian:
     gradient: np.ndarray | None = None  # (n,) energy gradient in z (None: not formed)
 
 
-def _cusp_offsets(a: Assembly, joints: list[Any], width: float | None
-                  ) -> dict[tuple[str, str], np.ndarray]:
-    """Offsets (lab frame) of the segment ends of every cusp weld of ``width`` (discretise)."""
-    if width is None or width == 0.0:
-        return {}
-    w = require_positive("cusp_width", width)
-    out: dict[tuple[str, str], np.ndarray] = {}
-    for joint in joints:
-        if len(joint) != 2:
-            continue
-        leave, bend = [], []
-        for name, end in joint:
-            seg = a.segment(name)
-            s0, sign = (0.0, 1.0) if end == "start" else (seg.length, -1.0)
-            t = sign * np.asarray(seg.tangent(s0), float)
-            d = 1e-3 * seg.length
-            b = np.asarray(seg.position(s0 + sign * d), float) - seg.position(s0)
-            leave.append(np.array([t[0], t[1], 0.0]))
-            bend.append(np.array([b[0], b[1], 0.0]))
-        if float(np.dot(leave[0], leave[1])) < 1.0 - 1e-9:
-            continue
-        n = np.cross([0.0, 0.0, 1.0], leave[0])
-        side = [float(np.sign(np.dot(b, n))) for b in bend]
-        if side[0] == side[1] or 0.0 in side:
-            side = [1.0, -1.0]
-        for (name, end), sgn in zip(joint, side, strict=True):
-            out[(name, end)] = 0.5 * w * sgn * n
-    return out
-
-
 def discretise(a: Assembly, elements_per_segment: int | dict[str, int] = 32,
                load_factor: float = 1.0, layers: dict[str, Any] | None = None,
                axial_stiffness: float | None = None,
@@ -672,7 +642,7 @@ def discretise(a: Assembly, elements_per_segment: int | dict[str, int] = 32,
     R_joint = np.zeros((len(joints), 3, 3))
     joint_v = np.zeros((len(joints), 3))
     split: set[int] = set()  # joints whose segments lie at different offsets
-    cusp_off = _cusp_offsets(a, joints, cusp_width)
+    cusp_off = cusp_offsets(a, joints, cusp_width)
     for k, joint in enumerate(joints):
         name, end = joint[0]
         seg = a.segment(name)

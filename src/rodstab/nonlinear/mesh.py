@@ -1,4 +1,4 @@
-"""The meshes the discrete rod can represent: element counts and their checks.
+"""The meshes the discrete rod can represent: element counts, their checks, cusp offsets.
 
 Split from :mod:`.discrete`, which re-exports every name. The limits come from the Cayley
 measure of the rotation between neighbouring frames and from the energy's range.
@@ -7,13 +7,15 @@ measure of the rotation between neighbouring frames and from the energy's range.
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 
-from ..errors import RodstabInputError, require_finite
+from ..errors import RodstabInputError, require_finite, require_positive
 from ..model import Assembly
 
-__all__ = ["MAX_ELEMENT_TURNING", "MAX_NATURAL_TURNING", "check_mesh", "element_counts"]
+__all__ = ["MAX_ELEMENT_TURNING", "MAX_NATURAL_TURNING", "check_mesh", "cusp_offsets",
+           "element_counts"]
 
 #: Largest held turning of one element (rad): the rotation between neighbouring edge frames is
 #: stored as a Cayley vector ~ tan(theta / 2), singular at a half turn; 3/4 of it (a 3-loop
@@ -74,3 +76,39 @@ def check_mesh(a: Assembly, elements_per_segment: int | dict[str, int],
                 f"load factor {load_factor:g}: segment {s.name!r} would have a natural "
                 f"turning |load factor x natural_curvature x length| = {natural:.3g} rad, "
                 f"above {MAX_NATURAL_TURNING:g}")
+
+
+def cusp_offsets(a: Assembly, joints: list[Any], width: float | None
+                  ) -> dict[tuple[str, str], np.ndarray]:
+    """Return the offsets (lab frame) of the segment ends at every cusp weld of ``width``.
+
+    A cusp: a joint of two segment ends whose outward tangents are equal (to 1e-9). Each end
+    goes ``width / 2`` across the tangent in the plane, to the side its segment curves towards
+    (the first-listed to ``+n``, ``n = e3 x t``, when they curve alike);
+    :func:`~.discrete.discretise`'s ``cusp_width``. ``{}`` for ``width`` None or 0.
+    """
+    if width is None or width == 0.0:
+        return {}
+    w = require_positive("cusp_width", width)
+    out: dict[tuple[str, str], np.ndarray] = {}
+    for joint in joints:
+        if len(joint) != 2:
+            continue
+        leave, bend = [], []
+        for name, end in joint:
+            seg = a.segment(name)
+            s0, sign = (0.0, 1.0) if end == "start" else (seg.length, -1.0)
+            t = sign * np.asarray(seg.tangent(s0), float)
+            d = 1e-3 * seg.length
+            b = np.asarray(seg.position(s0 + sign * d), float) - seg.position(s0)
+            leave.append(np.array([t[0], t[1], 0.0]))
+            bend.append(np.array([b[0], b[1], 0.0]))
+        if float(np.dot(leave[0], leave[1])) < 1.0 - 1e-9:
+            continue
+        n = np.cross([0.0, 0.0, 1.0], leave[0])
+        side = [float(np.sign(np.dot(b, n))) for b in bend]
+        if side[0] == side[1] or 0.0 in side:
+            side = [1.0, -1.0]
+        for (name, end), sgn in zip(joint, side, strict=True):
+            out[(name, end)] = 0.5 * w * sgn * n
+    return out
