@@ -45,7 +45,10 @@ def into_contact_lines(a: Any, elements: int, mu: float, saddle: Any, ends: dict
         rec = res.to_dict()
         signs = "".join("+" if s > 0 else "-" for s in res.sides) or "(none)"
         if not res.found or res.energy is None:
-            lines.append(f"  sides {signs:<4} {res.outcome}")
+            where = "" if not res.distances else (
+                f" after {len(res.distances)} stages, closest pair {fmt(res.distances[-1])} h, "
+                f"lowest eigenvalues {', '.join(f'{v:.3g}' for v in res.eigenvalues[:2])}")
+            lines.append(f"  sides {signs:<4} {res.outcome}{where}")
             out.append(rec)
             continue
         judged = land.judge(r)

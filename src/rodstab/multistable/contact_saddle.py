@@ -110,7 +110,9 @@ class StiffenedSaddle(Result):
     (force / length^2), with the energy (``B3 / L``) and the smallest centreline distance of
     non-excluded elements over ``h`` there. ``branch_switches``: how often the index was kept
     by a kick. ``energy``, ``index``, ``gap``: the final state's (gap: the smallest capsule gap
-    under the final model, length).
+    under the final model, length). ``eigenvalues``: the lowest scaled eigenvalues at the last
+    point reached, on every outcome: where a continuation stops with the second of them near
+    zero, the index-1 branch met a fold or a branch point there.
     """
 
     outcome: Outcome
@@ -123,6 +125,7 @@ class StiffenedSaddle(Result):
     energy: float | None = None
     index: int | None = None
     gap: float | None = None
+    eigenvalues: tuple[float, ...] = ()
 
     @property
     def found(self) -> bool:
@@ -222,11 +225,14 @@ def stiffen_saddle(saddle: DiscreteRod, final: ContactModel, sides: Sequence[int
     log: list[tuple[float, float, float]] = []
     switches = [0]
 
-    def record(outcome: str, **final_state: float | int | None) -> StiffenedSaddle:
+    def record(outcome: str, at: DiscreteRod, **final_state: float | int | None
+               ) -> StiffenedSaddle:
+        vals = tuple(float(v) for v in _index(at)[1])
         return StiffenedSaddle(cast(Outcome, outcome), tuple((int(a), int(b)) for a, b in pairs),
                                tuple(int(s) for s in sides), tuple(k for k, _, _ in log),
                                tuple(e for _, e, _ in log), tuple(d for _, _, d in log),
-                               switches[0], **final_state)  # type: ignore[arg-type]
+                               switches[0], eigenvalues=vals,
+                               **final_state)  # type: ignore[arg-type]
 
     def penalty(t: float) -> ContactModel:
         return dataclasses.replace(final, stiffness=k_ref * STIFFNESS_START * 10.0**t, soft=True)
@@ -240,19 +246,19 @@ def stiffen_saddle(saddle: DiscreteRod, final: ContactModel, sides: Sequence[int
 
     r, how = _follow(r, penalty, 0.0, MAX_DECADES, lambda x: _distance(x, final) > 1.0, logged)
     if how != "done":
-        return record(how), r
+        return record(how, r), r
     try:
         held, final_force = _contact_force(r), _contact_force(r, final)
     except Interpenetration:
-        return record("outside the model"), r
+        return record("outside the model", r), r
     # start where the barrier holds the penalty's largest node force; nothing in reach: at once
     start = math.log10(held / final_force) if held > 0.0 and final_force > 0.0 else 0.0
     r, how = _follow(r, barrier, start, 0.0, None, logged)
     if how != "done":
-        return record(how), r
+        return record(how, r), r
     index = _index(r)[0]
     near = None if r.contact is None else smallest_gap(r.contact, r.x)
-    return record("saddle" if index == 1 else "not a saddle", energy=float(r.energy()),
+    return record("saddle" if index == 1 else "not a saddle", r, energy=float(r.energy()),
                   index=index, gap=None if near is None else float(near[0])), r
 
 
