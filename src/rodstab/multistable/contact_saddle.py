@@ -158,7 +158,7 @@ def _distance(r: DiscreteRod, final: ContactModel) -> float:
 
 
 def _push(r: DiscreteRod, pairs: np.ndarray, sides: Sequence[int], h: float) -> None:
-    """Move each pair's elements ``PUSH h / 2`` apart along ``+-(t_a x t_b)`` (in place)."""
+    """Move each pair's elements ``PUSH h`` apart, half each, along ``+-(t_a x t_b)`` (in place)."""
     dx = np.zeros_like(r.x)
     for (a, b), side in zip(pairs, sides, strict=True):
         ea, eb = r.edge_nodes[a], r.edge_nodes[b]
