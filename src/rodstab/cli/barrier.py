@@ -345,7 +345,8 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
         from .barrier_contact import into_contact_lines
 
         more, held = into_contact_lines(a, elements, mu, path[b.saddle_position],
-                                        {from_state: a, to_state: b_asm}, h, into_dhat, payload)
+                                        {from_state: a, to_state: b_asm}, h, into_dhat, payload,
+                                        units)
         lines += more
     elif into_contact:
         lines.append("into contact no saddle joining the two states to continue")

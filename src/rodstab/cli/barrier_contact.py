@@ -8,8 +8,8 @@ from .output import fmt
 
 
 def into_contact_lines(a: Any, elements: int, mu: float, saddle: Any, ends: dict[str, Any],
-                       thickness: float, dhat: float, payload: dict[str, Any]
-                       ) -> tuple[list[str], bool]:
+                       thickness: float, dhat: float, payload: dict[str, Any],
+                       units: Any = None) -> tuple[list[str], bool]:
     """Continue ``saddle`` (a Snapshot of ``a``'s model) into contact; the lines and if any held.
 
     ``ends``: the barrier's two states (label -> Assembly), the names for the descents' ends
@@ -17,7 +17,8 @@ def into_contact_lines(a: Any, elements: int, mu: float, saddle: Any, ends: dict
     ``thickness`` ``h / L`` and ``dhat / h`` of the contact model. Puts ``into_contact`` in
     ``payload``: the model, the intersecting pairs and one record per choice of sides
     (:class:`~.multistable.contact_saddle.StiffenedSaddle`, with the states its descents with
-    contact end on and their energies).
+    contact end on and their energies, in model units). ``units``: a design's units, to
+    print every energy also in J, as the barrier's own lines do.
     """
     from ..multistable.contact_saddle import crossing_pairs, stiffen_all
     from ..multistable.discover import common_rod
@@ -36,6 +37,10 @@ def into_contact_lines(a: Any, elements: int, mu: float, saddle: Any, ends: dict
     land = Landscape.of(named)
     land.new_label = "new "
     pairs = crossing_pairs(rod).tolist()
+
+    def energy(e: float) -> str:
+        return fmt(e) + ("" if units is None else f" ({fmt(units.si(e, 'energy'))} J)")
+
     out: list[dict[str, Any]] = []
     lines = [f"into contact capsules h/L = {fmt(thickness)}, dhat/h = {fmt(dhat)}: "
              f"{len(pairs)} pair(s) of elements intersect at the saddle {pairs}; the saddle "
@@ -53,15 +58,15 @@ def into_contact_lines(a: Any, elements: int, mu: float, saddle: Any, ends: dict
             continue
         judged = land.judge(r)
         ends_text = ", ".join(
-            f"{lab} {fmt(e)}" + ("" if ok else " (not converged)") for lab, e, ok in
+            f"{lab} {energy(e)}" + ("" if ok else " (not converged)") for lab, e, ok in
             zip(judged["descent_ends"], judged["end_energies"], judged["ends_converged"],
                 strict=True))
         rec.update(descent_ends=list(judged["descent_ends"]),
                    end_energies=[float(e) for e in judged["end_energies"]],
                    ends_converged=list(judged["ends_converged"]))
         out.append(rec)
-        lines.append(f"  sides {signs:<4} saddle index 1, energy {fmt(res.energy)} (contact "
-                     f"adds {fmt(res.energy - float(rod.energy()))}), descents with contact "
+        lines.append(f"  sides {signs:<4} saddle index 1, energy {energy(res.energy)}, contact "
+                     f"adds {energy(res.energy - float(rod.energy()))}; descents with contact "
                      f"end on {ends_text}")
     payload["into_contact"] = {"thickness": thickness, "dhat": dhat, "pairs": pairs,
                                "branches": out}
