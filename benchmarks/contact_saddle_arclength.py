@@ -26,11 +26,12 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from rodstab.multistable.contact_saddle import _crossed, _distance
+from rodstab.multistable.contact_saddle import _crossed
 from rodstab.multistable.discover import common_rod
 from rodstab.multistable.layered import lift
 from rodstab.multistable.saddle import refine_saddle
 from rodstab.multistable.saddle_search import follow_mode
+from rodstab.multistable.string_contact import state_distance
 from rodstab.nonlinear.contact import mesh_of_rod, stiffness_for_line_load
 from rodstab.nonlinear.discrete import PENALTY
 from rodstab.nonlinear.equilibrium import rod_contact_model
@@ -112,7 +113,7 @@ def main(n: int) -> None:
         terms(r, t)
         vals = lowest_modes(r, 3)[0]
         index = int(np.sum(vals < -zero_eigenvalue_tol(r)))
-        apart = _distance(r, final)
+        apart = state_distance(r, final) / H
         if step % PRINT_EVERY == 0 or index != 1:
             print(f"{step:4d} t {t:.4f} E {r.energy():.5f} index {index} closest/h {apart:.4f} "
                   f"dt/ds {tt:+.3f} eigenvalues {vals[0]:.2e} {vals[1]:.2e} "

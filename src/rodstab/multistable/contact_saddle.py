@@ -68,6 +68,8 @@ from ..nonlinear.discrete import DiscreteRod
 from ..nonlinear.stability import lowest_modes, zero_eigenvalue_tol
 from ..results import Result
 from .saddle import refine_saddle
+from .stacked import contact_forces
+from .string_contact import state_distance
 from .transitions import judged_pairs, pair_distances
 
 #: Element pairs whose centrelines are closer than this times the mean rod length intersect.
@@ -147,14 +149,6 @@ def crossing_pairs(r: DiscreteRod) -> np.ndarray:
 def _index(r: DiscreteRod) -> tuple[int, np.ndarray, np.ndarray]:
     vals, vecs = lowest_modes(r, INDEX_EIGS)
     return int(np.sum(vals < -zero_eigenvalue_tol(r))), vals, vecs
-
-
-def _distance(r: DiscreteRod, final: ContactModel) -> float:
-    """Smallest centreline distance of non-excluded elements within reach, over ``h``."""
-    h = 2.0 * float(np.max(final.radius))
-    near = smallest_gap(mesh_of_rod(r, final), r.x)
-    reach = final.exclusion_factor * (h + final.dhat)
-    return (reach if near is None else near[0] + h) / h
 
 
 def _push(r: DiscreteRod, pairs: np.ndarray, sides: Sequence[int], h: float) -> None:
@@ -241,14 +235,18 @@ def stiffen_saddle(saddle: DiscreteRod, final: ContactModel, sides: Sequence[int
         return dataclasses.replace(final, stiffness=final.stiffness * 10.0**t)
 
     def logged(m: ContactModel, x: DiscreteRod, how: str) -> None:
-        log.append((m.stiffness, float(x.energy()), _distance(x, final)))
+        log.append((m.stiffness, float(x.energy()), state_distance(x, final) / h))
         switches[0] += how == "switched"
 
-    r, how = _follow(r, penalty, 0.0, MAX_DECADES, lambda x: _distance(x, final) > 1.0, logged)
+    r, how = _follow(r, penalty, 0.0, MAX_DECADES, lambda x: state_distance(x, final) > h,
+                     logged)
     if how != "done":
         return record(how, r), r
     try:
-        held, final_force = _contact_force(r), _contact_force(r, final)
+        probe = r.copy()
+        probe.contact = mesh_of_rod(probe, final)
+        held, final_force = (float(np.max(np.linalg.norm(contact_forces(x), axis=1)))
+                             for x in (r, probe))
     except Interpenetration:
         return record("outside the model", r), r
     # start where the barrier holds the penalty's largest node force; nothing in reach: at once
@@ -274,18 +272,6 @@ def _crossed(a: DiscreteRod, b: DiscreteRod, h: float) -> bool:
     db, wb = pair_distances(b.x, b.edge_nodes, pairs)
     close = np.minimum(da, db) < h
     return bool(np.any(np.einsum("ij,ij->i", wa[close], wb[close]) < 0.0))
-
-
-def _contact_force(r: DiscreteRod, model: ContactModel | None = None) -> float:
-    """Largest contact force on a node of ``r`` under ``model`` (default: its own), force."""
-    probe = r.copy()
-    g = probe.energy_terms()[1]
-    probe.contact = None
-    g0 = probe.energy_terms()[1]
-    if model is not None:
-        probe.contact = mesh_of_rod(probe, model)
-        g = probe.energy_terms()[1]
-    return float(np.max(np.abs((g - g0)[: 3 * len(r.x)])))
 
 
 def _follow(r: DiscreteRod, model_at: Callable[[float], ContactModel], t0: float, t1: float,

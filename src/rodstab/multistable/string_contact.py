@@ -109,21 +109,25 @@ def _radius(model: ContactModel) -> float:
     return float(max(r)) if isinstance(r, tuple) else float(r)
 
 
-def path_distance(band: list[DiscreteRod], final: ContactModel) -> float:
-    """Smallest centreline distance of non-excluded element pairs over the interior images.
+def state_distance(r: DiscreteRod, final: ContactModel, mesh: Any = None) -> float:
+    """Smallest centreline distance of ``r``'s non-excluded element pairs (length).
 
-    The pairs and exclusions are the final model's; pairs beyond its reach do not count (the
-    distance is then at least the reach).
+    The pairs and exclusions are the final model's (``mesh``: its mesh of ``r``'s model, built
+    if not given); pairs beyond its reach do not count (the distance is then the reach).
     """
-    mesh = mesh_of_rod(band[0], final)
+    mesh = mesh_of_rod(r, final) if mesh is None else mesh
     h = 2.0 * _radius(final)
     reach = final.exclusion_factor * (h + final.dhat)
-    out = reach
-    for r in band[1:-1]:
-        near = smallest_gap(mesh, r.x)
-        if near is not None:
-            out = min(out, near[0] + h)
-    return out
+    near = smallest_gap(mesh, r.x)
+    return reach if near is None else min(reach, near[0] + h)
+
+
+def path_distance(band: list[DiscreteRod], final: ContactModel) -> float:
+    """Smallest :func:`state_distance` over the interior images of ``band`` (length)."""
+    mesh = mesh_of_rod(band[0], final)
+    h = 2.0 * _radius(final)
+    return min([final.exclusion_factor * (h + final.dhat)]
+               + [state_distance(r, final, mesh) for r in band[1:-1]])
 
 
 def _with_model(band: list[DiscreteRod], model: ContactModel | None) -> bool:
