@@ -1,6 +1,8 @@
 """Experiment: a braid that closes the hexagram's eight with rods of thickness (issue 21).
 
-Not part of the package; the geometry behind docs/theory/contact.md ("The eight's braid").
+The geometry behind docs/theory/contact.md ("The eight's braid"), with uniform turning; the
+package's :func:`rodstab.multistable.braid.braid_eight` adds a modulation that makes every
+strand's length exact.
 
 The eight is six rods, each one full circle (length ``L = 1``, radius ``R = 1 / 2 pi``), three
 on lobe A (rods 1, 3, 5) and three on lobe B (2, 4, 6), all twelve ends welded in pairs at

@@ -84,7 +84,8 @@ INDEX_EIGS = 8
 # One rod for every state
 def common_rod(a: Assembly, elements_per_segment: int, load_factor: float,
                layers: dict[str, Any] | None = None,
-               cusp_width: float | None = None) -> DiscreteRod:
+               cusp_width: float | None = None,
+               end_offsets: dict[tuple[str, str], Any] | None = None) -> DiscreteRod:
     """Discretise ``a`` with the held-state-free rest lengths and natural curvatures.
 
     The state (positions, frames) is the held state of ``a``; the model (rest length
@@ -93,10 +94,11 @@ def common_rod(a: Assembly, elements_per_segment: int, load_factor: float,
     the same ring have the same energy function (module docstring). Natural twist is refused
     (the held twisted ring is not a state of the discrete model). ``layers``: the stacked
     state with welds spanning its layers (``discretise``'s ``layers``); ``cusp_width``: welds of
-    that width at the cusps (``discretise``'s, not an equilibrium until relaxed).
+    that width at the cusps, ``end_offsets`` segment ends moved (``discretise``'s, not an
+    equilibrium until relaxed).
     """
     rod = discretise(a, elements_per_segment, load_factor, layers=layers,
-                     cusp_width=cusp_width)
+                     cusp_width=cusp_width, end_offsets=end_offsets)
     if rod.edge_tw is not None:
         raise RodstabInputError("discover: segments with natural twist are not supported")
     seg_len = np.repeat([s.length for s in a.segments], elements_per_segment)

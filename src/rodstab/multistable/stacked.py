@@ -257,8 +257,10 @@ def describe(rod: DiscreteRod, start: DiscreteRod, ok: bool, its: int, res: floa
         gmin, where, dhat = math.nan, "no contact model", math.nan
     f = contact_forces(rod)
     fn = np.linalg.norm(f, axis=1)
-    loaded = fn > 1e-12 * max(float(fn.max()), 1e-300)
-    q = fn / _tributary(rod)
+    # A joint node of a spanning weld has no element (no tributary length) and no contact.
+    trib = _tributary(rod)
+    loaded = (fn > 1e-12 * max(float(fn.max()), 1e-300)) & (trib > 0.0)
+    q = np.divide(fn, trib, out=np.zeros_like(fn), where=trib > 0.0)
     coincident = discretise(rod.assembly, len(rod.R_edge) // len(rod.assembly.segments), mu)
     lam, tol, slid = verdict_eigenvalue(rod)
     return StackedEquilibrium(

@@ -47,10 +47,8 @@ vertex ``i`` of a regular ``2n``-gon of circumradius ``(h + g0) / (2 sin(pi / 2n
 (:func:`~.layer_orders.polygon_offsets`), every cusp joining neighbouring vertices. Likewise
 the hexagram's line; its star needs only layers 0, 1 alternating
 (:func:`~.layer_orders.traversal_layers`). Not built: the eight, whose welds meet where its
-lobes touch, need a braid (:func:`.cone.check_lobes`). Each of its rods is a full circle, so
-no rigid offset per rod keeps its two ends apart; a braid that turns every rod round a tube
-closes only for ``h / L`` below about ``1e-3`` (docs/theory/contact.md, "The eight's braid";
-``benchmarks/eight_braid.py``).
+lobes touch, need a braid (:func:`.cone.check_lobes`): each of its rods is a full circle, so
+no rigid offset per rod keeps its two ends apart. :mod:`.braid` builds one.
 """
 
 from __future__ import annotations

@@ -47,7 +47,7 @@ from .hessian_plan import hessian_plan, padded
 from .jets import Jet, JetMat, rodrigues, rotation_jet, rotation_vector, vector_jet
 from .mesh import MAX_ELEMENT_TURNING as MAX_ELEMENT_TURNING  # re-exported
 from .mesh import MAX_NATURAL_TURNING as MAX_NATURAL_TURNING  # re-exported
-from .mesh import check_mesh, cusp_offsets, element_counts
+from .mesh import check_mesh, cusp_offsets, element_counts, read_end_offsets
 
 #: Stretch/shear stiffness K = PENALTY * max(B1, B2, B3) / l_e^2. The discrete model tends to
 #: the inextensible, unshearable Kirchhoff rod as l_e -> 0 with an error ~ l_e^2 / PENALTY.
@@ -581,7 +581,8 @@ class KirchhoffHessian:
 def discretise(a: Assembly, elements_per_segment: int | dict[str, int] = 32,
                load_factor: float = 1.0, layers: dict[str, Any] | None = None,
                axial_stiffness: float | None = None,
-               cusp_width: float | None = None) -> DiscreteRod:
+               cusp_width: float | None = None,
+               end_offsets: dict[tuple[str, str], Any] | None = None) -> DiscreteRod:
     """Return the discrete rod of an assembly in its held state (an equilibrium when P2 says so).
 
     Supports are read from :data:`~rodstab.model.SUPPORT_KINDS`: a kind that holds all
@@ -615,6 +616,11 @@ def discretise(a: Assembly, elements_per_segment: int | dict[str, int] = 32,
     ``n = e3 x t``, when they curve alike). Only the end nodes move, so the state returned
     is not an equilibrium: relax it (Newton). ``None`` or 0: point welds, every number as
     without it.
+
+    ``end_offsets``: ``{(segment, "start" | "end"): (x, y, z)}``, lab offsets (length) of
+    segment ends, added to the above: each such end is held by a spanning weld from its
+    joint's node (at the mean offset of the joint's ends); only the end nodes move
+    (:func:`rodstab.multistable.braid.braid_eight` places the rest).
     """
     counts = element_counts(a, elements_per_segment)
     check_mesh(a, counts, load_factor)
@@ -643,13 +649,15 @@ def discretise(a: Assembly, elements_per_segment: int | dict[str, int] = 32,
     joint_v = np.zeros((len(joints), 3))
     split: set[int] = set()  # joints whose segments lie at different offsets
     cusp_off = cusp_offsets(a, joints, cusp_width)
+    for key, v in read_end_offsets(a, end_offsets).items():
+        cusp_off[key] = cusp_off.get(key, 0.0) + v
     for k, joint in enumerate(joints):
         name, end = joint[0]
         seg = a.segment(name)
         s_end = 0.0 if end == "start" else seg.length
-        vs = np.array([lift[nm] for nm, _ in joint])
+        vs = np.array([lift[nm] + cusp_off.get((nm, e), 0.0) for nm, e in joint])
         joint_v[k] = vs.mean(axis=0)
-        if np.any(vs.max(axis=0) > vs.min(axis=0)) or (name, end) in cusp_off:
+        if np.any(vs.max(axis=0) > vs.min(axis=0)) or any(e in cusp_off for e in joint):
             split.add(k)
         joint_node[k] = node_at(seg.position(s_end), joint_v[k])
         R_joint[k] = held_frame(seg.tangent(s_end))
@@ -762,7 +770,9 @@ def _balanced_link_curvatures(rod: DiscreteRod) -> tuple[np.ndarray, np.ndarray]
     saved = rod.load_factor
     for mu in (0.0, 1.0):
         rod.load_factor = mu
-        f = rod.gradient(links=False)[rod.edge_dofs(ee)]  # (n_links, 3)
+        # No stretch: zero on a held state; with moved ends (cusp_width, end_offsets) the
+        # construction's shear, which relaxing removes and k0 must not absorb.
+        f = rod._evaluate(1, False, False)[1][rod.edge_dofs(ee)]  # type: ignore[index]
         # f + J^T B ds (k - k0) = 0  ->  k0 = k + (J^T B ds)^-1 f (J invertible near P = I).
         out.append(kval + np.linalg.solve(JtB, f[..., None])[..., 0])
     rod.load_factor = saved

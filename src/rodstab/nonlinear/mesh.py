@@ -112,3 +112,20 @@ def cusp_offsets(a: Assembly, joints: list[Any], width: float | None
         for (name, end), sgn in zip(joint, side, strict=True):
             out[(name, end)] = 0.5 * w * sgn * n
     return out
+
+
+def read_end_offsets(a: Assembly, offsets: dict[tuple[str, str], Any] | None
+                 ) -> dict[tuple[str, str], np.ndarray]:
+    """Return :func:`~.discrete.discretise`'s ``end_offsets`` checked: segment ends to 3-vectors."""
+    out = {}
+    for key, value in (offsets or {}).items():
+        if not (isinstance(key, tuple) and len(key) == 2 and key[1] in ("start", "end")):
+            raise RodstabInputError(f"end_offsets keys must be (segment, 'start' | 'end'), "
+                                    f"got {key!r}")
+        a.segment(key[0])  # raises naming an unknown segment
+        v = np.asarray(value, float)
+        if v.shape != (3,) or not np.all(np.isfinite(v)):
+            raise RodstabInputError(f"end_offsets[{key!r}] must be a finite (x, y, z), got "
+                                    f"{value!r}")
+        out[(str(key[0]), str(key[1]))] = v
+    return out

@@ -1,0 +1,71 @@
+"""Benchmark: the hexagram's eight held with contact on its braid, and its stable interval.
+
+The braided eight (:func:`rodstab.multistable.braid.braid_eight`: rectangle h/t = 4, three
+strands a lobe on tubes of radius ``d = h + dhat / 2``, one whole turn round the tube a rod)
+relaxed with contact at kappa_n R0 = 3 (:data:`START`) and followed both ways in the
+load factor (:func:`~rodstab.multistable.braid.braid_limits`). Printed per thickness and mesh:
+the relaxed state's energy above the planar eight's (the same model: ``common_rod``, rods
+coincident, relaxed), its closest pair, its contact forces, and
+the two limits (or how each side's branch ended), against the no-contact limits of the same
+mesh (the planar eight followed the same way, :func:`~rodstab.multistable.stacked._side`
+without contact) and the cone's at zero gap (C-eight-limits: 1.413, 5.164 at 32-48 el.).
+
+Run: ``OMP_NUM_THREADS=1 python benchmarks/eight_braid_hold.py [h/L ...] [--elements N ...]``
+(default 0.01 0.005, 16 elements).
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+import time
+
+from rodstab.errors import RodstabInputError
+from rodstab.multistable.braid import braid_limits
+from rodstab.multistable.discover import common_rod
+from rodstab.nonlinear.newton import newton
+from rodstab.problems.barrier_states import state_assembly
+from rodstab.sections import rectangle
+
+#: The eight's stable interval without contact at h/t = 4 (atlas, ``kappa_n R0``; the load
+#: factor of the hexagram's model is ``kappa_n R0``).
+NO_CONTACT = (1.9031, 4.2393)
+#: Where the braid is relaxed first: the planar eight's stress-free load (its rods' natural
+#: curvature equals the held one). At h/L = 0.005, 32 el., Newton from the built braid did
+#: not converge at the interval's middle (3.0712).
+START = 3.0
+
+
+def _side(s) -> str:  # noqa: ANN001
+    if s is None:
+        return "-"
+    return f"{s.limit:.4f}" if math.isfinite(s.limit) else s.how[:60]
+
+
+def main(thicknesses: list[float], meshes: list[int]) -> None:
+    """Print the module doc's rows."""
+    a = state_assembly("hexagram", rectangle(aspect=4.0), "eight")
+    print(f"{'h/L':>7} {'el.':>4} {'E - planar':>11} {'closest/h':>9} {'force':>8} "
+          f"{'lower':>10} {'upper':>10} {'s':>6}")
+    for n in meshes:
+        for h in thicknesses:
+            t = time.perf_counter()
+            try:
+                r = braid_limits(a, NO_CONTACT, thickness_ratio=h, elements_per_segment=n,
+                                 start_load_factor=START)
+            except RodstabInputError as exc:
+                print(f"{h:7.4g} {n:4d} {exc}", flush=True)
+                continue
+            f = r.start
+            planar = common_rod(a, n, f.load_factor)  # the braid's model, rods coincident
+            newton(planar)
+            print(f"{h:7.4g} {n:4d} {f.energy - planar.energy():11.4e} "
+                  f"{(f.min_gap + h) / h:9.5f} {f.contact_total:8.4g} {_side(r.lower):>10} "
+                  f"{_side(r.upper):>10} {time.perf_counter() - t:6.1f}", flush=True)
+
+
+if __name__ == "__main__":
+    args = sys.argv[1:]
+    cut = args.index("--elements") if "--elements" in args else len(args)
+    main([float(x) for x in args[:cut]] or [0.01, 0.005],
+         [int(x) for x in args[cut + 1:]] or [16])

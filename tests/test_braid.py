@@ -1,0 +1,131 @@
+"""The hexagram's eight with rods of thickness: its braid (rodstab.multistable.braid).
+
+References are geometry: the braid's ends at the weld point on two circles at 60 degrees'
+spacing, welds across the tangent, the rods' own length, and the contact model's refusal of a
+rod whose two ends meet.
+"""
+
+from __future__ import annotations
+
+import re
+
+import numpy as np
+import pytest
+
+from rodstab.errors import RodstabInputError
+from rodstab.multistable.braid import braid_eight
+from rodstab.multistable.discover import common_rod
+from rodstab.multistable.stacked import describe, relax
+from rodstab.multistable.stacking import _segment_nodes
+from rodstab.nonlinear.contact import attach_contact
+from rodstab.nonlinear.equilibrium import rod_contact_model
+from rodstab.problems.barrier_states import state_assembly
+from rodstab.sections import rectangle
+
+H = 0.02
+
+
+@pytest.fixture(scope="module")
+def eight():
+    return state_assembly("hexagram", rectangle(aspect=4.0), "eight")
+
+
+@pytest.fixture(scope="module")
+def braided(eight):
+    return braid_eight(eight, 16, 3.0, H, 0.05 * H)
+
+
+def _ends(st):
+    rod = st.rod
+    return [(rod.x[_segment_nodes(rod, k)[0]], rod.x[_segment_nodes(rod, k)[-1]])
+            for k in range(len(rod.assembly.segments))]
+
+
+def test_the_braid_holds_every_pair_apart(braided) -> None:
+    """The contact model's check: every non-neighbouring pair at least g0 apart."""
+    assert braided.check.holds
+    assert braided.check.min_gap >= 0.05 * H
+
+
+def test_at_the_weld_point_each_lobes_ends_sit_on_a_circle_60_degrees_apart(braided) -> None:
+    """Three strands a lobe, six ends at P: a regular hexagon on the lobe's tube circle, in
+    the plane across the tangent (x = 0), so each rod's own ends are one radius apart."""
+    ends = _ends(braided)
+    for lobe in (0, 1):
+        pts = np.array([p for k in range(lobe, 6, 2) for p in ends[k]])
+        assert np.allclose(pts[:, 0], 0.0, atol=1e-12)
+        c = pts.mean(axis=0)
+        rel = pts[:, 1:] - c[1:]
+        r = np.linalg.norm(rel, axis=1)
+        assert np.allclose(r, r[0], rtol=1e-9)
+        ang = np.sort(np.degrees(np.arctan2(rel[:, 1], rel[:, 0])) % 360.0)
+        assert np.allclose(np.diff(np.append(ang, ang[0] + 360.0)), 60.0, atol=1e-7)
+        for k in range(lobe, 6, 2):
+            assert np.linalg.norm(ends[k][1] - ends[k][0]) == pytest.approx(r[0], rel=1e-9)
+
+
+def test_every_weld_joins_one_tube_angle_across_the_tangent(braided) -> None:
+    """Rod k's end and rod k + 1's start differ only across the tangent in the plane (y),
+    all six by one length: the connectors are one translation (no two cross)."""
+    ends = _ends(braided)
+    gaps = []
+    for k in range(6):
+        d = ends[(k + 1) % 6][0] - ends[k][1]
+        assert abs(d[0]) < 1e-12 and abs(d[2]) < 1e-12
+        gaps.append(abs(d[1]))
+    assert np.allclose(gaps, gaps[0], rtol=1e-9)
+
+
+def test_every_strand_has_the_rods_length(eight) -> None:
+    """The braid's strands are made exactly as long as the rods (1): sampled finely (64 el.),
+    each polyline is within its chords' shortfall (l^2 kappa^2 / 24 of the length)."""
+    st = braid_eight(eight, 64, 3.0, H, 0.05 * H)
+    rod = st.rod
+    for k in range(6):
+        x = rod.x[_segment_nodes(rod, k)]
+        length = float(np.sum(np.linalg.norm(np.diff(x, axis=0), axis=1)))
+        assert length == pytest.approx(1.0, abs=2e-3)
+        assert length < 1.0  # chords are shorter than the strand
+
+
+def test_one_rigid_offset_per_rod_cannot_hold_the_eight(eight) -> None:
+    """Flat layers (each rod translated as a whole): every rod is a full circle, so its own
+    first and last elements meet at P and the contact model refuses the state there."""
+    model = rod_contact_model(eight, H, 0.1)
+    rod = common_rod(eight, 8, 3.0, layers={"1": 0.0, "3": 0.021, "5": 0.042,
+                                            "2": 0.063, "4": 0.084, "6": 0.105})
+    with pytest.raises(RodstabInputError, match="interpenetrate") as err:
+        attach_contact(rod, model)
+    first, last = (int(v) for v in re.findall(r"elements (\d+) and (\d+)", str(err.value))[0])
+    assert rod.edge_segment[first] == rod.edge_segment[last]
+    mine = np.flatnonzero(rod.edge_segment == rod.edge_segment[first])
+    assert {first, last} == {int(mine[0]), int(mine[-1])}
+
+
+def test_the_braided_eight_relaxed_with_contact_is_held_and_stable(eight) -> None:
+    """h = 0.01 L, 16 el., kappa_n R0 = 3 (the eight's stress-free load): relaxed with
+    contact it converges, stays inside the contact model with pairs pressed (closest within
+    dhat), lies above the planar eight, and its verdict eigenvalue is positive."""
+    h = 0.01
+    model = rod_contact_model(eight, h, 0.1)
+    st = braid_eight(eight, 16, 3.0, h, 0.5 * model.dhat, model=model)
+    rod = st.rod.copy()
+    attach_contact(rod, model)
+    ok, its, res = relax(rod, 3.0)
+    d = describe(rod, st.rod, ok, its, res)
+    assert d.converged and d.stable
+    assert 0.0 < d.min_gap < model.dhat
+    assert d.energy > d.energy_coincident
+
+
+@pytest.mark.parametrize("kw, match", [
+    ({"tube": 0.5}, "tube"), ({"turns": 0}, "turns"), ({"turns": 1.5}, "turns")])
+def test_bad_braid_input_is_named(eight, kw, match) -> None:
+    with pytest.raises(RodstabInputError, match=match):
+        braid_eight(eight, 16, 3.0, H, 0.05 * H, **kw)
+
+
+def test_a_ring_that_is_not_a_figure_eight_is_refused() -> None:
+    star = state_assembly("hexagram", rectangle(aspect=4.0), "star")
+    with pytest.raises(RodstabInputError, match="figure-eight"):
+        braid_eight(star, 8, 1.0, H, 0.05 * H)
