@@ -1,14 +1,15 @@
 """Benchmark: the hexagram's eight held with contact on its braid, and its stable interval.
 
 The braided eight (:func:`rodstab.multistable.braid.braid_eight`: rectangle h/t = 4, three
-strands a lobe on tubes of radius ``d = h + dhat / 2``, one whole turn round the tube a rod)
-relaxed with contact at kappa_n R0 = 3 (:data:`START`) and followed both ways in the
-load factor (:func:`~rodstab.multistable.braid.braid_limits`). Printed per thickness and mesh:
-the relaxed state's energy above the planar eight's (the same model: ``common_rod``, rods
-coincident, relaxed), its closest pair, its contact forces, and
-the two limits (or how each side's branch ended), against the no-contact limits of the same
-mesh (the planar eight followed the same way, :func:`~rodstab.multistable.stacked._side`
-without contact) and the cone's at zero gap (C-eight-limits: 1.413, 5.164 at 32-48 el.).
+strands a lobe on tubes one spacing in radius, one whole turn round the tube a rod), relaxed
+with contact at kappa_n R0 = 3 (:data:`START`) and followed both ways in the load factor
+(:func:`~rodstab.multistable.braid.braid_limits`); then the same braided model without
+contact (its rods free to pass). Printed per thickness and mesh: the relaxed state's energy
+above the planar eight's (the same model, ``common_rod``, rods coincident, relaxed), its
+closest pair, its contact forces, the lowest and highest verdict eigenvalue met within one of
+the no-contact interval, and the two limits (or how each side's branch ended). To compare:
+the planar eight's limits without contact, :data:`NO_CONTACT`, and the cone's at zero gap
+(C-eight-limits: 1.413, 5.164 at 32-48 el.).
 
 Run: ``OMP_NUM_THREADS=1 python benchmarks/eight_braid_hold.py [h/L ...] [--elements N ...]``
 (default 0.01 0.005, 16 elements).
@@ -45,23 +46,28 @@ def _side(s) -> str:  # noqa: ANN001
 def main(thicknesses: list[float], meshes: list[int]) -> None:
     """Print the module doc's rows."""
     a = state_assembly("hexagram", rectangle(aspect=4.0), "eight")
-    print(f"{'h/L':>7} {'el.':>4} {'E - planar':>11} {'closest/h':>9} {'force':>8} "
-          f"{'lower':>10} {'upper':>10} {'s':>6}")
+    print(f"{'h/L':>7} {'el.':>4} {'contact':>7} {'E - planar':>11} {'closest/h':>9} "
+          f"{'force':>8} {'eigenvalues':>19}  lower; upper")
     for n in meshes:
         for h in thicknesses:
-            t = time.perf_counter()
-            try:
-                r = braid_limits(a, NO_CONTACT, thickness_ratio=h, elements_per_segment=n,
-                                 start_load_factor=START)
-            except RodstabInputError as exc:
-                print(f"{h:7.4g} {n:4d} {exc}", flush=True)
-                continue
-            f = r.start
-            planar = common_rod(a, n, f.load_factor)  # the braid's model, rods coincident
-            newton(planar)
-            print(f"{h:7.4g} {n:4d} {f.energy - planar.energy():11.4e} "
-                  f"{(f.min_gap + h) / h:9.5f} {f.contact_total:8.4g} {_side(r.lower):>10} "
-                  f"{_side(r.upper):>10} {time.perf_counter() - t:6.1f}", flush=True)
+            for contact in (True, False):
+                t = time.perf_counter()
+                try:
+                    r = braid_limits(a, NO_CONTACT, thickness_ratio=h, elements_per_segment=n,
+                                     start_load_factor=START, contact=contact)
+                except RodstabInputError as exc:
+                    print(f"{h:7.4g} {n:4d} {contact!s:>7} {exc}", flush=True)
+                    continue
+                f = r.start
+                planar = common_rod(a, n, f.load_factor)  # the braid's model, coincident
+                newton(planar)
+                lam = [p[1] for s in (r.lower, r.upper) for p in s.path
+                       if NO_CONTACT[0] - 1.0 <= p[0] <= NO_CONTACT[1] + 1.0]
+                closest = (f.min_gap + h) / h if math.isfinite(f.min_gap) else math.nan
+                print(f"{h:7.4g} {n:4d} {contact!s:>7} {f.energy - planar.energy():11.4e} "
+                      f"{closest:9.5f} {f.contact_total:8.4g} {min(lam):9.2e} "
+                      f"{max(lam):9.2e}  {_side(r.lower)}; {_side(r.upper)} "
+                      f"({time.perf_counter() - t:.0f} s)", flush=True)
 
 
 if __name__ == "__main__":

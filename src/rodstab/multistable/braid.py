@@ -247,7 +247,8 @@ def braid_eight(a: Assembly, elements_per_segment: int, load_factor: float, thic
 def braid_limits(a: Assembly, no_contact: tuple[float, float], *, thickness_ratio: float = 0.01,
                  elements_per_segment: int = 16, dhat_fraction: float = 0.1,
                  start_load_factor: float | None = None, turns: int = 1,
-                 scan_steps: int = SCAN_STEPS, window: float = WINDOW_WIDTHS) -> StackedLimits:
+                 scan_steps: int = SCAN_STEPS, window: float = WINDOW_WIDTHS,
+                 contact: bool = True) -> StackedLimits:
     """Return the stable interval in ``mu`` of the braided figure-eight held with contact.
 
     :func:`braid_eight` at ``start_load_factor`` (default: the middle of ``no_contact``), rods
@@ -257,7 +258,8 @@ def braid_limits(a: Assembly, no_contact: tuple[float, float], *, thickness_rati
     factor as the stacked N-loop ring is (:func:`~.stacked.stacked_limits`: steps of the
     no-contact interval's width over ``scan_steps``, ``window`` widths past each end; the
     first sign change of the verdict eigenvalue bracketed and refined, a jump or a Newton
-    failure reported as the branch ending, never as a limit).
+    failure reported as the branch ending, never as a limit). ``contact`` False: the same
+    braided model (welds, offsets) without contact, its rods free to pass one another.
     """
     from ..nonlinear.contact import attach_contact
     from ..nonlinear.equilibrium import rod_contact_model
@@ -278,7 +280,8 @@ def braid_limits(a: Assembly, no_contact: tuple[float, float], *, thickness_rati
     st = braid_eight(a, elements_per_segment, mu0, h, 0.5 * model.dhat, turns=turns,
                      model=model)
     rod = st.rod.copy()
-    attach_contact(rod, model)
+    if contact:
+        attach_contact(rod, model)
     rod.load_factor = mu0
     # The built braid is far from equilibrium (the strands tighten into a bundle): Newton,
     # then down any unstable mode, as discover relaxes its starts.
@@ -293,4 +296,5 @@ def braid_limits(a: Assembly, no_contact: tuple[float, float], *, thickness_rati
     lower = _side(rod, st.rod, mu0, -step, lo - w * width)
     upper = _side(rod, st.rod, mu0, step, hi + w * width)
     return StackedLimits(len(a.segments), float(thickness_ratio), int(elements_per_segment),
-                         float(dhat_fraction), True, (lo, hi), step, first, lower, upper)
+                         float(dhat_fraction), bool(contact), (lo, hi), step, first, lower,
+                         upper)
