@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from rodstab.errors import RodstabInputError
-from rodstab.multistable.braid import braid_eight
+from rodstab.multistable.braid import braid_eight, braid_limits
 from rodstab.multistable.discover import common_rod
 from rodstab.multistable.stacked import describe, relax
 from rodstab.multistable.stacking import _segment_nodes
@@ -129,3 +129,13 @@ def test_a_ring_that_is_not_a_figure_eight_is_refused() -> None:
     star = state_assembly("hexagram", rectangle(aspect=4.0), "star")
     with pytest.raises(RodstabInputError, match="figure-eight"):
         braid_eight(star, 8, 1.0, H, 0.05 * H)
+
+
+@pytest.mark.parametrize("kw, match", [
+    ({"no_contact": (4.0, 2.0)}, "no_contact"),
+    ({"start_load_factor": 5.0}, "start_load_factor"),
+    ({"thickness_ratio": -0.01}, "thickness_ratio")])
+def test_bad_limit_search_input_is_named(eight, kw, match) -> None:
+    args = {"no_contact": (1.9031, 4.2393), **kw}
+    with pytest.raises(RodstabInputError, match=match):
+        braid_limits(eight, args.pop("no_contact"), **args)

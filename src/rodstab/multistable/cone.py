@@ -265,7 +265,8 @@ def check_lobes(a: Assembly, layers: dict[str, Any]) -> None:
     """Refuse a figure-eight's order with two strands of a lobe less than one spacing apart.
 
     ``StackingError`` (exit 2) naming them; unknown or missing names: ``RodstabInputError``.
-    The weld point, where every weld meets and the order changes, is not built.
+    The weld point, where every weld meets and the order changes, is not built here (the
+    cone's state has flat layers on the lobes; :mod:`.braid` builds a braided eight).
     """
     from .stacking import StackingError, layer_offsets
 
