@@ -74,6 +74,8 @@ LENGTH_POINTS = 4097
 PLACE_POINTS = 8193
 #: The strands' extra spacing over the elements' chord error (its estimate's margin).
 CHORD_MARGIN = 1.25
+#: ``dhat / h`` at which :func:`braid_limits` relaxes the built braid first (then halved).
+START_DHAT = 0.1
 
 
 class _Lobes:
@@ -276,16 +278,29 @@ def braid_limits(a: Assembly, no_contact: tuple[float, float], *, thickness_rati
     steps = require_positive_int("scan_steps", scan_steps)
     w = require_positive("window", window)
     h = require_positive("thickness_ratio", thickness_ratio) * a.segments[0].length
-    model = rod_contact_model(a, h, dhat_fraction)
+    q = require_positive("dhat_fraction", dhat_fraction)
+    # The built braid is far from equilibrium (the strands tighten into a bundle); relaxed
+    # at once with a small dhat, Newton ends elsewhere or nowhere (measured: h/L = 0.01, 16
+    # el.: not converged at dhat = 0.05 h, another state 0.021 higher at 0.025 h). So it is
+    # relaxed at START_DHAT first and dhat is then halved to the one asked, relaxing each
+    # time (6 Newton iterations a halving there).
+    ladder = [max(q, START_DHAT)]
+    while ladder[-1] > q:
+        ladder.append(max(q, 0.5 * ladder[-1]))
+    model = rod_contact_model(a, h, ladder[0])
     st = braid_eight(a, elements_per_segment, mu0, h, 0.5 * model.dhat, turns=turns,
                      model=model)
     rod = st.rod.copy()
-    if contact:
-        attach_contact(rod, model)
     rod.load_factor = mu0
-    # The built braid is far from equilibrium (the strands tighten into a bundle): Newton,
-    # then down any unstable mode, as discover relaxes its starts.
-    ok, its, res = relax_down(rod)
+    for step_q in ladder if contact else ladder[:1]:
+        if contact:
+            rod.contact = None
+            model = rod_contact_model(a, h, step_q)
+            attach_contact(rod, model)
+        # Newton, then down any unstable mode, as discover relaxes its starts.
+        ok, its, res = relax_down(rod)
+        if not ok:
+            break
     first = describe(rod, st.rod, ok, its, res)
     if not first.stable:
         raise RodstabInputError(f"start_load_factor {mu0!r}: the relaxed braid is not stable "
