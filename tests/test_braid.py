@@ -7,6 +7,7 @@ rod whose two ends meet.
 
 from __future__ import annotations
 
+import json
 import re
 
 import numpy as np
@@ -15,7 +16,6 @@ import pytest
 from rodstab.errors import RodstabInputError
 from rodstab.multistable.braid import braid_eight, braid_limits
 from rodstab.multistable.discover import common_rod
-from rodstab.multistable.stacked import describe, relax
 from rodstab.multistable.stacking import _segment_nodes
 from rodstab.nonlinear.contact import attach_contact
 from rodstab.nonlinear.equilibrium import rod_contact_model
@@ -102,20 +102,29 @@ def test_one_rigid_offset_per_rod_cannot_hold_the_eight(eight) -> None:
     assert {first, last} == {int(mine[0]), int(mine[-1])}
 
 
-def test_the_braided_eight_relaxed_with_contact_is_held_and_stable(eight) -> None:
-    """h = 0.01 L, 16 el., kappa_n R0 = 3 (the eight's stress-free load): relaxed with
-    contact it converges, stays inside the contact model with pairs pressed (closest within
-    dhat), lies above the planar eight, and its verdict eigenvalue is positive."""
-    h = 0.01
-    model = rod_contact_model(eight, h, 0.1)
-    st = braid_eight(eight, 16, 3.0, h, 0.5 * model.dhat, model=model)
-    rod = st.rod.copy()
-    attach_contact(rod, model)
-    ok, its, res = relax(rod, 3.0)
-    d = describe(rod, st.rod, ok, its, res)
-    assert d.converged and d.stable
-    assert 0.0 < d.min_gap < model.dhat
-    assert d.energy > d.energy_coincident
+def test_cli_equilibrium_holds_the_braided_eight_with_contact(run_cli) -> None:
+    """`rodstab equilibrium examples/hexagram_eight.toml --contact --layers braid` (h = 0.01 L,
+    16 el., kappa_n R0 = 3, the eight's stress-free load): the braid relaxed with contact
+    converges, stays inside the contact model with pairs pressed (smallest gap within
+    dhat), and its Hessian verdict is stable; the JSON names the braid."""
+    r = run_cli(["equilibrium", "examples/hexagram_eight.toml", "--load-factor", "3",
+                 "--contact", "--contact-thickness", "0.01", "--layers", "braid", "--json"])
+    assert r.exit_code == 0, r.stderr
+    out = json.loads(r.stdout)
+    assert out["converged"] and out["stable"]
+    assert 0.0 < out["contact"]["smallest_gap"] < out["contact"]["dhat"]
+    assert "braid" in out["layers"]["braid"]["method"]
+    assert out["layers"]["relaxed"]["converged"]
+
+
+@pytest.mark.parametrize("args, words", [
+    (["examples/hexagram_eight.toml", "--layers", "braid"], "--layers is a setting of contact"),
+    (["examples/hexagram.toml", "--contact", "--layers", "braid"], "needs a figure-eight"),
+    (["examples/hexagram_eight.toml", "--contact", "--layers", "braid", "--laminate", "12"],
+     "--laminate")])
+def test_cli_braid_bad_input_exits_2_naming_it(run_cli, args, words) -> None:
+    r = run_cli(["equilibrium", *args, "--elements", "8"])
+    assert r.exit_code == 2 and words in r.stderr, r.stderr
 
 
 @pytest.mark.parametrize("kw, match", [

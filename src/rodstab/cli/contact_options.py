@@ -200,25 +200,65 @@ def parse_layers(text: str, names: list[str] | tuple[str, ...]) -> dict[str, Any
 
 
 def stack_from_options(a: Any, touch: tuple[float, float] | None, layers: str | None,
-                       laminate: float | None
-                       ) -> tuple[dict[str, float] | None, float | None]:
-    """``--layers`` and ``--laminate`` of equilibrium: the heights and EA, or (None, None)."""
+                       laminate: float | None, n: int, load_factor: float
+                       ) -> tuple[dict[str, float] | None, float | None, Any]:
+    """``--layers`` and ``--laminate`` of equilibrium: the heights, EA and the braid.
+
+    ``(None, None, None)`` without ``--layers``; ``--layers braid``: ``(None, None, braid)``,
+    the braided figure-eight built and relaxed with contact (``n`` elements per segment):
+    :func:`rodstab.multistable.braid.hold_braid`'s tuple (state, rod, converged, iterations,
+    residual).
+    """
     from ..nonlinear.equilibrium import stacked_layers
 
     if layers is None:
         if laminate is not None:
             raise RodstabInputError("--laminate is a setting of --layers (a stacked state)")
-        return None, None
+        return None, None, None
     if touch is None:
         raise RodstabInputError("--layers is a setting of contact, which is off for this run "
                                 "(--contact, or [analysis] contact = true in the design)")
+    if layers.strip().lower() == "braid":
+        from ..multistable.braid import hold_braid
+
+        if laminate is not None:
+            raise RodstabInputError("--laminate is a setting of --layers NAME=K (welded "
+                                    "layers), not of --layers braid")
+        try:
+            return None, None, hold_braid(a, n, load_factor, *touch)
+        except RodstabInputError as exc:
+            raise RodstabInputError(f"--layers braid: {exc}") from None
     order = parse_layers(layers, [s.name for s in a.segments])
     if not isinstance(order, dict) or any(isinstance(k, tuple) or not float(k).is_integer()
                                           for k in order.values()):
         raise RodstabInputError(f"--layers {layers!r}: equilibrium lifts whole segments to "
-                                "whole layers, NAME=K (K an integer); 'torus' and in-plane "
-                                "offsets are analyze's cone test")
-    return stacked_layers(a, {k: int(v) for k, v in order.items()}, *touch, laminate)
+                                "whole layers, NAME=K (K an integer), or braid; 'torus' and "
+                                "in-plane offsets are analyze's cone test")
+    return (*stacked_layers(a, {k: int(v) for k, v in order.items()}, *touch, laminate), None)
+
+
+def layers_report(rod: Any, stack: dict[str, float] | None, axial: float | None,
+                  laminate: float | None, braid: Any) -> tuple[dict[str, Any], list[str]]:
+    """Equilibrium's ``layers`` JSON block and lines: the layers' heights or the braid."""
+    from ..multistable.layered import weld_spans
+    from .output import fmt, layers_line, weld_line
+
+    if braid is not None:
+        st, _, ok, its, _ = braid
+        return ({"braid": st.to_dict(), "spanning_welds": True,
+                 "relaxed": {"converged": ok, "iterations": its}},
+                [f"layers       {st.method}; {'; '.join(st.changes)}; built with every gap at "
+                 f"least {fmt(st.check.min_gap)}, relaxed from there with contact ({its} "
+                 f"Newton iterations{'' if ok else ', NOT converged'}; from dhat = 0.1 h, "
+                 "halved to the one asked), then the Newton below"])
+    welds = (None if rod.contact is None
+             else weld_spans(rod, 2.0 * float(rod.contact.radius.max())))
+    lines = [layers_line(stack or {}, axial, laminate)]
+    if welds is not None and rod.offsets is not None:
+        lines.append(weld_line(welds))
+    return ({"heights": stack, "spanning_welds": rod.offsets is not None,
+             "laminate": laminate, "axial_stiffness": axial,
+             "welds": None if welds is None else welds.to_dict()}, lines)
 
 
 def cone_block(a: Any, layers: str | None, thickness_ratio: float, n: int

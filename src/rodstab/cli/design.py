@@ -17,6 +17,7 @@ from .contact_options import (
     cone_block,
     contact_options,
     layers_option,
+    layers_report,
     stack_from_options,
 )
 from .options import (
@@ -39,12 +40,10 @@ from .output import (
     fmt,
     html_output,
     image_output,
-    layers_line,
     one_of,
     require_converged,
     units_line,
     warnings_as_lines,
-    weld_line,
 )
 
 
@@ -165,7 +164,9 @@ def analyze(design_file: str, elements: int | None, plot_path: str | None,
               help="Write an interactive 3D view (HTML; needs plotly: rodstab[viz]).")
 @colour_option
 @contact_options
-@layers_option("Each segment lifted to its layer, welds spanning the layers (rigid offsets).")
+@layers_option("Each segment lifted to its layer, welds spanning the layers (rigid offsets). "
+               "Or 'braid' (a figure-eight: each lobe's strands twisted round one another, "
+               "rodstab.multistable.braid).")
 @click.option("--laminate", type=float, default=None,
               help="With --layers: the rods' axial stiffness as s = EA h^2 / B3 (12: solid "
                    "strips, 16: round rods) [default: inextensible, the stretch penalty].")
@@ -190,17 +191,17 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
     d = load_design(design_file)
     mu = load_factor
     touch = contact.resolve(d.contact)  # (h / L, dhat / h), or None
-    stack, axial = stack_from_options(d.assembly, touch, layers, laminate)
     # a mesh given is kept; otherwise one that resolves the held state at this load
     n = (elements if elements is not None
          else nonlinear_elements(d) if d.elements_given
          else resolving_elements(d.assembly, mu, nonlinear_elements(d)))
+    stack, axial, braid = stack_from_options(d.assembly, touch, layers, laminate, n, mu)
     try:
         r, rod = equilibrium(d.assembly, load_factor=mu, elements_per_segment=n,
                              perturb=require_finite("--perturb", perturb), limits=limits,
-                             contact=None if touch is None else
+                             contact=None if touch is None or braid else
                              rod_contact_model(d.assembly, *touch), layers=stack,
-                             axial_stiffness=axial)
+                             axial_stiffness=axial, start=None if braid is None else braid[1])
     except RodstabInputError as exc:
         # a mesh the rule chose (not the user) past the size limits: say that the load set it
         size = f"{n} elements per segment: "
@@ -217,17 +218,9 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
     if r.contact is not None and touch is not None:
         payload["contact"] = r.contact.to_dict() | {"thickness_ratio": touch[0]}
         contact_line = contact_lines(r.contact, touch[0])
-    if stack is not None:
-        from ..multistable.layered import weld_spans
-
-        welds = (None if rod.contact is None
-                 else weld_spans(rod, 2.0 * float(rod.contact.radius.max())))
-        payload["layers"] = {"heights": stack, "spanning_welds": rod.offsets is not None,
-                             "laminate": laminate, "axial_stiffness": axial,
-                             "welds": None if welds is None else welds.to_dict()}
-        contact_line.append(layers_line(stack, axial, laminate))
-        if welds is not None and rod.offsets is not None:
-            contact_line.append(weld_line(welds))
+    if stack is not None or braid is not None:
+        payload["layers"], more = layers_report(rod, stack, axial, laminate, braid)
+        contact_line += more
     if render is not None or html is not None:
         from ..plot.ribbons import RodLayout
 

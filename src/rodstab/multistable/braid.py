@@ -55,6 +55,7 @@ import numpy as np
 from ..errors import RodstabInputError, require_positive, require_positive_int
 from ..model import Assembly
 from ..nonlinear.contact import ContactModel
+from ..nonlinear.discrete import DiscreteRod
 from ..numerics import find_roots
 from .cone import figure_eight
 from .discover import common_rod
@@ -246,26 +247,67 @@ def braid_eight(a: Assembly, elements_per_segment: int, load_factor: float, thic
 
 
 
+def hold_braid(a: Assembly, elements_per_segment: int, load_factor: float,
+               thickness_ratio: float, dhat_fraction: float = START_DHAT, *, turns: int = 1,
+               contact: bool = True) -> tuple[StackedState, DiscreteRod, bool, int, float]:
+    """Build the braided figure-eight and relax it at ``load_factor`` with contact.
+
+    Rods of thickness ``h = thickness_ratio L`` (capsules; ``dhat = dhat_fraction h``, the
+    stiffness of :func:`~rodstab.nonlinear.equilibrium.rod_contact_model`), every pair
+    started ``dhat / 2`` apart (:func:`braid_eight`), relaxed with contact
+    (:func:`~rodstab.nonlinear.newton.relax`: Newton, then down any unstable mode). The built
+    braid is far from equilibrium (its strands tighten into a bundle); relaxed at once with a
+    small ``dhat`` Newton ends elsewhere or nowhere (measured: h/L = 0.01, 16 el.: not
+    converged at dhat = 0.05 h, another state 0.021 higher at 0.025 h). So it is relaxed at
+    :data:`START_DHAT` first, and ``dhat`` is then halved to the one asked, relaxed each time
+    (6 Newton iterations a halving there). ``contact`` False: the same braided model (welds,
+    offsets) relaxed without contact, its rods free to pass one another.
+
+    Returns
+    -------
+    tuple
+        The built state (:class:`~.stacking.StackedState`), the relaxed rod (with its contact
+        model attached), and Newton's ``(converged, iterations, residual)`` at the last step.
+    """
+    from ..nonlinear.contact import attach_contact
+    from ..nonlinear.equilibrium import rod_contact_model
+    from ..nonlinear.newton import relax as relax_down
+
+    h = require_positive("thickness_ratio", thickness_ratio) * a.segments[0].length
+    q = require_positive("dhat_fraction", dhat_fraction)
+    ladder = [max(q, START_DHAT)]
+    while ladder[-1] > q:
+        ladder.append(max(q, 0.5 * ladder[-1]))
+    model = rod_contact_model(a, h, ladder[0])
+    st = braid_eight(a, elements_per_segment, load_factor, h, 0.5 * model.dhat, turns=turns,
+                     model=model)
+    rod = st.rod.copy()
+    rod.load_factor = float(load_factor)
+    ok, its, res = False, 0, math.nan
+    for step_q in ladder if contact else ladder[:1]:
+        if contact:
+            rod.contact = None
+            attach_contact(rod, rod_contact_model(a, h, step_q))
+        ok, its, res = relax_down(rod)
+        if not ok:
+            break
+    return st, rod, ok, its, res
+
+
 def braid_limits(a: Assembly, no_contact: tuple[float, float], *, thickness_ratio: float = 0.01,
-                 elements_per_segment: int = 16, dhat_fraction: float = 0.1,
+                 elements_per_segment: int = 16, dhat_fraction: float = START_DHAT,
                  start_load_factor: float | None = None, turns: int = 1,
                  scan_steps: int = SCAN_STEPS, window: float = WINDOW_WIDTHS,
                  contact: bool = True) -> StackedLimits:
     """Return the stable interval in ``mu`` of the braided figure-eight held with contact.
 
-    :func:`braid_eight` at ``start_load_factor`` (default: the middle of ``no_contact``), rods
-    of thickness ``h = thickness_ratio L`` (capsules; ``dhat = dhat_fraction h``, the
-    stiffness of :func:`~rodstab.nonlinear.equilibrium.rod_contact_model`), every pair
-    started ``dhat / 2`` apart; relaxed with contact, then followed both ways in the load
-    factor as the stacked N-loop ring is (:func:`~.stacked.stacked_limits`: steps of the
-    no-contact interval's width over ``scan_steps``, ``window`` widths past each end; the
-    first sign change of the verdict eigenvalue bracketed and refined, a jump or a Newton
-    failure reported as the branch ending, never as a limit). ``contact`` False: the same
-    braided model (welds, offsets) without contact, its rods free to pass one another.
+    :func:`hold_braid` at ``start_load_factor`` (default: the middle of ``no_contact``), then
+    followed both ways in the load factor as the stacked N-loop ring is
+    (:func:`~.stacked.stacked_limits`: steps of the no-contact interval's width over
+    ``scan_steps``, ``window`` widths past each end; the first sign change of the verdict
+    eigenvalue bracketed and refined, a jump or a Newton failure reported as the branch
+    ending, never as a limit). ``contact`` False: the same braided model without contact.
     """
-    from ..nonlinear.contact import attach_contact
-    from ..nonlinear.equilibrium import rod_contact_model
-    from ..nonlinear.newton import relax as relax_down
     from .stacked import _side, describe
 
     lo, hi = (float(v) for v in no_contact)
@@ -277,30 +319,8 @@ def braid_limits(a: Assembly, no_contact: tuple[float, float], *, thickness_rati
                                 f"({lo:.6g}, {hi:.6g}), got {start_load_factor!r}")
     steps = require_positive_int("scan_steps", scan_steps)
     w = require_positive("window", window)
-    h = require_positive("thickness_ratio", thickness_ratio) * a.segments[0].length
-    q = require_positive("dhat_fraction", dhat_fraction)
-    # The built braid is far from equilibrium (the strands tighten into a bundle); relaxed
-    # at once with a small dhat, Newton ends elsewhere or nowhere (measured: h/L = 0.01, 16
-    # el.: not converged at dhat = 0.05 h, another state 0.021 higher at 0.025 h). So it is
-    # relaxed at START_DHAT first and dhat is then halved to the one asked, relaxing each
-    # time (6 Newton iterations a halving there).
-    ladder = [max(q, START_DHAT)]
-    while ladder[-1] > q:
-        ladder.append(max(q, 0.5 * ladder[-1]))
-    model = rod_contact_model(a, h, ladder[0])
-    st = braid_eight(a, elements_per_segment, mu0, h, 0.5 * model.dhat, turns=turns,
-                     model=model)
-    rod = st.rod.copy()
-    rod.load_factor = mu0
-    for step_q in ladder if contact else ladder[:1]:
-        if contact:
-            rod.contact = None
-            model = rod_contact_model(a, h, step_q)
-            attach_contact(rod, model)
-        # Newton, then down any unstable mode, as discover relaxes its starts.
-        ok, its, res = relax_down(rod)
-        if not ok:
-            break
+    st, rod, ok, its, res = hold_braid(a, elements_per_segment, mu0, thickness_ratio,
+                                       dhat_fraction, turns=turns, contact=contact)
     first = describe(rod, st.rod, ok, its, res)
     if not first.stable:
         raise RodstabInputError(f"start_load_factor {mu0!r}: the relaxed braid is not stable "

@@ -15,7 +15,7 @@ import math
 
 import numpy as np
 
-from ..errors import require_positive
+from ..errors import RodstabInputError, require_positive
 from ..limits import DEFAULT as DEFAULT_LIMITS
 from ..limits import Limits, require_nonlinear
 from ..model import CONTACT_DHAT_FRACTION, Assembly
@@ -136,8 +136,8 @@ def stacked_layers(a: Assembly, order: dict[str, int], thickness_ratio: float,
 def equilibrium(a: Assembly, *, load_factor: float = 1.0,
                 elements_per_segment: int | None = None, n_eig: int = 4, perturb: float = 0.0,
                 limits: Limits = DEFAULT_LIMITS, contact: ContactModel | None = None,
-                layers: dict[str, float] | None = None, axial_stiffness: float | None = None
-                ) -> tuple[Equilibrium, DiscreteRod]:
+                layers: dict[str, float] | None = None, axial_stiffness: float | None = None,
+                start: DiscreteRod | None = None) -> tuple[Equilibrium, DiscreteRod]:
     """Find the equilibrium from the held state at ``load_factor`` and its Hessian stability.
 
     ``elements_per_segment`` None: :func:`resolving_elements` (at least 32).
@@ -152,17 +152,28 @@ def equilibrium(a: Assembly, *, load_factor: float = 1.0,
     largest node displacement of ``perturb`` x the total length, relaxed to a stable equilibrium
     when one is reachable (:func:`relax`). A model past ``limits.max_dof_nonlinear`` unknowns is
     refused before it is built. ``layers``, ``axial_stiffness``: the stacked state with welds
-    spanning its layers (:func:`~.discrete.discretise`, :func:`stacked_layers`).
+    spanning its layers (:func:`~.discrete.discretise`, :func:`stacked_layers`). ``start``: a
+    state of a model of ``a`` to start from instead of the held state, with its own contact
+    model (e.g. the braided eight, :func:`rodstab.multistable.braid.hold_braid`); ``contact``
+    and ``layers`` must then be None.
     """
     if elements_per_segment is None:
         elements_per_segment = resolving_elements(a, load_factor)
     require_nonlinear([elements_per_segment] * len(a.segments), len(a.joints()),
                       f"{elements_per_segment} elements per segment", limits)
-    rod = discretise(a, elements_per_segment, load_factor, layers=layers,
-                     axial_stiffness=axial_stiffness)
-    if contact is not None:
-        attach_contact(rod, contact)
-    settle(rod)
+    if start is not None:
+        if start.assembly is not a or contact is not None or layers is not None:
+            raise RodstabInputError("equilibrium: a start is a state of the design's own "
+                                    "model, with its contact model (no contact or layers "
+                                    "given beside it)")
+        rod = start.copy()
+        rod.load_factor = load_factor
+    else:
+        rod = discretise(a, elements_per_segment, load_factor, layers=layers,
+                         axial_stiffness=axial_stiffness)
+        if contact is not None:
+            attach_contact(rod, contact)
+        settle(rod)
     if perturb:
         # A smooth, mesh-independent perturbation: a seeded random mix of the held state's
         # four softest modes, scaled to a largest node displacement of perturb x total length.
