@@ -1,0 +1,74 @@
+"""Check: the braided eight held with contact stays put where the planar eight leaves.
+
+A nonlinear check of the verdict of :func:`rodstab.multistable.braid.braid_limits`
+(docs/theory/contact.md, "The eight's braid"): at loads where the planar eight is unstable
+(rectangle h/t = 4: outside 1.903 < kappa_n R0 < 4.239), the braid relaxed with contact
+(:func:`~rodstab.multistable.braid.hold_braid`, h/L = 0.01, 16 el., dhat = 0.1 h) is moved by
+seeded random displacements of every unknown (largest node move 0.2 dhat, shortened by the
+contact step filter so that no gap closes) and relaxed again
+(:func:`~rodstab.nonlinear.newton.relax`: Newton, then down any unstable mode of the plain
+Hessian, :func:`~rodstab.nonlinear.solve.lowest_modes`, not the verdict's). The planar eight
+of the same model at the same load is moved by the braid's smallest move and relaxed the same
+way. Not independent of eigenvalues (``relax`` escapes along the lowest mode), but of the
+verdict's computation and of the continuation.
+
+Run: ``OMP_NUM_THREADS=1 python benchmarks/eight_braid_perturb.py [load ...]`` (default 4.8 1.5).
+"""
+
+from __future__ import annotations
+
+import sys
+
+import numpy as np
+
+from rodstab.multistable.braid import hold_braid
+from rodstab.multistable.discover import common_rod
+from rodstab.nonlinear.contact_step import max_step_fraction
+from rodstab.nonlinear.discrete import DiscreteRod
+from rodstab.nonlinear.newton import newton, relax
+from rodstab.problems.barrier_states import state_assembly
+from rodstab.sections import rectangle
+
+H, DHAT, ELEMENTS, TRIALS = 0.01, 0.1, 16, 3
+
+
+def nudge(rod: DiscreteRod, rng: np.random.Generator, size: float) -> float:
+    """Move every free unknown at random, largest node move ``size``; with contact no gap
+    closes (the step filter). Return the node move made."""
+    dq = np.zeros(rod.n_dof)
+    dq[rod.free_dofs()] = rng.standard_normal(len(rod.free_dofs()))
+    n = 3 * len(rod.x)
+    dq *= size / float(np.max(np.linalg.norm(dq[:n].reshape(-1, 3), axis=1)))
+    if rod.contact is not None:
+        dq *= max_step_fraction(rod.contact, rod.x, dq[:n].reshape(-1, 3))
+    rod.apply(dq)
+    return float(np.max(np.linalg.norm(dq[:n].reshape(-1, 3), axis=1)))
+
+
+def main(loads: list[float]) -> None:
+    """Print, per load, the braid's and the planar eight's energy before and after."""
+    a = state_assembly("hexagram", rectangle(aspect=4.0), "eight")
+    rng = np.random.default_rng(1)
+    for mu in loads:
+        _, rod, ok, its, _ = hold_braid(a, ELEMENTS, mu, H, DHAT)
+        e0 = rod.energy()
+        print(f"load {mu:g}: braid relaxed with contact ({'converged' if ok else 'NOT'}, "
+              f"{its} its), energy {e0:.8f}")
+        smallest = np.inf
+        for _ in range(TRIALS):
+            r = rod.copy()
+            moved = nudge(r, rng, 0.2 * DHAT * H)
+            smallest = min(smallest, moved)
+            ok2 = relax(r)[0]
+            print(f"  moved {moved:.2e}, relaxed ({ok2}): energy change {r.energy() - e0:.2e}, "
+                  f"largest node from the start {np.max(np.abs(r.x - rod.x)):.2e}")
+        p = common_rod(a, ELEMENTS, mu)
+        newton(p)
+        ep = p.energy()
+        moved = nudge(p, rng, smallest)
+        relax(p)
+        print(f"  planar eight {ep:.6f}; moved {moved:.2e} and relaxed: {p.energy():.6f}")
+
+
+if __name__ == "__main__":
+    main([float(x) for x in sys.argv[1:]] or [4.8, 1.5])
