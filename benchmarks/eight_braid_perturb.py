@@ -12,6 +12,12 @@ of the same model at the same load is moved by the braid's smallest move and rel
 way. Not independent of eigenvalues (``relax`` escapes along the lowest mode), but of the
 verdict's computation and of the continuation.
 
+Then the two verdicts at the relaxed braid as dhat is halved (each state relaxed from the
+last): the barrier's Hessian (:func:`~rodstab.multistable.stacked.verdict_eigenvalue`) and
+the Hessian on the perturbations that hold every active gap
+(:func:`~rodstab.multistable.stacked.held_closed_eigenvalue`, the hard-contact verdict,
+never below the other).
+
 Run: ``OMP_NUM_THREADS=1 python benchmarks/eight_braid_perturb.py [load ...]`` (default 4.8 1.5).
 """
 
@@ -23,13 +29,16 @@ import numpy as np
 
 from rodstab.multistable.braid import hold_braid
 from rodstab.multistable.discover import common_rod
+from rodstab.multistable.stacked import held_closed_eigenvalue, verdict_eigenvalue
+from rodstab.nonlinear.contact import attach_contact
 from rodstab.nonlinear.contact_step import max_step_fraction
 from rodstab.nonlinear.discrete import DiscreteRod
+from rodstab.nonlinear.equilibrium import rod_contact_model
 from rodstab.nonlinear.newton import newton, relax
 from rodstab.problems.barrier_states import state_assembly
 from rodstab.sections import rectangle
 
-H, DHAT, ELEMENTS, TRIALS = 0.01, 0.1, 16, 3
+H, DHAT, ELEMENTS, TRIALS = 0.01, 0.1, 16, 3  # dhat: a fraction of h
 
 
 def nudge(rod: DiscreteRod, rng: np.random.Generator, size: float) -> float:
@@ -68,6 +77,14 @@ def main(loads: list[float]) -> None:
         moved = nudge(p, rng, smallest)
         relax(p)
         print(f"  planar eight {ep:.6f}; moved {moved:.2e} and relaxed: {p.energy():.6f}")
+        for q in (DHAT, 0.5 * DHAT, 0.25 * DHAT, 0.125 * DHAT):
+            if q < DHAT:
+                rod.contact = None
+                attach_contact(rod, rod_contact_model(a, H, q))
+                relax(rod)
+            lam_c, terms, rank = held_closed_eigenvalue(rod)
+            print(f"  dhat {q:.4g} h: verdict {verdict_eigenvalue(rod)[0]:.4e}, held closed "
+                  f"{lam_c:.4e} ({terms} active terms, {rank} independent)")
 
 
 if __name__ == "__main__":

@@ -152,10 +152,11 @@ def test_bad_limit_search_input_is_named(eight, kw, match) -> None:
 
 def test_past_the_no_contact_limit_the_braid_is_held_where_the_planar_eight_leaves(eight):
     """kappa_n R0 = 4.8 (the planar eight's interval ends at 4.24): the braid relaxed with
-    contact (h = 0.01 L, 16 el.) is stable, and moved at random (no gap closing) and relaxed
-    it comes back; the planar eight there, moved as much, falls to another state far below."""
+    contact (h = 0.01 L, 16 el.) is stable by both verdicts (the barrier's Hessian, and the
+    Hessian holding every active gap), and moved at random (no gap closing) and relaxed it
+    comes back; the planar eight there, moved as much, falls to another state far below."""
     from rodstab.multistable.braid import hold_braid
-    from rodstab.multistable.stacked import verdict_eigenvalue
+    from rodstab.multistable.stacked import held_closed_eigenvalue, verdict_eigenvalue
     from rodstab.nonlinear.contact_step import max_step_fraction
     from rodstab.nonlinear.newton import newton, relax
     from rodstab.nonlinear.solve import zero_eigenvalue_tol
@@ -171,7 +172,11 @@ def test_past_the_no_contact_limit_the_braid_is_held_where_the_planar_eight_leav
         return float(np.max(np.linalg.norm(dq[:n].reshape(-1, 3), axis=1)))
 
     _, rod, ok, _, _ = hold_braid(eight, 16, 4.8, 0.01, 0.1)
-    assert ok and verdict_eigenvalue(rod)[0] > zero_eigenvalue_tol(rod)
+    lam, tol = verdict_eigenvalue(rod)[0], zero_eigenvalue_tol(rod)
+    assert ok and lam > tol
+    # the hard-contact verdict (every active gap held) is stable too, and never below
+    held, terms, rank = held_closed_eigenvalue(rod)
+    assert terms > 0 and rank > 0 and held >= lam - tol and held > tol
     moved = rod.copy()
     size = nudge(moved, 0.2 * 0.1 * 0.01)
     assert size > 1e-6 and relax(moved)[0]
@@ -183,3 +188,71 @@ def test_past_the_no_contact_limit_the_braid_is_held_where_the_planar_eight_leav
     nudge(planar, size)
     relax(planar)
     assert planar.energy() < 0.5 * e
+
+
+def test_active_gap_gradients_are_the_gaps_derivatives(braided) -> None:
+    """Each row of active_gap_gradients against central differences of that term's gap,
+    measured directly (node to segment, or line to line), along random directions; on the
+    built braid, with a reach (dhat = 0.9 h) that takes in its nearest pairs."""
+    from rodstab.nonlinear.contact import active_gap_gradients, mesh_of_rod
+    from rodstab.nonlinear.contact_model import _active
+
+    rod = braided.rod
+    mesh = mesh_of_rod(rod, rod_contact_model(rod.assembly, H, 0.9))
+    x = rod.x
+    nt, on, ee = _active(mesh, x)
+    G = active_gap_gradients(mesh, x)
+    assert len(G) == int(on.sum()) + len(ee) > 0
+    E = mesh.edges
+
+    def gaps(y):
+        out = []
+        for p, e, st, en in zip(nt.p[on], nt.e[on], nt.start[on], nt.end[on], strict=True):
+            a, b = y[E[e, 0]], y[E[e, 1]]
+            t = 0.0 if st else 1.0 if en else (y[p] - a) @ (b - a) / ((b - a) @ (b - a))
+            out.append(np.linalg.norm(y[p] - a - t * (b - a)))
+        for ea, eb in ee:
+            a0, a1, b0, b1 = y[E[ea, 0]], y[E[ea, 1]], y[E[eb, 0]], y[E[eb, 1]]
+            n = np.cross(a1 - a0, b1 - b0)
+            out.append(abs((a0 - b0) @ n) / np.linalg.norm(n))
+        return np.array(out)
+
+    rng = np.random.default_rng(0)
+    for _ in range(3):
+        v = rng.standard_normal(x.shape)
+        step = 1e-7
+        fd = (gaps(x + step * v) - gaps(x - step * v)) / (2 * step)
+        assert np.allclose(G @ v.ravel(), fd, rtol=1e-5, atol=1e-6)
+
+
+def test_active_gap_gradient_of_two_crossing_rods() -> None:
+    """Two clamped straight rods crossing at right angles, one lifted 1.05 h (h = 0.02): their
+    crossing elements' edge-edge term; its row against central differences of the lines'
+    distance."""
+    from rodstab.model import Assembly, Segment
+    from rodstab.nonlinear.contact import active_gap_gradients, mesh_of_rod
+    from rodstab.nonlinear.contact_model import ContactModel, _active
+    from rodstab.nonlinear.discrete import discretise
+
+    segs = (Segment(name="a", length=1.0, curvature=0.0, natural_curvature=0.0, B1=1.0, B2=1.0,
+                    B3=1.0, start=(-0.5, 0.03), angle=0.0),
+            Segment(name="b", length=1.0, curvature=0.0, natural_curvature=0.0, B1=1.0, B2=1.0,
+                    B3=1.0, start=(0.03, -0.5), angle=0.5 * np.pi))
+    a = Assembly(segments=segs, supports=(("a", "start", "clamped"), ("b", "start", "clamped")))
+    rod = discretise(a, 8, 0.0, layers={"b": 1.05 * H})
+    mesh = mesh_of_rod(rod, ContactModel.from_thickness(H, dhat=0.1 * H, stiffness=1.0))
+    x = rod.x
+    _, on, ee = _active(mesh, x)
+    assert len(ee) == 1
+    G = active_gap_gradients(mesh, x)
+    E = mesh.edges
+    (ea, eb), = ee
+
+    def dist(y):
+        a0, a1, b0, b1 = y[E[ea, 0]], y[E[ea, 1]], y[E[eb, 0]], y[E[eb, 1]]
+        n = np.cross(a1 - a0, b1 - b0)
+        return abs((a0 - b0) @ n) / np.linalg.norm(n)
+
+    v = np.random.default_rng(0).standard_normal(x.shape)
+    fd = (dist(x + 1e-7 * v) - dist(x - 1e-7 * v)) / 2e-7
+    assert (G[int(on.sum())] @ v.ravel()) == pytest.approx(fd, rel=1e-6)

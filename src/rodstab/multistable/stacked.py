@@ -371,6 +371,41 @@ def verdict_mode(rod: DiscreteRod) -> tuple[float, float, bool, np.ndarray]:
     return float(ritz[0]), tol, True, d * (V @ (Q @ Y[:, 0]))
 
 
+def held_closed_eigenvalue(rod: DiscreteRod) -> tuple[float, int, int]:
+    """Lowest eigenvalue of the scaled free Hessian on the perturbations holding every gap.
+
+    A second verdict for a state held with contact: at a pressed contact, opening the gap
+    costs the contact force's work to first order, so in the hard-contact limit the second
+    variation is decided on the directions that keep the pressed gaps closed. Here every
+    active term's gap (:func:`~rodstab.nonlinear.contact.active_gap_gradients`) is held, and
+    the Hessian of rod and contact energy (Jacobi-scaled as in :func:`verdict_mode`) is taken
+    on that subspace: the barrier's own stiffness along the gaps drops out there, the rest is
+    the Hessian of the Lagrangian. Restricting raises the lowest eigenvalue, so this bounds
+    :func:`verdict_eigenvalue` from above, and the two meet as ``dhat -> 0`` when the active
+    terms are the pressed ones. Dependent rows are dropped (SVD, rank at ``1e-10`` of the
+    largest singular value). Returns ``(eigenvalue, active terms, independent rows)``.
+    """
+    from ..nonlinear.contact import active_gap_gradients
+    from ..numerics import lowest_eigenpairs_on
+
+    if rod.contact is None:
+        raise RodstabInputError("held_closed_eigenvalue needs a state with contact")
+    free = rod.free_dofs()
+    H = rod.energy_terms()[2][free][:, free].tocsc()
+    H = 0.5 * (H + H.T)
+    d = jacobi_scaling(H)
+    A = (H.multiply(d[:, None]).multiply(d[None, :])).tocsc()
+    G = np.zeros((0, len(free)))
+    rows = active_gap_gradients(rod.contact, rod.x)
+    if len(rows):
+        full = np.zeros((len(rows), rod.n_dof))
+        full[:, : rows.shape[1]] = rows
+        _, sv, Vt = np.linalg.svd(full[:, free] * d[None, :], full_matrices=False)
+        G = Vt[: int(np.sum(sv > 1e-10 * sv[0]))]
+    vals = lowest_eigenpairs_on(A, G, 0, 1)[0] if len(G) else lowest_eigenpairs(A, 1)[0]
+    return float(vals[0]), len(rows), len(G)
+
+
 @dataclasses.dataclass(frozen=True)
 class ModeShape(Result):
     """What a mode does (:func:`mode_shape`).

@@ -37,6 +37,7 @@ from .contact_model import (
 from .contact_step import (
     ContactState,
     SwitchReport,
+    active_gap_gradients,
     attach_contact,
     contact_state,
     max_step_fraction,
@@ -47,7 +48,8 @@ from .contact_step import (
 __all__ = ["EE_NODE_EXCESS", "EE_SIN2_OFF", "EE_SIN2_ON", "EXCLUSION_FACTOR", "PHANTOM_FRACTION",
            "START_GAP_FRACTION", "TAPER_FRACTION", "TAPER_MAX_TURN", "ContactMesh",
            "ContactModel", "ContactState", "Interpenetration", "SwitchReport", "_active",
-           "_bounds", "attach_contact", "barrier", "candidate_pairs", "contact_energy",
+           "_bounds", "active_gap_gradients", "attach_contact", "barrier", "candidate_pairs",
+           "contact_energy",
            "contact_state", "contact_energy_value", "contact_mesh", "contact_terms",
            "max_step_fraction", "mesh_of_rod", "near_type_switch", "penalty",
            "segment_distance", "smallest_gap", "stiffness_for_line_load"]

@@ -18,6 +18,7 @@ from .contact_model import (
     Interpenetration,
     _active,
     _check_gaps,
+    _lines,
     _node_terms,
     _norm,
     _point_segment,
@@ -378,3 +379,40 @@ def attach_contact(rod: Any, model: Any) -> None:
                                 f"contact model (thickness {2 * rod.contact.radius[0]:g}): "
                                 f"{exc}") from None
 
+
+
+# ---------------------------------------------------------------- the active gaps' gradients
+def active_gap_gradients(mesh: ContactMesh, x: np.ndarray) -> np.ndarray:
+    """Gradients (m, 3 n_nodes) of the gaps of every active term at ``x``, node dofs ``3i + c``.
+
+    The terms the energy has at ``x`` (:func:`~.contact_model.contact_energy`): node-segment
+    terms within ``dhat`` and edge-edge terms of crossing elements. A node ``p`` against the
+    segment ``a b`` at its closest point ``a + t (b - a)`` (``t`` clamped at a clamped end, as
+    the energy clamps it; past a smooth node the line is extended): ``n, -(1 - t) n, -t n`` on
+    ``p, a, b``, ``n`` the unit vector from the closest point to ``p``. Two crossing elements
+    at their lines' closest points ``s, t``: ``(1 - s) n, s n, -(1 - t) n, -t n``. The
+    closest points' own motion does not enter: the distance is stationary in them.
+    """
+    x = _positions(x, mesh.n_nodes)
+    nt, on, ee = _active(mesh, x)
+    rows: list[tuple[Any, ...]] = []
+    E = mesh.edges
+    for p, e, start, end in zip(nt.p[on], nt.e[on], nt.start[on], nt.end[on], strict=True):
+        i, j = E[e]
+        ev = x[j] - x[i]
+        t = 0.0 if start else 1.0 if end else float((x[p] - x[i]) @ ev / (ev @ ev))
+        n = x[p] - (x[i] + t * ev)
+        rows.append(((p, 1.0), (i, -(1.0 - t)), (j, -t), n / np.linalg.norm(n)))
+    if len(ee):
+        _, sl, tl, _ = _lines(x[E[ee[:, 0], 0]], x[E[ee[:, 0], 1]], x[E[ee[:, 1], 0]],
+                              x[E[ee[:, 1], 1]], 0.0)
+        for (ea, eb), sa, tb in zip(ee, sl, tl, strict=True):
+            (a0, a1), (b0, b1) = E[ea], E[eb]
+            n = (x[a0] + sa * (x[a1] - x[a0])) - (x[b0] + tb * (x[b1] - x[b0]))
+            rows.append(((a0, 1.0 - sa), (a1, sa), (b0, -(1.0 - tb)), (b1, -tb),
+                         n / np.linalg.norm(n)))
+    G = np.zeros((len(rows), 3 * mesh.n_nodes))
+    for k, row in enumerate(rows):
+        for node, w in row[:-1]:
+            G[k, 3 * node:3 * node + 3] += w * row[-1]
+    return G
