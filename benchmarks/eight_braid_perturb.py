@@ -29,29 +29,14 @@ import numpy as np
 
 from rodstab.multistable.braid import hold_braid
 from rodstab.multistable.discover import common_rod
-from rodstab.multistable.stacked import held_closed_eigenvalue, verdict_eigenvalue
+from rodstab.multistable.stacked import held_closed_eigenvalue, random_move, verdict_eigenvalue
 from rodstab.nonlinear.contact import attach_contact
-from rodstab.nonlinear.contact_step import max_step_fraction
-from rodstab.nonlinear.discrete import DiscreteRod
 from rodstab.nonlinear.equilibrium import rod_contact_model
 from rodstab.nonlinear.newton import newton, relax
 from rodstab.problems.barrier_states import state_assembly
 from rodstab.sections import rectangle
 
 H, DHAT, ELEMENTS, TRIALS = 0.01, 0.1, 16, 3  # dhat: a fraction of h
-
-
-def nudge(rod: DiscreteRod, rng: np.random.Generator, size: float) -> float:
-    """Move every free unknown at random, largest node move ``size``; with contact no gap
-    closes (the step filter). Return the node move made."""
-    dq = np.zeros(rod.n_dof)
-    dq[rod.free_dofs()] = rng.standard_normal(len(rod.free_dofs()))
-    n = 3 * len(rod.x)
-    dq *= size / float(np.max(np.linalg.norm(dq[:n].reshape(-1, 3), axis=1)))
-    if rod.contact is not None:
-        dq *= max_step_fraction(rod.contact, rod.x, dq[:n].reshape(-1, 3))
-    rod.apply(dq)
-    return float(np.max(np.linalg.norm(dq[:n].reshape(-1, 3), axis=1)))
 
 
 def main(loads: list[float]) -> None:
@@ -66,7 +51,7 @@ def main(loads: list[float]) -> None:
         smallest = np.inf
         for _ in range(TRIALS):
             r = rod.copy()
-            moved = nudge(r, rng, 0.2 * DHAT * H)
+            moved = random_move(r, 0.2 * DHAT * H, rng)
             smallest = min(smallest, moved)
             ok2 = relax(r)[0]
             print(f"  moved {moved:.2e}, relaxed ({ok2}): energy change {r.energy() - e0:.2e}, "
@@ -74,7 +59,7 @@ def main(loads: list[float]) -> None:
         p = common_rod(a, ELEMENTS, mu)
         newton(p)
         ep = p.energy()
-        moved = nudge(p, rng, smallest)
+        moved = random_move(p, smallest, rng)
         relax(p)
         print(f"  planar eight {ep:.6f}; moved {moved:.2e} and relaxed: {p.energy():.6f}")
         for q in (DHAT, 0.5 * DHAT, 0.25 * DHAT, 0.125 * DHAT):

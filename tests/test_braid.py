@@ -156,20 +156,13 @@ def test_past_the_no_contact_limit_the_braid_is_held_where_the_planar_eight_leav
     Hessian holding every active gap), and moved at random (no gap closing) and relaxed it
     comes back; the planar eight there, moved as much, falls to another state far below."""
     from rodstab.multistable.braid import hold_braid
-    from rodstab.multistable.stacked import held_closed_eigenvalue, verdict_eigenvalue
-    from rodstab.nonlinear.contact_step import max_step_fraction
+    from rodstab.multistable.stacked import (
+        held_closed_eigenvalue,
+        random_move,
+        verdict_eigenvalue,
+    )
     from rodstab.nonlinear.newton import newton, relax
     from rodstab.nonlinear.solve import zero_eigenvalue_tol
-
-    def nudge(rod, size):
-        dq = np.zeros(rod.n_dof)
-        dq[rod.free_dofs()] = np.random.default_rng(1).standard_normal(len(rod.free_dofs()))
-        n = 3 * len(rod.x)
-        dq *= size / float(np.max(np.linalg.norm(dq[:n].reshape(-1, 3), axis=1)))
-        if rod.contact is not None:
-            dq *= max_step_fraction(rod.contact, rod.x, dq[:n].reshape(-1, 3))
-        rod.apply(dq)
-        return float(np.max(np.linalg.norm(dq[:n].reshape(-1, 3), axis=1)))
 
     _, rod, ok, _, _ = hold_braid(eight, 16, 4.8, 0.01, 0.1)
     lam, tol = verdict_eigenvalue(rod)[0], zero_eigenvalue_tol(rod)
@@ -178,14 +171,14 @@ def test_past_the_no_contact_limit_the_braid_is_held_where_the_planar_eight_leav
     held, terms, rank = held_closed_eigenvalue(rod)
     assert terms > 0 and rank > 0 and held >= lam - tol and held > tol
     moved = rod.copy()
-    size = nudge(moved, 0.2 * 0.1 * 0.01)
+    size = random_move(moved, 0.2 * 0.1 * 0.01, np.random.default_rng(1))
     assert size > 1e-6 and relax(moved)[0]
     assert moved.energy() == pytest.approx(rod.energy(), rel=1e-12)
     assert np.max(np.abs(moved.x - rod.x)) < 1e-8
     planar = common_rod(eight, 16, 4.8)
     assert newton(planar)[0]
     e = planar.energy()
-    nudge(planar, size)
+    random_move(planar, size, np.random.default_rng(1))
     relax(planar)
     assert planar.energy() < 0.5 * e
 

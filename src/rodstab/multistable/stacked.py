@@ -371,6 +371,27 @@ def verdict_mode(rod: DiscreteRod) -> tuple[float, float, bool, np.ndarray]:
     return float(ritz[0]), tol, True, d * (V @ (Q @ Y[:, 0]))
 
 
+def random_move(rod: DiscreteRod, size: float, rng: np.random.Generator) -> float:
+    """Move every free unknown of ``rod`` at random (in place); return the largest node move.
+
+    Seeded normal displacements scaled to a largest node move ``size`` (length); with contact
+    shortened by :func:`~rodstab.nonlinear.contact.max_step_fraction` so that no gap closes.
+    For checking a held state by moving it and relaxing (benchmarks/eight_braid_perturb.py).
+    """
+    from ..nonlinear.contact import max_step_fraction
+
+    dq = np.zeros(rod.n_dof)
+    free = rod.free_dofs()
+    dq[free] = rng.standard_normal(len(free))
+    n = 3 * len(rod.x)
+    dq *= require_positive("size", size) / float(np.max(np.linalg.norm(dq[:n].reshape(-1, 3),
+                                                                       axis=1)))
+    if rod.contact is not None:
+        dq *= max_step_fraction(rod.contact, rod.x, dq[:n].reshape(-1, 3))
+    rod.apply(dq)
+    return float(np.max(np.linalg.norm(dq[:n].reshape(-1, 3), axis=1)))
+
+
 def held_closed_eigenvalue(rod: DiscreteRod) -> tuple[float, int, int]:
     """Lowest eigenvalue of the scaled free Hessian on the perturbations holding every gap.
 
