@@ -37,6 +37,8 @@ from rodstab.problems.barrier_states import state_assembly
 from rodstab.sections import rectangle
 
 H, DHAT, ELEMENTS, TRIALS = 0.01, 0.1, 16, 3  # dhat: a fraction of h
+#: Halvings of dhat for the two verdicts (down to dhat = 0.1 h / 256).
+HALVINGS = 8
 
 
 def main(loads: list[float]) -> None:
@@ -62,7 +64,7 @@ def main(loads: list[float]) -> None:
         moved = random_move(p, smallest, rng)
         relax(p)
         print(f"  planar eight {ep:.6f}; moved {moved:.2e} and relaxed: {p.energy():.6f}")
-        for q in (DHAT, 0.5 * DHAT, 0.25 * DHAT, 0.125 * DHAT):
+        for q in (DHAT * 0.5**k for k in range(HALVINGS + 1)):
             if q < DHAT:
                 rod.contact = None
                 attach_contact(rod, rod_contact_model(a, H, q))
