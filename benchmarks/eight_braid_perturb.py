@@ -50,6 +50,8 @@ def main(loads: list[float]) -> None:
         e0 = rod.energy()
         print(f"load {mu:g}: braid relaxed with contact ({'converged' if ok else 'NOT'}, "
               f"{its} its), energy {e0:.8f}")
+        if not ok:
+            continue
         smallest = np.inf
         for _ in range(TRIALS):
             r = rod.copy()
