@@ -227,7 +227,8 @@ def _loops(a: Assembly) -> int:
 
 #: How a figure-eight's order is checked (:func:`check_lobes`).
 EIGHT_REALISED = ("lobes only: each lobe's strands one spacing apart or more; the weld point, "
-                  "where every weld meets and the strands' order changes, is not built")
+                  "where every weld meets and the strands' order changes, is not built by "
+                  "the cone (the nonlinear engine's equilibrium --layers braid builds one)")
 
 
 def figure_eight(a: Assembly) -> int:
@@ -541,7 +542,8 @@ def default_layers(a: Assembly, thickness_ratio: float = CONTACT_THICKNESS_RATIO
     if figure_eight(a):
         return (dict(lobe_layers(a)),
                 "flat layers on each lobe of the eight in traversal order (other orders move "
-                "the limits differently; the weld point is not built)")
+                "the limits differently; the weld point is not built here: equilibrium "
+                "--layers braid builds one)")
     h = thickness_ratio * a.total_length / len(a.segments)
     rod = discretise_rod(a, elements_per_segment, 1.0)
     flat = traversal_layers(rod, h)
