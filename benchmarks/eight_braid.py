@@ -40,28 +40,26 @@ import sys
 import numpy as np
 from scipy.spatial import cKDTree
 
+from rodstab.multistable.braid import _Lobes, _strand
+from rodstab.problems.barrier_states import state_assembly
+from rodstab.sections import rectangle
+
 SAMPLES = 2000
 
 
 def braid(h: float, a_over_d: float, theta0_deg: float, turns: int
           ) -> tuple[dict[int, np.ndarray], float]:
-    """Centreline samples (SAMPLES, 3) of rods 1-6 and the spacing ``d`` (module doc)."""
-    R = 1.0 / (2.0 * math.pi)
+    """Centreline samples (SAMPLES, 3) of rods 1-6 and the spacing ``d`` (module doc).
+
+    The package's strands (:func:`rodstab.multistable.braid._strand`) on the hexagram's eight,
+    with uniform turning (``beta = 0``) and the lobes' own radius.
+    """
+    a = state_assembly("hexagram", rectangle(aspect=4.0), "eight")
+    lobes = _Lobes(a)
     d = 1.05 * h
-    a = a_over_d * d
     s = np.linspace(0.0, 1.0, SAMPLES)
-    off = R + a + 0.5 * d
-    rods = {}
-    for k in range(1, 7):
-        lobe_a = k % 2 == 1
-        phi = np.radians((-90.0 if lobe_a else 90.0) + 360.0 * s)  # both lobes anticlockwise
-        radial = np.stack([np.cos(phi), np.sin(phi)], axis=1)
-        centre = np.array([0.0, off if lobe_a else -off])
-        m = -radial if lobe_a else radial  # the in-plane direction that is +y at P
-        th = np.radians(theta0_deg + 60.0 * (k - 1) + (60.0 + 360.0 * turns) * s)
-        xy = centre + R * radial + a * np.cos(th)[:, None] * m
-        rods[k] = np.column_stack([xy, a * np.sin(th)])
-    return rods, d
+    return {k + 1: _strand(k, sg, lobes, a_over_d * d, d, lobes.R, turns, theta0_deg, 0.0, s)
+            for k, sg in enumerate(a.segments)}, d
 
 
 def _segment_gap(p0: np.ndarray, p1: np.ndarray, q0: np.ndarray, q1: np.ndarray) -> float:

@@ -49,6 +49,7 @@ offsets are defined in them). Checked with the contact model
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 
@@ -90,6 +91,10 @@ class _Lobes:
                                     "segments on two circles (the hexagram's eight)")
         self.m = m
         segs = a.segments
+        if max(sg.length for sg in segs) > (1.0 + 1e-9) * min(sg.length for sg in segs):
+            raise RodstabInputError("braid_eight needs two equal lobes (every rod of one "
+                                    "length), got lengths "
+                                    f"{sorted({round(sg.length, 12) for sg in segs})}")
         self.P = np.asarray(segs[0].start, float)
         far = [np.asarray(sg.position(np.array([0.5 * sg.length]))[0], float) for sg in segs[:2]]
         self.centre = [0.5 * (self.P + f) for f in far]  # lobe of even, odd segments
@@ -122,6 +127,24 @@ def _length(k: int, lobes: _Lobes, a: float, R: float, turns: int, phase: float,
     f = _speed(k, lobes, a, R, turns, phase, beta, sig)
     h = 1.0 / (LENGTH_POINTS - 1)
     return float(h / 3.0 * (f[0] + f[-1] + 4.0 * f[1:-1:2].sum() + 2.0 * f[2:-1:2].sum()))
+
+
+def _strand(k: int, seg: Any, lobes: _Lobes, a: float, d: float, R: float, turns: int,
+            phase: float, beta: float, sig: np.ndarray) -> np.ndarray:
+    """Points (len(sig), 3) of strand ``k`` (segment ``seg``) at ``sigma = sig`` (module doc).
+
+    ``x = C' + (R -+ a cos theta) r_hat + a sin theta e3``: ``r_hat`` the planar segment's
+    radial direction from its lobe's centre (so the strand runs as the segment does), ``C'``
+    that centre moved ``a + d / 2`` away from ``P``.
+    """
+    lobe = k % 2
+    sgn = -1.0 if lobe == 0 else 1.0
+    centre = lobes.centre[lobe] + (a + 0.5 * d) * (lobes.u if lobe == 0 else -lobes.u)
+    planar = np.asarray(seg.position(sig * seg.length), float).reshape(-1, 2)
+    rhat = (planar - lobes.centre[lobe]) / lobes.R
+    th = _theta(k, lobes.m, turns, phase, beta, sig)[0]
+    xy = centre + (R + sgn * a * np.cos(th))[:, None] * rhat
+    return np.column_stack([xy, a * np.sin(th)])
 
 
 def braid_eight(a: Assembly, elements_per_segment: int, load_factor: float, thickness: float,
@@ -197,22 +220,17 @@ def braid_eight(a: Assembly, elements_per_segment: int, load_factor: float, thic
         if not roots or not search.converged:
             raise StackingError(f"strand {segs[k].name!r}: no beta in (+-{window:.4g}) gives it "
                                 f"the rods' length {lobes.L:g} (a = {tube_a:g}, {turns} "
-                                f"turn(s)); thinner rods or more turns")
+                                f"turn(s)); turns = 1 closed the hexagram's eight at h/L "
+                                "0.002 to 0.02, turns = 2 did not")
         betas.append(min((r.x for r in roots), key=abs))
     # strand points on a fine table, and the planar segment's own direction
     sig = np.linspace(0.0, 1.0, PLACE_POINTS)
     strands, ends = [], {}
     for k, sg in enumerate(segs):
-        lobe = k % 2
-        sgn = -1.0 if lobe == 0 else 1.0
-        centre = lobes.centre[lobe] + (tube_a + 0.5 * d) * (lobes.u if lobe == 0 else -lobes.u)
-        planar = np.asarray(sg.position(sig * sg.length), float).reshape(-1, 2)
-        rhat = (planar - lobes.centre[lobe]) / lobes.R
-        th = _theta(k, m, turns, ph, betas[k], sig)[0]
-        xy = centre + (R + sgn * tube_a * np.cos(th))[:, None] * rhat
-        pts = np.column_stack([xy, tube_a * np.sin(th)])
+        pts = _strand(k, sg, lobes, tube_a, d, R, turns, ph, betas[k], sig)
         strands.append(pts)
-        for end, p, q in (("start", pts[0], planar[0]), ("end", pts[-1], planar[-1])):
+        for end, p, s_end in (("start", pts[0], 0.0), ("end", pts[-1], sg.length)):
+            q = np.asarray(sg.position(np.array([s_end])), float).reshape(2)
             ends[(sg.name, end)] = p - np.array([q[0], q[1], 0.0])
     rod = common_rod(a, n, load_factor, end_offsets=ends)
     new = rod.copy()
