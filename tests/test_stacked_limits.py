@@ -162,6 +162,37 @@ def test_the_crossing_probe_tells_a_smooth_crossing_from_a_jump():
                      -1.0)[0] == "jump"
 
 
+@pytest.mark.parametrize("jump", [0.0, 0.05])
+def test_a_state_that_leaves_its_branch_is_a_branch_end_not_a_limit(relaxed, monkeypatch, jump):
+    """:func:`_side` with Newton replaced by a closed form: every node moves by ``(mu - 0.9) v``
+    (``|v|`` = 0.01 L, ``L`` the mean segment length) and, below ``mu`` = 0.8, by a further
+    ``jump`` L (a stable state of another branch, as Newton past a fold lands on one: the
+    braided eight, the comment at :data:`JUMP_SECANT`). Without a jump the secant predicts
+    every state exactly and the search runs to its end; with one it halves its step
+    :data:`HALVINGS` times and reports the branch's end bracketed at 0.8, with no limit."""
+    import rodstab.multistable.stacked as stacked
+
+    rod, st, _ = relaxed
+    x0, v = rod.x.copy(), np.zeros_like(rod.x)
+    v[:, 2] = 0.01 * stacked.mean_length(rod)
+
+    def closed_form(r, mu):
+        r.load_factor = float(mu)
+        r.x = x0 + (mu - 0.9) * v + (jump * stacked.mean_length(rod) if mu < 0.8 else 0.0)
+        return True, 0, 0.0
+
+    monkeypatch.setattr(stacked, "relax", closed_form)
+    monkeypatch.setattr(stacked, "verdict_eigenvalue", lambda r: (1.0, 1e-12, False))
+    side = _side(rod.copy(), st.rod, 0.9, -0.05, 0.7)
+    assert math.isnan(side.limit)
+    if not jump:
+        assert side.searched_to == pytest.approx(0.7) and "no sign change" in side.how
+        return
+    lo, hi = sorted(side.bracket)
+    assert lo < 0.8 <= hi and hi - lo <= 0.05 / 2**stacked.HALVINGS + 1e-12
+    assert side.branch_end == lo and "JUMPS" in side.how and "no limit" in side.how
+
+
 @pytest.mark.parametrize("call, key", [
     (lambda: stacked_ring(_ring(), thickness_ratio=0.0, elements_per_loop=8,
                           dhat_fraction=0.1), "thickness_ratio"),

@@ -127,7 +127,7 @@ def test_soft_model_excludes_exactly_the_final_models_pairs(hexagram_states):
 
 
 def test_a_path_not_brought_inside_the_model_is_not_converged_naming_the_distances(
-        hexagram_states, monkeypatch):
+        hexagram_states):
     """No soft stage allowed: the belt path at 4 el./rod (rods 0.037 L apart, through capsules
     of h = 0.05 L) stays outside the model, and the string says so (NotConverged, exit 3 on
     the command line)."""
@@ -141,12 +141,11 @@ def test_a_path_not_brought_inside_the_model_is_not_converged_naming_the_distanc
     ra, rb = discretise(a, 4, 1.5), discretise(b, 4, 1.5)
     to_gauge(rb, ra)
     band = belt_path(ra, rb, 5)
-    monkeypatch.setattr(string_contact, "MAX_STAGES", 0)
     as_it_is = lambda band, **kw: (band, None, SimpleNamespace(too_coarse=False))  # noqa: E731
     with pytest.raises(NotConverged, match=r"no path inside the contact model .* 0 soft stages: "
                                            r"smallest distances \["):
         string_contact.relax_with_contact(band, final, as_it_is, max_iter=1,
-                                          accept=lambda s: True)
+                                          accept=lambda s: True, max_stages=0)
 
 
 H = 0.02
@@ -357,3 +356,31 @@ def test_discover_with_contact_from_a_stacked_state_is_refused_naming_it():
     r = run_cli([*DISC[:-1], "--state", "line", "--contact"])
     assert r.exit_code == 2, r.stdout + r.stderr
     assert "--state 'line'" in r.stderr and "interpenetrate" in r.stderr
+
+
+def test_string_barrier_builds_both_states_and_the_named_ones_with_the_cusp_width(
+        hexagram_states, monkeypatch):
+    """``cusp_width`` reaches every model the string builds (its two ends and the named
+    states that label the minima): a width dropped on the way would give the point-weld
+    model, whose star is outside the contact model from 16 el. on."""
+    from rodstab.multistable import string_method
+
+    a, b, _ = hexagram_states
+    seen, build = [], string_method.common_rod
+
+    class Built(Exception):
+        pass
+
+    def record(asm, n, mu, **kw):
+        seen.append(kw.get("cusp_width"))
+        if len(seen) == 3:
+            raise Built
+        return build(asm, n, mu, **kw)
+
+    monkeypatch.setattr(string_method, "common_rod", record)
+    monkeypatch.setattr(string_method, "stable_end", lambda *args: None)
+    monkeypatch.setattr(string_method, "relax_string", lambda band, **kw: (band, None, None))
+    with pytest.raises(Built):
+        string_method.string_barrier(a, b, 1.5, elements_per_segment=4, cusp_width=0.035,
+                                     named={"other": a})
+    assert seen == [0.035, 0.035, 0.035]

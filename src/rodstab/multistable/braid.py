@@ -323,8 +323,10 @@ def braid_limits(a: Assembly, no_contact: tuple[float, float], *, thickness_rati
     followed both ways in the load factor as the stacked N-loop ring is
     (:func:`~.stacked.stacked_limits`: steps of the no-contact interval's width over
     ``scan_steps``, ``window`` widths past each end; the first sign change of the verdict
-    eigenvalue bracketed and refined, a jump or a Newton failure reported as the branch
-    ending, never as a limit). ``contact`` False: the same braided model without contact.
+    eigenvalue bracketed and refined; a jump of the eigenvalue, a Newton failure or a state
+    that leaves the branch, as Newton past a fold finds one, reported as the branch ending,
+    never as a limit). ``contact`` False: the same braided model without contact.
+    ``benchmarks/eight_braid_fold.py`` locates the branch's ends by arclength continuation too.
     """
     from .stacked import _side, describe
 

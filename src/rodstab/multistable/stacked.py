@@ -66,6 +66,7 @@ import numpy as np
 
 from ..errors import RodstabInputError, require_positive, require_positive_int
 from ..model import Assembly
+from ..nonlinear.constraint import mean_length
 from ..nonlinear.contact import (
     START_GAP_FRACTION,
     ContactModel,
@@ -103,8 +104,19 @@ ROOT_RTOL = 1e-3
 #: keeps there at least this fraction of the bracket's larger eigenvalue.
 JUMP_PROBE = 1e-2
 JUMP_FRACTION = 0.3
-#: Halvings of a scan step that lands on an unstable state or fails (:func:`_side`).
+#: Halvings of a scan step that lands on an unstable state, fails or jumps (:func:`_side`).
 HALVINGS = 4
+#: A followed state has left its branch when it lies farther than this times the secant's
+#: predicted move (plus :data:`JUMP_FLOOR` times the mean segment length) from the secant
+#: prediction through the last two states (:func:`_side`). On a smooth branch the secant
+#: misses by ``O(h^2)`` against a move of ``O(h)``; past a fold Newton lands on another
+#: branch, ``O(1)`` away. Measured on the braided eight (16 el., h/L = 0.01, dhat = 0.1 h,
+#: steps of 0.195 from 3): without this check the search stepped over the fold at 6.2273
+#: (arclength continuation, ``benchmarks/eight_braid_fold.py``) onto stable states of other
+#: branches and reported no sign change up to 6.58, and downwards over the sign change at
+#: 2.6147 (which the continuation finds too) to a Newton failure at 0.445.
+JUMP_SECANT = 1.0
+JUMP_FLOOR = 1e-6
 
 
 class BranchEnded(RodstabInputError):
@@ -553,7 +565,11 @@ def _side(rod: DiscreteRod, start: DiscreteRod, mu0: float, step: float, end: fl
     at (L/2pi) kappa_n = 2.715 reached from 2.857 had twice the energy and eigenvalue
     -5.4e-6, while every state relaxed from 2.857 up to 2.7148 was stable). The refined limit
     is then probed (:func:`_crossing`): only a smooth crossing is a limit; a jump is reported
-    as the branch ending there.
+    as the branch ending there. A step whose state lies off the secant through the last two
+    states by more than the secant's own move (:data:`JUMP_SECANT`; :func:`_secant_miss`) has
+    left the branch without any sign change (Newton past a fold lands on another stable
+    state): it is halved too, and after :data:`HALVINGS` halvings the branch is reported as
+    ending there ("the state JUMPS"), never as stable further on.
     """
     prev = rod.copy()  # the last state followed (stable or neutral)
     lam_prev, tol, _ = verdict_eigenvalue(prev)
@@ -564,6 +580,7 @@ def _side(rod: DiscreteRod, start: DiscreteRod, mu0: float, step: float, end: fl
     path = [(mu0, lam_prev, float(np.max(np.abs(prev.x[:, 2]))), prev.energy())]
     info = (0, float(np.max(np.abs(prev.gradient()[prev.free_dofs()]))))  # its, residual
     h, halvings = step, 0
+    before: tuple[float, np.ndarray] | None = None  # (mu, x) of the state before ``prev``
     while (end - mu_prev) * np.sign(step) > 1e-12 * abs(step):
         if len(path) > MAX_STATES:
             return SideLimit(math.nan, (math.nan, math.nan), (math.nan, math.nan), math.nan,
@@ -576,9 +593,19 @@ def _side(rod: DiscreteRod, start: DiscreteRod, mu0: float, step: float, end: fl
         trial = prev.copy()
         ok, its, res = relax(trial, mu)
         lam = verdict_eigenvalue(trial)[0] if ok else math.nan
-        if (not ok or lam < -tol) and halvings < HALVINGS:
+        miss = _secant_miss(before, prev, mu_prev, trial, mu) if ok else (0.0, 0.0)
+        jumped = miss[0] > JUMP_SECANT * miss[1] + JUMP_FLOOR * mean_length(prev)
+        if (not ok or lam < -tol or jumped) and halvings < HALVINGS:
             h, halvings = 0.5 * h, halvings + 1
             continue
+        if jumped:
+            return SideLimit(math.nan, (mu_prev, mu), (lam_prev, lam), mu, mu_prev,
+                             f"the state JUMPS at mu = {mu:.6g}, {abs(mu - mu_prev):.3g} past "
+                             f"the last state: Newton lands {miss[0]:.3g} from the secant's "
+                             f"prediction, which moves {miss[1]:.3g} (node positions), before "
+                             "any sign change: the branch ends (a fold) or the state left it; "
+                             "no limit reported", describe(prev, start, True, *info), None,
+                             tuple(path))
         if not ok:
             return SideLimit(math.nan, (mu_prev, mu), (lam_prev, math.nan), mu, mu_prev,
                              f"Newton failed at mu = {mu:.6g} ({its} iterations, residual "
@@ -608,12 +635,31 @@ def _side(rod: DiscreteRod, start: DiscreteRod, mu0: float, step: float, end: fl
             return SideLimit(x, (mu_prev, mu), (lam_prev, lam), math.nan, mu, how,
                              describe(prev, start, True, *info),
                              mode_shape(trial, verdict_mode(trial)[3]), tuple(path))
+        before = (mu_prev, prev.x.copy())
         prev, lam_prev, mu_prev, info = trial, lam, mu, (its, res)
         if halvings and lam > tol:  # back towards the scan step
             h, halvings = 2.0 * h, halvings - 1
     return SideLimit(math.nan, (math.nan, math.nan), (math.nan, math.nan), math.nan, mu_prev,
                      f"no sign change up to mu = {mu_prev:.6g} (the search window)", None,
                      None, tuple(path))
+
+
+def _secant_miss(before: tuple[float, np.ndarray] | None, prev: DiscreteRod, mu_prev: float,
+                 trial: DiscreteRod, mu: float) -> tuple[float, float]:
+    """Return how far ``trial`` lies from the secant's prediction, and the predicted move.
+
+    The secant through ``before`` and ``prev`` (node positions, length), extended to ``mu``:
+    ``x_p = x_prev + (mu - mu_prev) / (mu_prev - mu_before) (x_prev - x_before)``; both
+    numbers are the largest node distance (``|x_trial - x_p|``, ``|x_p - x_prev|``). ``(0, 0)``
+    without a state before ``prev`` (the first step is not judged).
+    """
+    if before is None:
+        return 0.0, 0.0
+    mu_b, x_b = before
+    move = (mu - mu_prev) / (mu_prev - mu_b) * (prev.x - x_b)
+    miss = trial.x - (prev.x + move)
+    return (float(np.max(np.linalg.norm(miss, axis=1))),
+            float(np.max(np.linalg.norm(move, axis=1))))
 
 
 def _crossing(f: Callable[[float], float], x: float, a: float, b: float, lam_a: float,

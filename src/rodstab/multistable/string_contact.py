@@ -38,7 +38,7 @@ import dataclasses
 from collections.abc import Callable
 from typing import Any
 
-from ..errors import NotConverged
+from ..errors import NotConverged, require_int
 from ..nonlinear.contact import (
     ContactModel,
     Interpenetration,
@@ -154,7 +154,8 @@ def _coarse(run: Any) -> None:
 
 def relax_with_contact(band: list[DiscreteRod], final: ContactModel,
                        relax_string: Callable[..., tuple[list[DiscreteRod], Any, Any]], *,
-                       max_iter: int, accept: Callable[[DiscreteRod], bool]
+                       max_iter: int, accept: Callable[[DiscreteRod], bool],
+                       stage_iter: int = STAGE_ITER, max_stages: int = MAX_STAGES
                        ) -> tuple[list[DiscreteRod], DiscreteRod | None, Any, ContactStages]:
     """Relax the string ``band`` to a minimum energy path inside the contact model ``final``.
 
@@ -162,6 +163,10 @@ def relax_with_contact(band: list[DiscreteRod], final: ContactModel,
     (:func:`~.string_method.relax_string`, passed in: this module sits beside the string
     method, not below it). ``band``'s ends must lie inside ``final`` (the caller relaxed them
     with it); every image's contact setting is replaced (the final model's at the end).
+    ``stage_iter``, ``max_stages``: string iterations per soft stage and most soft stages
+    (the defaults :data:`STAGE_ITER`, :data:`MAX_STAGES`; the hexagram's star -> daisy with
+    cusp welds of width ``h + 1.5 dhat``, 6 and 8 el., needed 60 and 10: the cusps' end
+    elements, which cross in the path without contact, part slowly).
     Returns the string, the saddle (None if none was accepted), the
     :class:`~.string_method.StringRun` of the final model's relaxation and the
     :class:`ContactStages`.
@@ -178,11 +183,13 @@ def relax_with_contact(band: list[DiscreteRod], final: ContactModel,
     h = 2.0 * _radius(final)
     dist = [path_distance(band, final)]
     kappas: list[float] = []
-    while dist[-1] <= h and len(kappas) < MAX_STAGES:
+    stage_iter = require_int("stage_iter", stage_iter, 1)
+    max_stages = require_int("max_stages", max_stages, 0)
+    while dist[-1] <= h and len(kappas) < max_stages:
         model = soft_model(final, len(kappas))
         _with_model(band, model)
         kappas.append(model.stiffness)
-        band, _, run = relax_string(band, max_iter=STAGE_ITER, try_every=STAGE_ITER + 1)
+        band, _, run = relax_string(band, max_iter=stage_iter, try_every=stage_iter + 1)
         _coarse(run)
         dist.append(path_distance(band, final))
     stages = ContactStages(tuple(kappas), h + soft_model(final, 0).dhat, tuple(dist),

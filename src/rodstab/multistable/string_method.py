@@ -523,12 +523,12 @@ def relax_string(band: list[DiscreteRod], *, max_iter: int = STRING_MAX_ITER,
     return band, None, run(False, -1)
 
 
-def _named(named: dict[str, Assembly], n: int, mu: float, contact: ContactModel | None
-           ) -> list[tuple[str, DiscreteRod]]:
+def _named(named: dict[str, Assembly], n: int, mu: float, contact: ContactModel | None,
+           cusp_width: float | None = None) -> list[tuple[str, DiscreteRod]]:
     """Return the states of ``named`` that are stable minima at ``mu`` (``contact``), as models."""
     out = []
     for label, asm in named.items():
-        r = common_rod(asm, n, mu)
+        r = common_rod(asm, n, mu, cusp_width=cusp_width)
         try:
             stable_end(r, label, contact, "")
         except (RodstabInputError, Interpenetration):
@@ -542,7 +542,8 @@ def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
                    name_a: str = "A", name_b: str = "B", max_iter: int = STRING_MAX_ITER,
                    limits: Limits = DEFAULT_LIMITS, contact: ContactModel | None = None,
                    layers: dict[str, Any] | None = None, chain_depth: int = CHAIN_DEPTH,
-                   named: dict[str, Assembly] | None = None) -> tuple[Barrier, list[Snapshot]]:
+                   named: dict[str, Assembly] | None = None, cusp_width: float | None = None,
+                   soft: tuple[int, int] | None = None) -> tuple[Barrier, list[Snapshot]]:
     """Energy barrier between held states ``a`` and ``b`` of one ring by the string method.
 
     Both are put in one discrete model (:func:`~.discover.common_rod`) at ``load_factor`` and
@@ -586,6 +587,12 @@ def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
         Other held states of the ring, by label: those stable at ``load_factor`` in the same
         discrete model name the minima a descent or the chain reaches (else ``m1``, ``m2``, ...).
         Not used with ``layers`` (the stacked model is another model).
+    cusp_width : float, optional
+        Welds of this width at the cusps (length; :func:`~.discover.common_rod`), the two
+        rods' ends held apart across the tangent; None: point welds.
+    soft : tuple of int, optional
+        With ``contact``: the soft stages' ``(iterations per stage, most stages)``
+        (:func:`~.string_contact.relax_with_contact`); None: its defaults.
 
     Returns
     -------
@@ -611,7 +618,8 @@ def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
     max_iter = require_int("max_iter", max_iter, 1)
     require_nonlinear([n] * len(a.segments), len(a.joints()),
                       f"images {n_img}, {n} elements per rod", limits, copies=n_img)
-    rod_a, rod_b = common_rod(a, n, mu), common_rod(b, n, mu)
+    rod_a, rod_b = (common_rod(a, n, mu, cusp_width=cusp_width),
+                    common_rod(b, n, mu, cusp_width=cusp_width))
     if not same_model(rod_a, rod_b):
         raise RodstabInputError(f"states {name_a!r} and {name_b!r} are not states of one "
                                 "discrete model (rest lengths or natural curvatures differ)")
@@ -626,7 +634,8 @@ def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
         rod_a, rod_b = start[0], start[-1]
     e_a, e_b = rod_a.energy(), rod_b.energy()
     land = Landscape.of([(name_a, rod_a), (name_b, rod_b)]
-                        + ([] if layers is not None else _named(named or {}, n, mu, contact)))
+                        + ([] if layers is not None
+                           else _named(named or {}, n, mu, contact, cusp_width)))
     land.keep_traces = contact is not None
 
     def joins_the_states(saddle: DiscreteRod) -> bool:
@@ -640,8 +649,9 @@ def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
     else:
         from .string_contact import relax_with_contact
 
-        band, saddle, run, stages = relax_with_contact(start, contact, relax_string,
-                                                       max_iter=max_iter, accept=joins_the_states)
+        band, saddle, run, stages = relax_with_contact(
+            start, contact, relax_string, max_iter=max_iter, accept=joins_the_states,
+            **({} if soft is None else {"stage_iter": soft[0], "max_stages": soft[1]}))
         run = dataclasses.replace(run, contact_stages=stages)
     chained = None
     if saddle is None and not run.too_coarse and chain_depth > 0:

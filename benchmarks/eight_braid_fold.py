@@ -1,0 +1,78 @@
+"""Benchmark: where the braided eight's branch with contact ends, by two methods side by side.
+
+The braided eight (:func:`rodstab.multistable.braid.hold_braid`: rectangle h/t = 4, relaxed
+with contact at kappa_n R0 = 3) followed both ways in the load factor by
+
+* the pseudo-arclength continuation with Hessian eigenvalue monitoring
+  (:func:`rodstab.nonlinear.continuation.run.continuation`, ``stop_at_first``): the first
+  special point each way (a fold, located where the path turns; a branch point, where the
+  lowest eigenvalue changes sign on a smooth path), and
+* natural-parameter following (:func:`rodstab.multistable.braid.braid_limits`, the stacked
+  ring's :func:`~rodstab.multistable.stacked._side`): a sign change of the verdict eigenvalue
+  bracketed and refined, or the branch's end (Newton fails, or the state leaves the branch:
+  it lands off the secant through the last two states).
+
+A fold is where the second can only say that the branch ends; the first says that it turns.
+Run: ``OMP_NUM_THREADS=1 python benchmarks/eight_braid_fold.py [h/L] [elements] [dhat/h]
+[steps]`` (default 0.01 16 0.1 40: continuation steps over 3 -> 7 and 3 -> 0.2).
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+import time
+
+from rodstab.multistable.braid import braid_limits, hold_braid
+from rodstab.nonlinear.continuation.run import continuation
+from rodstab.problems.barrier_states import state_assembly
+from rodstab.sections import rectangle
+
+#: The planar eight's interval without contact at h/t = 4 (eight_braid_hold.NO_CONTACT).
+NO_CONTACT = (1.9031, 4.2393)
+START = 3.0
+ENDS = (7.0, 0.2)
+
+
+def _first(path) -> str:  # noqa: ANN001
+    """The continuation's first special point, or how the run ended."""
+    if path.special_points:
+        p = path.special_points[0]
+        return f"{p['kind']} at {p['value']:.5f}"
+    return "none (converged)" if path.converged else path.method.split("STOPPED: ")[-1][:60]
+
+
+def _followed(s) -> str:  # noqa: ANN001
+    if math.isfinite(s.limit):
+        return f"limit {s.limit:.5f}"
+    if math.isfinite(s.branch_end):
+        kind = "jumps" if "JUMPS" in s.how else "Newton fails"
+        return f"ends in ({s.searched_to:.4f}, {s.branch_end:.4f}): {kind}"
+    return s.how[:60]
+
+
+def main(h: float, n: int, dhat: float, steps: int) -> None:
+    """Print each side's end by both methods."""
+    a = state_assembly("hexagram", rectangle(aspect=4.0), "eight")
+    t = time.perf_counter()
+    _, rod, ok, its, res = hold_braid(a, n, START, h, dhat)
+    print(f"h/L {h:g}, {n} el., dhat {dhat:g} h: held at {START} (converged {ok}, {its} "
+          f"iterations), energy {rod.energy():.8f}")
+    model = rod.contact.model
+    runs = {end: continuation(a, "load_factor", START, end, steps, elements_per_segment=n,
+                              rod=rod.copy(), contact=model, branch_steps=0,
+                              stop_at_first=True) for end in ENDS}
+    t_cont = time.perf_counter() - t
+    t = time.perf_counter()
+    lim = braid_limits(a, NO_CONTACT, thickness_ratio=h, elements_per_segment=n,
+                       start_load_factor=START, dhat_fraction=dhat)
+    print(f"  start energy by braid_limits {lim.start.energy:.8f} (the same rope if equal)")
+    print(f"  upper: continuation {_first(runs[ENDS[0]])}; followed {_followed(lim.upper)}")
+    print(f"  lower: continuation {_first(runs[ENDS[1]])}; followed {_followed(lim.lower)}")
+    print(f"  ({t_cont:.0f} s and {time.perf_counter() - t:.0f} s)")
+
+
+if __name__ == "__main__":
+    args = sys.argv[1:]
+    main(float(args[0]) if args else 0.01, int(args[1]) if len(args) > 1 else 16,
+         float(args[2]) if len(args) > 2 else 0.1, int(args[3]) if len(args) > 3 else 40)
