@@ -384,3 +384,34 @@ def test_string_barrier_builds_both_states_and_the_named_ones_with_the_cusp_widt
         string_method.string_barrier(a, b, 1.5, elements_per_segment=4, cusp_width=0.035,
                                      named={"other": a})
     assert seen == [0.035, 0.035, 0.035]
+
+
+def test_wide_cusp_ends_are_relaxed_before_contact_is_judged(hexagram_states, monkeypatch):
+    """At 12 el./rod the star with cusp welds of width w = h + 1.5 dhat is, as built (only
+    its end nodes moved), through itself under the contact model; ``string_barrier`` relaxes
+    it without contact first, after which both ends are stable states inside the model, every
+    pair at least the weld's clearance ``w - h`` from touching."""
+    from rodstab.multistable import string_method
+    from rodstab.multistable.discover import common_rod
+    from rodstab.nonlinear.contact import mesh_of_rod, smallest_gap
+
+    a, b, model = hexagram_states
+    w = 0.02 + 1.5 * model.dhat
+    built = common_rod(a, 12, 1.5, cusp_width=w)
+    assert smallest_gap(mesh_of_rod(built, model), built.x)[0] < 0  # the control
+    ends = []
+
+    class Started(Exception):
+        pass
+
+    def start(rod_a, rod_b, n):
+        ends.extend([rod_a, rod_b])
+        raise Started
+
+    monkeypatch.setattr(string_method, "belt_path", start)
+    with pytest.raises(Started):
+        string_method.string_barrier(a, b, 1.5, elements_per_segment=12, cusp_width=w,
+                                     contact=model)
+    for r in ends:
+        gap = smallest_gap(mesh_of_rod(r, model), r.x)[0]
+        assert gap >= (w - 0.02) * (1 - 1e-6)
