@@ -9,10 +9,13 @@ the limiting mode (harmonics of ``u_3`` and ``u_r``, gap change), the state on t
 (smallest gap over dhat, mean contact line load, energy above the coincident ring) and the
 time.
 
-Measured 2026-12-05 (circle, b1 = 1, b2 = 0.75; limits in (L / 2 pi) kappa_n; "end": Newton
-failed 0.003 in mu past the last stable state, no sign change; "jump": the eigenvalue jumped,
-no limit reported). No contact: eq. (3.3) 2.1472 .. 3.8593; this routine 2.1419 .. 3.8643 at
-16 elements per loop, 2.1457 .. 3.8608 at 32 (modes j = 2 and j = 4, smooth crossings).
+Measured 2026-12-05, before the follower checked that each state stays on its branch (the
+16-el. rows rerun with the check, 2026-12-06, are in docs/theory/contact.md: every lower side
+now ends in a jump before these limits) (circle, b1 = 1, b2 = 0.75; limits in
+(L / 2 pi) kappa_n; "end": Newton failed 0.003 in mu past the last stable state, no sign
+change; "jump": the eigenvalue jumped, no limit reported). No contact: eq. (3.3) 2.1472 ..
+3.8593; this routine 2.1419 .. 3.8643 at 16 elements per loop, 2.1457 .. 3.8608 at 32
+(modes j = 2 and j = 4, smooth crossings).
 
 ===== ==== ====== ===================================== ====================================
 el.   h/L  dhat/h lower (mode)                          upper

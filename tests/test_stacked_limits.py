@@ -162,30 +162,41 @@ def test_the_crossing_probe_tells_a_smooth_crossing_from_a_jump():
                      -1.0)[0] == "jump"
 
 
-@pytest.mark.parametrize("jump", [0.0, 0.05])
-def test_a_state_that_leaves_its_branch_is_a_branch_end_not_a_limit(relaxed, monkeypatch, jump):
-    """:func:`_side` with Newton replaced by a closed form: every node moves by ``(mu - 0.9) v``
-    (``|v|`` = 0.01 L, ``L`` the mean segment length) and, below ``mu`` = 0.8, by a further
-    ``jump`` L (a stable state of another branch, as Newton past a fold lands on one: the
-    braided eight, the comment at :data:`JUMP_SECANT`). Without a jump the secant predicts
-    every state exactly and the search runs to its end; with one it halves its step
+@pytest.mark.parametrize("case", ["smooth", "kink", "jump"])
+def test_a_state_that_leaves_its_branch_is_a_branch_end_not_a_limit(relaxed, monkeypatch, case):
+    """:func:`_side` with Newton replaced by a closed form in which every node moves by
+    ``(mu - 0.9) v`` (``|v|`` = 0.01 L out of plane, ``L`` the mean segment length), and
+
+    * "kink": below ``mu`` = 0.8 five times as fast (a branch bending sharply, as where a
+      contact zone sets in): the secant misses, but relaxed back the state returns;
+    * "jump": below 0.8 Newton lands on another branch 0.05 L away in the plane (as past a
+      fold: the braided eight, the comment at :data:`JUMP_SECANT`), and a state there stays
+      on it when relaxed at any load.
+
+    Smooth and kinked, the search runs to its end; with the jump it halves its step
     :data:`HALVINGS` times and reports the branch's end bracketed at 0.8, with no limit."""
     import rodstab.multistable.stacked as stacked
 
     rod, st, _ = relaxed
-    x0, v = rod.x.copy(), np.zeros_like(rod.x)
-    v[:, 2] = 0.01 * stacked.mean_length(rod)
+    L = stacked.mean_length(rod)
+    x0, v, J = rod.x.copy(), np.zeros_like(rod.x), np.zeros_like(rod.x)
+    v[:, 2], J[:, 0] = 0.01 * L, 0.05 * L
 
     def closed_form(r, mu):
+        on_other = case == "jump" and np.mean(r.x[:, 0] - x0[:, 0]) > 0.025 * L
         r.load_factor = float(mu)
-        r.x = x0 + (mu - 0.9) * v + (jump * stacked.mean_length(rod) if mu < 0.8 else 0.0)
+        r.x = x0 + (mu - 0.9) * v
+        if case == "kink" and mu < 0.8:
+            r.x = x0 + (0.8 - 0.9) * v + 5.0 * (mu - 0.8) * v
+        if on_other or (case == "jump" and mu < 0.8):
+            r.x = r.x + J
         return True, 0, 0.0
 
     monkeypatch.setattr(stacked, "relax", closed_form)
     monkeypatch.setattr(stacked, "verdict_eigenvalue", lambda r: (1.0, 1e-12, False))
     side = _side(rod.copy(), st.rod, 0.9, -0.05, 0.7)
     assert math.isnan(side.limit)
-    if not jump:
+    if case != "jump":
         assert side.searched_to == pytest.approx(0.7) and "no sign change" in side.how
         return
     lo, hi = sorted(side.bracket)
