@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 from contact_checks import central_differences, judged_pairs, smallest_distance
 
-from rodstab.errors import NotConverged
+from rodstab.errors import NotConverged, RodstabInputError
 from rodstab.nonlinear.contact import (
     ContactModel,
     contact_energy,
@@ -415,3 +415,16 @@ def test_wide_cusp_ends_are_relaxed_before_contact_is_judged(hexagram_states, mo
     for r in ends:
         gap = smallest_gap(mesh_of_rod(r, model), r.x)[0]
         assert gap >= (w - 0.02) * (1 - 1e-6)
+
+
+@pytest.mark.parametrize("kw, match", [
+    (dict(soft=(0, 5)), r"soft\[0\] \(stage iterations\) must be an integer >= 1, got 0"),
+    (dict(soft=(20, -1)), r"soft\[1\] \(most stages\) must be an integer >= 0, got -1"),
+    (dict(cusp_width=-0.01), r"cusp_width must be a finite positive number, got -0.01"),
+])
+def test_bad_soft_schedule_or_cusp_width_is_named(hexagram_states, kw, match):
+    from rodstab.multistable.string_method import string_barrier
+
+    a, b, model = hexagram_states
+    with pytest.raises(RodstabInputError, match=match):
+        string_barrier(a, b, 1.5, elements_per_segment=4, contact=model, **kw)

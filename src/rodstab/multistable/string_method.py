@@ -630,6 +630,9 @@ def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
     n = require_int("elements_per_segment", elements_per_segment, MIN_ELEMENTS)
     n_img = require_int("images", images, 3)
     max_iter = require_int("max_iter", max_iter, 1)
+    if soft is not None:  # before any work (relax_with_contact checks them again)
+        soft = (require_int("soft[0] (stage iterations)", soft[0], 1),
+                require_int("soft[1] (most stages)", soft[1], 0))
     require_nonlinear([n] * len(a.segments), len(a.joints()),
                       f"images {n_img}, {n} elements per rod", limits, copies=n_img)
     rod_a, rod_b = _built(a, n, mu, cusp_width), _built(b, n, mu, cusp_width)
