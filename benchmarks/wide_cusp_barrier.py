@@ -5,17 +5,19 @@ elements overlap under the contact model, and more so as the mesh refines (the s
 the model from 16 el. on; docs/theory/contact.md, "Cusp welds of finite width"). Welds of width
 ``w = h + 1.5 dhat`` (:func:`rodstab.multistable.discover.common_rod`'s ``cusp_width``) hold
 the two ends apart. Printed per mesh (rectangle h/t = 4, kappa_n R0 = 1.5, h = 0.02 L,
-dhat = 0.1 h, 17 images): the string method's barriers star -> daisy and back
+dhat = 0.1 h, 17 images unless ``--images``): the string method's barriers star -> daisy and back
 
 * without contact, point welds;
 * without contact, wide welds;
 * with contact, wide welds: the string brought inside the model by the soft stages
   (``soft`` = (iterations per stage, most stages), default 60 and 14), then relaxed with the
-  barrier; the stages used, the closest pair after them, and whether two neighbouring images
-  of that path have rods passed through each other between them (None: no).
+  barrier; the stages used, the closest pair after them, whether two neighbouring images
+  of that path (the start of the saddle search) have rods passed through each other between
+  them (None: no), and the reported path (the saddle and its two descents with contact,
+  every step filtered) judged on every pair the contact model sees.
 
 Run: ``OMP_NUM_THREADS=1 python benchmarks/wide_cusp_barrier.py [elements ...] [--soft IT
-STAGES] [--no-contact]`` (default 6 8).
+STAGES] [--images N] [--no-contact]`` (default 6 8, 17 images).
 """
 
 from __future__ import annotations
@@ -23,9 +25,13 @@ from __future__ import annotations
 import sys
 import time
 
+import numpy as np
+
 from rodstab.errors import NotConverged, RodstabInputError
+from rodstab.multistable.discover import common_rod
 from rodstab.multistable.string_method import string_barrier
-from rodstab.nonlinear.contact import Interpenetration
+from rodstab.multistable.transitions import ContactTracker, pair_distances
+from rodstab.nonlinear.contact import Interpenetration, mesh_of_rod
 from rodstab.nonlinear.equilibrium import rod_contact_model
 from rodstab.problems.barrier_states import state_assembly
 from rodstab.sections import rectangle
@@ -33,10 +39,32 @@ from rodstab.sections import rectangle
 H, DHAT, LOAD = 0.02, 0.1, 1.5
 
 
+def _judged(xs: list[np.ndarray], rod, model) -> str:  # noqa: ANN001
+    """The reported path judged as a transition's stretch, on every pair the model sees.
+
+    :class:`~rodstab.multistable.transitions.ContactTracker` judges pairs of rods that share
+    no joint (point welds: a cusp's two end elements share a node); with wide welds a cusp's
+    end elements are two capsules the contact model keeps apart, so here every pair the
+    contact model does not exclude is judged.
+    """
+    mesh = mesh_of_rod(rod, model)
+    i, j = np.triu_indices(len(rod.R_edge), 1)
+    keep = ~mesh.excluded_elements(i, j)
+    tracker = ContactTracker(rod, H, xs[0])
+    tracker.pairs = np.stack([i[keep], j[keep]], axis=1)
+    d0, w0 = pair_distances(xs[0], tracker.edges, tracker.pairs)
+    tracker.stacked, tracker.w, tracker.d = d0 < H, np.zeros_like(w0), d0
+    tracker._resolve(xs[0], d0, w0)
+    rep = tracker.stretch("path", [(float(k), x) for k, x in enumerate(xs)])
+    return (f"reported path ({rep.samples} points, {len(tracker.pairs)} pairs): closest "
+            f"{rep.min_distance:.4f} h, "
+            + ("RODS PASS THROUGH" if rep.pass_through else "no pass-through"))
+
+
 def _row(label: str, star, daisy, **kw) -> None:  # noqa: ANN001, ANN003
     t = time.perf_counter()
     try:
-        b, _ = string_barrier(star, daisy, LOAD, **kw)
+        b, snaps = string_barrier(star, daisy, LOAD, **kw)
     except (NotConverged, RodstabInputError, Interpenetration) as exc:
         print(f"  {label:28s} {type(exc).__name__}: {str(exc)[:160]} "
               f"({time.perf_counter() - t:.0f} s)", flush=True)
@@ -44,14 +72,16 @@ def _row(label: str, star, daisy, **kw) -> None:  # noqa: ANN001, ANN003
     extra = ""
     stages = getattr(b.string_run, "contact_stages", None)
     if stages is not None:
+        rod = common_rod(star, kw["elements_per_segment"], LOAD, cusp_width=kw["cusp_width"])
         extra = (f"; {len(stages.stiffnesses)} soft stages, closest pair after them "
-                 f"{stages.distances[-1] / H:.4f} h, rods pass between images "
-                 f"{stages.start_crossing}")
+                 f"{stages.distances[-1] / H:.4f} h, rods pass between images of the stages' "
+                 f"path {stages.start_crossing}; "
+                 + _judged([s.x for s in snaps], rod, kw["contact"]))
     print(f"  {label:28s} forward {b.barrier_forward:.7f}  backward {b.barrier_backward:.7f}"
           f"  converged {b.converged}{extra} ({time.perf_counter() - t:.0f} s)", flush=True)
 
 
-def main(meshes: list[int], soft: tuple[int, int], contact: bool) -> None:
+def main(meshes: list[int], soft: tuple[int, int], contact: bool, images: int = 17) -> None:
     """Print the module doc's rows for each mesh."""
     sec = rectangle(aspect=4.0)
     star = state_assembly("hexagram", sec, "star")
@@ -60,7 +90,7 @@ def main(meshes: list[int], soft: tuple[int, int], contact: bool) -> None:
     w = H + 1.5 * model.dhat
     for n in meshes:
         print(f"{n} el. per rod (cusp width {w:g}):", flush=True)
-        kw = dict(elements_per_segment=n, images=17, name_a="star", name_b="daisy")
+        kw = dict(elements_per_segment=n, images=images, name_a="star", name_b="daisy")
         _row("no contact, point welds", star, daisy, **kw)
         _row("no contact, wide welds", star, daisy, cusp_width=w, **kw)
         if contact:
@@ -75,6 +105,11 @@ if __name__ == "__main__":
         i = args.index("--soft")
         soft = (int(args[i + 1]), int(args[i + 2]))
         del args[i:i + 3]
+    images = 17
+    if "--images" in args:
+        i = args.index("--images")
+        images = int(args[i + 1])
+        del args[i:i + 2]
     contact = "--no-contact" not in args
     args = [a for a in args if a != "--no-contact"]
-    main([int(a) for a in args] or [6, 8], soft, contact)
+    main([int(a) for a in args] or [6, 8], soft, contact, images)
