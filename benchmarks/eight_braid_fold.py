@@ -19,18 +19,17 @@ Run: ``OMP_NUM_THREADS=1 python benchmarks/eight_braid_fold.py [h/L] [elements] 
 
 from __future__ import annotations
 
-import math
 import sys
 import time
+
+from eight_braid_hold import NO_CONTACT, START  # this folder, on the path when run as a script
 
 from rodstab.multistable.braid import braid_limits, hold_braid
 from rodstab.nonlinear.continuation.run import continuation
 from rodstab.problems.barrier_states import state_assembly
 from rodstab.sections import rectangle
 
-#: The planar eight's interval without contact at h/t = 4 (eight_braid_hold.NO_CONTACT).
-NO_CONTACT = (1.9031, 4.2393)
-START = 3.0
+#: Where the continuation runs to, up and down from :data:`eight_braid_hold.START`.
 ENDS = (7.0, 0.2)
 
 
@@ -40,15 +39,6 @@ def _first(path) -> str:  # noqa: ANN001
         p = path.special_points[0]
         return f"{p['kind']} at {p['value']:.5f}"
     return "none (converged)" if path.converged else path.method.split("STOPPED: ")[-1][:60]
-
-
-def _followed(s) -> str:  # noqa: ANN001
-    if math.isfinite(s.limit):
-        return f"limit {s.limit:.5f}"
-    if math.isfinite(s.branch_end):
-        kind = "jumps" if "JUMPS" in s.how else "Newton fails"
-        return f"ends in ({s.searched_to:.4f}, {s.branch_end:.4f}): {kind}"
-    return s.how[:60]
 
 
 def main(h: float, n: int, dhat: float, steps: int) -> None:
@@ -67,8 +57,8 @@ def main(h: float, n: int, dhat: float, steps: int) -> None:
     lim = braid_limits(a, NO_CONTACT, thickness_ratio=h, elements_per_segment=n,
                        start_load_factor=START, dhat_fraction=dhat)
     print(f"  start energy by braid_limits {lim.start.energy:.8f} (the same rope if equal)")
-    print(f"  upper: continuation {_first(runs[ENDS[0]])}; followed {_followed(lim.upper)}")
-    print(f"  lower: continuation {_first(runs[ENDS[1]])}; followed {_followed(lim.lower)}")
+    print(f"  upper: continuation {_first(runs[ENDS[0]])}; followed {lim.upper.outcome()}")
+    print(f"  lower: continuation {_first(runs[ENDS[1]])}; followed {lim.lower.outcome()}")
     print(f"  ({t_cont:.0f} s and {time.perf_counter() - t:.0f} s)")
 
 

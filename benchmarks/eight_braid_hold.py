@@ -39,14 +39,7 @@ START = 3.0
 
 
 def _side(s) -> str:  # noqa: ANN001
-    if s is None:
-        return "-"
-    if math.isfinite(s.limit):
-        return f"{s.limit:.4f}"
-    if math.isfinite(s.branch_end):  # the branch ends between the last state and this load
-        kind = "jumps" if "JUMPS" in s.how else "Newton fails"
-        return f"ends in ({s.searched_to:.4f}, {s.branch_end:.4f}): {kind}"
-    return s.how[:60]
+    return "-" if s is None else s.outcome()
 
 
 def main(thicknesses: list[float], meshes: list[int], dhats: list[float] | None = None

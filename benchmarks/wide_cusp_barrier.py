@@ -30,7 +30,7 @@ import numpy as np
 from rodstab.errors import NotConverged, RodstabInputError
 from rodstab.multistable.discover import common_rod
 from rodstab.multistable.string_method import string_barrier
-from rodstab.multistable.transitions import ContactTracker, pair_distances
+from rodstab.multistable.transitions import ContactTracker
 from rodstab.nonlinear.contact import Interpenetration, mesh_of_rod
 from rodstab.nonlinear.equilibrium import rod_contact_model
 from rodstab.problems.barrier_states import state_assembly
@@ -50,11 +50,7 @@ def _judged(xs: list[np.ndarray], rod, model) -> str:  # noqa: ANN001
     mesh = mesh_of_rod(rod, model)
     i, j = np.triu_indices(len(rod.R_edge), 1)
     keep = ~mesh.excluded_elements(i, j)
-    tracker = ContactTracker(rod, H, xs[0])
-    tracker.pairs = np.stack([i[keep], j[keep]], axis=1)
-    d0, w0 = pair_distances(xs[0], tracker.edges, tracker.pairs)
-    tracker.stacked, tracker.w, tracker.d = d0 < H, np.zeros_like(w0), d0
-    tracker._resolve(xs[0], d0, w0)
+    tracker = ContactTracker(rod, H, xs[0], pairs=np.stack([i[keep], j[keep]], axis=1))
     rep = tracker.stretch("path", [(float(k), x) for k, x in enumerate(xs)])
     return (f"reported path ({rep.samples} points, {len(tracker.pairs)} pairs): closest "
             f"{rep.min_distance:.4f} h, "

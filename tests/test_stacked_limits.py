@@ -202,6 +202,7 @@ def test_a_state_that_leaves_its_branch_is_a_branch_end_not_a_limit(relaxed, mon
     lo, hi = sorted(side.bracket)
     assert lo < 0.8 <= hi and hi - lo <= 0.05 / 2**stacked.HALVINGS + 1e-12
     assert side.branch_end == lo and "JUMPS" in side.how and "no limit" in side.how
+    assert side.outcome() == f"ends in ({hi:.4f}, {lo:.4f}): jumps"
 
 
 @pytest.mark.parametrize("call, key", [

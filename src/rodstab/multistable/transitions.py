@@ -154,9 +154,11 @@ class ContactReport(Result):
 class ContactTracker:
     """Accumulate contact over sampled states of one rod (module docstring)."""
 
-    def __init__(self, rod: DiscreteRod, thickness: float, start_x: np.ndarray) -> None:
+    def __init__(self, rod: DiscreteRod, thickness: float, start_x: np.ndarray,
+                 pairs: np.ndarray | None = None) -> None:
+        """``pairs`` (n, 2): the element pairs judged; default :func:`judged_pairs`."""
         self.edges = rod.edge_nodes
-        self.pairs = judged_pairs(rod)
+        self.pairs = judged_pairs(rod) if pairs is None else np.asarray(pairs, dtype=int)
         self.h = thickness
         self.L = rod.assembly.total_length / len(rod.assembly.segments)
         d0, w0 = pair_distances(start_x, self.edges, self.pairs)
