@@ -17,7 +17,7 @@ dhat = 0.1 h, 17 images unless ``--images``): the string method's barriers star 
   every step filtered) judged on every pair the contact model sees.
 
 Run: ``OMP_NUM_THREADS=1 python benchmarks/wide_cusp_barrier.py [elements ...] [--soft IT
-STAGES] [--images N] [--no-contact]`` (default 6 8, 17 images).
+STAGES] [--images N] [--dhat D] [--no-contact]`` (default 6 8, 17 images, D = 0.1 h).
 """
 
 from __future__ import annotations
@@ -30,8 +30,8 @@ import numpy as np
 from rodstab.errors import NotConverged, RodstabInputError
 from rodstab.multistable.discover import common_rod
 from rodstab.multistable.string_method import string_barrier
-from rodstab.multistable.transitions import ContactTracker
-from rodstab.nonlinear.contact import Interpenetration, mesh_of_rod
+from rodstab.multistable.transitions import ContactTracker, judged_pairs
+from rodstab.nonlinear.contact import Interpenetration
 from rodstab.nonlinear.equilibrium import rod_contact_model
 from rodstab.problems.barrier_states import state_assembly
 from rodstab.sections import rectangle
@@ -40,17 +40,8 @@ H, DHAT, LOAD = 0.02, 0.1, 1.5
 
 
 def _judged(xs: list[np.ndarray], rod, model) -> str:  # noqa: ANN001
-    """The reported path judged as a transition's stretch, on every pair the model sees.
-
-    :class:`~rodstab.multistable.transitions.ContactTracker` judges pairs of rods that share
-    no joint (point welds: a cusp's two end elements share a node); with wide welds a cusp's
-    end elements are two capsules the contact model keeps apart, so here every pair the
-    contact model does not exclude is judged.
-    """
-    mesh = mesh_of_rod(rod, model)
-    i, j = np.triu_indices(len(rod.R_edge), 1)
-    keep = ~mesh.excluded_elements(i, j)
-    tracker = ContactTracker(rod, H, xs[0], pairs=np.stack([i[keep], j[keep]], axis=1))
+    """The reported path judged as a transition's stretch, on every pair the model sees."""
+    tracker = ContactTracker(rod, H, xs[0], pairs=judged_pairs(rod, model))
     rep = tracker.stretch("path", [(float(k), x) for k, x in enumerate(xs)])
     return (f"reported path ({rep.samples} points, {len(tracker.pairs)} pairs): closest "
             f"{rep.min_distance:.4f} h, "
@@ -77,15 +68,16 @@ def _row(label: str, star, daisy, **kw) -> None:  # noqa: ANN001, ANN003
           f"  converged {b.converged}{extra} ({time.perf_counter() - t:.0f} s)", flush=True)
 
 
-def main(meshes: list[int], soft: tuple[int, int], contact: bool, images: int = 17) -> None:
-    """Print the module doc's rows for each mesh."""
+def main(meshes: list[int], soft: tuple[int, int], contact: bool, images: int = 17,
+         dhat: float = DHAT) -> None:
+    """Print the module doc's rows for each mesh (``dhat`` in units of h)."""
     sec = rectangle(aspect=4.0)
     star = state_assembly("hexagram", sec, "star")
     daisy = state_assembly("hexagram", sec, "daisy")
-    model = rod_contact_model(star, H, DHAT)
+    model = rod_contact_model(star, H, dhat)
     w = H + 1.5 * model.dhat
     for n in meshes:
-        print(f"{n} el. per rod (cusp width {w:g}):", flush=True)
+        print(f"{n} el. per rod (dhat {dhat:g} h, cusp width {w:g}):", flush=True)
         kw = dict(elements_per_segment=n, images=images, name_a="star", name_b="daisy")
         _row("no contact, point welds", star, daisy, **kw)
         _row("no contact, wide welds", star, daisy, cusp_width=w, **kw)
@@ -106,6 +98,11 @@ if __name__ == "__main__":
         i = args.index("--images")
         images = int(args[i + 1])
         del args[i:i + 2]
+    dhat = DHAT
+    if "--dhat" in args:
+        i = args.index("--dhat")
+        dhat = float(args[i + 1])
+        del args[i:i + 2]
     contact = "--no-contact" not in args
     args = [a for a in args if a != "--no-contact"]
-    main([int(a) for a in args] or [6, 8], soft, contact, images)
+    main([int(a) for a in args] or [6, 8], soft, contact, images, dhat)

@@ -428,3 +428,98 @@ def test_bad_soft_schedule_or_cusp_width_is_named(hexagram_states, kw, match):
     a, b, model = hexagram_states
     with pytest.raises(RodstabInputError, match=match):
         string_barrier(a, b, 1.5, elements_per_segment=4, contact=model, **kw)
+
+
+def test_with_wide_cusp_welds_the_judged_pairs_include_each_cusps_two_ends(hexagram_states):
+    """With point welds a cusp's two end elements share a node, and the path judgement leaves
+    out every pair of rods that share a joint. With welds of width w the two ends are separate
+    capsules the contact model keeps apart, w apart at the weld (construction), so the
+    judgement given the model sees them; without the model it does not."""
+    from rodstab.multistable.discover import common_rod
+    from rodstab.multistable.transitions import judged_pairs, pair_distances
+
+    a, _, model = hexagram_states
+    w = 0.02 + 1.5 * model.dhat
+    rod = common_rod(a, 8, 1.0, cusp_width=w)
+    on, oj, _, _ = rod.offsets
+    cusp_ends = []  # per cusp weld, the two elements that touch its end nodes
+    for k in range(6):
+        ends = on[oj == k, 1]
+        cusp_ends.append(tuple(int(np.flatnonzero((rod.edge_nodes == e).any(axis=1))[0])
+                               for e in ends))
+    default = {tuple(p) for p in judged_pairs(rod).tolist()}
+    seen = {tuple(p) for p in judged_pairs(rod, model).tolist()}
+    for e0, e1 in cusp_ends:
+        pair = (min(e0, e1), max(e0, e1))
+        assert pair not in default and pair in seen
+        d = pair_distances(rod.x, rod.edge_nodes, np.array([pair]))[0][0]
+        assert d == pytest.approx(w, rel=1e-9)  # parallel ends, held w apart at the weld
+    point = common_rod(a, 8, 1.0)
+    i, j = judged_pairs(point, model).T  # the point weld's end elements share a node
+    ei, ej = point.edge_nodes[i], point.edge_nodes[j]
+    assert not np.any(ei[:, :, None] == ej[:, None, :])
+
+
+BAR = ["barrier", "--structure", "hexagram", "--from", "star", "--to", "daisy", "--shape",
+       "rectangle", "--aspect", "4", "--load-factor", "1.5", "--elements", "6"]
+
+
+@pytest.mark.parametrize("extra, match", [
+    (["--cusp-width", "0.5"], "--cusp-width 0.5: a weld narrower than the rods' thickness"),
+    (["--cusp-width", "nan"], "--cusp-width nan: a weld narrower"),
+    (["--cusp-width", "1.2", "--method", "continuation"],
+     "--cusp-width 1.2 is an option of --method string"),
+    (["--cusp-width", "1.2", "--into-contact"], "--cusp-width 1.2 is an option of --method"),
+    (["--cusp-width", "1.2", "--contact", "--layers", "1=0,2=1,3=0,4=1,5=0,6=1"],
+     "--cusp-width 1.2 is an option of --method string without --layers"),
+])
+def test_bad_cusp_width_exits_2_naming_it(run_cli, extra, match):
+    r = run_cli([*BAR, *extra])
+    assert r.exit_code == 2, r.stdout + r.stderr
+    assert match in r.stderr
+
+
+def test_cli_cusp_width_is_in_units_of_the_contact_thickness_and_reaches_the_string(
+        run_cli, monkeypatch):
+    """``--cusp-width 1.15 --contact-thickness 0.02`` is a weld 0.023 L wide (L = 1 for the
+    built-in rods), given to the string method with the contact model."""
+    from rodstab.multistable import string_method
+
+    seen = {}
+
+    def record(a, b, mu, **kw):
+        seen.update(kw)
+        raise RodstabInputError("recorded")
+
+    monkeypatch.setattr(string_method, "string_barrier", record)
+    r = run_cli([*BAR, "--cusp-width", "1.15", "--contact", "--contact-thickness", "0.02"])
+    assert r.exit_code == 2 and "recorded" in r.stderr
+    assert seen["cusp_width"] == pytest.approx(0.023, rel=1e-12)
+    assert seen["contact"] is not None and seen["layers"] is None
+
+
+def test_wide_cusp_welds_get_the_longer_soft_schedule_unless_one_is_given(hexagram_states,
+                                                                          monkeypatch):
+    """With point welds the soft stages keep their defaults; with ``cusp_width`` and no
+    ``soft``, :data:`~rodstab.multistable.string_method.WIDE_CUSP_SOFT`; a given ``soft``
+    wins."""
+    from rodstab.multistable import string_contact, string_method
+
+    a, b, model = hexagram_states
+    seen = []
+
+    class Stages(Exception):
+        pass
+
+    def record(start, contact, relax, **kw):
+        seen.append(kw)
+        raise Stages
+
+    monkeypatch.setattr(string_contact, "relax_with_contact", record)
+    monkeypatch.setattr(string_method, "stable_end", lambda *args: None)
+    for kw in ({}, {"cusp_width": 0.035}, {"cusp_width": 0.035, "soft": (7, 3)}):
+        with pytest.raises(Stages):
+            string_method.string_barrier(a, b, 1.5, elements_per_segment=4, images=5,
+                                         contact=model, **kw)
+    stage = [(k.get("stage_iter"), k.get("max_stages")) for k in seen]
+    assert stage == [(None, None), string_method.WIDE_CUSP_SOFT, (7, 3)]

@@ -16,7 +16,7 @@ from ..io.outputs import check_output
 from ..limits import Limits
 from ..model import CONTACT_DHAT_FRACTION
 from ..sections import Section
-from .barrier_contact import contact_line, knot_line
+from .barrier_contact import check_cusp_width, contact_line, knot_line, path_model
 from .contact_options import layers_option, parse_layers, path_contact_options
 from .options import (
     elements_option,
@@ -79,6 +79,11 @@ _BARRIER_STATES = {"six-ring": ("folded", "one-loop"), "hexagram": ("line", "sta
                    "--contact-thickness, dhat --contact-dhat), one branch per side of each "
                    "pair of rods intersecting at it, and name where each saddle's descents "
                    "with contact end (rodstab.multistable.contact_saddle). String method.")
+@click.option("--cusp-width", "cusp_width", type=float, default=None,
+              help="Cusp welds of this width W, in units of --contact-thickness h (W >= 1): "
+                   "the two rod ends of every cusp held W h apart across the tangent, so rods "
+                   "of thickness can leave it (at a point weld they overlap). String method; "
+                   "not with --layers or --into-contact.")
 @section_options
 @limit_options
 @json_option
@@ -87,7 +92,7 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
             elements: int,
             images: int | None, plot_path: str | None, animation_path: str | None,
             out_dir: str | None, contact: Any, layers: str | None, into_contact: bool,
-            limits: Limits, as_json: bool) -> None:
+            cusp_width: float | None, limits: Limits, as_json: bool) -> None:
     """Energy barrier between two stable states of a ring: the saddle and the path through it.
 
     string (default): the minimum energy path between the two states by the string method
@@ -176,6 +181,8 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
             raise RodstabInputError(f"--layers {layers!r}: a barrier takes NAME=K, NAME=U:K or "
                                     "NAME=U:K:S for every segment, not 'torus'")
         order = parsed
+    wide = None if cusp_width is None else check_cusp_width(
+        cusp_width, a, h, from_state, method, order is not None or into_contact)
     # Sized before anything is built: the string relaxes its images together.
     string = method == "string"
     require_nonlinear([elements] * len(a.segments), len(a.joints()),
@@ -203,7 +210,7 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
             b, path = string_barrier(a, b_asm, mu, elements_per_segment=elements,
                                      images=n_img, name_a=from_state, name_b=to_state,
                                      limits=limits, contact=model, layers=order,
-                                     named=others)
+                                     named=others, cusp_width=wide)
         else:
             from ..multistable.barrier import barrier_from_bifurcation
 
@@ -298,14 +305,13 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
         from ..multistable.barrier import path_contact
 
         xs = np.stack([s.x for s in path])
-        stacked = None
-        if order is not None:  # the path's model: the stacked one (welds spanning layers)
-            from ..multistable.discover import common_rod
-            from ..multistable.layered import stacked_model
-
-            stacked = stacked_model(common_rod(a, elements, mu), order, model)
-        report, edges, rest = path_contact(a, elements, xs, h, rod=stacked)
+        stacked, judge = path_model(a, elements, mu, order, model, wide, h)
+        report, edges, rest = path_contact(a, elements, xs, h, rod=stacked, model=judge)
         payload["contact"] = dict(report.to_dict(), thickness=h, acting=c is not None)
+        if wide is not None and cusp_width is not None:
+            payload["contact"]["cusp_width"] = {"h": cusp_width, "length": wide}
+            lines.append(f"cusp welds   {fmt(cusp_width)} h wide ({fmt(wide)}): every pair "
+                         "the contact model sees is judged, the cusps' two ends included")
         if c is not None:
             stages = run.contact_stages
             payload["contact"].update(dhat=c, soft_stages=stages.to_dict())
@@ -320,7 +326,7 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
 
             lines.append(knot_line(payload, stacked or discretise(a, elements), xs,
                                     b.from_state, b.to_state))
-        if stacked is not None and model is not None:
+        if order is not None and stacked is not None and model is not None:
             from ..multistable.layered import weld_spans
 
             start = stacked.copy()  # the path's first state, as the knots line judges it

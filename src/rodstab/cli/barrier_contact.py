@@ -7,6 +7,51 @@ from typing import Any
 from .output import fmt
 
 
+def check_cusp_width(w: float, a: Any, h: float, from_state: str, method: str, other: bool
+                ) -> float:
+    """``--cusp-width`` checked, as a length (``w h`` times the mean rod length)."""
+    import math
+
+    from ..errors import RodstabInputError
+    from ..nonlinear.mesh import cusp_offsets
+
+    if not (math.isfinite(w) and w >= 1.0):
+        raise RodstabInputError(f"--cusp-width {w!r}: a weld narrower than the rods' thickness "
+                                "(1, in units of --contact-thickness) puts the two ends' rods "
+                                "into one another; give a finite number >= 1")
+    if method != "string" or other:
+        raise RodstabInputError(f"--cusp-width {w!r} is an option of --method string without "
+                                "--layers or --into-contact")
+    length = w * h * a.total_length / len(a.segments)
+    if not cusp_offsets(a, a.joints(), length):
+        raise RodstabInputError(f"--cusp-width {w!r}: the --from state {from_state!r} has no "
+                                "cusp (two rod ends leaving a joint along one line)")
+    return length
+
+
+def path_model(a: Any, elements: int, mu: float, order: Any, model: Any, wide: float | None,
+               h: float) -> tuple[Any, Any]:
+    """Return the barrier path's discrete model and the contact model whose pairs are judged.
+
+    ``(None, None)``: ``a``'s plain model, :func:`~.multistable.transitions.judged_pairs`'
+    default. With ``order`` (``--layers``) the stacked model (welds spanning the layers);
+    with ``wide`` (``--cusp-width`` as a length) the model with wide cusp welds and every
+    pair the contact model sees judged (``model``, else one of capsules ``h``), the cusps'
+    two ends included.
+    """
+    from ..multistable.discover import common_rod
+
+    if order is not None:
+        from ..multistable.layered import stacked_model
+
+        return stacked_model(common_rod(a, elements, mu), order, model), None
+    if wide is not None:
+        from ..nonlinear.equilibrium import rod_contact_model
+
+        return common_rod(a, elements, mu, cusp_width=wide), model or rod_contact_model(a, h)
+    return None, None
+
+
 def into_contact_lines(a: Any, elements: int, mu: float, saddle: Any, ends: dict[str, Any],
                        thickness: float, dhat: float, payload: dict[str, Any],
                        units: Any = None) -> tuple[list[str], bool]:

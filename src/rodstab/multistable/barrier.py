@@ -404,7 +404,8 @@ def monotone_from_saddle(b: Barrier) -> bool:
 
 
 def path_contact(a: Assembly, elements_per_segment: int, xs: np.ndarray, thickness: float,
-                 rod: DiscreteRod | None = None) -> tuple[Any, np.ndarray, np.ndarray]:
+                 rod: DiscreteRod | None = None, model: Any = None
+                 ) -> tuple[Any, np.ndarray, np.ndarray]:
     """Contact along a path of ``a``'s states: the transitions' judgement, and the topology.
 
     ``xs`` (n_states, n_nodes, 3): node positions of the path's states in order, on the
@@ -414,13 +415,15 @@ def path_contact(a: Assembly, elements_per_segment: int, xs: np.ndarray, thickne
     touch but not swap layers; any other pair must not pass through another). Returns the
     :class:`~.transitions.ContactReport` (distances over ``h``), the elements' node index
     pairs and their rest lengths. ``rod``: the discrete model of the path when it is not
-    ``a``'s plain one (a stacked model, :func:`~.layered.stacked_model`).
+    ``a``'s plain one (a stacked model, :func:`~.layered.stacked_model`). ``model``: judge
+    every pair this contact model sees (:func:`~.transitions.judged_pairs`; for cusp welds of
+    width, whose two ends the default leaves out).
     """
-    from .transitions import ContactTracker
+    from .transitions import ContactTracker, judged_pairs
 
     n = require_int("elements_per_segment", elements_per_segment, 1)
     rod = discretise(a, n) if rod is None else rod
     h = require_finite("thickness", thickness) * a.total_length / len(a.segments)
-    tracker = ContactTracker(rod, h, xs[0])
+    tracker = ContactTracker(rod, h, xs[0], None if model is None else judged_pairs(rod, model))
     report = tracker.stretch("path", [(float(i), x) for i, x in enumerate(xs)])
     return report, rod.edge_nodes.copy(), rod.rest_length.copy()

@@ -523,6 +523,14 @@ def relax_string(band: list[DiscreteRod], *, max_iter: int = STRING_MAX_ITER,
     return band, None, run(False, -1)
 
 
+#: The soft stages' (iterations per stage, most stages) with cusp welds of width: with the
+#: defaults (20, 8) the star -> daisy string of the hexagram did not get inside the model
+#: (6 el.: 16 stages left the cusps' ends 0.89 h apart); with these every image got inside at
+#: 6, 8, 12 and 16 el. (docs/theory/contact.md, "The star -> daisy barrier with welds of
+#: finite width").
+WIDE_CUSP_SOFT = (60, 14)
+
+
 def _built(a: Assembly, n: int, mu: float, cusp_width: float | None) -> DiscreteRod:
     """:func:`~.discover.common_rod`; with ``cusp_width``, relaxed once without contact.
 
@@ -606,7 +614,8 @@ def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
         rods' ends held apart across the tangent; None: point welds.
     soft : tuple of int, optional
         With ``contact``: the soft stages' ``(iterations per stage, most stages)``
-        (:func:`~.string_contact.relax_with_contact`); None: its defaults.
+        (:func:`~.string_contact.relax_with_contact`); None: its defaults, or
+        :data:`WIDE_CUSP_SOFT` with ``cusp_width``.
 
     Returns
     -------
@@ -630,9 +639,14 @@ def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
     n = require_int("elements_per_segment", elements_per_segment, MIN_ELEMENTS)
     n_img = require_int("images", images, 3)
     max_iter = require_int("max_iter", max_iter, 1)
+    if soft is None and cusp_width:
+        soft = WIDE_CUSP_SOFT
     if soft is not None:  # before any work (relax_with_contact checks them again)
         soft = (require_int("soft[0] (stage iterations)", soft[0], 1),
                 require_int("soft[1] (most stages)", soft[1], 0))
+    if layers is not None and cusp_width:  # the stacked model's welds span its layers
+        raise RodstabInputError(f"cusp_width {cusp_width!r} with layers: the stacked model "
+                                "has no cusp welds of width; give one of the two")
     require_nonlinear([n] * len(a.segments), len(a.joints()),
                       f"images {n_img}, {n} elements per rod", limits, copies=n_img)
     rod_a, rod_b = _built(a, n, mu, cusp_width), _built(b, n, mu, cusp_width)

@@ -92,8 +92,20 @@ SNAP_RELAXES = 3
 
 
 # ---------------------------------------------------------------------------- contact
-def judged_pairs(rod: DiscreteRod) -> np.ndarray:
-    """Pairs ``(a, b)`` of elements judged for contact (module docstring), ``(n_pairs, 2)``."""
+def judged_pairs(rod: DiscreteRod, model: ContactModel | None = None) -> np.ndarray:
+    """Pairs ``(a, b)`` of elements judged for contact (module docstring), ``(n_pairs, 2)``.
+
+    ``model``: judge instead every pair the contact model sees on ``rod`` (its mesh's
+    exclusions: neighbours along the structure within the capsules' reach). For cusp welds of
+    width (``discretise``'s ``cusp_width``) the two ends of a cusp are separate capsules the
+    model keeps apart, which the default, all pairs of rods sharing a joint left out, misses.
+    """
+    if model is not None:
+        from ..nonlinear.contact_model import mesh_of_rod
+
+        i, j = np.triu_indices(len(rod.R_edge), 1)
+        keep = ~mesh_of_rod(rod, model).excluded_elements(i, j)
+        return np.stack([i[keep], j[keep]], axis=1)
     n_seg = len(rod.assembly.segments)
     n = len(rod.R_edge) // n_seg
     joints = [{rod.end_links[2 * s][1], rod.end_links[2 * s + 1][1]} for s in range(n_seg)]
