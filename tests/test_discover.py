@@ -229,21 +229,33 @@ def test_restore_inextensible_removes_the_strain_restore_positions_leaves(angle)
 
 
 @pytest.mark.parametrize("angle", [0.1, 1.0])
-def test_retraction_dense_and_sparse_solves_agree(angle, monkeypatch):
-    """The retraction solves its systems dense up to constraint.DENSE_MAX unknowns and sparse
-    above: both are direct solves of one SPD system, so the retracted states agree to
-    round-off times its condition number (~1/INEXTENSIBLE_REG times the graph Laplacian's, a
-    few hundred here): measured 6e-11 of the ring's size at 1 rad; bound 1e-9."""
+def test_retraction_banded_dense_and_sparse_solves_agree(angle, monkeypatch):
+    """The retraction solves its reduced system banded when its bandwidth in the reverse
+    Cuthill-McKee order is small (a ring: 5 coordinates here), else dense up to
+    constraint.DENSE_MAX unknowns and sparse above: all are direct solves of one SPD system,
+    so the retracted states agree to round-off times its condition number (~1/INEXTENSIBLE_REG
+    times the graph Laplacian's, a few hundred here): measured 6e-11 of the ring's size at 1
+    rad (dense against sparse); bound 1e-9."""
     _, turned = _turned_folded_ring(angle)
-    assert 3 * len(turned.x) < constraint.DENSE_MAX  # the default takes the dense path here
-    dense, sparse = turned.copy(), turned.copy()
+    assert 3 * len(turned.x) < constraint.DENSE_MAX  # the dense path, when not banded
+    constraint._TOPOLOGIES.clear()
+    band = constraint._topology(turned).band
+    assert band is not None and band[1] <= 8  # the default takes the banded path here
+    banded, dense, sparse = turned.copy(), turned.copy(), turned.copy()
+    constraint.restore_inextensible(banded)
+    constraint._TOPOLOGIES.clear()
+    monkeypatch.setattr(constraint, "BANDED_FRACTION", -1.0)
     constraint.restore_inextensible(dense)
+    constraint._TOPOLOGIES.clear()
     monkeypatch.setattr(constraint, "DENSE_MAX", 0)
     constraint.restore_inextensible(sparse)
+    constraint._TOPOLOGIES.clear()
     size = np.ptp(turned.x, axis=0).max()
-    assert np.abs(dense.x - sparse.x).max() < 1e-9 * size
-    assert np.abs(dense.R_edge - sparse.R_edge).max() < 1e-9
-    assert solve.max_strain(sparse) < 1e-8
+    for other in (dense, sparse):
+        assert np.abs(banded.x - other.x).max() < 1e-9 * size
+        assert np.abs(banded.R_edge - other.R_edge).max() < 1e-9
+        assert solve.max_strain(other) < 1e-8
+    assert solve.max_strain(banded) < 1e-8
 
 
 def test_the_retraction_cache_gives_the_cold_results_and_follows_the_supports():
