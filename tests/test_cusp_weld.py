@@ -93,3 +93,35 @@ def test_moving_the_ends_leaves_the_welds_natural_curvature_as_at_a_point_weld()
     point, wide = discretise(a, 8, 1.0), discretise(a, 8, 1.0, cusp_width=0.03)
     for k0p, k0w in zip(point.k0_links, wide.k0_links, strict=True):
         assert np.allclose(k0w, k0p, rtol=1e-9, atol=1e-9)
+
+
+@pytest.mark.parametrize("state, twin", [("star", True), ("daisy", True), ("line", False)])
+def test_a_wide_weld_state_is_the_point_weld_one_with_its_rods_translated_where_the_offsets_close(
+        state, twin) -> None:
+    """Relaxed at kappa_n R0 = 1.5 (rectangle h/t = 4, 8 el., w = 0.023): the star and the
+    daisy with welds of width w have the point-weld energy, edge frames and chords, each rod
+    translated rigidly, because the welds' offsets close round the ring there (sum over the
+    joints of R_J (o_end - o_start) = 0); the line's do not, and its energy is higher. The
+    reason the barriers star <-> daisy are the same with and without wide welds
+    (docs/theory/contact.md)."""
+    a = state_assembly("hexagram", rectangle(aspect=4.0), state)
+    point, wide = common_rod(a, 8, 1.5), common_rod(a, 8, 1.5, cusp_width=0.023)
+    assert newton(point)[0] and newton(wide)[0]
+    on, oj, ov, _ = wide.offsets
+    closure = np.zeros(3)
+    for node, k, o in zip(on[:, 1], oj, ov, strict=True):
+        starts = wide.edge_nodes[:, 0] == node
+        closure += (1.0 if starts.any() else -1.0) * (wide.R_joint[k] @ o)
+    if not twin:
+        assert np.linalg.norm(closure) > 1e-3
+        assert wide.energy() > point.energy() + 1e-3
+        return
+    assert np.linalg.norm(closure) < 1e-12
+    assert wide.energy() == pytest.approx(point.energy(), rel=1e-9, abs=1e-12)
+    # to Newton's tolerance (the star's in-plane turn is soft: frames agree to 2e-7)
+    assert np.abs(wide.R_edge - point.R_edge).max() < 1e-6
+    for s in range(6):  # the nodes of each rod's edges, moved by one vector
+        e = np.arange(8 * s, 8 * s + 8)
+        shift = wide.x[wide.edge_nodes[e, 1]] - point.x[point.edge_nodes[e, 1]]
+        assert np.abs(shift - shift.mean(axis=0)).max() < 1e-6
+        assert np.linalg.norm(shift.mean(axis=0)) > 1e-3  # and they did move
