@@ -292,7 +292,8 @@ def test_transition_with_contact_keeps_every_pair_apart_and_its_threshold(tmp_pa
     r = run_cli([*TR, "--contact", "--out", str(tmp_path)])
     assert r.exit_code == 0, r.stderr
     payload = json.loads(r.stdout)
-    assert payload["contact"] == {"acting": True, "thickness": H, "dhat": 0.1}
+    assert payload["contact"] == {"acting": True, "thickness": H, "dhat": 0.1,
+                                  "cusp_width": None}
     (edge,) = payload["edges"]
     assert edge["physical"] and [c["stretch"] for c in edge["contact"]] == [
         "loading", "snap (relaxed with contact)", "release"]
@@ -523,3 +524,47 @@ def test_wide_cusp_welds_get_the_longer_soft_schedule_unless_one_is_given(hexagr
                                          contact=model, **kw)
     stage = [(k.get("stage_iter"), k.get("max_stages")) for k in seen]
     assert stage == [(None, None), string_method.WIDE_CUSP_SOFT, (7, 3)]
+
+
+TR16 = [*TR[:-4], "16", "--state", "star", "--json"]
+
+
+def test_transitions_at_16_elements_need_wide_cusp_welds_and_keep_every_pair_apart(tmp_path):
+    """At 16 el./rod (h = 0.02 L) the star's point cusp welds put its rods into one another
+    under the contact model: ``transitions --contact --state star`` is refused naming it. With
+    ``--cusp-width 1.15`` the star loads to the daisy at the threshold of the point welds
+    without contact (an independent run: at the symmetric states of the loading the wide-weld
+    state is the point-weld one with its rods translated, docs/theory/contact.md), and the
+    written path keeps every pair of elements that share no node at least h apart, sampled
+    from the file alone (the cusps' two ends, separate capsules, included)."""
+    from conftest import run_cli
+
+    from rodstab.io.path_file import read_path_file
+
+    refused = run_cli([*TR16, "--contact"])
+    assert refused.exit_code == 2 and "'star'" in refused.stderr
+    assert "interpenetrate" in refused.stderr
+    r = run_cli([*TR16, "--contact", "--cusp-width", "1.15", "--out", str(tmp_path)])
+    assert r.exit_code == 0, r.stderr
+    payload = json.loads(r.stdout)
+    assert payload["contact"]["cusp_width"] == 1.15
+    (edge,) = payload["edges"]
+    assert edge["to"] == "daisy" and edge["physical"]
+    plain = run_cli(TR16)
+    (ref,) = json.loads(plain.stdout)["edges"]
+    assert not ref["physical"]  # without contact the snap passes rods through each other
+    assert edge["threshold"] == pytest.approx(ref["threshold"], rel=1e-7)
+    z = read_path_file(edge["path_file"])
+    slack = 0.01 * float(z["rest_length"].max())
+    judged = judged_pairs(z["edges"], 6)
+    assert min(smallest_distance(x, z["edges"], judged) for x in z["x"][::2]) >= H - slack
+
+
+def test_bad_cusp_width_of_transitions_exits_2_naming_it():
+    from conftest import run_cli
+
+    r = run_cli([*TR, "--cusp-width", "0.9"])
+    assert r.exit_code == 2 and "--cusp-width 0.9" in r.stderr
+    r = run_cli([*TR[:-3], "--contact", "--state", "line", "--cusp-width", "1.2", "--layers",
+                 "1=0,2=1,3=0,4=1,5=0,6=1"])
+    assert r.exit_code == 2 and "--cusp-width 1.2 is not an option of --layers" in r.stderr

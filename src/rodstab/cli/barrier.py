@@ -16,8 +16,14 @@ from ..io.outputs import check_output
 from ..limits import Limits
 from ..model import CONTACT_DHAT_FRACTION
 from ..sections import Section
-from .barrier_contact import check_cusp_width, contact_line, knot_line, path_model
-from .contact_options import layers_option, parse_layers, path_contact_options
+from .barrier_contact import contact_line, knot_line, path_model
+from .contact_options import (
+    check_cusp_width,
+    cusp_width_option,
+    layers_option,
+    parse_layers,
+    path_contact_options,
+)
 from .options import (
     elements_option,
     json_option,
@@ -79,11 +85,7 @@ _BARRIER_STATES = {"six-ring": ("folded", "one-loop"), "hexagram": ("line", "sta
                    "--contact-thickness, dhat --contact-dhat), one branch per side of each "
                    "pair of rods intersecting at it, and name where each saddle's descents "
                    "with contact end (rodstab.multistable.contact_saddle). String method.")
-@click.option("--cusp-width", "cusp_width", type=float, default=None,
-              help="Cusp welds of this width W, in units of --contact-thickness h (W >= 1): "
-                   "the two rod ends of every cusp held W h apart across the tangent, so rods "
-                   "of thickness can leave it (at a point weld they overlap). String method; "
-                   "not with --layers or --into-contact.")
+@cusp_width_option
 @section_options
 @limit_options
 @json_option
@@ -181,8 +183,12 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
             raise RodstabInputError(f"--layers {layers!r}: a barrier takes NAME=K, NAME=U:K or "
                                     "NAME=U:K:S for every segment, not 'torus'")
         order = parsed
-    wide = None if cusp_width is None else check_cusp_width(
-        cusp_width, a, h, from_state, method, order is not None or into_contact)
+    wide = None
+    if cusp_width is not None:
+        wide = check_cusp_width(cusp_width, a, h, from_state)
+        if method != "string" or order is not None or into_contact:
+            raise RodstabInputError(f"--cusp-width {cusp_width!r} is an option of --method "
+                                    "string without --layers or --into-contact")
     # Sized before anything is built: the string relaxes its images together.
     string = method == "string"
     require_nonlinear([elements] * len(a.segments), len(a.joints()),

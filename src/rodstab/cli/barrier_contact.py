@@ -7,28 +7,6 @@ from typing import Any
 from .output import fmt
 
 
-def check_cusp_width(w: float, a: Any, h: float, from_state: str, method: str, other: bool
-                ) -> float:
-    """``--cusp-width`` checked, as a length (``w h`` times the mean rod length)."""
-    import math
-
-    from ..errors import RodstabInputError
-    from ..nonlinear.mesh import cusp_offsets
-
-    if not (math.isfinite(w) and w >= 1.0):
-        raise RodstabInputError(f"--cusp-width {w!r}: a weld narrower than the rods' thickness "
-                                "(1, in units of --contact-thickness) puts the two ends' rods "
-                                "into one another; give a finite number >= 1")
-    if method != "string" or other:
-        raise RodstabInputError(f"--cusp-width {w!r} is an option of --method string without "
-                                "--layers or --into-contact")
-    length = w * h * a.total_length / len(a.segments)
-    if not cusp_offsets(a, a.joints(), length):
-        raise RodstabInputError(f"--cusp-width {w!r}: the --from state {from_state!r} has no "
-                                "cusp (two rod ends leaving a joint along one line)")
-    return length
-
-
 def path_model(a: Any, elements: int, mu: float, order: Any, model: Any, wide: float | None,
                h: float) -> tuple[Any, Any]:
     """Return the barrier path's discrete model and the contact model whose pairs are judged.

@@ -284,3 +284,34 @@ def cone_block(a: Any, layers: str | None, thickness_ratio: float, n: int
                               "limits": None if limits is None else limits.to_dict(),
                               "limits_in_plane": None if full is None else full.to_dict()}
     return block, cone_lines(cone, how, limits, full)
+
+
+#: ``--cusp-width``: one definition for ``barrier`` and ``transitions``.
+cusp_width_option = click.option(
+    "--cusp-width", "cusp_width", type=float, default=None,
+    help="Cusp welds of this width W, in units of --contact-thickness h (W >= 1): the two rod "
+         "ends of every cusp held W h apart across the tangent, so rods of thickness can "
+         "leave it (at a point weld they overlap); every pair the contact model sees is then "
+         "judged. Not with --layers.")
+
+
+def check_cusp_width(w: float, a: Any, h: float, state: str) -> float:
+    """``--cusp-width`` checked on state ``state`` (assembly ``a``), as a length.
+
+    ``w h`` times the mean rod length (``h``: ``h / L``). Refused, naming the value: not
+    finite or below 1 (narrower than the rods), or ``a`` has no cusp (two rod ends leaving a
+    joint along one line).
+    """
+    import math
+
+    from ..nonlinear.mesh import cusp_offsets
+
+    if not (math.isfinite(w) and w >= 1.0):
+        raise RodstabInputError(f"--cusp-width {w!r}: a weld narrower than the rods' thickness "
+                                "(1, in units of --contact-thickness) puts the two ends' rods "
+                                "into one another; give a finite number >= 1")
+    length = w * h * a.total_length / len(a.segments)
+    if not cusp_offsets(a, a.joints(), length):
+        raise RodstabInputError(f"--cusp-width {w!r}: the state {state!r} has no cusp (two rod "
+                                "ends leaving a joint along one line)")
+    return length

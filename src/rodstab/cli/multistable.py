@@ -21,7 +21,9 @@ from ..limits import Limits, require_steps
 from ..results import jsonable
 from ..sections import Section
 from .contact_options import (
+    check_cusp_width,
     contact_options,
+    cusp_width_option,
     layers_option,
     parse_layers,
     path_contact_options,
@@ -219,6 +221,7 @@ def discover(design_file: str | None, section: Section, structure: str, segments
                "the rod, to stagger welds) also accepted. The one --state "
                "loaded is stacked in this order, its welds spanning the layers, and loaded "
                "in load_factor (needs --contact).")
+@cusp_width_option
 @click.option("--all", "all_stimuli", is_flag=True,
               help="Try every stimulus of each state, not only up to the first transition.")
 @click.option("--out", "out_dir", type=click.Path(file_okay=False), default=None,
@@ -232,8 +235,8 @@ def discover(design_file: str | None, section: Section, structure: str, segments
 def transitions(design_file: str | None, section: Section, structure: str,
                 load_factor: float | None, elements: int,
                 contact: Any, stimuli: tuple[str, ...], states_: tuple[str, ...],
-                layers: str | None, all_stimuli: bool, out_dir: str | None, limits: Limits,
-                as_json: bool) -> None:
+                layers: str | None, cusp_width: float | None, all_stimuli: bool,
+                out_dir: str | None, limits: Limits, as_json: bool) -> None:
     """Transitions between states under a stimulus: the transition graph.
 
     Each state is loaded until it first loses stability, relaxed past it, unloaded and
@@ -283,15 +286,22 @@ def transitions(design_file: str | None, section: Section, structure: str,
             if key != "load_factor":
                 raise RodstabInputError(f"--stimulus {states_[0]}={key}:{stop:g}: a state "
                                         "stacked with --layers is loaded in load_factor only")
+    if cusp_width is not None:
+        if order is not None:
+            raise RodstabInputError(f"--cusp-width {cusp_width!r} is not an option of "
+                                    "--layers (the stacked model's welds span its layers)")
+        first = states_[0] if states_ else "star" if "star" in labels else labels[0]
+        check_cusp_width(cusp_width, ring.held(ring.state(first).theta), thickness, first)
     out = None if out_dir is None else check_output("--out", out_dir, directory=True)
     with warnings_as_lines(), warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)
         res = rt.transitions(ring, load_factor=load_factor, elements=elements,
                              thickness=thickness, stimuli=stim, all_stimuli=all_stimuli,
                              load=tuple(states_) or None, limits=limits, dhat_fraction=dhat,
-                             layers=order)
+                             layers=order, cusp_width=cusp_width)
     payload = res.graph.to_json()
-    payload["contact"] = {"acting": dhat is not None, "thickness": thickness, "dhat": dhat}
+    payload["contact"] = {"acting": dhat is not None, "thickness": thickness, "dhat": dhat,
+                          "cusp_width": cusp_width}
     payload["structure"] = name
     payload["section"] = section.to_dict()
     units = None if design is None else design.units
@@ -331,7 +341,8 @@ def transitions(design_file: str | None, section: Section, structure: str,
     lines = [section_line(section),
              f"{name} at {load_name} = {fmt(load_factor)}, {elements} elements per rod, "
              f"contact thickness h/L = {fmt(thickness)}"
-             + ("" if dhat is None else f", acting (capsules, dhat/h = {fmt(dhat)})")]
+             + ("" if dhat is None else f", acting (capsules, dhat/h = {fmt(dhat)})")
+             + ("" if cusp_width is None else f"; cusp welds {fmt(cusp_width)} h wide")]
     if units is not None:
         u = payload["units"]
         lines += [units_line(units), f"physical     load factor {fmt(load_factor)}: natural "

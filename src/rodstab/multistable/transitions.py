@@ -58,7 +58,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..errors import NotConverged, RodstabInputError
-from ..model import Assembly
+from ..model import CONTACT_DHAT_FRACTION, Assembly
 from ..nonlinear.contact import ContactModel, Interpenetration, attach_contact
 from ..nonlinear.continuation import continuation
 from ..nonlinear.discrete import DiscreteRod, discretise
@@ -290,12 +290,13 @@ class Transition(Result):
     welds: WeldSpans | None = None
 
 
-def _let_go(rod: DiscreteRod, a: Assembly, n: int) -> DiscreteRod:
+def _let_go(rod: DiscreteRod, a: Assembly, n: int, cusp_width: float | None = None
+            ) -> DiscreteRod:
     """Return the state of ``rod`` on a fresh discretisation (free gauge, no loads).
 
     The contact model, if any, is kept (one topology, one mesh).
     """
-    free = discretise(a, n, rod.load_factor)
+    free = discretise(a, n, rod.load_factor, cusp_width=cusp_width)
     free.x, free.R_edge, free.R_joint = rod.x.copy(), rod.R_edge.copy(), rod.R_joint.copy()
     free.contact = rod.contact
     return free
@@ -324,7 +325,8 @@ def transition(a: Assembly, source: str, key: str, stop: float, *, load_factor: 
                references: dict[str, DiscreteRod], thickness: float,
                elements_per_segment: int = 8, n_steps: int = 16,
                contact: ContactModel | None = None,
-               layers: dict[str, Any] | None = None) -> Transition:
+               layers: dict[str, Any] | None = None,
+               cusp_width: float | None = None) -> Transition:
     """Load state ``source`` (assembly ``a``) in ``key`` from 0 to ``stop`` (module docstring).
 
     ``references``: the stable states to identify the target against (discretised alike);
@@ -337,9 +339,16 @@ def transition(a: Assembly, source: str, key: str, stop: float, *, load_factor: 
     the source is a stacked state with this layer order (:func:`_stacked_source`), loaded,
     snapped and released in its stacked model (welds spanning the layers); the state reached
     is identified against ``references`` by its ring nodes
-    (:func:`~.identify.identify`).
+    (:func:`~.identify.identify`). ``cusp_width``: cusp welds of that width (length;
+    :func:`~rodstab.nonlinear.discrete.discretise`), the source relaxed without contact before
+    contact judges it (as built, only its end nodes moved); ``references`` must be
+    discretised with it too, and every pair the contact model sees is judged
+    (:func:`judged_pairs`; a model of capsules ``thickness`` when ``contact`` is None).
     """
     n = elements_per_segment
+    if layers is not None and cusp_width:
+        raise RodstabInputError(f"cusp_width {cusp_width!r} with layers: the stacked model has "
+                                "no cusp welds of width; give one of the two")
     if layers is not None:
         if key != "load_factor":
             raise RodstabInputError(f"layers = {layers!r}: a stacked state is loaded in "
@@ -350,7 +359,9 @@ def transition(a: Assembly, source: str, key: str, stop: float, *, load_factor: 
         welds = weld_spans(rod, thickness)
     else:
         welds = None
-        rod = discretise(a, n, load_factor)
+        rod = discretise(a, n, load_factor, cusp_width=cusp_width)
+        if cusp_width:  # only the end nodes were moved: relaxed before contact judges it
+            newton(rod)
         if contact is not None:
             try:
                 attach_contact(rod, contact)
@@ -365,7 +376,13 @@ def transition(a: Assembly, source: str, key: str, stop: float, *, load_factor: 
     param = parameter(a, key, n)
     is_lf = key == "load_factor"
     start = load_factor if is_lf else 0.0
-    tracker = ContactTracker(rod, thickness, rod.x.copy())
+    judge = None
+    if cusp_width:  # the cusps' two ends are separate capsules: every pair the model sees
+        L = a.total_length / len(a.segments)
+        judge = judged_pairs(rod, contact or ContactModel.for_rods(
+            thickness, dhat_fraction=CONTACT_DHAT_FRACTION,
+            bending_stiffness=max(sg.B3 for sg in a.segments), length=L))
+    tracker = ContactTracker(rod, thickness, rod.x.copy(), judge)
     samples: list[tuple[float, np.ndarray]] = []
     work = rod.copy()
     param.prepare(work)
@@ -414,7 +431,8 @@ def transition(a: Assembly, source: str, key: str, stop: float, *, load_factor: 
         snap_name = "snap (relaxed with contact)"
         proxy = [(past, x) for x in steps or []]
     reports.append(tracker.stretch(snap_name, proxy, joined_inside=inside))
-    let_go = (lambda r: r.copy()) if layers is not None else (lambda r: _let_go(r, a, n))
+    let_go = ((lambda r: r.copy()) if layers is not None else
+              (lambda r: _let_go(r, a, n, cusp_width)))
     under, _ = identify(let_go(snapped), references)
     release: list[tuple[float, np.ndarray]] = []
     for p in np.linspace(past, start, RELEASE_STEPS + 1)[1:]:
@@ -495,7 +513,8 @@ def transition_graph(assemblies: dict[str, Assembly],
                      n_steps: int = 16, all_stimuli: bool = False,
                      load: Sequence[str] | None = None,
                      contact: ContactModel | None = None,
-                     layers: Mapping[str, dict[str, Any]] | None = None) -> TransitionGraph:
+                     layers: Mapping[str, dict[str, Any]] | None = None,
+                     cusp_width: float | None = None) -> TransitionGraph:
     """Transitions out of every state of ``assemblies`` (one discretised ring, many states).
 
     ``stimuli[state]``: ``(key, stop)`` tried in order until one gives a transition to another
@@ -506,10 +525,11 @@ def transition_graph(assemblies: dict[str, Assembly],
     identification. ``contact``: passed to :func:`transition`; a state whose rods overlap
     under it (stacked layers on one curve) is skipped (listed), or refused when named.
     ``layers[state]``: that state is stacked in this layer order (:func:`transition`).
+    ``cusp_width``: cusp welds of that width in every state (:func:`transition`).
     """
     refs = {}
     for name, a in assemblies.items():
-        r = discretise(a, elements_per_segment, load_factor)
+        r = discretise(a, elements_per_segment, load_factor, cusp_width=cusp_width)
         newton(r)
         refs[name] = r
     edges, states, skipped = [], list(assemblies), []
@@ -523,7 +543,7 @@ def transition_graph(assemblies: dict[str, Assembly],
                 t = transition(a, name, key, stop, load_factor=load_factor, references=refs,
                                thickness=thickness, elements_per_segment=elements_per_segment,
                                n_steps=n_steps, contact=contact,
-                               layers=(layers or {}).get(name))
+                               layers=(layers or {}).get(name), cusp_width=cusp_width)
             except Interpenetration as exc:
                 if load is not None:
                     raise
@@ -535,9 +555,15 @@ def transition_graph(assemblies: dict[str, Assembly],
             if not all_stimuli and t.target is not None and t.target != name:
                 break
     if skipped and len(skipped) == len(assemblies):
-        raise RodstabInputError(f"no state is stable at load factor {load_factor:g} (states "
-                                f"{list(assemblies)}): choose a load inside a stable interval "
-                                "(rodstab atlas lists them)")
+        if all(why.startswith("not stable") for _, why in skipped):
+            raise RodstabInputError(f"no state is stable at load factor {load_factor:g} "
+                                    f"(states {list(assemblies)}): choose a load inside a "
+                                    "stable interval (rodstab atlas lists them)")
+        raise RodstabInputError(f"no state can be loaded at load factor {load_factor:g}: "
+                                + "; ".join(f"{name} {why}" for name, why in skipped)
+                                + " (rods that leave a cusp along one line overlap under the "
+                                "contact model at fine meshes: give the cusp welds a width, "
+                                "rodstab transitions --cusp-width)")
     return TransitionGraph(tuple(states), tuple(edges), load_factor, elements_per_segment,
                            thickness,
                            "pseudo-arclength continuation to the first loss of stability, "

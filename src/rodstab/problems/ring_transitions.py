@@ -175,7 +175,8 @@ def transitions(ring: Ring, *, load_factor: float, elements: int = 8,
                 all_stimuli: bool = False, load: tuple[str, ...] | None = None,
                 limits: Limits = DEFAULT_LIMITS,
                 dhat_fraction: float | None = None,
-                layers: dict[str, dict[str, Any]] | None = None) -> RingTransitions:
+                layers: dict[str, dict[str, Any]] | None = None,
+                cusp_width: float | None = None) -> RingTransitions:
     """Transition graph of the states ``load`` of ``ring`` at ``load_factor`` (module docstring).
 
     ``load``: labels of :meth:`~rodstab.multistable.states.Ring.states`, each of which must be
@@ -190,6 +191,7 @@ def transitions(ring: Ring, *, load_factor: float, elements: int = 8,
     basic state outside the model is skipped (listed), a named one refused. None: no contact.
     ``layers[state]``: with contact, that state is stacked in this layer order, its welds
     spanning the layers (:func:`~rodstab.multistable.transitions.transition`).
+    ``cusp_width``: cusp welds of that width (in units of ``thickness``) in every state.
     """
     # A closed ring of n rods has n joints.
     require_nonlinear([elements] * ring.segments, ring.segments, f"{elements} elements per rod",
@@ -219,12 +221,14 @@ def transitions(ring: Ring, *, load_factor: float, elements: int = 8,
         from ..nonlinear.equilibrium import rod_contact_model
 
         contact = rod_contact_model(assemblies[refs[0]], thickness, dhat_fraction)
+    wide = None if cusp_width is None else cusp_width * thickness * ring.length
     graph = transition_graph(assemblies, stim, load_factor=load_factor,
                              thickness=thickness * ring.length,
                              elements_per_segment=elements, all_stimuli=all_stimuli,
-                             load=load if named else None, contact=contact, layers=layers)
+                             load=load if named else None, contact=contact, layers=layers,
+                             cusp_width=wide)
     shapes = {}
     for s, a in assemblies.items():
-        r = discretise(a, elements, load_factor)
+        r = discretise(a, elements, load_factor, cusp_width=wide)
         shapes[s] = r.x[ring_nodes(r)]
     return RingTransitions(graph, shapes)
