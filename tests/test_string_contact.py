@@ -466,8 +466,9 @@ BAR = ["barrier", "--structure", "hexagram", "--from", "star", "--to", "daisy", 
 
 
 @pytest.mark.parametrize("extra, match", [
-    (["--cusp-width", "0.5"], "--cusp-width 0.5: a weld narrower than the rods' thickness"),
-    (["--cusp-width", "nan"], "--cusp-width nan: a weld narrower"),
+    (["--cusp-width", "0.5"], "--cusp-width 0.5 must be a finite number >= 1"),
+    (["--cusp-width", "nan"], "--cusp-width nan must be a finite number >= 1"),
+    (["--cusp-width", "inf"], "--cusp-width inf must be a finite number >= 1"),
     (["--cusp-width", "1.2", "--method", "continuation"],
      "--cusp-width 1.2 is an option of --method string"),
     (["--cusp-width", "1.2", "--into-contact"], "--cusp-width 1.2 is an option of --method"),

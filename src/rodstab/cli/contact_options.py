@@ -307,9 +307,9 @@ def check_cusp_width(w: float, a: Any, h: float, state: str) -> float:
     from ..nonlinear.mesh import cusp_offsets
 
     if not (math.isfinite(w) and w >= 1.0):
-        raise RodstabInputError(f"--cusp-width {w!r}: a weld narrower than the rods' thickness "
-                                "(1, in units of --contact-thickness) puts the two ends' rods "
-                                "into one another; give a finite number >= 1")
+        raise RodstabInputError(f"--cusp-width {w!r} must be a finite number >= 1, in units "
+                                "of --contact-thickness (a weld narrower than the rods' "
+                                "thickness puts the two ends' rods into one another)")
     length = w * h * a.total_length / len(a.segments)
     if not cusp_offsets(a, a.joints(), length):
         raise RodstabInputError(f"--cusp-width {w!r}: the state {state!r} has no cusp (two rod "
