@@ -58,7 +58,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..errors import NotConverged, RodstabInputError
-from ..model import CONTACT_DHAT_FRACTION, Assembly
+from ..model import Assembly
 from ..nonlinear.contact import ContactModel, Interpenetration, attach_contact
 from ..nonlinear.continuation import continuation
 from ..nonlinear.discrete import DiscreteRod, discretise
@@ -378,10 +378,10 @@ def transition(a: Assembly, source: str, key: str, stop: float, *, load_factor: 
     start = load_factor if is_lf else 0.0
     judge = None
     if cusp_width:  # the cusps' two ends are separate capsules: every pair the model sees
+        from ..nonlinear.equilibrium import rod_contact_model
+
         L = a.total_length / len(a.segments)
-        judge = judged_pairs(rod, contact or ContactModel.for_rods(
-            thickness, dhat_fraction=CONTACT_DHAT_FRACTION,
-            bending_stiffness=max(sg.B3 for sg in a.segments), length=L))
+        judge = judged_pairs(rod, contact or rod_contact_model(a, thickness / L))
     tracker = ContactTracker(rod, thickness, rod.x.copy(), judge)
     samples: list[tuple[float, np.ndarray]] = []
     work = rod.copy()
