@@ -569,3 +569,34 @@ def test_bad_cusp_width_of_transitions_exits_2_naming_it():
     r = run_cli([*TR[:-3], "--contact", "--state", "line", "--cusp-width", "1.2", "--layers",
                  "1=0,2=1,3=0,4=1,5=0,6=1"])
     assert r.exit_code == 2 and "--cusp-width 1.2 is not an option of --layers" in r.stderr
+
+
+def test_discover_at_16_elements_with_wide_cusp_welds_names_the_star_and_the_daisy():
+    """At 16 el./rod the star with point cusp welds is outside the contact model, so
+    ``discover --contact`` from it is refused; with ``--cusp-width 1.15`` it finds the star and
+    the daisy, named (each weld counted once, at its own node, not at its two ends), at the
+    energies of the point-weld states without contact (an independent Newton solve: the
+    wide-weld states are those with their rods translated, docs/theory/contact.md)."""
+    from conftest import run_cli
+
+    from rodstab.multistable.discover import common_rod
+    from rodstab.nonlinear.solve import newton
+    from rodstab.problems.barrier_states import state_assembly
+    from rodstab.sections import rectangle
+
+    args = ["discover", "--shape", "rectangle", "--aspect", "4", "--load-factor", "1.5",
+            "--elements", "16", "--starts", "0", "--contact", "--json"]
+    refused = run_cli(args)
+    assert refused.exit_code == 2 and "--state 'star'" in refused.stderr
+    r = run_cli([*args, "--cusp-width", "1.15"])
+    assert r.exit_code == 0, r.stderr
+    payload = json.loads(r.stdout)
+    assert payload["contact"]["cusp_width"] == 1.15
+    found = {s["label"]: s for s in payload["states"]}
+    for name in ("star", "daisy"):
+        ref = common_rod(state_assembly("hexagram", rectangle(aspect=4.0), name), 16, 1.5)
+        assert newton(ref)[0]
+        assert found[name]["energy"] == pytest.approx(ref.energy(), rel=1e-8)
+        assert found[name]["invariants"]["distinct_weld_points"] == 6
+    off = run_cli([*args[:-2], "--json", "--cusp-width", "1.15"])
+    assert off.exit_code == 2 and "--cusp-width 1.15 is a setting of contact" in off.stderr

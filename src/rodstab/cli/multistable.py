@@ -89,6 +89,7 @@ from .output import (
               help="Most steps of one climb (default 400; the saddles of the paper's rings "
                    "took 96-341).")
 @contact_options
+@cusp_width_option
 @section_options
 @limit_options
 @json_option
@@ -96,7 +97,7 @@ def discover(design_file: str | None, section: Section, structure: str, segments
              state: str | None, load_factor: float, starts: int, elements: int, rng_seed: int,
              seed_states: bool, plot_path: str | None, saddle_modes: int,
              graph_path: str | None, max_barrier: float | None, climb_steps: int | None,
-             contact: Any, limits: Limits, as_json: bool) -> None:
+             contact: Any, cusp_width: float | None, limits: Limits, as_json: bool) -> None:
     """Equilibria nobody named: deflated Newton from seeds and perturbed starts.
 
     On DESIGN's ring (identical rods welded in a cycle, `rodstab states DESIGN`) or on a
@@ -137,7 +138,14 @@ def discover(design_file: str | None, section: Section, structure: str, segments
     require_steps((starts + 4 * n) * RUNS_PER_START, f"--starts {starts}",
                   "deflated Newton runs", limits)
     start_state = "star" if state is None else state
-    rod, seeds, known = ring_seeds(ring, start_state, n_el, mu, seed_states)
+    wide = None
+    if cusp_width is not None:
+        if setting is None:
+            raise RodstabInputError(f"--cusp-width {cusp_width!r} is a setting of contact, "
+                                    "which is off for this run (--contact)")
+        wide = check_cusp_width(cusp_width, ring.held(ring.state(start_state).theta),
+                                setting[0], start_state)
+    rod, seeds, known = ring_seeds(ring, start_state, n_el, mu, seed_states, wide)
     if setting is not None:
         from ..nonlinear.contact import attach_contact
         from ..nonlinear.equilibrium import rod_contact_model
@@ -153,6 +161,8 @@ def discover(design_file: str | None, section: Section, structure: str, segments
     payload["contact"] = {"acting": setting is not None,
                           "thickness": None if setting is None else setting[0],
                           "dhat": None if setting is None else setting[1]}
+    if cusp_width is not None:
+        payload["contact"]["cusp_width"] = cusp_width
     units = None if design is None else design.units
     if design is not None and units is not None:
         payload["units"] = units.block(
@@ -186,7 +196,10 @@ def discover(design_file: str | None, section: Section, structure: str, segments
               for i, s in enumerate(found.states)]
     if setting is not None:
         lines.insert(2, f"contact      acting: capsules h/L = {fmt(setting[0])}, dhat/h = "
-                        f"{fmt(setting[1])}; starts outside the model, not run: "
+                        f"{fmt(setting[1])}"
+                        + ("" if cusp_width is None else
+                           f", cusp welds {fmt(cusp_width)} h wide")
+                        + "; starts outside the model, not run: "
                         f"{', '.join(found.outside_contact) or 'none'}")
     if saddle_modes:
         from .saddles import saddle_lines

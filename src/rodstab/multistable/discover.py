@@ -466,8 +466,8 @@ def discover(rod: DiscreteRod, seeds: list[tuple[str, Snapshot]], known: list[Kn
 # ---------------------------------------------------------------------------------------------
 # Rings of welded rods (the hexagram, the six-sided ring of Section 5, a design's ring)
 def ring_seeds(ring: Ring, state: str, elements_per_segment: int, load_factor: float,
-               seed_states: bool) -> tuple[DiscreteRod, list[tuple[str, Snapshot]],
-                                           list[KnownState]]:
+               seed_states: bool, cusp_width: float | None = None
+               ) -> tuple[DiscreteRod, list[tuple[str, Snapshot]], list[KnownState]]:
     """Return the common rod (built from held state ``state``), the seeds and the known states.
 
     ``ring``: :func:`rodstab.multistable.states.ring_of` of a design, or
@@ -475,12 +475,20 @@ def ring_seeds(ring: Ring, state: str, elements_per_segment: int, load_factor: f
     ``seed_states`` that of every other closed planar held state of uniform moment with ``|k L| <= 2
     pi`` (:meth:`Ring.states`: the basic states, their mirrors and the others), each put into the
     one common rod. Raises naming ``state`` if it is not a closed state of the ring.
+    ``cusp_width``: cusp welds of that width (length, :func:`common_rod`); each held geometry
+    is then relaxed by Newton (as built only its end nodes moved, which can put its rods
+    into one another at fine meshes), so it is a seed a contact model can take.
     """
     theta = ring.state(state).theta
     listed = ring.states().states
 
     def build(th: float) -> DiscreteRod:
-        return common_rod(ring.held(th), elements_per_segment, load_factor)
+        r = common_rod(ring.held(th), elements_per_segment, load_factor, cusp_width=cusp_width)
+        if cusp_width:
+            from ..nonlinear.solve import newton
+
+            newton(r)
+        return r
 
     rod = build(theta)
     seeds = [(state, Snapshot.of(rod))]

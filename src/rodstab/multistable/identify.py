@@ -290,9 +290,14 @@ def turning_number(rod: DiscreteRod, s: Snapshot, normal: np.ndarray,
 
 
 def weld_points(rod: DiscreteRod, x: np.ndarray) -> np.ndarray:
-    """Positions of the joints, each once, in the order rods link to them, ``(n_joints, 3)``."""
-    nodes = dict.fromkeys(int(rod.edge_nodes[e, 0 if end == "start" else 1])
-                          for e, _, _, end in rod.end_links)
+    """Positions of the joints, each once, in the order rods link to them, ``(n_joints, 3)``.
+
+    A weld that holds its segment ends at offsets from a node of its own (a spanning weld,
+    a cusp weld of width: ``DiscreteRod.offsets``) is at that node, once, not at its ends.
+    """
+    joint_of = {} if rod.offsets is None else {int(e): int(j) for j, e in rod.offsets[0]}
+    nodes = dict.fromkeys(joint_of.get(k, k) for k in (
+        int(rod.edge_nodes[e, 0 if end == "start" else 1]) for e, _, _, end in rod.end_links))
     return x[list(nodes)]
 
 
