@@ -30,6 +30,7 @@ from rodstab.nonlinear.contact import (
     near_type_switch,
     segment_distance,
     stiffness_for_line_load,
+    type_switch_crossings,
 )
 from rodstab.nonlinear.discrete import discretise
 
@@ -506,6 +507,24 @@ def test_switch_report_finds_a_node_at_a_clamped_end_and_the_hessian_jumps_there
             assert rep.offset[0] == pytest.approx(-1e-7, abs=1e-12)
     x, mesh = at(-0.3)
     assert not near_type_switch(mesh, x, tol=1e-3).near
+
+
+def test_a_node_sliding_past_a_clamped_end_is_a_crossing_event_and_nothing_else_is():
+    """type_switch_crossings, between two states: B's node (2) slides past A's free end (the
+    end of element 0) -- one crossing; moved on one side only, or past a smooth node (where
+    the partition of unity keeps the energy C2), none."""
+    d0 = 2 * R_CAP + 0.5 * DHAT
+
+    def at(u, three=False):
+        xa = np.array([[0, 0, 0], [1, 0, 0], [2, 0, 0.0]])[: 3 if three else 2]
+        return two_rods(xa, np.array([[1 + u, 0, d0], [1 + u, 0.3, d0 + 1.0]]))
+
+    (x0, mesh), (x1, _) = at(-0.01), at(0.01)
+    assert type_switch_crossings(mesh, x0, x1) == [(2, 0, 1)]
+    assert type_switch_crossings(mesh, x1, x0) == [(2, 0, 1)]
+    assert type_switch_crossings(mesh, x0, at(-0.02)[0]) == []
+    (y0, smooth), (y1, _) = at(-0.01, True), at(0.01, True)
+    assert type_switch_crossings(smooth, y0, y1) == []
 
 
 # ---------------------------------------------------------------- bad input

@@ -754,6 +754,9 @@ def test_continuation_with_contact_reaches_newtons_equilibrium_and_keeps_every_g
     c = path.contact
     assert c is not None and 0.0 < c["smallest_gap"] < model.dhat
     assert c["smallest_gap_value"] == -0.05 and c["points_checked"] >= 10
+    # the rods lie end over end: their end nodes project on the ends themselves, which is no
+    # side of them (SWITCH_SIDE_TOL), so pressing them together is no C1 event
+    assert c["events"] == []
     eq, rod = equilibrium(_pushed_pair(-0.05), elements_per_segment=16, contact=model)
     assert eq.converged and eq.stable
     assert eq.energy == pytest.approx(path.energy[-1], rel=1e-9)
@@ -825,3 +828,19 @@ def test_continue_design_with_contact_from_the_command_line(run_cli, tmp_path):
     free = json.loads(run_cli([*args, "--no-contact"]).stdout)
     # Without contact the minimum is over more states: a lower energy (the rod goes through).
     assert "contact" not in free and free["energy"][-1] < got["energy"][-1]
+
+
+def test_a_special_point_whose_bracket_meets_a_contact_event_says_so():
+    """The path's contact block lists the C1 switches met between two points, and marks a
+    special point whose bracket meets one (its eigenvalue sign change may be the Hessian's
+    jump there): brackets that overlap an event's, and one that does not."""
+    from rodstab.nonlinear.continuation.run import _contact_block
+
+    model = C.ContactModel.for_rods(H, dhat_fraction=0.1, bending_stiffness=B, length=L)
+    events = [{"kind": "C1 switch", "node": 3, "element": 7, "end": "end",
+               "bracket": [0.2, 0.3]}]
+    specials = [{"value": 0.25, "bracket": [0.24, 0.26]}, {"value": 0.5, "bracket": [0.45, 0.55]},
+                {"value": 0.31, "bracket": [0.35, 0.29]}]
+    block = _contact_block(model, [], 0, events, specials)
+    assert block["events"] == events
+    assert [sp["at_contact_event"] for sp in specials] == [True, False, True]

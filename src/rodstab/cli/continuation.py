@@ -143,6 +143,8 @@ def continue_cmd(design_file: str, vary: str, out_dir: str | None, elements: int
                         for k in block["special_natural_curvature"]["value"]]
     lines += [f"special      {p['kind']} at {r.key} = {fmt(p['value'])}{phys}"
               + (f"; {p['post_buckling']}" if "post_buckling" in p else "")
+              + ("; AT A CONTACT EVENT: the energy is C1 there, the eigenvalue may jump"
+                 if p.get("at_contact_event") else "")
               + _mesh_error_text(p, elements)
               for p, phys in zip(specials, physical, strict=True)] or [
         "special      none: the path stays "
@@ -153,7 +155,16 @@ def continue_cmd(design_file: str, vary: str, out_dir: str | None, elements: int
                f"smallest gap {fmt(c['smallest_gap'])} at {r.key} = "
                f"{fmt(c['smallest_gap_value'])}")
         lines.append(f"contact      capsules h/L = {fmt(touch[0]) if touch else '?'}, dhat "
-                     f"{fmt(c['dhat'])}: {gap} (over the {c['points_checked']} points run)")
+                     f"{fmt(c['dhat'])}: {gap} (over the {c['points_checked']} points run); "
+                     + (f"{len(c['events'])} C1 event(s), a closest point crossing a clamped "
+                        "end" if c["events"] else "no C1 event (no closest point crossed a "
+                        "clamped end)")
+                     + "".join(f"\n             node {ev['node']} past the {ev['end']} of "
+                               f"element {ev['element']} between {r.key} = "
+                               f"{fmt(ev['bracket'][0])} and {fmt(ev['bracket'][1])}"
+                               for ev in c["events"][:5])
+                     + ("" if len(c["events"]) <= 5 else
+                        f"\n             ... ({len(c['events']) - 5} more in the JSON)"))
     emit(payload, as_json, lines)
     if not r.converged:
         where = "" if spec.unit is None else \

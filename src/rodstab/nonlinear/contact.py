@@ -43,6 +43,7 @@ from .contact_step import (
     max_step_fraction,
     near_type_switch,
     smallest_gap,
+    type_switch_crossings,
 )
 
 __all__ = ["EE_NODE_EXCESS", "EE_SIN2_OFF", "EE_SIN2_ON", "EXCLUSION_FACTOR", "PHANTOM_FRACTION",
@@ -52,4 +53,4 @@ __all__ = ["EE_NODE_EXCESS", "EE_SIN2_OFF", "EE_SIN2_ON", "EXCLUSION_FACTOR", "P
            "contact_energy",
            "contact_state", "contact_energy_value", "contact_mesh", "contact_terms",
            "max_step_fraction", "mesh_of_rod", "near_type_switch", "penalty",
-           "segment_distance", "smallest_gap", "stiffness_for_line_load"]
+           "segment_distance", "type_switch_crossings", "smallest_gap", "stiffness_for_line_load"]

@@ -253,6 +253,43 @@ class SwitchReport:
     offset: np.ndarray
 
 
+#: Projections closer than this fraction of the element to a clamped end have no side: a node
+#: that sits on the end (rods side by side, end facing end) switches at round-off, which is no
+#: event.
+SWITCH_SIDE_TOL = 1e-9
+
+
+def _switch_sides(mesh: ContactMesh, x: np.ndarray) -> dict[tuple[int, int, int], float]:
+    """``(node, element, end) -> sign`` of every active node-segment term at a clamped end.
+
+    The sign of the projection's distance from the end into the element (+ inside, where the
+    distance is to the segment; - past the end, where it is to the end node); terms within
+    :data:`SWITCH_SIDE_TOL` of the element's length from the end are left out.
+    """
+    nt, on, _ = _active(mesh, x)
+    out: dict[tuple[int, int, int], float] = {}
+    for k, u in ((0, nt.u0), (1, nt.u1)):
+        keep = (on & (mesh.delta[nt.e, k] == 0)
+                & (np.abs(u) > SWITCH_SIDE_TOL * mesh.rest_length[nt.e]))
+        for p, e, v in zip(nt.p[keep], nt.e[keep], u[keep], strict=True):
+            out[(int(p), int(e), k)] = float(np.sign(v))
+    return out
+
+
+def type_switch_crossings(mesh: ContactMesh, x0: np.ndarray, x1: np.ndarray
+                          ) -> list[tuple[int, int, int]]:
+    """Active node-segment terms whose closest point crossed a clamped end from ``x0`` to ``x1``.
+
+    ``(node, element, end)`` (``end`` 0: the element's start, 1: its end) of every term active
+    at a clamped end in both states whose projection lies on opposite sides of it: between
+    the two states the distance switched type and the energy is only C1 (module doc;
+    :func:`near_type_switch`). A term active in one state only is not a crossing.
+    """
+    a = _switch_sides(mesh, _positions(x0, mesh.n_nodes))
+    b = _switch_sides(mesh, _positions(x1, mesh.n_nodes))
+    return sorted(key for key, side in a.items() if key in b and b[key] != side)
+
+
 def near_type_switch(mesh: ContactMesh, x: np.ndarray, tol: float) -> SwitchReport:
     """Report active terms whose closest point is within ``tol`` of a clamped end.
 

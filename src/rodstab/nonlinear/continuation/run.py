@@ -21,7 +21,7 @@ from ...limits import Limits, require_nonlinear, require_steps
 from ...model import MAX_END_ROTATION, Assembly
 from ...numerics import richardson
 from ..contact_model import ContactModel
-from ..contact_step import attach_contact, contact_state
+from ..contact_step import attach_contact, contact_state, type_switch_crossings
 from ..discrete import MAX_NATURAL_TURNING, DiscreteRod, check_mesh, discretise
 from ..parameters import EndRotation, Parameter, SegmentValue, parameter
 from ..solve import newton, settle
@@ -162,6 +162,10 @@ def continuation(a: Assembly, key: str, start: float, stop: float, n_steps: int,
         meta["contact"] = {"radius": contact.radius, "dhat": contact.dhat,
                            "stiffness": contact.stiffness}
     gaps: list[tuple[float, float]] = []  # (value, smallest capsule gap) with contact
+    # With contact: where a node's closest point crossed a clamped end of an element between
+    # two points of the path (the energy is C1 there, not C2: an event, not a silent jump)
+    events: list[dict] = []
+    last_x: list[np.ndarray] = []
     with contextlib.ExitStack() as held:
         if out is not None:
             out.mkdir(parents=True, exist_ok=True)
@@ -204,6 +208,13 @@ def continuation(a: Assembly, key: str, start: float, stop: float, n_steps: int,
                 gap = contact_state(rod.contact, rod.x).smallest_gap
                 if gap is not None:
                     gaps.append((param.get(rod), gap))
+                if last_x:
+                    for node, element, end in type_switch_crossings(rod.contact, last_x[0],
+                                                                    rod.x):
+                        events.append({"kind": "C1 switch", "node": node, "element": element,
+                                       "end": "start" if end == 0 else "end",
+                                       "bracket": [rows[-2][0], rows[-1][0]]})
+                last_x[:] = [rod.x.copy()]
             if out is not None:
                 storage.save_state(out, rod, param.get(rod), path.tq, path.tp, path.h, rows, meta,
                                    specials)
@@ -262,17 +273,28 @@ def continuation(a: Assembly, key: str, start: float, stop: float, n_steps: int,
                     + (f"; STOPPED: {why}" if why else ""), special_points=tuple(specials),
                     branches=tuple(branches), resumed_steps=resumed,
                     states=tuple(states), contact=None if contact is None else _contact_block(
-                        contact, gaps, resumed))
+                        contact, gaps, resumed, events, specials))
 
 
-def _contact_block(model: ContactModel, gaps: list[tuple[float, float]], resumed: int) -> dict:
-    """Return the path's ``contact``: the model, the smallest gap over the points run here."""
+def _contact_block(model: ContactModel, gaps: list[tuple[float, float]], resumed: int,
+                   events: list[dict], specials: list[dict]) -> dict:
+    """Return the path's ``contact``: the model, the smallest gap over the points run here.
+
+    ``events``: the C1 switches met between two points (:func:`~..contact.type_switch_crossings`);
+    a special point whose bracket meets one gets ``"at_contact_event": True`` (its eigenvalue
+    sign change may be the Hessian's jump there, not a smooth crossing).
+    """
     low = min(gaps, key=lambda vg: vg[1]) if gaps else None
     radius = model.radius if isinstance(model.radius, float) else max(model.radius)
+    for sp in specials:
+        lo, hi = sorted(sp.get("bracket", (sp["value"], sp["value"])))
+        sp["at_contact_event"] = any(min(ev["bracket"]) <= hi and lo <= max(ev["bracket"])
+                                     for ev in events)
     return {"thickness": 2.0 * float(radius), "dhat": model.dhat,
             "stiffness": model.stiffness, "smallest_gap": None if low is None else low[1],
             "smallest_gap_value": None if low is None else low[0],
-            "points_checked": len(gaps), "resumed_points_unchecked": resumed}
+            "points_checked": len(gaps), "resumed_points_unchecked": resumed,
+            "events": events}
 
 
 def _from_dict(key: str, s: dict) -> Path:
