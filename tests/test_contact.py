@@ -525,6 +525,12 @@ def test_a_node_sliding_past_a_clamped_end_is_a_crossing_event_and_nothing_else_
     assert type_switch_crossings(mesh, x0, at(-0.02)[0]) == []
     (y0, smooth), (y1, _) = at(-0.01, True), at(0.01, True)
     assert type_switch_crossings(smooth, y0, y1) == []
+    # a state on the switch says so (its Hessian is one-sided); near it, or at a smooth
+    # node, not
+    on_end, mesh = at(0.0)
+    assert C.contact_state(mesh, on_end).at_switch == 1
+    assert C.contact_state(mesh, x0).at_switch == 0
+    assert C.contact_state(smooth, at(0.0, True)[0]).at_switch == 0
 
 
 # ---------------------------------------------------------------- bad input

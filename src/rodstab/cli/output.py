@@ -267,7 +267,10 @@ def contact_lines(state: Any, hL: float) -> list[str]:
            f"{state.pair[1]})")
     return [f"contact      capsules h/L = {fmt(hL)}, dhat {fmt(state.dhat)}: {gap}; "
             f"{state.active_pairs} active terms, contact force {fmt(state.total_force)} "
-            f"(largest on a node {fmt(state.largest_node_force)})"]
+            f"(largest on a node {fmt(state.largest_node_force)})"
+            + ("" if not state.at_switch else
+               f"; AT A C1 POINT: {state.at_switch} term(s) with the closest point on a "
+               "clamped end, where the Hessian (and the verdict) holds on one side only")]
 
 
 def arc_text(block: dict[str, Any], prefix: str, units: Units) -> str:

@@ -253,6 +253,9 @@ class SwitchReport:
     offset: np.ndarray
 
 
+#: A state whose active node-segment term projects within this fraction of the element's
+#: length of a clamped end sits on the switch (:attr:`ContactState.at_switch`).
+SWITCH_NEAR = 1e-6
 #: Projections closer than this fraction of the element to a clamped end have no side: a node
 #: that sits on the end (rods side by side, end facing end) switches at round-off, which is no
 #: event.
@@ -344,6 +347,10 @@ class ContactState(Result):
         press on one another with.
     largest_node_force : float
         The largest contact force on one node (force).
+    at_switch : int
+        Active node-segment terms whose closest point lies on a clamped end, within
+        :data:`SWITCH_NEAR` of the element's length (:func:`near_type_switch`): the energy is
+        only C1 there, so the Hessian, and the stability verdict from it, holds on one side.
     """
 
     thickness: float
@@ -354,6 +361,7 @@ class ContactState(Result):
     active_pairs: int
     total_force: float
     largest_node_force: float
+    at_switch: int = 0
 
 
 def smallest_gap(mesh: ContactMesh, x: np.ndarray) -> tuple[float, tuple[int, int]] | None:
@@ -395,9 +403,12 @@ def contact_state(mesh: ContactMesh, x: np.ndarray) -> ContactState:
     _, grad, _ = contact_terms(mesh, x, 1)
     assert grad is not None  # order 1
     f = np.linalg.norm(grad.reshape(-1, 3), axis=1)
+    near = sum(int(np.sum(on & (mesh.delta[nt.e, k] == 0)
+                          & (np.abs(u) <= SWITCH_NEAR * mesh.rest_length[nt.e])))
+               for k, u in ((0, nt.u0), (1, nt.u1)))
     return ContactState(2.0 * float(mesh.radius[0]), mesh.model.dhat, mesh.model.stiffness,
                         gap, pair, int(np.sum(on)) + len(ee), 0.5 * float(f.sum()),
-                        float(f.max(initial=0.0)))
+                        float(f.max(initial=0.0)), near)
 
 
 def attach_contact(rod: Any, model: Any) -> None:
