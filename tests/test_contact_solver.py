@@ -844,3 +844,41 @@ def test_a_special_point_whose_bracket_meets_a_contact_event_says_so():
     block = _contact_block(model, [], 0, events, specials)
     assert block["events"] == events
     assert [sp["at_contact_event"] for sp in specials] == [True, False, True]
+
+
+def _tip_under_a_rod(theta=0.0):
+    """A cantilever (clamped at x = 0, free end 3e-5 past x = L/2) below a rod clamped at both
+    ends, ``h + 0.002`` apart; the cantilever's clamp turned by ``theta`` about e3 (positive:
+    towards the upper rod, which its tip then presses)."""
+    lo = Segment(name="lo", length=0.5 * L + 3e-5, curvature=0.0, natural_curvature=0.0, B1=B,
+                 B2=B / 1.3, B3=B, start=(0.0, 0.0), angle=0.0)
+    rot = (("lo", "start", (0.0, 0.0, theta)),) if theta else ()
+    return Assembly(segments=(lo, _segment("up", start=(0.0, H + 0.002))),
+                    supports=(("lo", "start", "clamped"), ("up", "start", "clamped"),
+                              ("up", "end", "clamped")), end_rotations=rot)
+
+
+def test_continuation_reports_where_a_node_slides_past_a_free_end():
+    """The cantilever's tip pressed up into the other rod (clamp turned 0 -> 0.04 rad, 16 el.):
+    the upper rod's node above the tip (x = L/2) has its closest point on the cantilever's last
+    element, 3e-5 inside its free end, and past it once the tip has retracted. The path
+    reports that one C1 event, node over the end of element 15. Independently (Newton with
+    the clamp turned at once to each end of the event's bracket, and the projection measured
+    here): the node projects inside the element at the bracket's start, past its end at the
+    bracket's end."""
+    from rodstab.nonlinear.continuation import continuation
+    from rodstab.nonlinear.equilibrium import equilibrium
+
+    model = C.ContactModel.for_rods(H, dhat_fraction=0.1, bending_stiffness=B, length=L)
+    path = continuation(_tip_under_a_rod(), "support.0.rotation.binormal", 0.0, 0.04, 30,
+                        elements_per_segment=16, branch_steps=0, contact=model)
+    assert path.converged
+    (ev,) = path.contact["events"]
+    assert (ev["element"], ev["end"]) == (15, "end")
+    node = ev["node"]
+    for theta, inside in zip(ev["bracket"], (True, False), strict=True):
+        eq, rod = equilibrium(_tip_under_a_rod(theta), elements_per_segment=16, contact=model)
+        assert eq.converged
+        a, b = rod.x[rod.edge_nodes[15]]
+        along = float((rod.x[node] - a) @ (b - a) / np.linalg.norm(b - a))
+        assert (along < np.linalg.norm(b - a)) == inside
