@@ -841,8 +841,8 @@ def test_a_special_point_whose_bracket_meets_a_contact_event_says_so():
                "bracket": [0.2, 0.3]}]
     specials = [{"value": 0.25, "bracket": [0.24, 0.26]}, {"value": 0.5, "bracket": [0.45, 0.55]},
                 {"value": 0.31, "bracket": [0.35, 0.29]}]
-    block = _contact_block(model, [], 0, events, specials)
-    assert block["events"] == events
+    block = _contact_block(model, [], 0, events, specials, 4)
+    assert block["events"] == events and block["points_checked"] == 4
     assert [sp["at_contact_event"] for sp in specials] == [True, False, True]
 
 

@@ -262,21 +262,33 @@ SWITCH_NEAR = 1e-6
 SWITCH_SIDE_TOL = 1e-9
 
 
-def _switch_sides(mesh: ContactMesh, x: np.ndarray) -> dict[tuple[int, int, int], float]:
-    """``(node, element, end) -> sign`` of every active node-segment term at a clamped end.
+def _clamped_end_terms(mesh: ContactMesh, x: np.ndarray
+                       ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Active node-segment terms at a clamped end: ``(node, element, end, u)`` arrays.
 
-    The sign of the projection's distance from the end into the element (+ inside, where the
-    distance is to the segment; - past the end, where it is to the end node); terms within
-    :data:`SWITCH_SIDE_TOL` of the element's length from the end are left out.
+    ``end`` 0 or 1 (the element's start or end); ``u`` the projection's signed distance from
+    that end into the element (length; negative past it, where the distance is to the end
+    node). The one place the C1 switches are found (:func:`type_switch_crossings`,
+    :func:`near_type_switch`, :attr:`ContactState.at_switch`).
     """
     nt, on, _ = _active(mesh, x)
-    out: dict[tuple[int, int, int], float] = {}
-    for k, u in ((0, nt.u0), (1, nt.u1)):
-        keep = (on & (mesh.delta[nt.e, k] == 0)
-                & (np.abs(u) > SWITCH_SIDE_TOL * mesh.rest_length[nt.e]))
-        for p, e, v in zip(nt.p[keep], nt.e[keep], u[keep], strict=True):
-            out[(int(p), int(e), k)] = float(np.sign(v))
-    return out
+    parts = []
+    for end, off in ((0, nt.u0), (1, nt.u1)):
+        m = on & (mesh.delta[nt.e, end] == 0)
+        parts.append((nt.p[m], nt.e[m], np.full(int(m.sum()), end), off[m]))
+    p, e, k, u = (np.concatenate(c) for c in zip(*parts, strict=True))
+    return p, e, k, u
+
+
+def _switch_sides(mesh: ContactMesh, x: np.ndarray) -> dict[tuple[int, int, int], float]:
+    """Return ``(node, element, end) -> sign of u`` (:func:`_clamped_end_terms`).
+
+    Only the terms further than :data:`SWITCH_SIDE_TOL` of the element's length from the end.
+    """
+    p, e, k, u = _clamped_end_terms(mesh, x)
+    keep = np.abs(u) > SWITCH_SIDE_TOL * mesh.rest_length[e]
+    return {(int(a), int(b), int(c)): float(np.sign(v))
+            for a, b, c, v in zip(p[keep], e[keep], k[keep], u[keep], strict=True)}
 
 
 def type_switch_crossings(mesh: ContactMesh, x0: np.ndarray, x1: np.ndarray
@@ -314,14 +326,9 @@ def near_type_switch(mesh: ContactMesh, x: np.ndarray, tol: float) -> SwitchRepo
     """
     x = _positions(x, mesh.n_nodes)
     tol = require_positive("tol", tol)
-    nt, on, _ = _active(mesh, x)
-    offs, hit = [], []
-    for k, u in ((0, nt.u0), (1, nt.u1)):
-        near = on & (mesh.delta[nt.e, k] == 0) & (np.abs(u) < tol)
-        hit.append(np.flatnonzero(near))
-        offs.append(-u[near])
-    idx = np.concatenate(hit)
-    return SwitchReport(bool(len(idx)), nt.p[idx], nt.e[idx], np.concatenate(offs))
+    p, e, _, u = _clamped_end_terms(mesh, x)
+    near = np.abs(u) < tol
+    return SwitchReport(bool(near.any()), p[near], e[near], -u[near])
 
 
 # ---------------------------------------------------------------- what a state's contact is
@@ -403,9 +410,8 @@ def contact_state(mesh: ContactMesh, x: np.ndarray) -> ContactState:
     _, grad, _ = contact_terms(mesh, x, 1)
     assert grad is not None  # order 1
     f = np.linalg.norm(grad.reshape(-1, 3), axis=1)
-    near = sum(int(np.sum(on & (mesh.delta[nt.e, k] == 0)
-                          & (np.abs(u) <= SWITCH_NEAR * mesh.rest_length[nt.e])))
-               for k, u in ((0, nt.u0), (1, nt.u1)))
+    _, e_sw, _, u_sw = _clamped_end_terms(mesh, x)
+    near = int(np.sum(np.abs(u_sw) <= SWITCH_NEAR * mesh.rest_length[e_sw]))
     return ContactState(2.0 * float(mesh.radius[0]), mesh.model.dhat, mesh.model.stiffness,
                         gap, pair, int(np.sum(on)) + len(ee), 0.5 * float(f.sum()),
                         float(f.max(initial=0.0)), near)

@@ -166,7 +166,6 @@ def continuation(a: Assembly, key: str, start: float, stop: float, n_steps: int,
     # two points of the path (the energy is C1 there, not C2: an event, not a silent jump)
     events: list[dict] = []
     last_x: list[np.ndarray] = []  # the last point's nodes
-    checked = [0]  # points whose contact was checked (a gap is recorded only within reach)
     with contextlib.ExitStack() as held:
         if out is not None:
             out.mkdir(parents=True, exist_ok=True)
@@ -216,7 +215,6 @@ def continuation(a: Assembly, key: str, start: float, stop: float, n_steps: int,
                                        "end": "start" if end == 0 else "end",
                                        "bracket": [rows[-2][0], rows[-1][0]]})
                 last_x[:] = [rod.x.copy()]
-                checked[0] += 1
             if out is not None:
                 storage.save_state(out, rod, param.get(rod), path.tq, path.tp, path.h, rows, meta,
                                    specials)
@@ -275,15 +273,14 @@ def continuation(a: Assembly, key: str, start: float, stop: float, n_steps: int,
                     + (f"; STOPPED: {why}" if why else ""), special_points=tuple(specials),
                     branches=tuple(branches), resumed_steps=resumed,
                     states=tuple(states), contact=None if contact is None else _contact_block(
-                        contact, gaps, resumed, events, specials, checked[0]))
+                        contact, gaps, resumed, events, specials, len(rows) - resumed))
 
 
 def _contact_block(model: ContactModel, gaps: list[tuple[float, float]], resumed: int,
-                   events: list[dict], specials: list[dict], checked: int | None = None
-                   ) -> dict:
+                   events: list[dict], specials: list[dict], checked: int) -> dict:
     """Return the path's ``contact``: the model, the smallest gap over the points run here.
 
-    ``checked``: the points run here (default: those with a pair within reach).
+    ``checked``: the points run here (each one's contact checked).
     ``events``: the C1 switches met between two points (:func:`~..contact.type_switch_crossings`);
     a special point whose bracket meets one gets ``"at_contact_event": True`` (its eigenvalue
     sign change may be the Hessian's jump there, not a smooth crossing).
@@ -297,7 +294,7 @@ def _contact_block(model: ContactModel, gaps: list[tuple[float, float]], resumed
     return {"thickness": 2.0 * float(radius), "dhat": model.dhat,
             "stiffness": model.stiffness, "smallest_gap": None if low is None else low[1],
             "smallest_gap_value": None if low is None else low[0],
-            "points_checked": len(gaps) if checked is None else checked,
+            "points_checked": checked,
             "resumed_points_unchecked": resumed,
             "events": events}
 
