@@ -559,3 +559,36 @@ def test_saddle_step_outside_the_model_falls_back_to_plain_then_halves(monkeypat
     assert np.allclose(found[0].x, rod.x + dq[: 3 * len(rod.x)].reshape(-1, 3))
     monkeypatch.setattr(type(rod), "energy_terms", outside)
     assert S._inside(rod, dq) is None
+
+
+def test_a_string_too_coarse_is_refined_and_reaches_the_saddle_it_would_with_more_images(
+        ) -> None:
+    """Five images between the hexagram's star and daisy (kappa_n R0 = 1.5, 6 el./rod) are too
+    few: unrefined the string stops too coarse (neighbouring images more than MAX_GAP apart).
+    Allowed to refine, it doubles its segments twice (5 -> 9 -> 17 images, as
+    ``max_string_images`` allows) and converges to the saddle eigenvector following reaches
+    from the star independently (star side 4.97423 B3/L, tests/test_saddle_search.py), its
+    descents ending on the two states.
+
+    Why this exists: with 17 images the same string converged with OpenBLAS's SkylakeX kernels
+    and stopped too coarse with its Haswell kernels (round-off moves its images along soft
+    directions), so ``rodstab barrier examples/hexagram.toml --from star --to daisy`` failed on
+    one machine and not on another."""
+    import rodstab.multistable.string_method as sm
+    from rodstab.multistable.discover import common_rod
+    from rodstab.nonlinear.solve import newton
+
+    star, daisy = (state_assembly("hexagram", R4, s) for s in ("star", "daisy"))
+    rods = [common_rod(s, 6, 1.5) for s in (star, daisy)]
+    for r in rods:
+        assert newton(r)[0]
+    sm.to_gauge(rods[1], rods[0])
+    _, saddle, run = sm.relax_string(sm.belt_path(*rods, 5), max_images=None)
+    assert saddle is None and run.too_coarse and run.images == 5 and run.refinements == 0
+    assert sm.max_string_images(5, 10**6) == 17 and sm.max_string_images(5, 11) == 11
+    assert sm.max_string_images(5, 3) == 5
+    b, path = sm.string_barrier(star, daisy, 1.5, elements_per_segment=6, images=5,
+                                name_a="star", name_b="daisy", chain_depth=0)
+    assert b.converged and b.saddle_index == 1 and sorted(b.descent_ends) == ["daisy", "star"]
+    assert (b.images, b.string_run.refinements, len(path)) == (17, 2, 17)
+    assert b.barrier_forward == pytest.approx(4.97423, abs=5e-6)

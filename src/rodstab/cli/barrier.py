@@ -259,7 +259,8 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
                       f"{units.segment!r}; energies in J = model energy x B3/L"]
     run: Any = b.string_run
     if method == "string":
-        lines.append(f"string       {b.images} images, {b.iterations} iterations; "
+        refined = f" (refined from {n_img})" if b.images != n_img else ""
+        lines.append(f"string       {b.images} images{refined}, {b.iterations} iterations; "
                      f"{'saddle from' if b.converged else 'highest:'} image "
                      f"{b.saddle_position} of the path")
     else:

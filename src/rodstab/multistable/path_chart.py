@@ -42,8 +42,12 @@ def chart_scale(r: DiscreteRod) -> np.ndarray:
     return scale
 
 
-def reparametrise(band: list[DiscreteRod], free: np.ndarray) -> list[DiscreteRod]:
+def reparametrise(band: list[DiscreteRod], free: np.ndarray, count: int | None = None
+                  ) -> list[DiscreteRod]:
     """Return the string through ``band`` with its interior images at equal chart arclength.
+
+    ``count``: images of the new string, ends included (default: as many as ``band``; more
+    refines the string, :func:`~.string_method.relax_string`).
 
     Arclength: the Euclidean chart norm (positions over ``L``, radians) of the free parts of
     consecutive differences. A new image at arclength ``s`` between images ``k`` and ``k + 1``
@@ -58,7 +62,7 @@ def reparametrise(band: list[DiscreteRod], free: np.ndarray) -> list[DiscreteRod
     seg = np.array([np.linalg.norm(scale * dk) for dk in diffs])
     s = np.concatenate([[0.0], np.cumsum(seg)])
     out = [band[0]]
-    for target in np.linspace(0.0, s[-1], len(band))[1:-1]:
+    for target in np.linspace(0.0, s[-1], len(band) if count is None else count)[1:-1]:
         k = min(int(np.searchsorted(s, target, side="right")) - 1, len(seg) - 1)
         r = _between(band[k], diffs[k], (target - s[k]) / seg[k])
         if r.contact is not None:

@@ -61,7 +61,8 @@ overtake each other). No springs: when the longest chart segment of the string e
 :data:`REPARAM_RATIO` times the shortest, it is reparametrised to equal arclength
 (:func:`reparametrise`: piecewise geodesic in the chart, then the retraction; not every
 iteration, as E et al.: each interpolation raises the images' strain, which the next step then
-undoes). Neighbouring images more than :data:`MAX_GAP` apart stop the string as too coarse (an
+undoes). Neighbouring images more than :data:`MAX_GAP` apart refine the string (twice the
+images, equal arclength), at most :data:`REFINEMENTS` times, and then stop it as too coarse (an
 interpolation near half a turn flips the branch of the log: energies of 1e7 seen).
 
 **Saddle** (:func:`refine_saddle`). Once the string has settled (:data:`SETTLE_RTOL`), every
@@ -101,6 +102,7 @@ stacked state, its welds spanning the layers: :func:`~.layered.stacked_band`.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 import warnings
 from collections.abc import Callable
@@ -164,6 +166,13 @@ SADDLE_CANDIDATES = 3
 #: interpolated image has neighbouring frames half a turn apart (energies ~1e7 seen at gaps of
 #: 3.1 rad, hexagram star -> daisy with 11 images); more images are needed.
 MAX_GAP = 2.5
+#: Most times a string that would stop as too coarse is instead redistributed over twice the
+#: images (:func:`max_string_images`). The hexagram's star -> daisy string (6 el., 17 images)
+#: converged with OpenBLAS's SkylakeX kernels and stopped too coarse (2.53 rad) with its Haswell
+#: ones: its images drift along soft directions as round-off decides. With 21 or 33 images both
+#: converged to one saddle (energies to 1e-14). Refining earlier (at 2 rad) changed runs that
+#: converged unrefined (a contact string at 4 el. then missed the model in its soft stages).
+REFINEMENTS = 2
 #: Largest |frame d3 . gauge normal - 1| and out-of-plane node coordinate of an end state that
 #: :func:`belt_path` takes as planar (its path turns frames about that normal). Not the
 #: identification's :data:`~.identify.PLANAR_TOL` (which only names states planar).
@@ -389,7 +398,9 @@ class StringRun(Result):
     rad); ``largest_gap``: largest chart gap (:func:`~rodstab.nonlinear.constraint.chart_size`)
     between neighbouring images at the end; ``too_coarse``: stopped because a gap exceeded
     :data:`MAX_GAP`; ``top_energies``: the highest interior image's energy after each iteration;
-    ``saddle_image``: the image the saddle was refined from (-1: none); ``saddle_index``,
+    ``saddle_image``: the image the saddle was refined from (-1: none); ``images``: the
+    string's images at the end (more than it started with after a refinement, ``refinements``
+    of them, :data:`REFINEMENTS`); ``saddle_index``,
     ``residual``: of the last converged Newton run (-1, NaN if none); ``attempts``: Newton runs;
     ``reparametrisations``: times the string was reparametrised; ``contact_stages``: with
     contact, the :class:`~.string_contact.ContactStages` that reached the path;
@@ -413,6 +424,13 @@ class StringRun(Result):
     reparametrisations: int
     contact_stages: Result | None = None
     refused_reparametrisations: int = 0
+    images: int = 0
+    refinements: int = 0
+
+
+def max_string_images(images: int, fit: int) -> int:
+    """Return the most images a string of ``images`` may be refined to (``fit``: copies allowed)."""
+    return max(images, min((images - 1) * 2 ** REFINEMENTS + 1, fit))
 
 
 def _index(r: DiscreteRod) -> tuple[int, np.ndarray, np.ndarray]:
@@ -424,7 +442,8 @@ def _index(r: DiscreteRod) -> tuple[int, np.ndarray, np.ndarray]:
 @serially
 def relax_string(band: list[DiscreteRod], *, max_iter: int = STRING_MAX_ITER,
                  try_every: int = SADDLE_TRY_EVERY,
-                 accept: Callable[[DiscreteRod], bool] | None = None
+                 accept: Callable[[DiscreteRod], bool] | None = None,
+                 max_images: int | None = None
                  ) -> tuple[list[DiscreteRod], DiscreteRod | None, StringRun]:
     """Relax the string ``band`` until one of its images refines to an accepted index-1 saddle.
 
@@ -436,7 +455,9 @@ def relax_string(band: list[DiscreteRod], *, max_iter: int = STRING_MAX_ITER,
     The first that converges with index one and that ``accept`` takes ends the relaxation. A
     local maximum, not only the highest image: a string between two states may pass an end
     state again after a loop, and its highest hump need not be the saddle between the ends
-    (hexagram star -> daisy, module docstring).
+    (hexagram star -> daisy, module docstring). With ``max_images`` above the band's length, a
+    string whose neighbouring images drift more than :data:`MAX_GAP` apart is redistributed
+    over ``2 n - 1`` images (at most ``max_images``), before it would stop as too coarse.
 
     Parameters
     ----------
@@ -447,6 +468,8 @@ def relax_string(band: list[DiscreteRod], *, max_iter: int = STRING_MAX_ITER,
     accept : callable, optional
         Takes an index-1 saddle, returns whether it is the one sought (e.g. its descents end
         on the two states); by default every index-1 saddle is.
+    max_images : int, optional
+        Most images after refinement (:func:`max_string_images`); None: never refined.
 
     Returns
     -------
@@ -464,7 +487,7 @@ def relax_string(band: list[DiscreteRod], *, max_iter: int = STRING_MAX_ITER,
     ends = [band[0].energy_terms(), band[-1].energy_terms()]
     terms[0], terms[-1] = ends
     tops: list[float] = []
-    attempts = reps = refused = 0
+    attempts = reps = refused = refinements = 0
     index, residual, moved, it, last_try = -1, math.nan, math.inf, 0, 0
 
     def gaps() -> list[float]:
@@ -474,11 +497,22 @@ def relax_string(band: list[DiscreteRod], *, max_iter: int = STRING_MAX_ITER,
     def run(converged: bool, saddle_image: int, too_coarse: bool = False) -> StringRun:
         return StringRun(converged, it, moved, max(gaps()), too_coarse, tuple(tops),
                          saddle_image, index, residual, attempts, reps,
-                         refused_reparametrisations=refused)
+                         refused_reparametrisations=refused, images=n,
+                         refinements=refinements)
 
     for it in range(1, max_iter + 1):
-        old = [r.copy() for r in band]
         gap = gaps()
+        if max(gap) > MAX_GAP and max_images is not None and 2 * n - 1 <= max_images:
+            try:
+                band = reparametrise(band, free, count=2 * n - 1)
+            except Interpenetration:  # with contact: keep the string, which is inside the model
+                refused += 1
+            else:
+                n, refinements = len(band), refinements + 1
+                lams = [floor] * n
+                terms = [ends[0]] + [None] * (n - 2) + [ends[1]]
+                gap = gaps()
+        old = [r.copy() for r in band]
         if max(gap) > MAX_GAP:
             return band, None, run(False, -1, too_coarse=True)
         for i in range(1, n - 1):
@@ -584,7 +618,10 @@ def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
     elements_per_segment : int
         Elements per rod (>= :data:`~.barrier.MIN_ELEMENTS`).
     images : int
-        Images of the string, ends included (>= 3).
+        Images of the string at the start, ends included (>= 3). Where its images drift more
+        than :data:`MAX_GAP` apart the string is redistributed over twice as many, at most
+        :data:`REFINEMENTS` times and within ``limits`` (:func:`max_string_images`); the
+        barrier's ``images`` and ``string_run.refinements`` say what it ended with.
     name_a, name_b : str
         Labels of ``a`` and ``b``.
     max_iter : int
@@ -647,8 +684,11 @@ def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
     if layers is not None and cusp_width:  # the stacked model's welds span its layers
         raise RodstabInputError(f"cusp_width {cusp_width!r} with layers: the stacked model "
                                 "has no cusp welds of width; give one of the two")
-    require_nonlinear([n] * len(a.segments), len(a.joints()),
-                      f"images {n_img}, {n} elements per rod", limits, copies=n_img)
+    one = require_nonlinear([n] * len(a.segments), len(a.joints()),
+                            f"images {n_img}, {n} elements per rod", limits,
+                            copies=n_img) // n_img
+    relax = functools.partial(relax_string,
+                              max_images=max_string_images(n_img, limits.max_dof_nonlinear // one))
     rod_a, rod_b = _built(a, n, mu, cusp_width), _built(b, n, mu, cusp_width)
     if not same_model(rod_a, rod_b):
         raise RodstabInputError(f"states {name_a!r} and {name_b!r} are not states of one "
@@ -659,7 +699,7 @@ def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
     start = belt_path(rod_a, rod_b, n_img)
     if layers is not None:  # the planar path without contact, lifted: the belt path lifted
         # stalled in the soft stages (hexagram line -> star, 6 el.), this one did not
-        start = relax_string(start, max_iter=max_iter, accept=None)[0]
+        start = relax(start, max_iter=max_iter, accept=None)[0]
         start = stacked_band(start, layers, contact, (name_a, name_b))
         rod_a, rod_b = start[0], start[-1]
     e_a, e_b = rod_a.energy(), rod_b.energy()
@@ -675,17 +715,17 @@ def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
         return land.joins(saddle, name_a, name_b)
 
     if contact is None:
-        band, saddle, run = relax_string(start, max_iter=max_iter, accept=joins_the_states)
+        band, saddle, run = relax(start, max_iter=max_iter, accept=joins_the_states)
     else:
         from .string_contact import relax_with_contact
 
         band, saddle, run, stages = relax_with_contact(
-            start, contact, relax_string, max_iter=max_iter, accept=joins_the_states,
+            start, contact, relax, max_iter=max_iter, accept=joins_the_states,
             **({} if soft is None else {"stage_iter": soft[0], "max_stages": soft[1]}))
         run = dataclasses.replace(run, contact_stages=stages)
     chained = None
     if saddle is None and not run.too_coarse and chain_depth > 0:
-        links, paths, basins = chain(band, land, (name_a, name_b), relax_string, images=n_img,
+        links, paths, basins = chain(band, land, (name_a, name_b), relax, images=run.images,
                                      max_iter=max_iter, max_depth=chain_depth)
         chained = chain_result(links, basins, land, (name_a, name_b))
     labels: tuple[str, ...]
@@ -754,7 +794,7 @@ def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
         converged=run.converged if chained is None else chained.converged, residual=residual,
         descent_steps=steps, elements_per_segment=n, n_dof=len(saddle.free_dofs()),
         method=method,
-        descent_ends=labels, images=n_img, iterations=run.iterations,
+        descent_ends=labels, images=run.images, iterations=run.iterations,
         path_arclength=tuple(float(x) for x in arclength(path)), string_run=run,
         other_saddles=others, chain=chained), \
         [Snapshot.of(r) for r in path]
