@@ -846,6 +846,23 @@ def test_a_special_point_whose_bracket_meets_a_contact_event_says_so():
     assert [sp["at_contact_event"] for sp in specials] == [True, False, True]
 
 
+def test_event_marks_are_set_as_points_are_recorded_and_never_cleared():
+    """The marks are set where the points are recorded, so ``special_points.json`` (written
+    at every point) carries them (it was written before they were set); a resumed run, which
+    has not the events met before its resume, keeps a mark it read back."""
+    from rodstab.nonlinear.continuation.run import _mark_events
+
+    specials = [{"value": 0.25, "bracket": [0.24, 0.26]},
+                {"value": 0.5, "bracket": [0.45, 0.55], "at_contact_event": True}]
+    _mark_events(specials, [{"bracket": [0.2, 0.3]}])
+    assert [sp["at_contact_event"] for sp in specials] == [True, True]
+    _mark_events(specials, [])
+    assert [sp["at_contact_event"] for sp in specials] == [True, True]
+    fresh = [{"value": 0.5}]
+    _mark_events(fresh, [{"bracket": [0.2, 0.3]}])
+    assert fresh[0]["at_contact_event"] is False
+
+
 def _tip_under_a_rod(theta=0.0):
     """A cantilever (clamped at x = 0, free end 3e-5 past x = L/2) below a rod clamped at both
     ends, ``h + 0.002`` apart; the cantilever's clamp turned by ``theta`` about e3 (positive:

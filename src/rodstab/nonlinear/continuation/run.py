@@ -215,6 +215,7 @@ def continuation(a: Assembly, key: str, start: float, stop: float, n_steps: int,
                                        "end": "start" if end == 0 else "end",
                                        "bracket": [rows[-2][0], rows[-1][0]]})
                 last_x[:] = [rod.x.copy()]
+                _mark_events(specials, events)
             if out is not None:
                 storage.save_state(out, rod, param.get(rod), path.tq, path.tp, path.h, rows, meta,
                                    specials)
@@ -276,6 +277,18 @@ def continuation(a: Assembly, key: str, start: float, stop: float, n_steps: int,
                         contact, gaps, resumed, events, specials, len(rows) - resumed))
 
 
+def _mark_events(specials: list[dict], events: list[dict]) -> None:
+    """Set ``"at_contact_event"`` on each special point whose bracket meets an event's.
+
+    Marked as points are recorded, so ``special_points.json`` (written at every point) carries
+    the mark; a mark is never cleared (a resumed run has not the events before its resume).
+    """
+    for sp in specials:
+        lo, hi = sorted(sp.get("bracket", (sp["value"], sp["value"])))
+        sp["at_contact_event"] = bool(sp.get("at_contact_event")) or any(
+            min(ev["bracket"]) <= hi and lo <= max(ev["bracket"]) for ev in events)
+
+
 def _contact_block(model: ContactModel, gaps: list[tuple[float, float]], resumed: int,
                    events: list[dict], specials: list[dict], checked: int) -> dict:
     """Return the path's ``contact``: the model, the smallest gap over the points run here.
@@ -287,10 +300,7 @@ def _contact_block(model: ContactModel, gaps: list[tuple[float, float]], resumed
     """
     low = min(gaps, key=lambda vg: vg[1]) if gaps else None
     radius = model.radius if isinstance(model.radius, float) else max(model.radius)
-    for sp in specials:
-        lo, hi = sorted(sp.get("bracket", (sp["value"], sp["value"])))
-        sp["at_contact_event"] = any(min(ev["bracket"]) <= hi and lo <= max(ev["bracket"])
-                                     for ev in events)
+    _mark_events(specials, events)
     return {"thickness": 2.0 * float(radius), "dhat": model.dhat,
             "stiffness": model.stiffness, "smallest_gap": None if low is None else low[1],
             "smallest_gap_value": None if low is None else low[0],
