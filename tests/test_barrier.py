@@ -132,7 +132,9 @@ def test_cli_barrier_json(six_ring: Barrier, capsys: pytest.CaptureFixture[str],
     (["--method", "continuation", "--structure", "hexagram", "--from", "star", "--to",
       "daisy", "--load-factor", "1.5"], "'star' is curved in its held geometry"),
     (["--images", "2"], "--images must be an integer >= 3, got 2"),
-    (["--method", "continuation", "--images", "9"], "--images, --animation and --out are options"),
+    (["--method", "continuation", "--images", "9"], "--images, --animation, --out and"),
+    (["--method", "continuation", "--workers", "2"], "--workers are options of --method string"),
+    (["--workers", "0"], "'--workers': 0"),
     (["--animation", "path.png"], "--animation"),
     (["--structure", "hexagram", "--from", "star", "--to", "square"], "--to 'square'"),
 ])
@@ -386,8 +388,9 @@ def test_cli_barrier_string_json_plot_and_animation(string_six: tuple, tmp_path,
     assert seen == {"elements_per_segment": 8, "images": 11, "name_a": "folded",
                     "name_b": "one-loop", "mu": pytest.approx(THETA), "segments": 6,
                     "limits": Limits(), "contact": None,
-                    "layers": None, "named": {}, "cusp_width": None}  # default limits; no
-    # contact, no layers, point welds; the six-ring has no other state to name a minimum with
+                    "layers": None, "named": {}, "cusp_width": None, "pool": None}
+    # default limits; no contact, no layers, point welds, the images stepped in this process;
+    # the six-ring has no other state to name a minimum with
     assert png.stat().st_size > 0
     assert Image.open(gif).n_frames == len(path)
 
@@ -592,3 +595,34 @@ def test_a_string_too_coarse_is_refined_and_reaches_the_saddle_it_would_with_mor
     assert b.converged and b.saddle_index == 1 and sorted(b.descent_ends) == ["daisy", "star"]
     assert (b.images, b.string_run.refinements, len(path)) == (17, 2, 17)
     assert b.barrier_forward == pytest.approx(4.97423, abs=5e-6)
+
+
+def test_images_stepped_in_a_pool_of_processes_give_the_same_string(ends: tuple) -> None:
+    """Each image's step depends only on the string before the iteration, and every process
+    does the same arithmetic with one BLAS thread: five iterations of the six-ring's string
+    (8 el./rod, 7 images) stepped in two spawned processes equal those stepped here, bit for
+    bit, energies and states."""
+    from rodstab.multistable.string_method import belt_path, relax_string
+    from rodstab.numerics.threads import process_pool, serial_blas
+
+    a, b = ends
+    with serial_blas():
+        here, _, run_here = relax_string(belt_path(a, b, 7), max_iter=5, try_every=100)
+    with process_pool(2) as pool:
+        there, _, run_there = relax_string(belt_path(a, b, 7), max_iter=5, try_every=100,
+                                           pool=pool)
+    assert run_here.top_energies == run_there.top_energies and run_here.iterations == 5
+    for r, s in zip(here, there, strict=True):
+        assert np.array_equal(r.x, s.x) and np.array_equal(r.R_edge, s.R_edge)
+        assert np.array_equal(r.R_joint, s.R_joint)
+
+
+def test_cli_barrier_with_workers_prints_the_same_barrier(run_cli) -> None:
+    """``--workers 2`` steps the images in two processes: the six-ring's string barrier
+    (6 el., 7 images) is the one of ``--workers 1``: the whole JSON is equal."""
+    args = ["barrier", "--elements", "6", "--images", "7", "--shape", "rectangle", "--aspect",
+            "4", "--load-factor", "1", "--json"]
+    one, two = (run_cli([*args, "--workers", w]) for w in ("1", "2"))
+    assert one.exit_code == two.exit_code == 0, two.stderr
+    a, b = json.loads(one.stdout), json.loads(two.stdout)
+    assert a == b and a["converged"]

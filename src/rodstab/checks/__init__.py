@@ -91,12 +91,6 @@ REGISTRY: tuple[Check, ...] = (
 )
 
 
-#: Environment for the worker processes: one BLAS thread each. Several multithreaded BLAS
-#: pools on 2 cores spin against each other (a dense 300 x 300 eigh took 0.85 s instead of
-#: 0.01 s on a loaded machine).
-_WORKER_ENV = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
-
-
 def _run_check(i: int) -> tuple[list[Claim], dict, float]:
     """Worker: the rows, figure data and CPU seconds of ``REGISTRY[i]`` (a fresh :class:`Run`)."""
     import time
@@ -141,25 +135,15 @@ def evaluate(run: Run | None = None, *, workers: int | None = None) -> list[Clai
             run.cpu_seconds[check.produce.__name__] = time.process_time() - t0
             run.progress()
         return rows
-    import multiprocessing
-    from concurrent.futures import ProcessPoolExecutor
+    from ..numerics.threads import process_pool
 
     order = sorted(range(len(REGISTRY)), key=lambda i: -REGISTRY[i].seconds)
-    saved = {k: os.environ.get(k) for k in _WORKER_ENV}
-    os.environ.update(_WORKER_ENV)
-    try:
-        with ProcessPoolExecutor(n, mp_context=multiprocessing.get_context("spawn")) as pool:
-            futures = {i: pool.submit(_run_check, i) for i in order}
-            results = {}
-            for i in order:
-                results[i] = futures[i].result()
-                run.progress()
-    finally:
-        for k, v in saved.items():
-            if v is None:
-                os.environ.pop(k, None)
-            else:
-                os.environ[k] = v
+    with process_pool(n) as pool:
+        futures = {i: pool.submit(_run_check, i) for i in order}
+        results = {}
+        for i in order:
+            results[i] = futures[i].result()
+            run.progress()
     rows = []
     for i in range(len(REGISTRY)):
         rows += results[i][0]

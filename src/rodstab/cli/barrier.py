@@ -31,6 +31,8 @@ from .options import (
     load_factor_option,
     ring_and_section,
     section_options,
+    string_pool,
+    string_workers_option,
     structure_option,
 )
 from .output import emit, fmt, image_output, section_line, units_line, weld_line
@@ -86,6 +88,7 @@ _BARRIER_STATES = {"six-ring": ("folded", "one-loop"), "hexagram": ("line", "sta
                    "pair of rods intersecting at it, and name where each saddle's descents "
                    "with contact end (rodstab.multistable.contact_saddle). String method.")
 @cusp_width_option
+@string_workers_option
 @section_options
 @limit_options
 @json_option
@@ -94,7 +97,7 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
             elements: int,
             images: int | None, plot_path: str | None, animation_path: str | None,
             out_dir: str | None, contact: Any, layers: str | None, into_contact: bool,
-            cusp_width: float | None, limits: Limits, as_json: bool) -> None:
+            cusp_width: float | None, workers: int, limits: Limits, as_json: bool) -> None:
     """Energy barrier between two stable states of a ring: the saddle and the path through it.
 
     string (default): the minimum energy path between the two states by the string method
@@ -113,9 +116,9 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
     k = load_factor
     chosen: tuple[float, float] | None = None
     if method == "continuation" and (images is not None or animation_path is not None
-                                     or out_dir is not None):
-        raise RodstabInputError("--images, --animation and --out are options of --method "
-                                "string")
+                                     or out_dir is not None or workers != 1):
+        raise RodstabInputError("--images, --animation, --out and --workers are options of "
+                                "--method string")
     from ..multistable.string_method import STRING_IMAGES
 
     n_img = STRING_IMAGES if images is None else require_int("--images", images, 3)
@@ -213,10 +216,11 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
             from ..nonlinear.equilibrium import rod_contact_model
 
             model = None if c is None else rod_contact_model(a, h, c)
-            b, path = string_barrier(a, b_asm, mu, elements_per_segment=elements,
-                                     images=n_img, name_a=from_state, name_b=to_state,
-                                     limits=limits, contact=model, layers=order,
-                                     named=others, cusp_width=wide)
+            with string_pool(workers) as pool:
+                b, path = string_barrier(a, b_asm, mu, elements_per_segment=elements,
+                                         images=n_img, name_a=from_state, name_b=to_state,
+                                         limits=limits, contact=model, layers=order,
+                                         named=others, cusp_width=wide, pool=pool)
         else:
             from ..multistable.barrier import barrier_from_bifurcation
 

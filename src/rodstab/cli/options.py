@@ -8,9 +8,11 @@ The cross-section (:func:`section_options`), where independent points run
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import inspect
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from concurrent.futures import Executor
 from typing import Any
 
 import click
@@ -157,6 +159,25 @@ def where_options(f: Callable[..., Any]) -> Callable[..., Any]:
                              "process) [default: one per core if the points would take over "
                              f"{AUTO_MIN_SECONDS:g} s serially, judged from the first two; "
                              "else serial].")(f)
+
+
+string_workers_option = click.option(
+    "--workers", type=click.IntRange(min=1), default=1, show_default=True,
+    help="Processes that step the string's images (string method): N > 1 starts N fresh "
+         "processes (about a second each) and gives the same path; worth it from about 8 "
+         "elements per rod with --contact (benchmarks/string_workers.py).")
+
+
+@contextlib.contextmanager
+def string_pool(workers: int) -> Iterator[Executor | None]:
+    """Yield the pool of ``--workers`` processes for the string's images (None: this one)."""
+    if require_int("--workers", workers, 1) == 1:
+        yield None
+        return
+    from ..numerics.threads import process_pool
+
+    with process_pool(workers) as pool:
+        yield pool
 
 
 json_option = click.option("--json", "as_json", is_flag=True,

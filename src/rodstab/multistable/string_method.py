@@ -104,25 +104,23 @@ from __future__ import annotations
 import dataclasses
 import functools
 import math
-import warnings
 from collections.abc import Callable
+from concurrent.futures import Executor
 from typing import Any
 
 import numpy as np
-import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 
 from ..errors import RodstabInputError, require_finite, require_int
 from ..limits import DEFAULT as DEFAULT_LIMITS
 from ..limits import Limits, require_nonlinear
 from ..model import Assembly
-from ..nonlinear.constraint import chart_size, restore_inextensible, retract_step
+from ..nonlinear.constraint import chart_size, restore_inextensible
 from ..nonlinear.contact import ContactModel, Interpenetration
 from ..nonlinear.discrete import DiscreteRod
 from ..nonlinear.jets import rodrigues
-from ..nonlinear.newton import contact_fraction, newton
+from ..nonlinear.newton import newton
 from ..nonlinear.solve import lowest_modes, zero_eigenvalue_tol
-from ..numerics import jacobi_scaling, serially
+from ..numerics import serially
 from ..results import Result
 from .barrier import MIN_ELEMENTS, Barrier, same_model
 from .chain import CHAIN_DEPTH, chain, chain_result
@@ -135,7 +133,8 @@ from .path_chart import (
     chart_scale,
     reparametrise,
 )
-from .saddle import SHIFT_TRIES, refine_saddle
+from .saddle import refine_saddle
+from .string_step import Terms, step_images
 
 #: Lowest eigenvalues computed to count a stationary point's index.
 INDEX_EIGS = 4
@@ -274,112 +273,6 @@ def belt_path(a: DiscreteRod, b: DiscreteRod, n_images: int) -> list[DiscreteRod
     return band
 
 
-def _scaled(H: sp.csc_matrix, d: np.ndarray) -> sp.csc_matrix:
-    """``diag(d) H diag(d)`` (CSC) by scaling the stored entries, as the products would.
-
-    ``(d_i H_ij) d_j`` in that order: the same numbers, bit for bit, as ``sp.diags(d) @ H @
-    sp.diags(d)``, without building three sparse matrices (a fifth of a string-method step).
-    """
-    A = H.tocsc(copy=True)
-    A.data = (d[A.indices] * A.data) * np.repeat(d, np.diff(A.indptr))
-    return A
-
-
-def _plus_diagonal(A: sp.csc_matrix, lam: float) -> sp.csc_matrix:
-    """Return ``A + lam I`` (CSC), added to the stored diagonal when all of it is stored."""
-    n = A.shape[0]
-    cols = np.repeat(np.arange(n), np.diff(A.indptr))
-    on = np.flatnonzero(A.indices == cols)
-    if len(on) != n:  # a diagonal entry not stored: the general sum
-        return (A + lam * sp.identity(n, format="csc")).tocsc()
-    M = A.copy()
-    M.data[on] += lam
-    return M
-
-
-def _factor(d: np.ndarray, A: sp.csc_matrix, lam: float
-            ) -> tuple[Callable[[np.ndarray], np.ndarray] | None, int]:
-    """Solve with ``H + lam D`` from the symmetric factorisation of ``A + lam I`` (``A = d H d``).
-
-    Returns the solve and the number of negative pivots -- the negative eigenvalues of
-    ``H + lam D`` (Sylvester) when no off-diagonal pivoting happened -- or ``(None, 0)`` when
-    the factorisation failed or pivoted off the diagonal (inertia unknown).
-    """
-    M = _plus_diagonal(A, lam) if lam else A
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        try:
-            lu = spla.splu(M, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
-                           options={"SymmetricMode": True})
-        except RuntimeError:
-            return None, 0
-    piv = lu.U.diagonal()
-    if not np.array_equal(lu.perm_r, lu.perm_c) or not np.all(np.isfinite(piv)) \
-            or np.any(piv == 0):
-        return None, 0
-
-    def solve(r: np.ndarray) -> np.ndarray:
-        return d * lu.solve(d * r)
-
-    return solve, int(np.sum(piv < 0))
-
-
-def _perpendicular_step(r: DiscreteRod, free: np.ndarray, E: float, gf: np.ndarray,
-                        Hf: sp.csc_matrix, tau: np.ndarray, lam: float, floor: float,
-                        cap: float) -> tuple[tuple[float, np.ndarray, sp.csr_matrix] | None,
-                                             float]:
-    """One accepted Newton step of ``r`` (in place) on the plane ``tau . s = 0``.
-
-    The minimiser ``s = -P^-1 g + mu P^-1 tau``, ``mu = (tau . P^-1 g) / (tau . P^-1 tau)``, of
-    the model ``g . s + 1/2 s^T H s`` on the plane, ``P = H + lam D`` with ``lam`` (from the
-    given one) the smallest 4x step up for which ``P`` is positive definite on the plane
-    (module docstring). The step is scaled to move nothing by more than ``cap``
-    (:func:`chart_size`), retracted (:func:`~rodstab.nonlinear.constraint.restore_inextensible`) and
-    accepted when the energy falls by a quarter of the model's prediction; else ``lam`` grows 4x.
-
-    Returns the energy terms ``(E, g, H)`` of the new state and the ``lam`` to start the next
-    step from (4x smaller after a well predicted step), or ``(None, lam)`` when no step was
-    taken (nothing left to gain on the plane, or no acceptable step in ``SHIFT_TRIES``).
-    """
-    d = jacobi_scaling(Hf)
-    A = _scaled(Hf, d)
-    for _ in range(SHIFT_TRIES):
-        solve, neg = _factor(d, A, lam)
-        if solve is None or neg > 1:
-            lam = max(4 * lam, floor)
-            continue
-        pt = solve(tau)
-        tpt = float(tau @ pt)
-        if (neg == 0) != (tpt > 0):  # the projected model is not convex: shift further
-            lam = max(4 * lam, floor)
-            continue
-        pg = solve(gf)
-        s = -pg + float(tau @ pg) / tpt * pt
-        dq = np.zeros(r.n_dof)
-        dq[free] = s
-        c = min(1.0, cap / max(chart_size(r, dq), 1e-300))
-        if r.contact is not None:  # the step filter: no gap closes along the step
-            c *= contact_fraction(r, free, c * s)
-        s, dq = c * s, c * dq
-        pred = -float(gf @ s + 0.5 * s @ (Hf @ s))
-        if pred <= 1e-14 * max(abs(E), 1.0):
-            return None, lam  # nothing left to gain on the plane
-        trial = r.copy()
-        trial.apply(dq)
-        try:
-            retract_step(trial, dq)
-            terms = trial.energy_terms()
-        except Interpenetration:  # only with contact: the retraction left the model
-            lam = max(4 * lam, floor)
-            continue
-        actual = E - terms[0]
-        if actual >= 0.25 * pred:
-            r.x, r.R_edge, r.R_joint = trial.x, trial.R_edge, trial.R_joint
-            return terms, (lam / 4 if actual > 0.75 * pred else lam)
-        lam = max(4 * lam, floor)
-    return None, lam
-
-
 def _tangent(band: list[DiscreteRod], i: int, free: np.ndarray, scale: np.ndarray
              ) -> np.ndarray:
     """Central unit tangent of the string at interior image ``i`` (its chart, free unknowns)."""
@@ -443,13 +336,13 @@ def _index(r: DiscreteRod) -> tuple[int, np.ndarray, np.ndarray]:
 def relax_string(band: list[DiscreteRod], *, max_iter: int = STRING_MAX_ITER,
                  try_every: int = SADDLE_TRY_EVERY,
                  accept: Callable[[DiscreteRod], bool] | None = None,
-                 max_images: int | None = None
+                 max_images: int | None = None, pool: Executor | None = None
                  ) -> tuple[list[DiscreteRod], DiscreteRod | None, StringRun]:
     """Relax the string ``band`` until one of its images refines to an accepted index-1 saddle.
 
     The iteration of the module docstring: every interior image takes one perpendicular
-    Newton step (:func:`_perpendicular_step`), the string is reparametrised when uneven
-    (:func:`reparametrise`), and, at least ``try_every`` iterations apart and once the string
+    Newton step (:func:`~.string_step.perpendicular_step`), the string is reparametrised when
+    uneven (:func:`reparametrise`), and, at least ``try_every`` iterations apart and once the string
     has settled (:data:`SETTLE_RTOL`), copies of the interior local maxima of its energies
     (highest first, at most :data:`SADDLE_CANDIDATES`) are refined by :func:`refine_saddle`.
     The first that converges with index one and that ``accept`` takes ends the relaxation. A
@@ -470,6 +363,9 @@ def relax_string(band: list[DiscreteRod], *, max_iter: int = STRING_MAX_ITER,
         on the two states); by default every index-1 saddle is.
     max_images : int, optional
         Most images after refinement (:func:`max_string_images`); None: never refined.
+    pool : Executor, optional
+        The images' steps run in its processes (:func:`~.string_step.step_images`: the same
+        string as without it); None: one after another here.
 
     Returns
     -------
@@ -483,7 +379,7 @@ def relax_string(band: list[DiscreteRod], *, max_iter: int = STRING_MAX_ITER,
     floor = zero_eigenvalue_tol(band[0])
     scale = chart_scale(band[0])[free]
     lams = [floor] * n
-    terms: list[tuple[float, np.ndarray, sp.csr_matrix] | None] = [None] * n
+    terms: list[Terms | None] = [None] * n
     ends = [band[0].energy_terms(), band[-1].energy_terms()]
     terms[0], terms[-1] = ends
     tops: list[float] = []
@@ -515,14 +411,13 @@ def relax_string(band: list[DiscreteRod], *, max_iter: int = STRING_MAX_ITER,
         old = [r.copy() for r in band]
         if max(gap) > MAX_GAP:
             return band, None, run(False, -1, too_coarse=True)
-        for i in range(1, n - 1):
-            r = band[i]
-            E, g, H = terms[i] or r.energy_terms()
-            Hf = H[free][:, free].tocsc()
-            new, lams[i] = _perpendicular_step(
-                r, free, E, g[free], 0.5 * (Hf + Hf.T), _tangent(old, i, free, scale),
-                max(lams[i], floor), floor, STEP_FRACTION * min(gap[i - 1], gap[i]))
-            terms[i] = new or (E, g, H)
+        inner = range(1, n - 1)
+        stepped = step_images(band[1:-1], free, terms[1:-1],
+                              [_tangent(old, i, free, scale) for i in inner], lams[1:-1],
+                              floor, [STEP_FRACTION * min(gap[i - 1], gap[i]) for i in inner],
+                              pool)
+        for i, (new, lam) in zip(inner, stepped, strict=True):
+            terms[i], lams[i] = new, lam
         seg = [float(np.linalg.norm(scale * chart_difference(band[k], band[k + 1])[free]))
                for k in range(n - 1)]
         if max(seg) > REPARAM_RATIO * min(seg):
@@ -599,7 +494,8 @@ def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
                    limits: Limits = DEFAULT_LIMITS, contact: ContactModel | None = None,
                    layers: dict[str, Any] | None = None, chain_depth: int = CHAIN_DEPTH,
                    named: dict[str, Assembly] | None = None, cusp_width: float | None = None,
-                   soft: tuple[int, int] | None = None) -> tuple[Barrier, list[Snapshot]]:
+                   soft: tuple[int, int] | None = None, pool: Executor | None = None
+                   ) -> tuple[Barrier, list[Snapshot]]:
     """Energy barrier between held states ``a`` and ``b`` of one ring by the string method.
 
     Both are put in one discrete model (:func:`~.discover.common_rod`) at ``load_factor`` and
@@ -653,6 +549,10 @@ def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
         With ``contact``: the soft stages' ``(iterations per stage, most stages)``
         (:func:`~.string_contact.relax_with_contact`); None: its defaults, or
         :data:`WIDE_CUSP_SOFT` with ``cusp_width``.
+    pool : Executor, optional
+        The images' steps run in its processes
+        (:func:`~rodstab.numerics.threads.process_pool`; the same string, faster on several
+        cores); None: in this process.
 
     Returns
     -------
@@ -687,7 +587,7 @@ def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
     one = require_nonlinear([n] * len(a.segments), len(a.joints()),
                             f"images {n_img}, {n} elements per rod", limits,
                             copies=n_img) // n_img
-    relax = functools.partial(relax_string,
+    relax = functools.partial(relax_string, pool=pool,
                               max_images=max_string_images(n_img, limits.max_dof_nonlinear // one))
     rod_a, rod_b = _built(a, n, mu, cusp_width), _built(b, n, mu, cusp_width)
     if not same_model(rod_a, rod_b):
