@@ -100,7 +100,8 @@ def test_write_and_read_round_trip_without_a_thickness(tmp_path):
 
 @pytest.mark.parametrize("extra, words", [
     (["--contact-thickness", "0"], "--contact-thickness must be a finite positive number"),
-    (["--method", "continuation", "--out", "{tmp}"], "--out and --workers are options of --method string"),
+    (["--method", "continuation", "--out", "{tmp}"],
+     "--out and --workers are options of --method string"),
     (["--out", "{file}"], "--out"),
 ])
 def test_bad_output_options_exit_2_naming_them(tmp_path, run_cli, extra, words):
