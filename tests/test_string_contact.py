@@ -317,6 +317,38 @@ def test_transition_with_contact_keeps_every_pair_apart_and_its_threshold(tmp_pa
     assert edge["threshold"] == pytest.approx(ref["threshold"], rel=1e-9)
 
 
+def test_a_threshold_at_a_contact_event_says_so(monkeypatch):
+    """The loading path's C1 events reach the transition: its JSON lists them and marks a
+    threshold whose bracket meets one, and the message says its sign change may be the
+    contact Hessian's jump. The star's real loading path meets none (its rods stay apart), so
+    one event is put on the real path over its threshold's bracket, as continuation would."""
+    from conftest import run_cli
+
+    import rodstab.multistable.transitions as T
+
+    real = T.continuation
+
+    def marked(*args, **kwargs):
+        path = real(*args, **kwargs)
+        assert path.contact is not None and path.contact["events"] == []
+        sp = path.special_points[0]
+        path.contact["events"].append({"kind": "C1 switch", "node": 3, "element": 7,
+                                       "end": "end", "bracket": list(sp["bracket"])})
+        sp["at_contact_event"] = True
+        return path
+
+    monkeypatch.setattr(T, "continuation", marked)
+    r = run_cli([*TR, "--contact"])
+    assert r.exit_code == 0, r.stderr
+    (edge,) = json.loads(r.stdout)["edges"]
+    assert edge["at_contact_event"] is True and len(edge["contact_events"]) == 1
+    assert "AT A C1 CONTACT EVENT" in edge["message"]
+    monkeypatch.setattr(T, "continuation", real)
+    (plain,) = json.loads(run_cli([*TR, "--contact"]).stdout)["edges"]
+    assert plain["at_contact_event"] is False and plain["contact_events"] == []
+    assert "C1" not in plain["message"]
+
+
 def test_transition_from_a_stacked_state_with_contact_is_refused_naming_it():
     """The line's rods lie on one curve (coincident): outside the contact model, exit 2."""
     from conftest import run_cli

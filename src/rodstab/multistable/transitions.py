@@ -288,6 +288,12 @@ class Transition(Result):
     #: A stacked source's spanning welds checked against one another
     #: (:func:`~.layered.weld_spans`, at its relaxed stacked state); None for a planar source.
     welds: WeldSpans | None = None
+    #: With contact: the C1 switches of the contact energy the loading path crossed
+    #: (:func:`~rodstab.nonlinear.contact.type_switch_crossings`, each with its bracket), and
+    #: whether the threshold's bracket meets one (its eigenvalue's sign change may then be the
+    #: Hessian's jump there, not a smooth loss of stability).
+    contact_events: tuple[dict, ...] = ()
+    at_contact_event: bool = False
 
 
 def _let_go(rod: DiscreteRod, a: Assembly, n: int, cusp_width: float | None = None
@@ -390,6 +396,7 @@ def transition(a: Assembly, source: str, key: str, stop: float, *, load_factor: 
                         stop_at_first=True, branch_steps=0, contact=contact,
                         progress=lambda: samples.append((param.get(work), work.x.copy())))
     inside = contact is not None  # every step below is filtered by the contact model
+    events = tuple((path.contact or {}).get("events", ()))
     reports = [tracker.stretch("loading", samples, joined_inside=inside)]
     lost = [(p, s) for p, s in zip(path.special_points, path.states, strict=False)]
     if not path.special_points or not path.states:
@@ -397,7 +404,7 @@ def transition(a: Assembly, source: str, key: str, stop: float, *, load_factor: 
                           tuple(reports), not reports[0].pass_through, path.converged,
                           f"stable up to {key} = {path.value[-1]:.6g}"
                           + ("" if path.converged else " (the path stopped there)"),
-                          welds=welds)
+                          welds=welds, contact_events=events)
     point, (value, at) = lost[0][0], lost[0][1]
     direction = math.copysign(1.0, stop - start)
     past = value + direction * max(OVERSHOOT * abs(value - start), OVERSHOOT_MIN)
@@ -449,15 +456,18 @@ def transition(a: Assembly, source: str, key: str, stop: float, *, load_factor: 
     reports.append(tracker.stretch("release", release, joined_inside=inside))
     target, rms = identify(free, references)
     physical = not any(r.pass_through for r in reports)
+    at_event = bool(point.get("at_contact_event"))
     msg = (f"{point['kind']} at {key} = {value:.6g}; snapped to {under} under load"
-           + ("" if stable else " (the relaxed state under load is not stable)"))
+           + ("" if stable else " (the relaxed state under load is not stable)")
+           + ("; AT A C1 CONTACT EVENT: the eigenvalue's sign change may be the contact "
+              "Hessian's jump there" if at_event else ""))
     stretches = (("loading", samples), (snap_name, proxy), ("release", release))
     sampled = SampledPath(np.stack([x for _, part in stretches for _, x in part]),
                           rod.edge_nodes.copy(), rod.rest_length.copy(),
                           tuple((name, len(part)) for name, part in stretches))
     return Transition(source, key, stop, float(value), point["kind"], under, target, rms,
                       invariants(free), tuple(reports), physical, bool(ok and path.converged),
-                      msg, mean_radius(free, free.x), sampled, welds)
+                      msg, mean_radius(free, free.x), sampled, welds, events, at_event)
 
 
 def _invariants_json(e: Transition) -> dict | None:
@@ -497,10 +507,13 @@ class TransitionGraph(Result):
                            "contact": [c.to_dict() for c in e.contact],
                            "target_invariants": _invariants_json(e),
                            "target_rms": e.target_rms, "converged": e.converged,
-                           "message": e.message} for e in self.edges if e.target is not None],
+                           "message": e.message, "contact_events": list(e.contact_events),
+                           "at_contact_event": e.at_contact_event}
+                          for e in self.edges if e.target is not None],
                 "no_transition": [{"from": e.source, "stimulus": e.stimulus, "stop": e.stop,
-                                   "message": e.message} for e in self.edges
-                                  if e.target is None],
+                                   "message": e.message,
+                                   "contact_events": list(e.contact_events)}
+                                  for e in self.edges if e.target is None],
                 "skipped": [{"state": s, "why": why} for s, why in self.skipped],
                 "load_factor": self.load_factor,
                 "elements_per_segment": self.elements_per_segment,
