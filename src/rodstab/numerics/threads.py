@@ -64,11 +64,17 @@ def serial_blas() -> Iterator[None]:
     if user_chose_threads():
         yield
         return
+    with _one_thread_environment(), _controller().limit(limits=1, user_api="blas"):
+        yield
+
+
+@contextlib.contextmanager
+def _one_thread_environment() -> Iterator[None]:
+    """Set every :data:`USER_THREAD_VARIABLES` to 1 for the block, then restore it."""
     saved = {v: os.environ.get(v) for v in USER_THREAD_VARIABLES}
     os.environ.update({v: "1" for v in USER_THREAD_VARIABLES})
     try:
-        with _controller().limit(limits=1, user_api="blas"):
-            yield
+        yield
     finally:
         for v, value in saved.items():
             if value is None:
@@ -100,14 +106,6 @@ def process_pool(workers: int) -> Iterator[ProcessPoolExecutor]:
     """
     import multiprocessing
 
-    saved = {v: os.environ.get(v) for v in USER_THREAD_VARIABLES}
-    os.environ.update({v: "1" for v in USER_THREAD_VARIABLES})
-    try:
-        with ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn")) as pool:
-            yield pool
-    finally:
-        for v, value in saved.items():
-            if value is None:
-                os.environ.pop(v, None)
-            else:
-                os.environ[v] = value
+    with _one_thread_environment(), ProcessPoolExecutor(
+            workers, mp_context=multiprocessing.get_context("spawn")) as pool:
+        yield pool
