@@ -5,8 +5,9 @@ centrelines and no contact. At zero gap contact only removes the perturbations t
 gap between touching layers: a limit is unchanged when some critical mode keeps every gap,
 and moves outward otherwise (:mod:`rodstab.multistable.cone`, on the FE engine). Each row
 checks that verdict by a second method: the closed-form Fourier modes of eq. (3.2) on the
-torus for the N-loop rings, the modes' own shapes for the bi-rod, a scan of the circle of
-combinations of a double mode for the folded ring and the hexagram's line.
+torus for the N-loop rings, the modes' own shapes for the bi-rod, the unit circle of
+combinations of a double mode (every candidate maximiser, exactly) for the folded ring and the
+hexagram's line.
 """
 
 from __future__ import annotations
@@ -68,7 +69,8 @@ LIMIT_XTOL = 1e-4
 LIMIT_RTOL = 2e-3
 LIMIT_ELEMENTS = 12
 LIMIT_MODES = 16
-#: A scanned margin counts as zero within this (the scans' resolution; modes scaled to 1).
+#: A margin counts as zero within this (round-off; relative to the largest gap change, or to
+#: the modes scaled to max |w| = 1).
 SCAN_ZERO = 1e-6
 
 _CONE = "cone test of the FE critical modes at zero gap (rodstab.multistable.cone)"
@@ -161,14 +163,15 @@ def _scanned(a, layers: dict, n: int) -> tuple[str, str, bool]:
     for side in (c.lower, c.upper):
         if side is None:
             continue
-        A, _ = cone.gap_matrix(a, pencil, side.load_factor, side.multiplicity, pairs)
-        margin = (cone.circle_scan_margin(A / max(float(np.max(np.abs(A))), 1e-300))
-                  if A.shape[1] == 2 else math.nan)
+        A, _ = cone.gap_matrix(a, pencil, side.load_factor, side.multiplicity, pairs,
+                               scaled=False)
+        margin = cone.relative_circle_margin(A) if A.shape[1] == 2 else math.nan
         scans.append(f"{margin:+.3f}")
         ok.append(A.shape[1] == 2 and side.unchanged == (margin >= -SCAN_ZERO))
     ours = (f"lower {fmt(c.interval[0])} {_verdict(c.lower)}, upper {fmt(c.interval[1])} "
             f"{_verdict(c.upper)} (double limits)")
-    second = ("scan of the circle of combinations, best smallest gap change / largest: "
+    second = ("the unit circle of combinations (orthonormal modes, every candidate maximiser), "
+              "best smallest gap change / largest of any: "
               + ", ".join(scans))
     return ours, second, bool(ok) and all(ok)
 

@@ -366,7 +366,7 @@ def _best_combination(A: np.ndarray) -> tuple[np.ndarray, float]:
 
 
 def gap_matrix(a: Assembly, pencil: Any, mu_c: float, mult: int, pairs: Pairs,
-               null: np.ndarray | None = None
+               null: np.ndarray | None = None, *, scaled: bool = True
                ) -> tuple[np.ndarray, list[tuple[str, str, float, float]]]:
     """Gap changes of the critical modes: ``A[i, k] = n_z (w_a - w_b)`` at sample ``i``, mode ``k``.
 
@@ -375,6 +375,11 @@ def gap_matrix(a: Assembly, pencil: Any, mu_c: float, mult: int, pairs: Pairs,
     within :data:`CLUSTER_RTOL` of ``mu_c``; each scaled to ``max |w| = 1``. Rows: every
     sample of every touching pair, named ``(a, b, s on a, s on b)`` in the second return value.
     ``null``: the closure constraints' null space, if already computed (the same at both ends).
+    ``scaled`` False: the eigenvectors as the eigensolver gives them, orthonormal in the
+    reduced unknowns, unscaled. Within a multiple eigenvalue the solver's basis is arbitrary
+    (it changed with the BLAS kernels), so a size measured on the unit circle of combinations
+    is basis-free only in these columns (:func:`circle_scan_margin`); the verdict (a
+    combination keeping every gap, or none) does not depend on it.
     """
     from scipy.linalg import eigh, null_space
 
@@ -395,7 +400,7 @@ def gap_matrix(a: Assembly, pencil: Any, mu_c: float, mult: int, pairs: Pairs,
     names = [s.name for s in a.segments]
     where = [(names[ia], names[ib], float(x), float(y)) for ia, ib, sa, sb, _ in pairs
              for x, y in zip(sa, sb, strict=True)]
-    return A / np.where(scale > 0, scale, 1.0), where
+    return (A / np.where(scale > 0, scale, 1.0) if scaled else A), where
 
 
 def gap_changes(pencil: Any, pairs: Pairs, vecs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -590,12 +595,39 @@ def ring_mode_margin(j: int, loops: int, samples: int = 720) -> float:
     return best
 
 
-def circle_scan_margin(A: np.ndarray, samples: int = 3600) -> float:
-    """Best smallest gap change over the unit circle of a two-mode eigenspace, by a scan.
+def circle_scan_margin(A: np.ndarray) -> float:
+    """Best smallest gap change over the unit circle of a two-mode eigenspace, exactly.
 
-    ``A`` (samples x 2) from :func:`gap_matrix`: ``max_t min_i (A [cos t, sin t])_i`` over
-    ``samples`` angles. A check of the linear programmes that needs none of them.
+    ``A`` (samples x 2) from :func:`gap_matrix`: ``max_u min_i A_i . u`` over unit ``u``. At a
+    maximiser either one row is the smallest alone, and ``u`` points along it, or two rows are
+    equal, and ``u`` is normal to their difference: every such ``u`` is tried (``O(rows^3)``
+    products). A check of the linear programmes that needs none of them. Its sign holds in
+    any basis; its size is the eigenspace's own (unchanged by rotating or reflecting the
+    basis) for orthonormal modes (``gap_matrix(..., scaled=False)``), and so is
+    :func:`relative_circle_margin`.
     """
-    t = np.linspace(0.0, 2 * math.pi, samples, endpoint=False)
-    return float(np.max(np.min(np.stack([np.cos(t), np.sin(t)], 1) @ A.T, axis=1)))
+    A = np.asarray(A, dtype=float)
+    norms = np.linalg.norm(A, axis=1)
+    cand = [A[norms > 0] / norms[norms > 0, None]]
+    i, j = np.triu_indices(len(A), 1)
+    d = A[i] - A[j]
+    dn = np.linalg.norm(d, axis=1)
+    perp = np.stack([-d[:, 1], d[:, 0]], axis=1)[dn > 0] / dn[dn > 0, None]
+    cand += [perp, -perp]
+    U = np.vstack(cand)
+    if not len(U):  # every row zero: every combination leaves every gap as it is
+        return 0.0
+    best = -math.inf
+    for k in range(0, len(U), 4096):  # bounded memory: a block of candidates at a time
+        best = max(best, float(np.max(np.min(U[k:k + 4096] @ A.T, axis=1))))
+    return best
 
+
+def relative_circle_margin(A: np.ndarray) -> float:
+    """:func:`circle_scan_margin` over the largest gap change of any unit combination.
+
+    That largest change is ``max_i |A_i|`` (row norms), so for orthonormal modes the ratio
+    (``-1 .. 1``) depends on the eigenspace only, not on the basis an eigensolver returned.
+    """
+    big = float(np.max(np.linalg.norm(A, axis=1))) if len(A) else 0.0
+    return circle_scan_margin(A) / big if big > 0 else 0.0
