@@ -20,9 +20,9 @@ from rodstab.model import Assembly, Segment
 from rodstab.multistable.cone import (
     _best_combination,
     circle_scan_margin,
-    relative_circle_margin,
     contact_cone,
     gap_matrix,
+    relative_circle_margin,
     ring_mode_margin,
     touching_pairs,
 )

@@ -325,3 +325,34 @@ def test_interactive_html_views_are_written(run_cli, tmp_path):
     assert r.exit_code == 0, r.stderr
     page = (tmp_path / "c" / "branch.html").read_text()
     assert page.count('"name":"') >= 4  # the branch point and three steps: animation frames
+
+
+def test_a_double_modes_phase_does_not_change_the_twisted_rods_branch_direction(monkeypatch):
+    """Greenhill's rod has a double critical mode (an axis of symmetry): every combination of
+    the two is the same buckling rotated about the axis, and which one an eigensolver returns
+    is round-off (it differed between two BLAS kernel sets, and so did the report's PB-twist
+    and IMP-twist numbers: the branch's first step and the imperfection, both scaled by the
+    mode's largest entry, depend on the phase). With the eigenbasis turned by 0.7 rad before
+    the branch is chosen, the branch direction (the imperfection's shape too) is the same mode
+    up to sign: the combination with the largest out-of-plane field."""
+    import rodstab.nonlinear.continuation.branches as br
+    from rodstab.nonlinear.parameters import parameter
+    from rodstab.nonlinear.solve import lowest_modes
+
+    key = "support.1.rotation.tangent"
+    c = continuation(_twisted(), key, 0.0, 13.0, 13, elements_per_segment=12, branch_steps=0,
+                     stop_at_first=True)
+    _, state = c.states[0]
+    param = parameter(_twisted(), key, 12)
+    (d,) = br.branch_directions(state, param, -1.0, 1.0)
+
+    def turned(rod, k, *args):
+        vals, vecs = lowest_modes(rod, k, *args)
+        c_, s_ = math.cos(0.7), math.sin(0.7)
+        vecs = vecs.copy()
+        vecs[:, :2] = vecs[:, :2] @ np.array([[c_, -s_], [s_, c_]])
+        return vals, vecs
+
+    monkeypatch.setattr(br, "lowest_modes", turned)
+    (e,) = br.branch_directions(state, param, -1.0, 1.0)
+    assert abs(abs(float(d.mode @ e.mode)) - 1.0) < 1e-8

@@ -129,7 +129,16 @@ def branch_directions(rod: DiscreteRod, param: Parameter, stable_side: float,
     P = np.array([_probe(rod, param, *pair(float(f)), eps) for f in grid])
     spread = float(np.ptp(P))
     if spread <= FAMILY_RTOL * max(float(np.max(np.abs(P))), 1e-300):
-        return [Direction(v1, v2, float(np.mean(P)))]
+        # A family: every combination alike (an axis of symmetry), so v1 is whichever the
+        # eigensolver gave, and round-off chose it: the twisted rod's subcritical branch
+        # then fell to 0.97976 or 0.99425 of phi_c over its 8 steps (xi, the out-of-plane
+        # field, and the first step depend on the phase). Take the combination whose
+        # out-of-plane field is largest: node i's is a_i cos(phi) + b_i sin(phi), largest at
+        # phi = atan2(b_i, a_i) (nodes tied by a symmetry give images of one branch).
+        a_w, b_w = mode_out_of_plane(rod, v1), mode_out_of_plane(rod, v2)
+        i = int(np.argmax(np.hypot(a_w, b_w)))
+        return [Direction(*pair(math.atan2(float(b_w[i]), float(a_w[i]))),
+                          float(np.mean(P)))]
     coef, *_ = np.linalg.lstsq(_harmonics(grid), P, rcond=None)
     misfit = float(np.max(np.abs(_harmonics(grid) @ coef - P)))
     if misfit > FIT_RTOL * spread:
