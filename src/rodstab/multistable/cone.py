@@ -381,6 +381,20 @@ def gap_matrix(a: Assembly, pencil: Any, mu_c: float, mult: int, pairs: Pairs,
     is basis-free only in these columns (:func:`circle_scan_margin`); the verdict (a
     combination keeping every gap, or none) does not depend on it.
     """
+    A, scale = gap_changes(pencil, pairs, critical_modes(pencil, mu_c, mult, null))
+    return (A / np.where(scale > 0, scale, 1.0) if scaled else A), _where(a, pairs)
+
+
+def _where(a: Assembly, pairs: Pairs) -> list[tuple[str, str, float, float]]:
+    """Name every row of :func:`gap_matrix`: ``(a, b, s on a, s on b)``."""
+    names = [s.name for s in a.segments]
+    return [(names[ia], names[ib], float(x), float(y)) for ia, ib, sa, sb, _ in pairs
+            for x, y in zip(sa, sb, strict=True)]
+
+
+def critical_modes(pencil: Any, mu_c: float, mult: int, null: np.ndarray | None = None
+                   ) -> np.ndarray:
+    """Return the critical eigenspace of :func:`gap_matrix` (orthonormal, pencil unknowns)."""
     from scipy.linalg import eigh, null_space
 
     if pencil.K0.shape[0] > MAX_DENSE_DOF:
@@ -396,11 +410,7 @@ def gap_matrix(a: Assembly, pencil: Any, mu_c: float, mult: int, pairs: Pairs,
     with np.errstate(divide="ignore", invalid="ignore"):
         shift = np.abs(lam[near] / rayleigh)
     order = near[(shift <= CLUSTER_RTOL * max(abs(mu_c), 1.0)) | (np.arange(len(near)) < mult)]
-    A, scale = gap_changes(pencil, pairs, N @ X[:, order])
-    names = [s.name for s in a.segments]
-    where = [(names[ia], names[ib], float(x), float(y)) for ia, ib, sa, sb, _ in pairs
-             for x, y in zip(sa, sb, strict=True)]
-    return (A / np.where(scale > 0, scale, 1.0) if scaled else A), where
+    return N @ X[:, order]
 
 
 def gap_changes(pencil: Any, pairs: Pairs, vecs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -424,10 +434,21 @@ def _side(a: Assembly, pencil: Any, mu_c: float, mult: int, pairs: Pairs,
     """Decide one no-contact limit against the cone (module doc)."""
     if not pairs:  # nothing touches at zero thickness (the star: only at its welds)
         return ConeSide(float(mu_c), mult, True, 0.0, 0.0, "")
-    A, where = gap_matrix(a, pencil, mu_c, mult, pairs, null)
+    V = critical_modes(pencil, mu_c, mult, null)
+    unscaled, scale = gap_changes(pencil, pairs, V)
+    A, where = unscaled / np.where(scale > 0, scale, 1.0), _where(a, pairs)
     mult = A.shape[1]
     c, t = _best_combination(A)
     g = A @ c
+    if mult == 2:
+        # The verdict is the LP's (exact); the combination reported is the one best on the
+        # unit circle of the orthonormal modes, which does not depend on the basis the
+        # eigensolver returned (the box LP's did: largest gap change 0.433 or 0.471 on the
+        # folded ring's lower limit with two BLAS kernel sets), scaled to max |w| = 1.
+        u, _ = _circle_best(unscaled)
+        one, w = gap_changes(pencil, pairs, (V @ u)[:, None])
+        g = one[:, 0] / max(float(w[0]), 1e-300)
+        t = float(np.min(g))
     big = float(np.max(np.abs(g)))
     floor = GAP_ROUNDOFF  # the modes are scaled to max |w| = 1
     unchanged = t >= -floor
@@ -606,6 +627,11 @@ def circle_scan_margin(A: np.ndarray) -> float:
     basis) for orthonormal modes (``gap_matrix(..., scaled=False)``), and so is
     :func:`relative_circle_margin`.
     """
+    return _circle_best(A)[1]
+
+
+def _circle_best(A: np.ndarray) -> tuple[np.ndarray, float]:
+    """Return the maximiser ``u`` (unit, 2) of :func:`circle_scan_margin` and its value."""
     A = np.asarray(A, dtype=float)
     norms = np.linalg.norm(A, axis=1)
     cand = [A[norms > 0] / norms[norms > 0, None]]
@@ -616,11 +642,14 @@ def circle_scan_margin(A: np.ndarray) -> float:
     cand += [perp, -perp]
     U = np.vstack(cand)
     if not len(U):  # every row zero: every combination leaves every gap as it is
-        return 0.0
-    best = -math.inf
+        return np.array([1.0, 0.0]), 0.0
+    best, at = -math.inf, U[0]
     for k in range(0, len(U), 4096):  # bounded memory: a block of candidates at a time
-        best = max(best, float(np.max(np.min(U[k:k + 4096] @ A.T, axis=1))))
-    return best
+        worst = np.min(U[k:k + 4096] @ A.T, axis=1)
+        top = int(np.argmax(worst))
+        if worst[top] > best:
+            best, at = float(worst[top]), U[k + top]
+    return at, best
 
 
 def relative_circle_margin(A: np.ndarray) -> float:
