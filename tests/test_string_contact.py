@@ -346,6 +346,7 @@ def test_a_threshold_at_a_contact_event_says_so(monkeypatch):
     monkeypatch.setattr(T, "continuation", real)
     (plain,) = json.loads(run_cli([*TR, "--contact"]).stdout)["edges"]
     assert plain["at_contact_event"] is False and plain["contact_events"] == []
+    assert plain["double_mode"] is False  # the star's critical eigenvalue is simple
     assert "C1" not in plain["message"]
 
 

@@ -249,11 +249,16 @@ def hexagram_line():
     return edge
 
 
-def test_line_snaps_to_star_as_natural_curvature_grows(hexagram_line) -> None:
+def test_line_snaps_to_a_six_cusp_state_as_natural_curvature_grows(hexagram_line) -> None:
     """The line loses stability near its upper limit (kappa_n R0 ~ 2.25, FE 2.248 at h/t 4)
-    and snaps to the star (identified by its aligned geometry)."""
+    at a DOUBLE critical eigenvalue, and says so: pushed along one direction of the
+    eigenspace (round-off picks it) it snaps to the star with OpenBLAS's Haswell and SkylakeX
+    kernels, to the daisy with its Nehalem ones (identified by their aligned geometry); along
+    the most dangerous branch direction, to the daisy with all three (docs/development.md).
+    So the target is either, and the edge is marked as not unique."""
     edge = hexagram_line
-    assert edge.target == "star" and edge.target_rms < 0.01
+    assert edge.double_mode
+    assert edge.target in ("star", "daisy") and edge.target_rms < 0.01
     assert edge.threshold == pytest.approx(2.25, abs=0.03)
     assert edge.target_invariants is not None
     assert edge.target_invariants.distinct_weld_points == 6
@@ -273,15 +278,19 @@ def test_cli_graph_json_schema_on_a_design(tmp_path, capsys, hexagram_line) -> N
     assert set(data["states"]) >= set(hx.STATES)
     (edge,) = data["edges"]
     assert {"from", "to", "stimulus", "threshold", "contact", "physical"} <= set(edge)
-    assert edge["from"] == "line" and edge["to"] == "star" and edge["stimulus"] == "load_factor"
+    # a double critical eigenvalue: the star or the daisy (see the test above)
+    assert edge["from"] == "line" and edge["stimulus"] == "load_factor" and edge["double_mode"]
+    assert edge["to"] in ("star", "daisy")
     assert edge["threshold"] / unit == pytest.approx(hexagram_line.threshold, rel=1e-6)
     for c in edge["contact"]:
         assert {"stretch", "min_distance", "touching", "pass_through"} <= set(c)
-    # The keys since e0b77e8 (issue 20 merged the identifications, not the JSON); the star's
-    # turning number along the ring (backwards rods counted with their sign) is whole.
+    # The keys since e0b77e8 (issue 20 merged the identifications, not the JSON); the target's
+    # turning number along the ring (backwards rods counted with their sign) is whole: 2 for
+    # the star, 4 for the daisy.
     inv = edge["target_invariants"]
     assert set(inv) == {"distinct_weld_points", "turning_number", "mean_radius", "planarity"}
-    assert inv["turning_number"] == pytest.approx(2.0, abs=1e-9)
+    assert inv["turning_number"] == pytest.approx({"star": 2.0, "daisy": 4.0}[edge["to"]],
+                                                  abs=1e-9)
     assert (tmp_path / "g" / "transitions.png").stat().st_size > 0
     # The edge's sampled states in a path file (rodstab.io.path_file): the stretches in
     # order, the default thickness, and the pairs stacked in its first state -- recomputed

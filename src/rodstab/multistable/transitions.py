@@ -294,6 +294,11 @@ class Transition(Result):
     #: Hessian's jump there, not a smooth loss of stability).
     contact_events: tuple[dict, ...] = ()
     at_contact_event: bool = False
+    #: The critical eigenvalue at the threshold is double (its second lowest within the zero
+    #: tolerance): the snap pushed along one direction of the eigenspace, which round-off
+    #: picks, so the target is not known to be the only one (the folded six-ring's line
+    #: reached the star or the daisy with different BLAS kernels, docs/development.md).
+    double_mode: bool = False
 
 
 def _let_go(rod: DiscreteRod, a: Assembly, n: int, cusp_width: float | None = None
@@ -409,6 +414,8 @@ def transition(a: Assembly, source: str, key: str, stop: float, *, load_factor: 
     direction = math.copysign(1.0, stop - start)
     past = value + direction * max(OVERSHOOT * abs(value - start), OVERSHOOT_MIN)
     snapped = at.copy()
+    pair = lowest_modes(at, 2)[0]
+    double = bool(pair[1] <= zero_eigenvalue_tol(at))
     _, vec = lowest_modes(snapped, 1)
     dq = np.zeros(snapped.n_dof)
     dq[snapped.free_dofs()] = vec[:, 0]
@@ -467,7 +474,7 @@ def transition(a: Assembly, source: str, key: str, stop: float, *, load_factor: 
                           tuple((name, len(part)) for name, part in stretches))
     return Transition(source, key, stop, float(value), point["kind"], under, target, rms,
                       invariants(free), tuple(reports), physical, bool(ok and path.converged),
-                      msg, mean_radius(free, free.x), sampled, welds, events, at_event)
+                      msg, mean_radius(free, free.x), sampled, welds, events, at_event, double)
 
 
 def _invariants_json(e: Transition) -> dict | None:
@@ -508,7 +515,8 @@ class TransitionGraph(Result):
                            "target_invariants": _invariants_json(e),
                            "target_rms": e.target_rms, "converged": e.converged,
                            "message": e.message, "contact_events": list(e.contact_events),
-                           "at_contact_event": e.at_contact_event}
+                           "at_contact_event": e.at_contact_event,
+                           "double_mode": e.double_mode}
                           for e in self.edges if e.target is not None],
                 "no_transition": [{"from": e.source, "stimulus": e.stimulus, "stop": e.stop,
                                    "message": e.message,
