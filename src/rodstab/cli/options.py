@@ -171,7 +171,7 @@ string_workers_option = click.option(
 @contextlib.contextmanager
 def string_pool(workers: int) -> Iterator[Executor | None]:
     """Yield the pool of ``--workers`` processes for the string's images (None: this one)."""
-    if require_int("--workers", workers, 1) == 1:
+    if workers == 1:  # the option's range is >= 1
         yield None
         return
     from ..numerics.threads import process_pool

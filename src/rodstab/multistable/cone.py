@@ -106,7 +106,10 @@ class ConeSide(Result):
         False: every critical mode closes a gap somewhere (contact moves the limit outward).
     margin : float
         The best combination's smallest gap change over its largest (``-1 .. 1``; >= 0 when
-        unchanged; 0 when the mode moves the touching layers together).
+        unchanged; 0 when the mode moves the touching layers together). At a double limit the
+        best on the unit circle of the orthonormal modes (free of the eigensolver's basis); at
+        a simple one the mode itself; for three or more modes the linear programme's, whose
+        size (not sign) depends on the basis.
     largest_gap_change : float
         The best combination's largest ``|n_z (w_a - w_b)|`` (mode scaled to ``max |w| = 1``):
         0 means the layers move together.

@@ -416,6 +416,8 @@ def transition(a: Assembly, source: str, key: str, stop: float, *, load_factor: 
     snapped = at.copy()
     pair = lowest_modes(at, 2)[0]
     double = bool(pair[1] <= zero_eigenvalue_tol(at))
+    # The push's vector from its own one-mode solve, as before the flag: a two-mode solve
+    # returns another vector of a double eigenspace, and so another target (the flag's point).
     _, vec = lowest_modes(snapped, 1)
     dq = np.zeros(snapped.n_dof)
     dq[snapped.free_dofs()] = vec[:, 0]
