@@ -16,7 +16,7 @@ from ..io.outputs import check_output
 from ..limits import Limits
 from ..model import CONTACT_DHAT_FRACTION
 from ..sections import Section
-from .barrier_contact import contact_line, knot_line, path_model
+from .barrier_contact import apart_output, contact_line, path_model, topology_lines
 from .contact_options import (
     check_cusp_width,
     cusp_width_option,
@@ -64,8 +64,7 @@ _BARRIER_STATES = {"six-ring": ("folded", "one-loop"), "hexagram": ("line", "sta
          "(Bloch). Both states must be stable there.")
 @elements_option(default=8, minimum=4, help="Elements per rod of the discrete rod (>= 4).")
 @click.option("--images", type=int, default=None,
-              help="Images of the string, ends included (>= 3; default "
-                   "rodstab.multistable.string_method.STRING_IMAGES, 17). String method.")
+              help="Images of the string, ends included (>= 3; default 17). String method.")
 @click.option("--plot", "plot_path", type=click.Path(dir_okay=False), default=None,
               help="Write the energy along the path (saddle marked, barriers annotated).")
 @click.option("--animation", "animation_path", type=click.Path(dir_okay=False), default=None,
@@ -157,9 +156,6 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
         to_state = to_state or _BARRIER_STATES[structure][1]
         check_state(structure, from_state, "--from")
         check_state(structure, to_state, "--to")
-        if from_state == to_state:
-            raise RodstabInputError(f"--to {to_state!r} is the --from state: a barrier joins "
-                                    "two different states")
         a, b_asm = (state_assembly(structure, section, s) for s in (from_state, to_state))
         others = {s: state_assembly(structure, section, s) for s in STRUCTURE_STATES[structure]
                   if s not in (from_state, to_state)}  # to name the minima a path passes
@@ -207,6 +203,7 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
             k, chosen = structure_common_load(structure, hexagram_ring, (from_state, to_state))
         mu = model_load_factor(structure, k)
     assert k is not None  # set above on every path (given, DESIGN's or the structure's default)
+    from ..multistable.linking import TopologicallyApart
     from ..nonlinear.contact import Interpenetration
 
     path: list[Any] = []
@@ -227,6 +224,9 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
             b = barrier_from_bifurcation(a, mu, upper=model_load_factor(structure, 4.0),
                                          elements_per_segment=elements, name=from_state,
                                          named={to_state: b_asm}, limits=limits)
+    except TopologicallyApart as exc:  # a certified answer: no path inside the model
+        apart_output(exc.verdict, name, k, section, elements, design_file, as_json)
+        return
     except Interpenetration as exc:  # a state outside the contact model
         raise RodstabInputError(f"--contact-thickness {h!r}: {exc}") from exc
     except RodstabInputError as exc:
@@ -335,8 +335,8 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
         if c is not None:
             from ..nonlinear.discrete import discretise
 
-            lines.append(knot_line(payload, stacked or discretise(a, elements), xs,
-                                    b.from_state, b.to_state))
+            lines += topology_lines(payload, stacked or discretise(a, elements), xs,
+                                    (path[0].R_edge, path[-1].R_edge), b.from_state, b.to_state)
         if order is not None and stacked is not None and model is not None:
             from ..multistable.layered import weld_spans
 

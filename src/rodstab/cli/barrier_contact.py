@@ -96,15 +96,53 @@ def into_contact_lines(a: Any, elements: int, mu: float, saddle: Any, ends: dict
     return lines, any(rec.get("outcome") == "saddle" for rec in out)
 
 
-def knot_line(payload: dict[str, Any], rod: Any, xs: Any, a: str, b: str) -> str:
-    """Return the knot types of the path's two ends (JSON ``contact.knots``), as printed."""
-    from ..multistable.knots import apart_by_topology, describe, knot_class, ring_polygon
+def _topology_text(verdict: Any) -> list[str]:
+    """Return the ``knots`` and ``linking`` lines of a :class:`~.linking.Topology`."""
+    from ..multistable.knots import describe
+    from ..multistable.linking import describe_linking
 
-    ka, kb = (knot_class(ring_polygon(rod, x)) for x in (xs[0], xs[-1]))
-    payload["contact"]["knots"] = {a: ka.to_dict(), b: kb.to_dict()}
-    verdict = ("different knots: no path joins them without passing rods through each other"
-               if apart_by_topology(ka, kb) else "rods that cannot cross keep the knot type")
-    return f"knots        {describe(a, ka)}; {describe(b, kb)}: {verdict}"
+    (a, b), (ka, kb), (la, lb) = verdict.names, verdict.knots, verdict.linking
+    apart = "no path joins them without passing rods through each other"
+    knots = ("different knots: " + apart if verdict.why == "different knot types"
+             else "rods that cannot cross keep the knot type")
+    links = (f"different: {apart}" if verdict.why.startswith("ribbons")
+             else "rods that cannot cross keep it")
+    return [f"knots        {describe(a, ka)}; {describe(b, kb)}: {knots}",
+            f"linking      ribbons pushed along {la.director} (Gauss's integral and crossings "
+            f"agree): {describe_linking(a, la)}; {describe_linking(b, lb)}: {links}"]
+
+
+def topology_lines(payload: dict[str, Any], rod: Any, xs: Any, Rs: Any, a: str,
+                   b: str) -> list[str]:
+    """Return the knot types and ribbon linking of the path's ends, as printed.
+
+    JSON ``contact.knots`` and ``contact.linking``.
+    """
+    from ..multistable.linking import topology
+
+    verdict = topology(rod, rod, (a, b), xs[0], xs[-1], Rs[0], Rs[1])
+    payload["contact"]["knots"] = {a: verdict.knots[0].to_dict(), b: verdict.knots[1].to_dict()}
+    payload["contact"]["linking"] = {a: verdict.linking[0].to_dict(),
+                                     b: verdict.linking[1].to_dict()}
+    return _topology_text(verdict)
+
+
+def apart_output(verdict: Any, name: str, k: float, section: Any, elements: int,
+                 design_file: str | None, as_json: bool) -> None:
+    """Print a barrier whose two states topology keeps apart (JSON ``blocked_by_contact``)."""
+    from .output import emit, section_line
+
+    a, b = verdict.names
+    payload = {"structure": name, "kappa_R0": k, "section": section.to_dict(),
+               "from_state": a, "to_state": b, "blocked_by_contact": verdict.to_dict(),
+               "barrier_forward": None, "barrier_backward": None}
+    lines = [section_line(section),
+             f"{name} at {'kappa_n R0' if design_file is None else 'load factor'} = {fmt(k)}, "
+             f"{elements} elements per rod, with contact",
+             f"blocked      {a} -> {b}: BLOCKED BY CONTACT ({verdict.why}): no path joins "
+             "them without passing rods through each other; no barrier (the string was not "
+             "run)"] + _topology_text(verdict)
+    emit(payload, as_json, lines)
 
 
 def contact_line(report: Any, thickness: float, from_state: str, acting: bool) -> str:

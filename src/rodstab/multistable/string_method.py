@@ -571,6 +571,10 @@ def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
         with contact, a state whose rods overlap under the model (an Interpenetration).
     NotConverged
         With contact: no path inside the model was reached (the reason named).
+    TopologicallyApart
+        With contact: the two states differ in knot type or in the self-linking of their
+        ribbons (:func:`~.linking.topology`), so no path joins them inside the model; raised
+        before the string is run.
     """
     mu = require_finite("load_factor", load_factor)
     n = require_int("elements_per_segment", elements_per_segment, MIN_ELEMENTS)
@@ -602,6 +606,12 @@ def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
         start = relax(start, max_iter=max_iter, accept=None)[0]
         start = stacked_band(start, layers, contact, (name_a, name_b))
         rod_a, rod_b = start[0], start[-1]
+    if contact is not None:  # rods that cannot cross keep both invariants: check before work
+        from .linking import TopologicallyApart, topology
+
+        verdict = topology(rod_a, rod_b, (name_a, name_b))
+        if verdict.apart:
+            raise TopologicallyApart(verdict)
     e_a, e_b = rod_a.energy(), rod_b.energy()
     land = Landscape.of([(name_a, rod_a), (name_b, rod_b)]
                         + ([] if layers is not None
