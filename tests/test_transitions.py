@@ -255,10 +255,14 @@ def test_line_snaps_to_a_six_cusp_state_as_natural_curvature_grows(hexagram_line
     eigenspace (round-off picks it) it snaps to the star with OpenBLAS's Haswell and SkylakeX
     kernels, to the daisy with its Nehalem ones (identified by their aligned geometry); along
     the most dangerous branch direction, to the daisy with all three (docs/development.md).
-    So the target is either, and the edge is marked as not unique."""
+    So the target is either, and the edge is marked as not unique. Pushed along every branch
+    direction of the eigenspace both ways (basis-free), it reaches both: ``reachable`` lists
+    the star and the daisy whichever the solver's own push reached (independent reference:
+    the two BLAS kernel sets' targets above)."""
     edge = hexagram_line
     assert edge.double_mode
     assert edge.target in ("star", "daisy") and edge.target_rms < 0.01
+    assert edge.reachable == ("daisy", "star")
     assert edge.threshold == pytest.approx(2.25, abs=0.03)
     assert edge.target_invariants is not None
     assert edge.target_invariants.distinct_weld_points == 6
@@ -280,7 +284,7 @@ def test_cli_graph_json_schema_on_a_design(tmp_path, capsys, hexagram_line) -> N
     assert {"from", "to", "stimulus", "threshold", "contact", "physical"} <= set(edge)
     # a double critical eigenvalue: the star or the daisy (see the test above)
     assert edge["from"] == "line" and edge["stimulus"] == "load_factor" and edge["double_mode"]
-    assert edge["to"] in ("star", "daisy")
+    assert edge["to"] in ("star", "daisy") and edge["reachable"] == ["daisy", "star"]
     assert edge["threshold"] / unit == pytest.approx(hexagram_line.threshold, rel=1e-6)
     for c in edge["contact"]:
         assert {"stretch", "min_distance", "touching", "pass_through"} <= set(c)

@@ -366,7 +366,8 @@ def transitions(design_file: str | None, section: Section, structure: str,
         lines.append(f"{e['from']:>6} -> {e['to']:<8} {e['stimulus']} = {fmt(e['threshold'])}"
                      f"{physical.get((e['from'], e['to'], e['stimulus']), '')} ({e['kind']}"
                      f"{', AT A C1 CONTACT EVENT' if e.get('at_contact_event') else ''}"
-                     f"{', DOUBLE MODE: target not unique' if e.get('double_mode') else ''}); "
+                     + (f", DOUBLE MODE: reaches {' or '.join(e['reachable'])}"
+                        if e.get("double_mode") else "") + "); "
                      + ("no pass-through" if e["physical"] else "RODS PASS THROUGH: not "
                         "physical as computed"))
     lines += [f"{e['from']:>6}    none     {e['stimulus']} up to {fmt(e['stop'])}: "

@@ -46,6 +46,16 @@ the smallest distance between judged pairs of rod centreline elements is measure
 
 An edge is reported physical only if no pass-through was found on any sampled stretch; the
 snap's verdict rests on its interpolated proxy and is labelled as such.
+
+**A double critical eigenvalue** (a symmetric ring: the hexagram's line and eight) has a plane
+of critical modes, and the snap's target depends on the direction of the push within it (the
+line reached the star or the daisy with different BLAS kernels). The edge's own snap pushes
+along the eigen solver's first vector, as at a simple one; besides it, the state is pushed
+along every branch direction of the eigenspace
+(:func:`~rodstab.nonlinear.continuation.branches.branch_directions`: the stationary points of
+the reduced equations' quartic form, independent of the solver's basis), each both ways, with
+the same push, relaxation and release, and every state reached is listed
+(:attr:`Transition.reachable`).
 """
 
 from __future__ import annotations
@@ -299,6 +309,11 @@ class Transition(Result):
     #: picks, so the target is not known to be the only one (the folded six-ring's line
     #: reached the star or the daisy with different BLAS kernels, docs/development.md).
     double_mode: bool = False
+    #: At a double critical eigenvalue: the states reached by pushing along every branch
+    #: direction of the eigenspace (:func:`~rodstab.nonlinear.continuation.branches.
+    #: branch_directions`, basis-free), each both ways, relaxed and released as the edge's
+    #: own snap; sorted names. Empty at a simple one.
+    reachable: tuple[str, ...] = ()
 
 
 def _let_go(rod: DiscreteRod, a: Assembly, n: int, cusp_width: float | None = None
@@ -330,6 +345,61 @@ def _stacked_source(a: Assembly, source: str, n: int, load_factor: float,
     rod = lift(stacked_model(planar, layers, contact), planar, planar)
     stable_end(rod, source, contact, f"layers = {layers}, load factor {load_factor:g}")
     return rod
+
+
+class _Snap:
+    """Push the critical state ``at`` along a mode, relax it past the threshold, release it.
+
+    Called with a mode (free unknowns), returns ``(ok, stable, under, snapped_x, steps,
+    release, free)``: whether every relaxation converged, whether the state relaxed under load
+    is stable, its name (identified against ``references``), its node positions, the snap's
+    filtered steps (``record``: with contact), the release's samples ``(value, x)`` and the
+    released state relaxed free of loads.
+    """
+
+    def __init__(self, at: DiscreteRod, param: Any, past: float, start: float, length: float,
+                 let_go: Any, references: Mapping[str, DiscreteRod], record: bool) -> None:
+        self.at, self.param, self.past, self.start = at, param, past, start
+        self.length, self.let_go, self.references, self.record = (length, let_go, references,
+                                                                   record)
+
+    def __call__(self, mode: np.ndarray) -> tuple:
+        at, param = self.at, self.param
+        snapped = at.copy()
+        dq = np.zeros(snapped.n_dof)
+        dq[snapped.free_dofs()] = mode
+        disp = float(np.max(np.linalg.norm(dq[: 3 * len(snapped.x)].reshape(-1, 3), axis=1)))
+        dq *= PUSH * self.length / max(disp, 1e-300)
+        if snapped.contact is not None:  # the push closes no gap (the step filter)
+            dq *= contact_fraction(snapped, np.arange(snapped.n_dof), dq)
+        snapped.apply(dq)
+        param.set(snapped, self.past)
+        # With contact the snap is recorded step by step: every step is filtered, so
+        # neighbouring states are joined inside the model, and so is the written path.
+        steps = [at.x.copy(), snapped.x.copy()] if self.record else None
+        # The snap crosses a flat, strongly nonlinear landscape: one relax (600 Newton steps)
+        # may stop on the way (residual ~3e2 on the line at 8 el./rod); carry on from there.
+        ok = False
+        for _ in range(SNAP_RELAXES):
+            ok = relax(snapped, trace=steps)[0]
+            if ok:
+                break
+        stable = ok and lowest_modes(snapped, 1)[0][0] > zero_eigenvalue_tol(snapped)
+        snapped_x = snapped.x.copy()
+        under, _ = identify(self.let_go(snapped), self.references)
+        release: list[tuple[float, np.ndarray]] = []
+        for p in np.linspace(self.past, self.start, RELEASE_STEPS + 1)[1:]:
+            param.set(snapped, float(p))
+            trace: list | None = [] if self.record else None
+            ok = relax(snapped, trace=trace)[0] and ok
+            release.extend((float(p), x) for x in trace or [])
+            release.append((float(p), snapped.x.copy()))
+        free = self.let_go(snapped)
+        trace = [] if self.record else None
+        ok = relax(free, trace=trace)[0] and ok
+        release.extend((self.start, x) for x in trace or [])
+        release.append((self.start, free.x.copy()))
+        return ok, stable, under, snapped_x, steps, release, free
 
 
 def transition(a: Assembly, source: str, key: str, stop: float, *, load_factor: float,
@@ -413,56 +483,32 @@ def transition(a: Assembly, source: str, key: str, stop: float, *, load_factor: 
     point, (value, at) = lost[0][0], lost[0][1]
     direction = math.copysign(1.0, stop - start)
     past = value + direction * max(OVERSHOOT * abs(value - start), OVERSHOOT_MIN)
-    snapped = at.copy()
     pair = lowest_modes(at, 2)[0]
     double = bool(pair[1] <= zero_eigenvalue_tol(at))
     # The push's vector from its own one-mode solve, as before the flag: a two-mode solve
     # returns another vector of a double eigenspace, and so another target (the flag's point).
-    _, vec = lowest_modes(snapped, 1)
-    dq = np.zeros(snapped.n_dof)
-    dq[snapped.free_dofs()] = vec[:, 0]
-    disp = float(np.max(np.linalg.norm(dq[: 3 * len(snapped.x)].reshape(-1, 3), axis=1)))
+    _, vec = lowest_modes(at, 1)
+    let_go = ((lambda r: r.copy()) if layers is not None else
+              (lambda r: _let_go(r, a, n, cusp_width)))
     L = a.total_length / len(a.segments)
-    dq *= PUSH * L / max(disp, 1e-300)
-    if snapped.contact is not None:  # the push closes no gap (the step filter)
-        dq *= contact_fraction(snapped, np.arange(snapped.n_dof), dq)
-    snapped.apply(dq)
-    param.set(snapped, past)
-    # With contact the snap is recorded step by step: every step is filtered, so neighbouring
-    # states are joined inside the model, and so is the written path (not only its ends).
-    steps: list[np.ndarray] | None = None if contact is None else [at.x.copy(), snapped.x.copy()]
-    # The snap crosses a flat, strongly nonlinear landscape: one relax (600 Newton steps) may
-    # stop on the way (residual ~3e2 on the line at 8 el./rod); carry on from where it stopped.
-    ok = False
-    for _ in range(SNAP_RELAXES):
-        ok = relax(snapped, trace=steps)[0]
-        if ok:
-            break
-    stable = ok and lowest_modes(snapped, 1)[0][0] > zero_eigenvalue_tol(snapped)
+    snap = _Snap(at, param, past, start, L, let_go, references, contact is not None)
+    ok, stable, under, snapped_x, steps, release, free = snap(vec[:, 0])
     if contact is None:
         snap_name = "snap (interpolated proxy)"
-        proxy = [(past, (1 - f) * at.x + f * snapped.x)
+        proxy = [(past, (1 - f) * at.x + f * snapped_x)
                  for f in np.linspace(0, 1, SNAP_SAMPLES)]
     else:  # every step of the push and the relaxation, filtered
         snap_name = "snap (relaxed with contact)"
         proxy = [(past, x) for x in steps or []]
     reports.append(tracker.stretch(snap_name, proxy, joined_inside=inside))
-    let_go = ((lambda r: r.copy()) if layers is not None else
-              (lambda r: _let_go(r, a, n, cusp_width)))
-    under, _ = identify(let_go(snapped), references)
-    release: list[tuple[float, np.ndarray]] = []
-    for p in np.linspace(past, start, RELEASE_STEPS + 1)[1:]:
-        param.set(snapped, float(p))
-        steps = None if contact is None else []
-        ok = relax(snapped, trace=steps)[0] and ok
-        release.extend((float(p), x) for x in steps or [])
-        release.append((float(p), snapped.x.copy()))
-    free = let_go(snapped)
-    steps = None if contact is None else []
-    ok = relax(free, trace=steps)[0] and ok
-    release.extend((start, x) for x in steps or [])
-    release.append((start, free.x.copy()))
     reports.append(tracker.stretch("release", release, joined_inside=inside))
+    reachable: tuple[str, ...] = ()
+    if double:  # every branch direction of the eigenspace, both ways (module docstring)
+        from ..nonlinear.continuation.branches import branch_directions
+
+        dirs = branch_directions(at, param, -direction, L)
+        reachable = tuple(sorted({identify(snap(sign * d.mode)[6], references)[0]
+                                  for d in dirs for sign in (1.0, -1.0)}))
     target, rms = identify(free, references)
     physical = not any(r.pass_through for r in reports)
     at_event = bool(point.get("at_contact_event"))
@@ -476,7 +522,8 @@ def transition(a: Assembly, source: str, key: str, stop: float, *, load_factor: 
                           tuple((name, len(part)) for name, part in stretches))
     return Transition(source, key, stop, float(value), point["kind"], under, target, rms,
                       invariants(free), tuple(reports), physical, bool(ok and path.converged),
-                      msg, mean_radius(free, free.x), sampled, welds, events, at_event, double)
+                      msg, mean_radius(free, free.x), sampled, welds, events, at_event, double,
+                      tuple(sorted(set(reachable) | {target})) if double else ())
 
 
 def _invariants_json(e: Transition) -> dict | None:
@@ -518,7 +565,7 @@ class TransitionGraph(Result):
                            "target_rms": e.target_rms, "converged": e.converged,
                            "message": e.message, "contact_events": list(e.contact_events),
                            "at_contact_event": e.at_contact_event,
-                           "double_mode": e.double_mode}
+                           "double_mode": e.double_mode, "reachable": list(e.reachable)}
                           for e in self.edges if e.target is not None],
                 "no_transition": [{"from": e.source, "stimulus": e.stimulus, "stop": e.stop,
                                    "message": e.message,
