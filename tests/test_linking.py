@@ -167,3 +167,61 @@ def test_barrier_with_contact_between_ends_that_link_differently_is_blocked_with
     verdict = data["blocked_by_contact"]
     assert [lk["value"] for lk in verdict["linking"]] == [-2, 0]
     assert [k["kind"] for k in verdict["knots"]] == ["unknot", "unknot"]
+
+
+def test_the_line_on_the_hexagon_and_the_star_link_alike_and_relaxing_with_contact_keeps_it():
+    """The cone's default order for the line (rods on the vertices of a hexagon in traversal
+    order, welds spanning the layers): two of its spans stand along d3, so the push-off turns
+    normal to them at their ends (linking.ribbon); the line and the star lifted into the same
+    model then have one number, so topology does not keep them apart. Newton with contact
+    (capsules h = 0.02 L) moves the line without passing rods through each other: the
+    number is kept (an invariant, not a property of the construction)."""
+    from rodstab.multistable.discover import common_rod
+    from rodstab.multistable.layer_orders import layer_translations, polygon_offsets
+    from rodstab.multistable.layered import lift
+    from rodstab.nonlinear.equilibrium import attach_contact, rod_contact_model
+    from rodstab.nonlinear.solve import newton
+
+    rods = _hexagram_rods()
+    line = rods["line"]
+    model = rod_contact_model(line.assembly, 0.02)
+    h, g0 = 2 * model.radius, 0.5 * model.dhat
+    order = [str(k) for k in range(1, 7)]
+    hexagon = common_rod(line.assembly, 6, 1.0,
+                         layers=layer_translations(line, polygon_offsets(order), h, g0))
+    on_line, on_star = self_linking(hexagon), self_linking(lift(hexagon, line, rods["star"]))
+    assert on_line.value is not None and on_line.value == on_star.value, (on_line, on_star)
+    assert not apart_by_linking(on_line, on_star)
+    pressed = hexagon.copy()
+    pressed.load_factor = 1.5
+    attach_contact(pressed, model)
+    assert newton(pressed)[0]
+    assert np.abs(pressed.x - hexagon.x).max() > 1e-4 * h  # it moved
+    assert self_linking(pressed).value == on_line.value
+
+
+@pytest.mark.parametrize("loops", [2, 3, 4])
+def test_the_stacked_n_loop_ring_on_the_torus_curve_links_n_minus_1_times(loops):
+    """stacking.stack_loops' N-loop ring (the (N, 1) torus curve, the strip kept flat): its
+    twist is ~0 (the frame's own turning, independent of the linking code) and its linking
+    number -(N - 1), so its writhe tends to -(N - 1) as h -> 0 (the (N, 1) torus curve's, a
+    top view has N - 1 crossings of one sign, counted here). The untwisted one-loop ring
+    has 0 (a planar circle and its translate). So this stacked ring is not the state an
+    untwisted one-loop ring folds into without passing through itself: that one keeps Lk = 0,
+    and with no twist (the paper's odd N, Sec. 3.1) its writhe must vanish too."""
+    from rodstab.multistable.knots import ring_polygon
+    from rodstab.multistable.stacking import stack_loops
+    from rodstab.nonlinear.discrete import discretise
+    from rodstab.problems import ring
+
+    rod = discretise(ring.build(ring.Params(loops=loops)), 32, 0.0)
+    one = discretise(ring.build(ring.Params(loops=1)), 64, 0.0)
+    assert self_linking(one).value == 0
+    for h in (0.05, 0.02):
+        stacked = stack_loops(rod, h, 0.05 * h).rod
+        lk = self_linking(stacked)
+        assert lk.value == -(loops - 1) and lk.crossings == (lk.value, lk.value)
+        assert _blackboard_writhe(ring_polygon(stacked)) == -(loops - 1)  # counted here
+        twist = float(np.sum(stacked.edge_twist())) / (2.0 * np.pi)
+        assert abs(twist) < 0.1 * h / 0.05 * loops / 3  # measured 3.0e-3 at h = 0.05, 3 loops
+        assert abs((lk.value - twist) + (loops - 1)) < 0.01

@@ -13,7 +13,9 @@ pushed-off curve jumps from one rod's director to the next one's, a short segmen
 clear of the centreline only if the two directors make an acute angle. A weld turns the frame by
 its fixed rotation, so the choice is the same in every state of a ring (a fold of the hexagram
 turns about ``d3``, the plane's normal, and keeps it). With no such director the number is not
-given.
+given. Where a weld spans layers and the director lies along its span, the push-off turns
+normal to the span at the rods' ends (:func:`ribbon`), again a rule in the weld's rigid
+geometry: numbers are compared between states of one model only.
 
 Two independent evaluations must give one integer, else the number is not given:
 
@@ -106,24 +108,73 @@ def _merge(pts: np.ndarray) -> np.ndarray:
     return np.array(keep)
 
 
+def _nearest_to_origin(p: np.ndarray, q: np.ndarray) -> float:
+    """Smallest ``|(1 - t) p + t q|`` over ``0 <= t <= 1``."""
+    d = q - p
+    t = 0.0 if not d @ d > 0.0 else float(np.clip(-(p @ d) / (d @ d), 0.0, 1.0))
+    return float(np.linalg.norm(p + t * d))
+
+
+def _unit(v: np.ndarray) -> np.ndarray:
+    return v / np.linalg.norm(v)
+
+
+def _corner(t: np.ndarray, s: np.ndarray, d: np.ndarray, other: np.ndarray) -> np.ndarray:
+    """Return the unit push-off where the centreline turns from rod tangent ``t`` into span ``s``.
+
+    Normal to both, ``t x s``, on the side of the director ``d`` (or, where ``d`` is nearly
+    normal to it, of the section's other director ``other``): a rule in the weld's rigid
+    geometry, so the same in every state of one model.
+    """
+    u = np.cross(t, s)
+    if not np.linalg.norm(u) > 0.1:
+        raise ValueError("a rod meets its weld's span nearly along it")
+    u = _unit(u)
+    side = u @ d if abs(u @ d) > 0.3 else u @ other
+    return u if side >= 0.0 else -u
+
+
 def ribbon(rod: DiscreteRod, director: str, eps: float, x: np.ndarray | None = None,
            R_edge: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Return the closed centreline ``C`` and its push-off ``P = x + eps d`` in ring order.
 
     At a node inside a rod ``d`` is the normalised mean of its two edges' directors; at a rod's
     end, its end edge's. Both polygons are merged where consecutive points coincide (a point
-    weld is one vertex of ``C``, two of ``P``).
+    weld is one vertex of ``C``, two of ``P``). At a weld whose rods' ends are joined by a
+    span (welds spanning layers), the push-off crosses the span from one end's director to the
+    other's in a straight line, unless that line comes within ``eps / 2`` of the span (a
+    director along the span, as for layers stacked along ``d3``): then both ends are pushed
+    off normal to the span and to their rod (:func:`_corner`, the second end on the first's
+    side). Raises ValueError where neither rule holds.
     """
     x = rod.x if x is None else np.asarray(x, float)
     R = rod.R_edge if R_edge is None else np.asarray(R_edge, float)
     c = DIRECTORS[director]
-    C, P = [], []
-    for nodes, edges in _ring_nodes_and_edges(rod):
+    o = 2 - c  # the section's other director
+    parts = _ring_nodes_and_edges(rod)
+    C = [x[nodes] for nodes, _ in parts]
+    dirs = []
+    for _, edges in parts:
         d = R[edges][:, :, c]
         nd = np.vstack([d[:1], d[:-1] + d[1:], d[-1:]])
-        nd /= np.linalg.norm(nd, axis=1)[:, None]
-        C.append(x[nodes])
-        P.append(x[nodes] + eps * nd)
+        dirs.append(nd / np.linalg.norm(nd, axis=1)[:, None])
+    scale = max(float(np.ptp(np.vstack(C), axis=0).max()), 1.0)
+    for i in range(len(parts)):
+        j = (i + 1) % len(parts)
+        span = C[j][0] - C[i][-1]
+        if not np.linalg.norm(span) > 1e-12 * scale:
+            continue  # a point weld
+        s = _unit(span)
+        da, db = dirs[i][-1], dirs[j][0]
+        if _nearest_to_origin(da - (da @ s) * s, db - (db @ s) * s) >= 0.5:
+            continue
+        ua = _corner(_unit(C[i][-1] - C[i][-2]), s, da, R[parts[i][1][-1]][:, o])
+        ub = _unit(np.cross(_unit(C[j][1] - C[j][0]), s))
+        ub = ub if ub @ ua >= 0.0 else -ub
+        if _nearest_to_origin(ua, ub) < 0.5:
+            raise ValueError("a weld's span turns the push-off by more than 120 deg")
+        dirs[i][-1], dirs[j][0] = ua, ub
+    P = [Ck + eps * dk for Ck, dk in zip(C, dirs, strict=True)]
     return _merge(np.vstack(C)), _merge(np.vstack(P))
 
 
@@ -223,7 +274,10 @@ def self_linking(rod: DiscreteRod, x: np.ndarray | None = None,
     if not keeps[director] > 0.0:
         return Linking(None, director, 0.0, None, (), "a weld turns the director by 90 deg or "
                        f"more (cos {keeps[director]:.3g}): the push-off would cross the weld")
-    C, _ = ribbon(rod, director, 0.0, x, R)
+    try:
+        C, _ = ribbon(rod, director, 0.0, x, R)
+    except ValueError as exc:
+        return Linking(None, director, 0.0, None, (), str(exc))
     seg = float(np.linalg.norm(np.diff(np.vstack([C, C[:1]]), axis=0), axis=1).min())
     room = clearance(C)
     if not room > 1e-9 * max(float(np.ptp(C, axis=0).max()), 1.0):
