@@ -218,6 +218,8 @@ def test_n_loop_ring_on_the_torus_agrees_with_the_fourier_modes_of_eq_3_2(sectio
         assert side.unchanged is (margin >= -1e-9), (j, margin, side)
     assert (cone.lower.unchanged, cone.upper.unchanged) == ((True, False) if loops == 2
                                                            else (False, False))
+    # the built torus stacking's ribbon links -(N - 1) times (tests/test_linking.py)
+    assert cone.linking == -(loops - 1)
 
 
 @pytest.mark.parametrize("call, match", [
@@ -280,6 +282,11 @@ def test_analyze_contact_on_one_segment_of_three_loops_is_the_three_segment_ring
     three = contact_cone(ring.build(ring.Params(loops=3)), "torus", 24)
     assert one.interval == pytest.approx(three.interval, rel=1e-4)
     assert len(one.pairs) == len(three.pairs) == 3
+    assert one.linking == three.linking == -2  # one segment of 3 turns: the same stacking
+    from rodstab.cli.output import cone_lines
+
+    said = "\n".join(cone_lines(one, "the (N, 1) torus curve (an N-loop ring)"))
+    assert "ribbon links -2 times" in said and "not the state it folds into" in said
     for a, b in ((one.lower, three.lower), (one.upper, three.upper)):
         assert a is not None and b is not None and not a.unchanged and not b.unchanged
 

@@ -225,3 +225,4 @@ def test_the_stacked_n_loop_ring_on_the_torus_curve_links_n_minus_1_times(loops)
         twist = float(np.sum(stacked.edge_twist())) / (2.0 * np.pi)
         assert abs(twist) < 0.1 * h / 0.05 * loops / 3  # measured 3.0e-3 at h = 0.05, 3 loops
         assert abs((lk.value - twist) + (loops - 1)) < 0.01
+

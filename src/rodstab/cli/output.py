@@ -225,6 +225,12 @@ def cone_lines(cone: Any, how: str, limits: Any = None, full: Any = None) -> lis
            "tested against the cone of gap-keeping modes at zero gap"]
     if cone.realised:
         out.append(f"  order      {cone.realised}")
+    if getattr(cone, "linking", None) is not None:
+        out.append(f"  linking    the built order's ribbon links {cone.linking:+d} times "
+                   "(rodstab.multistable.linking; rods that cannot cross keep it)"
+                   + ("; an untwisted one-loop ring has 0, so this N-loop stacking is not "
+                      "the state it folds into (the wound ring: docs/theory/contact.md)"
+                      if cone.linking and "torus" in how else ""))
     for label, side in (("lower", cone.lower), ("upper", cone.upper)):
         if side is None:
             continue

@@ -140,6 +140,9 @@ class ContactCone(Result):
     elements_per_segment: int
     method: str
     realised: str = ""
+    #: The built order's ribbon self-linking (:func:`~.linking.self_linking`; None where not
+    #: built or not given): states of one ring with other numbers are other objects.
+    linking: int | None = None
 
 
 def _hermite(s_nodes: np.ndarray, w: np.ndarray, dw: np.ndarray, s: np.ndarray) -> np.ndarray:
@@ -494,6 +497,7 @@ def contact_cone(a: Assembly, layers: dict[str, Any] | str, elements_per_segment
         it unchanged or raises it (module doc), with the touching pairs tested.
     """
     from ..nonlinear.discrete import discretise as discretise_rod
+    from .linking import self_linking
     from .stacking import StackingError, stack_layers, stack_loops
 
     n = require_positive_int("elements_per_segment", elements_per_segment)
@@ -514,7 +518,7 @@ def contact_cone(a: Assembly, layers: dict[str, Any] | str, elements_per_segment
     if isinstance(layers, str):
         pairs = touching_pairs(a, layers, n)  # refuses a design that is no N-loop ring
         try:
-            stack_loops(rod, h, g0)
+            built = stack_loops(rod, h, g0).rod
         except StackingError:
             raise
         except RodstabInputError as exc:  # the torus cannot hold strands this thick
@@ -524,8 +528,9 @@ def contact_cone(a: Assembly, layers: dict[str, Any] | str, elements_per_segment
         check_lobes(a, layers)
         realised = EIGHT_REALISED
         pairs = touching_pairs(a, layers, n)
+        built = None
     else:  # stack_layers checks the names and the order (exit 2 naming them)
-        stack_layers(rod, layers, h, g0)
+        built = stack_layers(rod, layers, h, g0).rod
         pairs = touching_pairs(a, layers, n)
     lin = linear_stability(a, n)
     pencil = linear_pencil(a, n)
@@ -543,7 +548,8 @@ def contact_cone(a: Assembly, layers: dict[str, Any] | str, elements_per_segment
         (float(lo), float(hi)), sides[0], sides[1],
         tuple(f"{names[ia]}/{names[ib]}" for ia, ib, _, _, _ in pairs), n,
         "first-order cone test of the critical eigenspace of P2 (2.12, FE) at zero gap: "
-        "gap changes n_z (w_a - w_b), one LP per (coordinate, sign) (HiGHS)", realised)
+        "gap changes n_z (w_a - w_b), one LP per (coordinate, sign) (HiGHS)", realised,
+        None if built is None else self_linking(built).value)
 
 
 def is_loop_ring(a: Assembly) -> bool:
