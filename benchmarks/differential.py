@@ -16,7 +16,9 @@ six-ring stacked in two columns or on the hexagon, the FE cone against the deriv
 ``saddles``: a saddle between two mutually stable states of the hexagram, by the string method
 and by eigenvector following from the states alone, the string's saddle continued into
 contact where no pair is within the barrier's reach, and (star <-> daisy) the string with cusp
-welds of width, ~25 s a design that has a pair).
+welds of width, ~25 s a design that has a pair); ``linking``: the self-linking of random framed
+torus curves and of stacked N-loop rings by Gauss's integral and by signed crossings
+(:mod:`rodstab.multistable.linking`), the rings also against -(N - 1).
 Sections of every closed-form shape
 (rectangle and ellipse h/t 0.3-10, circle, tube, nu 0-0.5) and given ratios b1, b2 in 0.05-50. Every
 design is solved by every method that applies (the problem modules' ``METHODS``, the linear FE
@@ -796,13 +798,90 @@ def saddles(rng: np.random.Generator) -> Trial:
                   ("string", "wide cusps"): SADDLE_RTOL})
 
 
+def linking(rng: np.random.Generator) -> Trial:
+    """The self-linking of a framed closed curve by its two evaluations (and a closed form).
+
+    Half the designs: a ``(p, q)`` torus curve (``p`` 1-5 turns round the axis, ``q`` 1-3 round
+    the tube, tube radius 0.15-0.45, a random smooth bump), framed by the direction of the
+    axis made normal to the tangent and turned ``k`` (-3..3) times; Gauss's integral against
+    the signed crossings of two projections (:mod:`rodstab.multistable.linking`). The other
+    half: the ``N``-loop ring (``N`` 2-5, 16-48 el. per loop, ``h`` 0.01-0.05) stacked on the
+    torus curve (``stacking.stack_loops``), whose number is ``-(N - 1)`` (its writhe; twist ~0,
+    tests/test_linking.py). Exact agreement (integers).
+    """
+    from rodstab.multistable.linking import crossing_linking, gauss_linking, self_linking
+
+    if rng.random() < 0.5:
+        p, q = int(rng.integers(1, 6)), int(rng.integers(1, 4))
+        a, k = _r(0.15 + 0.3 * float(rng.random())), int(rng.integers(-3, 4))
+        bump = _r(0.05 * float(rng.random()))
+        phase = _r(2 * math.pi * float(rng.random()))
+        label = f"({p}, {q}) torus curve, tube {a}, bump {bump}, frame turned {k} times"
+
+        def curves() -> tuple[np.ndarray, np.ndarray]:
+            t = np.linspace(0.0, 2.0 * math.pi, 400 * max(p, q), endpoint=False)
+            r = 1.0 + a * np.cos(q * t) + bump * np.sin(3 * t + phase)
+            C = np.c_[r * np.cos(p * t), r * np.sin(p * t), a * np.sin(q * t)]
+            tan = np.gradient(C, axis=0)
+            tan /= np.linalg.norm(tan, axis=1)[:, None]
+            u = np.array([0.0, 0.0, 1.0]) - tan[:, 2:3] * tan
+            u /= np.linalg.norm(u, axis=1)[:, None]
+            w = np.cross(tan, u)
+            d = np.cos(k * t)[:, None] * u + np.sin(k * t)[:, None] * w
+            return C, C + 0.02 * a * d
+
+        def gauss() -> Values:
+            return {"Lk": float(round(gauss_linking(*curves()), 6))}
+
+        def crossings() -> Values:
+            C, P = curves()
+            return {"Lk": float(crossing_linking(C, P, 11))}
+
+        def other() -> Values:
+            C, P = curves()
+            return {"Lk": float(crossing_linking(C, P, 12))}
+
+        return Trial(label, f"# {label}", {"gauss": gauss, "crossings": crossings,
+                                          "crossings-2": other},
+                     {("gauss", "crossings"): 0.0, ("gauss", "crossings-2"): 0.0})
+    from rodstab.multistable.stacking import stack_loops
+    from rodstab.nonlinear.discrete import discretise
+    from rodstab.problems import ring
+
+    N, el = int(rng.integers(2, 6)), int(rng.choice([16, 32, 48]))
+    h = _r(0.01 + 0.04 * float(rng.random()))
+    label = f"{N}-loop ring stacked on the torus, {el} el./loop, h = {h}"
+    code = (f"stack_loops(discretise(ring.build(ring.Params(loops={N})), {el}, 0.0), {h}, "
+            f"{0.05 * h})")
+    state: list[Any] = []
+
+    def lk() -> Any:
+        if not state:
+            state.append(self_linking(stack_loops(
+                discretise(ring.build(ring.Params(loops=N)), el, 0.0), h, 0.05 * h).rod))
+        return state[0]
+
+    def gauss_ring() -> Values:
+        g = lk().gauss
+        return {} if g is None else {"Lk": float(round(g, 6))}
+
+    def crossings_ring() -> Values:
+        c = lk().crossings
+        return {"Lk": float(c[0])} if c else {}
+
+    return Trial(label, code, {"gauss": gauss_ring, "crossings": crossings_ring,
+                               "closed-form": lambda: {"Lk": float(1 - N)}},
+                 {("gauss", "crossings"): 0.0, ("gauss", "closed-form"): 0.0})
+
+
 #: family name -> generator of one random design.
 FAMILIES: dict[str, Callable[[np.random.Generator], Trial]] = {
     "arcs": arcs, "rings": rings, "folded": folded, "cusp-rings": cusp_rings,
     "assemblies": assemblies, "contact-rings": contact_rings, "contact-eights": contact_eights,
     "held-rings": held_rings, "held-columns": held_columns,
     "folded-columns": lambda rng: folded_stacking(rng, "columns"),
-    "folded-hexagon": lambda rng: folded_stacking(rng, "hexagon"), "saddles": saddles}
+    "folded-hexagon": lambda rng: folded_stacking(rng, "hexagon"), "saddles": saddles,
+    "linking": linking}
 
 
 # ---------------------------------------------------------------------------------------------

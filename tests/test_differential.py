@@ -75,6 +75,9 @@ CASES = [
     # the folded six-ring stacked in two columns: the FE cone against the derived lam = pi / 2
     pytest.param("folded-columns", 0, {"columns-fe", "columns-derived"}, id="folded-columns"),
     pytest.param("folded-hexagon", 0, {"hexagon-fe", "hexagon-derived"}, id="folded-hexagon"),
+    # the self-linking of a framed torus curve and of the stacked 3-loop ring (-2), both ways
+    pytest.param("linking", 0, {"gauss", "crossings", "crossings-2"}, id="linking-curve"),
+    pytest.param("linking", 1, {"gauss", "crossings", "closed-form"}, id="linking-ring"),
     # ... and held closed: the rod against the closed form lam = pi
     pytest.param("held-columns", 0, {"held-columns-rod", "held-columns-closed"},
                  id="held-columns"),
