@@ -268,6 +268,24 @@ def test_line_snaps_to_a_six_cusp_state_as_natural_curvature_grows(hexagram_line
     assert edge.target_invariants.distinct_weld_points == 6
 
 
+def test_a_double_mode_whose_direction_probe_fails_pushes_along_the_solvers_pair(
+        monkeypatch) -> None:
+    """If branch_directions' probe does not converge (RuntimeError), the line's edge still
+    lists what it reaches, pushing along both vectors of the eigen solver's pair: at least the
+    edge's own target, each a six-cusp state of the hexagram (6 el.)."""
+    import rodstab.nonlinear.continuation.branches as branches
+
+    def fail(*args, **kwargs):
+        raise RuntimeError("the direction probe at a double eigenvalue did not converge")
+
+    monkeypatch.setattr(branches, "branch_directions", fail)
+    res = rt.transitions(rt.hexagram_ring(SECTION), load_factor=2.0, elements=6,
+                         load=("line",), stimuli={"line": (("load_factor", 4.0),)})
+    (edge,) = res.graph.edges
+    assert edge.double_mode and edge.target in edge.reachable
+    assert set(edge.reachable) <= {"star", "daisy"}
+
+
 def test_cli_graph_json_schema_on_a_design(tmp_path, capsys, hexagram_line) -> None:
     """--json on examples/folded_six_ring.toml: states, edges with from/to/stimulus/threshold/
     contact; the figure is written. The ring is the hexagram's read from a file (alternately

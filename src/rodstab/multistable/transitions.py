@@ -55,7 +55,8 @@ along every branch direction of the eigenspace
 (:func:`~rodstab.nonlinear.continuation.branches.branch_directions`: the stationary points of
 the reduced equations' quartic form, independent of the solver's basis), each both ways, with
 the same push, relaxation and release, and every state reached is listed
-(:attr:`Transition.reachable`).
+(:attr:`Transition.reachable`; where the directions' probe does not converge, along both
+vectors of the solver's pair instead).
 """
 
 from __future__ import annotations
@@ -506,9 +507,12 @@ def transition(a: Assembly, source: str, key: str, stop: float, *, load_factor: 
     if double:  # every branch direction of the eigenspace, both ways (module docstring)
         from ..nonlinear.continuation.branches import branch_directions
 
-        dirs = branch_directions(at, param, -direction, L)
-        reachable = tuple(sorted({identify(snap(sign * d.mode)[6], references)[0]
-                                  for d in dirs for sign in (1.0, -1.0)}))
+        try:
+            modes = [d.mode for d in branch_directions(at, param, -direction, L)]
+        except RuntimeError:  # the directions' probe did not converge: the solver's pair
+            modes = list(lowest_modes(at, 2)[1].T)
+        reachable = tuple(sorted({identify(snap(sign * m)[6], references)[0]
+                                  for m in modes for sign in (1.0, -1.0)}))
     target, rms = identify(free, references)
     physical = not any(r.pass_through for r in reports)
     at_event = bool(point.get("at_contact_event"))
