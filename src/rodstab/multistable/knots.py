@@ -52,7 +52,14 @@ def ring_polygon(rod: DiscreteRod, x: np.ndarray | None = None) -> np.ndarray:
     x = rod.x if x is None else np.asarray(x, float)
     order = ring_order(rod) or tuple((k, 1) for k in range(len(rod.assembly.segments)))
     ids = np.concatenate([segment_nodes(rod, k)[::d] for k, d in order])
-    pts = x[ids]
+    return merge_closed(x[ids])
+
+
+def merge_closed(pts: np.ndarray) -> np.ndarray:
+    """Return closed polygon ``pts`` without consecutive (or closing) coincident points.
+
+    Coincident: nearer than :data:`MERGE_RTOL` of the polygon's size (at least 1).
+    """
     tol = MERGE_RTOL * max(float(np.ptp(pts, axis=0).max()), 1.0)
     keep = [pts[0]]
     for p in pts[1:]:

@@ -41,7 +41,7 @@ import numpy as np
 from ..nonlinear.discrete import DiscreteRod
 from ..results import Result
 from .identify import _elements, ring_order, segment_nodes
-from .knots import PROJECTION_SEEDS, clearance
+from .knots import PROJECTION_SEEDS, clearance, merge_closed
 
 #: Sections' directors a ribbon may be pushed along (columns of ``R_edge``; 1 is the tangent).
 DIRECTORS = {"d1": 0, "d3": 2}
@@ -94,18 +94,6 @@ def weld_keeps(rod: DiscreteRod, R_edge: np.ndarray | None = None) -> dict[str, 
                for a, b in zip(parts, parts[1:] + parts[:1], strict=True)]
         out[name] = min(cos)
     return out
-
-
-def _merge(pts: np.ndarray) -> np.ndarray:
-    """Drop consecutive (and closing) points that coincide to round-off."""
-    tol = 1e-12 * max(float(np.ptp(pts, axis=0).max()), 1.0)
-    keep = [pts[0]]
-    for p in pts[1:]:
-        if np.linalg.norm(p - keep[-1]) > tol:
-            keep.append(p)
-    if len(keep) > 1 and np.linalg.norm(keep[0] - keep[-1]) <= tol:
-        keep.pop()
-    return np.array(keep)
 
 
 def _nearest_to_origin(p: np.ndarray, q: np.ndarray) -> float:
@@ -175,7 +163,7 @@ def ribbon(rod: DiscreteRod, director: str, eps: float, x: np.ndarray | None = N
             raise ValueError("a weld's span turns the push-off by more than 120 deg")
         dirs[i][-1], dirs[j][0] = ua, ub
     P = [Ck + eps * dk for Ck, dk in zip(C, dirs, strict=True)]
-    return _merge(np.vstack(C)), _merge(np.vstack(P))
+    return merge_closed(np.vstack(C)), merge_closed(np.vstack(P))
 
 
 def _segments(poly: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
