@@ -1,0 +1,85 @@
+"""The 3-loop ring as a flat stack whose layers swap twice: which swaps fold from one loop.
+
+A prototype construction (not in the package), run on demand:
+``python benchmarks/folded_three_loops.py``. Three strands stacked along z, ``s`` apart; over
+one turn the top two swap (turning about their midpoint by pi, clear of the third by ``s``
+throughout), then the bottom two. Each swap turns one way or the other (``senses``). The
+strip is kept flat (push-off along z). Prints the ribbon's linking number by Gauss's integral
+and by signed crossings (rodstab.multistable.linking): swaps of one sense give +-2 (the wound
+ring, like the torus curve that stacking.stack_loops builds: -2), of opposite senses 0, the
+number of the untwisted one-loop ring, so only that stacking is the ring folded from it
+(docs/theory/contact.md, "Ribbon self-linking").
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from rodstab.multistable.linking import crossing_linking, gauss_linking
+
+
+def _smooth(t: np.ndarray) -> np.ndarray:
+    t = np.clip(t, 0.0, 1.0)
+    return t * t * (3.0 - 2.0 * t)
+
+
+def _turn(theta: np.ndarray, window: tuple[float, float]) -> np.ndarray:
+    return np.pi * _smooth((theta - window[0]) / (window[1] - window[0]))
+
+
+def strand(start: int, theta: np.ndarray, senses: tuple[int, int], s: float,
+           first: tuple[float, float] = (0.8, 1.4), second: tuple[float, float] = (3.6, 4.2)
+           ) -> np.ndarray:
+    """``(r, z)`` offsets of the strand that starts in slot ``start`` (2 top, 1 middle, 0 bottom)."""
+    phi1, phi2 = _turn(theta, first), _turn(theta, second)
+    r, z = np.zeros_like(theta), np.full_like(theta, s * (start - 1))
+    slot = np.full(theta.shape, start)
+    if start in (1, 2):  # the first swap: top and middle turn about z = s / 2
+        sign = 1.0 if start == 2 else -1.0
+        r = senses[0] * sign * 0.5 * s * np.sin(phi1)
+        z = 0.5 * s + sign * 0.5 * s * np.cos(phi1)
+        slot = np.where(phi1 >= np.pi, 3 - start, start)
+    after = (theta >= second[0]) & (slot <= 1)  # the second: middle and bottom about -s / 2
+    sign = np.where(slot == 1, 1.0, -1.0)
+    r = np.where(after, senses[1] * sign * 0.5 * s * np.sin(phi2), r)
+    z = np.where(after, -0.5 * s + sign * 0.5 * s * np.cos(phi2), z)
+    return np.c_[r, z]
+
+
+def ring(senses: tuple[int, int], s: float = 0.05, n: int = 1200) -> np.ndarray:
+    """The closed centreline: loops starting top, bottom, middle (each ends where the next starts)."""
+    theta = np.linspace(0.0, 2.0 * np.pi, n, endpoint=False)
+    loops = []
+    for start in (2, 0, 1):
+        rz = strand(start, theta, senses, s)
+        loops.append(np.c_[(1.0 + rz[:, 0]) * np.cos(theta), (1.0 + rz[:, 0]) * np.sin(theta),
+                           rz[:, 1]])
+    return np.vstack(loops)
+
+
+def closest_strands(C: np.ndarray, s: float) -> float:
+    """Closest distance between points more than ``4 s`` apart along the closed curve."""
+    n = len(C)
+    step = float(np.linalg.norm(C[1] - C[0]))
+    best = np.inf
+    for i, j in cKDTree(C).query_pairs(1.5 * s, output_type="ndarray"):
+        along = min(abs(i - j), n - abs(i - j)) * step
+        if along > 4.0 * s:
+            best = min(best, float(np.linalg.norm(C[i] - C[j])))
+    return best
+
+
+def main() -> None:
+    s = 0.05
+    print(f"3 strands {s} apart, strip flat (push-off 0.1 s along z)")
+    print("senses   strands apart/s   Lk (Gauss)   Lk (crossings, 2 projections)")
+    for senses in ((1, 1), (1, -1), (-1, 1), (-1, -1)):
+        C = ring(senses, s)
+        P = C + np.array([0.0, 0.0, 0.1 * s])
+        print(f"{senses!s:8} {closest_strands(C, s) / s:15.3f} {gauss_linking(C, P):12.6f}   "
+              f"{crossing_linking(C, P, 1)}, {crossing_linking(C, P, 2)}")
+
+
+if __name__ == "__main__":
+    main()
