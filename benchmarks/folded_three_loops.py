@@ -31,7 +31,7 @@ def _turn(theta: np.ndarray, window: tuple[float, float]) -> np.ndarray:
 def strand(start: int, theta: np.ndarray, senses: tuple[int, int], s: float,
            first: tuple[float, float] = (0.8, 1.4), second: tuple[float, float] = (3.6, 4.2)
            ) -> np.ndarray:
-    """``(r, z)`` offsets of the strand that starts in slot ``start`` (2 top, 1 middle, 0 bottom)."""
+    """Return the ``(r, z)`` offsets of the strand starting in slot ``start`` (2 top, 0 bottom)."""
     phi1, phi2 = _turn(theta, first), _turn(theta, second)
     r, z = np.zeros_like(theta), np.full_like(theta, s * (start - 1))
     slot = np.full(theta.shape, start)
@@ -48,7 +48,7 @@ def strand(start: int, theta: np.ndarray, senses: tuple[int, int], s: float,
 
 
 def ring(senses: tuple[int, int], s: float = 0.05, n: int = 1200) -> np.ndarray:
-    """The closed centreline: loops starting top, bottom, middle (each ends where the next starts)."""
+    """Return the closed centreline: loops starting top, bottom, middle (each ends at the next)."""
     theta = np.linspace(0.0, 2.0 * np.pi, n, endpoint=False)
     loops = []
     for start in (2, 0, 1):
