@@ -1,14 +1,21 @@
 """The 3-loop ring as a flat stack whose layers swap twice: which swaps fold from one loop.
 
-A prototype construction (not in the package), run on demand:
-``python benchmarks/folded_three_loops.py``. Three strands stacked along z, ``s`` apart; over
-one turn the top two swap (turning about their midpoint by pi, clear of the third by ``s``
-throughout), then the bottom two. Each swap turns one way or the other (``senses``). The
-strip is kept flat (push-off along z). Prints the ribbon's linking number by Gauss's integral
-and by signed crossings (rodstab.multistable.linking): swaps of one sense give +-2 (the wound
-ring, like the torus curve that stacking.stack_loops builds: -2), of opposite senses 0, the
-number of the untwisted one-loop ring, so only that stacking is the ring folded from it
-(docs/theory/contact.md, "Ribbon self-linking").
+A prototype construction (not in the package), run on demand: ``python
+benchmarks/folded_three_loops.py [--cone SECTION ELEMENTS]``. Three strands stacked along z,
+``s`` apart; over one turn the top two swap (turning about their midpoint by pi, clear of the
+third by ``s`` throughout), then the bottom two. Each swap turns one way or the other
+(``senses``). The strip is kept flat (push-off along z). Prints the ribbon's linking number by
+Gauss's integral and by signed crossings (rodstab.multistable.linking): swaps of one sense give
++-2 (the wound ring, like the torus curve that stacking.stack_loops builds: -2), of opposite
+senses 0, the number of the untwisted one-loop ring, so only that stacking is the ring folded
+from it (docs/theory/contact.md, "Ribbon self-linking").
+
+``--cone circle|rect2 N``: the limits with contact at zero gap (the FE cone,
+:func:`rodstab.multistable.cone_limit.cone_limits`, out of plane, ``N`` elements per loop) of
+the 3-loop ring stacked flat with its two swaps ``delta`` apart (a fraction of a turn), beside
+the torus curve's. At zero gap the layers' normals are vertical away from the swaps, so the
+cone cannot tell the swaps' senses apart: the wound and the folded flat stackings share these
+numbers, which depend on where the layers swap.
 """
 
 from __future__ import annotations
@@ -81,5 +88,60 @@ def main() -> None:
               f"{crossing_linking(C, P, 1)}, {crossing_linking(C, P, 2)}")
 
 
+def flat_pairs(a: object, n: int, delta: float) -> list:
+    """Touching pairs of ``ring.build(loops=3)`` stacked flat, swaps at 0 and ``delta`` (rad).
+
+    On ``(0, delta)`` loop 0 is on top, 2 in the middle, 1 at the bottom; on ``(delta, 2 pi)``
+    2, 0, 1 (the top two swapped); at ``2 pi`` each loop runs into the next with the bottom
+    two swapped. ``n_z = +1`` where the pair's first loop lies on the second, -1 the other
+    way, 0 where they do not touch (rows dropped).
+    """
+    import math
+
+    from rodstab.multistable.cone import SAMPLES_PER_ELEMENT
+
+    loop = a.segments[0].length  # type: ignore[attr-defined]
+    s = np.linspace(0.0, loop, SAMPLES_PER_ELEMENT * n + 1)
+    theta = 2.0 * math.pi * s / loop
+    nz = {(0, 1): np.zeros_like(theta), (0, 2): np.zeros_like(theta),
+          (1, 2): np.zeros_like(theta)}
+    first = (theta > 1e-9) & (theta < delta - 1e-9)
+    second = (theta > delta + 1e-9) & (theta < 2.0 * math.pi - 1e-9)
+    for upper, lower, where in ((0, 2, first), (2, 1, first), (2, 0, second), (0, 1, second)):
+        key = (min(upper, lower), max(upper, lower))
+        nz[key][where] = 1.0 if upper == key[0] else -1.0
+    return [(ia, ib, s, s.copy(), z) for (ia, ib), z in nz.items()]
+
+
+def cone_table(section: str, n: int) -> None:
+    """Print the flat stackings' limits with contact against the torus curve's."""
+    import math
+    import time
+
+    from rodstab.multistable.cone_limit import cone_limits
+    from rodstab.problems import ring as rings
+    from rodstab.sections import circle, rectangle
+
+    sec = {"circle": circle(), "rect2": rectangle(aspect=2.0)}[section]
+    a = rings.build(rings.Params(section=sec, loops=3))
+
+    def row(label: str, **kw: object) -> None:
+        t = time.perf_counter()
+        r = cone_limits(a, "torus", n, **kw)  # type: ignore[arg-type]
+        lo, hi = (3.0 * side.load_factor for side in (r.lower, r.upper))  # type: ignore[union-attr]
+        print(f"{label:24} {lo:10.5f} {hi:10.5f}   ({time.perf_counter() - t:.1f} s)")
+
+    print(f"3-loop ring, {section}, {n} el./loop, zero gap, out of plane: (L/2pi) kappa_n")
+    print(f"{'stacking':24} {'lower':>10} {'upper':>10}")
+    row("torus curve")
+    for frac in (0.5, 1 / 3, 0.25, 1 / 6, 1 / 12):
+        row(f"flat, swaps {frac:.4f} turn", pairs=flat_pairs(a, n, 2.0 * math.pi * frac))
+
+
 if __name__ == "__main__":
-    main()
+    import sys
+
+    if sys.argv[1:2] == ["--cone"]:
+        cone_table(sys.argv[2], int(sys.argv[3]))
+    else:
+        main()

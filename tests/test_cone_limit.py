@@ -435,3 +435,18 @@ def test_a_tall_rectangle_on_the_hexagon_is_bracketed_around_the_root():
     fe = cone_limits(a, polygon_offsets([k for k, _ in ring_of(a).order]), 12).upper
     assert fe is not None and fe.status == "bracketed"
     assert fe.bracket[0] <= hexagon_contact_limit() * math.sqrt(s.b1 * s.b2) <= fe.bracket[1]
+
+
+def test_pairs_given_instead_of_a_layer_order_are_the_ones_used():
+    """cone_limits(pairs=...): the torus's pairs given explicitly give the torus's limits to
+    round-off; with no pairs at all (nothing touches) the limits are the no-contact ones."""
+    from rodstab.multistable.cone import touching_pairs
+    from rodstab.problems import ring
+
+    a = ring.build(ring.Params(loops=3))
+    plain = cone_limits(a, "torus", 12, sides=("lower",))
+    given = cone_limits(a, "ignored", 12, sides=("lower",), pairs=touching_pairs(a, "torus", 12))
+    assert given.lower.load_factor == pytest.approx(plain.lower.load_factor, rel=1e-12)
+    free = cone_limits(a, "ignored", 12, sides=("lower",), pairs=[])
+    assert free.lower.load_factor == pytest.approx(free.lower.no_contact, rel=1e-5)  # XTOL
+    assert free.lower.load_factor > plain.lower.load_factor  # contact moves it outward

@@ -219,7 +219,8 @@ def _unit_rows(D: np.ndarray) -> np.ndarray:
 
 
 def cone_limits(a: Assembly, layers: dict[str, Any] | str, elements_per_segment: int = 24,
-                *, xtol: float = XTOL, sides: tuple[str, ...] = SIDES) -> ConeLimits:
+                *, xtol: float = XTOL, sides: tuple[str, ...] = SIDES,
+                pairs: Any = None) -> ConeLimits:
     """Limits with contact at zero gap: where P2 stops being positive on the cone (module doc).
 
     Parameters
@@ -235,6 +236,9 @@ def cone_limits(a: Assembly, layers: dict[str, Any] | str, elements_per_segment:
         The bracket's width to refine to, relative to ``max(|mu|, 1)``.
     sides : tuple of str
         The ends to search (``"lower"``, ``"upper"``).
+    pairs : list, optional
+        The touching pairs in :func:`.cone.touching_pairs`' form, given instead of the ones
+        ``layers`` makes (a stacking it cannot name: benchmarks/folded_three_loops.py).
 
     Returns
     -------
@@ -251,7 +255,7 @@ def cone_limits(a: Assembly, layers: dict[str, Any] | str, elements_per_segment:
     if pencil.K0.shape[0] > MAX_DENSE_DOF:
         raise RodstabInputError(f"elements_per_segment = {n}: {pencil.K0.shape[0]} FE unknowns, "
                                 f"more than the dense solve's {MAX_DENSE_DOF}")
-    pairs = touching_pairs(a, layers, n)
+    pairs = touching_pairs(a, layers, n) if pairs is None else pairs
     N = null_space(pencil.G.toarray())
     K0 = N.T @ pencil.K0.toarray() @ N
     K1 = N.T @ pencil.K1.toarray() @ N
