@@ -132,7 +132,12 @@ def _ring_limits_claim() -> Claim:
         f"{LIMIT_ELEMENTS} el./loop", holds(bool(ok) and all(ok)),
         "New. Out-of-plane perturbations (an in-plane part can only bring a moved limit back "
         "towards the no-contact one). The 2-loop ring's lower limit is kept; the others move "
-        "out by 0.16-0.71. At 24 el./loop and j <= 48 the two agree to 3e-4.")
+        "out by 0.16-0.71. At 24 el./loop and j <= 48 the two agree to 3e-4. The torus "
+        "stacking's ribbon links -(N - 1) times: it is the wound ring (the paper's footnote "
+        "2), not the ring an untwisted one-loop ring folds into (which links 0 times); "
+        "stacked flat, the 3-loop ring's limits depend on where its layers swap (the upper "
+        "up to 5 % lower), not on the swaps' senses (docs/theory/contact.md, 'Ribbon "
+        "self-linking').")
 
 
 def _birod_claim() -> Claim:
