@@ -49,6 +49,8 @@ DIRECTORS = {"d1": 0, "d3": 2}
 EPS_FRACTION = 0.1
 #: Gauss's sum must lie this close to an integer.
 INTEGER_TOL = 1e-6
+#: Segments of the first polygon per block of Gauss's sum (memory ~ 400 block len(B) bytes).
+GAUSS_BLOCK = 256
 
 
 @dataclasses.dataclass(frozen=True)
@@ -179,18 +181,22 @@ def gauss_linking(A: np.ndarray, B: np.ndarray) -> float:
     Right-handed: a ribbon whose director turns once positively about the tangent round a
     plane circle has ``+1``.
     """
-    a0, a1 = _segments(np.asarray(A, float))
+    A0, A1 = _segments(np.asarray(A, float))
     b0, b1 = _segments(np.asarray(B, float))
-    r = [b0[None] - a0[:, None], b1[None] - a0[:, None], b1[None] - a1[:, None],
-         b0[None] - a1[:, None]]
-    n = [np.cross(r[k], r[(k + 1) % 4]) for k in range(4)]
-    n = [v / np.maximum(np.linalg.norm(v, axis=-1), 1e-300)[..., None] for v in n]
-    omega = sum(np.arcsin(np.clip(np.einsum("ijk,ijk->ij", n[k], n[(k + 1) % 4]), -1.0, 1.0))
-                for k in range(4))
-    # Gauss's integrand is (t_a x t_b) . (a - b): r[0] = b0 - a0 carries the minus sign.
-    sign = -np.sign(np.einsum("ijk,ijk->ij", np.cross((a1 - a0)[:, None], (b1 - b0)[None]),
-                              r[0]))
-    return float(np.sum(omega * sign) / (4.0 * np.pi))
+    total = 0.0
+    for i in range(0, len(A0), GAUSS_BLOCK):  # blocks of A's segments bound the memory
+        a0, a1 = A0[i:i + GAUSS_BLOCK], A1[i:i + GAUSS_BLOCK]
+        r = [b0[None] - a0[:, None], b1[None] - a0[:, None], b1[None] - a1[:, None],
+             b0[None] - a1[:, None]]
+        n = [np.cross(r[k], r[(k + 1) % 4]) for k in range(4)]
+        n = [v / np.maximum(np.linalg.norm(v, axis=-1), 1e-300)[..., None] for v in n]
+        omega = sum(np.arcsin(np.clip(np.einsum("ijk,ijk->ij", n[k], n[(k + 1) % 4]),
+                                      -1.0, 1.0)) for k in range(4))
+        # Gauss's integrand is (t_a x t_b) . (a - b): r[0] = b0 - a0 carries the minus sign.
+        sign = -np.sign(np.einsum("ijk,ijk->ij",
+                                  np.cross((a1 - a0)[:, None], (b1 - b0)[None]), r[0]))
+        total += float(np.sum(omega * sign))
+    return total / (4.0 * np.pi)
 
 
 def crossing_linking(A: np.ndarray, B: np.ndarray, seed: int) -> int | None:
