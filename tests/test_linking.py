@@ -226,3 +226,21 @@ def test_the_stacked_n_loop_ring_on_the_torus_curve_links_n_minus_1_times(loops)
         assert abs(twist) < 0.1 * h / 0.05 * loops / 3  # measured 3.0e-3 at h = 0.05, 3 loops
         assert abs((lk.value - twist) + (loops - 1)) < 0.01
 
+
+
+def test_the_printed_verdict_claims_agreement_only_where_both_numbers_are_given():
+    """barrier's `linking` line: with one number not given it says so and gives no verdict
+    (the planar line's layers coincide); with two equal numbers, that rods keep it."""
+    from rodstab.cli.barrier_contact import _topology_text
+    from rodstab.multistable.knots import KnotClass
+    from rodstab.multistable.linking import Linking, Topology
+
+    unknot = KnotClass("unknot", 1, 10, 3)
+    given = Linking(0, "d3", 1e-3, 0.0, (0, 0))
+    missing = Linking(None, "d3", 0.0, None, (), "the centreline meets itself")
+    text = _topology_text(Topology(("line", "star"), (unknot, unknot), (missing, given), False,
+                                   ""))[1]
+    assert "not certified for both" in text and "no verdict" in text and "agree" not in text
+    text = _topology_text(Topology(("a", "b"), (unknot, unknot), (given, given), False, ""))[1]
+    assert "Gauss's integral and crossings agree" in text
+    assert "rods that cannot cross keep it" in text

@@ -106,10 +106,13 @@ def _topology_text(verdict: Any) -> list[str]:
     knots = ("different knots: " + apart if verdict.why == "different knot types"
              else "rods that cannot cross keep the knot type")
     links = (f"different: {apart}" if verdict.why.startswith("ribbons")
-             else "rods that cannot cross keep it")
+             else "rods that cannot cross keep it" if la.value is not None
+             and lb.value is not None else "no verdict")
+    how = ("Gauss's integral and crossings agree" if la.value is not None
+           and lb.value is not None else "not certified for both")
     return [f"knots        {describe(a, ka)}; {describe(b, kb)}: {knots}",
-            f"linking      ribbons pushed along {la.director} (Gauss's integral and crossings "
-            f"agree): {describe_linking(a, la)}; {describe_linking(b, lb)}: {links}"]
+            f"linking      ribbons pushed along {la.director} ({how}): "
+            f"{describe_linking(a, la)}; {describe_linking(b, lb)}: {links}"]
 
 
 def topology_lines(payload: dict[str, Any], rod: Any, xs: Any, Rs: Any, a: str,
