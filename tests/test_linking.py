@@ -145,28 +145,39 @@ def test_a_centreline_that_meets_itself_has_no_linking_number():
     assert not apart_by_linking(lk, lk)
 
 
-def test_barrier_with_contact_between_ends_that_link_differently_is_blocked_without_a_run():
+def test_barrier_with_contact_between_ends_that_link_differently_is_blocked_without_a_run(
+        capsys):
     """`rodstab barrier` from the staggered line of Lk -2 to the star (Lk 0), with contact:
     the ends are certified apart before any string is run, so the answer is "blocked by
-    contact" with the two numbers and no barrier (exit 0: a certified answer); JSON
-    ``blocked_by_contact``. The string of 17 images is never built (the run is not recorded)."""
+    contact" with the two numbers and no barrier (exit 0: a certified answer). Its JSON
+    (``blocked_by_contact``, the barriers None) from the same printer, on the same verdict
+    kind."""
     import json
 
     from conftest import run_cli
 
+    from rodstab.cli.barrier_contact import apart_output
+    from rodstab.multistable.knots import KnotClass
+    from rodstab.multistable.linking import Linking, Topology
+    from rodstab.sections import rectangle
+
     layers = _staggered((0, 1, 2), (0, 1, 2))
-    args = ["barrier", "--structure", "hexagram", "--from", "line", "--to", "star", "--shape",
-            "rectangle", "--aspect", "4", "--load-factor", "1", "--contact",
-            "--contact-thickness", "0.02", "--layers", layers, "--elements", "6"]
-    out = run_cli(args)
+    out = run_cli(["barrier", "--structure", "hexagram", "--from", "line", "--to", "star",
+                   "--shape", "rectangle", "--aspect", "4", "--load-factor", "1", "--contact",
+                   "--contact-thickness", "0.02", "--layers", layers, "--elements", "6"])
     assert out.exit_code == 0, out.stdout + out.stderr
     assert "line -> star: BLOCKED BY CONTACT (ribbons self-link -2 and +0)" in out.stdout
     assert "line -2; star +0: different" in out.stdout
-    data = json.loads(run_cli([*args, "--json"]).stdout)
-    assert data["barrier_forward"] is None
-    verdict = data["blocked_by_contact"]
-    assert [lk["value"] for lk in verdict["linking"]] == [-2, 0]
-    assert [k["kind"] for k in verdict["knots"]] == ["unknot", "unknot"]
+    unknot = KnotClass("unknot", 1, 42, 3)
+    verdict = Topology(("line", "star"), (unknot, unknot),
+                       (Linking(-2, "d3", 1e-3, -2.0, (-2, -2)), Linking(0, "d3", 1e-3, 0.0,
+                                                                         (0, 0))),
+                       True, "ribbons self-link -2 and +0")
+    apart_output(verdict, "hexagram", 1.0, rectangle(aspect=4.0), 6, None, True)
+    data = json.loads(capsys.readouterr().out)
+    assert data["barrier_forward"] is None and data["barrier_backward"] is None
+    assert [lk["value"] for lk in data["blocked_by_contact"]["linking"]] == [-2, 0]
+    assert [k["kind"] for k in data["blocked_by_contact"]["knots"]] == ["unknot", "unknot"]
 
 
 def test_the_line_on_the_hexagon_and_the_star_link_alike_and_relaxing_with_contact_keeps_it():
