@@ -255,3 +255,26 @@ def test_the_printed_verdict_claims_agreement_only_where_both_numbers_are_given(
     text = _topology_text(Topology(("a", "b"), (unknot, unknot), (given, given), False, ""))[1]
     assert "Gauss's integral and crossings agree" in text
     assert "rods that cannot cross keep it" in text
+
+
+def test_equilibrium_with_layers_prints_the_stacked_rings_linking_and_an_open_rod_none():
+    """`equilibrium --contact --layers` on the bi-rod (a ring of two rods): its stacked state's
+    number (0: two parallel layers, welds spanning them, no crossing) in the text and the JSON
+    ``layers.linking``. A rod that is no closed ring has none (not given, named)."""
+    import json
+
+    from conftest import run_cli
+
+    from rodstab.io.design import load_design
+    from rodstab.multistable.linking import NOT_A_RING
+    from rodstab.nonlinear.discrete import discretise
+
+    args = ["equilibrium", "examples/birod.toml", "--load-factor", "3.5", "--elements", "8",
+            "--contact", "--layers", "upper=1,lower=0"]
+    out = run_cli(args)
+    assert out.exit_code == 0, out.stderr
+    assert "linking      the stacked ring +0" in out.stdout
+    assert json.loads(run_cli([*args, "--json"]).stdout)["layers"]["linking"]["value"] == 0
+    arc = discretise(load_design("examples/clamped_arc.toml").assembly, 8, 1.0)
+    lk = self_linking(arc)
+    assert lk.value is None and lk.reason == NOT_A_RING

@@ -251,14 +251,22 @@ def layers_report(rod: Any, stack: dict[str, float] | None, axial: float | None,
                  f"least {fmt(st.check.min_gap)}, relaxed from there with contact ({its} "
                  f"Newton iterations{'' if ok else ', NOT converged'}; from dhat = 0.1 h, "
                  "halved to the one asked), then the Newton below"])
+    from ..multistable.linking import NOT_A_RING, describe_linking, self_linking
+
     welds = (None if rod.contact is None
              else weld_spans(rod, 2.0 * float(rod.contact.radius.max())))
     lines = [layers_line(stack or {}, axial, laminate)]
     if welds is not None and rod.offsets is not None:
         lines.append(weld_line(welds))
+    lk = self_linking(rod)
+    if lk.reason != NOT_A_RING:
+        lines.append(f"linking      {describe_linking('the stacked ring', lk)} (ribbon pushed "
+                     f"along {lk.director}; rods that cannot cross keep it: a state of this "
+                     "model with another number is out of reach, rodstab.multistable.linking)")
     return ({"heights": stack, "spanning_welds": rod.offsets is not None,
              "laminate": laminate, "axial_stiffness": axial,
-             "welds": None if welds is None else welds.to_dict()}, lines)
+             "welds": None if welds is None else welds.to_dict(),
+             "linking": lk.to_dict()}, lines)
 
 
 def cone_block(a: Any, layers: str | None, thickness_ratio: float, n: int

@@ -47,6 +47,8 @@ from .knots import PROJECTION_SEEDS, clearance, merge_closed
 DIRECTORS = {"d1": 0, "d3": 2}
 #: ``eps`` as a fraction of the centreline's clearance and of its shortest segment.
 EPS_FRACTION = 0.1
+#: The reason given for an assembly that is not one closed ring (no ribbon to link).
+NOT_A_RING = "the assembly is not one closed ring"
 #: Gauss's sum must lie this close to an integer.
 INTEGER_TOL = 1e-6
 #: Segments of the first polygon per block of Gauss's sum (memory ~ 400 block len(B) bytes).
@@ -260,6 +262,8 @@ def self_linking(rod: DiscreteRod, x: np.ndarray | None = None,
     only on one director (:func:`apart_by_linking`). See the module docstring for ``eps`` and
     the two evaluations.
     """
+    if ring_order(rod) is None:
+        return Linking(None, director, 0.0, None, (), NOT_A_RING)
     x = rod.x if x is None else np.asarray(x, float)
     R = rod.R_edge if R_edge is None else np.asarray(R_edge, float)
     keeps = weld_keeps(rod, R)
