@@ -255,6 +255,12 @@ def test_the_printed_verdict_claims_agreement_only_where_both_numbers_are_given(
     text = _topology_text(Topology(("a", "b"), (unknot, unknot), (given, given), False, ""))[1]
     assert "Gauss's integral and crossings agree" in text
     assert "rods that cannot cross keep it" in text
+    # ends apart by knot type whose numbers differ too: each line says its own verdict
+    trefoil = KnotClass("knotted", 3, 10, 6)
+    other = Linking(-2, "d3", 1e-3, -2.0, (-2, -2))
+    knots, links = _topology_text(Topology(("a", "b"), (unknot, trefoil), (given, other),
+                                           True, "different knot types"))
+    assert "different knots" in knots and "different: no path" in links
 
 
 def test_equilibrium_with_layers_prints_the_stacked_rings_linking_and_an_open_rod_none():

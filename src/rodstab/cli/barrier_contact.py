@@ -98,14 +98,15 @@ def into_contact_lines(a: Any, elements: int, mu: float, saddle: Any, ends: dict
 
 def _topology_text(verdict: Any) -> list[str]:
     """Return the ``knots`` and ``linking`` lines of a :class:`~.linking.Topology`."""
-    from ..multistable.knots import describe
-    from ..multistable.linking import describe_linking
+    from ..multistable.knots import apart_by_topology, describe
+    from ..multistable.linking import apart_by_linking, describe_linking
 
     (a, b), (ka, kb), (la, lb) = verdict.names, verdict.knots, verdict.linking
     apart = "no path joins them without passing rods through each other"
-    knots = ("different knots: " + apart if verdict.why == "different knot types"
+    knots = ("different knots: " + apart if apart_by_topology(ka, kb)
              else "rods that cannot cross keep the knot type")
-    links = (f"different: {apart}" if verdict.why.startswith("ribbons")
+    # each invariant judged on its own: ends of different knot types may differ in Lk too
+    links = (f"different: {apart}" if apart_by_linking(la, lb)
              else "rods that cannot cross keep it" if la.value is not None
              and lb.value is not None else "no verdict")
     how = ("Gauss's integral and crossings agree" if la.value is not None
