@@ -49,7 +49,8 @@ Rectangle h/t = 2 (16 el., h/L 0.01): no contact 1.4702 .. 4.7202
 upper end at 5.00; dhat 0.1 h: the start at mu = 1 is unstable (-1.1e-6).
 
 Run: ``OMP_NUM_THREADS=1 PYTHONPATH=src python benchmarks/stacked_limits.py [elements]
-[shape[:h/L,h/L...]] ...`` (shape: circle, rect2; default thicknesses 0.02, 0.01, 0.005).
+[shape[:h/L,h/L...]] ... [--stacking wound|folded]`` (shape: circle, rect2; default
+thicknesses 0.02, 0.01, 0.005; the tables above are of the wound ring, the torus-curve start).
 1-5 min per run at 32 elements per loop (steps are halved where they leave the branch).
 """
 
@@ -65,7 +66,7 @@ from rodstab.sections import circle, rectangle
 
 LOOPS = 3
 THICKNESS = (0.02, 0.01, 0.005)
-DHAT = (0.2, 0.1, 0.05)
+DHAT = tuple(float(v) for v in __import__("os").environ.get("DHAT", "0.2,0.1,0.05").split(","))
 
 
 def _side(s: SideLimit) -> str:
@@ -89,8 +90,14 @@ def _side(s: SideLimit) -> str:
 
 def main() -> None:
     """Print the tables (module doc)."""
-    n = int(sys.argv[1]) if len(sys.argv) > 1 else 32
-    shapes = sys.argv[2:] or ["circle"]
+    args = sys.argv[1:]
+    stacking = "wound"
+    if "--stacking" in args:
+        i = args.index("--stacking")
+        stacking = args[i + 1]
+        del args[i:i + 2]
+    n = int(args[0]) if args else 32
+    shapes = args[1:] or ["circle"]
     for spec in shapes:
         shape, _, hs = spec.partition(":")
         thicknesses = tuple(float(v) for v in hs.split(",")) if hs else THICKNESS
@@ -99,7 +106,8 @@ def main() -> None:
         M_lo, M_hi = ring_stability(section.b1, section.b2, LOOPS).M_interval
         nc = (1.0 - M_hi, 1.0 - M_lo)
         a = ring.build(p)
-        print(f"== {shape} (b1 = {section.b1:.4g}, b2 = {section.b2:.4g}), {LOOPS} loops, "
+        print(f"== {stacking} stacking: {shape} (b1 = {section.b1:.4g}, "
+              f"b2 = {section.b2:.4g}), {LOOPS} loops, "
               f"{n} elements per loop; capsules of diameter h, dhat = c h, stiffness by "
               "stiffness_for_line_load(B3 a / R0^4, dhat, 1/2)", flush=True)
         print(f"eq. (3.3), no contact: {LOOPS * nc[0]:.4f} .. {LOOPS * nc[1]:.4f}", flush=True)
@@ -112,7 +120,7 @@ def main() -> None:
                 t = time.perf_counter()
                 try:
                     r = stacked_limits(a, nc, thickness_ratio=hL, elements_per_loop=n,
-                                       dhat_fraction=c)
+                                       dhat_fraction=c, stacking=stacking)
                 except Exception as exc:  # a benchmark reports every run
                     print(f"h/L {hL:g} dhat/h {c:g}: failed: {type(exc).__name__}: {exc}",
                           flush=True)

@@ -79,6 +79,7 @@ from ..nonlinear.newton import newton
 from ..nonlinear.stability import uses_kirchhoff, vee_log, zero_eigenvalue_tol
 from ..numerics import jacobi_scaling, lowest_eigenpairs, refine_root
 from ..results import Result
+from .folding import fold_loops
 from .stacking import StackedState, _pair_gaps, _where, stack_loops
 
 #: Newton iterations allowed per relaxation (the first, from the torus curve, took 58 at 32
@@ -158,28 +159,38 @@ def stacked_contact_model(thickness: float, dhat_fraction: float, a: float, R0: 
     return ContactModel.from_thickness(h, dhat=dhat, stiffness=kappa)
 
 
+#: ``wound``: :func:`~.stacking.stack_loops` (Lk = -(N - 1)); ``folded``: :mod:`.folding` (Lk 0).
+STACKINGS = ("wound", "folded")
+
+
 def stacked_ring(a: Assembly, *, thickness_ratio: float, elements_per_loop: int,
-                 dhat_fraction: float, load_factor: float = 1.0
+                 dhat_fraction: float, load_factor: float = 1.0, stacking: str = "wound"
                  ) -> tuple[DiscreteRod, StackedState]:
     """Return the stacked N-loop ring with its contact model set, at ``load_factor`` (unrelaxed).
 
     ``a``: the N-loop ring (``rodstab.problems.ring.build``: one segment per loop, ``R0 = B3
-    = 1``); ``thickness_ratio = h / L``; ``g0 = START_GAP_FRACTION dhat``. Returns the rod
-    (with ``rod.contact``) and the :class:`~.stacking.StackedState` it was built from.
+    = 1``); ``thickness_ratio = h / L``; ``g0 = START_GAP_FRACTION dhat``; ``stacking`` one of
+    :data:`STACKINGS`. Returns the rod (with ``rod.contact``) and the state it was built from.
+    Both stackings get the wound ring's contact stiffness (its ``a`` in the rule's line load).
     """
     hL = require_positive("thickness_ratio", thickness_ratio)
     n = require_positive_int("elements_per_loop", elements_per_loop)
     c = require_positive("dhat_fraction", dhat_fraction)
     if c >= 1.0:
         raise RodstabInputError(f"dhat_fraction must be below 1 (dhat < h), got {dhat_fraction!r}")
+    if stacking not in STACKINGS:
+        raise RodstabInputError(f"stacking must be one of {list(STACKINGS)}, got {stacking!r}")
     h = hL * a.total_length
+    g0 = START_GAP_FRACTION * c * h
     coincident = discretise(a, n, load_factor)
-    st = stack_loops(coincident, h, START_GAP_FRACTION * c * h)
-    assert st.torus is not None
+    wound = stack_loops(coincident, h, g0)
+    assert wound.torus is not None
+    st = wound if stacking == "wound" else fold_loops(coincident, h, g0)
     rod = st.rod.copy()
     rod.load_factor = load_factor
     B3 = float(np.max(rod.edge_B[:, 2]))
-    rod.contact = mesh_of_rod(rod, stacked_contact_model(h, c, st.torus.a, st.torus.R0, B3))
+    rod.contact = mesh_of_rod(rod, stacked_contact_model(h, c, wound.torus.a, wound.torus.R0,
+                                                         B3))
     return rod, st
 
 
@@ -720,6 +731,7 @@ def stacked_limits(a: Assembly, no_contact: tuple[float, float], *,
                    thickness_ratio: float = 0.01,
                    elements_per_loop: int = 32, dhat_fraction: float = 0.1,
                    contact: bool = True, start_load_factor: float = 1.0,
+                   stacking: str = "wound",
                    scan_steps: int = SCAN_STEPS, window: float = WINDOW_WIDTHS
                    ) -> StackedLimits:
     """Return the stable interval in ``mu`` of the stacked N-loop ring with contact.
@@ -744,6 +756,8 @@ def stacked_limits(a: Assembly, no_contact: tuple[float, float], *,
         against eq. 3.3).
     start_load_factor : float
         A ``mu`` strictly inside the no-contact interval.
+    stacking : str
+        ``"wound"`` or ``"folded"`` (:data:`STACKINGS`; with ``contact`` only).
     scan_steps, window : int, float
         Scan steps per width of the no-contact interval; the window beyond each of its ends,
         in widths.
@@ -762,7 +776,8 @@ def stacked_limits(a: Assembly, no_contact: tuple[float, float], *,
     if contact:
         rod, st = stacked_ring(a, thickness_ratio=thickness_ratio,
                                elements_per_loop=elements_per_loop,
-                               dhat_fraction=dhat_fraction, load_factor=mu0)
+                               dhat_fraction=dhat_fraction, load_factor=mu0,
+                               stacking=stacking)
         start = st.rod
     else:
         require_positive("thickness_ratio", thickness_ratio)

@@ -457,6 +457,82 @@ def _traversal(rod: DiscreteRod) -> np.ndarray:
     return order
 
 
+@dataclasses.dataclass(frozen=True)
+class CoincidentLoops:
+    """The coincident planar N-loop ring a stacking starts from (:func:`coincident_loops`).
+
+    ``order``: every node once, along the traversal; ``X`` their positions; ``centre`` and
+    ``R0`` the circle (length); ``length`` ``L``; ``loops`` ``N``; ``t`` each traversed node's
+    arclength from the first (length); ``azimuth`` of the first node and ``sense`` (+1
+    counter-clockwise about ``e3``) of the traversal.
+    """
+
+    order: np.ndarray
+    X: np.ndarray
+    centre: np.ndarray
+    R0: float
+    length: float
+    loops: int
+    t: np.ndarray
+    azimuth: float
+    sense: float
+
+    def place(self, rod: DiscreteRod, xyz: np.ndarray, tangent: np.ndarray) -> DiscreteRod:
+        """Return ``rod`` moved onto a curve given in the canonical frame, frames following.
+
+        ``xyz``, ``tangent`` (nodes in traversal order, 3): positions and unit tangents of a
+        curve centred at the origin that starts on ``+e1`` and runs counter-clockwise; they
+        are turned to the ring's start azimuth and sense. Each edge frame is turned by the
+        smallest rotation that puts ``d2`` on its new chord (the strip stays as flat as it
+        can), each joint frame by the smallest one that puts its ``d2`` on the tangent.
+        """
+        ca, sa = math.cos(self.azimuth), math.sin(self.azimuth)
+
+        def turned(v: np.ndarray, shift: np.ndarray) -> np.ndarray:
+            return np.stack([shift[0] + ca * v[:, 0] - sa * self.sense * v[:, 1],
+                             shift[1] + sa * v[:, 0] + ca * self.sense * v[:, 1],
+                             shift[2] + v[:, 2]], axis=1)
+
+        new = rod.copy()
+        new.x[self.order] = turned(xyz, np.array([self.centre[0], self.centre[1], 0.0]))
+        new.align_frames()
+        tan = np.empty_like(rod.x)
+        tan[self.order] = turned(tangent, np.zeros(3))
+        tan /= np.linalg.norm(tan, axis=1)[:, None]
+        for e, j, _, end in rod.end_links:
+            node = rod.edge_nodes[e, 0 if end == "start" else 1]
+            new.R_joint[j] = _turn_onto(rod.R_joint[j], tan[node])
+        return new
+
+
+def coincident_loops(rod: DiscreteRod, who: str) -> CoincidentLoops:
+    """Read the coincident planar N-loop ring; exit 2 (naming ``who``) if ``rod`` is not one."""
+    order = _traversal(rod)
+    X = rod.x[order]
+    if np.max(np.abs(X[:, 2])) > 0.0:
+        raise RodstabInputError(f"{who} needs the planar coincident ring (z = 0), got a "
+                                f"node at z = {float(np.max(np.abs(X[:, 2]))):g}")
+    c = X.mean(axis=0)
+    rad = np.linalg.norm(X[:, :2] - c[:2], axis=1)
+    R0m = float(rad.mean())
+    if np.max(np.abs(rad - R0m)) > ON_CIRCLE_RTOL * R0m:
+        raise RodstabInputError(f"{who} needs coincident circular loops: node radii "
+                                f"from {rad.min():.9g} to {rad.max():.9g}")
+    chords = np.linalg.norm(np.roll(X, -1, axis=0) - X, axis=1)
+    arcs = 2 * R0m * np.arcsin(np.minimum(chords / (2 * R0m), 1.0))
+    L = float(arcs.sum())
+    N = round(L / (2 * math.pi * R0m))
+    if N < 1 or abs(N * 2 * math.pi * R0m - L) > 1e-6 * L:
+        raise RodstabInputError(f"{who}: the ring's length {L:.9g} is not a whole number "
+                                f"of turns of its circle (radius {R0m:.9g})")
+    rel = X[0, :2] - c[:2]
+    step = X[1, :2] - X[0, :2]
+    return CoincidentLoops(
+        order=order, X=X, centre=c, R0=R0m, length=L, loops=N,
+        t=np.concatenate([[0.0], np.cumsum(arcs)[:-1]]), azimuth=math.atan2(rel[1], rel[0]),
+        sense=1.0 if rel[0] * step[1] - rel[1] * step[0] > 0 else -1.0)
+
+
 def stack_loops(rod: DiscreteRod, thickness: float, gap: float,
                 model: ContactModel | None = None, *, chord_allowance: bool = True
                 ) -> StackedState:
@@ -494,25 +570,9 @@ def stack_loops(rod: DiscreteRod, thickness: float, gap: float,
     """
     h = require_positive("thickness", thickness)
     g0 = require_positive("gap", gap)
-    order = _traversal(rod)
-    X = rod.x[order]
-    if np.max(np.abs(X[:, 2])) > 0.0:
-        raise RodstabInputError("stack_loops needs the planar coincident ring (z = 0), got a "
-                                f"node at z = {float(np.max(np.abs(X[:, 2]))):g}")
-    c = X.mean(axis=0)
-    rad = np.linalg.norm(X[:, :2] - c[:2], axis=1)
-    R0m = float(rad.mean())
-    if np.max(np.abs(rad - R0m)) > ON_CIRCLE_RTOL * R0m:
-        raise RodstabInputError(f"stack_loops needs coincident circular loops: node radii "
-                                f"from {rad.min():.9g} to {rad.max():.9g}")
-    chords = np.linalg.norm(np.roll(X, -1, axis=0) - X, axis=1)
-    arcs = 2 * R0m * np.arcsin(np.minimum(chords / (2 * R0m), 1.0))
-    L = float(arcs.sum())
-    N = round(L / (2 * math.pi * R0m))
-    if N < 1 or abs(N * 2 * math.pi * R0m - L) > 1e-6 * L:
-        raise RodstabInputError(f"stack_loops: the ring's length {L:.9g} is not a whole number "
-                                f"of turns of its circle (radius {R0m:.9g})")
-    t = np.concatenate([[0.0], np.cumsum(arcs)[:-1]])
+    ring = coincident_loops(rod, "stack_loops")
+    L, N, t = ring.length, ring.loops, ring.t
+    arcs = np.diff(np.append(t, L))
     tc = torus_curve(N, L, h, g0)
     # two sagittas of chords of arc <= l on a curve of curvature <= kappa_max
     chord_error = float(arcs.max()) ** 2 * tc.curvature_max / 4.0
@@ -525,30 +585,13 @@ def stack_loops(rod: DiscreteRod, thickness: float, gap: float,
     speed = np.sqrt((tc.R + tc.a * np.cos(phis / N)) ** 2 + (tc.a / N) ** 2)
     s_tab = np.concatenate([[0.0], np.cumsum(0.5 * (speed[1:] + speed[:-1]) * np.diff(phis))])
     phi = np.interp(t * (s_tab[-1] / L), s_tab, phis)
-    rel = X[0, :2] - c[:2]
-    step = X[1, :2] - X[0, :2]
-    sense = 1.0 if rel[0] * step[1] - rel[1] * step[0] > 0 else -1.0
-    az = math.atan2(rel[1], rel[0]) + sense * phi
     rho = tc.R + tc.a * np.cos(phi / N)
-    new = rod.copy()
-    new.x[order] = np.stack([c[0] + rho * np.cos(az), c[1] + rho * np.sin(az),
-                             tc.a * np.sin(phi / N)], axis=1)
-    new.align_frames()
-    # joint frames: d2 onto the curve's tangent at the joint (the planar tangent's sense kept)
-    pos = np.empty(len(rod.x))
-    pos[order] = phi
-    d1 = _derivatives(pos, N, tc.R, tc.a)[0]
-    # the canonical curve turned to the ring's start azimuth and sense (z kept)
-    a0 = math.atan2(rel[1], rel[0])
-    ca, sa = math.cos(a0), math.sin(a0)
-    tan = np.stack([ca * d1[:, 0] - sa * sense * d1[:, 1], sa * d1[:, 0] + ca * sense * d1[:, 1],
-                    d1[:, 2]], axis=1)
-    tan /= np.linalg.norm(tan, axis=1)[:, None]
-    for e, j, _, end in rod.end_links:
-        node = rod.edge_nodes[e, 0 if end == "start" else 1]
-        new.R_joint[j] = _turn_onto(rod.R_joint[j], tan[node])
+    xyz = np.stack([rho * np.cos(phi), rho * np.sin(phi), tc.a * np.sin(phi / N)], axis=1)
+    new = ring.place(rod, xyz, _derivatives(phi, N, tc.R, tc.a)[0])
     model = default_model(h) if model is None else model
     check = check_stacked(new, model, g0, 0.0 if chord_allowance else chord_error)
+    pos = np.empty(len(rod.x))
+    pos[ring.order] = phi
     psi0 = [float(pos[_segment_nodes(rod, k)[0]]) / N for k in range(len(rod.assembly.segments))]
     layers = tuple((sg.name, math.cos(p), math.sin(p))
                    for sg, p in zip(rod.assembly.segments, psi0, strict=True))

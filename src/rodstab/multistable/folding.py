@@ -1,0 +1,271 @@
+"""The N-loop ring folded from an untwisted one-loop ring: flat layers that swap (issue 21).
+
+Why not the torus curve. A ring's ribbon (its centreline pushed off along a section director)
+links its centreline ``Lk = Tw + Wr`` times, an integer that rods which cannot cross keep
+(:mod:`.linking`). The untwisted one-loop ring has ``Lk = 0``. The ``(N, 1)`` torus curve with
+its strip kept flat (:func:`~.stacking.stack_loops`) has ``Tw ~ 0`` and ``Wr = Lk = -(N - 1)``:
+it is the ring *wound* round itself (the paper's footnote 2, a "covered ring"), or the one-loop
+ring given ``N - 1`` turns of twist, not the ring folded from it.
+
+What the fold makes. Stack ``N`` strands flat, one spacing ``s`` apart along ``e3``. Going once
+round, the layer a strand ends in must be the one the next loop starts in, so the layers are
+permuted by an ``N``-cycle; with swaps of neighbouring layers that takes ``N - 1`` swaps at
+least, and any number of them has the parity of ``N - 1``. Each swap is a crossing of the
+strip over itself seen from the side, adding ``+-1`` to the writhe, so with the strip flat
+(``Tw = 0``) ``Lk = Wr`` = the sum of the swaps' signs. **``Lk = 0`` with no twist needs an even
+number of swaps: ``N`` odd.** For even ``N`` the writhe is odd, and the untwisted ring folds
+only with ``|Tw| >= 1``. This is the paper's statement (Sec. 3.1) that a one-loop ring folds
+"without twist when the number of loops is odd", derived here from the stacking.
+
+The construction (:func:`fold_loops`, odd ``N >= 3``). The loops start in layers ``N - 1``
+(top), ``0``, ``1``, ..., ``N - 2``. Swap ``k`` (``k = 0 .. N - 2``) exchanges layers ``N - 1 -
+k`` and ``N - 2 - k`` over the azimuth window ``[k w, (k + 1) w)``, ``w = 2 pi / (N - 1)``: the
+two strands turn by ``pi`` (a C2 quintic smoothstep of the azimuth) about their midpoint in
+the plane ``(e_r, e3)``, so they stay ``s`` apart and ``s`` from every other layer; swap ``k``
+turns with sense ``(-1)^k`` (the upper strand passes outside for ``+``), so the signs cancel
+and ``Lk = 0`` (tested by both evaluations of :mod:`.linking`). Going once round, the top
+strand descends to the bottom and the others rise one layer. ``s`` is set so that the
+smallest distance between strands on a fine polyline of the curve (:data:`CURVE_POINTS` per
+loop) is ``h + g0`` (plus the chords' allowance), the radius so that the length is ``L``.
+
+Measured (3 loops, circle, ``h/L = 0.01``, 32 el. per loop, ``dhat = 0.1 h``, load factor 1,
+``benchmarks/folded_three_loops.py --hold``): relaxed with contact, the two swaps settle half a
+turn apart from windows of half, a third and a quarter of a turn placed a third or half a turn
+apart (178-182 degrees, :func:`layer_swaps`), to energies within 0.12 % of one another.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from ..errors import NotConverged, RodstabInputError, require_positive
+from ..nonlinear.contact import ContactModel
+from ..nonlinear.discrete import DiscreteRod
+from .stacking import (
+    CHORD_MARGIN,
+    StackedState,
+    StackingError,
+    _strain,
+    _traversal,
+    check_stacked,
+    coincident_loops,
+    default_model,
+    smoothstep,
+)
+
+#: Points per loop of the polyline the construction samples (interpolated at the nodes by
+#: arclength: position error ``<= (2 pi R / CURVE_POINTS)^2 kappa / 8``, 1e-7 R).
+CURVE_POINTS = 4096
+#: Points per loop of the polyline on which the strands' distance is measured.
+DISTANCE_POINTS = 1024
+#: Fixed-point iterations setting ``s`` and ``R``, and their relative tolerance.
+FOLD_MAX_ITER = 40
+FOLD_RTOL = 1e-9
+
+
+def start_layers(loops: int) -> list[int]:
+    """Return the layer each loop starts in: ``N - 1`` (top), then ``0, 1, ..., N - 2``."""
+    return [loops - 1, *range(loops - 1)]
+
+
+def alternating(loops: int) -> tuple[int, ...]:
+    """Return the folded ring's swap senses: ``+1, -1, +1, ...`` (``N - 1`` of them)."""
+    return tuple(1 if k % 2 == 0 else -1 for k in range(loops - 1))
+
+
+def fold_offsets(loops: int, theta: np.ndarray, spacing: float,
+                 senses: tuple[int, ...] | None = None) -> np.ndarray:
+    """Offsets ``(N, k, 2)``: ``(r, z)`` of each loop's strand at azimuths ``theta`` (rad).
+
+    ``r`` radial from the loops' circle, ``z`` along ``e3`` from the stack's middle (length);
+    ``theta`` in ``[0, 2 pi)``; the module doc's swaps, swap ``k`` turning with sense
+    ``senses[k]`` (the upper strand passes outside for ``+1``; default :func:`alternating`).
+    """
+    N = int(loops)
+    senses = alternating(N) if senses is None else senses
+    theta = np.asarray(theta, float)
+    w = 2.0 * math.pi / (N - 1)
+    mid_layer = 0.5 * (N - 1)
+    out = np.zeros((N, len(theta), 2))
+    for i, layer in enumerate(start_layers(N)):
+        r = np.zeros_like(theta)
+        z = np.full_like(theta, spacing * (layer - mid_layer))
+        for k in range(N - 1):
+            upper, lower = N - 1 - k, N - 2 - k
+            if layer not in (upper, lower):
+                continue
+            after = theta >= k * w
+            turn = math.pi * smoothstep((theta - k * w) / w)
+            sign = 1.0 if layer == upper else -1.0
+            sense = float(senses[k])
+            r = np.where(after, sense * sign * 0.5 * spacing * np.sin(turn), r)
+            z = np.where(after, spacing * (0.5 * (upper + lower) - mid_layer)
+                         + sign * 0.5 * spacing * np.cos(turn), z)
+            layer = lower if layer == upper else upper
+        out[i, :, 0], out[i, :, 1] = r, z
+    return out
+
+
+def fold_curve(loops: int, radius: float, spacing: float, per_loop: int = CURVE_POINTS,
+               senses: tuple[int, ...] | None = None) -> np.ndarray:
+    """Return the folded ring's closed polyline ``(N per_loop, 3)``, loops in turn from ``+e1``."""
+    theta = np.arange(per_loop) * (2.0 * math.pi / per_loop)
+    rz = fold_offsets(loops, theta, spacing, senses)
+    rho = radius + rz[:, :, 0]
+    return np.stack([rho * np.cos(theta), rho * np.sin(theta), rz[:, :, 1]],
+                    axis=-1).reshape(-1, 3)
+
+
+def _closed_length(C: np.ndarray) -> float:
+    return float(np.linalg.norm(np.roll(C, -1, axis=0) - C, axis=1).sum())
+
+
+def nearest_strands(C: np.ndarray, spacing: float) -> float:
+    """Return the strands' distance: the nearest vertices of ``C`` far apart along it (length).
+
+    ``C``: a closed polyline; vertices more than ``4 spacing`` apart along it count (not a
+    strand's own neighbours). Vertices only (:data:`DISTANCE_POINTS` per loop: between nearly
+    parallel strands that overstates the distance by ``<= step^2 / 8 s``); the built rod's
+    elements are then checked segment to segment (:func:`~.stacking.check_stacked`).
+    ``inf`` if no two strands come within ``1.1 spacing``.
+    """
+    step = np.linalg.norm(np.roll(C, -1, axis=0) - C, axis=1)
+    along = np.concatenate([[0.0], np.cumsum(step)[:-1]])
+    total = float(step.sum())
+    P = cKDTree(C).query_pairs(1.1 * spacing, output_type="ndarray")
+    if not len(P):
+        return math.inf
+    sep = np.abs(along[P[:, 0]] - along[P[:, 1]])
+    far = np.minimum(sep, total - sep) > 4.0 * spacing
+    if not far.any():
+        return math.inf
+    return float(np.linalg.norm(C[P[far, 0]] - C[P[far, 1]], axis=1).min())
+
+
+def fold_loops(rod: DiscreteRod, thickness: float, gap: float,
+               model: ContactModel | None = None, *, chord_allowance: bool = True,
+               senses: tuple[int, ...] | None = None) -> StackedState:
+    """Build the N-loop ring folded from an untwisted ring (odd ``N``) and check it.
+
+    Parameters
+    ----------
+    rod : DiscreteRod
+        The coincident N-loop ring (``discretise`` of ``rodstab.problems.ring.build``).
+    thickness, gap : float
+        ``h`` (capsule diameter) and ``g0 > 0`` (the gap between neighbouring strands), length.
+    model : ContactModel, optional
+        The check's contact model (default :func:`~.stacking.default_model`).
+    chord_allowance : bool
+        As :func:`~.stacking.stack_loops`: strands ``1.05 l^2 kappa_max / 4`` further apart, so
+        the elements (chords) keep the gap ``g0``.
+    senses : tuple of int, optional
+        Each swap's sense (``+-1``, ``N - 1`` of them; default :func:`alternating`, the
+        folded ring). Others build flat stackings of other writhe (the sum of the senses up
+        to one sign): all alike is a flat form of the wound ring.
+
+    Returns
+    -------
+    StackedState
+        The layers (module doc), ``layers`` giving each segment's start layer ``(name, 0,
+        k)``. Raises :class:`~rodstab.errors.RodstabInputError` for even ``N`` (no flat
+        untwisted folding: module doc) and :class:`~.stacking.StackingError` if the check
+        fails.
+    """
+    h = require_positive("thickness", thickness)
+    g0 = require_positive("gap", gap)
+    ring = coincident_loops(rod, "fold_loops")
+    N, L = ring.loops, ring.length
+    if senses is not None:
+        senses = tuple(int(v) for v in senses)
+        if N < 2 or len(senses) != N - 1 or any(v not in (-1, 1) for v in senses):
+            raise RodstabInputError(f"senses must be {N - 1} values of +1 or -1 (one per "
+                                    f"swap of {N} loops), got {senses!r}")
+    elif N < 3 or N % 2 == 0:
+        raise RodstabInputError(
+            f"fold_loops: {N} loops; an untwisted ring folds flat into an odd number of loops "
+            "(3, 5, ...): N layers need N - 1 swaps, whose writhe is odd for even N, so Lk = 0 "
+            "would need twist (rodstab.multistable.folding); the wound ring (stack_loops) is "
+            "built for any N")
+    arcs = np.diff(np.append(ring.t, L))
+    R0 = L / (2.0 * math.pi * N)
+    target = h + g0
+    chord_error = 0.0
+    for _ in range(2 if chord_allowance else 1):
+        s, R = target + CHORD_MARGIN * chord_error, R0
+        for _ in range(FOLD_MAX_ITER):
+            D = nearest_strands(fold_curve(N, R, s, DISTANCE_POINTS, senses), s)
+            s_new = s * (target + CHORD_MARGIN * chord_error) / D
+            R_new = R * L / _closed_length(fold_curve(N, R, s_new, senses=senses))
+            done = abs(s_new - s) <= FOLD_RTOL * s and abs(R_new - R) <= FOLD_RTOL * R
+            s, R = s_new, R_new
+            if done:
+                break
+        else:
+            raise NotConverged(f"fold_loops: spacing and radius not fixed to {FOLD_RTOL:g} in "
+                               f"{FOLD_MAX_ITER} iterations (N = {N}, h / R0 = {h / R0:.3g})")
+        C = fold_curve(N, R, s, senses=senses)
+        step = np.roll(C, -1, axis=0) - C
+        ds = np.linalg.norm(step, axis=1)
+        T = step / ds[:, None]
+        kappa = np.linalg.norm(T - np.roll(T, 1, axis=0), axis=1) / ds
+        chord_error = float(arcs.max()) ** 2 * float(kappa.max()) / 4.0
+    if s >= 0.25 * R0:
+        raise StackingError(f"fold_loops: spacing {s:g} too large for {N} loops of radius "
+                            f"{R0:g} (>= R0 / 4)")
+    # the polyline's arclength, scaled to L (they differ by the fold's fixed-point tolerance)
+    along = np.concatenate([[0.0], np.cumsum(ds)])
+    closed = np.vstack([C, C[:1]])
+    at = ring.t * (along[-1] / L)
+    xyz = np.stack([np.interp(at, along, closed[:, k]) for k in range(3)], axis=1)
+    Tn = T + np.roll(T, 1, axis=0)  # the tangent at each polyline point, centred
+    Tn = np.vstack([Tn, Tn[:1]])
+    tangent = np.stack([np.interp(at, along, Tn[:, k]) for k in range(3)], axis=1)
+    new = ring.place(rod, xyz, tangent)
+    check = check_stacked(new, default_model(h) if model is None else model, g0,
+                          0.0 if chord_allowance else chord_error)
+    w = 360.0 / (N - 1)
+    sv = alternating(N) if senses is None else senses
+    changes = tuple(
+        f"layers {N - 1 - k} and {N - 2 - k} swap over azimuth {k * w:.4g}-{(k + 1) * w:.4g} "
+        f"deg, the upper passing {'outside' if sv[k] > 0 else 'inside'}"
+        for k in range(N - 1))
+    layers = tuple((sg.name, 0.0, float(k))
+                   for sg, k in zip(rod.assembly.segments, start_layers(N), strict=True))
+    return StackedState(
+        rod=new, method=(f"folded: {N} flat layers {s:.6g} apart, {N - 1} swaps of "
+                         + ("alternating sense (writhe 0)" if senses is None else
+                            f"senses {list(senses)}") + f", R = {R:.9g}"),
+        thickness=h, gap=g0, layers=layers, changes=changes, chord_error=chord_error,
+        max_strain=_strain(new),
+        max_offset=float(np.max(np.linalg.norm(new.x - rod.x, axis=1))), check=check)
+
+
+def layer_swaps(rod: DiscreteRod, samples: int = 720) -> np.ndarray:
+    """Azimuths (rad, from the first node's) where a stacked N-loop ring's layer order changes.
+
+    ``rod``: a state of the N-loop ring (one segment per loop, equal meshes). The loops'
+    heights are interpolated on ``samples`` azimuths of one turn (nodes in traversal order,
+    azimuth unwrapped); returned: the azimuths at which the strands' order in height differs
+    from the one a sample before (a swap's middle, to one sample). Going once round, loop
+    ``k`` continues as loop ``k + 1``, which the comparison at azimuth 0 accounts for.
+    """
+    X = rod.x[_traversal(rod)]
+    N, n = len(rod.assembly.segments), len(X)
+    c = X.mean(axis=0)
+    az = np.unwrap(np.arctan2(X[:, 1] - c[1], X[:, 0] - c[0]))
+    az = (az - az[0]) * np.sign(az[-1] - az[0])
+    theta = np.arange(samples) * (2.0 * math.pi / samples)
+    Z = []
+    for k in range(N):
+        lo, hi = k * n // N, (k + 1) * n // N
+        idx = np.r_[np.arange(lo, hi), hi % n]
+        A = np.append(az[lo:hi], 2.0 * math.pi * N if hi == n else az[hi])
+        Z.append(np.interp(theta, A - 2.0 * math.pi * k, X[idx, 2]))
+    rank = np.argsort(np.argsort(np.array(Z), axis=0), axis=0)
+    changed = np.empty(samples, bool)
+    changed[1:] = np.any(rank[:, 1:] != rank[:, :-1], axis=0)
+    changed[0] = np.any(rank[:, 0] != np.roll(rank[:, -1], 1))
+    return theta[changed]

@@ -1,0 +1,108 @@
+"""The N-loop ring folded from an untwisted ring: flat layers that swap (multistable.folding).
+
+Reference numbers: the ribbon's self-linking of the untwisted one-loop ring (0, exactly) and
+of the wound ring on the torus curve (-(N - 1), tested in test_linking.py against an
+independently counted writhe); the paper's Sec. 3.1 statement that a ring folds without twist
+into an odd number of loops; the construction's own placement of each swap (the middle of its
+azimuth window, by the smoothstep's symmetry) for :func:`layer_swaps`.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from rodstab.errors import RodstabInputError
+from rodstab.multistable.folding import alternating, fold_loops, layer_swaps
+from rodstab.multistable.linking import self_linking
+from rodstab.multistable.stacked import describe, relax, stacked_ring
+from rodstab.nonlinear.discrete import discretise
+from rodstab.problems import ring as rings
+from rodstab.sections import circle
+
+
+def _coincident(N: int, n: int):
+    a = rings.build(rings.Params(section=circle(), loops=N))
+    return a, discretise(a, n, 1.0)
+
+
+@pytest.mark.parametrize(("N", "n", "hL"), [(3, 16, 0.01), (3, 32, 0.01), (5, 32, 0.004),
+                                            (7, 24, 0.002)])
+def test_the_folded_ring_links_like_the_untwisted_ring_and_keeps_its_gaps(N, n, hL):
+    a, rod = _coincident(N, n)
+    h = hL * a.total_length
+    g0 = 0.05 * h
+    st = fold_loops(rod, h, g0)
+    assert st.check.holds and st.check.min_gap >= g0
+    lk = self_linking(st.rod)
+    # Gauss's integral and the crossings of two projections agree on 0, as for one loop
+    assert lk.value == 0 and abs(lk.gauss) < 1e-6 and lk.crossings == (0, 0)
+    # the loops' lengths are kept: an element's stretch is at most a chord's shortfall on an
+    # arc of the curve's largest curvature, l^2 kappa^2 / 24 (kappa from chord_error = l^2
+    # kappa / 4)
+    l = 2.0 * math.pi / n
+    kappa = 4.0 * st.chord_error / l**2
+    assert st.max_strain <= 1.1 * l * l * kappa * kappa / 24.0
+    # each swap sits in the middle of its window of 360 / (N - 1) degrees, to half an element
+    # (the heights are interpolated linearly between nodes)
+    w = 2.0 * math.pi / (N - 1)
+    expected = (np.arange(N - 1) + 0.5) * w
+    found = layer_swaps(st.rod)
+    assert len(found) == N - 1
+    assert np.max(np.abs(np.sort(found) - expected)) <= math.pi / n
+
+
+def test_the_linking_number_is_the_sum_of_the_swaps_senses():
+    """Lk = Wr (the strip flat) = the sum of the swaps' signs, one convention for every
+    sequence; all alike gives the wound ring's |Lk| = N - 1."""
+    a, rod = _coincident(5, 24)
+    h = 0.004 * a.total_length
+    rng = np.random.default_rng(3)
+    signs = set()
+    for senses in [(1, 1, 1, 1), (-1, -1, -1, -1), (1, -1, 1, -1), (1, 1, -1, 1),
+                   *(tuple(int(v) for v in rng.choice([-1, 1], 4)) for _ in range(3))]:
+        lk = self_linking(fold_loops(rod, h, 0.05 * h, senses=senses).rod)
+        assert lk.reason == "" and abs(lk.value) == abs(sum(senses)), senses
+        if sum(senses):
+            signs.add(int(np.sign(lk.value)) * int(np.sign(sum(senses))))
+    assert len(signs) == 1
+    assert alternating(5) == (1, -1, 1, -1)
+
+
+@pytest.mark.parametrize("N", [2, 4, 1])
+def test_an_even_number_of_loops_has_no_untwisted_flat_folding(N):
+    a, rod = _coincident(N, 16)
+    with pytest.raises(RodstabInputError, match="odd number of loops"):
+        fold_loops(rod, 0.002 * a.total_length, 1e-4)
+
+
+def test_bad_senses_are_refused_naming_them():
+    a, rod = _coincident(3, 16)
+    with pytest.raises(RodstabInputError, match=r"senses must be 2 values"):
+        fold_loops(rod, 0.01 * a.total_length, 1e-3, senses=(1, 0))
+
+
+def test_the_folded_ring_is_held_with_contact_its_swaps_half_a_turn_apart():
+    """Relaxed with contact at load factor 1 (stress-free coincident loops): converged,
+    stable, still linking 0 times, its two swaps half a turn apart (the construction put them
+    half a turn apart too; from other spacings: benchmarks/folded_three_loops.py --hold), and
+    the energy above the coincident ring is of the order of the wound ring's (h^2)."""
+    a = rings.build(rings.Params(section=circle(), loops=3))
+    out = {}
+    for stacking in ("folded", "wound"):
+        rod, st = stacked_ring(a, thickness_ratio=0.01, elements_per_loop=16,
+                               dhat_fraction=0.1, stacking=stacking)
+        ok, its, res = relax(rod, 1.0)
+        out[stacking] = (describe(rod, st.rod, ok, its, res), self_linking(rod), rod)
+    held, lk, rod = out["folded"]
+    assert held.converged and held.stable
+    assert lk.value == 0 and out["wound"][1].value == -2
+    swaps = np.sort(layer_swaps(rod))
+    assert len(swaps) == 2 and abs(swaps[1] - swaps[0] - math.pi) < math.radians(10.0)
+    # rods apart: the barrier holds them within dhat, never through one another
+    assert 0.0 < held.min_gap < held.dhat
+    ratio = (held.energy - held.energy_coincident) / (out["wound"][0].energy
+                                                      - out["wound"][0].energy_coincident)
+    assert 0.5 < ratio < 2.0
