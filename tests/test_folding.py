@@ -9,7 +9,9 @@ azimuth window, by the smoothstep's symmetry) for :func:`layer_swaps`.
 
 from __future__ import annotations
 
+import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -106,3 +108,47 @@ def test_the_folded_ring_is_held_with_contact_its_swaps_half_a_turn_apart():
     ratio = (held.energy - held.energy_coincident) / (out["wound"][0].energy
                                                       - out["wound"][0].energy_coincident)
     assert 0.5 < ratio < 2.0
+
+
+def test_cli_equilibrium_holds_the_folded_and_the_wound_three_loop_ring(run_cli):
+    """`equilibrium --layers folded|wound` on the paper's 3-loop ring (one segment of three
+    turns): held with contact, linking 0 and -2 (the untwisted ring's and the torus curve's),
+    the folded ring's two swaps half a turn apart."""
+    out = {}
+    for how in ("folded", "wound"):
+        r = run_cli(["equilibrium", "examples/ring_3_loops.toml", "--contact",
+                     "--contact-thickness", "0.003", "--layers", how, "--elements", "48",
+                     "--json"])
+        assert r.exit_code == 0, r.stderr
+        out[how] = json.loads(r.stdout)
+        assert out[how]["converged"] and out[how]["stable"]
+        assert out[how]["layers"]["stacking"]["method"].startswith(
+            "folded" if how == "folded" else "(3, 1) torus curve")
+    assert out["folded"]["layers"]["linking"]["value"] == 0
+    assert out["wound"]["layers"]["linking"]["value"] == -2
+    swaps = sorted(out["folded"]["layers"]["swaps_deg"])
+    assert len(swaps) == 2 and abs(swaps[1] - swaps[0] - 180.0) < 10.0
+    text = run_cli(["equilibrium", "examples/ring_3_loops.toml", "--contact",
+                    "--contact-thickness", "0.003", "--layers", "folded", "--elements", "48"])
+    assert "swaps        the layer order changes at azimuth" in text.stdout
+    assert "linking      the stacked ring +0" in text.stdout
+
+
+def test_cli_folded_layers_refuse_what_has_no_folded_state(run_cli, tmp_path):
+    two = tmp_path / "two.toml"
+    two.write_text(ROOT_RING.replace("18.84955592153876", str(4.0 * math.pi)))
+    r = run_cli(["equilibrium", str(two), "--contact", "--contact-thickness", "0.003",
+                 "--layers", "folded", "--elements", "32"])
+    assert r.exit_code == 2 and "--layers folded" in r.stderr and "odd number of loops" in r.stderr
+    r = run_cli(["equilibrium", "examples/ring_3_loops.toml", "--contact", "--layers", "folded",
+                 "--elements", "48"])
+    assert r.exit_code == 2 and "too large" in r.stderr and "contact thickness 0.02" in r.stderr
+    r = run_cli(["equilibrium", "examples/ring_3_loops.toml", "--contact", "--layers", "wound",
+                 "--laminate", "12", "--elements", "48"])
+    assert r.exit_code == 2 and "--laminate" in r.stderr
+    r = run_cli(["equilibrium", "examples/birod.toml", "--contact", "--layers", "folded",
+                 "--elements", "8"])
+    assert r.exit_code == 2 and "--layers folded" in r.stderr
+
+
+ROOT_RING = (Path(__file__).resolve().parent.parent / "examples" / "ring_3_loops.toml").read_text()

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+import math
 from collections.abc import Callable
 from typing import Any
 
@@ -218,6 +219,16 @@ def stack_from_options(a: Any, touch: tuple[float, float] | None, layers: str | 
     if touch is None:
         raise RodstabInputError("--layers is a setting of contact, which is off for this run "
                                 "(--contact, or [analysis] contact = true in the design)")
+    if layers.strip().lower() in ("folded", "wound"):
+        from ..multistable.folding import hold_loops
+
+        if laminate is not None:
+            raise RodstabInputError(f"--laminate is a setting of --layers NAME=K (welded "
+                                    f"layers), not of --layers {layers.strip()}")
+        try:
+            return None, None, hold_loops(a, n, load_factor, *touch, layers.strip().lower())
+        except RodstabInputError as exc:
+            raise RodstabInputError(f"--layers {layers.strip()}: {exc}") from None
     if layers.strip().lower() == "braid":
         from ..multistable.braid import hold_braid
 
@@ -241,8 +252,29 @@ def layers_report(rod: Any, stack: dict[str, float] | None, axial: float | None,
                   laminate: float | None, braid: Any) -> tuple[dict[str, Any], list[str]]:
     """Equilibrium's ``layers`` JSON block and lines: the layers' heights or the braid."""
     from ..multistable.layered import weld_spans
+    from ..multistable.linking import NOT_A_RING, describe_linking, self_linking
     from .output import fmt, layers_line, weld_line
 
+    def linking_line(lk: Any) -> str:
+        return (f"linking      {describe_linking('the stacked ring', lk)} (ribbon pushed "
+                f"along {lk.director}; rods that cannot cross keep it: a state of this "
+                "model with another number is out of reach, rodstab.multistable.linking)")
+
+    if braid is not None and not braid[0].method.startswith("figure-eight braid"):
+        from ..multistable.folding import layer_swaps
+
+        st, held, ok, its, _ = braid  # an N-loop ring, folded or wound (hold_loops)
+        lk, swaps = self_linking(held), [math.degrees(v) for v in layer_swaps(held)]
+        return ({"stacking": st.to_dict(), "spanning_welds": False,
+                 "relaxed": {"converged": ok, "iterations": its},
+                 "swaps_deg": swaps, "linking": lk.to_dict()},
+                [f"layers       {st.method}; {'; '.join(st.changes)}; built with every gap at "
+                 f"least {fmt(st.check.min_gap)}, relaxed from there with contact ({its} "
+                 f"Newton iterations{'' if ok else ', NOT converged'}), then the Newton below",
+                 "swaps        the layer order changes at azimuth "
+                 + ", ".join(f"{v:.1f}" for v in swaps) + " deg (relaxed state, from the "
+                 "first node; rodstab.multistable.folding.layer_swaps)",
+                 linking_line(lk)])
     if braid is not None:
         st, _, ok, its, _ = braid
         return ({"braid": st.to_dict(), "spanning_welds": True,
@@ -251,8 +283,6 @@ def layers_report(rod: Any, stack: dict[str, float] | None, axial: float | None,
                  f"least {fmt(st.check.min_gap)}, relaxed from there with contact ({its} "
                  f"Newton iterations{'' if ok else ', NOT converged'}; from dhat = 0.1 h, "
                  "halved to the one asked), then the Newton below"])
-    from ..multistable.linking import NOT_A_RING, describe_linking, self_linking
-
     welds = (None if rod.contact is None
              else weld_spans(rod, 2.0 * float(rod.contact.radius.max())))
     lines = [layers_line(stack or {}, axial, laminate)]
@@ -260,9 +290,7 @@ def layers_report(rod: Any, stack: dict[str, float] | None, axial: float | None,
         lines.append(weld_line(welds))
     lk = self_linking(rod)
     if lk.reason != NOT_A_RING:
-        lines.append(f"linking      {describe_linking('the stacked ring', lk)} (ribbon pushed "
-                     f"along {lk.director}; rods that cannot cross keep it: a state of this "
-                     "model with another number is out of reach, rodstab.multistable.linking)")
+        lines.append(linking_line(lk))
     return ({"heights": stack, "spanning_welds": rod.offsets is not None,
              "laminate": laminate, "axial_stiffness": axial,
              "welds": None if welds is None else welds.to_dict(),

@@ -166,7 +166,9 @@ def analyze(design_file: str, elements: int | None, plot_path: str | None,
 @contact_options
 @layers_option("Each segment lifted to its layer, welds spanning the layers (rigid offsets). "
                "Or 'braid' (a figure-eight: each lobe's strands twisted round one another, "
-               "rodstab.multistable.braid).")
+               "rodstab.multistable.braid); for an N-loop ring 'folded' (flat layers that "
+               "swap: the ring folded from one untwisted loop, odd N) or 'wound' (the torus "
+               "curve), rodstab.multistable.folding.")
 @click.option("--laminate", type=float, default=None,
               help="With --layers: the rods' axial stiffness as s = EA h^2 / B3 (12: solid "
                    "strips, 16: round rods) [default: inextensible, the stretch penalty].")

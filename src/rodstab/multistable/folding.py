@@ -37,6 +37,7 @@ apart (178-182 degrees, :func:`layer_swaps`), to energies within 0.12 % of one a
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 from scipy.spatial import cKDTree
@@ -232,8 +233,14 @@ def fold_loops(rod: DiscreteRod, thickness: float, gap: float,
         f"layers {N - 1 - k} and {N - 2 - k} swap over azimuth {k * w:.4g}-{(k + 1) * w:.4g} "
         f"deg, the upper passing {'outside' if sv[k] > 0 else 'inside'}"
         for k in range(N - 1))
-    layers = tuple((sg.name, 0.0, float(k))
-                   for sg, k in zip(rod.assembly.segments, start_layers(N), strict=True))
+    # each segment's start layer: that of the loop its first node lies on
+    where = np.empty(len(rod.x))
+    where[ring.order] = ring.t
+    first = [int(rod.edge_nodes[np.flatnonzero(rod.edge_segment == k)[0], 0])
+             for k in range(len(rod.assembly.segments))]
+    layers = tuple((sg.name, 0.0, float(start_layers(N)[min(int(where[i] * N / L + 1e-9),
+                                                             N - 1)]))
+                   for sg, i in zip(rod.assembly.segments, first, strict=True))
     return StackedState(
         rod=new, method=(f"folded: {N} flat layers {s:.6g} apart, {N - 1} swaps of "
                          + ("alternating sense (writhe 0)" if senses is None else
@@ -246,26 +253,61 @@ def fold_loops(rod: DiscreteRod, thickness: float, gap: float,
 def layer_swaps(rod: DiscreteRod, samples: int = 720) -> np.ndarray:
     """Azimuths (rad, from the first node's) where a stacked N-loop ring's layer order changes.
 
-    ``rod``: a state of the N-loop ring (one segment per loop, equal meshes). The loops'
-    heights are interpolated on ``samples`` azimuths of one turn (nodes in traversal order,
-    azimuth unwrapped); returned: the azimuths at which the strands' order in height differs
-    from the one a sample before (a swap's middle, to one sample). Going once round, loop
-    ``k`` continues as loop ``k + 1``, which the comparison at azimuth 0 accounts for.
+    ``rod``: a state of an N-loop ring (its azimuth about the nodes' centre turning ``N``
+    times along the traversal). The loops' heights are interpolated on ``samples`` azimuths
+    of one turn (nodes in traversal order, azimuth unwrapped); returned: the azimuths at
+    which the strands' order in height differs from the one a sample before (a swap's
+    middle, to one sample). Going once round, loop ``k`` continues as loop ``k + 1``, which
+    the comparison at azimuth 0 accounts for.
     """
     X = rod.x[_traversal(rod)]
-    N, n = len(rod.assembly.segments), len(X)
     c = X.mean(axis=0)
     az = np.unwrap(np.arctan2(X[:, 1] - c[1], X[:, 0] - c[0]))
     az = (az - az[0]) * np.sign(az[-1] - az[0])
+    N = round(float(az[-1]) / (2.0 * math.pi))
     theta = np.arange(samples) * (2.0 * math.pi / samples)
-    Z = []
-    for k in range(N):
-        lo, hi = k * n // N, (k + 1) * n // N
-        idx = np.r_[np.arange(lo, hi), hi % n]
-        A = np.append(az[lo:hi], 2.0 * math.pi * N if hi == n else az[hi])
-        Z.append(np.interp(theta, A - 2.0 * math.pi * k, X[idx, 2]))
+    closed_az, closed_z = np.append(az, 2.0 * math.pi * N), np.append(X[:, 2], X[0, 2])
+    Z = [np.interp(theta + 2.0 * math.pi * k, closed_az, closed_z) for k in range(N)]
     rank = np.argsort(np.argsort(np.array(Z), axis=0), axis=0)
     changed = np.empty(samples, bool)
     changed[1:] = np.any(rank[:, 1:] != rank[:, :-1], axis=0)
     changed[0] = np.any(rank[:, 0] != np.roll(rank[:, -1], 1))
     return theta[changed]
+
+
+def hold_loops(a: Any, elements_per_loop: int, load_factor: float, thickness_ratio: float,
+               dhat_fraction: float, stacking: str = "folded"
+               ) -> tuple[StackedState, DiscreteRod, bool, int, float]:
+    """Build the stacked N-loop ring and relax it with contact at ``load_factor``.
+
+    ``a``: the N-loop ring (``rodstab.problems.ring.build``, or one segment of ``N`` turns);
+    ``thickness_ratio``: ``h`` over the mean segment length and ``dhat_fraction`` ``dhat / h``
+    (the command line's contact options: the model of
+    :func:`~rodstab.nonlinear.equilibrium.rod_contact_model`); ``stacking`` ``"folded"``
+    (:func:`fold_loops`) or ``"wound"`` (:func:`~.stacking.stack_loops`), started ``dhat / 2``
+    apart. Relaxed by :func:`~rodstab.nonlinear.newton.relax` (Newton, then down any unstable
+    mode). Returns the built state, the relaxed rod (its contact model attached) and Newton's
+    ``(converged, iterations, residual)``, as :func:`~.braid.hold_braid` does.
+    """
+    from ..nonlinear.contact import attach_contact
+    from ..nonlinear.equilibrium import rod_contact_model
+    from ..nonlinear.newton import relax as relax_down
+    from .stacked import stacked_ring
+
+    per_segment = a.total_length / len(a.segments)
+    h = require_positive("thickness_ratio", thickness_ratio) * per_segment
+    try:
+        _, st = stacked_ring(a, thickness_ratio=h / a.total_length,
+                             elements_per_loop=elements_per_loop, dhat_fraction=dhat_fraction,
+                             load_factor=load_factor, stacking=stacking)
+    except RodstabInputError as exc:
+        if "too large" not in str(exc):  # not a ring of loops, an even N: said as it is
+            raise
+        raise RodstabInputError(f"{exc} (h = {h:.6g}: the contact thickness "
+                                f"{thickness_ratio:g} times the mean segment length "
+                                f"{per_segment:.6g})") from None
+    rod = st.rod.copy()
+    rod.load_factor = float(load_factor)
+    attach_contact(rod, rod_contact_model(a, thickness_ratio, dhat_fraction))
+    ok, its, res = relax_down(rod)
+    return st, rod, ok, its, res
