@@ -16,6 +16,12 @@ the 3-loop ring stacked flat with its two swaps ``delta`` apart (a fraction of a
 the torus curve's. At zero gap the layers' normals are vertical away from the swaps, so the
 cone cannot tell the swaps' senses apart: the wound and the folded flat stackings share these
 numbers, which depend on where the layers swap.
+
+``--hold``: the package's construction (:func:`rodstab.multistable.folding.fold_loops`, swap
+windows of half a turn) and the wound ring (the torus curve), relaxed with contact at load 1
+(circle, ``h/L = 0.01``, ``dhat = 0.1 h``, 16 and 32 el. per loop): convergence, the verdict,
+the energy above the coincident ring, the ribbon's linking and where the layers swap
+(:func:`rodstab.multistable.folding.layer_swaps`).
 """
 
 from __future__ import annotations
@@ -138,10 +144,38 @@ def cone_table(section: str, n: int) -> None:
         row(f"flat, swaps {frac:.4f} turn", pairs=flat_pairs(a, n, 2.0 * math.pi * frac))
 
 
+def hold_table() -> None:
+    """Print the folded and the wound 3-loop ring relaxed with contact at load 1."""
+    import math
+    import time
+
+    from rodstab.multistable.folding import layer_swaps
+    from rodstab.multistable.linking import self_linking
+    from rodstab.multistable.stacked import describe, relax, stacked_ring
+    from rodstab.problems import ring as rings
+    from rodstab.sections import circle
+
+    a = rings.build(rings.Params(section=circle(), loops=3))
+    print("3-loop ring, circle, h/L 0.01, dhat 0.1 h, load factor 1 ((L/2pi) kappa_n = 3)")
+    print("stacking  el.  converged  stable  lowest eig.   E - E_coincident  Lk  swaps (deg)")
+    for n in (16, 32):
+        for how in ("folded", "wound"):
+            t = time.perf_counter()
+            rod, st = stacked_ring(a, thickness_ratio=0.01, elements_per_loop=n,
+                                   dhat_fraction=0.1, stacking=how)
+            d = describe(rod, st.rod, *relax(rod, 1.0))
+            swaps = ", ".join(f"{math.degrees(v):.1f}" for v in layer_swaps(rod))
+            print(f"{how:8} {n:4d}  {d.converged!s:9}  {d.stable!s:6}  "
+                  f"{d.lowest_eigenvalue:11.3e}  {d.energy - d.energy_coincident:16.6f}  "
+                  f"{self_linking(rod).value:+d}  {swaps}  ({time.perf_counter() - t:.1f} s)")
+
+
 if __name__ == "__main__":
     import sys
 
-    if sys.argv[1:2] == ["--cone"]:
+    if sys.argv[1:2] == ["--hold"]:
+        hold_table()
+    elif sys.argv[1:2] == ["--cone"]:
         cone_table(sys.argv[2], int(sys.argv[3]))
     else:
         main()

@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 from rodstab.errors import RodstabInputError
-from rodstab.multistable.folding import alternating, fold_loops, layer_swaps
+from rodstab.multistable.folding import alternating, flat_foldings, fold_loops, layer_swaps
 from rodstab.multistable.linking import self_linking
 from rodstab.multistable.stacked import describe, relax, stacked_ring
 from rodstab.nonlinear.discrete import discretise
@@ -152,3 +152,11 @@ def test_cli_folded_layers_refuse_what_has_no_folded_state(run_cli, tmp_path):
 
 
 ROOT_RING = (Path(__file__).resolve().parent.parent / "examples" / "ring_3_loops.toml").read_text()
+
+
+def test_flat_foldings_give_lk_0_for_odd_n_only():
+    """Row 3.1j's computation: the smallest |Lk| of the flat foldings is the parity of N - 1
+    (module doc), by Gauss's integral and by crossings alike, with the strip untwisted."""
+    for N, expected in ((2, 1), (3, 0), (4, 1)):
+        gauss, crossings, twist = flat_foldings(N)
+        assert gauss == crossings == expected and twist < 0.05

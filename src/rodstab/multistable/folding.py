@@ -311,3 +311,44 @@ def hold_loops(a: Any, elements_per_loop: int, load_factor: float, thickness_rat
     attach_contact(rod, rod_contact_model(a, thickness_ratio, dhat_fraction))
     ok, its, res = relax_down(rod)
     return st, rod, ok, its, res
+
+
+def flat_foldings(loops: int, elements_per_loop: int = 16, thickness_ratio: float = 0.004
+                  ) -> tuple[int | None, int | None, float]:
+    """Return the smallest ``|Lk|`` of the N-loop ring's flat foldings, by both evaluations.
+
+    For even ``N`` every sequence of ``N - 1`` swap senses (:func:`fold_loops` with
+    ``senses``; ``2^(N-1)`` of them), for odd ``N`` the alternating one, is built on the ring
+    of ``rodstab.problems.ring.build`` (circle, load 1) at ``h = thickness_ratio`` times one
+    loop's length, ``g0 = 0.05 h``, and its ribbon's linking number taken by
+    Gauss's integral (rounded) and by signed crossings (:mod:`.linking`). Returns ``(min
+    |Lk| by Gauss, min |Lk| by crossings of the first projection, largest |Tw|)``; ``Tw``
+    (turns) is the edge frames' own twist, summed. A number not given by an evaluation makes
+    its entry None. The module doc's parity argument says the minimum is 0 for odd ``N`` and
+    1 for even ``N``.
+    """
+    import itertools
+
+    from ..nonlinear.discrete import discretise
+    from ..problems import ring as rings
+    from .linking import self_linking
+
+    N = int(loops)
+    a = rings.build(rings.Params(loops=N))
+    rod = discretise(a, elements_per_loop, 1.0)
+    h = thickness_ratio * a.total_length / N
+    gauss: list[int | None] = []
+    cross: list[int | None] = []
+    twist = 0.0
+    for senses in (itertools.product((1, -1), repeat=N - 1) if N % 2 == 0
+                   else [alternating(N)]):
+        built = fold_loops(rod, h, 0.05 * h, senses=senses).rod
+        lk = self_linking(built)
+        gauss.append(None if lk.gauss is None else abs(round(lk.gauss)))
+        cross.append(abs(lk.crossings[0]) if lk.crossings else None)
+        twist = max(twist, abs(float(np.sum(built.edge_twist()))) / (2.0 * math.pi))
+
+    def smallest(v: list[int | None]) -> int | None:
+        return None if None in v else min(k for k in v if k is not None)
+
+    return smallest(gauss), smallest(cross), twist

@@ -6,9 +6,11 @@ the same :class:`~rodstab.nonlinear.discrete.DiscreteRod` with its rods (capsule
 ``h / 2``, :mod:`rodstab.nonlinear.contact`) ``h + g0`` apart, and checked with the contact
 model. Nothing is relaxed yet.
 
-N-loop ring (:func:`torus_curve`, :func:`stack_loops`). Flat layers cannot close: the last
-loop would come back from the top layer to the bottom one through the others. The layers wind
-round one another once, on the ``(N, 1)`` torus curve ``r(phi) = ((R + a cos psi) cos phi, (R +
+N-loop ring, wound (:func:`torus_curve`, :func:`stack_loops`). Layers that never swap cannot
+close: the last loop would come back from the top layer to the bottom one through the others.
+Here the layers wind round one another once (the ring wound round itself; its ribbon links
+``-(N - 1)`` times: the one-loop ring folds instead into flat layers that swap,
+:mod:`.folding`), on the ``(N, 1)`` torus curve ``r(phi) = ((R + a cos psi) cos phi, (R +
 a cos psi) sin phi, a sin psi)``, ``psi = phi / N``, ``0 <= phi < 2 pi N``: at one azimuth the
 strands sit on a regular ``N``-gon of circumradius ``a`` across the ring, ``2 a sin(pi m / N)``
 apart (``m`` strands round). Points at ``phi`` and ``phi + 2 pi m + delta`` are apart by
