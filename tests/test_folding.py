@@ -158,5 +158,31 @@ def test_flat_foldings_give_lk_0_for_odd_n_only():
     """Row 3.1j's computation: the smallest |Lk| of the flat foldings is the parity of N - 1
     (module doc), by Gauss's integral and by crossings alike, with the strip untwisted."""
     for N, expected in ((2, 1), (3, 0), (4, 1)):
-        gauss, crossings, twist = flat_foldings(N)
+        gauss, crossings, twist = flat_foldings(_coincident(N, 16)[1], 0.008 * math.pi)
         assert gauss == crossings == expected and twist < 0.05
+
+
+
+def test_a_difference_along_the_sliding_field_is_no_distance_and_any_other_is():
+    """The follower's return test (stacked.unslid_distance): a state moved along the ring's
+    sliding field (node part of the field, any amount, either way) is the same state pinned
+    elsewhere; a move across it (heights only: the field of a near-planar ring is nearly
+    horizontal) keeps its node distance."""
+    from rodstab.multistable.stacked import ring_sliding_field, unslid_distance
+
+    a = rings.build(rings.Params(section=circle(), loops=3))
+    rod, _ = stacked_ring(a, thickness_ratio=0.01, elements_per_loop=16, dhat_fraction=0.1,
+                          stacking="folded")
+    v = ring_sliding_field(rod)
+    assert v is not None
+    full = np.zeros(rod.n_dof)
+    full[rod.free_dofs()] = v
+    f = np.array([full[rod.node_dofs(k)] for k in range(len(rod.x))])
+    for amount in (0.3, -0.9):
+        slid = rod.copy()
+        slid.x = rod.x + amount * f
+        assert unslid_distance(slid, rod) == 0.0
+    lifted = rod.copy()
+    lifted.x = rod.x + np.array([0.0, 0.0, 1e-3]) * np.sin(np.arange(len(rod.x)))[:, None]
+    assert unslid_distance(lifted, rod) == pytest.approx(
+        float(np.max(np.abs(lifted.x[:, 2] - rod.x[:, 2]))))

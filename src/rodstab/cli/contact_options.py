@@ -220,7 +220,7 @@ def stack_from_options(a: Any, touch: tuple[float, float] | None, layers: str | 
         raise RodstabInputError("--layers is a setting of contact, which is off for this run "
                                 "(--contact, or [analysis] contact = true in the design)")
     if layers.strip().lower() in ("folded", "wound"):
-        from ..multistable.folding import hold_loops
+        from ..multistable.stacked import hold_loops
 
         if laminate is not None:
             raise RodstabInputError(f"--laminate is a setting of --layers NAME=K (welded "

@@ -67,8 +67,8 @@ from ..nonlinear.contact import (
 from ..nonlinear.discrete import DiscreteRod
 from ..nonlinear.stability import lowest_modes, zero_eigenvalue_tol
 from ..results import Result
+from .ring_modes import contact_forces
 from .saddle import refine_saddle
-from .stacked import contact_forces
 from .string_contact import state_distance
 from .transitions import judged_pairs, pair_distances
 

@@ -37,7 +37,6 @@ apart (178-182 degrees, :func:`layer_swaps`), to energies within 0.12 % of one a
 from __future__ import annotations
 
 import math
-from typing import Any
 
 import numpy as np
 from scipy.spatial import cKDTree
@@ -275,68 +274,24 @@ def layer_swaps(rod: DiscreteRod, samples: int = 720) -> np.ndarray:
     return theta[changed]
 
 
-def hold_loops(a: Any, elements_per_loop: int, load_factor: float, thickness_ratio: float,
-               dhat_fraction: float, stacking: str = "folded"
-               ) -> tuple[StackedState, DiscreteRod, bool, int, float]:
-    """Build the stacked N-loop ring and relax it with contact at ``load_factor``.
-
-    ``a``: the N-loop ring (``rodstab.problems.ring.build``, or one segment of ``N`` turns);
-    ``thickness_ratio``: ``h`` over the mean segment length and ``dhat_fraction`` ``dhat / h``
-    (the command line's contact options: the model of
-    :func:`~rodstab.nonlinear.equilibrium.rod_contact_model`); ``stacking`` ``"folded"``
-    (:func:`fold_loops`) or ``"wound"`` (:func:`~.stacking.stack_loops`), started ``dhat / 2``
-    apart. Relaxed by :func:`~rodstab.nonlinear.newton.relax` (Newton, then down any unstable
-    mode). Returns the built state, the relaxed rod (its contact model attached) and Newton's
-    ``(converged, iterations, residual)``, as :func:`~.braid.hold_braid` does.
-    """
-    from ..nonlinear.contact import attach_contact
-    from ..nonlinear.equilibrium import rod_contact_model
-    from ..nonlinear.newton import relax as relax_down
-    from .stacked import stacked_ring
-
-    per_segment = a.total_length / len(a.segments)
-    h = require_positive("thickness_ratio", thickness_ratio) * per_segment
-    try:
-        _, st = stacked_ring(a, thickness_ratio=h / a.total_length,
-                             elements_per_loop=elements_per_loop, dhat_fraction=dhat_fraction,
-                             load_factor=load_factor, stacking=stacking)
-    except RodstabInputError as exc:
-        if "too large" not in str(exc):  # not a ring of loops, an even N: said as it is
-            raise
-        raise RodstabInputError(f"{exc} (h = {h:.6g}: the contact thickness "
-                                f"{thickness_ratio:g} times the mean segment length "
-                                f"{per_segment:.6g})") from None
-    rod = st.rod.copy()
-    rod.load_factor = float(load_factor)
-    attach_contact(rod, rod_contact_model(a, thickness_ratio, dhat_fraction))
-    ok, its, res = relax_down(rod)
-    return st, rod, ok, its, res
-
-
-def flat_foldings(loops: int, elements_per_loop: int = 16, thickness_ratio: float = 0.004
-                  ) -> tuple[int | None, int | None, float]:
+def flat_foldings(rod: DiscreteRod, thickness: float) -> tuple[int | None, int | None, float]:
     """Return the smallest ``|Lk|`` of the N-loop ring's flat foldings, by both evaluations.
 
-    For even ``N`` every sequence of ``N - 1`` swap senses (:func:`fold_loops` with
-    ``senses``; ``2^(N-1)`` of them), for odd ``N`` the alternating one, is built on the ring
-    of ``rodstab.problems.ring.build`` (circle, load 1) at ``h = thickness_ratio`` times one
-    loop's length, ``g0 = 0.05 h``, and its ribbon's linking number taken by
-    Gauss's integral (rounded) and by signed crossings (:mod:`.linking`). Returns ``(min
-    |Lk| by Gauss, min |Lk| by crossings of the first projection, largest |Tw|)``; ``Tw``
-    (turns) is the edge frames' own twist, summed. A number not given by an evaluation makes
-    its entry None. The module doc's parity argument says the minimum is 0 for odd ``N`` and
-    1 for even ``N``.
+    ``rod``: the coincident N-loop ring (as :func:`fold_loops`); ``thickness``: ``h``
+    (length), ``g0 = 0.05 h``. For even ``N`` every sequence of ``N - 1`` swap senses
+    (:func:`fold_loops` with ``senses``; ``2^(N-1)`` of them), for odd ``N`` the alternating
+    one, is built and its ribbon's linking number taken by Gauss's integral (rounded) and by
+    signed crossings (:mod:`.linking`). Returns ``(min |Lk| by Gauss, min |Lk| by crossings of
+    the first projection, largest |Tw|)``; ``Tw`` (turns) is the edge frames' own twist,
+    summed. A number not given by an evaluation makes its entry None. The module doc's parity
+    argument says the minimum is 0 for odd ``N`` and 1 for even ``N``.
     """
     import itertools
 
-    from ..nonlinear.discrete import discretise
-    from ..problems import ring as rings
     from .linking import self_linking
 
-    N = int(loops)
-    a = rings.build(rings.Params(loops=N))
-    rod = discretise(a, elements_per_loop, 1.0)
-    h = thickness_ratio * a.total_length / N
+    N = coincident_loops(rod, "flat_foldings").loops
+    h = require_positive("thickness", thickness)
     gauss: list[int | None] = []
     cross: list[int | None] = []
     twist = 0.0
