@@ -133,12 +133,17 @@ def cone_table(section: str, n: int) -> None:
 
     def row(label: str, **kw: object) -> None:
         t = time.perf_counter()
-        r = cone_limits(a, "torus", n, **kw)  # type: ignore[arg-type]
-        lo, hi = (3.0 * side.load_factor for side in (r.lower, r.upper))  # type: ignore[union-attr]
-        print(f"{label:24} {lo:10.5f} {hi:10.5f}   ({time.perf_counter() - t:.1f} s)")
+        out = []
+        for held in (False, True):
+            r = cone_limits(a, "torus", n, held_closed=held, **kw)  # type: ignore[arg-type]
+            out += [3.0 * side.load_factor if side is not None else float("nan")
+                    for side in (r.lower, r.upper)]
+        print(f"{label:24} {out[0]:10.5f} {out[1]:10.5f}   {out[2]:10.5f} {out[3]:10.5f}   "
+              f"({time.perf_counter() - t:.1f} s)")
 
     print(f"3-loop ring, {section}, {n} el./loop, zero gap, out of plane: (L/2pi) kappa_n")
-    print(f"{'stacking':24} {'lower':>10} {'upper':>10}")
+    print(f"{'stacking':24} {'cone: lower':>10} {'upper':>10}   {'held closed: lower':>10} "
+          f"{'upper':>10}")
     row("torus curve")
     for frac in (0.5, 1 / 3, 0.25, 1 / 6, 1 / 12):
         row(f"flat, swaps {frac:.4f} turn", pairs=flat_pairs(a, n, 2.0 * math.pi * frac))

@@ -9,6 +9,7 @@ test's own verdicts (:mod:`rodstab.multistable.cone`: a kept limit has a witness
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -20,6 +21,8 @@ from rodstab.multistable.cone_limit import cone_limits, ring_cone_limits
 from rodstab.numerics.copositive import NOT_POSITIVE, POSITIVE, UNDECIDED, positive_on_cone
 from rodstab.problems import birod, ring
 from rodstab.sections import circle
+
+ROOT = Path(__file__).resolve().parent.parent
 
 #: The searches' bracket width here (relative): far below every tolerance asserted.
 XT = 1e-4
@@ -450,3 +453,25 @@ def test_pairs_given_instead_of_a_layer_order_are_the_ones_used():
     free = cone_limits(a, "ignored", 12, sides=("lower",), pairs=[])
     assert free.lower.load_factor == pytest.approx(free.lower.no_contact, rel=1e-5)  # XTOL
     assert free.lower.load_factor > plain.lower.load_factor  # contact moves it outward
+
+
+def test_held_closed_on_the_fe_out_of_plane_leaves_one_ring_n_times_as_stiff():
+    """FE (out of plane only), every touching pair's height difference held at zero: only the
+    strands' common motion is left, one ring three times as stiff, so the interval is N times
+    the one-loop interval of eq. (3.3) (analytic.ring, independent of the cone code), for the
+    torus curve and for a flat stacking alike (the docs' "Layers held closed")."""
+    import importlib.util
+
+    from rodstab.analytic.ring import ring_stability
+
+    sec = circle()
+    a = ring.build(ring.Params(section=sec, loops=3))
+    one = ring_stability(sec.b1, sec.b2, 1).kappa_L_over_2pi_interval
+    spec = importlib.util.spec_from_file_location(
+        "folded_three_loops", ROOT / "benchmarks" / "folded_three_loops.py")
+    bench = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bench)
+    for pairs in (None, bench.flat_pairs(a, 24, math.pi)):
+        r = cone_limits(a, "torus", 24, held_closed=True, pairs=pairs)
+        lo, hi = (3.0 * side.load_factor for side in (r.lower, r.upper))
+        assert abs(lo - 3.0 * one[0]) < 1e-3 and abs(hi - 3.0 * one[1]) < 2e-3 * hi

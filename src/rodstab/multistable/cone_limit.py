@@ -220,7 +220,7 @@ def _unit_rows(D: np.ndarray) -> np.ndarray:
 
 def cone_limits(a: Assembly, layers: dict[str, Any] | str, elements_per_segment: int = 24,
                 *, xtol: float = XTOL, sides: tuple[str, ...] = SIDES,
-                pairs: Any = None) -> ConeLimits:
+                pairs: Any = None, held_closed: bool = False) -> ConeLimits:
     """Limits with contact at zero gap: where P2 stops being positive on the cone (module doc).
 
     Parameters
@@ -239,6 +239,9 @@ def cone_limits(a: Assembly, layers: dict[str, Any] | str, elements_per_segment:
     pairs : list, optional
         The touching pairs in :func:`.cone.touching_pairs`' form, given instead of the ones
         ``layers`` makes (a stacking it cannot name: benchmarks/folded_three_loops.py).
+    held_closed : bool
+        Every touching pair's gap held at zero both ways (as :func:`rod_cone_limits`): the
+        bound of a stack whose every pair presses.
 
     Returns
     -------
@@ -260,16 +263,22 @@ def cone_limits(a: Assembly, layers: dict[str, Any] | str, elements_per_segment:
     K0 = N.T @ pencil.K0.toarray() @ N
     K1 = N.T @ pencil.K1.toarray() @ N
     D = _unit_rows(gap_changes(pencil, pairs, N)[0])  # side by side (n_z = 0): no row
+    if held_closed and len(D):  # definiteness on the subspace D v = 0
+        Z = null_space(D)
+        K0, K1, D = Z.T @ K0 @ Z, Z.T @ K1 @ Z, np.zeros((0, Z.shape[1]))
 
     def decide(mu: float) -> Any:
         return positive_on_cone(K0 + mu * K1, D)
 
     lo, hi = lin.load_factor_interval
-    lower, upper = _both_sides(decide, lo, hi, xtol, sides=sides)
+    lower, upper = _both_sides(decide, lo, hi, xtol, sides=sides,
+                               window=HELD_WINDOW_WIDTHS if held_closed else WINDOW_WIDTHS)
+    where = ("the subspace holding every touching pair's gap closed" if held_closed
+             else "the cone of gap-keeping perturbations at zero gap")
     return ConeLimits((float(lo), float(hi)), lower, upper, n,
-                      "minimum of P2 (2.12, FE) on the cone of gap-keeping perturbations at zero "
-                      "gap (out of plane): certified decisions (eigen-split + least-distance "
-                      "programmes), scanned and bisected in the load factor")
+                      f"minimum of P2 (2.12, FE) on {where} (out of plane): certified decisions "
+                      "(eigen-split + least-distance programmes), scanned and bisected in the "
+                      "load factor")
 
 
 #: Fourier modes ``j = 0 .. RING_MODES`` of eq. (3.2) in :func:`ring_cone_limits` (``j = N``,
