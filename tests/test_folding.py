@@ -114,24 +114,22 @@ def test_cli_equilibrium_holds_the_folded_and_the_wound_three_loop_ring(run_cli)
     """`equilibrium --layers folded|wound` on the paper's 3-loop ring (one segment of three
     turns): held with contact, linking 0 and -2 (the untwisted ring's and the torus curve's),
     the folded ring's two swaps half a turn apart."""
-    out = {}
-    for how in ("folded", "wound"):
-        r = run_cli(["equilibrium", "examples/ring_3_loops.toml", "--contact",
-                     "--contact-thickness", "0.003", "--layers", how, "--elements", "48",
-                     "--json"])
-        assert r.exit_code == 0, r.stderr
-        out[how] = json.loads(r.stdout)
-        assert out[how]["converged"] and out[how]["stable"]
-        assert out[how]["layers"]["stacking"]["method"].startswith(
-            "folded" if how == "folded" else "(3, 1) torus curve")
-    assert out["folded"]["layers"]["linking"]["value"] == 0
-    assert out["wound"]["layers"]["linking"]["value"] == -2
-    swaps = sorted(out["folded"]["layers"]["swaps_deg"])
-    assert len(swaps) == 2 and abs(swaps[1] - swaps[0] - 180.0) < 10.0
-    text = run_cli(["equilibrium", "examples/ring_3_loops.toml", "--contact",
-                    "--contact-thickness", "0.003", "--layers", "folded", "--elements", "48"])
-    assert "swaps        the layer order changes at azimuth" in text.stdout
+    args = ["equilibrium", "examples/ring_3_loops.toml", "--contact", "--contact-thickness",
+            "0.003", "--elements", "48", "--layers"]
+    text = run_cli([*args, "folded"])
+    assert text.exit_code == 0, text.stderr
+    assert "layers       folded: 3 flat layers" in text.stdout
     assert "linking      the stacked ring +0" in text.stdout
+    assert "stability    stable" in text.stdout
+    line = next(ln for ln in text.stdout.splitlines() if ln.startswith("swaps"))
+    swaps = sorted(float(v) for v in line.split("azimuth")[1].split("deg")[0].split(","))
+    assert len(swaps) == 2 and abs(swaps[1] - swaps[0] - 180.0) < 10.0
+    wound = run_cli([*args, "wound", "--json"])
+    assert wound.exit_code == 0, wound.stderr
+    out = json.loads(wound.stdout)
+    assert out["converged"] and out["stable"]
+    assert out["layers"]["stacking"]["method"].startswith("(3, 1) torus curve")
+    assert out["layers"]["linking"]["value"] == -2 and len(out["layers"]["swaps_deg"]) == 2
 
 
 def test_cli_folded_layers_refuse_what_has_no_folded_state(run_cli, tmp_path):
