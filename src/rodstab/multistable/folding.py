@@ -41,7 +41,7 @@ import math
 import numpy as np
 from scipy.spatial import cKDTree
 
-from ..errors import NotConverged, RodstabInputError, require_positive
+from ..errors import RodstabInputError, require_positive
 from ..nonlinear.contact import ContactModel
 from ..nonlinear.discrete import DiscreteRod
 from .stacking import (
@@ -53,6 +53,7 @@ from .stacking import (
     check_stacked,
     coincident_loops,
     default_model,
+    fit_spacing,
     smoothstep,
 )
 
@@ -194,18 +195,11 @@ def fold_loops(rod: DiscreteRod, thickness: float, gap: float,
     target = h + g0
     chord_error = 0.0
     for _ in range(2 if chord_allowance else 1):
-        s, R = target + CHORD_MARGIN * chord_error, R0
-        for _ in range(FOLD_MAX_ITER):
-            D = nearest_strands(fold_curve(N, R, s, DISTANCE_POINTS, senses), s)
-            s_new = s * (target + CHORD_MARGIN * chord_error) / D
-            R_new = R * L / _closed_length(fold_curve(N, R, s_new, senses=senses))
-            done = abs(s_new - s) <= FOLD_RTOL * s and abs(R_new - R) <= FOLD_RTOL * R
-            s, R = s_new, R_new
-            if done:
-                break
-        else:
-            raise NotConverged(f"fold_loops: spacing and radius not fixed to {FOLD_RTOL:g} in "
-                               f"{FOLD_MAX_ITER} iterations (N = {N}, h / R0 = {h / R0:.3g})")
+        s, R = fit_spacing(
+            lambda s, R: nearest_strands(fold_curve(N, R, s, DISTANCE_POINTS, senses), s),
+            lambda s, R: _closed_length(fold_curve(N, R, s, senses=senses)),
+            target + CHORD_MARGIN * chord_error, L, target + CHORD_MARGIN * chord_error, R0,
+            FOLD_RTOL, FOLD_MAX_ITER, f"fold_loops (N = {N}, h / R0 = {h / R0:.3g})")
         C = fold_curve(N, R, s, senses=senses)
         step = np.roll(C, -1, axis=0) - C
         ds = np.linalg.norm(step, axis=1)

@@ -244,6 +244,24 @@ class TorusCurve(Result):
     bending_excess: float
 
 
+def fit_spacing(distance: Any, length: Any, target: float, L: float, a: float, R: float,
+                rtol: float, max_iter: int, who: str) -> tuple[float, float]:
+    """Scale a stacked curve's spacing ``a`` and radius ``R`` so ``distance(a, R) = target``.
+
+    ... and ``length(a, R) = L``: fixed point ``a <- a target / distance``, ``R <- R L /
+    length`` (each scales so to leading order), to ``rtol``; else NotConverged naming ``who``.
+    """
+    for _ in range(max_iter):
+        a_new = a * target / distance(a, R)
+        R_new = R * L / length(a_new, R)
+        done = abs(a_new - a) <= rtol * a and abs(R_new - R) <= rtol * R
+        a, R = a_new, R_new
+        if done:
+            return a, R
+    raise NotConverged(f"{who}: spacing and radius not fixed to {rtol:g} in {max_iter} "
+                       "iterations")
+
+
 def torus_curve(loops: int, length: float, thickness: float, gap: float) -> TorusCurve:
     """Return the torus curve of an N-loop ring: ``R``, ``a`` and the checks (module doc).
 
@@ -276,18 +294,9 @@ def torus_curve(loops: int, length: float, thickness: float, gap: float) -> Toru
     if a >= 0.25 * R0:
         raise RodstabInputError(f"thickness + gap = {d:g} too large for {N} loops of radius "
                                 f"{R0:g}: strand circumradius {a:g} >= R0 / 4")
-    R = R0
-    for _ in range(TORUS_MAX_ITER):
-        Dmin = strand_distance(N, R, a)
-        a_new = a * d / Dmin  # D scales with a to leading order: a fast fixed point
-        R_new = R + (L - torus_length(N, R, a_new)) / (2 * math.pi * N)  # dlength/dR ~ 2 pi N
-        done = abs(a_new - a) <= TORUS_RTOL * a and abs(R_new - R) <= TORUS_RTOL * R
-        a, R = a_new, R_new
-        if done:
-            break
-    else:
-        raise NotConverged(f"torus_curve: a, R not fixed to {TORUS_RTOL:g} in {TORUS_MAX_ITER} "
-                           f"iterations (N = {N}, a / R0 = {a / R0:.3g})")
+    a, R = fit_spacing(lambda a, R: strand_distance(N, R, a),
+                       lambda a, R: torus_length(N, R, a), d, L, a, R0, TORUS_RTOL,
+                       TORUS_MAX_ITER, f"torus_curve (N = {N}, a / R0 = {a / R0:.3g})")
     phi = _loop_grid(N, QUAD_POINTS)
     k, tau = curvature_torsion(phi, N, R, a)
     return TorusCurve(
@@ -305,7 +314,6 @@ def bending_excess_coefficient(loops: int) -> float:
     return (N * N - 1) * (N * N - 2) / (2.0 * N**4)
 
 
-# ---------------------------------------------------------------- checks with the contact model
 def default_model(thickness: float) -> ContactModel:
     """Contact model of the checks: capsules of radius ``h / 2``, ``dhat = 0.1 h``.
 
@@ -437,7 +445,6 @@ def _strain(rod: DiscreteRod) -> float:
     return float(np.max(np.abs(chord / rod.rest_length - 1.0)))
 
 
-# ---------------------------------------------------------------- N-loop rings on the torus curve
 def _segment_nodes(rod: DiscreteRod, k: int) -> np.ndarray:
     """Nodes of segment ``k`` from its start to its end (``discretise`` lays edges in order)."""
     E = np.flatnonzero(rod.edge_segment == k)
@@ -463,10 +470,9 @@ def _traversal(rod: DiscreteRod) -> np.ndarray:
 class CoincidentLoops:
     """The coincident planar N-loop ring a stacking starts from (:func:`coincident_loops`).
 
-    ``order``: every node once, along the traversal; ``X`` their positions; ``centre`` and
-    ``R0`` the circle (length); ``length`` ``L``; ``loops`` ``N``; ``t`` each traversed node's
-    arclength from the first (length); ``azimuth`` of the first node and ``sense`` (+1
-    counter-clockwise about ``e3``) of the traversal.
+    ``order``: the nodes along the traversal, ``X`` their positions, ``t`` their arclengths;
+    ``centre``, ``R0``, ``length``, ``loops``; ``azimuth`` of the first node, ``sense`` +1 if
+    the traversal runs counter-clockwise about ``e3``.
     """
 
     order: np.ndarray
