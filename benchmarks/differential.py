@@ -18,7 +18,9 @@ and by eigenvector following from the states alone, the string's saddle continue
 contact where no pair is within the barrier's reach, and (star <-> daisy) the string with cusp
 welds of width, ~25 s a design that has a pair); ``linking``: the self-linking of random framed
 torus curves and of stacked N-loop rings by Gauss's integral and by signed crossings
-(:mod:`rodstab.multistable.linking`), the rings also against -(N - 1).
+(:mod:`rodstab.multistable.linking`), the rings also against -(N - 1); ``flat-foldings``:
+N-loop rings stacked flat with swaps of random senses (:mod:`rodstab.multistable.folding`),
+both evaluations against the sum of the senses.
 Sections of every closed-form shape
 (rectangle and ellipse h/t 0.3-10, circle, tube, nu 0-0.5) and given ratios b1, b2 in 0.05-50. Every
 design is solved by every method that applies (the problem modules' ``METHODS``, the linear FE
@@ -874,6 +876,56 @@ def linking(rng: np.random.Generator) -> Trial:
                  {("gauss", "crossings"): 0.0, ("gauss", "closed-form"): 0.0})
 
 
+def flat_foldings(rng: np.random.Generator) -> Trial:
+    """An N-loop ring stacked flat with swaps of random senses: Lk by two evaluations and the
+    closed form (the folding module's derivation: each swap adds its sense to the writhe).
+
+    ``N`` 2-6 loops, 16-40 el. per loop, ``h`` 0.002-0.008 of a loop's length, ``N - 1``
+    swap senses drawn at random (:func:`rodstab.multistable.folding.fold_loops`). Gauss's
+    integral and the signed crossings of one projection against ``s sum(senses)``, ``s`` = +1
+    when the ring's nodes run counter-clockwise about ``e3`` (a mirror image flips every
+    crossing), read here from the node positions. Exact agreement (integers).
+    """
+    from rodstab.multistable.folding import fold_loops
+    from rodstab.multistable.linking import self_linking
+    from rodstab.nonlinear.discrete import discretise
+    from rodstab.problems import ring
+
+    N, el = int(rng.integers(2, 7)), int(rng.integers(16, 41))
+    senses = tuple(int(v) for v in rng.choice([-1, 1], N - 1))
+    h = _r((0.002 + 0.006 * float(rng.random())) * 2.0 * math.pi)
+    label = f"{N}-loop ring folded flat, swap senses {list(senses)}, {el} el./loop, h = {h}"
+    code = (f"fold_loops(discretise(ring.build(ring.Params(loops={N})), {el}, 1.0), {h}, "
+            f"{0.05 * h}, senses={senses})")
+    state: list[Any] = []
+
+    def built() -> Any:
+        if not state:
+            rod = discretise(ring.build(ring.Params(loops=N)), el, 1.0)
+            state.append((rod, self_linking(fold_loops(rod, h, 0.05 * h, senses=senses).rod)))
+        return state[0]
+
+    def gauss() -> Values:
+        g = built()[1].gauss
+        return {} if g is None else {"Lk": float(round(g, 6))}
+
+    def crossings() -> Values:
+        c = built()[1].crossings
+        return {"Lk": float(c[0])} if c else {}
+
+    def closed_form() -> Values:
+        x = built()[0].x
+        c = x.mean(axis=0)
+        e = built()[0].edge_nodes[0]  # ring.build: every loop runs along the traversal
+        r0, r1 = x[e[0]] - c, x[e[1]] - c
+        turn = 1.0 if r0[0] * r1[1] - r0[1] * r1[0] > 0 else -1.0
+        return {"Lk": turn * float(sum(senses))}
+
+    return Trial(label, code, {"gauss": gauss, "crossings": crossings,
+                               "closed-form": closed_form},
+                 {("gauss", "crossings"): 0.0, ("gauss", "closed-form"): 0.0})
+
+
 #: family name -> generator of one random design.
 FAMILIES: dict[str, Callable[[np.random.Generator], Trial]] = {
     "arcs": arcs, "rings": rings, "folded": folded, "cusp-rings": cusp_rings,
@@ -881,7 +933,7 @@ FAMILIES: dict[str, Callable[[np.random.Generator], Trial]] = {
     "held-rings": held_rings, "held-columns": held_columns,
     "folded-columns": lambda rng: folded_stacking(rng, "columns"),
     "folded-hexagon": lambda rng: folded_stacking(rng, "hexagon"), "saddles": saddles,
-    "linking": linking}
+    "linking": linking, "flat-foldings": flat_foldings}
 
 
 # ---------------------------------------------------------------------------------------------
