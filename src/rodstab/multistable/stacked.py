@@ -264,8 +264,8 @@ def relax(rod: DiscreteRod, load_factor: float) -> tuple[bool, int, float]:
     return newton(rod, max_iter=RELAX_MAX_ITER)
 
 
-def hold_loops(a: Assembly, elements_per_loop: int, load_factor: float, thickness_ratio: float,
-               dhat_fraction: float, stacking: str = "folded"
+def hold_loops(a: Assembly, elements_per_segment: int, load_factor: float,
+               thickness_ratio: float, dhat_fraction: float, stacking: str = "folded"
                ) -> tuple[StackedState, DiscreteRod, bool, int, float]:
     """Build the stacked N-loop ring and relax it with contact at ``load_factor``.
 
@@ -286,8 +286,9 @@ def hold_loops(a: Assembly, elements_per_loop: int, load_factor: float, thicknes
     h = require_positive("thickness_ratio", thickness_ratio) * per_segment
     try:
         _, st = stacked_ring(a, thickness_ratio=h / a.total_length,
-                             elements_per_loop=elements_per_loop, dhat_fraction=dhat_fraction,
-                             load_factor=load_factor, stacking=stacking)
+                             elements_per_loop=elements_per_segment,  # discretise's, per segment
+                             dhat_fraction=dhat_fraction, load_factor=load_factor,
+                             stacking=stacking)
     except RodstabInputError as exc:
         if "too large" not in str(exc):  # not a ring of loops, an even N: said as it is
             raise
