@@ -800,6 +800,21 @@ def saddles(rng: np.random.Generator) -> Trial:
                   ("string", "wide cusps"): SADDLE_RTOL})
 
 
+def _linking_methods(lk: Callable[[], Any]) -> dict[str, Callable[[], Values]]:
+    """``gauss`` and ``crossings`` of a state's :class:`~rodstab.multistable.linking.Linking`
+    (``lk()``, computed once by the caller): Gauss's integral and the first projection's."""
+
+    def gauss() -> Values:
+        g = lk().gauss
+        return {} if g is None else {"Lk": float(round(g, 6))}
+
+    def crossings() -> Values:
+        c = lk().crossings
+        return {"Lk": float(c[0])} if c else {}
+
+    return {"gauss": gauss, "crossings": crossings}
+
+
 def linking(rng: np.random.Generator) -> Trial:
     """The self-linking of a framed closed curve by its two evaluations (and a closed form).
 
@@ -863,15 +878,7 @@ def linking(rng: np.random.Generator) -> Trial:
                 discretise(ring.build(ring.Params(loops=N)), el, 0.0), h, 0.05 * h).rod))
         return state[0]
 
-    def gauss_ring() -> Values:
-        g = lk().gauss
-        return {} if g is None else {"Lk": float(round(g, 6))}
-
-    def crossings_ring() -> Values:
-        c = lk().crossings
-        return {"Lk": float(c[0])} if c else {}
-
-    return Trial(label, code, {"gauss": gauss_ring, "crossings": crossings_ring,
+    return Trial(label, code, {**_linking_methods(lk),
                                "closed-form": lambda: {"Lk": float(1 - N)}},
                  {("gauss", "crossings"): 0.0, ("gauss", "closed-form"): 0.0})
 
@@ -905,14 +912,6 @@ def flat_foldings(rng: np.random.Generator) -> Trial:
             state.append((rod, self_linking(fold_loops(rod, h, 0.05 * h, senses=senses).rod)))
         return state[0]
 
-    def gauss() -> Values:
-        g = built()[1].gauss
-        return {} if g is None else {"Lk": float(round(g, 6))}
-
-    def crossings() -> Values:
-        c = built()[1].crossings
-        return {"Lk": float(c[0])} if c else {}
-
     def closed_form() -> Values:
         x = built()[0].x
         c = x.mean(axis=0)
@@ -921,7 +920,7 @@ def flat_foldings(rng: np.random.Generator) -> Trial:
         turn = 1.0 if r0[0] * r1[1] - r0[1] * r1[0] > 0 else -1.0
         return {"Lk": turn * float(sum(senses))}
 
-    return Trial(label, code, {"gauss": gauss, "crossings": crossings,
+    return Trial(label, code, {**_linking_methods(lambda: built()[1]),
                                "closed-form": closed_form},
                  {("gauss", "crossings"): 0.0, ("gauss", "closed-form"): 0.0})
 
