@@ -184,3 +184,17 @@ def test_a_difference_along_the_sliding_field_is_no_distance_and_any_other_is():
     lifted.x = rod.x + np.array([0.0, 0.0, 1e-3]) * np.sin(np.arange(len(rod.x)))[:, None]
     assert unslid_distance(lifted, rod) == pytest.approx(
         float(np.max(np.abs(lifted.x[:, 2] - rod.x[:, 2]))))
+
+
+def test_cli_analyze_contact_takes_the_folded_stacking(run_cli):
+    """`analyze --contact --layers folded`: the cone at zero gap of the ring folded flat,
+    built and checked first (its ribbon links 0 times); both limits move outward from eq.
+    (3.3)'s (mu = 2.147 / 3 and 3.859 / 3); too thick to build: exit 2 naming the thickness."""
+    r = run_cli(["analyze", "examples/ring_3_loops.toml", "--contact", "--contact-thickness",
+                 "0.003", "--layers", "folded", "--elements", "48"])
+    assert r.exit_code == 0, r.stderr
+    assert "links +0 times" in r.stdout
+    assert r.stdout.count("moved outward by contact") == 2
+    bad = run_cli(["analyze", "examples/ring_3_loops.toml", "--contact", "--layers", "folded",
+                   "--elements", "48"])
+    assert bad.exit_code == 2 and "thickness_ratio h/L = 0.02" in bad.stderr

@@ -227,7 +227,7 @@ def test_barrier_with_contact_equals_the_one_without_where_the_saddle_touches_no
     (["--contact", "--contact-thickness", "0"], "--contact-thickness"),
     (["--layers", "1=0,2=1,3=0,4=1,5=0,6=1"], "--layers '1=0,2=1,3=0,4=1,5=0,6=1' is a setting "
                                               "of contact"),
-    (["--contact", "--layers", "torus"], "not 'torus'"),
+    (["--contact", "--layers", "torus"], "not a named stacking"),
     (["--contact", "--layers", "1=0,2=1"], "--layers gives no layer for ['3', '4', '5', '6']"),
     (["--contact", "--layers", "1=0,2=x,3=0,4=1,5=0,6=1"], "--layers item '2=x'"),
 ])

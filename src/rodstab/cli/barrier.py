@@ -180,7 +180,7 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
         parsed = parse_layers(layers, [s.name for s in a.segments])
         if not isinstance(parsed, dict):
             raise RodstabInputError(f"--layers {layers!r}: a barrier takes NAME=K, NAME=U:K or "
-                                    "NAME=U:K:S for every segment, not 'torus'")
+                                    "NAME=U:K:S for every segment, not a named stacking")
         order = parsed
     wide = None
     if cusp_width is not None:

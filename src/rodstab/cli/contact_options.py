@@ -170,7 +170,7 @@ def layers_option(help: str) -> Callable[..., Any]:
 
 
 def parse_layers(text: str, names: list[str] | tuple[str, ...]) -> dict[str, Any] | str:
-    """Read ``--layers``: ``torus``, or ``NAME=K`` / ``NAME=U:K`` / ``NAME=U:K:S`` (commas).
+    """Read ``--layers``: ``torus``, ``folded``, or ``NAME=K[:...]`` items (commas).
 
     ``K`` is the layer (height in spacings along ``e3``), ``U:K`` an offset with an in-plane
     part ``U`` (:func:`rodstab.multistable.stacking.stack_layers`), ``U:K:S`` also a shift of
@@ -179,7 +179,7 @@ def parse_layers(text: str, names: list[str] | tuple[str, ...]) -> dict[str, Any
     an unknown name or a missing one, naming it.
     """
     text = text.strip()
-    if text == "torus":
+    if text in ("torus", "folded"):
         return text
     out: dict[str, Any] = {}
     for item in filter(None, (t.strip() for t in text.split(","))):
@@ -192,7 +192,7 @@ def parse_layers(text: str, names: list[str] | tuple[str, ...]) -> dict[str, Any
         if not eq or name not in names or len(parts) not in (1, 2, 3) or name in out:
             raise RodstabInputError(
                 f"--layers item {item!r}: expected NAME=K, NAME=U:K or NAME=U:K:S with NAME one "
-                f"of {list(names)} (each once), or 'torus'")
+                f"of {list(names)} (each once), or 'torus' / 'folded'")
         out[name] = parts[0] if len(parts) == 1 else tuple(parts)
     missing = [n for n in names if n not in out]
     if missing:

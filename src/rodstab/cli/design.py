@@ -54,7 +54,8 @@ from .output import (
 @click.option("--plot", "plot_path", type=click.Path(dir_okay=False), default=None,
               help="Write a 3D picture of the held state and the critical mode (PNG).")
 @contact_options
-@layers_option("Or 'torus' (an N-loop ring); NAME=U:K adds an in-plane offset U. [default: "
+@layers_option("Or 'torus' / 'folded' (an N-loop ring wound / folded flat); NAME=U:K adds an "
+               "in-plane offset U. [default: "
                "chosen and printed]")
 @limit_options
 @json_option

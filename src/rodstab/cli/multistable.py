@@ -290,7 +290,7 @@ def transitions(design_file: str | None, section: Section, structure: str,
         parsed = parse_layers(layers, [seg.name for seg in held.segments])
         if not isinstance(parsed, dict):
             raise RodstabInputError(f"--layers {layers!r}: transitions take NAME=K, NAME=U:K or "
-                                    "NAME=U:K:S for every segment, not 'torus'")
+                                    "NAME=U:K:S for every segment, not a named stacking")
         order = {states_[0]: parsed}
         if states_[0] not in chosen:  # its default stimuli in the load factor (the others
             # hold welds of the planar model's topology)

@@ -291,8 +291,11 @@ def check_lobes(a: Assembly, layers: dict[str, Any]) -> None:
                         f"{layers[nb]!r}); give each strand of a lobe its own layer")
 
 
-def _torus_pairs(a: Assembly, n: int) -> Pairs:
+def _torus_pairs(a: Assembly, n: int, folded: bool = False) -> Pairs:
     """Touching pairs of the N-loop ring stacked on the ``(N, 1)`` torus curve, at zero gap.
+
+    ``folded``: of the ring folded flat instead (:func:`~.folding.folded_layers`: ``n_z = +-1``
+    where two loops' layers differ by one, 0 elsewhere).
 
     Loop ``k`` (traversal order: segment ``k``, or the ``k``-th turn of a single segment) at
     azimuth ``theta`` is at the angle ``psi_k = (theta + 2 pi k) / N`` of the curve's
@@ -313,8 +316,17 @@ def _torus_pairs(a: Assembly, n: int) -> Pairs:
     s = np.linspace(0.0, loop, SAMPLES_PER_ELEMENT * (n // N if single else n) + 1)
     theta = 2 * math.pi * s / loop
     pairs = {(k, (k + 1) % N) for k in range(N)}
+    if folded:
+        from .folding import folded_layers
+
+        layer = folded_layers(N, theta)
+        pairs = {(ka, kb) for ka in range(N) for kb in range(ka + 1, N)}
     for ka, kb in sorted({(min(p), max(p)) for p in pairs if p[0] != p[1]}):
-        _, nz = torus_normal(theta, ka, kb, N)
+        if folded:
+            d = layer[ka] - layer[kb]
+            nz = np.where(np.isclose(np.abs(d), 1.0), np.sign(d), 0.0)
+        else:
+            _, nz = torus_normal(theta, ka, kb, N)
         if single:
             out.append((0, 0, s + ka * loop, s + kb * loop, nz))
         else:
@@ -336,15 +348,17 @@ def torus_normal(theta: Any, ka: int, kb: int, loops: int) -> tuple[Any, Any]:
 
 
 def touching_pairs(a: Assembly, layers: dict[str, Any] | str, n: int) -> Pairs:
-    """Return the touching pairs of a layer order (``"torus"`` or offsets), on ``n`` elements.
+    """Return the touching pairs of a layer order, on ``n`` elements.
 
-    Each ``(ia, ib, s_a, s_b, n_z)``: the segments, the matched arc lengths on each and the
-    normal's height component there (:func:`_touching_pairs`, :func:`_torus_pairs`).
+    ``layers``: ``"torus"`` (the wound N-loop ring), ``"folded"`` (the N-loop ring folded flat,
+    :func:`~.folding.folded_layers`) or offsets. Each ``(ia, ib, s_a, s_b, n_z)``: the
+    segments, the matched arc lengths on each and the normal's height component there
+    (:func:`_touching_pairs`, :func:`_torus_pairs`).
     """
     from .stacking import layer_offsets
 
     if isinstance(layers, str):
-        return _torus_pairs(a, n)
+        return _torus_pairs(a, n, folded=layers == "folded")
     return _touching_pairs(a, layer_offsets([s.name for s in a.segments], layers), n)
 
 
@@ -497,6 +511,7 @@ def contact_cone(a: Assembly, layers: dict[str, Any] | str, elements_per_segment
         it unchanged or raises it (module doc), with the touching pairs tested.
     """
     from ..nonlinear.discrete import discretise as discretise_rod
+    from .folding import fold_loops
     from .linking import self_linking
     from .stacking import StackingError, stack_layers, stack_loops
 
@@ -510,18 +525,18 @@ def contact_cone(a: Assembly, layers: dict[str, Any] | str, elements_per_segment
     # its question is geometric, and coarse chords would add their sagitta to the spacing.
     turns = max(1, max(round(abs(sg.curvature * sg.length) / (2 * math.pi)) for sg in a.segments))
     rod = discretise_rod(a, max(n, CHECK_ELEMENTS * turns), 1.0)
-    if isinstance(layers, str) and layers != "torus":
-        raise RodstabInputError(f"layers must be a mapping of segment names or 'torus', got "
-                                f"{layers!r}")
+    if isinstance(layers, str) and layers not in ("torus", "folded"):
+        raise RodstabInputError(f"layers must be a mapping of segment names, 'torus' or "
+                                f"'folded', got {layers!r}")
     realised = (f"built at h/L = {hL:g} with gap {CONTACT_DHAT_FRACTION / 2:g} h and checked "
                 "with the contact model")
     if isinstance(layers, str):
         pairs = touching_pairs(a, layers, n)  # refuses a design that is no N-loop ring
         try:
-            built = stack_loops(rod, h, g0).rod
+            built = (stack_loops if layers == "torus" else fold_loops)(rod, h, g0).rod
         except StackingError:
             raise
-        except RodstabInputError as exc:  # the torus cannot hold strands this thick
+        except RodstabInputError as exc:  # too thick for the loops, or no folding (even N)
             raise RodstabInputError(f"the layer order cannot be built at thickness_ratio h/L "
                                     f"= {hL:g} (h = {h:.4g}): {exc}") from None
     elif figure_eight(a):  # every weld at one point: the lobes are checked, not the point

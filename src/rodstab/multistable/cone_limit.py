@@ -478,6 +478,8 @@ def _rod_gap_rows(a: Assembly, rod: Any, T: np.ndarray, layers: dict[str, Any] |
     names = [sg.name for sg in a.segments]
     torus = isinstance(layers, str)
     if isinstance(layers, str):
+        from .folding import folded_layers
+
         N = _loops(a)
         single = len(a.segments) == 1
         loop = a.segments[0].length / N if single else a.segments[0].length
@@ -497,9 +499,16 @@ def _rod_gap_rows(a: Assembly, rod: Any, T: np.ndarray, layers: dict[str, Any] |
             if torus:
                 ka = int(s_of[i] // loop) if single else ia
                 kb = int(s_of[j] // loop) if single else ib
-                if (ka - kb) % N not in (1, N - 1) or ka == kb:
+                theta = 2 * math.pi * (s_of[i] % loop) / loop
+                if layers == "folded":  # flat layers: touching where one layer apart
+                    d = folded_layers(N, np.array([theta]))[[ka, kb], 0]
+                    if ka == kb or not math.isclose(abs(d[0] - d[1]), 1.0):
+                        continue
+                    nr, nz = 0.0, float(np.sign(d[0] - d[1]))
+                elif (ka - kb) % N not in (1, N - 1) or ka == kb:
                     continue
-                nr, nz = torus_normal(2 * math.pi * (s_of[i] % loop) / loop, ka, kb, N)
+                else:
+                    nr, nz = torus_normal(theta, ka, kb, N)
                 er = (x[i] - centre) * np.array([1.0, 1.0, 0.0])
                 nrm = nr * er / np.linalg.norm(er) + nz * np.array([0.0, 0.0, 1.0])
             else:

@@ -47,7 +47,6 @@ from ..nonlinear.discrete import DiscreteRod
 from .stacking import (
     CHORD_MARGIN,
     StackedState,
-    StackingError,
     _strain,
     _traversal,
     check_stacked,
@@ -206,9 +205,9 @@ def fold_loops(rod: DiscreteRod, thickness: float, gap: float,
         T = step / ds[:, None]
         kappa = np.linalg.norm(T - np.roll(T, 1, axis=0), axis=1) / ds
         chord_error = float(arcs.max()) ** 2 * float(kappa.max()) / 4.0
-    if s >= 0.25 * R0:
-        raise StackingError(f"fold_loops: spacing {s:g} too large for {N} loops of radius "
-                            f"{R0:g} (>= R0 / 4)")
+    if s >= 0.25 * R0:  # as the torus curve's circumradius: strands far off the loops' circle
+        raise RodstabInputError(f"fold_loops: layer spacing {s:g} too large for {N} loops of "
+                                f"radius {R0:g} (>= R0 / 4)")
     # the polyline's arclength, scaled to L (they differ by the fold's fixed-point tolerance)
     along = np.concatenate([[0.0], np.cumsum(ds)])
     closed = np.vstack([C, C[:1]])
@@ -301,3 +300,35 @@ def flat_foldings(rod: DiscreteRod, thickness: float) -> tuple[int | None, int |
         return None if None in v else min(k for k in v if k is not None)
 
     return smallest(gauss), smallest(cross), twist
+
+
+def folded_layers(loops: int, theta: np.ndarray) -> np.ndarray:
+    """Return each loop's layer at azimuths ``theta`` (rad), the folded ring at zero gap.
+
+    ``(N, k)``: the construction's layers (:func:`start_layers`, swap ``j`` exchanging layers
+    ``N - 1 - j`` and ``N - 2 - j``) with every swap shrunk to a point, the middle of its window,
+    ``(j + 1/2) 2 pi / (N - 1)``: there the two swapping loops get the mean of their layers (no
+    longer one layer apart, so they do not touch at that point). Two loops touch where their
+    layers differ by one, the upper one on top (the cone's pairs,
+    :func:`~.cone.touching_pairs` with ``"folded"``).
+    """
+    N = int(loops)
+    if N < 2:
+        raise RodstabInputError(f"folded layers need 2 or more loops, got {loops!r}")
+    theta = np.asarray(theta, float)
+    w = 2.0 * math.pi / (N - 1)
+    out = np.empty((N, len(theta)))
+    for i, layer0 in enumerate(start_layers(N)):
+        layer = float(layer0)
+        L = np.full(len(theta), layer)
+        for j in range(N - 1):
+            upper, lower = N - 1 - j, N - 2 - j
+            if layer not in (upper, lower):
+                continue
+            other = float(lower if layer == upper else upper)
+            at = (j + 0.5) * w
+            L = np.where(np.isclose(theta, at, rtol=0.0, atol=1e-12), 0.5 * (layer + other),
+                         np.where(theta > at, other, L))
+            layer = other
+        out[i] = L
+    return out
