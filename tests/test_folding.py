@@ -198,3 +198,9 @@ def test_cli_analyze_contact_takes_the_folded_stacking(run_cli):
     bad = run_cli(["analyze", "examples/ring_3_loops.toml", "--contact", "--layers", "folded",
                    "--elements", "48"])
     assert bad.exit_code == 2 and "thickness_ratio h/L = 0.02" in bad.stderr
+
+
+def test_layer_swaps_of_a_ring_that_winds_once_is_empty():
+    """The one-loop ring (what the folded ring snaps open into) has no layers to swap."""
+    a = rings.build(rings.Params(section=circle(), loops=1))
+    assert len(layer_swaps(discretise(a, 32, 1.0))) == 0

@@ -250,7 +250,8 @@ def layer_swaps(rod: DiscreteRod, samples: int = 720) -> np.ndarray:
     of one turn (nodes in traversal order, azimuth unwrapped); returned: the azimuths at
     which the strands' order in height differs from the one a sample before (a swap's
     middle, to one sample). Going once round, loop ``k`` continues as loop ``k + 1``, which
-    the comparison at azimuth 0 accounts for.
+    the comparison at azimuth 0 accounts for. Empty for a state that does not wind round
+    its centre twice or more (a ring snapped open into one loop, or further).
     """
     X = rod.x[_traversal(rod)]
     c = X.mean(axis=0)
@@ -258,6 +259,8 @@ def layer_swaps(rod: DiscreteRod, samples: int = 720) -> np.ndarray:
     az = (az - az[0]) * np.sign(az[-1] - az[0])
     N = round(float(az[-1]) / (2.0 * math.pi))
     theta = np.arange(samples) * (2.0 * math.pi / samples)
+    if N < 2:  # one turn (or none) about the centre: no layers to swap
+        return theta[:0]
     closed_az, closed_z = np.append(az, 2.0 * math.pi * N), np.append(X[:, 2], X[0, 2])
     Z = [np.interp(theta + 2.0 * math.pi * k, closed_az, closed_z) for k in range(N)]
     rank = np.argsort(np.argsort(np.array(Z), axis=0), axis=0)
