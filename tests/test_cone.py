@@ -306,7 +306,8 @@ def test_analyze_with_contact_in_the_design_file_and_nothing_stacked(run_cli, tm
     (["--layers", "upper=0,lower=1"], "--layers is a setting of contact"),
     (["--contact", "--layers", "upper=0,lower=x"], "--layers item 'lower=x'"),
     (["--contact", "--layers", "upper=0"], "--layers gives no layer for ['lower']"),
-    (["--contact", "--layers", "torus"], "needs an N-loop ring"),
+    (["--contact", "--layers", "torus"], "layers='torus' needs an N-loop ring"),
+    (["--contact", "--layers", "folded"], "layers='folded' needs an N-loop ring"),
 ])
 def test_analyze_contact_bad_input_exits_2_naming_it(run_cli, args, words):
     r = run_cli(["analyze", "examples/birod.toml", "--elements", "16", *args])

@@ -307,9 +307,10 @@ def _torus_pairs(a: Assembly, n: int, folded: bool = False) -> Pairs:
     """
     N = _loops(a)
     if not N:
-        raise RodstabInputError("layers='torus' needs an N-loop ring: N >= 2 full loops of one "
-                                "circle, one segment each in traversal order "
-                                "(rodstab.problems.ring.build) or one segment of N turns")
+        raise RodstabInputError(f"layers={'folded' if folded else 'torus'!r} needs an N-loop "
+                                "ring: N >= 2 full loops of one circle, one segment each in "
+                                "traversal order (rodstab.problems.ring.build) or one segment "
+                                "of N turns")
     single = len(a.segments) == 1
     loop = a.segments[0].length / N if single else a.segments[0].length
     out = []
