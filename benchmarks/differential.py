@@ -20,7 +20,8 @@ welds of width, ~25 s a design that has a pair); ``linking``: the self-linking o
 torus curves and of stacked N-loop rings by Gauss's integral and by signed crossings
 (:mod:`rodstab.multistable.linking`), the rings also against -(N - 1); ``flat-foldings``:
 N-loop rings stacked flat with swaps of random senses (:mod:`rodstab.multistable.folding`),
-both evaluations against the sum of the senses.
+both evaluations against the sum of the senses; ``contact-folded``: the folded rings' limits
+with contact at zero gap, FE against the rod, and held closed against one stiff ring (eq. 3.3).
 Sections of every closed-form shape
 (rectangle and ellipse h/t 0.3-10, circle, tube, nu 0-0.5) and given ratios b1, b2 in 0.05-50. Every
 design is solved by every method that applies (the problem modules' ``METHODS``, the linear FE
@@ -502,6 +503,42 @@ def contact_rings(rng: np.random.Generator) -> Trial:
     return Trial(f"stacked ring section({_kw(sec)}) loops={loops}", code, methods, rtol)
 
 
+def contact_folded(rng: np.random.Generator) -> Trial:
+    """N-loop rings (N = 3, 5) folded flat (layers that swap, Lk 0): limits with contact at zero
+    gap by the FE and by the rod (heights only), and both held closed against one ring N times
+    as stiff (eq. 3.3 at N = 1, analytic.ring) where the FE's bound is bracketed."""
+    from rodstab.analytic.ring import ring_stability
+    from rodstab.multistable.cone_limit import cone_limits, rod_cone_limits
+    from rodstab.problems import ring
+
+    sec = random_section(rng)
+    loops = int(rng.choice([3, 5]))
+    section = sections.make_section(**sec)
+    a = ring.build(ring.Params(section=section, loops=loops))
+    code = (f"from rodstab.multistable.cone_limit import cone_limits, rod_cone_limits; from "
+            f"rodstab.problems import ring; from rodstab.sections import make_section; s = "
+            f"make_section({_kw(sec)}); a = ring.build(ring.Params(section=s, loops={loops})); "
+            f"print(cone_limits(a, 'folded', 32), rod_cone_limits(a, 'folded', 32, "
+            f"normals='height'))")
+    one = ring_stability(section.b1, section.b2, 1).kappa_L_over_2pi_interval
+
+    def stiff_ring() -> Values:
+        return {f"held {k}": loops * v for k, v in zip(("lower", "upper"), one, strict=True)
+                if math.isfinite(v)}
+
+    def held_fe() -> Values:
+        v = _cone_values(cone_limits(a, "folded", 32, held_closed=True), loops)
+        return {f"held {k}": x for k, x in v.items() if not k.startswith("mult:")}
+
+    methods = {
+        "cone-fe": lambda: _cone_values(cone_limits(a, "folded", 32), loops),
+        "cone-rod": lambda: _cone_values(rod_cone_limits(a, "folded", 32, normals="height"),
+                                         loops),
+        "held-fe": held_fe, "held-closed-form": stiff_ring}
+    rtol = {("cone-fe", "cone-rod"): CONE_ROD_RTOL, ("held-closed-form", "held-fe"): CONE_FE_RTOL}
+    return Trial(f"folded ring section({_kw(sec)}) loops={loops}", code, methods, rtol)
+
+
 #: Figure-eights (FE 24 el./rod against the rod engine at 48, heights only): the rod's upper
 #: limit converges from below as O(h) (the eight at h/t = 4: 4.988, 5.063 at 24, 48 against the
 #: FE's 5.164, docs/theory/contact.md); its lower within 3e-3 at 48. Seeds 15 and 16 (12 + 24
@@ -932,7 +969,7 @@ FAMILIES: dict[str, Callable[[np.random.Generator], Trial]] = {
     "held-rings": held_rings, "held-columns": held_columns,
     "folded-columns": lambda rng: folded_stacking(rng, "columns"),
     "folded-hexagon": lambda rng: folded_stacking(rng, "hexagon"), "saddles": saddles,
-    "linking": linking, "flat-foldings": flat_foldings}
+    "linking": linking, "flat-foldings": flat_foldings, "contact-folded": contact_folded}
 
 
 # ---------------------------------------------------------------------------------------------
