@@ -478,15 +478,21 @@ def _cone_values(res: Any, loops: int) -> Values:
     return out
 
 
+def _ring_of(sec: dict[str, Any], loops: int) -> tuple[Any, Any]:
+    """The section of keywords ``sec`` and the N-loop ring of it."""
+    from rodstab.problems import ring
+
+    section = sections.make_section(**sec)
+    return section, ring.build(ring.Params(section=section, loops=loops))
+
+
 def contact_rings(rng: np.random.Generator) -> Trial:
     """N-loop rings (N = 2..5) stacked on the torus: limits with contact at zero gap."""
     from rodstab.multistable.cone_limit import cone_limits, ring_cone_limits, rod_cone_limits
-    from rodstab.problems import ring
 
     sec = random_section(rng)
     loops = int(rng.integers(2, 6))
-    section = sections.make_section(**sec)
-    a = ring.build(ring.Params(section=section, loops=loops))
+    section, a = _ring_of(sec, loops)
     code = (f"from rodstab.multistable.cone_limit import cone_limits, ring_cone_limits, "
             f"rod_cone_limits; from rodstab.problems import ring; from rodstab.sections import "
             f"make_section; s = make_section({_kw(sec)}); a = ring.build(ring.Params(section=s, "
@@ -509,12 +515,10 @@ def contact_folded(rng: np.random.Generator) -> Trial:
     as stiff (eq. 3.3 at N = 1, analytic.ring) where the FE's bound is bracketed."""
     from rodstab.analytic.ring import ring_stability
     from rodstab.multistable.cone_limit import cone_limits, rod_cone_limits
-    from rodstab.problems import ring
 
     sec = random_section(rng)
     loops = int(rng.choice([3, 5]))
-    section = sections.make_section(**sec)
-    a = ring.build(ring.Params(section=section, loops=loops))
+    section, a = _ring_of(sec, loops)
     code = (f"from rodstab.multistable.cone_limit import cone_limits, rod_cone_limits; from "
             f"rodstab.problems import ring; from rodstab.sections import make_section; s = "
             f"make_section({_kw(sec)}); a = ring.build(ring.Params(section=s, loops={loops})); "
