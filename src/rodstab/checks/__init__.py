@@ -87,6 +87,7 @@ REGISTRY: tuple[Check, ...] = (
     Check(beyond_hexagram.hexagram_checks, beyond_hexagram.EXPECTED, 5.3),
     Check(beyond_contact.contact_checks, beyond_contact.EXPECTED, 1.9),
     Check(beyond_contact.contact_limit_checks, beyond_contact.EXPECTED_LIMITS, 7.8),
+    Check(beyond_contact.folded_ring_limit_checks, beyond_contact.EXPECTED_FOLDED_RING, 9.0),
     Check(beyond_contact.contact_column_checks, beyond_contact.EXPECTED_COLUMNS, 21.0),
 )
 
