@@ -151,6 +151,20 @@ def pytest_xdist_auto_num_workers(config: pytest.Config) -> int:
     return (cores or 1) + SPARE_WORKERS
 
 
+#: Fixtures whose tests are slow whatever they assert: the session's reproduction (~50 s on 2
+#: cores, every claim) and the docs site build (every example and tutorial). Their tests are
+#: in the slow tier (pyproject.toml's markers), as are the tests marked slow one by one.
+SLOW_FIXTURES = frozenset({"reproduction", "site"})
+
+
+@pytest.hookimpl(tryfirst=True)  # before -m deselects by the marks
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    """Mark slow every test that uses one of :data:`SLOW_FIXTURES`."""
+    for item in items:
+        if SLOW_FIXTURES.intersection(getattr(item, "fixturenames", ())):
+            item.add_marker(pytest.mark.slow)
+
+
 def pytest_collection_finish(session: pytest.Session) -> None:
     """Start the docs build in the background if test_docs.py runs (see DOCS_BUILD)."""
     import importlib.util

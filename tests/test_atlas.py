@@ -86,6 +86,7 @@ def test_six_ring_one_loop_state_is_the_unfolded_rings():
     assert np.allclose(direct, np.array(star.interval) * R0, rtol=1e-9)
 
 
+@pytest.mark.slow
 def test_hexagram_four_state_range_begins_at_the_threshold():
     """nu = 1/3: all four mutually stable from h/t* to the grid's end; the overlap width changes
     sign within the stated tolerance of the refined start. h/t* is the root of the eight's lower

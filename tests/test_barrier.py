@@ -37,6 +37,7 @@ def test_saddle_has_index_one_and_the_path_converges(six_ring: Barrier) -> None:
     assert six_ring.load_factor == THETA
 
 
+@pytest.mark.slow
 def test_row_T_six_saddle_energy_equals_the_barrier(six_ring: Barrier, string_six: tuple,
                                                    reproduction) -> None:
     """Cross-check: row T-six reads the barrier off the saddle branch landed on kappa_n R0 = 1.
@@ -502,6 +503,7 @@ def test_cli_barrier_design_bad_input_exits_2(args: list[str], named: str,
     assert named in capsys.readouterr().err
 
 
+@pytest.mark.slow
 def test_string_runs_a_rejected_saddles_descents_once(monkeypatch) -> None:
     """A saddle whose descents do not join the two states is rejected; the string refines the
     same saddle again at its next tries, and its descents (minutes with contact) are not run
@@ -564,6 +566,7 @@ def test_saddle_step_outside_the_model_falls_back_to_plain_then_halves(monkeypat
     assert S._inside(rod, dq) is None
 
 
+@pytest.mark.slow
 def test_a_string_too_coarse_is_refined_and_reaches_the_saddle_it_would_with_more_images(
         ) -> None:
     """Five images between the hexagram's star and daisy (kappa_n R0 = 1.5, 6 el./rod) are too
@@ -617,6 +620,7 @@ def test_images_stepped_in_a_pool_of_processes_give_the_same_string(ends: tuple)
         assert np.array_equal(r.R_joint, s.R_joint)
 
 
+@pytest.mark.slow
 def test_cli_barrier_with_workers_prints_the_same_barrier(run_cli) -> None:
     """``--workers 2`` steps the images in two processes: the six-ring's string barrier
     (6 el., 7 images) is the one of ``--workers 1``: the whole JSON is equal."""

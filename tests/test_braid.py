@@ -103,6 +103,7 @@ def test_one_rigid_offset_per_rod_cannot_hold_the_eight(eight) -> None:
     assert {first, last} == {int(mine[0]), int(mine[-1])}
 
 
+@pytest.mark.slow
 def test_cli_equilibrium_holds_the_braided_eight_with_contact(run_cli) -> None:
     """`rodstab equilibrium examples/hexagram_eight.toml --contact --layers braid` (h = 0.01 L,
     16 el., kappa_n R0 = 3, the eight's stress-free load): the braid relaxed with contact
@@ -166,6 +167,7 @@ def test_bad_limit_search_input_is_named(eight, kw, match) -> None:
         braid_limits(eight, args.pop("no_contact"), **args)
 
 
+@pytest.mark.slow
 def test_past_the_no_contact_limit_the_braid_is_held_where_the_planar_eight_leaves(eight):
     """kappa_n R0 = 4.8 (the planar eight's interval ends at 4.24): the braid relaxed with
     contact (h = 0.01 L, 16 el.) is stable by both verdicts (the barrier's Hessian, and the

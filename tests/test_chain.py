@@ -68,6 +68,7 @@ def direct() -> dict[str, object]:
                                 (star, daisy, ("star", "daisy")))}
 
 
+@pytest.mark.slow
 def test_a_path_through_the_star_splits_into_the_two_direct_barriers(direct) -> None:
     """The two direct paths joined at the star (line -> star -> daisy, 21 images): the chain
     finds the images' basins line, star, daisy in that order; the highest link's own string

@@ -442,6 +442,7 @@ def test_cli_equilibrium_not_converged_prints_json_then_exit_3(run_cli, monkeypa
     assert "Newton" in lines[0]
 
 
+@pytest.mark.slow
 def test_cli_continue_not_converged_prints_table_then_exit_3(run_cli, tmp_path):
     """A straight rod turned in plane 0 -> 12 rad at its sliding clamp: the step budget
     (8 x 6 steps) ends near 3.1 rad, so the path is not complete: table, then exit 3."""
@@ -512,6 +513,7 @@ def test_closed_form_commands_import_no_scipy(argv):
     (["section", "--shape", "rectangle", "--height", "2 mm", "--thickness", "1 mm"], True),
     (["analyze", "examples/birod.toml", "--elements", "4"], False),
     (["analyze", "examples/steel_birod_fig7a.toml", "--elements", "4"], True)])
+@pytest.mark.slow
 def test_pint_is_imported_only_for_a_design_with_units(argv, imports_pint):
     """Issue 13: pint (~0.6 s with its registry) is imported lazily: --help, the closed-form
     commands and designs of plain numbers never import it; a design with units does."""

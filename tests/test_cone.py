@@ -138,6 +138,7 @@ def test_the_folded_ring_on_the_hexagon_every_combination_of_its_double_mode_clo
         assert circle_scan_margin(A) == pytest.approx(float(np.max(worst)), abs=1e-3)
 
 
+@pytest.mark.slow
 def test_the_circle_margin_is_exact_and_the_same_in_any_orthonormal_basis():
     """The best smallest gap change over the unit circle, from its candidate maximisers: never
     below a dense scan (200001 angles) and above it by less than the scan's step allows, on
@@ -199,6 +200,7 @@ def test_a_double_limits_reported_combination_does_not_follow_the_eigensolvers_b
 
 @pytest.mark.parametrize("section", ["circle", "rectangle 2"])
 @pytest.mark.parametrize("loops", [2, 3, 5])
+@pytest.mark.slow
 def test_n_loop_ring_on_the_torus_agrees_with_the_fourier_modes_of_eq_3_2(section, loops):
     """Sec. 3.1: each limit's verdict equals the closed form's (``ring_mode_margin`` on the
     analytic bounding mode j: a mode with j a multiple of N moves the loops together; j = 1
@@ -328,6 +330,7 @@ def test_a_coarse_fe_mesh_does_not_make_the_layer_order_unbuildable(run_cli):
     assert "cannot be built at thickness_ratio h/L = 0.05" in r.stderr
 
 
+@pytest.mark.slow
 def test_random_rings_the_cone_and_the_closed_form_modes_agree():
     """Differential, seeded: N-loop rings (N 2-6) of rectangles with h/t log-uniform in
     [0.5, 8], 24 elements per loop: at each limit the cone test's verdict equals the closed
@@ -345,6 +348,7 @@ def test_random_rings_the_cone_and_the_closed_form_modes_agree():
             assert side.unchanged is (margin >= -1e-9), (loops, sec.aspect, j, margin, side)
 
 
+@pytest.mark.slow
 def test_analyze_contact_on_the_hexagram_eight_says_only_its_lobes_are_checked(run_cli, tmp_path):
     """The eight (examples/hexagram.toml with full circles): flat layers on each lobe by
     default, the output saying the weld point is not built; a lobe with two strands on one

@@ -246,6 +246,7 @@ def _folded_ring_on_its_hexagon():
     return a, polygon_offsets([k for k, _ in ring_of(a).order])
 
 
+@pytest.mark.slow
 def test_samples_graded_toward_the_welds_make_the_limit_mesh_independent(monkeypatch):
     """The folded ring's limit with contact (circle): the FE's gap samples are graded toward
     the welds, where the layers' order ties the strands, and the limit no longer moves with the
@@ -322,6 +323,7 @@ def test_the_held_ring_reduced_theory_against_an_independent_full_model():
         assert r.kappa_L_over_2pi_interval[1] <= 3 * hi1 + 1e-12
 
 
+@pytest.mark.slow
 def test_held_closed_rings_by_the_rod_against_the_reduced_theory():
     """rod_cone_limits(held_closed=True) on the 3-loop ring (definiteness on D v = 0) against
     analytic.ring.held_ring_interval, Richardson from 24 and 48 el./loop: the circle
@@ -468,6 +470,7 @@ def test_held_closed_on_the_fe_out_of_plane_leaves_one_ring_n_times_as_stiff():
         assert abs(lo - 3.0 * one[0]) < 1e-3 and abs(hi - 3.0 * one[1]) < 2e-3 * hi
 
 
+@pytest.mark.slow
 def test_the_folded_rings_cone_by_the_fe_and_by_the_rod_agree():
     """The 3-loop ring folded flat (layers that swap, rodstab.multistable.folding) at zero gap:
     the FE's cone (out of plane) and the rod engine's (in-plane motions too, another

@@ -634,6 +634,7 @@ def test_step_filter_lets_pressed_rods_slide_and_turn_over_one_another():
     assert _sampled_min_gap(x, dx, mesh, alpha, 100, 201) > 0.1 * g0
 
 
+@pytest.mark.slow
 def test_step_filter_is_certified_on_random_moves_near_contact():
     """Random pairs of segments within dhat of one another and random moves: along the step
     the filter allows, the densely sampled gap (independent of rodstab's distance code) keeps

@@ -14,6 +14,7 @@ import json
 import pytest
 
 
+@pytest.mark.slow
 def test_transitions_default_skips_the_states_unstable_at_the_load(run_cli):
     # circle, kappa_n R0 = 2: the line (+-0.43301), star (0.57569, 1.43004) and eight are
     # unstable there (docs/guide/multistable.md); the daisy is loaded.

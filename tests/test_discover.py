@@ -139,6 +139,7 @@ def test_aligned_distance_is_zero_modulo_rigid_motion_and_relabelling():
     assert idf.aligned_distance(rod, s, daisy) > 0.1
 
 
+@pytest.mark.slow
 def test_hexagram_discover_finds_the_four_basic_states_from_the_star(tmp_path, capsys):
     """Rectangle h/t = 4, kappa_n R0 = 2, 16 elements per rod: from the star's seed and the
     held geometries of the other closed states (rodstab states), the line, star, daisy and
@@ -158,6 +159,7 @@ def test_hexagram_discover_finds_the_four_basic_states_from_the_star(tmp_path, c
     assert (tmp_path / "g.png").exists()
 
 
+@pytest.mark.slow
 def test_discover_reads_the_ring_of_a_design_file(capsys):
     """examples/folded_six_ring.toml (alternately oriented rods, rodstab states names its
     one-loop state the star) at kappa_n L = 2 pi / 3 (kappa_n R0 = 1), 8 elements, seeds only:

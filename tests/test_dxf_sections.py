@@ -142,6 +142,7 @@ def test_a_dxf_polygon_in_mm_through_a_design_file_is_e_i_in_newton_square_metre
     assert s.B2 * unit == pytest.approx(EI / 1.3, rel=1e-3)
 
 
+@pytest.mark.slow
 def test_a_dxf_tube_of_two_circles_loses_what_the_flattening_predicts(tmp_path):
     """Two CIRCLEs, do = 2, di = 1 (sagitta 1e-4 of the size do, for speed: 1900 triangles,
     not 4800 at 1e-5): the inner loop is the hole. Outline and hole are each inscribed,

@@ -166,6 +166,7 @@ def _beyond_data() -> dict:
 
 
 @pytest.mark.parametrize("name", ["fig_rings", "fig_beyond"])
+@pytest.mark.slow
 def test_report_figures_tick_labels_do_not_collide(drawn, name):
     """N-loop rings (log h/t over [0.5, 8]) and the imperfection panel (log eps over a
     decade): no two drawn tick labels of one axis overlap; no offset text is left above any

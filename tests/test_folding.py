@@ -110,6 +110,7 @@ def test_the_folded_ring_is_held_with_contact_its_swaps_half_a_turn_apart():
     assert 0.5 < ratio < 2.0
 
 
+@pytest.mark.slow
 def test_cli_equilibrium_holds_the_folded_and_the_wound_three_loop_ring(run_cli):
     """`equilibrium --layers folded|wound` on the paper's 3-loop ring (one segment of three
     turns): held with contact, linking 0 and -2 (the untwisted ring's and the torus curve's),
@@ -186,6 +187,7 @@ def test_a_difference_along_the_sliding_field_is_no_distance_and_any_other_is():
         float(np.max(np.abs(lifted.x[:, 2] - rod.x[:, 2]))))
 
 
+@pytest.mark.slow
 def test_cli_analyze_contact_takes_the_folded_stacking(run_cli):
     """`analyze --contact --layers folded`: the cone at zero gap of the ring folded flat,
     built and checked first (its ribbon links 0 times); both limits move outward from eq.

@@ -11,6 +11,7 @@ from __future__ import annotations
 import tempfile
 from pathlib import Path
 
+import pytest
 from fuzz_inputs import argv_of, cli_case, design_bytes
 from hypothesis import HealthCheck, given, settings
 
@@ -28,6 +29,7 @@ def _check(run_cli, argv: list[str]) -> None:
 
 @FUZZ
 @given(design=design_bytes())
+@pytest.mark.slow
 def test_fuzzed_design_files_exit_0_2_or_3(run_cli, design):
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / "design.toml"

@@ -46,6 +46,7 @@ def test_line_limit_is_the_section_5_finding():
 
 @pytest.mark.parametrize("section", [circle(), rectangle(aspect=4.0), rectangle(aspect=6.0)],
                          ids=["circle", "h/t=4", "h/t=6"])
+@pytest.mark.slow
 def test_fe_and_bloch_transfer_agree_on_every_limit(section):
     """Both declared methods, all four states: within AGREE_RTOL (1e-6)."""
     p = hx.Params(section=section)
@@ -91,6 +92,7 @@ def test_smooth_ring_of_arcs_matches_the_fe_engine():
 THRESHOLD_ATOL = 3e-6
 
 
+@pytest.mark.slow
 def test_threshold_is_bracketed_with_the_binding_limits_named():
     """nu = 1/3, exact torsion: h/t* (not the published 3.4), binding eight.lower and
     line.upper (as published); the width changes sign inside the reported bracket.
@@ -151,6 +153,7 @@ def test_cli_hexagram_bad_input_exits_2_naming_the_value(capsys, argv, name):
 
 
 # ---------------------------------------------------------------- with contact (issue 21)
+@pytest.mark.slow
 def test_contact_keeps_the_untouched_states_and_widens_the_stacked_ones():
     """Contact at zero gap only removes perturbations: the star and the daisy (touching only
     at welds) keep their exact intervals, the line and the eight widen; the sides that cannot
@@ -174,6 +177,7 @@ def test_contact_keeps_the_untouched_states_and_widens_the_stacked_ones():
     assert at.width > hx.overlap_width(free) + 0.4
 
 
+@pytest.mark.slow
 def test_contact_lowers_the_four_state_threshold():
     """At h/t = 3.5, just below the threshold without contact (3.5102), the four states do not
     overlap; with contact (the line's and the eight's intervals widened) they do, by far: the

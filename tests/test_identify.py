@@ -292,6 +292,7 @@ def test_against_a_planar_reference_reflections_change_nothing(seed):
 
 
 @pytest.mark.parametrize("ring", [HEXAGRAM, FOLDED], ids=["hexagram", "folded six-ring"])
+@pytest.mark.slow
 def test_discover_deduplicates_as_before_on_the_states_it_finds(ring):
     """Every pair of equilibria discover finds from the held states (8 elements, kappa_n R0
     = 2 -- the folded ring's load in its units): the one distance and discover's old one are

@@ -145,6 +145,7 @@ def test_a_centreline_that_meets_itself_has_no_linking_number():
     assert not apart_by_linking(lk, lk)
 
 
+@pytest.mark.slow
 def test_barrier_with_contact_between_ends_that_link_differently_is_blocked_without_a_run(
         capsys):
     """`rodstab barrier` from the staggered line of Lk -2 to the star (Lk 0), with contact:

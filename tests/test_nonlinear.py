@@ -281,6 +281,7 @@ def test_imperfect_straightened_rod_has_no_limit_load():
     assert disp_at_mu_c(r.paths[1]) > disp_at_mu_c(r.paths[0]) > 0
 
 
+@pytest.mark.slow
 def test_cli_continue_detects_the_birod_branch_point_and_resumes(run_cli, tmp_path):
     """The branch point on the straight bi-rod path is the engine's critical load (within the
     discretisation error, 0.5 %); a rerun in the same directory resumes every step."""
@@ -404,6 +405,7 @@ def test_natural_twist_is_refused_by_the_linear_engine_and_checked_at_joints():
         Assembly(segments=(s,), supports=(("a", "start", "clamped"),))  # free end carries a torque
 
 
+@pytest.mark.slow
 def test_michell_twisted_ring_by_the_nonlinear_model():
     """Section 3.3 by a third, independent method: a ring of isotropic bending stiffness with
     natural twist (held untwisted = imposed twist omega0' R = mu), followed along its primary
@@ -578,6 +580,7 @@ SPLIT_ARCS = [
 
 
 @pytest.mark.parametrize(("section", "lengths", "side", "window"), SPLIT_ARCS)
+@pytest.mark.slow
 def test_converged_critical_load_of_a_split_arc_meets_its_stated_error(section, lengths, side,
                                                                       window):
     """converged_critical_load_factor: the closed form within the error it states, which is

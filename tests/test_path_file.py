@@ -33,6 +33,7 @@ def run(tmp_path_factory):
     return payload, read_path_file(out / "path.npz")
 
 
+@pytest.mark.slow
 def test_path_file_holds_every_state_the_elements_and_the_thickness(run):
     """x: one state per path point (5), every node; edges index those nodes; energies as
     printed; thickness as given; the first and last states are the two minima (the lowest

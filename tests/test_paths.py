@@ -68,6 +68,7 @@ def test_parameter_derivative_of_the_gradient_is_exact(key):
     assert np.linalg.norm(d[f] - fd[f]) <= 1e-7 * np.linalg.norm(fd[f])
 
 
+@pytest.mark.slow
 def test_end_rotation_critical_twist_converges_to_greenhill_at_order_two():
     """Critical end rotation of the twisted rod: phi_c B2 / (B1 L) -> 2 x 4.4934 (Greenhill),
     error falling at order 2 (three meshes), Richardson value within 0.1 %."""
@@ -85,6 +86,7 @@ def test_end_rotation_critical_twist_converges_to_greenhill_at_order_two():
     assert abs(rich - GREENHILL) / GREENHILL < 1e-3
 
 
+@pytest.mark.slow
 def test_twisted_rod_buckles_subcritically_with_koiter_two_thirds_law():
     """Rotation control, zero axial force: the branch from the Greenhill point lies at smaller
     rotations (unstable symmetric); imperfections shaped like the mode lower the limit
@@ -177,6 +179,7 @@ def test_end_rotation_design_validation_and_linear_refusal():
                   .assembly, "support.0.rotation.tangent", 8)
 
 
+@pytest.mark.slow
 def test_cli_continue_in_an_end_rotation_resumes_and_reports_subcritical(run_cli, tmp_path):
     args = ["continue", "examples/twisted_rod.toml", "--vary",
             "support.1.rotation.tangent=0:13:13", "--elements", "16", "--branch-steps", "4",
@@ -207,6 +210,7 @@ def test_cli_continue_rejects_bad_vary_with_a_one_line_error(run_cli, vary, mess
     assert message in r.stderr and "Traceback" not in r.stderr
 
 
+@pytest.mark.slow
 def test_folded_six_ring_bifurcation_is_subcritical_and_its_saddle_reaches_the_one_loop_ring(
         reproduction):
     """Six-sided ring, h/t = 4: the folded state's branch point is the linear engine's critical
@@ -309,6 +313,7 @@ def test_design_rotation_beyond_pi_keeps_its_twist():
     assert r.energy == pytest.approx(B2_ISO * 4.0**2 / 2, rel=5e-3)
 
 
+@pytest.mark.slow
 def test_interactive_html_views_are_written(run_cli, tmp_path):
     """equilibrium --html writes a self-contained plotly page; continue --out adds
     branch.html with one frame per traced shape."""

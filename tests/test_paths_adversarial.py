@@ -251,6 +251,7 @@ def _sp(c):
 
 
 @pytest.mark.parametrize("after", [5, 20, 24])
+@pytest.mark.slow
 def test_resume_after_interruption_matches_uninterrupted(twisted, full_run, tmp_path, after):
     _interrupted(twisted, tmp_path, after)
     r = continuation(twisted, KEY, A, B, N, out_dir=tmp_path, **KW)
@@ -273,6 +274,7 @@ def _csv_data_rows(path: Path) -> int:
         return 0
 
 
+@pytest.mark.slow
 def test_resume_after_sigkill_mid_path_cli(run_cli, tmp_path):
     """``rodstab continue --out`` killed by SIGKILL in the middle of its primary path, then rerun.
 
@@ -387,6 +389,7 @@ def test_resume_with_truncated_last_csv_line_is_not_a_traceback(run_cli, tmp_pat
     assert r.exit_code in (0, 2)
 
 
+@pytest.mark.slow
 def test_rerun_with_another_design_into_same_dir_does_not_mix(run_cli, tmp_path):
     other = tmp_path / "tw_nu0.toml"
     other.write_text(TWISTED_TOML.read_text().replace("nu = 0.3", "nu = 0.0"))
@@ -409,6 +412,7 @@ def test_rerun_with_other_branch_steps_into_same_dir_does_not_mix(run_cli, tmp_p
     assert all("post_buckling" not in s for s in p["special_points"]), p["special_points"]
 
 
+@pytest.mark.slow
 def test_rerun_into_same_dir_leaves_no_stale_animation(run_cli, tmp_path):
     base = ["continue", str(TWISTED_TOML), "--elements", "12", "--branch-steps", "2",
             "--no-progress", "--json", "--out", str(tmp_path)]

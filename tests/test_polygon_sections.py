@@ -83,6 +83,7 @@ def test_rectangle_J_converges_to_saint_venant_at_order_4(expected_order):
 
 @pytest.mark.parametrize("expected_order", [2.0])
 @pytest.mark.parametrize("shape", ["ellipse", "tube"])
+@pytest.mark.slow
 def test_inscribed_polygons_converge_to_the_ellipse_and_the_tube(shape, expected_order):
     """n-gons inscribed in an ellipse (h/t = 2) and in a tube (ri/ro = 1/2), the element
     size tied to the edge (mesh_size = 1.6/n^2): b2 tends to the exact ellipse (Timoshenko &

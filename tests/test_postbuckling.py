@@ -22,6 +22,7 @@ def _straightened(b1: float, b2: float) -> Assembly:
 
 
 @pytest.mark.parametrize(("b1", "b2", "sign"), [(1.0, 0.75, 1.0), (4.0, 0.9, -1.0)])
+@pytest.mark.slow
 def test_straightened_rod_coefficient_by_two_tracers_and_mesh_independent_verdict(b1, b2, sign):
     """Circle (b1 = 1, b2 = 0.75): supercritical; b1 = 4, b2 = 0.9: subcritical. b from
     amplitude control and arclength agree within 2 % at 32 and 64 elements, the verdict is the

@@ -56,6 +56,7 @@ def line_saddle(string_line_star):
     return line, r
 
 
+@pytest.mark.slow
 def test_a_climb_from_the_line_claims_no_saddle_but_the_strings(string_line_star,
                                                                  line_saddle) -> None:
     """From the hexagram's line along its third softest mode (the climb that reached the string
@@ -85,6 +86,7 @@ def test_a_climb_from_the_line_claims_no_saddle_but_the_strings(string_line_star
     assert vals[0] < -tol < tol < vals[1]
 
 
+@pytest.mark.slow
 def test_climbs_from_both_ends_meet_on_the_star_daisy_saddle() -> None:
     """Hexagram at kappa_n R0 = 1.5: from the star and from the daisy, one saddle.
 
@@ -142,6 +144,7 @@ def test_disconnectivity_joins_superbasins_at_their_lowest_saddle() -> None:
     assert tree.order[-1] == "d" and set(tree.order[:3]) == set("abc")
 
 
+@pytest.mark.slow
 def test_cli_discover_climbs_to_the_saddle_and_names_the_state_beyond_it(run_cli,
                                                                        tmp_path) -> None:
     """``discover --saddle-modes 2`` from the star alone: the star -> daisy saddle, and the daisy.
@@ -250,6 +253,7 @@ def test_a_climb_ending_on_another_stationary_point_lists_it_once(monkeypatch) -
 
 
 # --------------------------------------------------------------- saddles continued into contact
+@pytest.mark.slow
 def test_the_crossing_saddle_continued_into_contact_keeps_index_one_and_its_sides(line_saddle
                                                                                 ) -> None:
     """With contact the line -> star saddle continues to an index-1 saddle the rods can reach.
@@ -324,6 +328,7 @@ def test_continuing_into_contact_refuses_bad_sides_and_a_state_with_contact(line
         stiffen_saddle(star, model, ())
 
 
+@pytest.mark.slow
 def test_cli_into_contact_that_reaches_no_saddle_prints_every_branch_and_exits_3(
         run_cli, monkeypatch) -> None:
     """``barrier --into-contact``: a branch that fails says why; none held -> exit 3.

@@ -37,6 +37,7 @@ def _ring_rod(loops: int, elements: int):
 
 
 @pytest.mark.parametrize("N", [2, 3, 4, 5])
+@pytest.mark.slow
 def test_torus_nearest_strands_are_one_spacing_apart_in_3d(N):
     """True 3D nearest-strand distance = h + g0, every strand pair (m = 1 .. N - 1).
 

@@ -165,6 +165,7 @@ def with_contact(tmp_path_factory):
     return json.loads(r.stdout), read_path_file(out / "path.npz")
 
 
+@pytest.mark.slow
 def test_barrier_with_contact_keeps_every_pair_apart_checked_from_the_path_file(with_contact):
     """Every judged pair of every state of the written path is at least h apart (sampled
     along the elements: an upper bound of the distance, above it by at most 1/100 of an
@@ -199,6 +200,7 @@ def test_barrier_with_contact_keeps_every_pair_apart_checked_from_the_path_file(
     assert stages["start_crossing"] is None or 0 <= stages["start_crossing"] < len(x)
 
 
+@pytest.mark.slow
 def test_barrier_with_contact_equals_the_one_without_where_the_saddle_touches_nothing(
         with_contact):
     """The saddle of star -> daisy has every gap above dhat (contact energy zero), so it is
@@ -280,6 +282,7 @@ TR = ["transitions", "--structure", "hexagram", "--shape", "rectangle", "--aspec
       "--load-factor", "2", "--elements", "6", "--state", "star", "--json"]
 
 
+@pytest.mark.slow
 def test_transition_with_contact_keeps_every_pair_apart_and_its_threshold(tmp_path):
     """The star loaded in its load factor at kappa_n R0 = 2 (6 el./rod): with contact the
     written path (loading, the snap's two ends, release) has every judged pair at least h
@@ -317,6 +320,7 @@ def test_transition_with_contact_keeps_every_pair_apart_and_its_threshold(tmp_pa
     assert edge["threshold"] == pytest.approx(ref["threshold"], rel=1e-9)
 
 
+@pytest.mark.slow
 def test_a_threshold_at_a_contact_event_says_so(monkeypatch):
     """The loading path's C1 events reach the transition: its JSON lists them and marks a
     threshold whose bracket meets one, and the message says its sign change may be the
@@ -363,6 +367,7 @@ DISC = ["discover", "--structure", "hexagram", "--shape", "rectangle", "--aspect
         "--load-factor", "2", "--elements", "6", "--starts", "0", "--json"]
 
 
+@pytest.mark.slow
 def test_discover_with_contact_finds_the_states_it_can_hold_with_the_same_energies():
     """From the held states as seeds (6 el./rod, kappa_n R0 = 2): with contact the seeds whose
     rods lie on one curve (the line, the eight) are not run and are listed; every state found
@@ -563,6 +568,7 @@ def test_wide_cusp_welds_get_the_longer_soft_schedule_unless_one_is_given(hexagr
 TR16 = [*TR[:-4], "16", "--state", "star", "--json"]
 
 
+@pytest.mark.slow
 def test_transitions_at_16_elements_need_wide_cusp_welds_and_keep_every_pair_apart(tmp_path):
     """At 16 el./rod (h = 0.02 L) the star's point cusp welds put its rods into one another
     under the contact model: ``transitions --contact --state star`` is refused naming it. With

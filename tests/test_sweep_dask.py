@@ -151,6 +151,7 @@ def test_atlas_grid_on_the_cluster_gives_the_serial_atlas(client):
 
 # ------------------------------------------------------------- kill a running sweep, resume
 
+@pytest.mark.slow
 def test_killed_sweep_on_2_workers_keeps_its_rows_and_a_rerun_resumes(run_cli, tmp_path):
     """The issue's done-when: a sweep on a 2-worker LocalCluster is killed (SIGKILL to its
     process group: the command, the scheduler in it and both workers) after some rows; the
@@ -247,6 +248,7 @@ def test_rerun_solves_only_missing_points_and_drops_a_cut_last_line(tmp_path, mo
     ({"elements": 8}, "its --elements is the design's own, this run's 8"),
     ({"design": "nu"}, "the design differs: section.nu is new"),
 ])
+@pytest.mark.slow
 def test_rerun_of_another_sweep_is_refused_naming_the_difference(tmp_path, monkeypatch,
                                                                   change, needle):
     d = load_design(ARC)

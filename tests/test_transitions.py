@@ -249,6 +249,7 @@ def hexagram_line():
     return edge
 
 
+@pytest.mark.slow
 def test_line_snaps_to_a_six_cusp_state_as_natural_curvature_grows(hexagram_line) -> None:
     """The line loses stability near its upper limit (kappa_n R0 ~ 2.25, FE 2.248 at h/t 4)
     at a DOUBLE critical eigenvalue, and says so: pushed along one direction of the
@@ -268,6 +269,7 @@ def test_line_snaps_to_a_six_cusp_state_as_natural_curvature_grows(hexagram_line
     assert edge.target_invariants.distinct_weld_points == 6
 
 
+@pytest.mark.slow
 def test_a_double_mode_whose_direction_probe_fails_pushes_along_the_solvers_pair(
         monkeypatch) -> None:
     """If branch_directions' probe does not converge (RuntimeError), the line's edge still
@@ -286,6 +288,7 @@ def test_a_double_mode_whose_direction_probe_fails_pushes_along_the_solvers_pair
     assert set(edge.reachable) <= {"star", "daisy"}
 
 
+@pytest.mark.slow
 def test_cli_graph_json_schema_on_a_design(tmp_path, capsys, hexagram_line) -> None:
     """--json on examples/folded_six_ring.toml: states, edges with from/to/stimulus/threshold/
     contact; the figure is written. The ring is the hexagram's read from a file (alternately
@@ -358,6 +361,7 @@ def test_bad_inputs_exit_2_naming_the_value(args, named, capsys) -> None:
     assert named in err and len(err.strip().splitlines()) == 1
 
 
+@pytest.mark.slow
 def test_the_stacked_line_with_contact_holds_past_the_planar_limit_rods_apart(tmp_path,
                                                                              capsys) -> None:
     """The line stacked in two columns with contact (`--layers`), loaded in the natural
