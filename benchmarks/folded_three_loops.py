@@ -22,6 +22,17 @@ windows of half a turn) and the wound ring (the torus curve), relaxed with conta
 (circle, ``h/L = 0.01``, ``dhat = 0.1 h``, 16 and 32 el. per loop): convergence, the verdict,
 the energy above the coincident ring, the ribbon's linking and where the layers swap
 (:func:`rodstab.multistable.folding.layer_swaps`).
+
+``--snake [h/L] [elements] [dhat/h] [steps] [factor]`` (default 0.01 16 0.1 40 30): the folded
+ring held at load 1 (as ``--hold``) followed both ways (to loads 2 and 0.3) by the
+pseudo-arclength continuation with Hessian eigenvalue monitoring
+(:func:`rodstab.nonlinear.continuation.run.continuation`, ``steps`` steps over the range, at most
+``factor`` times that), not stopped at the first special point. Prints the first special point
+each way with the cosine of the lowest eigenmode there with the ring's sliding field
+(:func:`rodstab.multistable.stacked.ring_sliding_field`; near 1: the pinned swap pattern hops
+along the mesh), the range of loads the path reaches, and its lowest and highest folds.
+Loads as ``(L/2pi) kappa_n = 3 mu``. The second method beside ``stacked_limits`` (natural
+parameter, slides taken as the same state): docs/theory/contact.md, "Followed by arclength".
 """
 
 from __future__ import annotations
@@ -175,11 +186,67 @@ def hold_table() -> None:
                   f"{self_linking(rod).value:+d}  {swaps}  ({time.perf_counter() - t:.1f} s)")
 
 
+def slide_cosine(rod: object) -> tuple[float, float]:
+    """Lowest eigenvalue of the Jacobi-scaled Hessian and its mode's |cosine| with sliding."""
+    from rodstab.multistable.stacked import ring_sliding_field
+    from rodstab.nonlinear.stability import jacobi_scaling, lowest_eigenpairs
+
+    free = rod.free_dofs()  # type: ignore[attr-defined]
+    H = rod.energy_terms()[2][free][:, free].tocsc()  # type: ignore[attr-defined]
+    d = jacobi_scaling(0.5 * (H + H.T))
+    vals, V = lowest_eigenpairs((H.multiply(d[:, None]).multiply(d[None, :])).tocsc(), 4)
+    s = ring_sliding_field(rod)  # type: ignore[arg-type]
+    if s is None:
+        return float(vals[0]), float("nan")
+    m = d * V[:, 0]
+    return float(vals[0]), float(abs(m @ s) / (np.linalg.norm(m) * np.linalg.norm(s)))
+
+
+def snake(h: float, n: int, dhat: float, steps: int, factor: int) -> None:
+    """Print where the arclength continuation of the held folded ring goes, both ways."""
+    import time
+
+    from rodstab.multistable.stacked import hold_loops
+    from rodstab.nonlinear.continuation.run import continuation
+    from rodstab.problems import ring as rings
+    from rodstab.sections import circle
+
+    a = rings.build(rings.Params(section=circle(), loops=3))
+    _, rod, ok, its, _ = hold_loops(a, n, 1.0, h * len(a.segments), dhat, "folded")
+    print(f"folded 3-loop ring, circle, h/L {h:g}, {n} el./loop, dhat {dhat:g} h: held at "
+          f"load 1 (converged {ok}, {its} iterations); loads (L/2pi) kappa_n")
+    for end in (2.0, 0.3):
+        t = time.perf_counter()
+        p = continuation(a, "load_factor", 1.0, end, steps, elements_per_segment=n,
+                         rod=rod.copy(), contact=rod.contact.model,  # type: ignore[union-attr]
+                         branch_steps=0, max_steps_factor=factor)
+        at_fold = {q["value"] for q in p.special_points if q["kind"] == "fold"}
+        folds = [(3.0 * v, slide_cosine(s)[1]) for v, s in p.states if v in at_fold]
+        first = p.special_points[0] if p.special_points else None
+        print(f"towards {3 * end:g}: {len(p.value)} points, loads reached "
+              f"[{3 * min(p.value):.4f}, {3 * max(p.value):.4f}], {len(folds)} folds "
+              f"({time.perf_counter() - t:.0f} s; {p.method.split('; ')[-1][:50]})")
+        if first is not None:
+            lam, cos = slide_cosine(p.states[0][1]) if p.states else (float("nan"),) * 2
+            print(f"  first: {first['kind']} at {3 * first['value']:.5f}, lowest mode's "
+                  f"sliding cosine {cos:.3f} (eigenvalue {lam:.2e})")
+        if folds:
+            lo, hi = min(folds), max(folds)
+            print(f"  lowest fold {lo[0]:.5f} (sliding cosine {lo[1]:.3f}), highest "
+                  f"{hi[0]:.5f} ({hi[1]:.3f}); folds with cosine >= 0.8: "
+                  f"{sum(c >= 0.8 for _, c in folds)}")
+
+
 if __name__ == "__main__":
     import sys
 
     if sys.argv[1:2] == ["--hold"]:
         hold_table()
+    elif sys.argv[1:2] == ["--snake"]:
+        a = sys.argv[2:]
+        snake(float(a[0]) if a else 0.01, int(a[1]) if len(a) > 1 else 16,
+              float(a[2]) if len(a) > 2 else 0.1, int(a[3]) if len(a) > 3 else 40,
+              int(a[4]) if len(a) > 4 else 30)
     elif sys.argv[1:2] == ["--cone"]:
         cone_table(sys.argv[2], int(sys.argv[3]))
     else:
