@@ -369,7 +369,8 @@ def _folded_ring_claim() -> Claim:
         "certified (rodstab.multistable.cone_limit, layers='folded')", holds(bool(ok) and all(ok)),
         "New. Contact widens both sides (eq. 3.3's interval 2.147-3.859 for the circle). The "
         "ring held and followed with contact (nonlinear, h/L 0.0025-0.01, 16-64 el., dhat "
-        "0.025-0.2 h) ends at 1.36-1.51 (it snaps open into the one-loop ring, Lk 0 kept) and "
+        "0.025-0.2 h) ends at 1.36-1.51 (it snaps open into the one-loop ring, Lk 0 kept; a "
+        "fold, by arclength continuation too: 1.385-1.399 at 16-64 el.) and "
         "5.06-5.11: inside the bracket of this cone and every pair held closed (0, 5.585), as "
         "a stack that presses must be, not one number: docs/theory/contact.md, 'The folded "
         "N-loop ring'.")
