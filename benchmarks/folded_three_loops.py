@@ -33,6 +33,14 @@ each way with the cosine of the lowest eigenmode there with the ring's sliding f
 along the mesh), the range of loads the path reaches, and its lowest and highest folds.
 Loads as ``(L/2pi) kappa_n = 3 mu``. The second method beside ``stacked_limits`` (natural
 parameter, slides taken as the same state): docs/theory/contact.md, "Followed by arclength".
+
+``--gauge [h/L] [elements] [dhat/h] [steps] [k]`` (default 0.01 16 0.1 40 1): the same, with
+a phase condition that removes the sliding symmetry (a prototype, not in the package): the
+penalty ``(K / 2) (a . (x - x_held))^2`` on the node positions, ``a`` the held state's unit
+sliding field (nodes), ``K = k`` times the median node stiffness times the node unknowns, so the
+constraint holds to round-off and its force ``K a . (x - x_held)``, the pinning force the
+mesh exerts on the swap pattern, does not depend on ``k``. The path then follows one branch
+instead of snaking through the pinned copies: 2 and 5 times ``steps`` up and down.
 """
 
 from __future__ import annotations
@@ -202,8 +210,63 @@ def slide_cosine(rod: object) -> tuple[float, float]:
     return float(vals[0]), float(abs(m @ s) / (np.linalg.norm(m) * np.linalg.norm(s)))
 
 
-def snake(h: float, n: int, dhat: float, steps: int, factor: int) -> None:
-    """Print where the arclength continuation of the held folded ring goes, both ways."""
+def gauged(rod: object, k: float) -> object:
+    """``rod`` with the phase condition of ``--gauge`` (module doc): a :class:`DiscreteRod`
+    subclass whose energy adds the penalty (``_evaluate``; copies keep it)."""
+    import dataclasses
+
+    import scipy.sparse as sp
+
+    from rodstab.multistable.stacked import ring_sliding_field
+    from rodstab.nonlinear.discrete import DiscreteRod
+
+    @dataclasses.dataclass
+    class GaugedRod(DiscreteRod):
+        gauge: tuple | None = None
+
+        def _evaluate(self, order, links, stretch=True, with_contact=True):  # noqa: ANN001, ANN202
+            E, g, H = super()._evaluate(order, links, stretch, with_contact)
+            if self.gauge is None:
+                return E, g, H
+            a, x0, K = self.gauge
+            c = float(np.sum(a * (self.x - x0)))
+            av = a.ravel()
+            if g is not None:
+                g[:av.size] += K * c * av
+            if H is not None:
+                i = np.arange(av.size)
+                H = (H + sp.csr_matrix((K * np.outer(av, av).ravel(),
+                                        (np.repeat(i, av.size), np.tile(i, av.size))),
+                                       shape=H.shape)).tocsr()
+            return E + 0.5 * K * c * c, g, H
+
+    kw = {f.name: getattr(rod, f.name) for f in dataclasses.fields(rod) if f.init}  # type: ignore[arg-type]
+    out = GaugedRod(**kw)
+    full = np.zeros(out.n_dof)
+    full[out.free_dofs()] = ring_sliding_field(out)
+    a = np.array([full[out.node_dofs(i)] for i in range(len(out.x))])
+    nd = a.size
+    K = k * float(np.median(np.abs(out.energy_terms()[2].diagonal()[:nd]))) * nd
+    out.gauge = (a / np.linalg.norm(a), out.x.copy(), K)
+    return out
+
+
+def gauge_force(rod: object) -> float:
+    """The phase condition's force ``K a . (x - x_held)`` (0 without one)."""
+    gauge = getattr(rod, "gauge", None)
+    if gauge is None:
+        return 0.0
+    a, x0, K = gauge
+    return float(K * np.sum(a * (rod.x - x0)))  # type: ignore[attr-defined]
+
+
+def snake(h: float, n: int, dhat: float, steps: int, factor: int, gauge: float = 0.0
+          ) -> None:
+    """Print where the arclength continuation of the held folded ring goes, both ways.
+
+    ``gauge`` > 0: with the phase condition of that ``k`` (``--gauge``), ``factor`` 2 up and
+    5 down, every special point printed.
+    """
     import time
 
     from rodstab.multistable.stacked import hold_loops
@@ -214,12 +277,15 @@ def snake(h: float, n: int, dhat: float, steps: int, factor: int) -> None:
     a = rings.build(rings.Params(section=circle(), loops=3))
     _, rod, ok, its, _ = hold_loops(a, n, 1.0, h * len(a.segments), dhat, "folded")
     print(f"folded 3-loop ring, circle, h/L {h:g}, {n} el./loop, dhat {dhat:g} h: held at "
-          f"load 1 (converged {ok}, {its} iterations); loads (L/2pi) kappa_n")
-    for end in (2.0, 0.3):
+          f"load 1 (converged {ok}, {its} iterations); loads (L/2pi) kappa_n"
+          + (f"; phase condition k = {gauge:g}" if gauge > 0 else ""))
+    start = gauged(rod, gauge) if gauge > 0 else rod
+    for end, fac in ((2.0, 2 if gauge > 0 else factor), (0.3, 5 if gauge > 0 else factor)):
         t = time.perf_counter()
         p = continuation(a, "load_factor", 1.0, end, steps, elements_per_segment=n,
-                         rod=rod.copy(), contact=rod.contact.model,  # type: ignore[union-attr]
-                         branch_steps=0, max_steps_factor=factor)
+                         rod=start.copy(),  # type: ignore[attr-defined]
+                         contact=rod.contact.model,  # type: ignore[union-attr]
+                         branch_steps=0, max_steps_factor=fac)
         at_fold = {q["value"] for q in p.special_points if q["kind"] == "fold"}
         folds = [(3.0 * v, slide_cosine(s)[1]) for v, s in p.states if v in at_fold]
         first = p.special_points[0] if p.special_points else None
@@ -230,6 +296,13 @@ def snake(h: float, n: int, dhat: float, steps: int, factor: int) -> None:
             lam, cos = slide_cosine(p.states[0][1]) if p.states else (float("nan"),) * 2
             print(f"  first: {first['kind']} at {3 * first['value']:.5f}, lowest mode's "
                   f"sliding cosine {cos:.3f} (eigenvalue {lam:.2e})")
+        if gauge > 0:
+            states = dict(p.states)
+            for q in p.special_points:
+                st = states.get(q["value"])
+                cos = slide_cosine(st)[1] if st is not None else float("nan")
+                print(f"  {q['kind']} at {3 * q['value']:.5f}: sliding cosine {cos:.3f}, "
+                      f"phase force {gauge_force(st):.2e}")
         if folds:
             lo, hi = min(folds), max(folds)
             print(f"  lowest fold {lo[0]:.5f} (sliding cosine {lo[1]:.3f}), highest "
@@ -247,6 +320,11 @@ if __name__ == "__main__":
         snake(float(a[0]) if a else 0.01, int(a[1]) if len(a) > 1 else 16,
               float(a[2]) if len(a) > 2 else 0.1, int(a[3]) if len(a) > 3 else 40,
               int(a[4]) if len(a) > 4 else 30)
+    elif sys.argv[1:2] == ["--gauge"]:
+        a = sys.argv[2:]
+        snake(float(a[0]) if a else 0.01, int(a[1]) if len(a) > 1 else 16,
+              float(a[2]) if len(a) > 2 else 0.1, int(a[3]) if len(a) > 3 else 40, 0,
+              float(a[4]) if len(a) > 4 else 1.0)
     elif sys.argv[1:2] == ["--cone"]:
         cone_table(sys.argv[2], int(sys.argv[3]))
     else:
