@@ -41,6 +41,11 @@ sliding field (nodes), ``K = k`` times the median node stiffness times the node 
 constraint holds to round-off and its force ``K a . (x - x_held)``, the pinning force the
 mesh exerts on the swap pattern, does not depend on ``k``. The path then follows one branch
 instead of snaking through the pinned copies: 2 and 5 times ``steps`` up and down.
+
+``--regauge [h/L] [elements] [dhat/h] [piece]`` (default 0.01 16 0.1 4): upward only, the
+phase condition set anew (from the state reached) every ``piece`` steps of 0.025 in the load
+factor, so it fixes the swap pattern relative to the last state rather than the held one; stops
+at the first fold or failed piece. Prints every special point and each piece's end.
 """
 
 from __future__ import annotations
@@ -310,6 +315,41 @@ def snake(h: float, n: int, dhat: float, steps: int, factor: int, gauge: float =
                   f"{sum(c >= 0.8 for _, c in folds)}")
 
 
+def regauge(h: float, n: int, dhat: float, piece: int, stop: float = 2.0) -> None:
+    """Print the phased continuation upward, the phase set anew every ``piece`` steps."""
+    import time
+
+    from rodstab.multistable.stacked import hold_loops
+    from rodstab.nonlinear.continuation.run import continuation
+    from rodstab.problems import ring as rings
+    from rodstab.sections import circle
+
+    a = rings.build(rings.Params(section=circle(), loops=3))
+    _, rod, ok, its, _ = hold_loops(a, n, 1.0, h * len(a.segments), dhat, "folded")
+    print(f"folded 3-loop ring, circle, h/L {h:g}, {n} el./loop, dhat {dhat:g} h, phase set "
+          f"anew every {piece} steps of 0.025; loads (L/2pi) kappa_n")
+    v, state, step, t = 1.0, rod, 0.025, time.perf_counter()
+    while stop - v > 1e-9:
+        g = gauged(state, 1.0)
+        end = min(v + piece * step, stop)
+        p = continuation(a, "load_factor", v, end, max(1, round((end - v) / step)),
+                         elements_per_segment=n, rod=g,  # type: ignore[arg-type]
+                         contact=rod.contact.model,  # type: ignore[union-attr]
+                         branch_steps=0, max_steps_factor=3)
+        states = dict(p.states)
+        for q in p.special_points:
+            st = states.get(q["value"])
+            cos = slide_cosine(st)[1] if st is not None else float("nan")
+            print(f"  {q['kind']} at {3 * q['value']:.5f}: sliding cosine {cos:.3f}, phase "
+                  f"force {gauge_force(st):.2e}")
+        print(f"piece {3 * v:.4f} -> {3 * p.value[-1]:.4f}: lowest eigenvalue "
+              f"{p.lowest_eigenvalue[-1]:.2e} ({time.perf_counter() - t:.0f} s)")
+        if not p.converged or any(q["kind"] == "fold" for q in p.special_points):
+            print("stopped:", p.method.split("; ")[-1][:70])
+            break
+        v, state = p.value[-1], g
+
+
 if __name__ == "__main__":
     import sys
 
@@ -325,6 +365,10 @@ if __name__ == "__main__":
         snake(float(a[0]) if a else 0.01, int(a[1]) if len(a) > 1 else 16,
               float(a[2]) if len(a) > 2 else 0.1, int(a[3]) if len(a) > 3 else 40, 0,
               float(a[4]) if len(a) > 4 else 1.0)
+    elif sys.argv[1:2] == ["--regauge"]:
+        a = sys.argv[2:]
+        regauge(float(a[0]) if a else 0.01, int(a[1]) if len(a) > 1 else 16,
+                float(a[2]) if len(a) > 2 else 0.1, int(a[3]) if len(a) > 3 else 4)
     elif sys.argv[1:2] == ["--cone"]:
         cone_table(sys.argv[2], int(sys.argv[3]))
     else:
