@@ -206,3 +206,35 @@ def test_layer_swaps_of_a_ring_that_winds_once_is_empty():
     """The one-loop ring (what the folded ring snaps open into) has no layers to swap."""
     a = rings.build(rings.Params(section=circle(), loops=1))
     assert len(layer_swaps(discretise(a, 32, 1.0))) == 0
+
+
+@pytest.mark.slow
+def test_arclength_continuation_of_the_held_folded_ring_first_folds_by_sliding():
+    """The folded ring held with contact at load 1 (16 el. per loop, h/L 0.01, dhat 0.1 h),
+    followed up and down by arclength: each way the first special point is a fold whose lowest
+    eigenmode is the ring's sliding field (measured cosines 0.988 and 0.998, at 3.677 and 2.907
+    in (L/2pi) kappa_n): the mesh pins the swap pattern and each pinned copy folds after a
+    short stretch (docs/theory/contact.md, 'Followed by arclength'). The cosine is computed
+    here from the Hessian's lowest eigenvector, independently of the follower's slide test."""
+    from scipy.sparse.linalg import eigsh
+
+    from rodstab.multistable.stacked import hold_loops, ring_sliding_field
+    from rodstab.nonlinear.continuation.run import continuation
+
+    a = rings.build(rings.Params(section=circle(), loops=3))
+    _, rod, ok, _, _ = hold_loops(a, 16, 1.0, 0.01 * len(a.segments), 0.1, "folded")
+    assert ok
+    for end in (2.0, 0.3):
+        p = continuation(a, "load_factor", 1.0, end, 40, elements_per_segment=16,
+                         rod=rod.copy(), contact=rod.contact.model, branch_steps=0,
+                         stop_at_first=True)
+        assert p.special_points and p.special_points[0]["kind"] == "fold"
+        value, state = p.states[0]
+        assert 1.0 < value < 1.3 if end > 1 else 0.7 < value < 1.0  # a short stretch
+        free = state.free_dofs()
+        H = state.energy_terms()[2][free][:, free]
+        d = 1.0 / np.sqrt(np.abs(H.diagonal()))
+        A = (H.multiply(d[:, None]).multiply(d[None, :])).tocsc()
+        _, V = eigsh(0.5 * (A + A.T), k=1, sigma=-1e-6, which="LM")
+        mode, s = d * V[:, 0], ring_sliding_field(state)
+        assert abs(mode @ s) / (np.linalg.norm(mode) * np.linalg.norm(s)) > 0.9
