@@ -50,6 +50,7 @@ def test_path_file_holds_every_state_the_elements_and_the_thickness(run):
     assert np.argmax(z["energy"]) == payload["saddle_position"]
 
 
+@pytest.mark.slow
 def test_printed_contact_is_recomputed_from_the_file_alone(run):
     """Judged pairs (elements of rods sharing no node, or of one rod >= 3 elements apart), the
     pairs stacked in the first state (closer than h), and the other pairs' smallest distance
@@ -67,6 +68,7 @@ def test_printed_contact_is_recomputed_from_the_file_alone(run):
     assert smallest - printed <= 0.05 + 1e-12
 
 
+@pytest.mark.slow
 def test_printed_pass_through_has_a_witness_in_the_file(run):
     """The path (5 points, no contact model) is judged to pass rods through each other at
     the point where, from the file alone, a stacked pair's out-of-plane order (its separation's
