@@ -41,6 +41,7 @@ def ring_at(design: str, aspect: float):
 @pytest.mark.parametrize("design,aspect,labels", [(HEXAGRAM, 4.0, FOUR),
                                                   (SIX_RING, 2.5, None)],
                          ids=["hexagram h/t=4", "six-ring h/t=2.5, every state"])
+@pytest.mark.slow
 def test_transfer_and_fe_agree_on_every_limit_and_multiplicity(design, aspect, labels):
     """Bloch harmonics vs the FE engine (Richardson 32/64): 1e-6 (relative above 1)."""
     ring = ring_at(design, aspect)

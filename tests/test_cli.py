@@ -491,6 +491,7 @@ def test_cli_internal_value_error_is_not_reported_as_bad_input(run_cli, monkeypa
 @pytest.mark.parametrize("argv", [["--help"], ["section", "--json"],
                                   ["ring", "--loops", "3", "--json"],
                                   ["michell", "--loops", "2", "--json"]])
+@pytest.mark.slow
 def test_closed_form_commands_import_no_scipy(argv):
     """Issue 12's start-up target: --help and the closed-form commands (section, ring,
     michell) import no scipy module (scipy.linalg and scipy.sparse cost ~0.3 s to import)."""

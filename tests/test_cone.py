@@ -316,6 +316,7 @@ def test_analyze_contact_bad_input_exits_2_naming_it(run_cli, args, words):
     assert r.exit_code == 2 and words in r.stderr, r.stderr
 
 
+@pytest.mark.slow
 def test_a_coarse_fe_mesh_does_not_make_the_layer_order_unbuildable(run_cli):
     """Found by trying every example: the 3-loop ring of one segment at 24 elements (8 per
     loop) was refused because the order was built on that mesh, whose chords added their

@@ -102,6 +102,7 @@ def test_four_negative_directions_is_undecided_not_positive() -> None:
 
 
 @pytest.mark.parametrize("loops", [2, 3])
+@pytest.mark.slow
 def test_fe_and_the_closed_form_fourier_modes_agree_on_the_rings(loops: int) -> None:
     """Two discretisations of the torus's cone (FE 12 el./loop, Fourier j <= 16) within 2e-3.
 
@@ -140,6 +141,7 @@ def test_a_kept_limit_has_a_witness_at_once_and_a_moved_one_certified_past_it() 
         assert sign * (side.bracket[0] - side.no_contact) > 0.1  # certified positive past it
 
 
+@pytest.mark.slow
 def test_the_rod_engine_agrees_with_the_fe_on_heights_and_in_plane_motions_only_bring_back():
     """A third discretisation: the nonlinear rod's inextensible Hessian on the same cone.
 
@@ -181,6 +183,7 @@ def test_no_constraints_is_plain_definiteness_with_a_witness():
     assert d.witness @ np.diag([-1.0, 2.0]) @ d.witness < 0
 
 
+@pytest.mark.slow
 def test_a_flat_strip_ring_found_by_the_differential_test():
     """benchmarks/differential.py --family contact-rings --seed 21 --index 14: a 2-loop ring of
     a flat strip (rectangle h/t = 7.52, b1/b2 = 33). At 16 elements per loop the FE's upper
@@ -351,6 +354,7 @@ def test_held_closed_rings_by_the_rod_against_the_reduced_theory():
         assert "holding every touching pair's gap closed" in runs[1].method
 
 
+@pytest.mark.slow
 def test_the_folded_ring_in_two_columns_reaches_the_independent_pi_over_two():
     """The folded ring stacked in two columns (one loop per layer): its out-of-plane limit with
     contact is lam = pi / 2 by an independent derivation (helper-14: twist eliminated, the
@@ -375,6 +379,7 @@ def test_the_folded_ring_in_two_columns_reaches_the_independent_pi_over_two():
 
 
 @pytest.mark.parametrize("section", ["rectangle 4", "circle"])
+@pytest.mark.slow
 def test_the_line_in_two_columns_held_closed_converges_to_the_independent_pi(section):
     """The hexagram's line (the folded six-ring) in two columns with every touching pair held
     closed: the rod engine (full normals, in-plane motions included) converges at order 2 to

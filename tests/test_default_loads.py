@@ -38,6 +38,7 @@ def test_barrier_circle_default_names_both_intervals(run_cli):
     assert "folded (-0.433013, 0.433013)" in r.stderr and "one-loop (0.575694" in r.stderr
 
 
+@pytest.mark.slow
 def test_barrier_default_load_is_inside_both_fe_intervals(run_cli):
     from rodstab.linear.solve import converged_stability
     from rodstab.problems.barrier_states import model_load_factor, state_assembly

@@ -277,6 +277,7 @@ def test_nonlinear_verdict_past_the_lower_limit_of_a_strongly_curved_arc() -> No
     assert eq.stability_resolved and eq.stable, eq.lowest_eigenvalues
 
 
+@pytest.mark.slow
 def test_nonlinear_certifies_no_pre_asymptotic_pair_on_a_long_split_arc() -> None:
     """A split arc (rectangle h/t = 9.547, nu = 0.328; arcs 6.908, 1.049, 5.911, 4.922 of
     R = 1, clamped; seed 1, assemblies index 183). Its doubled meshes gave 2.06487, 2.06770,

@@ -226,6 +226,7 @@ def test_continuation_diagram_draws_the_branch_against_its_amplitude(made, tmp_p
     assert np.ptp(lines[0].get_ydata()) > 1e-4  # not a line along the parameter axis
 
 
+@pytest.mark.slow
 def test_continuation_diagram_has_no_offset_text_on_a_title_and_no_colliding_labels(
         made, tmp_path):
     """Eigenvalues of ~1e-6: the multiplier is in the axis label ('(x1e-6)'), no offset text

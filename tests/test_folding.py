@@ -56,6 +56,7 @@ def test_the_folded_ring_links_like_the_untwisted_ring_and_keeps_its_gaps(N, n, 
     assert np.max(np.abs(np.sort(found) - expected)) <= math.pi / n
 
 
+@pytest.mark.slow
 def test_the_linking_number_is_the_sum_of_the_swaps_senses():
     """Lk = Wr (the strip flat) = the sum of the swaps' signs, one convention for every
     sequence; all alike gives the wound ring's |Lk| = N - 1."""
@@ -86,6 +87,7 @@ def test_bad_senses_are_refused_naming_them():
         fold_loops(rod, 0.01 * a.total_length, 1e-3, senses=(1, 0))
 
 
+@pytest.mark.slow
 def test_the_folded_ring_is_held_with_contact_its_swaps_half_a_turn_apart():
     """Relaxed with contact at load factor 1 (stress-free coincident loops): converged,
     stable, still linking 0 times, its two swaps half a turn apart (the construction put them

@@ -116,6 +116,7 @@ def test_twisted_rod_with_both_ends_fixed_has_the_same_linear_threshold():
     assert vals[0] == pytest.approx(vals[1], rel=1e-6)
 
 
+@pytest.mark.slow
 def test_segment_natural_curvature_key_matches_the_held_state_critical_load():
     """Varying a segment's natural curvature (incremental natural-shape update) at load factor
     1 locates the same critical value as the held-state root finder in the load factor."""

@@ -404,6 +404,7 @@ def test_rerun_with_another_design_into_same_dir_does_not_mix(run_cli, tmp_path)
         fresh["special_points"][0]["value"])
 
 
+@pytest.mark.slow
 def test_rerun_with_other_branch_steps_into_same_dir_does_not_mix(run_cli, tmp_path):
     common = ["continue", str(TWISTED_TOML), "--vary", f"{KEY}=0:13:10", "--elements", "6",
               "--no-progress", "--no-pictures", "--json", "--out", str(tmp_path)]
@@ -431,6 +432,7 @@ def test_rerun_into_same_dir_leaves_no_stale_animation(run_cli, tmp_path):
 
 # ------------------------------------------------------------------ 3. physics sanity
 @pytest.mark.parametrize("n", [8, 12])
+@pytest.mark.slow
 def test_load_factor_critical_matches_held_state_root_finder_both_directions(n):
     a = straight()
     held = critical_load_factor(a, 1.0, 8.0, elements_per_segment=n).load_factor_critical
@@ -559,6 +561,7 @@ def test_imperfection_sensitivity_bad_epsilons(eps):
                                  epsilons=eps)
 
 
+@pytest.mark.slow
 def test_imperfection_sensitivity_supercritical_is_not_reported_sensitive():
     """The straight rod's branch is stable symmetric (continuation says supercritical). With 7
     steps the imperfect paths jump to the complementary branch and report a 'loss of

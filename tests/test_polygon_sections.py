@@ -221,6 +221,7 @@ def test_a_bimaterial_strip_bends_as_its_transformed_section():
     assert same.b2 == pytest.approx(exact.b2, rel=1e-4)  # 5.6e-5 as one polygon at this mesh
 
 
+@pytest.mark.slow
 def test_a_composite_shaft_twists_with_each_parts_own_shear_modulus():
     """A core (r < 1/2, nu = 0) bonded in a tube (1/2 < r < 1, nu = 1/2) of the same E: for
     circular parts GJ = G_core J_core + G_tube J_tube exactly (no warping), so

@@ -112,6 +112,7 @@ def test_a_failed_climb_says_why_and_claims_no_saddle() -> None:
     assert np.isfinite(climb.energy)
 
 
+@pytest.mark.slow
 def test_a_ceiling_below_the_saddle_stops_the_climb_that_would_reach_it() -> None:
     """The star -> daisy saddle is 4.97 above the star: a ceiling of 1 stops that climb there."""
     star = _relaxed("hexagram", "star", 1.5)
@@ -288,6 +289,7 @@ def test_the_crossing_saddle_continued_into_contact_keeps_index_one_and_its_side
     assert res.distances[-1] > 1.0 and res.stiffnesses[-1] == pytest.approx(model.stiffness)
 
 
+@pytest.mark.slow
 def test_a_saddle_that_touches_nothing_is_its_own_continuation() -> None:
     """Star <-> daisy at kappa_n R0 = 1.5: no pair within reach, the same saddle with contact.
 

@@ -60,6 +60,7 @@ def relaxed():
     return rod, st, describe(rod, st.rod, ok, its, res)
 
 
+@pytest.mark.slow
 def test_relaxed_state_tends_to_the_planar_held_state_as_h_vanishes(relaxed):
     """h / L = 0.01 and 0.005 at mu = 0.9: the relaxed ring's largest height falls like h
     (order 1 +- 0.2) and its energy's excess over the coincident planar ring (the held state,
@@ -105,6 +106,7 @@ def test_contact_forces_balance_over_free_bodies(relaxed):
 
 
 @pytest.mark.parametrize("elements", [16, 32])
+@pytest.mark.slow
 def test_without_contact_the_routine_gives_the_closed_form_interval(elements):
     """Contact off (the coincident planar ring, no contact model): the same following, scan
     and refinement gives eq. (3.3)'s interval, 2.1472 < (L/2pi) kappa_n < 3.8593 for the

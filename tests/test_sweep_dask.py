@@ -340,6 +340,7 @@ def test_cli_workers_without_dask_exits_2_and_the_default_runs_serially(run_cli,
         ' for --workers N))'
 
 
+@pytest.mark.slow
 def test_help_closed_form_and_serial_sweep_import_no_dask_pandas_or_pyarrow(tmp_path):
     """The optional dependencies are imported only where used: not by --help, a closed-form
     command, `import rodstab`, nor a serial sweep (which needs none of them)."""

@@ -352,6 +352,7 @@ def test_cli_graph_json_schema_on_a_design(tmp_path, capsys, hexagram_line) -> N
     (["--contact", "--state", "line", "--layers", TWO_COLUMNS, "--stimulus",
       "line=weld.2.moment.binormal:12"], "--stimulus line=weld.2.moment.binormal:12"),
 ])
+@pytest.mark.slow
 def test_bad_inputs_exit_2_naming_the_value(args, named, capsys) -> None:
     """Bad states, weld indices and stimulus keys: exit 2, one stderr line naming the value."""
     with pytest.raises(SystemExit) as exc:

@@ -583,6 +583,7 @@ def test_states_of_the_steel_six_ring_in_1_per_m_and_joules(run_cli):
     assert header.split()[-4:] == ["k", "1/m", "energy", "J"]
 
 
+@pytest.mark.slow
 def test_barrier_on_the_hexagram_strip_in_joules(run_cli):
     """The barrier's energies in J are the model's x B3 / L, B3 = E h t^3/12 by hand (h = 2 mm
     out of the plane, t = 0.5 mm in it), L = 167.55 mm; the line it starts from holds six
