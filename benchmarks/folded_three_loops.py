@@ -256,6 +256,16 @@ def gauged(rod: object, k: float) -> object:
     return out
 
 
+def print_specials(p: object) -> None:
+    """Print a path's special points with their sliding cosine and phase force."""
+    states = dict(p.states)  # type: ignore[attr-defined]
+    for q in p.special_points:  # type: ignore[attr-defined]
+        st = states.get(q["value"])
+        cos = slide_cosine(st)[1] if st is not None else float("nan")
+        print(f"  {q['kind']} at {3 * q['value']:.5f}: sliding cosine {cos:.3f}, phase "
+              f"force {gauge_force(st):.2e}")
+
+
 def gauge_force(rod: object) -> float:
     """The phase condition's force ``K a . (x - x_held)`` (0 without one)."""
     gauge = getattr(rod, "gauge", None)
@@ -302,12 +312,7 @@ def snake(h: float, n: int, dhat: float, steps: int, factor: int, gauge: float =
             print(f"  first: {first['kind']} at {3 * first['value']:.5f}, lowest mode's "
                   f"sliding cosine {cos:.3f} (eigenvalue {lam:.2e})")
         if gauge > 0:
-            states = dict(p.states)
-            for q in p.special_points:
-                st = states.get(q["value"])
-                cos = slide_cosine(st)[1] if st is not None else float("nan")
-                print(f"  {q['kind']} at {3 * q['value']:.5f}: sliding cosine {cos:.3f}, "
-                      f"phase force {gauge_force(st):.2e}")
+            print_specials(p)
         if folds:
             lo, hi = min(folds), max(folds)
             print(f"  lowest fold {lo[0]:.5f} (sliding cosine {lo[1]:.3f}), highest "
@@ -336,12 +341,7 @@ def regauge(h: float, n: int, dhat: float, piece: int, stop: float = 2.0) -> Non
                          elements_per_segment=n, rod=g,  # type: ignore[arg-type]
                          contact=rod.contact.model,  # type: ignore[union-attr]
                          branch_steps=0, max_steps_factor=3)
-        states = dict(p.states)
-        for q in p.special_points:
-            st = states.get(q["value"])
-            cos = slide_cosine(st)[1] if st is not None else float("nan")
-            print(f"  {q['kind']} at {3 * q['value']:.5f}: sliding cosine {cos:.3f}, phase "
-                  f"force {gauge_force(st):.2e}")
+        print_specials(p)
         print(f"piece {3 * v:.4f} -> {3 * p.value[-1]:.4f}: lowest eigenvalue "
               f"{p.lowest_eigenvalue[-1]:.2e} ({time.perf_counter() - t:.0f} s)")
         if not p.converged or any(q["kind"] == "fold" for q in p.special_points):
