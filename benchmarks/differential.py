@@ -911,13 +911,10 @@ def linking(rng: np.random.Generator) -> Trial:
     label = f"{N}-loop ring stacked on the torus, {el} el./loop, h = {h}"
     code = (f"stack_loops(discretise(ring.build(ring.Params(loops={N})), {el}, 0.0), {h}, "
             f"{0.05 * h})")
-    state: list[Any] = []
-
+    @functools.cache  # built once, read by every method
     def lk() -> Any:
-        if not state:
-            state.append(self_linking(stack_loops(
-                discretise(ring.build(ring.Params(loops=N)), el, 0.0), h, 0.05 * h).rod))
-        return state[0]
+        return self_linking(stack_loops(
+            discretise(ring.build(ring.Params(loops=N)), el, 0.0), h, 0.05 * h).rod)
 
     return Trial(label, code, {**_linking_methods(lk),
                                "closed-form": lambda: {"Lk": float(1 - N)}},
@@ -945,13 +942,10 @@ def flat_foldings(rng: np.random.Generator) -> Trial:
     label = f"{N}-loop ring folded flat, swap senses {list(senses)}, {el} el./loop, h = {h}"
     code = (f"fold_loops(discretise(ring.build(ring.Params(loops={N})), {el}, 1.0), {h}, "
             f"{0.05 * h}, senses={senses})")
-    state: list[Any] = []
-
+    @functools.cache  # built once, read by every method
     def built() -> Any:
-        if not state:
-            rod = discretise(ring.build(ring.Params(loops=N)), el, 1.0)
-            state.append((rod, self_linking(fold_loops(rod, h, 0.05 * h, senses=senses).rod)))
-        return state[0]
+        rod = discretise(ring.build(ring.Params(loops=N)), el, 1.0)
+        return rod, self_linking(fold_loops(rod, h, 0.05 * h, senses=senses).rod)
 
     def closed_form() -> Values:
         x = built()[0].x
