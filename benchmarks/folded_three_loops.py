@@ -42,6 +42,11 @@ constraint holds to round-off and its force ``K a . (x - x_held)``, the pinning 
 mesh exerts on the swap pattern, does not depend on ``k``. The path then follows one branch
 instead of snaking through the pinned copies: 2 and 5 times ``steps`` up and down.
 
+``--near circle|rect2 ELEMENTS LOAD [up|down]``: the held ring (h/L 0.01, dhat 0.1 h)
+stepped in the natural parameter to LOAD (Newton with contact, steps of 0.009), then the
+arclength continuation over 0.3 beyond it: started near an end, the path reaches it instead
+of wandering through the pinned copies (docs/theory/contact.md, "Started near the ends").
+
 ``--regauge [h/L] [elements] [dhat/h] [piece]`` (default 0.01 16 0.1 4): upward only, the
 phase condition set anew (from the state reached) every ``piece`` steps of 0.025 in the load
 factor, so it fixes the swap pattern relative to the last state rather than the held one; stops
@@ -350,6 +355,46 @@ def regauge(h: float, n: int, dhat: float, piece: int, stop: float = 2.0) -> Non
         v, state = p.value[-1], g
 
 
+def near_end(shape: str, n: int, near: float, up: bool, h: float = 0.01, dhat: float = 0.1
+             ) -> None:
+    """Print the arclength continuation of the held ring started near one end (``--near``).
+
+    The held ring (``shape`` circle or rect2) stepped in the natural parameter by 0.009 in
+    ``(L/2pi) kappa_n`` (Newton with contact) to ``near``, then followed by the
+    pseudo-arclength continuation over 0.3 beyond it (40 steps, at most 160): its special
+    points with their sliding cosines, the loads and lowest eigenvalues along it.
+    """
+    import time
+
+    from rodstab.multistable.stacked import hold_loops
+    from rodstab.nonlinear.continuation.run import continuation
+    from rodstab.nonlinear.solve import newton
+    from rodstab.problems import ring as rings
+    from rodstab.sections import circle, rectangle
+
+    section = rectangle(aspect=2.0) if shape == "rect2" else circle()
+    a = rings.build(rings.Params(section=section, loops=3))
+    _, rod, _, _, _ = hold_loops(a, n, 1.0, h * len(a.segments), dhat, "folded")
+    t = time.perf_counter()
+    mu, step = 1.0, 0.003 if up else -0.003
+    while (mu + step - near / 3) * (1 if up else -1) <= 1e-12:
+        rod.load_factor = mu + step
+        if not newton(rod)[0]:
+            print(f"Newton failed at {3 * (mu + step):.4f}")
+            return
+        mu += step
+    end = (near + (0.3 if up else -0.3)) / 3
+    p = continuation(a, "load_factor", mu, end, 40, elements_per_segment=n, rod=rod.copy(),
+                     contact=rod.contact.model,  # type: ignore[union-attr]
+                     branch_steps=0, max_steps_factor=4)
+    print(f"{shape}, {n} el./loop, h/L {h:g}, dhat {dhat:g} h: natural steps to {3 * mu:.4f}, "
+          f"arclength reached [{3 * min(p.value):.5f}, {3 * max(p.value):.5f}] "
+          f"({time.perf_counter() - t:.0f} s)")
+    print_specials(p)
+    print("  loads", " ".join(f"{3 * v:.4f}" for v in p.value))
+    print("  lowest eigenvalues", " ".join(f"{v:.1e}" for v in p.lowest_eigenvalue))
+
+
 if __name__ == "__main__":
     import sys
 
@@ -369,6 +414,9 @@ if __name__ == "__main__":
         a = sys.argv[2:]
         regauge(float(a[0]) if a else 0.01, int(a[1]) if len(a) > 1 else 16,
                 float(a[2]) if len(a) > 2 else 0.1, int(a[3]) if len(a) > 3 else 4)
+    elif sys.argv[1:2] == ["--near"]:
+        a = sys.argv[2:]
+        near_end(a[0], int(a[1]), float(a[2]), a[3:4] != ["down"])
     elif sys.argv[1:2] == ["--cone"]:
         cone_table(sys.argv[2], int(sys.argv[3]))
     else:

@@ -368,12 +368,13 @@ def _folded_ring_claim() -> Claim:
         f"minimum of P2 (FE, {n} el./loop, out of plane) and of the rod's Hessian on the cone, "
         "certified (rodstab.multistable.cone_limit, layers='folded')", holds(bool(ok) and all(ok)),
         "New. Contact widens both sides (eq. 3.3's interval 2.147-3.859 for the circle). The "
-        "ring held and followed with contact (nonlinear, h/L 0.0025-0.01, 16-64 el., dhat "
-        "0.025-0.2 h) ends at 1.36-1.51 (it snaps open into the one-loop ring, Lk 0 kept; a "
-        "fold, by arclength continuation too: 1.385-1.399 at 16-64 el.) and "
-        "5.06-5.11: inside the bracket of this cone and every pair held closed (0, 5.585), as "
-        "a stack that presses must be, not one number: docs/theory/contact.md, 'The folded "
-        "N-loop ring'.")
+        "circular ring held with finite thickness presses, so its limits need not be these: "
+        "held and followed with contact (nonlinear, h/L 0.01, dhat 0.1 h, 16-64 el.) it is "
+        "stable between two folds, 1.39 +- 0.02 (it snaps open into the one-loop ring, Lk 0 "
+        "kept) and 5.08 +- 0.02, by the natural-parameter follower and by arclength "
+        "continuation: inside the bracket of this cone and every pair held closed (0, 5.585), "
+        "as a stack that presses must be; the rectangle (32 el.) ends near 0.45 and 7.0: "
+        "docs/theory/contact.md, 'Started near the ends'.")
 
 
 def _pressed_line_claim() -> Claim:
