@@ -15,6 +15,9 @@ with contact at kappa_n R0 = 3) followed both ways in the load factor by
 A fold is where the second can only say that the branch ends; the first says that it turns.
 Run: ``OMP_NUM_THREADS=1 python benchmarks/eight_braid_fold.py [h/L] [elements] [dhat/h]
 [steps]`` (default 0.01 16 0.1 40: continuation steps over 3 -> 7 and 3 -> 0.2).
+``--near h/L elements dhat/h LOAD``: Newton steps of 0.01 in the load factor from 3 to LOAD,
+then the continuation over 0.5 beyond it (40 steps, at most 160), every special point
+printed: started near an end, the path need not cross the rest of the branch first.
 """
 
 from __future__ import annotations
@@ -22,6 +25,7 @@ from __future__ import annotations
 import sys
 import time
 
+import numpy as np
 from eight_braid_hold import NO_CONTACT, START  # this folder, on the path when run as a script
 
 from rodstab.multistable.braid import braid_limits, hold_braid
@@ -62,7 +66,46 @@ def main(h: float, n: int, dhat: float, steps: int) -> None:
     print(f"  ({t_cont:.0f} s and {time.perf_counter() - t:.0f} s)")
 
 
+def near(h: float, n: int, dhat: float, load: float, steps: int = 40) -> None:
+    """Natural steps of 0.01 from the held rope to ``load``, then arclength over 0.5 beyond.
+
+    Steps halved up to four times where Newton fails. ``--near`` (module doc): started near
+    an end, the path reaches it instead of failing on
+    the way; prints its special points, loads and lowest eigenvalues.
+    """
+    from rodstab.nonlinear.solve import newton
+
+    a = state_assembly("hexagram", rectangle(aspect=4.0), "eight")
+    t = time.perf_counter()
+    _, rod, ok, _, _ = hold_braid(a, n, START, h, dhat)
+    mu, step = START, 0.01 if load > START else -0.01
+    while (mu + step - load) * (1 if step > 0 else -1) <= 1e-12:
+        for h_step in step / 2.0 ** np.arange(5):  # halved up to four times on a failure
+            trial = rod.copy()
+            trial.load_factor = mu + h_step
+            if newton(trial)[0]:
+                rod, mu = trial, mu + h_step
+                break
+        else:
+            print(f"Newton failed at {mu + step / 16:.5f} (steps halved 4 times)")
+            return
+    end = mu + (0.5 if step > 0 else -0.5)
+    p = continuation(a, "load_factor", mu, end, steps, elements_per_segment=n, rod=rod.copy(),
+                     contact=rod.contact.model,  # type: ignore[union-attr]
+                     branch_steps=0, max_steps_factor=4)
+    print(f"h/L {h:g}, {n} el., dhat {dhat:g} h (held at {START}: {ok}): natural steps to "
+          f"{mu:.4f}, arclength reached [{min(p.value):.5f}, {max(p.value):.5f}] "
+          f"({time.perf_counter() - t:.0f} s)")
+    for q in p.special_points:
+        print(f"  {q['kind']} at {q['value']:.5f}")
+    print("  loads", " ".join(f"{v:.4f}" for v in p.value))
+    print("  lowest eigenvalues", " ".join(f"{v:.1e}" for v in p.lowest_eigenvalue))
+
+
 if __name__ == "__main__":
     args = sys.argv[1:]
+    if args[:1] == ["--near"]:
+        near(float(args[1]), int(args[2]), float(args[3]), float(args[4]))
+        sys.exit(0)
     main(float(args[0]) if args else 0.01, int(args[1]) if len(args) > 1 else 16,
          float(args[2]) if len(args) > 2 else 0.1, int(args[3]) if len(args) > 3 else 40)
