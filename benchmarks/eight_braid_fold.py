@@ -18,6 +18,9 @@ Run: ``OMP_NUM_THREADS=1 python benchmarks/eight_braid_fold.py [h/L] [elements] 
 ``--near h/L elements dhat/h LOAD``: Newton steps of 0.01 in the load factor from 3 to LOAD,
 then the continuation over 0.5 beyond it (40 steps, at most 160), every special point
 printed: started near an end, the path need not cross the rest of the branch first.
+``--arc h/L elements dhat/h END STEPS``: the continuation from 3 to END in STEPS steps (at
+most three times as many), every special point printed (docs/theory/contact.md, "Finer steps
+move the ends").
 """
 
 from __future__ import annotations
@@ -89,12 +92,17 @@ def near(h: float, n: int, dhat: float, load: float, steps: int = 40) -> None:
         else:
             print(f"Newton failed at {mu + step / 16:.5f} (steps halved 4 times)")
             return
-    end = mu + (0.5 if step > 0 else -0.5)
-    p = continuation(a, "load_factor", mu, end, steps, elements_per_segment=n, rod=rod.copy(),
-                     contact=rod.contact.model,  # type: ignore[union-attr]
-                     branch_steps=0, max_steps_factor=4)
-    print(f"h/L {h:g}, {n} el., dhat {dhat:g} h (held at {START}: {ok}): natural steps to "
-          f"{mu:.4f}, arclength reached [{min(p.value):.5f}, {max(p.value):.5f}] "
+    follow(a, rod, mu, mu + (0.5 if step > 0 else -0.5), steps,
+           f"h/L {h:g}, {n} el., dhat {dhat:g} h (held at {START}: {ok}): natural steps to "
+           f"{mu:.4f}", t)
+
+
+def follow(a, rod, start: float, end: float, steps: int, label: str, t: float) -> None:  # noqa: ANN001
+    """The continuation from ``rod`` at ``start`` to ``end``: special points, loads, eigenvalues."""
+    p = continuation(a, "load_factor", start, end, steps, elements_per_segment=len(rod.R_edge)
+                     // len(a.segments), rod=rod.copy(),
+                     contact=rod.contact.model, branch_steps=0, max_steps_factor=3)
+    print(f"{label}, arclength reached [{min(p.value):.5f}, {max(p.value):.5f}] "
           f"({time.perf_counter() - t:.0f} s)")
     for q in p.special_points:
         print(f"  {q['kind']} at {q['value']:.5f}")
@@ -102,8 +110,18 @@ def near(h: float, n: int, dhat: float, load: float, steps: int = 40) -> None:
     print("  lowest eigenvalues", " ".join(f"{v:.1e}" for v in p.lowest_eigenvalue))
 
 
+def arc(h: float, n: int, dhat: float, end: float, steps: int) -> None:
+    """``--arc``: the continuation from the held rope at 3 to ``end`` in ``steps`` steps."""
+    a = state_assembly("hexagram", rectangle(aspect=4.0), "eight")
+    t = time.perf_counter()
+    _, rod, ok, _, _ = hold_braid(a, n, START, h, dhat)
+    follow(a, rod, START, end, steps, f"h/L {h:g}, {n} el., dhat {dhat:g} h (held: {ok})", t)
+
 if __name__ == "__main__":
     args = sys.argv[1:]
+    if args[:1] == ["--arc"]:
+        arc(float(args[1]), int(args[2]), float(args[3]), float(args[4]), int(args[5]))
+        sys.exit(0)
     if args[:1] == ["--near"]:
         near(float(args[1]), int(args[2]), float(args[3]), float(args[4]))
         sys.exit(0)
