@@ -681,3 +681,27 @@ def test_the_pruned_sampled_distance_of_the_checks_equals_the_full_one():
         pairs = [(a, b) for a in range(20) for b in range(a + 1, 20)]
         assert smallest_distance(x, edges, pairs, n=11) == pytest.approx(
             sampled_distance(x, edges, pairs, 11), rel=1e-12)  # chunks may round apart
+
+
+def test_remembered_exclusions_answer_as_the_rule_does_in_any_order() -> None:
+    # The mesh remembers each exclusion it decided: asked again, in another order, with the
+    # pair reversed, mixed with new pairs, every answer must be the rule's (undecided pairs,
+    # computed directly), and a mesh made by dataclasses.replace must start afresh.
+    import dataclasses
+
+    _, mesh = _stacked_rings(12, 0.5 * DHAT)
+    ne = len(mesh.edges)
+    i, j = np.triu_indices(ne, 1)
+    rule = mesh._elements(i, j)
+    p, e = np.divmod(np.arange(mesh.n_nodes * ne), ne)
+    rule_node = mesh._node_element(p, e)
+    assert rule.any() and not rule.all() and rule_node.any() and not rule_node.all()
+    rng = np.random.default_rng(7)
+    for _ in range(4):
+        k = rng.choice(len(i), size=len(i) // 3)
+        a, b = (i[k], j[k]) if rng.random() < 0.5 else (j[k], i[k])
+        np.testing.assert_array_equal(mesh.excluded_elements(a, b), rule[k])
+        q = rng.choice(len(p), size=len(p) // 3)
+        np.testing.assert_array_equal(mesh.excluded_node_element(p[q], e[q]), rule_node[q])
+    np.testing.assert_array_equal(mesh.excluded_elements(j, i), rule)
+    assert dataclasses.replace(mesh).memo == {} and mesh.memo

@@ -58,7 +58,7 @@ from __future__ import annotations
 import dataclasses
 import functools
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import Any
 
 import numpy as np
@@ -67,7 +67,8 @@ from scipy.sparse.csgraph import dijkstra
 from scipy.spatial import cKDTree
 
 from ..errors import RodstabInputError, require_finite, require_positive
-from .jets import Jet, QuadraticProducts
+from .contact_barrier import Interpenetration, barrier, penalty, stiffness_for_line_load
+from .jets import Jet, QuadraticProducts, cross_rows
 
 #: Smooth nodes: turning angle (rad) between their two elements in the reference state below
 #: which the partition of unity replaces the end clamps (a sharper corner keeps its clamps: a
@@ -108,89 +109,6 @@ EXCLUSION_FACTOR = 1.5
 #: The gap ``g0`` of stacked layers at the start, as a fraction of ``dhat``: inside the
 #: barrier, so that the layers are held from the first step.
 START_GAP_FRACTION = 0.5
-
-
-class Interpenetration(RodstabInputError):
-    """Two capsules overlap (a gap ``<= 0``): the state is outside the contact model."""
-
-
-# ---------------------------------------------------------------- barrier and parameters
-def barrier(g: np.ndarray, dhat: float, kappa: float) -> tuple[np.ndarray, np.ndarray,
-                                                                np.ndarray]:
-    """IPC log barrier ``b(g)`` and its first two derivatives (Li et al. 2020, eq. 6).
-
-    Parameters
-    ----------
-    g : ndarray
-        Gaps (length), all ``> 0``.
-    dhat : float
-        Activation distance (length): ``b = 0`` for ``g >= dhat``.
-    kappa : float
-        Stiffness (energy / length^3, so that ``b`` is an energy per unit length).
-
-    Returns
-    -------
-    b, db, d2b : ndarray
-        ``-kappa (g - dhat)^2 ln(g / dhat)`` and its derivatives in ``g``, zero for
-        ``g >= dhat``.
-    """
-    g = np.asarray(g, float)
-    if np.any(g <= 0.0):
-        raise Interpenetration(f"gap must be > 0, got min gap {float(np.min(g))!r}")
-    on = g < dhat
-    gs = np.where(on, g, dhat)
-    q, lg = gs - dhat, np.log(gs / dhat)
-    b = -kappa * q * q * lg
-    db = -kappa * (2.0 * q * lg + q * q / gs)
-    d2b = -kappa * (2.0 * lg + 4.0 * q / gs - q * q / gs**2)
-    return (np.where(on, b, 0.0), np.where(on, db, 0.0), np.where(on, d2b, 0.0))
-
-
-def stiffness_for_line_load(line_load: float, dhat: float, gap_fraction: float = 0.5) -> float:
-    """Barrier stiffness ``kappa`` with which a contact line load is held at a chosen gap.
-
-    Two parallel rods at gap ``g`` carry the energy ``b(g)`` per unit length (module doc), so
-    they press on one another with the line load ``-b'(g) = kappa dhat (f - 1)(2 f ln f + f -
-    1) / f`` at ``g = f dhat``. The rule: give the expected contact load (force / length; its
-    scale is ``B / L^3`` for a rod of bending stiffness ``B`` pressed over a length ``L``) and
-    the fraction ``f`` of ``dhat`` at which it should be held. The barrier repels without bound
-    as ``g -> 0``, so other loads are held at other gaps in ``(0, dhat)``.
-
-    Parameters
-    ----------
-    line_load : float
-        Contact force per unit length (> 0).
-    dhat : float
-        Activation distance (length, > 0).
-    gap_fraction : float
-        ``f`` in (0, 1).
-
-    Returns
-    -------
-    float
-        ``kappa`` (force / length^2).
-    """
-    q = require_positive("line_load", line_load)
-    d = require_positive("dhat", dhat)
-    f = require_finite("gap_fraction", gap_fraction)
-    if not 0.0 < f < 1.0:
-        raise RodstabInputError(f"gap_fraction must lie in (0, 1), got {gap_fraction!r}")
-    return q / (d * (f - 1.0) * (2.0 * f * math.log(f) + f - 1.0) / f)
-
-
-def penalty(g: np.ndarray, dhat: float, kappa: float) -> tuple[np.ndarray, np.ndarray,
-                                                                np.ndarray]:
-    """Cubic penalty ``p(g) = kappa (dhat - g)^3`` on ``g < dhat`` and its two derivatives.
-
-    Finite for every gap, overlaps (``g <= 0``) included, and C2 at ``g = dhat`` (``p, p',
-    p''`` vanish there): a soft contact that lets a state outside the barrier's model (a path
-    computed without contact) be pushed back into it (:mod:`rodstab.multistable.string_contact`).
-    It does not prevent interpenetration: a line load ``q`` is held at ``g = dhat - sqrt(q / 3
-    kappa)``, negative for ``q > 3 kappa dhat^2``.
-    """
-    g = np.asarray(g, float)
-    q = np.where(g < dhat, dhat - g, 0.0)
-    return kappa * q**3, -3.0 * kappa * q**2, 6.0 * kappa * q
 
 
 @dataclasses.dataclass(frozen=True)
@@ -300,6 +218,27 @@ class ContactMesh:
     node_weight: np.ndarray
     near: sp.csr_matrix
     cutoff: float
+    #: exclusions already decided, by pair key (they depend on the mesh only, and the same
+    #: candidate pairs recur at every evaluation): name -> (sorted keys, booleans); not an
+    #: init field, so a mesh made by dataclasses.replace (another model) starts empty
+    memo: dict = dataclasses.field(default_factory=dict, init=False, compare=False, repr=False)
+
+    def _remembered(self, name: str, keys: np.ndarray,
+                    decide: Callable[[np.ndarray], np.ndarray]) -> np.ndarray:
+        """``decide(keys)``, each key decided once per mesh and looked up after."""
+        known, vals = self.memo.get(name, (np.zeros(0, np.int64), np.zeros(0, bool)))
+        k = np.minimum(np.searchsorted(known, keys), max(len(known) - 1, 0))
+        hit = known[k] == keys if len(known) else np.zeros(len(keys), bool)
+        out = np.empty(len(keys), bool)
+        out[hit] = vals[k[hit]]
+        if not hit.all():
+            new, inv = np.unique(keys[~hit], return_inverse=True)
+            got = decide(new)
+            out[~hit] = got[inv]
+            allk = np.concatenate([known, new])
+            order = np.argsort(allk)
+            self.memo[name] = (allk[order], np.concatenate([vals, got])[order])
+        return out
 
     @functools.cached_property
     def _near_keys(self) -> tuple[np.ndarray, np.ndarray]:
@@ -326,6 +265,11 @@ class ContactMesh:
 
     def excluded_node_element(self, p: np.ndarray, e: np.ndarray) -> np.ndarray:
         """Return True where node ``p`` and element ``e`` are neighbours (module doc)."""
+        ne = len(self.edges)
+        return self._remembered("node", np.asarray(p, np.int64) * ne + e,
+                                lambda k: self._node_element(k // ne, k % ne))
+
+    def _node_element(self, p: np.ndarray, e: np.ndarray) -> np.ndarray:
         i, j = self.edges[e, 0], self.edges[e, 1]
         D = np.minimum(self.graph_distance(p, i), self.graph_distance(p, j))
         reach = self.node_radius[p] + self.radius[e] + self.model.dhat
@@ -333,6 +277,11 @@ class ContactMesh:
 
     def excluded_elements(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
         """Return True where elements ``a`` and ``b`` are neighbours (module doc)."""
+        ne, a, b = len(self.edges), np.asarray(a, np.int64), np.asarray(b, np.int64)
+        return self._remembered("pair", np.minimum(a, b) * ne + np.maximum(a, b),
+                                lambda k: self._elements(k // ne, k % ne))
+
+    def _elements(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
         D = np.full(len(a), np.inf)
         for u in range(2):
             for v in range(2):
@@ -508,7 +457,7 @@ def _lines(a0: np.ndarray, a1: np.ndarray, b0: np.ndarray, b1: np.ndarray, sin2_
     ea, eb, w0 = a1 - a0, b1 - b0, a0 - b0
     A, B, C = (np.einsum("ij,ij->i", u, v) for u, v in ((ea, ea), (ea, eb), (eb, eb)))
     D, Ed = np.einsum("ij,ij->i", ea, w0), np.einsum("ij,ij->i", eb, w0)
-    n = np.cross(ea, eb)
+    n = cross_rows(ea, eb)
     nn = np.einsum("ij,ij->i", n, n)  # = A C - B^2
     ok = nn > sin2_min * A * C
     den = np.where(ok, nn, 1.0)
@@ -523,12 +472,19 @@ def segment_distance(a0: np.ndarray, a1: np.ndarray, b0: np.ndarray, b1: np.ndar
 
     The minimum is at an end of one (point-segment) or inside both (the lines' distance).
     """
+    return _segment_lines(a0, a1, b0, b1)[0]
+
+
+def _segment_lines(a0: np.ndarray, a1: np.ndarray, b0: np.ndarray, b1: np.ndarray
+                   ) -> tuple[np.ndarray, tuple[np.ndarray, ...]]:
+    """:func:`segment_distance` and the :func:`_lines` it used (``sin2_min`` 1e-12)."""
     zero, one = np.zeros(len(a0)), np.ones(len(a0))
     d = np.minimum.reduce([_point_segment(p, q0, q1, zero, one) for p, q0, q1 in
                            ((a0, b0, b1), (a1, b0, b1), (b0, a0, a1), (b1, a0, a1))])
-    _, s, t, dl = _lines(a0, a1, b0, b1, 1e-12)
+    lines = _lines(a0, a1, b0, b1, 1e-12)
+    _, s, t, dl = lines
     inside = (s >= 0) & (s <= 1) & (t >= 0) & (t <= 1)
-    return np.where(inside, np.minimum(d, dl), d)
+    return np.where(inside, np.minimum(d, dl), d), lines
 
 
 # ---------------------------------------------------------------- jets
@@ -600,7 +556,7 @@ def _node_terms(mesh: ContactMesh, x: np.ndarray, pairs: np.ndarray) -> _NodeTer
     u1 = ln - u0
     ds, de = mesh.delta[e, 0], mesh.delta[e, 1]
     start, end = (ds == 0) & (u0 < 0), (de == 0) & (u1 < 0)
-    line = _norm(np.cross(P - A, Ev)) / ln
+    line = _norm(cross_rows(P - A, Ev)) / ln
     d = np.where(start, _norm(P - A), np.where(end, _norm(P - B), line))
     W = np.ones(len(p))
     for dl, u in ((ds, u0), (de, u1)):
@@ -671,17 +627,22 @@ def _edge_jets(mesh: ContactMesh, x: np.ndarray, pairs: np.ndarray, order: int
 
 
 # ---------------------------------------------------------------- energy
-def _check_gaps(mesh: ContactMesh, x: np.ndarray, pairs: np.ndarray) -> None:
-    """Raise :class:`Interpenetration` if two non-neighbouring capsules overlap."""
+def _check_gaps(mesh: ContactMesh, x: np.ndarray, pairs: np.ndarray
+                ) -> tuple[np.ndarray, ...]:
+    """Raise :class:`Interpenetration` if two non-neighbouring capsules overlap.
+
+    Returns the pairs' :func:`_lines` (``sin2_min`` 1e-12), which :func:`_active` reuses.
+    """
     E = mesh.edges
-    g = segment_distance(x[E[pairs[:, 0], 0]], x[E[pairs[:, 0], 1]], x[E[pairs[:, 1], 0]],
-                         x[E[pairs[:, 1], 1]]) - mesh.radius[pairs[:, 0]] \
-        - mesh.radius[pairs[:, 1]]
+    d, lines = _segment_lines(x[E[pairs[:, 0], 0]], x[E[pairs[:, 0], 1]],
+                              x[E[pairs[:, 1], 0]], x[E[pairs[:, 1], 1]])
+    g = d - mesh.radius[pairs[:, 0]] - mesh.radius[pairs[:, 1]]
     if len(g) and g.min() <= 0.0:
         k = int(np.argmin(g))
         raise Interpenetration(f"elements {pairs[k, 0]} and {pairs[k, 1]} interpenetrate: "
                                f"gap {g[k]:.6g} <= 0 (capsule radii {mesh.radius[pairs[k, 0]]:g}"
                                f", {mesh.radius[pairs[k, 1]]:g})")
+    return lines
 
 
 def _active(mesh: ContactMesh, x: np.ndarray
@@ -689,8 +650,11 @@ def _active(mesh: ContactMesh, x: np.ndarray
     """Node terms, mask of the active ones, and the active edge-edge pairs at ``x``."""
     pairs = candidate_pairs(mesh, x)
     ee = pairs[~mesh.excluded_elements(pairs[:, 0], pairs[:, 1])]
-    if not mesh.model.soft:
-        _check_gaps(mesh, x, ee)
+    E = mesh.edges
+    # The lines at sin2_min 1e-12 are those at EE_SIN2_OFF (> 1e-12) wherever c exceeds it,
+    # the only pairs kept below: the gap check's lines serve both.
+    lines = _check_gaps(mesh, x, ee) if not mesh.model.soft else _lines(
+        x[E[ee[:, 0], 0]], x[E[ee[:, 0], 1]], x[E[ee[:, 1], 0]], x[E[ee[:, 1], 1]], 1e-12)
     nt = _node_terms(mesh, x, pairs)
     on = (nt.weight > 0.0) & (nt.gap < mesh.model.dhat)
     # a line extended past a smooth node (module doc)
@@ -698,9 +662,7 @@ def _active(mesh: ContactMesh, x: np.ndarray
         k = int(np.flatnonzero(on & (nt.gap <= 0.0))[0])
         raise Interpenetration(f"node {nt.p[k]} and element {nt.e[k]} interpenetrate: "
                                f"gap {nt.gap[k]:.6g} <= 0")
-    E = mesh.edges
-    c, s, t, d = _lines(x[E[ee[:, 0], 0]], x[E[ee[:, 0], 1]], x[E[ee[:, 1], 0]],
-                        x[E[ee[:, 1], 1]], EE_SIN2_OFF)
+    c, s, t, d = lines
     g = d - mesh.radius[ee[:, 0]] - mesh.radius[ee[:, 1]]
     eon = (c > EE_SIN2_OFF) & (s > 0) & (s < 1) & (t > 0) & (t < 1) & (g < mesh.model.dhat)
     return nt, on, ee[eon]
