@@ -42,7 +42,8 @@ constraint holds to round-off and its force ``K a . (x - x_held)``, the pinning 
 mesh exerts on the swap pattern, does not depend on ``k``. The path then follows one branch
 instead of snaking through the pinned copies: 2 and 5 times ``steps`` up and down.
 
-``--near circle|rect2 ELEMENTS LOAD [up|down]``: the held ring (h/L 0.01, dhat 0.1 h)
+``--near circle|rect2 ELEMENTS LOAD [up|down] [h/L] [dhat/h]``: the held ring (default h/L
+0.01, dhat 0.1 h)
 stepped in the natural parameter to LOAD (Newton with contact, steps of 0.009), then the
 arclength continuation over 0.3 beyond it: started near an end, the path reaches it instead
 of wandering through the pinned copies (docs/theory/contact.md, "Started near the ends").
@@ -416,7 +417,9 @@ if __name__ == "__main__":
                 float(a[2]) if len(a) > 2 else 0.1, int(a[3]) if len(a) > 3 else 4)
     elif sys.argv[1:2] == ["--near"]:
         a = sys.argv[2:]
-        near_end(a[0], int(a[1]), float(a[2]), a[3:4] != ["down"])
+        way = [w for w in a[3:] if w in ("up", "down")]
+        nums = [float(w) for w in a[3:] if w not in ("up", "down")]
+        near_end(a[0], int(a[1]), float(a[2]), way != ["down"], *nums)
     elif sys.argv[1:2] == ["--cone"]:
         cone_table(sys.argv[2], int(sys.argv[3]))
     else:
