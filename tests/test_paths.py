@@ -362,3 +362,25 @@ def test_a_double_modes_phase_does_not_change_the_twisted_rods_branch_direction(
     monkeypatch.setattr(br, "lowest_modes", turned)
     (e,) = br.branch_directions(state, param, -1.0, 1.0)
     assert abs(abs(float(d.mode @ e.mode)) - 1.0) < 1e-8
+
+
+def test_a_branch_point_whose_refinement_finds_no_equilibrium_says_so(monkeypatch):
+    """Brent on the eigenvalue needs an equilibrium at each trial value; where Newton finds
+    none (measured: the folded 3-loop ring with contact at 64 el.) the continuation must not
+    stop on a NaN: the point keeps the interpolation in its bracket and says it is not
+    refined, and a run with refinement gives a value inside that bracket."""
+    from rodstab.nonlinear.continuation import special
+
+    c = continuation(_twisted(), "support.1.rotation.tangent", 0.0, 14.0, 14,
+                     elements_per_segment=8, branch_steps=0, stop_at_first=True)
+    (ref,) = c.special_points
+    assert "refined" not in ref
+    monkeypatch.setattr(special, "newton", lambda rod: (False, 0, math.nan))
+    c = continuation(_twisted(), "support.1.rotation.tangent", 0.0, 14.0, 14,
+                     elements_per_segment=8, branch_steps=0, stop_at_first=True)
+    (sp,) = c.special_points
+    assert sp["kind"] == "branch point (stability lost)"
+    assert "not refined" in sp["refined"] and "interpolated" in sp["refined"]
+    lo, hi = sp["bracket"]
+    assert lo < sp["value"] < hi and lo < ref["value"] < hi
+    assert sp["value"] != ref["value"]

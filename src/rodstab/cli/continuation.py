@@ -145,6 +145,7 @@ def continue_cmd(design_file: str, vary: str, out_dir: str | None, elements: int
               + (f"; {p['post_buckling']}" if "post_buckling" in p else "")
               + ("; AT A CONTACT EVENT: the energy is C1 there, the eigenvalue may jump"
                  if p.get("at_contact_event") else "")
+              + (f"; {p['refined'].upper()}" if "refined" in p else "")
               + _mesh_error_text(p, elements)
               for p, phys in zip(specials, physical, strict=True)] or [
         "special      none: the path stays "

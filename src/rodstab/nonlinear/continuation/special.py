@@ -15,14 +15,12 @@ points of a path:
 
 from __future__ import annotations
 
-import contextlib
-import math
 from collections.abc import Callable
 
 import numpy as np
 import scipy.sparse as sp
 
-from ...errors import RodstabInputError
+from ...errors import NotConverged, RodstabInputError
 from ...numerics import refine_root
 from ..discrete import DiscreteRod
 from ..parameters import Parameter
@@ -110,16 +108,26 @@ def locate(rod: DiscreteRod, param: Parameter, prev: DiscreteRod, prev_tq: np.nd
 
     def eig(p: float) -> float:
         s = at_value(p)
-        return lowest(s) if s is not None else math.nan
+        if s is None:  # a NaN would stop Brent with a ValueError (64 el., contact, measured)
+            raise NotConverged(f"no equilibrium at {p!r} inside the bracket")
+        return lowest(s)
 
     # Refine the interpolated zero by the one root finder on the bracket (Brent to XTOL of it):
     # at the exact branch point both eigenvalues of a double pair vanish, which is how
     # .branches tells a double eigenvalue from a small second one.
+    note = None
     if m0 != m1 and (v0 > 0) != (v1 > 0):
-        with contextlib.suppress(RodstabInputError):  # re-solved ends without a sign change
+        try:
             p_c = refine_root(eig, m0, m1)
-    return ({"kind": kind.value, "value": float(p_c),
-             "bracket": sorted([float(m0), float(m1)])}, at_value(p_c))
+        except RodstabInputError:  # re-solved ends without a sign change: the interpolation
+            pass
+        except NotConverged as exc:  # said, not hidden: the value is the interpolation
+            note = f"not refined ({exc}): interpolated in the bracket"
+    point: dict = {"kind": kind.value, "value": float(p_c),
+                   "bracket": sorted([float(m0), float(m1)])}
+    if note is not None:
+        point["refined"] = note
+    return point, at_value(p_c)
 
 
 def crossed(e0: float, e1: float, tp0: float, tp1: float) -> bool:
