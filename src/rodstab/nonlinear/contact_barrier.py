@@ -53,12 +53,13 @@ def barrier(g: np.ndarray, dhat: float, kappa: float) -> tuple[np.ndarray, np.nd
 def stiffness_for_line_load(line_load: float, dhat: float, gap_fraction: float = 0.5) -> float:
     """Barrier stiffness ``kappa`` with which a contact line load is held at a chosen gap.
 
-    Two parallel rods at gap ``g`` carry the energy ``b(g)`` per unit length (module doc), so
-    they press on one another with the line load ``-b'(g) = kappa dhat (f - 1)(2 f ln f + f -
-    1) / f`` at ``g = f dhat``. The rule: give the expected contact load (force / length; its
-    scale is ``B / L^3`` for a rod of bending stiffness ``B`` pressed over a length ``L``) and
-    the fraction ``f`` of ``dhat`` at which it should be held. The barrier repels without bound
-    as ``g -> 0``, so other loads are held at other gaps in ``(0, dhat)``.
+    Two parallel rods at gap ``g`` carry the energy ``b(g)`` per unit length
+    (:mod:`.contact_model`), so they press on one another with the line load ``-b'(g) = kappa
+    dhat (f - 1)(2 f ln f + f - 1) / f`` at ``g = f dhat``. The rule: give the expected contact
+    load (force / length; its scale is ``B / L^3`` for a rod of bending stiffness ``B`` pressed
+    over a length ``L``) and the fraction ``f`` of ``dhat`` at which it should be held. The
+    barrier repels without bound as ``g -> 0``, so other loads are held at other gaps in ``(0,
+    dhat)``.
 
     Parameters
     ----------

@@ -396,7 +396,7 @@ def smallest_gap(mesh: ContactMesh, x: np.ndarray) -> tuple[float, tuple[int, in
 def contact_state(mesh: ContactMesh, x: np.ndarray) -> ContactState:
     """Gaps and contact forces of the state ``x`` (n_nodes, 3) under ``mesh``'s model.
 
-    Raises :class:`~.contact_model.Interpenetration` if two capsules overlap.
+    Raises :class:`~.contact_barrier.Interpenetration` if two capsules overlap.
     """
     from .contact_model import contact_terms
 
