@@ -9,15 +9,16 @@ lifted into the same stacked model, both relaxed with contact.
 
 Session 27 showed the orders with Lk = -2 or +2 cannot reach the star (Lk 0) without rods
 passing through one another; from the Lk = 0 orders (0,2,1 and 2,0,1) no string with contact
-had found a path. This script constructs one: every node is pulled towards its place in the
+had found a path. This script constructs one by
+:func:`rodstab.multistable.pulled.pulled_path`: every node is pulled towards its place in the
 star by springs ``(k / 2) |x_i - x_star,i|^2`` (node positions only; ``k`` in B3 / L^3, raised
 from 1e-2 to 1e4 in 25 geometric stages), each stage relaxed by Newton **with contact**, one
-step at a time, every step filtered so no gap closes (:func:`rodstab.nonlinear.newton.newton`);
-then the springs are released and Newton runs on. Every accepted step's state is kept, so the
-path is joined inside the model step by step; it is then judged independently of the filter
+step at a time, every step filtered so no gap closes; then the springs are released and
+Newton runs on. Every accepted step's state is kept, so the path is joined inside the model
+step by step; it is then judged independently of the filter
 from its node positions by the transitions' pass-through check
 (:func:`rodstab.multistable.barrier.path_contact`), and the ribbon's self-linking is computed
-at its end. Prints per stage: the largest distance to the star, the smallest gap over h, the
+at its end. Prints per stage: the largest distance to the star and the
 rod's energy (springs off); then the path's highest energy (an upper bound on the barrier with
 contact, not the barrier: the path is not a minimum energy path) and the judgement.
 ``--out FILE``: the path's node positions (``x``, states x nodes x 3), ``edges`` and
@@ -26,20 +27,18 @@ contact, not the barrier: the path is not a minimum energy path) and the judgeme
 
 from __future__ import annotations
 
-import dataclasses
 import sys
 import time
 
 import numpy as np
-import scipy.sparse as sp
 
 from rodstab.multistable.barrier import path_contact
 from rodstab.multistable.discover import common_rod
 from rodstab.multistable.layered import lift, stacked_model
 from rodstab.multistable.linking import self_linking
+from rodstab.multistable.pulled import pulled_path
 from rodstab.multistable.string_method import to_gauge
-from rodstab.nonlinear.contact import mesh_of_rod, smallest_gap
-from rodstab.nonlinear.discrete import DiscreteRod
+from rodstab.nonlinear.contact import mesh_of_rod
 from rodstab.nonlinear.equilibrium import rod_contact_model
 from rodstab.nonlinear.solve import newton
 from rodstab.nonlinear.stability import stability_eigenvalues
@@ -48,34 +47,6 @@ from rodstab.sections import rectangle
 
 THICKNESS = 0.02  # h / L
 SHIFTS = {"1": 0, "2": 1, "3": 1, "4": 2, "5": 2, "6": 0}
-STAGES = np.geomspace(1e-2, 1e4, 25)  # spring stiffness, B3 / L^3
-MAX_STEPS = 400  # Newton steps per stage
-
-
-@dataclasses.dataclass
-class Pulled(DiscreteRod):
-    """A :class:`DiscreteRod` whose nodes are pulled towards ``target`` by springs ``pull``.
-
-    A dataclass field, so copies (Newton's trial states) keep the springs. Positions only: the
-    Hessian adds ``pull`` on the position diagonal, in absolute coordinates (Newton's; not the
-    Kirchhoff coordinates of the stability check, which is run with the springs off).
-    """
-
-    target: np.ndarray | None = None
-    pull: float = 0.0
-
-    def _evaluate(self, order, links, stretch=True, with_contact=True):  # noqa: ANN001, ANN202
-        E, g, H = super()._evaluate(order, links, stretch, with_contact)
-        if self.target is None or self.pull == 0.0:
-            return E, g, H
-        d = (self.x - self.target).ravel()
-        if g is not None:
-            g[: d.size] += self.pull * d
-        if H is not None:
-            diag = np.zeros(H.shape[0])
-            diag[: d.size] = self.pull
-            H = (H + sp.diags(diag)).tocsr()
-        return E + 0.5 * self.pull * float(d @ d), g, H
 
 
 def layers_of(order: str) -> dict[str, tuple[float, int, int]]:
@@ -83,16 +54,6 @@ def layers_of(order: str) -> dict[str, tuple[float, int, int]]:
     k = [int(c) for c in order.split(",")]
     lay = {"1": k[0], "3": k[1], "5": k[2], "2": k[0], "4": k[1], "6": k[2]}
     return {s: (-0.5 if int(s) % 2 else 0.5, lay[s], SHIFTS[s]) for s in "123456"}
-
-
-def steps(r: Pulled, path: list[DiscreteRod]) -> tuple[bool, int]:
-    """Newton one step at a time, each accepted state appended to ``path``."""
-    for its in range(1, MAX_STEPS + 1):
-        ok, n, _ = newton(r, max_iter=1)
-        path.append(r.copy())
-        if ok and n == 0:
-            return True, its
-    return False, MAX_STEPS
 
 
 def main() -> None:
@@ -117,24 +78,15 @@ def main() -> None:
         print(f"{label}: relaxed with contact ({ok}, {its} it.), energy {r.energy():.6f}, lowest "
               f"eigenvalue {lam:.2e}, Lk {self_linking(r).value}")
     print(f"layers {order}, {n} el./rod, rectangle h/t 4, kappa_n R0 1, h = {THICKNESS} L")
-    pulled = Pulled(**{f.name: getattr(line, f.name) for f in dataclasses.fields(line)
-                       if f.init and f.name not in ("target", "pull")}, target=star.x.copy())
-    path: list[DiscreteRod] = [line.copy()]
     t0 = time.perf_counter()
-    print("  k (B3/L^3)  converged  steps  max|x - x_star| / L  smallest gap / h  energy")
-    for k in STAGES:
-        pulled.pull = float(k)
-        ok, its = steps(pulled, path)
-        pulled.pull = 0.0
-        gap = smallest_gap(pulled.contact, pulled.x)
-        dist = float(np.max(np.linalg.norm(pulled.x - star.x, axis=1)))
-        print(f"  {k:10.3g}  {ok!s:9}  {its:5d}  {dist:20.4f}  {gap[0] / THICKNESS:16.3g}  "
-              f"{pulled.energy():.4f}")
-    ok, its = steps(pulled, path)
-    dist = float(np.max(np.linalg.norm(pulled.x - star.x, axis=1)))
-    print(f"released: converged {ok} in {its} steps, energy {pulled.energy():.6f} (star "
-          f"{star.energy():.6f}), max|x - x_star| {dist:.2e} L, Lk {self_linking(pulled).value} "
-          f"({time.perf_counter() - t0:.0f} s)")
+    run = pulled_path(line, star)
+    print("  k (B3/L^3)  converged  steps  max|x - x_star| / L  energy")
+    for k, ok, its, dist, energy in run.stages:
+        print(f"  {k:10.3g}  {ok!s:9}  {its:5d}  {dist:20.4f}  {energy:.4f}")
+    path = list(run.states)
+    print(f"released: reached the star {run.reached} (max|x - x_star| {run.end_distance:.2e} L), "
+          f"energy {path[-1].energy():.6f} (star {star.energy():.6f}), Lk "
+          f"{self_linking(path[-1]).value} ({time.perf_counter() - t0:.0f} s)")
     xs = np.array([r.x for r in path])
     energies = [r.energy() for r in path]
     report, edges, _ = path_contact(a_line, n, xs, THICKNESS, rod=stacked)

@@ -1,0 +1,168 @@
+"""A path inside the contact model from one state to another, built by pulling (issue 21).
+
+Two states of one ring that differ in knot type or in the self-linking of their ribbons are
+joined by no path along which rods do not cross (:mod:`.linking`); equal invariants are only
+necessary. :func:`pulled_path` builds a path where one exists and the pull finds it: every
+node of ``start`` is pulled towards its place in ``end`` by springs ``(k / 2) |x_i -
+x_i^end|^2`` (node positions only), ``k`` raised in geometric stages; each stage is relaxed
+by Newton with contact one step at a time, every step filtered so that no gap closes
+(:func:`~rodstab.nonlinear.newton.newton`), and every accepted state is kept. Then the springs
+are released and Newton runs on. Neighbouring states are joined by one filtered step, so the
+path lies inside the model throughout; ``reached`` says whether the released state is
+``end``.
+
+Such a path proves the two states joined; its highest energy bounds the barrier from above. It
+is not a minimum energy path: the pull drags the rods along straight lines in position space
+and leaves their frames free, and near ``end`` the pulled states can carry twist that the
+release removes (measured on the hexagram's stacked line, docs/theory/contact.md "Ribbon
+self-linking": 63.87 B3/L above the line, where the line -> star barrier without contact is
+1.12). The springs act on positions in absolute coordinates, where Newton works; the
+stability check (Kirchhoff coordinates) is never run with them on.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from typing import Any
+
+import numpy as np
+import scipy.sparse as sp
+
+from ..errors import RodstabInputError, require_int
+from ..nonlinear.discrete import DiscreteRod
+from ..nonlinear.newton import newton
+from ..results import Result
+
+#: Spring stiffness of the stages, in units of the largest bending stiffness over the mean
+#: segment length cubed: from where the rods hardly move to where the nodes sit on ``end``'s
+#: to 1e-2 of a segment (the hexagram's line, 6 el.: 0.0147 L at 1e4).
+STAGES = tuple(float(k) for k in np.geomspace(1e-2, 1e4, 25))
+#: Newton steps at most per stage (and for the release).
+MAX_STEPS = 400
+
+
+@dataclasses.dataclass
+class PulledRod(DiscreteRod):
+    """A :class:`DiscreteRod` whose nodes are pulled towards ``target`` by springs ``pull``.
+
+    Fields of the dataclass, so that Newton's trial copies keep the springs. The energy adds
+    ``(pull / 2) |x - target|^2`` and its gradient and Hessian (``pull`` on the position
+    diagonal) in absolute coordinates.
+    """
+
+    target: np.ndarray | None = None
+    pull: float = 0.0
+
+    def _evaluate(self, order: int, links: bool, stretch: bool = True,
+                  with_contact: bool = True
+                  ) -> tuple[float, np.ndarray | None, sp.csr_matrix | None]:
+        E, g, H = super()._evaluate(order, links, stretch, with_contact)
+        if self.target is None or self.pull == 0.0:
+            return E, g, H
+        d = (self.x - self.target).ravel()
+        if g is not None:
+            g[: d.size] += self.pull * d
+        if H is not None:
+            diag = np.zeros(H.shape[0])
+            diag[: d.size] = self.pull
+            H = (H + sp.diags(diag)).tocsr()
+        return E + 0.5 * self.pull * float(d @ d), g, H
+
+
+@dataclasses.dataclass(frozen=True)
+class PulledPath(Result):
+    """A path built by :func:`pulled_path` (module docstring).
+
+    ``states``: every accepted Newton state in order, ``start`` first (plain
+    :class:`DiscreteRod` copies, springs off); ``energies``: their energies without the springs
+    (energy units of the model); ``stages``: per stage ``(k, converged, steps, largest node
+    distance to end, energy)``; ``reached``: the released state is ``end`` (every node within
+    ``tolerance`` of it, length); ``end_distance``: its largest node distance to ``end``.
+    """
+
+    states: tuple[DiscreteRod, ...]
+    energies: tuple[float, ...]
+    stages: tuple[tuple[float, bool, int, float, float], ...]
+    reached: bool
+    end_distance: float
+    tolerance: float
+
+    @property
+    def highest_energy(self) -> float:
+        """The path's highest energy: an upper bound on the barrier from ``start``."""
+        return max(self.energies)
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready: everything but the states."""
+        return {"energies": list(self.energies), "stages": [list(s) for s in self.stages],
+                "reached": self.reached, "end_distance": self.end_distance,
+                "tolerance": self.tolerance, "highest_energy": self.highest_energy}
+
+
+def _steps(r: PulledRod, out: list[DiscreteRod], plain: DiscreteRod, max_steps: int
+           ) -> tuple[bool, int]:
+    """Newton one step at a time, a plain copy of each accepted state appended to ``out``."""
+    for its in range(1, max_steps + 1):
+        ok, n, _ = newton(r, max_iter=1)
+        state = plain.copy()
+        state.x, state.R_edge, state.R_joint = r.x.copy(), r.R_edge.copy(), r.R_joint.copy()
+        out.append(state)
+        if ok and n == 0:
+            return True, its
+    return False, max_steps
+
+
+def pulled_path(start: DiscreteRod, end: DiscreteRod, *, stages: tuple[float, ...] = STAGES,
+                max_steps: int = MAX_STEPS, tolerance: float | None = None) -> PulledPath:
+    """Build a path inside the contact model from ``start`` towards ``end`` (module docstring).
+
+    Parameters
+    ----------
+    start, end : DiscreteRod
+        Two states of one discrete model in one gauge (same nodes), ``start`` with its contact
+        mesh attached (``start.contact``) and inside the model.
+    stages : tuple of float
+        Spring stiffnesses in turn, in units of ``B / Lm^3`` (``B`` the largest bending
+        stiffness ``B3`` of the segments, ``Lm`` the mean segment length); > 0.
+    max_steps : int
+        Newton steps at most per stage and for the release.
+    tolerance : float, optional
+        Largest node distance (length) at which the released state counts as ``end``;
+        default ``1e-6 Lm``.
+
+    Raises
+    ------
+    RodstabInputError
+        No contact on ``start`` (a pulled path without it proves nothing), states of different
+        node counts, a stage that is not a positive finite number.
+    """
+    if start.contact is None:
+        raise RodstabInputError("start.contact is None: a pulled path proves two states "
+                                "joined only inside a contact model; attach one first")
+    if end.x.shape != start.x.shape:
+        raise RodstabInputError(f"end has {len(end.x)} nodes, start {len(start.x)}: not two "
+                                "states of one discrete model")
+    bad = [k for k in stages if not (np.isfinite(k) and k > 0)]
+    if not stages or bad:
+        raise RodstabInputError(f"stages must be positive finite numbers, got {bad or stages!r}")
+    steps = require_int("max_steps", max_steps, 1)
+    a = start.assembly
+    lm = a.total_length / len(a.segments)
+    scale = max(s.B3 for s in a.segments) / lm**3
+    tol = 1e-6 * lm if tolerance is None else float(tolerance)
+    fields = {f.name: getattr(start, f.name) for f in dataclasses.fields(start) if f.init}
+    r = PulledRod(**fields, target=end.x.copy())
+    r = dataclasses.replace(r, x=start.x.copy(), R_edge=start.R_edge.copy(),
+                            R_joint=start.R_joint.copy())
+    states: list[DiscreteRod] = [start.copy()]
+    record = []
+    for k in stages:
+        r.pull = float(k) * scale
+        ok, its = _steps(r, states, start, steps)
+        r.pull = 0.0
+        record.append((float(k), ok, its, float(np.max(np.linalg.norm(r.x - end.x, axis=1))),
+                       float(r.energy())))
+    _steps(r, states, start, steps)
+    dist = float(np.max(np.linalg.norm(r.x - end.x, axis=1)))
+    return PulledPath(tuple(states), tuple(float(s.energy()) for s in states), tuple(record),
+                      dist <= tol, dist, tol)

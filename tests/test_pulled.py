@@ -1,0 +1,109 @@
+"""A path inside the contact model built by pulling (rodstab.multistable.pulled)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from contact_checks import central_differences, judged_pairs, smallest_distance
+
+from rodstab.errors import RodstabInputError
+from rodstab.multistable.barrier import path_contact
+from rodstab.multistable.discover import common_rod
+from rodstab.multistable.layered import lift, stacked_model
+from rodstab.multistable.linking import self_linking
+from rodstab.multistable.pulled import PulledRod, pulled_path
+from rodstab.multistable.string_method import to_gauge
+from rodstab.nonlinear.contact import mesh_of_rod
+from rodstab.nonlinear.equilibrium import rod_contact_model
+from rodstab.nonlinear.newton import newton
+from rodstab.problems.barrier_states import state_assembly
+from rodstab.sections import rectangle
+
+H = 0.02  # capsule diameter over the rod length
+
+
+def _line_and_star(n: int = 6, order: tuple[int, int, int] = (0, 2, 1)):
+    """The hexagram's line stacked in two staggered columns (layers ``order`` for rods 1, 3, 5
+    and 2, 4, 6; shifts 0, 1, 1, 2, 2, 0) and the star lifted into its model, relaxed with
+    contact (rectangle h/t = 4, kappa_n R0 = 1)."""
+    sec = rectangle(aspect=4.0)
+    a = state_assembly("hexagram", sec, "line")
+    model = rod_contact_model(a, H)
+    ra, rb = common_rod(a, n, 1.0), common_rod(state_assembly("hexagram", sec, "star"), n, 1.0)
+    newton(ra)
+    newton(rb)
+    to_gauge(rb, ra)
+    shifts = {"1": 0, "2": 1, "3": 1, "4": 2, "5": 2, "6": 0}
+    lay = dict(zip("135", order, strict=True)) | dict(zip("246", order, strict=True))
+    layers = {s: (-0.5 if int(s) % 2 else 0.5, lay[s], shifts[s]) for s in "123456"}
+    stacked = stacked_model(ra, layers, model)
+    line, star = lift(stacked, ra, ra), lift(stacked, ra, rb)
+    for r in (line, star):
+        r.contact = mesh_of_rod(r, model)
+        assert newton(r)[0]
+    return a, stacked, line, star
+
+
+def test_the_springs_have_exact_derivatives():
+    # The pulled rod's energy is the rod's plus (k/2)|x - target|^2: its gradient and Hessian
+    # against differences of its own energy, at a state off the target (positions only).
+    _, _, line, star = _line_and_star(4)
+    r = PulledRod(**{k: getattr(line, k) for k in line.__dataclass_fields__
+                     if line.__dataclass_fields__[k].init}, target=star.x.copy(), pull=3.0)
+    r.contact = None  # the springs alone on top of the rod (contact has its own tests)
+    plain = line.copy()
+    plain.contact = None
+    E0, g0, H0 = r.energy_terms()
+    Ep, gp, Hp = plain.energy_terms()
+    d = (r.x - star.x).ravel()
+    assert E0 - Ep == pytest.approx(0.5 * 3.0 * d @ d, rel=1e-12)
+    np.testing.assert_allclose((g0 - gp)[: d.size], 3.0 * d, rtol=1e-12, atol=1e-12)
+    diff = (H0 - Hp).toarray()
+    np.testing.assert_allclose(diff[: d.size, : d.size], 3.0 * np.eye(d.size), atol=1e-9)
+    assert np.abs(diff[d.size:]).max() < 1e-9
+
+    def energy(x):
+        q = r.copy()
+        q.x = x
+        E, g, Hm = q.energy_terms()
+        return E, g[: x.size], Hm
+
+    gf, _ = central_differences(energy, r.x, 1e-6)
+    np.testing.assert_allclose(gf, g0[: r.x.size], rtol=1e-5, atol=1e-5 * np.abs(g0).max())
+
+
+def test_bad_input_is_refused_naming_it():
+    _, _, line, star = _line_and_star(4)
+    bare = line.copy()
+    bare.contact = None
+    with pytest.raises(RodstabInputError, match="start.contact is None"):
+        pulled_path(bare, star)
+    with pytest.raises(RodstabInputError, match="stages must be positive"):
+        pulled_path(line, star, stages=(1.0, -2.0))
+    with pytest.raises(RodstabInputError, match="nodes"):
+        pulled_path(line, common_rod(state_assembly("hexagram", rectangle(aspect=4.0),
+                                                    "star"), 5, 1.0))
+
+
+@pytest.mark.slow
+def test_the_lk0_line_is_pulled_to_the_star_without_rods_crossing():
+    # Session 30: the line on layers 0, 2, 1 (Lk 0) and the star (Lk 0) are joined inside the
+    # model. Checked here by what the pull does not use: the ribbon's self-linking at the end,
+    # the transitions' pass-through judge on the node positions, and every state's smallest
+    # centreline distance sampled by the tests' own code (within the sampling's bound of h).
+    a, stacked, line, star = _line_and_star(6)
+    run = pulled_path(line, star)
+    assert run.reached and run.end_distance < 1e-6
+    end = run.states[-1]
+    assert abs(end.energy() - star.energy()) < 1e-9
+    assert self_linking(line).value == self_linking(end).value == 0
+    xs = np.array([s.x for s in run.states])
+    report, edges, _ = path_contact(a, 6, xs, H, rod=stacked)
+    assert not report.pass_through and report.min_distance > 0.99
+    pairs = judged_pairs(edges, 6)
+    spacing = np.linalg.norm(xs[:, edges[:, 1]] - xs[:, edges[:, 0]], axis=2).max() / 100
+    closest = min(smallest_distance(x, edges, pairs) for x in xs[:: max(1, len(xs) // 60)])
+    assert closest > H - spacing
+    # an upper bound on the barrier: above both ends, and the rod's energy (springs off)
+    assert run.highest_energy > line.energy() > star.energy()
+    assert run.highest_energy == pytest.approx(max(s.energy() for s in run.states))
