@@ -80,6 +80,8 @@ def test_bad_input_is_refused_naming_it():
         pulled_path(bare, star)
     with pytest.raises(RodstabInputError, match="stages must be positive"):
         pulled_path(line, star, stages=(1.0, -2.0))
+    with pytest.raises(RodstabInputError, match="tolerance"):
+        pulled_path(line, star, tolerance=-1e-6)
     with pytest.raises(RodstabInputError, match="nodes"):
         pulled_path(line, common_rod(state_assembly("hexagram", rectangle(aspect=4.0),
                                                     "star"), 5, 1.0))

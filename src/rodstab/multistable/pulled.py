@@ -28,7 +28,7 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-from ..errors import RodstabInputError, require_int
+from ..errors import RodstabInputError, require_int, require_positive
 from ..nonlinear.discrete import DiscreteRod
 from ..nonlinear.newton import newton
 from ..results import Result
@@ -127,14 +127,14 @@ def pulled_path(start: DiscreteRod, end: DiscreteRod, *, stages: tuple[float, ..
     max_steps : int
         Newton steps at most per stage and for the release.
     tolerance : float, optional
-        Largest node distance (length) at which the released state counts as ``end``;
+        Largest node distance (length, > 0) at which the released state counts as ``end``;
         default ``1e-6 Lm``.
 
     Raises
     ------
     RodstabInputError
         No contact on ``start`` (a pulled path without it proves nothing), states of different
-        node counts, a stage that is not a positive finite number.
+        node counts, a stage or a tolerance that is not a positive finite number.
     """
     if start.contact is None:
         raise RodstabInputError("start.contact is None: a pulled path proves two states "
@@ -149,11 +149,10 @@ def pulled_path(start: DiscreteRod, end: DiscreteRod, *, stages: tuple[float, ..
     a = start.assembly
     lm = a.total_length / len(a.segments)
     scale = max(s.B3 for s in a.segments) / lm**3
-    tol = 1e-6 * lm if tolerance is None else float(tolerance)
-    fields = {f.name: getattr(start, f.name) for f in dataclasses.fields(start) if f.init}
-    r = PulledRod(**fields, target=end.x.copy())
-    r = dataclasses.replace(r, x=start.x.copy(), R_edge=start.R_edge.copy(),
-                            R_joint=start.R_joint.copy())
+    tol = 1e-6 * lm if tolerance is None else require_positive("tolerance", tolerance)
+    base = start.copy()  # Newton moves the pulled rod in place: never start's own arrays
+    r = PulledRod(**{f.name: getattr(base, f.name) for f in dataclasses.fields(base) if f.init},
+                  target=end.x.copy())
     states: list[DiscreteRod] = [start.copy()]
     record = []
     for k in stages:
