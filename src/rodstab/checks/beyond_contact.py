@@ -373,7 +373,8 @@ def _folded_ring_claim() -> Claim:
         "stable between two folds, 1.39 +- 0.02 (it snaps open into the one-loop ring, Lk 0 "
         "kept) and 5.08 +- 0.02, by the natural-parameter follower and by arclength "
         "continuation: inside the bracket of this cone and every pair held closed (0, 5.585), "
-        "as a stack that presses must be; the rectangle (32 el.) ends near 0.45 and 7.0: "
+        "as a stack that presses must be; the rectangle h/t 2 near 0.44 and 7.02 (+- 0.02, 16-64 "
+        "el.): "
         "docs/theory/contact.md, 'Started near the ends'.")
 
 
