@@ -2,15 +2,15 @@
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
 import pytest
 from contact_checks import central_differences, judged_pairs, smallest_distance
 
 from rodstab.errors import RodstabInputError
-from rodstab.multistable.barrier import path_contact
 from rodstab.multistable.discover import common_rod
 from rodstab.multistable.layered import lift, stacked_model
-from rodstab.multistable.linking import self_linking
 from rodstab.multistable.pulled import PulledRod, pulled_path
 from rodstab.multistable.string_method import to_gauge
 from rodstab.nonlinear.contact import mesh_of_rod
@@ -87,25 +87,65 @@ def test_bad_input_is_refused_naming_it():
                                                     "star"), 5, 1.0))
 
 
+LAYERS_021 = "1=-0.5:0:0,2=0.5:0:1,3=-0.5:2:1,4=0.5:2:2,5=-0.5:1:2,6=0.5:1:0"
+LAYERS_012 = "1=-0.5:0:0,2=0.5:0:1,3=-0.5:1:1,4=0.5:1:2,5=-0.5:2:2,6=0.5:2:0"
+PULL = ["barrier", "--structure", "hexagram", "--shape", "rectangle", "--aspect", "4",
+        "--from", "line", "--to", "star", "--load-factor", "1", "--elements", "6",
+        "--method", "pull"]
+
+
+@pytest.mark.parametrize("extra, named", [
+    ([], "contact off, --layers None"),
+    (["--contact"], "--layers None"),
+    (["--layers", LAYERS_021], "is a setting of contact, which is off"),
+    (["--contact", "--layers", LAYERS_021, "--images", "5"], "--images"),
+    (["--contact", "--layers", LAYERS_021, "--workers", "2"], "--workers"),
+    (["--contact", "--layers", LAYERS_021, "--into-contact"], "--into-contact"),
+])
+def test_pull_refuses_what_it_cannot_do_naming_it(run_cli, extra, named):
+    # before any work: exit 2, the offending option named
+    r = run_cli([*PULL, *extra])
+    assert r.exit_code == 2, (r.stdout, r.stderr)
+    assert named in r.stderr
+
+
 @pytest.mark.slow
-def test_the_lk0_line_is_pulled_to_the_star_without_rods_crossing():
+def test_an_lk2_order_is_blocked_before_the_pull(run_cli):
+    # layers 0, 1, 2: the ribbon self-links -2 (session 27), the star 0: no path, said as the
+    # string says it (the pull is not run)
+    r = run_cli([*PULL, "--contact", "--layers", LAYERS_012, "--json"])
+    assert r.exit_code == 0, r.stderr
+    payload = json.loads(r.stdout)
+    assert payload["blocked_by_contact"] and payload["barrier_forward"] is None
+    assert "pull" not in payload
+
+
+@pytest.mark.slow
+def test_the_lk0_line_is_pulled_to_the_star_without_rods_crossing(run_cli, tmp_path):
     # Session 30: the line on layers 0, 2, 1 (Lk 0) and the star (Lk 0) are joined inside the
-    # model. Checked here by what the pull does not use: the ribbon's self-linking at the end,
-    # the transitions' pass-through judge on the node positions, and every state's smallest
-    # centreline distance sampled by the tests' own code (within the sampling's bound of h).
-    a, stacked, line, star = _line_and_star(6)
-    run = pulled_path(line, star)
-    assert run.reached and run.end_distance < 1e-6
-    end = run.states[-1]
-    assert abs(end.energy() - star.energy()) < 1e-9
-    assert self_linking(line).value == self_linking(end).value == 0
-    xs = np.array([s.x for s in run.states])
-    report, edges, _ = path_contact(a, 6, xs, H, rod=stacked)
-    assert not report.pass_through and report.min_distance > 0.99
+    # model; from the command line (session 31). Checked by what the pull does not use: the
+    # ends against the line and the star built and relaxed here by hand, the written path's
+    # smallest centreline distance sampled by the tests' own code (within the sampling's
+    # bound of h), the bound against the energies printed.
+    r = run_cli([*PULL, "--contact", "--layers", LAYERS_021, "--json", "--out", tmp_path])
+    assert r.exit_code == 0, r.stderr
+    payload = json.loads(r.stdout)
+    _, _, line, star = _line_and_star(6)
+    assert payload["converged"] is True and payload["pull"]["reached"] is True
+    assert payload["energy_from"] == pytest.approx(line.energy(), abs=1e-9)
+    assert payload["energy_to"] == pytest.approx(star.energy(), abs=1e-9)
+    assert payload["barrier_forward"] is None and payload["barrier_backward"] is None
+    top = max(payload["pull"]["energies"])
+    assert payload["upper_bound_forward"] == pytest.approx(top - line.energy(), abs=1e-9)
+    assert payload["upper_bound_backward"] == pytest.approx(top - star.energy(), abs=1e-9)
+    assert top > line.energy() > star.energy()
+    assert payload["contact"]["pass_through"] is False
+    assert {v["value"] for v in payload["contact"]["linking"].values()} == {0}
+    z = np.load(tmp_path / "path.npz")
+    xs, edges = z["x"], z["edges"]
+    assert len(xs) == len(payload["pull"]["energies"]) and float(z["thickness"]) == H
     pairs = judged_pairs(edges, 6)
     spacing = np.linalg.norm(xs[:, edges[:, 1]] - xs[:, edges[:, 0]], axis=2).max() / 100
     closest = min(smallest_distance(x, edges, pairs) for x in xs[:: max(1, len(xs) // 60)])
     assert closest > H - spacing
-    # an upper bound on the barrier: above both ends, and the rod's energy (springs off)
-    assert run.highest_energy > line.energy() > star.energy()
-    assert run.highest_energy == pytest.approx(max(s.energy() for s in run.states))
+    assert np.abs(xs[-1] - star.x).max() < 1e-6 and np.abs(xs[0] - line.x).max() < 1e-9

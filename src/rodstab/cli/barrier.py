@@ -16,7 +16,7 @@ from ..io.outputs import check_output
 from ..limits import Limits
 from ..model import CONTACT_DHAT_FRACTION
 from ..sections import Section
-from .barrier_contact import apart_output, contact_line, path_model, topology_lines
+from .barrier_contact import apart_output, judge_path, judged_lines
 from .contact_options import (
     check_cusp_width,
     cusp_width_option,
@@ -35,7 +35,7 @@ from .options import (
     string_workers_option,
     structure_option,
 )
-from .output import emit, fmt, image_output, section_line, units_line, weld_line
+from .output import emit, fmt, image_output, section_line, units_line
 
 #: Default ``--from`` / ``--to`` of ``rodstab barrier`` per built-in structure.
 _BARRIER_STATES = {"six-ring": ("folded", "one-loop"), "hexagram": ("line", "star")}
@@ -43,11 +43,13 @@ _BARRIER_STATES = {"six-ring": ("folded", "one-loop"), "hexagram": ("line", "sta
 
 @click.command()
 @click.argument("design_file", required=False, type=click.Path(dir_okay=False))
-@click.option("--method", type=click.Choice(["string", "continuation"]), default="string",
-              show_default=True,
+@click.option("--method", type=click.Choice(["string", "continuation", "pull"]),
+              default="string", show_default=True,
               help="string: minimum energy path between the two states, saddle refined from "
                    "it; continuation: saddle from the --from state's bifurcation (built-in, "
-                   "straight held states only).")
+                   "straight held states only); pull: with --contact --layers, a path inside "
+                   "the contact model from the stacked --from state and an upper bound on the "
+                   "barrier (not the barrier).")
 @structure_option("six-ring", "hexagram", help="Without DESIGN: the structure (six-ring: "
                   "folded, one-loop; hexagram: line, star, daisy, eight).")
 @click.option("--from", "from_state", default=None,
@@ -107,7 +109,8 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
     sides; a state curved in its held geometry (the hexagram's) is refused (exit 2). An
     unconverged barrier exits 3 after the output. --contact (string): rods are capsules of
     diameter --contact-thickness that cannot pass through each other along the path; energies
-    include the contact energy.
+    include the contact energy. pull (--contact --layers): the stacked --from state pulled to
+    --to by node springs inside the contact model; its highest energy bounds the barrier.
     """
     from ..errors import require_int
     from ..limits import require_nonlinear
@@ -118,6 +121,10 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
                                      or out_dir is not None or workers != 1):
         raise RodstabInputError("--images, --animation, --out and --workers are options of "
                                 "--method string")
+    if method == "pull" and (images is not None or animation_path is not None
+                             or plot_path is not None or workers != 1):
+        raise RodstabInputError("--images, --animation, --plot and --workers are options of "
+                                "--method string, not of --method pull")
     from ..multistable.string_method import STRING_IMAGES
 
     n_img = STRING_IMAGES if images is None else require_int("--images", images, 3)
@@ -170,8 +177,8 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
                                     "computed without contact: --method string, no --contact")
         contact = dataclasses.replace(contact, on=False, dhat=None)
     h, c = contact.judged(None if design_file is None else design.contact)
-    if c is not None and method != "string":
-        raise RodstabInputError("--contact is an option of --method string")
+    if c is not None and method == "continuation":
+        raise RodstabInputError("--contact is an option of --method string or pull")
     order = None
     if layers is not None:
         if c is None:
@@ -182,6 +189,10 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
             raise RodstabInputError(f"--layers {layers!r}: a barrier takes NAME=K, NAME=U:K or "
                                     "NAME=U:K:S for every segment, not a named stacking")
         order = parsed
+    if method == "pull" and (c is None or order is None):
+        raise RodstabInputError("--method pull pulls the stacked --from state inside the contact "
+                                f"model: it needs --contact and --layers (contact "
+                                f"{'on' if c is not None else 'off'}, --layers {layers!r})")
     wide = None
     if cusp_width is not None:
         wide = check_cusp_width(cusp_width, a, h, from_state)
@@ -205,12 +216,12 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
     assert k is not None  # set above on every path (given, DESIGN's or the structure's default)
     from ..multistable.linking import TopologicallyApart
     from ..nonlinear.contact import Interpenetration
+    from ..nonlinear.equilibrium import rod_contact_model
 
     path: list[Any] = []
     try:
         if method == "string":
             from ..multistable.string_method import string_barrier
-            from ..nonlinear.equilibrium import rod_contact_model
 
             model = None if c is None else rod_contact_model(a, h, c)
             with string_pool(workers) as pool:
@@ -218,6 +229,20 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
                                          images=n_img, name_a=from_state, name_b=to_state,
                                          limits=limits, contact=model, layers=order,
                                          named=others, cusp_width=wide, pool=pool)
+        elif method == "pull":
+            from .barrier_contact import pull_output
+
+            model = rod_contact_model(a, h, c)
+            scale = ("B3 = 1, L = 1" if design_file is None or design.units is not None else
+                     "energies in the design's units: stiffness / length")
+            where = "kappa_n R0" if design_file is None else "load factor"
+            head = [section_line(section), f"{name} at {where} = {fmt(k)}, {elements} elements "
+                    f"per rod ({scale}), method pull"]
+            pull_output(a, b_asm, mu, head, {"structure": name, "kappa_R0": k,
+                                              "section": section.to_dict(), "from": from_state,
+                                              "to": to_state}, elements, order, model, h, c,
+                        (from_state, to_state), out, as_json)
+            return
         else:
             from ..multistable.barrier import barrier_from_bifurcation
 
@@ -311,14 +336,8 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
             title=f"{name}, kappa_n R0 = {fmt(k)}, {elements} el./rod, {method}"))
         lines.append(f"wrote {payload['plot']}")
     if path:
-        import numpy as np
-
-        from ..multistable.barrier import path_contact
-
-        xs = np.stack([s.x for s in path])
-        stacked, judge = path_model(a, elements, mu, order, model, wide, h)
-        report, edges, rest = path_contact(a, elements, xs, h, rod=stacked, model=judge)
-        payload["contact"] = dict(report.to_dict(), thickness=h, acting=c is not None)
+        judged = judge_path(payload, a, elements, mu, order, model, wide, h, c is not None,
+                            path)
         if wide is not None and cusp_width is not None:
             payload["contact"]["cusp_width"] = {"h": cusp_width, "length": wide}
             lines.append(f"cusp welds   {fmt(cusp_width)} h wide ({fmt(wide)}): every pair "
@@ -331,27 +350,8 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
                          f"rods from {fmt(stages.distances[0] / h)} h to "
                          f"{fmt(stages.distances[-1] / h)} h apart "
                          "(rodstab.multistable.string_contact)")
-        lines.append(contact_line(report, h, b.from_state, c is not None))
-        if c is not None:
-            from ..nonlinear.discrete import discretise
-
-            lines += topology_lines(payload, stacked or discretise(a, elements), xs,
-                                    (path[0].R_edge, path[-1].R_edge), b.from_state, b.to_state)
-        if order is not None and stacked is not None and model is not None:
-            from ..multistable.layered import weld_spans
-
-            start = stacked.copy()  # the path's first state, as the knots line judges it
-            start.x = xs[0]
-            welds = weld_spans(start, 2.0 * float(np.max(model.radius)))
-            payload["contact"]["welds"] = welds.to_dict()
-            lines.append(weld_line(welds))
-        if out is not None:
-            from ..io.path_file import PATH_FILE, write_path_file
-
-            payload["path_file"] = str(write_path_file(out / PATH_FILE, xs, edges, rest,
-                                                       b.energies,
-                                                       thickness=h))
-            lines.append(f"wrote {payload['path_file']}")
+        lines += judged_lines(payload, judged, a, elements, h, c is not None, path,
+                              (b.from_state, b.to_state), order, model, b.energies, out)
     if gif is not None:
         from ..plot.animations import barrier_animation
 

@@ -163,3 +163,102 @@ def contact_line(report: Any, thickness: float, from_state: str, acting: bool) -
             f"{report.stacked_pairs} element pairs stacked in {from_state} (may touch, not "
             f"swap layers); the others come within {fmt(report.min_distance)} h{overlap}; "
             + verdict)
+
+
+def judge_path(payload: dict[str, Any], a: Any, elements: int, mu: float, order: Any,
+               model: Any, wide: float | None, h: float, acting: bool, path: Any
+               ) -> tuple[Any, Any, Any, Any, Any]:
+    """Judge a barrier's path for pass-through (JSON ``contact``); return what the lines need.
+
+    Returns ``(report, stacked, xs, edges, rest)``: the
+    :func:`~.multistable.barrier.path_contact` report, the path's discrete model (None: ``a``'s
+    plain model), node positions, elements and rest lengths.
+    """
+    import numpy as np
+
+    from ..multistable.barrier import path_contact
+
+    xs = np.stack([s.x for s in path])
+    stacked, judge = path_model(a, elements, mu, order, model, wide, h)
+    report, edges, rest = path_contact(a, elements, xs, h, rod=stacked, model=judge)
+    payload["contact"] = dict(report.to_dict(), thickness=h, acting=acting)
+    return report, stacked, xs, edges, rest
+
+
+def judged_lines(payload: dict[str, Any], judged: tuple[Any, Any, Any, Any, Any], a: Any,
+                 elements: int, h: float, acting: bool, path: Any, names: tuple[str, str],
+                 order: Any, model: Any, energies: Any, out: Any) -> list[str]:
+    """Return the judged path's lines: contact, knots and linking, welds, the path file."""
+    import numpy as np
+
+    from .output import weld_line
+
+    report, stacked, xs, edges, rest = judged
+    lines = [contact_line(report, h, names[0], acting)]
+    if acting:
+        from ..nonlinear.discrete import discretise
+
+        lines += topology_lines(payload, stacked or discretise(a, elements), xs,
+                                (path[0].R_edge, path[-1].R_edge), *names)
+    if order is not None and stacked is not None and model is not None:
+        from ..multistable.layered import weld_spans
+
+        start = stacked.copy()  # the path's first state, as the knots line judges it
+        start.x = xs[0]
+        welds = weld_spans(start, 2.0 * float(np.max(model.radius)))
+        payload["contact"]["welds"] = welds.to_dict()
+        lines.append(weld_line(welds))
+    if out is not None:
+        from ..io.path_file import PATH_FILE, write_path_file
+
+        payload["path_file"] = str(write_path_file(out / PATH_FILE, xs, edges, rest, energies,
+                                                   thickness=h))
+        lines.append(f"wrote {payload['path_file']}")
+    return lines
+
+
+def pull_output(a: Any, b: Any, mu: float, head: list[str], payload: dict[str, Any],
+                elements: int, order: Any, model: Any, h: float, dhat: float,
+                names: tuple[str, str], out: Any, as_json: bool) -> None:
+    """Print ``barrier --method pull``: a path inside the contact model and an upper bound.
+
+    :func:`~.multistable.pulled.stacked_pull` from the stacked ``--from`` state (``order``)
+    to ``--to``; the path is judged as the string's (:func:`judge_path`) and written with
+    ``--out``. The barrier is not computed: JSON ``barrier_forward`` and
+    ``barrier_backward`` are null, ``upper_bound_forward`` / ``upper_bound_backward`` the
+    path's highest energy above each end. Raises NotConverged (after the output) when the
+    released state is not ``--to``.
+    """
+    from ..errors import NotConverged
+    from ..multistable.pulled import stacked_pull
+    from .output import emit
+
+    run = stacked_pull(a, b, mu, order, model, elements_per_segment=elements, names=names)
+    top, e_a, e_b = run.highest_energy, run.energies[0], run.energies[-1]
+    payload.update(method="pull", pull=run.to_dict(), energy_from=e_a, energy_to=e_b,
+                   barrier_forward=None, barrier_backward=None,
+                   upper_bound_forward=top - e_a if run.reached else None,
+                   upper_bound_backward=top - e_b if run.reached else None,
+                   converged=run.reached)
+    k_lo, k_hi = run.stages[0][0], run.stages[-1][0]
+    lines = head + [
+        f"pull         {names[0]} (stacked, --layers) pulled towards {names[1]} by node springs "
+        f"{fmt(k_lo)} .. {fmt(k_hi)} B3/Lm^3 in {len(run.stages)} stages, each relaxed by "
+        "Newton with contact one filtered step at a time, then released: "
+        f"{len(run.states)} states (rodstab.multistable.pulled)",
+        f"reached      {run.reached}: the released state is {fmt(run.end_distance)} (length) "
+        f"from {names[1]} (tolerance {fmt(run.tolerance)})"]
+    if run.reached:
+        lines += [f"upper bound  {names[0]} -> {names[1]}: barrier <= {fmt(top - e_a)}; "
+                  f"{names[1]} -> {names[0]}: <= {fmt(top - e_b)} (highest energy "
+                  f"{fmt(top)} along the path; {names[0]} {fmt(e_a)}, {names[1]} {fmt(e_b)})",
+                  "barrier      not computed: the pulled path is no minimum energy path, its "
+                  "highest energy only bounds the barrier from above"]
+    judged = judge_path(payload, a, elements, mu, order, model, None, h, True, run.states)
+    payload["contact"]["dhat"] = dhat
+    lines += judged_lines(payload, judged, a, elements, h, True, run.states, names, order,
+                          model, run.energies, out)
+    emit(payload, as_json, lines)
+    if not run.reached:
+        raise NotConverged(f"--method pull: the pulled {names[0]} did not reach {names[1]} "
+                           f"when released ({fmt(run.end_distance)} from it): no path built")

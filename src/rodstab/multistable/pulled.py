@@ -28,7 +28,9 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-from ..errors import RodstabInputError, require_int, require_positive
+from ..errors import RodstabInputError, require_finite, require_int, require_positive
+from ..model import Assembly
+from ..nonlinear.contact import ContactModel
 from ..nonlinear.discrete import DiscreteRod
 from ..nonlinear.newton import newton
 from ..results import Result
@@ -165,3 +167,64 @@ def pulled_path(start: DiscreteRod, end: DiscreteRod, *, stages: tuple[float, ..
     dist = float(np.max(np.linalg.norm(r.x - end.x, axis=1)))
     return PulledPath(tuple(states), tuple(float(s.energy()) for s in states), tuple(record),
                       dist <= tol, dist, tol)
+
+
+def stacked_pull(a: Assembly, b: Assembly, load_factor: float, layers: dict[str, Any],
+                 contact: ContactModel, *, elements_per_segment: int = 6,
+                 names: tuple[str, str] = ("A", "B"), stages: tuple[float, ...] = STAGES
+                 ) -> PulledPath:
+    """Pull the stacked state ``a`` to ``b`` inside the contact model (:func:`pulled_path`).
+
+    As the string from a stacked state (:func:`~.string_method.string_barrier` with
+    ``layers``): both held states in one discrete model (:func:`~.discover.common_rod`) at
+    ``load_factor``, relaxed and stable without contact, ``b`` moved into ``a``'s gauge, both
+    lifted into ``a``'s stacked model (:func:`~.layered.stacked_band`: welds spanning the
+    layers ``layers``, relaxed with ``contact`` and stable there), then ``a`` pulled to ``b``.
+    The path's highest energy bounds the barrier from above both ways
+    (:attr:`PulledPath.highest_energy`); the barrier is not computed.
+
+    Parameters
+    ----------
+    a, b : Assembly
+        Held states of one ring; ``a`` the stacked one.
+    load_factor : float
+        The model's load factor (both states stable there).
+    layers : dict
+        ``a``'s layer order (:func:`~.layered.stacked_band`).
+    contact : ContactModel
+        The rods' contact model (capsules).
+    elements_per_segment : int
+        Elements per rod (>= :data:`~.barrier.MIN_ELEMENTS`).
+    names : tuple of str
+        Labels of ``a`` and ``b`` in messages.
+    stages : tuple of float
+        The pull's spring stages (:func:`pulled_path`).
+
+    Raises
+    ------
+    RodstabInputError
+        A bad number, states of two models, an end not stable (with or without contact).
+    TopologicallyApart
+        The two stacked states differ in knot type or ribbon self-linking: no path joins them
+        inside the model (:func:`~.linking.topology`), raised before the pull.
+    """
+    from .barrier import MIN_ELEMENTS, same_model
+    from .discover import common_rod
+    from .layered import stable_end, stacked_band
+    from .linking import TopologicallyApart, topology
+    from .string_method import to_gauge
+
+    mu = require_finite("load_factor", load_factor)
+    n = require_int("elements_per_segment", elements_per_segment, MIN_ELEMENTS)
+    ra, rb = common_rod(a, n, mu), common_rod(b, n, mu)
+    if not same_model(ra, rb):
+        raise RodstabInputError(f"states {names[0]!r} and {names[1]!r} are not states of one "
+                                "discrete model (rest lengths or natural curvatures differ)")
+    for r, label in ((ra, names[0]), (rb, names[1])):
+        stable_end(r, label, None, f"load factor {mu!r}")
+    to_gauge(rb, ra)
+    start, end = stacked_band([ra, rb], layers, contact, names)
+    verdict = topology(start, end, names)
+    if verdict.apart:
+        raise TopologicallyApart(verdict)
+    return pulled_path(start, end, stages=stages)
