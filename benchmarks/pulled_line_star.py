@@ -1,7 +1,8 @@
 """The hexagram's stacked line pulled to its star inside the contact model (issue 21).
 
-A prototype (not in the package), run on demand: ``python benchmarks/pulled_line_star.py
-[ORDER] [ELEMENTS] [--out FILE]`` (default ``0,2,1 6``). The line stacked in two staggered
+Run on demand: ``python benchmarks/pulled_line_star.py [ORDER] [ELEMENTS] [--out FILE]``
+(default ``0,2,1 6``); ``rodstab barrier --method pull --contact --layers ...`` runs the same
+pull (:func:`rodstab.multistable.pulled.stacked_pull`), this script prints its stages. The line stacked in two staggered
 columns (rods 1, 3, 5 and 2, 4, 6 on the layers ``ORDER``, shifts 0, 1, 1, 2, 2, 0: the six
 orders whose weld spans stay clear, docs/theory/contact.md "Ribbon self-linking"), rectangle
 h/t = 4, kappa_n R0 = 1, capsules h = 0.02 L (the command line's contact model), and the star
@@ -33,15 +34,9 @@ import time
 import numpy as np
 
 from rodstab.multistable.barrier import path_contact
-from rodstab.multistable.discover import common_rod
-from rodstab.multistable.layered import lift, stacked_model
 from rodstab.multistable.linking import self_linking
-from rodstab.multistable.pulled import pulled_path
-from rodstab.multistable.string_method import to_gauge
-from rodstab.nonlinear.contact import mesh_of_rod
+from rodstab.multistable.pulled import stacked_pull
 from rodstab.nonlinear.equilibrium import rod_contact_model
-from rodstab.nonlinear.solve import newton
-from rodstab.nonlinear.stability import stability_eigenvalues
 from rodstab.problems.barrier_states import state_assembly
 from rodstab.sections import rectangle
 
@@ -64,32 +59,22 @@ def main() -> None:
     section = rectangle(aspect=4.0)
     a_line = state_assembly("hexagram", section, "line")
     model = rod_contact_model(a_line, THICKNESS)
-    ra = common_rod(a_line, n, 1.0)
-    rb = common_rod(state_assembly("hexagram", section, "star"), n, 1.0)
-    newton(ra)
-    newton(rb)
-    to_gauge(rb, ra)
-    stacked = stacked_model(ra, layers_of(order), model)
-    line, star = lift(stacked, ra, ra), lift(stacked, ra, rb)
-    for r, label in ((line, "line"), (star, "star")):
-        r.contact = mesh_of_rod(r, model)
-        ok, its, _ = newton(r)
-        lam = stability_eigenvalues(r)[0][0]
-        print(f"{label}: relaxed with contact ({ok}, {its} it.), energy {r.energy():.6f}, lowest "
-              f"eigenvalue {lam:.2e}, Lk {self_linking(r).value}")
     print(f"layers {order}, {n} el./rod, rectangle h/t 4, kappa_n R0 1, h = {THICKNESS} L")
     t0 = time.perf_counter()
-    run = pulled_path(line, star)
+    # the ends built, lifted and checked stable as `barrier --method pull` does
+    run = stacked_pull(a_line, state_assembly("hexagram", section, "star"), 1.0,
+                       layers_of(order), model, elements_per_segment=n, names=("line", "star"))
+    path = list(run.states)
+    print(f"line: energy {run.energies[0]:.6f}, Lk {self_linking(path[0]).value}")
     print("  k (B3/L^3)  converged  steps  max|x - x_star| / L  energy")
     for k, ok, its, dist, energy in run.stages:
         print(f"  {k:10.3g}  {ok!s:9}  {its:5d}  {dist:20.4f}  {energy:.4f}")
-    path = list(run.states)
     print(f"released: reached the star {run.reached} (max|x - x_star| {run.end_distance:.2e} L), "
-          f"energy {path[-1].energy():.6f} (star {star.energy():.6f}), Lk "
-          f"{self_linking(path[-1]).value} ({time.perf_counter() - t0:.0f} s)")
+          f"energy {run.energies[-1]:.6f}, Lk {self_linking(path[-1]).value} "
+          f"({time.perf_counter() - t0:.0f} s)")
     xs = np.array([r.x for r in path])
-    energies = [r.energy() for r in path]
-    report, edges, _ = path_contact(a_line, n, xs, THICKNESS, rod=stacked)
+    energies = run.energies
+    report, edges, _ = path_contact(a_line, n, xs, THICKNESS, rod=path[0])
     print(f"path: {len(path)} states joined by filtered Newton steps; highest energy "
           f"{max(energies):.4f} (line {energies[0]:.4f}: {max(energies) - energies[0]:.4f} "
           f"above it, an upper bound on the barrier with contact); judged from the node "
