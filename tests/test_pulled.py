@@ -132,6 +132,8 @@ def test_the_lk0_line_is_pulled_to_the_star_without_rods_crossing(run_cli, tmp_p
     payload = json.loads(r.stdout)
     _, _, line, star = _line_and_star(6)
     assert payload["converged"] is True and payload["pull"]["reached"] is True
+    assert (payload["from"], payload["to"]) == (payload["from_state"], payload["to_state"]) \
+        == ("line", "star")
     assert payload["energy_from"] == pytest.approx(line.energy(), abs=1e-9)
     assert payload["energy_to"] == pytest.approx(star.energy(), abs=1e-9)
     assert payload["barrier_forward"] is None and payload["barrier_backward"] is None

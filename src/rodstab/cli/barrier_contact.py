@@ -236,6 +236,7 @@ def pull_output(a: Any, b: Any, mu: float, head: list[str], payload: dict[str, A
     run = stacked_pull(a, b, mu, order, model, elements_per_segment=elements, names=names)
     top, e_a, e_b = run.highest_energy, run.energies[0], run.energies[-1]
     payload.update(method="pull", pull=run.to_dict(), energy_from=e_a, energy_to=e_b,
+                   from_state=names[0], to_state=names[1],
                    barrier_forward=None, barrier_backward=None,
                    upper_bound_forward=top - e_a if run.reached else None,
                    upper_bound_backward=top - e_b if run.reached else None,
