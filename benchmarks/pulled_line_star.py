@@ -2,11 +2,12 @@
 
 Run on demand: ``python benchmarks/pulled_line_star.py [ORDER] [ELEMENTS] [--out FILE]``
 (default ``0,2,1 6``); ``rodstab barrier --method pull --contact --layers ...`` runs the same
-pull (:func:`rodstab.multistable.pulled.stacked_pull`), this script prints its stages. The line stacked in two staggered
-columns (rods 1, 3, 5 and 2, 4, 6 on the layers ``ORDER``, shifts 0, 1, 1, 2, 2, 0: the six
-orders whose weld spans stay clear, docs/theory/contact.md "Ribbon self-linking"), rectangle
-h/t = 4, kappa_n R0 = 1, capsules h = 0.02 L (the command line's contact model), and the star
-lifted into the same stacked model, both relaxed with contact.
+pull (:func:`rodstab.multistable.pulled.stacked_pull`), this script prints its stages. The
+line stacked in two staggered columns (rods 1, 3, 5 and 2, 4, 6 on the layers ``ORDER``,
+shifts 0, 1, 1, 2, 2, 0: the six orders whose weld spans stay clear, docs/theory/contact.md
+"Ribbon self-linking"), rectangle h/t = 4, kappa_n R0 = 1, capsules h = 0.02 L (the command
+line's contact model), and the star lifted into the same stacked model, both relaxed with
+contact.
 
 Session 27 showed the orders with Lk = -2 or +2 cannot reach the star (Lk 0) without rods
 passing through one another; from the Lk = 0 orders (0,2,1 and 2,0,1) no string with contact
