@@ -94,11 +94,25 @@ PULL = ["barrier", "--structure", "hexagram", "--shape", "rectangle", "--aspect"
         "--method", "pull"]
 
 
+def test_a_bound_is_drawn_as_a_bound_not_a_saddle():
+    # barrier --method pull's figure: the highest point is marked as a bound, the arrows read
+    # "<=" with the differences of the energies given; without bound=True, a saddle as before
+    from rodstab.plot.plots import plot_barrier_path
+
+    for bound, mark, prefix in ((True, "at most", "<= "), (False, "saddle (index 1)", "")):
+        ax = plot_barrier_path([0.0, 0.4, 1.0], [1.0, 3.5, 0.25], 1, bound=bound).axes[0]
+        assert any(mark in t.get_text() for t in ax.get_legend().get_texts())
+        texts = [t.get_text() for t in ax.texts]
+        assert any(t.startswith(f" {prefix}2.5 ") for t in texts), texts
+        assert any(t.startswith(f" {prefix}3.25 ") for t in texts), texts
+
+
 @pytest.mark.parametrize("extra, named", [
     ([], "contact off, --layers None"),
     (["--contact"], "--layers None"),
     (["--layers", LAYERS_021], "is a setting of contact, which is off"),
     (["--contact", "--layers", LAYERS_021, "--images", "5"], "--images"),
+    (["--contact", "--layers", LAYERS_021, "--animation", "a.gif"], "--animation"),
     (["--contact", "--layers", LAYERS_021, "--workers", "2"], "--workers"),
     (["--contact", "--layers", LAYERS_021, "--into-contact"], "--into-contact"),
 ])
@@ -127,7 +141,8 @@ def test_the_lk0_line_is_pulled_to_the_star_without_rods_crossing(run_cli, tmp_p
     # ends against the line and the star built and relaxed here by hand, the written path's
     # smallest centreline distance sampled by the tests' own code (within the sampling's
     # bound of h), the bound against the energies printed.
-    r = run_cli([*PULL, "--contact", "--layers", LAYERS_021, "--json", "--out", tmp_path])
+    r = run_cli([*PULL, "--contact", "--layers", LAYERS_021, "--json", "--out", tmp_path,
+                 "--plot", tmp_path / "pull.png"])
     assert r.exit_code == 0, r.stderr
     payload = json.loads(r.stdout)
     _, _, line, star = _line_and_star(6)
@@ -142,6 +157,7 @@ def test_the_lk0_line_is_pulled_to_the_star_without_rods_crossing(run_cli, tmp_p
     assert payload["upper_bound_backward"] == pytest.approx(top - star.energy(), abs=1e-9)
     assert top > line.energy() > star.energy()
     assert payload["contact"]["pass_through"] is False
+    assert payload["plot"] == str(tmp_path / "pull.png") and (tmp_path / "pull.png").stat().st_size
     assert {v["value"] for v in payload["contact"]["linking"].values()} == {0}
     z = np.load(tmp_path / "path.npz")
     xs, edges = z["x"], z["edges"]

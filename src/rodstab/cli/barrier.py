@@ -121,10 +121,9 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
                                      or out_dir is not None or workers != 1):
         raise RodstabInputError("--images, --animation, --out and --workers are options of "
                                 "--method string")
-    if method == "pull" and (images is not None or animation_path is not None
-                             or plot_path is not None or workers != 1):
-        raise RodstabInputError("--images, --animation, --plot and --workers are options of "
-                                "--method string, not of --method pull")
+    if method == "pull" and (images is not None or animation_path is not None or workers != 1):
+        raise RodstabInputError("--images, --animation and --workers are options of --method "
+                                "string, not of --method pull")
     from ..multistable.string_method import STRING_IMAGES
 
     n_img = STRING_IMAGES if images is None else require_int("--images", images, 3)
@@ -241,7 +240,7 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
             pull_output(a, b_asm, mu, head, {"structure": name, "kappa_R0": k,
                                               "section": section.to_dict(), "from": from_state,
                                               "to": to_state}, elements, order, model, h, c,
-                        (from_state, to_state), out, as_json)
+                        (from_state, to_state), out, as_json, plot)
             return
         else:
             from ..multistable.barrier import barrier_from_bifurcation

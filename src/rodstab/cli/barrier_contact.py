@@ -219,16 +219,19 @@ def judged_lines(payload: dict[str, Any], judged: tuple[Any, Any, Any, Any, Any]
 
 def pull_output(a: Any, b: Any, mu: float, head: list[str], payload: dict[str, Any],
                 elements: int, order: Any, model: Any, h: float, dhat: float,
-                names: tuple[str, str], out: Any, as_json: bool) -> None:
+                names: tuple[str, str], out: Any, as_json: bool, plot: Any = None) -> None:
     """Print ``barrier --method pull``: a path inside the contact model and an upper bound.
 
     :func:`~.multistable.pulled.stacked_pull` from the stacked ``--from`` state (``order``)
     to ``--to``; the path is judged as the string's (:func:`judge_path`) and written with
     ``--out``. The barrier is not computed: JSON ``barrier_forward`` and
     ``barrier_backward`` are null, ``upper_bound_forward`` / ``upper_bound_backward`` the
-    path's highest energy above each end. Raises NotConverged (after the output) when the
-    released state is not ``--to``.
+    path's highest energy above each end. ``plot``: the energy along the path (chart
+    arclength), its highest point and the two bounds marked. Raises NotConverged (after the
+    output) when the released state is not ``--to``.
     """
+    import numpy as np
+
     from ..errors import NotConverged
     from ..multistable.pulled import stacked_pull
     from .output import emit
@@ -259,6 +262,14 @@ def pull_output(a: Any, b: Any, mu: float, head: list[str], payload: dict[str, A
     payload["contact"]["dhat"] = dhat
     lines += judged_lines(payload, judged, a, elements, h, True, run.states, names, order,
                           model, run.energies, out)
+    if plot is not None:
+        from ..multistable.path_chart import arclength
+        from ..plot.plots import plot_barrier_path
+
+        payload["plot"] = str(plot_barrier_path(
+            arclength(list(run.states)).tolist(), run.energies, int(np.argmax(run.energies)), plot,
+            labels=names, bound=True, title=f"{head[1]}: pulled path, an upper bound"))
+        lines.append(f"wrote {payload['plot']}")
     emit(payload, as_json, lines)
     if not run.reached:
         raise NotConverged(f"--method pull: the pulled {names[0]} did not reach {names[1]} "

@@ -770,27 +770,30 @@ def plot_section(nodes: np.ndarray, triangles: np.ndarray, part: np.ndarray,
 def plot_barrier_path(arclength: tuple[float, ...] | list[float], energies: tuple[float, ...]
                       | list[float], saddle: int, path: str | Path | None = None, *,
                       labels: tuple[str, str] = ("A", "B"), title: str = "",
-                      energy_label: str = "energy (B3 / L)") -> Any:
+                      energy_label: str = "energy (B3 / L)", bound: bool = False) -> Any:
     """Draw the energy along a path between two states, the saddle marked, barriers annotated.
 
     ``energies[k]`` at ``arclength[k]`` (normalised to [0, 1]; empty: the points are spread
     evenly); ``saddle`` is the saddle's index. The forward barrier ``E_saddle - E[0]`` and the
     backward one ``E_saddle - E[-1]`` are drawn as vertical arrows at the two ends, labelled.
     ``energy_label`` names the energy axis and its unit (model units B3/L, or "energy [J]").
+    ``bound``: the path is not a minimum energy path (``barrier --method pull``); ``saddle``
+    is then its highest point, marked as such, and the arrows read as upper bounds.
     """
     e = np.asarray(energies, dtype=float)
     s = np.asarray(arclength, dtype=float) if len(arclength) else np.linspace(0.0, 1.0, len(e))
     fig = Figure(figsize=(6.4, 4.2))
     ax = fig.subplots()
     ax.plot(s, e, "o-", color="C0", ms=3, lw=1.2, label="path")
-    ax.plot(s[saddle], e[saddle], "*", color="C3", ms=14, label="saddle (index 1)")
+    ax.plot(s[saddle], e[saddle], "*", color="C3", ms=14,
+            label="highest point: the barrier is at most this" if bound else "saddle (index 1)")
     top = e[saddle]
     for x, e0, name, ha in ((0.0, e[0], labels[0], "left"), (1.0, e[-1], labels[1], "right")):
         ax.annotate("", xy=(x, top), xytext=(x, e0),
                     arrowprops={"arrowstyle": "<->", "color": "C3", "lw": 1})
         ax.hlines(top, min(x, s[saddle]), max(x, s[saddle]), colors="C3", lw=0.6, ls=":")
-        ax.text(x, 0.5 * (top + e0), f" {top - e0:.5g} \n from {name} ", color="C3",
-                ha=ha, va="center", fontsize=8)
+        ax.text(x, 0.5 * (top + e0), f" {'<= ' if bound else ''}{top - e0:.5g} \n from {name} ",
+                color="C3", ha=ha, va="center", fontsize=8)
     ax.set_xlabel("path arclength (normalised)")
     ax.set_ylabel(energy_label)
     ax.set_xlim(-0.08, 1.08)
