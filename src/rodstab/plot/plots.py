@@ -777,26 +777,23 @@ def plot_barrier_path(arclength: tuple[float, ...] | list[float], energies: tupl
     evenly); ``saddle`` is the saddle's index. The forward barrier ``E_saddle - E[0]`` and the
     backward one ``E_saddle - E[-1]`` are drawn as vertical arrows at the two ends, labelled.
     ``energy_label`` names the energy axis and its unit (model units B3/L, or "energy [J]").
-    ``bound``: the path is not a minimum energy path (``barrier --method pull``); ``saddle``
-    is then its highest point, marked as such, and the arrows read as upper bounds.
+    ``bound``: ``saddle`` is a path's highest point and the barriers are bounds (method pull).
     """
     e = np.asarray(energies, dtype=float)
     s = np.asarray(arclength, dtype=float) if len(arclength) else np.linspace(0.0, 1.0, len(e))
     fig = Figure(figsize=(6.4, 4.2))
     ax = fig.subplots()
     ax.plot(s, e, "o-", color="C0", ms=3, lw=1.2, label="path")
-    ax.plot(s[saddle], e[saddle], "*", color="C3", ms=14,
-            label="highest point: the barrier is at most this" if bound else "saddle (index 1)")
-    top = e[saddle]
+    ax.plot(s[saddle], e[saddle], "*", color="C3", ms=14, label="highest point: the barrier is "
+            "at most this" if bound else "saddle (index 1)")
+    top, le = e[saddle], "<= " if bound else ""
     for x, e0, name, ha in ((0.0, e[0], labels[0], "left"), (1.0, e[-1], labels[1], "right")):
         ax.annotate("", xy=(x, top), xytext=(x, e0),
                     arrowprops={"arrowstyle": "<->", "color": "C3", "lw": 1})
         ax.hlines(top, min(x, s[saddle]), max(x, s[saddle]), colors="C3", lw=0.6, ls=":")
-        ax.text(x, 0.5 * (top + e0), f" {'<= ' if bound else ''}{top - e0:.5g} \n from {name} ",
-                color="C3", ha=ha, va="center", fontsize=8)
-    ax.set_xlabel("path arclength (normalised)")
-    ax.set_ylabel(energy_label)
-    ax.set_xlim(-0.08, 1.08)
+        ax.text(x, 0.5 * (top + e0), f" {le}{top - e0:.5g} \n from {name} ", color="C3",
+                ha=ha, va="center", fontsize=8)
+    ax.set(xlabel="path arclength (normalised)", ylabel=energy_label, xlim=(-0.08, 1.08))
     ax.set_title(title, fontsize=9)
     ax.legend(fontsize=8, loc="best")
     ax.grid(alpha=0.3)
