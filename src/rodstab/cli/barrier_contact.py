@@ -268,7 +268,8 @@ def pull_output(a: Any, b: Any, mu: float, head: list[str], payload: dict[str, A
 
         payload["plot"] = str(plot_barrier_path(
             arclength(list(run.states)).tolist(), run.energies, int(np.argmax(run.energies)), plot,
-            labels=names, bound=True, title=f"{head[1]}: pulled path, an upper bound"))
+            labels=(names[0], names[1] if run.reached else f"released (not {names[1]})"),
+            bound=True, title=f"{head[1]}: pulled path, an upper bound"))
         lines.append(f"wrote {payload['plot']}")
     emit(payload, as_json, lines)
     if not run.reached:

@@ -176,8 +176,8 @@ def stacked_pull(a: Assembly, b: Assembly, load_factor: float, layers: dict[str,
     """Pull the stacked state ``a`` to ``b`` inside the contact model (:func:`pulled_path`).
 
     As the string from a stacked state (:func:`~.string_method.string_barrier` with
-    ``layers``): both held states in one discrete model (:func:`~.discover.common_rod`) at
-    ``load_factor``, relaxed and stable without contact, ``b`` moved into ``a``'s gauge, both
+    ``layers``): both held states in one discrete model at ``load_factor``, relaxed and stable
+    without contact, ``b`` in ``a``'s gauge (:func:`~.string_method.held_pair`), both
     lifted into ``a``'s stacked model (:func:`~.layered.stacked_band`: welds spanning the
     layers ``layers``, relaxed with ``contact`` and stable there), then ``a`` pulled to ``b``.
     The path's highest energy bounds the barrier from above both ways
@@ -208,22 +208,14 @@ def stacked_pull(a: Assembly, b: Assembly, load_factor: float, layers: dict[str,
         The two stacked states differ in knot type or ribbon self-linking: no path joins them
         inside the model (:func:`~.linking.topology`), raised before the pull.
     """
-    from .barrier import MIN_ELEMENTS, same_model
-    from .discover import common_rod
-    from .layered import stable_end, stacked_band
+    from .barrier import MIN_ELEMENTS
+    from .layered import stacked_band
     from .linking import TopologicallyApart, topology
-    from .string_method import to_gauge
+    from .string_method import held_pair
 
     mu = require_finite("load_factor", load_factor)
     n = require_int("elements_per_segment", elements_per_segment, MIN_ELEMENTS)
-    ra, rb = common_rod(a, n, mu), common_rod(b, n, mu)
-    if not same_model(ra, rb):
-        raise RodstabInputError(f"states {names[0]!r} and {names[1]!r} are not states of one "
-                                "discrete model (rest lengths or natural curvatures differ)")
-    for r, label in ((ra, names[0]), (rb, names[1])):
-        stable_end(r, label, None, f"load factor {mu!r}")
-    to_gauge(rb, ra)
-    start, end = stacked_band([ra, rb], layers, contact, names)
+    start, end = stacked_band(list(held_pair(a, b, mu, n, names)), layers, contact, names)
     verdict = topology(start, end, names)
     if verdict.apart:
         raise TopologicallyApart(verdict)

@@ -474,6 +474,25 @@ def _built(a: Assembly, n: int, mu: float, cusp_width: float | None) -> Discrete
     return r
 
 
+def held_pair(a: Assembly, b: Assembly, mu: float, n: int, names: tuple[str, str],
+              contact: ContactModel | None = None, cusp_width: float | None = None
+              ) -> tuple[DiscreteRod, DiscreteRod]:
+    """Return the two ends of a path: ``a`` and ``b`` in one discrete model, ``b`` in ``a``'s gauge.
+
+    Each built by :func:`_built` (``n`` el. per rod at load factor ``mu``), relaxed and stable
+    (:func:`~.layered.stable_end`, with ``contact`` if given); :func:`to_gauge`. Raises
+    :class:`~rodstab.errors.RodstabInputError` for states of two models or an end not stable.
+    """
+    rod_a, rod_b = _built(a, n, mu, cusp_width), _built(b, n, mu, cusp_width)
+    if not same_model(rod_a, rod_b):
+        raise RodstabInputError(f"states {names[0]!r} and {names[1]!r} are not states of one "
+                                "discrete model (rest lengths or natural curvatures differ)")
+    for r, label in ((rod_a, names[0]), (rod_b, names[1])):
+        stable_end(r, label, contact, f"load factor {mu!r}")
+    to_gauge(rod_b, rod_a)
+    return rod_a, rod_b
+
+
 def _named(named: dict[str, Assembly], n: int, mu: float, contact: ContactModel | None,
            cusp_width: float | None = None) -> list[tuple[str, DiscreteRod]]:
     """Return the states of ``named`` that are stable minima at ``mu`` (``contact``), as models."""
@@ -593,13 +612,8 @@ def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
                             copies=n_img) // n_img
     relax = functools.partial(relax_string, pool=pool,
                               max_images=max_string_images(n_img, limits.max_dof_nonlinear // one))
-    rod_a, rod_b = _built(a, n, mu, cusp_width), _built(b, n, mu, cusp_width)
-    if not same_model(rod_a, rod_b):
-        raise RodstabInputError(f"states {name_a!r} and {name_b!r} are not states of one "
-                                "discrete model (rest lengths or natural curvatures differ)")
-    for r, label in ((rod_a, name_a), (rod_b, name_b)):
-        stable_end(r, label, contact if layers is None else None, f"load factor {mu!r}")
-    to_gauge(rod_b, rod_a)
+    rod_a, rod_b = held_pair(a, b, mu, n, (name_a, name_b),
+                             contact if layers is None else None, cusp_width)
     start = belt_path(rod_a, rod_b, n_img)
     if layers is not None:  # the planar path without contact, lifted: the belt path lifted
         # stalled in the soft stages (hexagram line -> star, 6 el.), this one did not
