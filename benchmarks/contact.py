@@ -11,6 +11,9 @@ tests/test_contact_solver.py, at 32 elements per rod. Timed side by side in one 
 * ``resolve``: Newton from each equilibrium after a 1 % load increase (a continuation step);
 * ``evaluate``: one ``energy_terms()`` (energy, gradient, Hessian) at the with-contact
   equilibrium, with and without the contact term.
+* ``factor``: one SuperLU factorisation (Newton's solve) of the free Hessian there, with and
+  without the contact term, and the entries of H and of L + U: how much the contact's
+  couplings fill the factors (docs/theory/contact.md, speed).
 
 Then the same rods ``APART`` (10 h): nothing touches, so both solve the same problem and the
 ratio is the cost of contact-awareness alone. Then the dense case: the hexagram's line
@@ -21,7 +24,7 @@ state lifted into the stacked model (with contact; without it that state is alre
 equilibrium, so no ratio is printed), ``perturbed``: Newton back to each one's equilibrium from
 it plus one seeded random displacement of every node of 0.02 dhat at most (a load step hardly
 moves the line: 1 % in the load leaves its gradient below the tolerance at 16 el.), and
-``evaluate`` at its equilibrium, with and without the contact term.
+``evaluate`` and ``factor`` at its equilibrium, with and without the contact term.
 
 The issue's target: a contact-aware equilibrium costs at most 2x the same without contact.
 
@@ -33,6 +36,7 @@ from __future__ import annotations
 import sys
 
 import numpy as np
+import scipy.sparse.linalg as spla
 from bench_analytic import median_time
 
 from rodstab.model import Assembly, Segment
@@ -109,16 +113,33 @@ def main(elements: int = 32, repeats: int = 7, dhats: tuple[float, ...] = (1e-4,
             t1, t0 = rows[(what, True)], rows[(what, False)]
             n_it = (f"{its[(what, True)]}/{its[(what, False)]}" if (what, True) in its else "")
             print(f"{label:>8} {what:>9} {t1:10.4f} {t0:10.4f} {t1 / t0:7.2f} {n_it:>9}")
+        _factor_rows(rows, label)
     stacked_line(elements, repeats)
     print(f"target: ratio <= {TARGET:g} (issue 21)")
 
 
 def _evaluate_rows(rows: dict, at: DiscreteRod, repeats: int) -> None:
-    """Time one ``energy_terms()`` at ``at`` with its contact term and without it."""
+    """Time one ``energy_terms()`` at ``at`` with its contact term and without it, and one
+    factorisation of the free Hessian each gives (Newton's solve); the factors' sizes in
+    ``rows[("fill", ...)]``."""
     bare = at.copy()
     bare.contact = None
-    rows[("evaluate", True)] = median_time(at.energy_terms, 5 * repeats)
-    rows[("evaluate", False)] = median_time(bare.energy_terms, 5 * repeats)
+    free = at.free_dofs()
+    for contact, r in ((True, at), (False, bare)):
+        rows[("evaluate", contact)] = median_time(r.energy_terms, 5 * repeats)
+        A = r.energy_terms()[2][free][:, free].tocsc()
+        A.eliminate_zeros()  # the rod's assembly stores some structural zeros: count entries
+        rows[("factor", contact)] = median_time(lambda A=A: spla.splu(A), 5 * repeats)
+        lu = spla.splu(A)
+        rows[("fill", contact)] = (A.nnz, lu.L.nnz + lu.U.nnz)
+
+
+def _factor_rows(rows: dict, label: str) -> None:
+    """Print the factorisation's row: times, ratio, and the nonzeros of H and of L + U."""
+    t1, t0 = rows[("factor", True)], rows[("factor", False)]
+    (h1, f1), (h0, f0) = rows[("fill", True)], rows[("fill", False)]
+    print(f"{label:>8} {'factor':>9} {t1:10.4f} {t0:10.4f} {t1 / t0:7.2f}   "
+          f"nnz H {h1}/{h0}, L+U {f1}/{f0}")
 
 
 def stacked_line(elements: int, repeats: int) -> None:
@@ -170,6 +191,7 @@ def stacked_line(elements: int, repeats: int) -> None:
         t1, t0 = rows[(what, True)], rows[(what, False)]
         n_it = f"{pits[True]}/{pits[False]}" if what == "perturbed" else ""
         print(f"{'0.1 h':>8} {what:>9} {t1:10.4f} {t0:10.4f} {t1 / t0:7.2f} {n_it:>9}")
+    _factor_rows(rows, "0.1 h")
 
 
 if __name__ == "__main__":
