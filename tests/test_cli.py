@@ -442,6 +442,20 @@ def test_cli_equilibrium_not_converged_prints_json_then_exit_3(run_cli, monkeypa
     assert "Newton" in lines[0]
 
 
+def test_cli_equilibrium_not_converged_does_not_judge_stability(run_cli, monkeypatch):
+    """The same unconverged solve as text: the stability line says it is not judged (no
+    equilibrium to judge), not "NOT stable" -- the eigenvalues of a state that is no
+    equilibrium say nothing of stability -- then exit 3."""
+    import rodstab.nonlinear.newton as S
+
+    monkeypatch.setattr(S, "RELAX_MAX_ITER", 2)
+    r = run_cli(["equilibrium", "examples/folded_six_ring.toml", "--perturb", "0.1",
+                 "--elements", "8"])
+    assert r.exit_code == 3, (r.exit_code, r.stderr)
+    line = next(k for k in r.stdout.splitlines() if k.startswith("stability"))
+    assert "not judged (Newton did not converge" in line and "NOT stable" not in line
+
+
 @pytest.mark.slow
 def test_cli_continue_not_converged_prints_table_then_exit_3(run_cli, tmp_path):
     """A straight rod turned in plane 0 -> 12 rad at its sliding clamp: the step budget

@@ -645,6 +645,7 @@ def test_equilibrium_with_contact_where_nothing_touches_is_the_same_equilibrium(
 
 @pytest.mark.parametrize("extra, words", [
     (["--contact"], "already interpenetrate"),  # the folded ring's rods coincide
+    (["--contact"], "need a layer order that stacks them apart (--layers"),  # what to do
     (["--contact-thickness", "0.05"], "--contact-thickness is a setting of contact, which is "
                                       "off"),
     (["--contact", "--contact-dhat", "1"], "--contact-dhat must be below 1"),

@@ -264,13 +264,16 @@ def equilibrium_cmd(design_file: str, load_factor: float, elements: int | None, 
                       f"{u.length_text(payload['units']['max_out_of_plane']['value'])}, largest "
                       f"|internal moment| {fmt(payload['units']['max_internal_moment']['value'])}"
                       " N*m"]
+    # An unconverged state is no equilibrium: its eigenvalues say nothing of stability.
+    verdict = (("stable" if r.stable else "NOT stable") if ok
+               else "not judged (Newton did not converge: no equilibrium to judge)")
     emit(payload, as_json, [
         f"design       {d.source}, load factor {fmt(load_factor)}, {n} elements/segment",
         f"Newton       {'converged' if ok else 'NOT converged'} in {its} iterations, "
         f"residual {res:.3g}",
         energy, *unit_lines, *contact_line,
-        f"stability    {'stable' if r.stable else 'NOT stable'}; lowest scaled Hessian "
-        f"eigenvalues {', '.join(f'{v:.3g}' for v in ev)}",
+        f"stability    {verdict}; lowest scaled Hessian eigenvalues "
+        f"{', '.join(f'{v:.3g}' for v in ev)}",
     ] + ([] if r.stability_resolved else [
         "WARNING      stability NOT RESOLVED at this mesh: the lowest scaled eigenvalue is "
         "within round-off of zero (fewer elements resolve it)"]) + (

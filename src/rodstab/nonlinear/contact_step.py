@@ -431,7 +431,8 @@ def attach_contact(rod: Any, model: Any) -> None:
     except Interpenetration as exc:
         raise RodstabInputError(f"the held state's rods already interpenetrate under the "
                                 f"contact model (thickness {2 * rod.contact.radius[0]:g}): "
-                                f"{exc}") from None
+                                f"{exc}; rods that lie on one another need a layer order "
+                                "that stacks them apart (--layers on the command line)") from None
 
 
 
