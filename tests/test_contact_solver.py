@@ -900,3 +900,26 @@ def test_continuation_reports_where_a_node_slides_past_a_free_end():
         a, b = rod.x[rod.edge_nodes[15]]
         along = float((rod.x[node] - a) @ (b - a) / np.linalg.norm(b - a))
         assert (along < np.linalg.norm(b - a)) == inside
+
+
+def test_a_command_without_contact_refuses_a_contact_design_naming_those_with_one(run_cli,
+                                                                               tmp_path):
+    """`rodstab states` on a design asking for contact: exit 2, naming the design's key and
+    every command that does model contact (the list checked against the command line's own
+    options), never a silent run without it."""
+    from rodstab.cli.main import cli
+    from rodstab.io.design import CONTACT_COMMANDS
+
+    text = (Path(__file__).parents[1] / "examples" / "hexagram.toml").read_text()
+    assert text.count("[analysis]") == 1
+    design = tmp_path / "ring.toml"
+    design.write_text(text.replace("[analysis]", "[analysis]\ncontact = true"))
+    r = run_cli(["states", str(design)])
+    assert r.exit_code == 2, r.stderr
+    assert "analysis.contact = true" in r.stderr and "set contact = false" in r.stderr
+    for c in CONTACT_COMMANDS:
+        assert f"`rodstab {c}`" in r.stderr
+    # The list is the command line's: the commands reading a design that take --contact.
+    takes = {name for name, c in cli.commands.items()
+             if {"with_contact", "design_file"} <= {p.name for p in c.params}}
+    assert takes == set(CONTACT_COMMANDS)

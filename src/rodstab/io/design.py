@@ -125,6 +125,10 @@ _TURNING_WHY = "at most a thousand turns (2000 pi rad) of the segment"
 # --------------------------------------------------------------------------- the design
 
 
+#: The commands that model contact when a design asks for it (``[analysis] contact``).
+CONTACT_COMMANDS = ("analyze", "equilibrium", "continue", "transitions", "barrier", "discover")
+
+
 @dataclasses.dataclass(frozen=True)
 class Design:
     """A parsed design: the assembly and the analysis settings.
@@ -153,16 +157,15 @@ class Design:
     def require_no_contact(self, command: str) -> None:
         """Refuse (exit 2) a design asking for contact in a command that has no contact model.
 
-        Only the nonlinear equilibrium and continuation (``rodstab equilibrium``, ``rodstab
-        continue``) and the cone test of ``rodstab analyze`` model contact so far; a command
-        that would drop the design's ``[analysis] contact = true`` says so instead.
+        The commands that model contact (:data:`CONTACT_COMMANDS`) take the design's
+        setting; any other that would drop the design's ``[analysis] contact = true`` says so
+        instead.
         """
         if self.contact is not None:
             raise RodstabInputError(
                 f"{self.source}: analysis.contact = true, but `rodstab {command}` has no "
-                "contact model yet (only `rodstab equilibrium`, `rodstab continue` and "
-                "`rodstab analyze` have one): set contact = false in the design to run it "
-                "without contact")
+                f"contact model (only {', '.join(f'`rodstab {c}`' for c in CONTACT_COMMANDS)} "
+                "have one): set contact = false in the design to run it without contact")
 
     def paper_load_factor(self, mu: float) -> float:
         """``lam = B3 kappa_n L / sqrt(B1 B2)`` of ``load_factor_segment`` at load ``mu``."""
