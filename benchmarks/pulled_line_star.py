@@ -15,10 +15,11 @@ had found a path. This script constructs one by
 :func:`rodstab.multistable.pulled.pulled_path`: every node is pulled towards its place in the
 star by springs ``(k / 2) |x_i - x_star,i|^2`` (node positions only; ``k`` in B3 / L^3, raised
 from 1e-2 to 1e4 in 25 geometric stages), each stage relaxed by Newton **with contact**, one
-step at a time, every step filtered so no gap closes; then the springs are released and
-Newton runs on. Every accepted step's state is kept, so the path is joined inside the model
-step by step; it is then judged independently of the filter
-from its node positions by the transitions' pass-through check
+step at a time, every step filtered so no gap closes; after each stage a copy is released
+(springs off), and the path ends with the first release that settles on the star (else the
+springs are released after the last stage and Newton runs on). Every accepted step's state
+is kept, so the path is joined inside the model step by step; it is then judged
+independently of the filter from its node positions by the transitions' pass-through check
 (:func:`rodstab.multistable.barrier.path_contact`), and the ribbon's self-linking is computed
 at its end. Prints per stage: the largest distance to the star and the
 rod's energy (springs off); then the path's highest energy (an upper bound on the barrier with

@@ -11,7 +11,7 @@ from contact_checks import central_differences, judged_pairs, smallest_distance
 from rodstab.errors import RodstabInputError
 from rodstab.multistable.discover import common_rod
 from rodstab.multistable.layered import lift, stacked_model
-from rodstab.multistable.pulled import PulledRod, pulled_path
+from rodstab.multistable.pulled import STAGES, PulledRod, pulled_path
 from rodstab.multistable.string_method import to_gauge
 from rodstab.nonlinear.contact import mesh_of_rod
 from rodstab.nonlinear.equilibrium import rod_contact_model
@@ -85,6 +85,32 @@ def test_bad_input_is_refused_naming_it():
     with pytest.raises(RodstabInputError, match="nodes"):
         pulled_path(line, common_rod(state_assembly("hexagram", rectangle(aspect=4.0),
                                                     "star"), 5, 1.0))
+
+
+def test_an_early_release_ends_the_path_where_it_first_settles_on_the_end():
+    """From a start inside the star's basin (the star with its nodes moved by a seeded 0.2 h at
+    most, the gauge kept) the release after the first stage settles on the star, so the path
+    ends there: one stage run, released_after 0, the star reached, the release descending
+    (each state's energy at most the last's, 1e-12 relative) and no higher than the path
+    without early releases, which runs every stage first."""
+    _, _, _, star = _line_and_star(4)
+    start = star.copy()
+    dq = np.zeros(start.n_dof)
+    free = start.free_dofs()
+    free = free[free < start.x.size]  # free node positions (the gauge stays: no rigid motion)
+    dq[free] = np.random.default_rng(3).uniform(-1.0, 1.0, free.size)
+    start.apply(0.2 * H * dq / np.abs(dq).max())
+    start.energy()  # inside the model
+    early = pulled_path(start, star)
+    full = pulled_path(start, star, early_release=False)
+    assert early.reached and full.reached
+    assert early.released_after == 0 and len(early.stages) == 1 and full.released_after == -1
+    assert len(full.stages) == len(STAGES) and len(early.states) < len(full.states)
+    n0 = 1 + early.stages[0][2]  # start, then the stage's accepted states
+    tail = np.array(early.energies[n0 - 1:])
+    assert np.all(np.diff(tail) <= 1e-12 * abs(tail[0]))
+    assert early.highest_energy <= full.highest_energy
+    assert early.to_dict()["released_after"] == 0
 
 
 LAYERS_021 = "1=-0.5:0:0,2=0.5:0:1,3=-0.5:2:1,4=0.5:2:2,5=-0.5:1:2,6=0.5:1:0"

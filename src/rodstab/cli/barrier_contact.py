@@ -245,10 +245,12 @@ def pull_output(a: Any, b: Any, mu: float, head: list[str], payload: dict[str, A
                    upper_bound_backward=top - e_b if run.reached else None,
                    converged=run.reached)
     k_lo, k_hi = run.stages[0][0], run.stages[-1][0]
+    released = ("released after the first stage whose release settled on "
+                f"{names[1]}" if run.released_after >= 0 else "then released")
     lines = head + [
         f"pull         {names[0]} (stacked, --layers) pulled towards {names[1]} by node springs "
         f"{fmt(k_lo)} .. {fmt(k_hi)} B3/Lm^3 in {len(run.stages)} stages, each relaxed by "
-        "Newton with contact one filtered step at a time, then released: "
+        f"Newton with contact one filtered step at a time, {released}: "
         f"{len(run.states)} states (rodstab.multistable.pulled)",
         f"reached      {run.reached}: the released state is {fmt(run.end_distance)} (length) "
         f"from {names[1]} (tolerance {fmt(run.tolerance)})"]

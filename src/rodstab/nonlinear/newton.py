@@ -78,7 +78,8 @@ ALIGN_SHEAR = 1e-2
 
 @serially
 def newton(rod: DiscreteRod, *, max_iter: int = NEWTON_MAX_ITER,
-           trace: list[np.ndarray] | None = None) -> tuple[bool, int, float]:
+           trace: list[np.ndarray] | None = None,
+           on_step: Callable[[DiscreteRod], None] | None = None) -> tuple[bool, int, float]:
     """Newton's method with backtracking on the energy, in place. Returns (ok, its, residual).
 
     Steps are taken along ``-H^-1 g`` when ``H`` (free part) is positive definite, else along a
@@ -93,11 +94,12 @@ def newton(rod: DiscreteRod, *, max_iter: int = NEWTON_MAX_ITER,
     trials outside the model rejected (:func:`lm_step`); a start outside it raises
     :class:`.contact.Interpenetration` (bad input, naming the pair). ``trace``: the node
     positions after every accepted step are appended to it (with contact, neighbouring ones
-    are joined by a filtered step, so the list is a path inside the model).
+    are joined by a filtered step, so the list is a path inside the model). ``on_step``: called
+    with ``rod`` after every accepted step (e.g. to keep whole states, frames included).
     """
     if np.max(rod.shear()) > ALIGN_SHEAR:
         rod.align_frames()
-    return _newton(rod, max_iter, trace)
+    return _newton(rod, max_iter, trace, on_step)
 
 
 #: Imposed end rotations are applied in steps of at most this angle (rad), Newton after each.
@@ -325,8 +327,8 @@ def _retract_if_lower(trial: DiscreteRod, dq: np.ndarray) -> None:
         trial.assign(plain)
 
 
-def _newton(rod: DiscreteRod, max_iter: int, trace: list[np.ndarray] | None = None
-            ) -> tuple[bool, int, float]:
+def _newton(rod: DiscreteRod, max_iter: int, trace: list[np.ndarray] | None = None,
+            on_step: Callable[[DiscreteRod], None] | None = None) -> tuple[bool, int, float]:
     """Run the iteration of :func:`newton`: Newton with a Levenberg-Marquardt safeguard.
 
     Each step solves ``(H + lam D) s = -g`` (``D`` = |diag H|, so ``lam`` is on the scale of
@@ -363,3 +365,5 @@ def _newton(rod: DiscreteRod, max_iter: int, trace: list[np.ndarray] | None = No
         E, g, H = terms
         if trace is not None:
             trace.append(rod.x.copy())
+        if on_step is not None:
+            on_step(rod)
