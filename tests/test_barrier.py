@@ -357,6 +357,24 @@ def test_a_refused_reparametrisation_is_counted_and_the_string_kept(ends: tuple,
     assert len(out) == len(uneven) and out[0] is uneven[0] and out[-1] is uneven[-1]
 
 
+def test_a_string_stopped_by_its_predicate_ends_there_unconverged(ends: tuple) -> None:
+    """``stop`` is asked every STOP_EVERY iterations, with the string as it is then, and ends
+    the relaxation at the first True (no saddle, not converged): how the soft stages of
+    contact end once their string is far enough inside the model."""
+    import rodstab.multistable.string_method as sm
+
+    seen: list[int] = []
+
+    def stop(band: list) -> bool:
+        seen.append(len(band))
+        return len(seen) == 2
+
+    out, saddle, run = sm.relax_string(sm.belt_path(*ends, 5), max_iter=50, try_every=100,
+                                       stop=stop)
+    assert saddle is None and not run.converged
+    assert run.iterations == 2 * sm.STOP_EVERY and seen == [5, 5]
+
+
 def test_cli_barrier_string_json_plot_and_animation(string_six: tuple, tmp_path,
                                                     capsys: pytest.CaptureFixture[str],
                                                     monkeypatch: pytest.MonkeyPatch) -> None:

@@ -639,3 +639,50 @@ def test_discover_at_16_elements_with_wide_cusp_welds_names_the_star_and_the_dai
         assert found[name]["invariants"]["distinct_weld_points"] == 6
     off = run_cli([*args[:-2], "--json", "--cusp-width", "1.15"])
     assert off.exit_code == 2 and "--cusp-width 1.15 is a setting of contact" in off.stderr
+
+
+@pytest.mark.parametrize("seen, most, stages", [
+    ((0.5, 1.01, 1.03, 1.2), 8, 3),  # inside the model after one stage, but 0.1 dhat out
+    ((0.5, 1.01, 1.03), 2, 2),  # the stages run out: inside the model is enough to go on
+])
+def test_soft_stages_go_on_until_the_gaps_reach_half_the_barriers_reach(monkeypatch, seen,
+                                                                         most, stages):
+    """The stages stop at a gap of TARGET_GAP dhat, not as soon as the gaps are positive: the
+    star -> daisy string at 8 el. (cusp welds 1.15 h) stopped at 0.08 dhat and did not
+    converge; one ulp more cusp width took 7 stages and converged (session 33). Distances in
+    h, dhat = 0.1 h: scripted, so the test sees the rule and nothing else."""
+    from rodstab.multistable import string_contact
+
+    final = ContactModel(0.5, 0.1, 1.0)  # h = 1
+    it = iter(seen)
+    monkeypatch.setattr(string_contact, "path_distance", lambda band, final: next(it))
+    monkeypatch.setattr(string_contact, "_with_model", lambda band, model: True)
+    monkeypatch.setattr(string_contact, "_start_crossing", lambda band, h: None)
+    still = lambda band, **kw: (band, None, SimpleNamespace(too_coarse=False))  # noqa: E731
+    _, _, _, st = string_contact.relax_with_contact([], final, still, max_iter=1,
+                                                    accept=lambda s: True, max_stages=most)
+    assert len(st.stiffnesses) == stages
+    assert st.distances == seen
+
+
+def test_a_soft_stage_ends_once_its_string_is_half_the_reach_inside(monkeypatch):
+    """Each soft stage's string gets the predicate that ends it early: True once the closest
+    pair is more than h + TARGET_GAP dhat apart (h = 1, dhat = 0.1 here), not before."""
+    from rodstab.multistable import string_contact
+
+    final = ContactModel(0.5, 0.1, 1.0)
+    seen = iter((0.5, 1.2))
+    monkeypatch.setattr(string_contact, "path_distance", lambda band, final: next(seen))
+    monkeypatch.setattr(string_contact, "_with_model", lambda band, model: True)
+    monkeypatch.setattr(string_contact, "_start_crossing", lambda band, h: None)
+    stops = []
+
+    def still(band, **kw):
+        stops.append(kw.get("stop"))
+        return band, None, SimpleNamespace(too_coarse=False)
+
+    string_contact.relax_with_contact([], final, still, max_iter=1, accept=lambda s: True)
+    assert stops[0] is None and stops[-1] is None and len(stops) == 3  # before, 1 stage, after
+    for d, verdict in ((1.04, False), (1.06, True)):
+        monkeypatch.setattr(string_contact, "path_distance", lambda band, final, d=d: d)
+        assert stops[1]([]) is verdict

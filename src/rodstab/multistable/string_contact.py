@@ -17,9 +17,11 @@ with it. :func:`relax_with_contact` reaches a path inside the model in three ste
    exactly the final model's). Its stiffness starts where the final model's line load is held
    at ``dhat_s / 2`` and grows :data:`STIFFEN` times per stage (at most :data:`MAX_STAGES`,
    :data:`STAGE_ITER` string iterations each, no saddle attempts) until every interior image
-   has its non-excluded elements more than ``h`` apart. A penalty that held no line load
-   ``q`` above ``3 kappa dhat_s^2`` could not: the stages raise ``kappa`` past the path's
-   contact loads;
+   has its non-excluded elements more than ``h + TARGET_GAP dhat`` apart
+   (:data:`TARGET_GAP`; if the stages run out first, more than ``h`` is enough to go on;
+   a stage ends early once that holds, measured every :data:`~.string_method.STOP_EVERY`
+   iterations). A penalty that held no line load ``q`` above ``3 kappa dhat_s^2`` could
+   not: the stages raise ``kappa`` past the path's contact loads;
 2. the final model (the barrier) on every image -- each is inside it now -- and the string
    relaxed with it until a local maximum refines to an index-1 saddle the caller accepts, as
    without contact. Its steps are filtered so no gap closes
@@ -57,6 +59,14 @@ MAX_STAGES = 8
 STAGE_ITER = 20
 #: The final model's line load sets the first soft stiffness, held at this fraction of reach.
 GAP_FRACTION = 0.5
+#: The soft stages go on until every interior image's closest gap is at least this times the
+#: final model's dhat (where its barrier holds the line load it was chosen for), or the stages
+#: run out. Stopping as soon as the gaps were positive left images barely inside the model:
+#: the hexagram's star -> daisy (8 el., cusp welds 1.15 h wide) stopped after 4 stages at a
+#: gap of 0.08 dhat, and the barrier's forces there threw its images 2.7 rad apart (not
+#: converged, also with 33 images); with a cusp width that differed in its last bit it took 7
+#: stages and converged. With this rule both take 5-7 stages and give 4.6921695 (session 33).
+TARGET_GAP = 0.5
 
 
 @dataclasses.dataclass(frozen=True)
@@ -66,7 +76,8 @@ class ContactStages(Result):
     ``stiffnesses``: the soft model's stiffness at every stage (force / length^2, its
     penalty ``kappa (dhat_s - g)^3`` per unit length); ``reach``: ``h + dhat_s`` (length);
     ``distances``: the smallest centreline distance of non-excluded elements over the interior
-    images before the first stage and after each (length), the last above ``h``;
+    images before the first stage and after each (length), the last above ``h`` (above
+    ``h + TARGET_GAP dhat`` unless the stages ran out);
     ``start_crossing``: ``k`` when images ``k`` and ``k + 1`` of the path the stages reached
     pass rods through each other between them (a pair's separation reverses while the
     straight path between them comes within ``h``,
@@ -187,11 +198,13 @@ def relax_with_contact(band: list[DiscreteRod], final: ContactModel,
     kappas: list[float] = []
     stage_iter = require_int("stage_iter", stage_iter, 1)
     max_stages = require_int("max_stages", max_stages, 0)
-    while dist[-1] <= h and len(kappas) < max_stages:
+    target = h + TARGET_GAP * final.dhat
+    while dist[-1] <= target and len(kappas) < max_stages:
         model = soft_model(final, len(kappas))
         _with_model(band, model)
         kappas.append(model.stiffness)
-        band, _, run = relax_string(band, max_iter=stage_iter, try_every=stage_iter + 1)
+        band, _, run = relax_string(band, max_iter=stage_iter, try_every=stage_iter + 1,
+                                    stop=lambda b: path_distance(b, final) > target)
         _coarse(run)
         dist.append(path_distance(band, final))
     stages = ContactStages(tuple(kappas), h + soft_model(final, 0).dhat, tuple(dist),

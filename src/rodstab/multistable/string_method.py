@@ -158,6 +158,8 @@ SADDLE_TRY_EVERY = 10
 #: joins the two states but is not known to be on the minimum energy path.
 SETTLE_RTOL = 0.02
 SETTLE_ITER = 5
+#: Iterations between two calls of :func:`relax_string`'s ``stop`` (it measures the string).
+STOP_EVERY = 5
 #: Local maxima of the string's energies refined per attempt (highest first).
 SADDLE_CANDIDATES = 3
 #: The string stops (too coarse) when neighbouring images differ by a frame turn or node move
@@ -336,7 +338,8 @@ def _index(r: DiscreteRod) -> tuple[int, np.ndarray, np.ndarray]:
 def relax_string(band: list[DiscreteRod], *, max_iter: int = STRING_MAX_ITER,
                  try_every: int = SADDLE_TRY_EVERY,
                  accept: Callable[[DiscreteRod], bool] | None = None,
-                 max_images: int | None = None, pool: Executor | None = None
+                 max_images: int | None = None, pool: Executor | None = None,
+                 stop: Callable[[list[DiscreteRod]], bool] | None = None
                  ) -> tuple[list[DiscreteRod], DiscreteRod | None, StringRun]:
     """Relax the string ``band`` until one of its images refines to an accepted index-1 saddle.
 
@@ -366,6 +369,10 @@ def relax_string(band: list[DiscreteRod], *, max_iter: int = STRING_MAX_ITER,
     pool : Executor, optional
         The images' steps run in its processes (:func:`~.string_step.step_images`: the same
         string as without it); None: one after another here.
+    stop : callable, optional
+        Takes the string every :data:`STOP_EVERY` iterations; True ends the relaxation there
+        (not converged, no saddle): the soft stages of contact end once their string is
+        far enough inside the model (:mod:`.string_contact`).
 
     Returns
     -------
@@ -432,6 +439,8 @@ def relax_string(band: list[DiscreteRod], *, max_iter: int = STRING_MAX_ITER,
         energies = [t[0] if t is not None else r.energy()
                     for t, r in zip(terms, band, strict=True)]
         tops.append(max(energies[1:-1]))
+        if stop is not None and it % STOP_EVERY == 0 and stop(band):
+            return band, None, run(False, -1)
         window = tops[-1 - SETTLE_ITER:]
         settled = (len(tops) > SETTLE_ITER and max(window) - min(window)
                    <= SETTLE_RTOL * (tops[-1] - min(energies[0], energies[-1])))
