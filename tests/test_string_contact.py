@@ -686,3 +686,25 @@ def test_a_soft_stage_ends_once_its_string_is_half_the_reach_inside(monkeypatch)
     for d, verdict in ((1.04, False), (1.06, True)):
         monkeypatch.setattr(string_contact, "path_distance", lambda band, final, d=d: d)
         assert stops[1]([]) is verdict
+
+
+@pytest.mark.slow
+def test_wide_cusp_barrier_from_the_command_line_converges_to_the_one_without_contact():
+    """Table test of a failure found (session 33): ``--elements 8 --contact --cusp-width 1.15``
+    stopped as too coarse (exit 3) when the soft stages ended at a gap of 0.08 dhat; the same
+    run from the script's width (one ulp smaller) converged. The saddle touches nothing, so
+    the barriers are the ones without contact (wide welds, same mesh), computed here."""
+    from conftest import run_cli
+
+    args = [*ARGS[:-3], "--elements", "8", "--cusp-width", "1.15", "--json"]
+    r = run_cli([*args, "--contact"])
+    assert r.exit_code == 0, r.stderr
+    got = json.loads(r.stdout)
+    plain = run_cli(args)
+    assert plain.exit_code == 0, plain.stderr
+    ref = json.loads(plain.stdout)
+    assert got["converged"] and got["saddle_index"] == 1
+    for key in ("barrier_forward", "barrier_backward"):
+        assert got[key] == pytest.approx(ref[key], rel=1e-9), key
+    stages = got["contact"]["soft_stages"]
+    assert stages["distances"][-1] > H * (1 + 0.5 * 0.1)  # h + dhat/2 (dhat = 0.1 h)
