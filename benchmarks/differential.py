@@ -742,7 +742,9 @@ def saddles(rng: np.random.Generator) -> Trial:
     and know no path. When no climb reaches a saddle joining the two states (or the string does
     not converge) the design compares nothing -- a failed climb is not evidence -- and has no
     row; so does a section where neither pair is stable together, or a load where the 6-el.
-    model does not hold one of the two states.
+    model does not hold one of the two states. Three more methods of one saddle: continued into
+    contact, with wide cusp welds, and the wide-weld string with contact acting (compared where
+    the saddle keeps every pair beyond the barrier's reach; session 33).
     """
     from rodstab.multistable.atlas import mutual_sets, select_states, transfer_interval
     from rodstab.multistable.discover import Snapshot, common_rod
@@ -811,6 +813,8 @@ def saddles(rng: np.random.Generator) -> Trial:
         res, _ = stiffen_saddle(rod, model, ())
         return {"saddle": res.energy} if res.found else {"saddle": math.nan}
 
+    wide: list[Any] = []  # the wide-weld string's result and path, once for two methods
+
     def wide_cusps() -> Values:
         """The string with cusp welds of width SADDLE_CUSP_WIDTH, no contact. At the star, the
         daisy and their saddle the wide-weld state is the point-weld one with each rod
@@ -819,10 +823,39 @@ def saddles(rng: np.random.Generator) -> Trial:
         13.1675 against 13.1595 at 6 el., h/t = 4), so line <-> star compares nothing."""
         if "line" in pair:
             return {}
-        res = string_barrier(a, b, mu, elements_per_segment=SADDLE_ELEMENTS,
-                             images=SADDLE_IMAGES, name_a=pair[0], name_b=pair[1],
-                             cusp_width=SADDLE_CUSP_WIDTH)[0]
+        if not wide:
+            wide.extend(string_barrier(a, b, mu, elements_per_segment=SADDLE_ELEMENTS,
+                                       images=SADDLE_IMAGES, name_a=pair[0], name_b=pair[1],
+                                       cusp_width=SADDLE_CUSP_WIDTH))
+        res = wide[0]
         return {"saddle": res.energy_saddle} if res.converged and res.chain is None else {}
+
+    def with_contact() -> Values:
+        """The wide-weld string with contact (capsules h = 0.02 L, dhat = 0.1 h): where the
+        wide-weld saddle without contact keeps every pair beyond the barrier's reach, its
+        contact energy is zero and it is a stationary point of both energies, so the string
+        with contact must find it (a string that does not converge there is a disagreement:
+        NaN); where a pair is within reach contact may move it and nothing is compared."""
+        from rodstab.errors import NotConverged
+        from rodstab.nonlinear.contact import mesh_of_rod, smallest_gap
+        from rodstab.nonlinear.equilibrium import rod_contact_model
+
+        if not wide_cusps():
+            return {}
+        model = rod_contact_model(a, 0.02, 0.1)
+        rod = common_rod(a, SADDLE_ELEMENTS, mu, cusp_width=SADDLE_CUSP_WIDTH)
+        wide[1][wide[0].saddle_position].put(rod)
+        near = smallest_gap(mesh_of_rod(rod, model), rod.x)
+        if near is not None and near[0] <= model.dhat:
+            return {}
+        try:
+            res = string_barrier(a, b, mu, elements_per_segment=SADDLE_ELEMENTS,
+                                 images=SADDLE_IMAGES, name_a=pair[0], name_b=pair[1],
+                                 cusp_width=SADDLE_CUSP_WIDTH, contact=model)[0]
+        except NotConverged:
+            return {"saddle": math.nan}
+        ok = res.converged and res.chain is None
+        return {"saddle": res.energy_saddle if ok else math.nan}
 
     def climb() -> Values:
         rods = {st: common_rod(x, SADDLE_ELEMENTS, mu) for st, x in zip(pair, (a, b),
@@ -836,9 +869,10 @@ def saddles(rng: np.random.Generator) -> Trial:
 
     return Trial(f"{label}, {pair[0]} <-> {pair[1]} at kappa_n R0 {mu}", code,
                  {"string": string, "climb": climb, "into contact": into_contact,
-                  "wide cusps": wide_cusps},
+                  "wide cusps": wide_cusps, "with contact": with_contact},
                  {("string", "climb"): SADDLE_RTOL, ("string", "into contact"): SADDLE_RTOL,
-                  ("string", "wide cusps"): SADDLE_RTOL})
+                  ("string", "wide cusps"): SADDLE_RTOL,
+                  ("string", "with contact"): SADDLE_RTOL})
 
 
 def _linking_methods(lk: Callable[[], Any]) -> dict[str, Callable[[], Values]]:
