@@ -296,11 +296,28 @@ def cusp_rings(rng: np.random.Generator) -> Trial:
                                                            f"{st.label}.upper")]
         return out
 
+    def covered() -> Values:
+        """Each state with N = n theta / 2 pi >= 1 as the N-covered circle, eq. (3.3)
+        (:func:`rodstab.multistable.atlas.covered_circle_interval`): no mesh, no Bloch phase."""
+        out: Values = {}
+        for st in states:
+            iv = atlas.covered_circle_interval(ring, st.theta)
+            if iv is not None:
+                out |= {f"{st.label}.lower": iv[0], f"{st.label}.upper": iv[1]}
+        return out
+
     labels = ", ".join(s.label for s in states)
+    methods = {m: functools.partial(by, m) for m in atlas.METHODS} | {"covered circle": covered}
     return Trial(f"{n} cusp rods, kappa_n {kn}, section({_kw(data['section'])}), {labels}",
-                 _toml(data), {m: functools.partial(by, m) for m in atlas.METHODS},
+                 _toml(data), methods,
                  {("transfer", "fe"): problems.REGISTRY["hexagram"].AGREE_RTOL[
-                     ("transfer", "fe")]}, verdicts)
+                     ("transfer", "fe")], ("transfer", "covered circle"): COVERED_RTOL},
+                 verdicts)
+
+
+#: The Bloch method against the N-covered circle's closed form: both exact (root finders'
+#: tolerances; the hexagram's three states agree to 1e-12, docs/theory/covered-circles.md).
+COVERED_RTOL = 1e-9
 
 
 def _wrap_deg(x: float) -> float:

@@ -162,6 +162,42 @@ def bloch_interval(ring: Ring, theta: float) -> CyclicRingInterval:
                                 stress_free_load(ring, theta))
 
 
+def covered_circle_interval(ring: Ring, theta: float) -> tuple[float, float] | None:
+    """Stable interval of the load factor of held state ``theta`` as an N-covered circle, or None.
+
+    A ring of identical arcs (turning ``theta`` each, curvature ``theta / L``) held with
+    uniform moment has zero internal force, and in each rod's frame the perturbation equations
+    of P2 have constant coefficients. A weld turning the frame by ``alpha`` about the plane's
+    normal maps the next rod's perturbation components by the rotation ``S_alpha``. ``S_alpha``
+    commutes with the cross product by the curvature vector (both about the normal) and with
+    the stiffness ``diag(B1, B2, B3)`` in the frame when ``alpha`` is 0 or pi (it only changes
+    the signs of the two in-plane components) or ``B1 = B2``. Then ``S_alpha^k`` applied to rod
+    ``k`` makes the perturbation continuous across every weld, and the second variation is
+    that of one smooth arc of length ``n L`` closed on itself: the circle covered
+    ``N = n theta / (2 pi)`` times, eq. (3.3) with ``M = 1 - R kappa_n``, ``R = L / theta``
+    (:func:`rodstab.analytic.ring.ring_stability`; docs/theory/covered-circles.md). Returns
+    None where that argument does not apply: another weld angle with ``B1 != B2`` (the
+    intervals may then differ: 3 arcs of 240 degrees with 120-degree welds, ``b1 = 2``,
+    ``b2 = 1.5``: lower end 0.15473 against 0.15139 in ``R kappa_n``), or ``N`` not a whole
+    number of at least 1; and cusp welds at ``N = 1``, where the Bloch method and the FE
+    engine agree on another lower end (``R kappa_n = 1 - b2`` against (3.3)'s ``1 - b1``;
+    the differential test found it, the argument's failing step is not identified). Load
+    factor as in :func:`bloch_interval`.
+    """
+    from ..analytic.ring import ring_stability
+
+    turns = ring.segments * theta / (2 * math.pi)
+    n_loops = round(turns)
+    angle_ok = ring.weld in ("cusp", "smooth") or ring.B1 == ring.B2
+    if not angle_ok or n_loops < 1 or abs(turns - n_loops) > 1e-9 * turns:
+        return None
+    if ring.weld == "cusp" and n_loops == 1 and ring.B1 != ring.B2:
+        return None
+    m_lo, m_hi = ring_stability(ring.B1 / ring.B3, ring.B2 / ring.B3, n_loops).M_interval
+    per_rkn = theta / (ring.natural_curvature * ring.length)  # load factor per unit R kappa_n
+    return (1.0 - m_hi) * per_rkn, (1.0 - m_lo) * per_rkn
+
+
 def _limit(x: float, multiplicity: int, harmonic: int | None, segments: int) -> Limit:
     if not math.isfinite(x):
         return Limit(float(x), 0, None, None)
