@@ -25,8 +25,10 @@ from .rules import (
 )
 
 #: What the project claims for each row of :func:`hexagram_checks`.
-EXPECTED = {"HX-intervals": REPRODUCED, "HX-line": REPRODUCED, "HX-binding": REPRODUCED,
-            "HX-threshold": DIFFERS}
+EXPECTED = {"HX-intervals": REPRODUCED, "HX-line": REPRODUCED, "HX-covered": REPRODUCED,
+            "HX-binding": REPRODUCED, "HX-threshold": DIFFERS}
+#: The Bloch method and the N-loop ring's closed form (3.3): both exact (root tolerances).
+_COVERED_RTOL = 1e-9
 #: Step in h/t either side of the threshold at which the FE engine must see the overlap change
 #: sign (its own check of the root found by the transfer method).
 _FE_SIDE_STEP = 1e-3
@@ -69,6 +71,34 @@ def hexagram_checks(run: Run) -> Iterator[Claim]:
         f"sqrt(b1 b2) / 2 = {fmt(closed[0], 6)}, {fmt(closed[1], 6)} (lambda_c = pi / 3)",
         "exact arc + Bloch phase vs this project's Section 5 closed form",
         methods_agree(line_hi, closed, FE_RTOL))
+    run.progress()
+
+    # Star, daisy, eight: the six arcs turn 1, 2, 3 times in all; as covered circles they are
+    # the 2-, 4-, 6-loop rings of eq. (3.3) (docs/theory/covered-circles.md).
+    from ..multistable.atlas import covered_circle_interval
+
+    three = (("star", 2), ("daisy", 4), ("eight", 6))
+    covered = {(k, s): covered_circle_interval(hx.ring(sec), hx.STATE_TURNING[s])
+               for k, sec in enumerate((circ, rect4)) for s, _ in three}
+    bloch = [v for sec in (circ, rect4) for s, _ in three
+             for v in hx.transfer_interval(hx.Params(section=sec, state=s))]
+    closed = [v for iv in covered.values() for v in (iv or (float("nan"),) * 2)]
+    yield Claim(
+        "HX-covered", "beyond", "(3.3)", "star, daisy, eight as the 2-, 4-, 6-loop rings "
+        "(circle; h/t = 4)", "not considered",
+        ", ".join(f"{s} ({fmt(tr.states[s][0], 6)}, {fmt(tr.states[s][1], 6)})"
+                  for s in ("star", "daisy", "eight")) + " (h/t = 4)",
+        "N-loop ring (3.3), its R kappa_n in kappa_n R0 (R = R0 / (N / 2)): "
+        + ", ".join(f"N = {n} ({fmt(iv[0], 6)}, {fmt(iv[1], 6)})" for s, n in three
+                    if (iv := covered[1, s]) is not None),
+        "exact arc + Bloch phase vs the N-loop ring's closed form (3.3) "
+        "(rodstab.multistable.atlas.covered_circle_interval)",
+        methods_agree(bloch, closed, _COVERED_RTOL),
+        "New. Arcs of one curvature welded at cusps with uniform moment: the weld's frame "
+        "turn (pi about the normal) commutes with the stiffness and the curvature, so the "
+        "ring's second variation is that of one circle covered N = n theta / 2 pi times "
+        "(docs/theory/covered-circles.md; not for cusp rings turning once, N = 1, where the "
+        "lower end is 1 - b2, not 1 - b1)")
     run.progress()
 
     th = hx.threshold()
