@@ -1,10 +1,10 @@
-"""Rings of equal arcs welded at cusps are N-covered circles in their second variation.
+"""Rings of equal arcs welded at cusps have the stable intervals of N-covered circles.
 
 References: the Bloch method (exact arc + joint map + Bloch phase,
 :func:`rodstab.multistable.atlas.bloch_interval`) against the closed form (3.3) of the
-N-loop ring (:func:`rodstab.analytic.ring.ring_stability`), two independent methods; and
-where the argument does not apply (another weld angle with B1 != B2) the two must be allowed
-to differ, which one case shows they do. Derivation: docs/theory/covered-circles.md.
+N-loop ring (:func:`rodstab.analytic.ring.ring_stability`), two independent methods. The
+equivalence is measured, not derived (docs/theory/covered-circles.md); where it is not claimed
+(another weld angle with B1 != B2, cusp rings turning once) cases show the two differ.
 """
 
 from __future__ import annotations
@@ -62,8 +62,8 @@ def test_hexagram_star_daisy_eight_are_the_2_4_6_loop_rings(section) -> None:
 ])
 @pytest.mark.parametrize("b", [0.7, 2.0])
 def test_welds_at_any_angle_when_torsion_equals_out_of_plane_bending(n, weld, theta, b) -> None:
-    """B1 = B2: a weld turning the frame by any angle about the normal commutes with the
-    stiffness, so the ring is the N-covered circle (Bloch method against (3.3))."""
+    """B1 = B2: welds at any angle give the N-covered circle's interval too (Bloch method
+    against (3.3); measured)."""
     ring = uniform_ring(n, weld=weld, natural_curvature=1.0, B1=b, B2=b)
     got = covered_circle_interval(ring, theta)
     r = bloch_interval(ring, theta)
@@ -74,7 +74,7 @@ def test_welds_at_any_angle_when_torsion_equals_out_of_plane_bending(n, weld, th
 def test_another_weld_angle_with_unequal_stiffnesses_is_not_claimed_and_differs() -> None:
     """B1 != B2 and 120-degree welds: no closed form is returned, and the Bloch method's lower
     end is indeed not (3.3)'s (0.15473 against 0.15139 in R kappa_n, b1 = 2, b2 = 1.5); the
-    upper end happens to agree. Where the argument fails the answer can change."""
+    upper end happens to agree. Outside the measured cases the answer can change."""
     theta = 4 * math.pi / 3
     ring = uniform_ring(3, weld=2 * math.pi / 3, natural_curvature=1.0, B1=2.0, B2=1.5)
     assert covered_circle_interval(ring, theta) is None

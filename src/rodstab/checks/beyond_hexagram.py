@@ -94,11 +94,11 @@ def hexagram_checks(run: Run) -> Iterator[Claim]:
         "exact arc + Bloch phase vs the N-loop ring's closed form (3.3) "
         "(rodstab.multistable.atlas.covered_circle_interval)",
         methods_agree(bloch, closed, _COVERED_RTOL),
-        "New. Arcs of one curvature welded at cusps with uniform moment: the weld's frame "
-        "turn (pi about the normal) commutes with the stiffness and the curvature, so the "
-        "ring's second variation is that of one circle covered N = n theta / 2 pi times "
-        "(docs/theory/covered-circles.md; not for cusp rings turning once, N = 1, where the "
-        "lower end is 1 - b2, not 1 - b1)")
+        "New. Six arcs of one curvature welded at cusps, held with uniform moment, have the "
+        "interval of one circle covered N = n theta / 2 pi times, to 1e-12: measured, not "
+        "derived (a cusp keeps the out-of-plane displacement and reverses its slope and the "
+        "twist; docs/theory/covered-circles.md). Not for cusp rings turning once (N = 1): "
+        "their lower end is 1 - b2, not (3.3)'s 1 - b1")
     run.progress()
 
     th = hx.threshold()

@@ -165,24 +165,20 @@ def bloch_interval(ring: Ring, theta: float) -> CyclicRingInterval:
 def covered_circle_interval(ring: Ring, theta: float) -> tuple[float, float] | None:
     """Stable interval of the load factor of held state ``theta`` as an N-covered circle, or None.
 
-    A ring of identical arcs (turning ``theta`` each, curvature ``theta / L``) held with
-    uniform moment has zero internal force, and in each rod's frame the perturbation equations
-    of P2 have constant coefficients. A weld turning the frame by ``alpha`` about the plane's
-    normal maps the next rod's perturbation components by the rotation ``S_alpha``. ``S_alpha``
-    commutes with the cross product by the curvature vector (both about the normal) and with
-    the stiffness ``diag(B1, B2, B3)`` in the frame when ``alpha`` is 0 or pi (it only changes
-    the signs of the two in-plane components) or ``B1 = B2``. Then ``S_alpha^k`` applied to rod
-    ``k`` makes the perturbation continuous across every weld, and the second variation is
-    that of one smooth arc of length ``n L`` closed on itself: the circle covered
-    ``N = n theta / (2 pi)`` times, eq. (3.3) with ``M = 1 - R kappa_n``, ``R = L / theta``
-    (:func:`rodstab.analytic.ring.ring_stability`; docs/theory/covered-circles.md). Returns
-    None where that argument does not apply: another weld angle with ``B1 != B2`` (the
-    intervals may then differ: 3 arcs of 240 degrees with 120-degree welds, ``b1 = 2``,
-    ``b2 = 1.5``: lower end 0.15473 against 0.15139 in ``R kappa_n``), or ``N`` not a whole
-    number of at least 1; and cusp welds at ``N = 1``, where the Bloch method and the FE
-    engine agree on another lower end (``R kappa_n = 1 - b2`` against (3.3)'s ``1 - b1``;
-    the differential test found it, the argument's failing step is not identified). Load
-    factor as in :func:`bloch_interval`.
+    A measured equivalence (docs/theory/covered-circles.md), not a derived one: a ring of
+    identical arcs (turning ``theta`` each) held with uniform moment has, by the Bloch method,
+    the stable interval of the ``N``-loop ring of eq. (3.3), ``N = n theta / (2 pi)``, with
+    ``M = 1 - R kappa_n``, ``R = L / theta`` (:func:`rodstab.analytic.ring.ring_stability`),
+    for cusp welds with ``N >= 2``, smooth welds, and welds at any angle when ``B1 = B2``
+    (to 1e-12; hexagram star, daisy, eight = 2-, 4-, 6-loop rings; random cusp rings of the
+    differential test). The natural argument (rotate each rod's perturbation by the welds'
+    frame turns) fails: a cusp keeps the out-of-plane displacement and reverses its slope and
+    the twist, and no map makes both continuous. Returns None elsewhere: another weld angle
+    with ``B1 != B2`` (3 arcs of 240 degrees with 120-degree welds, ``b1 = 2``, ``b2 = 1.5``:
+    lower end 0.15473 against (3.3)'s 0.15139 in ``R kappa_n``); cusp welds at ``N = 1``
+    (the Bloch method and the FE engine give the lower end ``R kappa_n = 1 - b2``, (3.3)
+    ``1 - b1``; found by the differential test); ``N`` not a whole number of at least 1.
+    Load factor as in :func:`bloch_interval`.
     """
     from ..analytic.ring import ring_stability
 
