@@ -15,7 +15,7 @@ import click
 from .. import __version__
 from ..errors import NotConverged, RodstabInputError
 from ..numerics import serial_blas
-from . import barrier, continuation, design, hexagram, multistable, paper, states
+from . import barrier, continuation, design, diagram, hexagram, multistable, paper, states
 from .output import SHOWN_WARNINGS, elapsed_indicator, warnings_as_lines
 
 #: Exit statuses of the ``rodstab`` command (module docstring, ``rodstab --help``,
@@ -25,7 +25,7 @@ EXIT_BAD_INPUT = 2
 EXIT_NOT_CONVERGED = 3
 
 #: Commands that draw their own progress bar (tqdm, with --no-progress).
-_OWN_PROGRESS = {"continue", "sweep", "atlas", "reproduce"}
+_OWN_PROGRESS = {"continue", "sweep", "atlas", "reproduce", "diagram"}
 
 
 @click.group(context_settings={"help_option_names": ["-h", "--help"]})
@@ -48,7 +48,7 @@ for _command in (paper.section, paper.ring, paper.arc, paper.arc_max_length, pap
                  design.analyze, design.equilibrium_cmd, continuation.continue_cmd,
                  design.sweep, paper.birod, paper.folded_ring, states.states, hexagram.hexagram,
                  paper.reproduce, multistable.discover, multistable.transitions,
-                 barrier.barrier, states.atlas_cmd):
+                 barrier.barrier, states.atlas_cmd, diagram.diagram):
     cli.add_command(_command)
 
 #: Click >= 8.2 raises this usage error for ``rodstab`` without arguments; its message is the

@@ -257,8 +257,8 @@ class SaddleSearch(Result):
 
 def search_saddles(rod: DiscreteRod, minima: list[tuple[str, Snapshot]], modes: int, *,
                    directions: tuple[int, ...] | None = None, step: float = CLIMB_STEP,
-                   max_iter: int = CLIMB_MAX_ITER, max_rise: float | None = None
-                   ) -> SaddleSearch:
+                   max_iter: int = CLIMB_MAX_ITER, max_rise: float | None = None,
+                   keep: list[Snapshot] | None = None) -> SaddleSearch:
     """Climb from every minimum along its ``modes`` softest modes, both ways, and judge the saddles.
 
     Parameters
@@ -274,6 +274,8 @@ def search_saddles(rod: DiscreteRod, minima: list[tuple[str, Snapshot]], modes: 
         As in :func:`~.identify.invariants`.
     step, max_iter, max_rise : float, int, float or None
         Passed to :func:`follow_mode`.
+    keep : list of Snapshot, optional
+        The saddles' states are appended to it, in the order of ``saddles``.
 
     Returns
     -------
@@ -319,6 +321,8 @@ def search_saddles(rod: DiscreteRod, minima: list[tuple[str, Snapshot]], modes: 
         here.put(rod)
         saddles.append(SaddleFound(float(energy), judged["descent_ends"], (ups[0], ups[1]),
                                    invariants(rod, here, directions), src, count))
+        if keep is not None:
+            keep.append(here)
     given = {lab for lab, _ in minima}
     new = [(lab, float(e)) for lab, _, e in land.minima if lab not in given]
     return SaddleSearch(

@@ -1,0 +1,229 @@
+"""The ``diagram`` command: deflated continuation of a ring in its load factor.
+
+Parsing and printing only.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+from pathlib import Path
+from typing import Any
+
+import click
+
+from ..errors import NotConverged, RodstabInputError
+from ..io.outputs import check_output
+from ..limits import Limits, require_nonlinear
+from ..results import jsonable
+from ..sections import Section
+from .options import (
+    elements_option,
+    json_option,
+    limit_options,
+    read_vary,
+    ring_and_section,
+    section_options,
+    structure_option,
+    vary_option,
+)
+from .output import emit, fmt, section_line, warnings_as_lines
+
+#: Steps of --vary when N is not given.
+DIAGRAM_DEFAULT_N = 40
+#: The one continuation parameter of the diagram (the common rod's load factor).
+DIAGRAM_KEYS = ("load_factor",)
+#: Columns of branches.csv.
+CSV_COLUMNS = ("branch", "label", "value", "energy", "index", "index_at_least",
+               "lowest_eigenvalue", "planar", "max_out_of_plane", "turning_number",
+               "distinct_weld_points")
+
+
+@click.command("diagram")
+@click.argument("design_file", required=False, type=click.Path(dir_okay=False))
+@structure_option("hexagram", "six-ring",
+                  help="Without DESIGN: hexagram (load kappa_n R0, R0 = 3L/2pi) or six-ring "
+                       "(the ring of Section 5, load kappa_n R0).")
+@click.option("--segments", type=int, default=6, show_default=True,
+              help="Rods of the six-ring (even, >= 4).")
+@vary_option(help=f"load_factor=START:STOP[:N], N steps (default {DIAGRAM_DEFAULT_N}): without "
+                  "DESIGN kappa_n R0; with DESIGN the multiplier of its natural curvature.")
+@click.option("--out", "out_dir", type=click.Path(file_okay=False), required=True,
+              help="Directory for branches.csv, diagram.json and diagram.png.")
+@elements_option(default=8, minimum=2, help="Elements per rod.")
+@click.option("--starts", type=int, default=8, show_default=True,
+              help="Perturbed starts of the search at START besides the held states.")
+@click.option("--seed", "rng_seed", type=int, default=0, show_default=True,
+              help="Seed of the random perturbations.")
+@click.option("--saddles-at", default="", show_default=False,
+              help="Comma-separated values of the grid where the index-1 saddles are sought by "
+                   "eigenvector following from every stable point (as discover "
+                   "--saddle-modes) and traced as branches; default none.")
+@click.option("--saddle-modes", type=int, default=3, show_default=True,
+              help="With --saddles-at: softest modes climbed along from each stable point, "
+                   "both ways.")
+@click.option("--max-barrier", type=float, default=None,
+              help="With --saddles-at: stop a climb once it is this far above the state it "
+                   "left (B3/L).")
+@click.option("--mesh-check/--no-mesh-check", default=True, show_default=True,
+              help="Locate every held state's band ends again on twice the elements, "
+                   "extrapolate (Richardson, order 2) and compare with `rodstab atlas` "
+                   "(Bloch method).")
+@click.option("--no-progress", is_flag=True, help="Do not draw the progress bar.")
+@section_options
+@limit_options
+@json_option
+def diagram(design_file: str | None, section: Section, structure: str, segments: int,
+            vary: str, out_dir: str, elements: int, starts: int, rng_seed: int,
+            saddles_at: str, saddle_modes: int, max_barrier: float | None, mesh_check: bool,
+            no_progress: bool, limits: Limits, as_json: bool) -> None:
+    """Bifurcation diagram of a ring: every branch found by deflated continuation.
+
+    From the held states of uniform moment and a deflated search at START, every branch is
+    continued both ways over the range with the solutions known at each value deflated; new
+    branches are sought from every moving branch, at every change of the Hessian index and at
+    every branch end. Writes OUT/branches.csv, OUT/diagram.json and OUT/diagram.png; prints
+    the branches, the special points and the held states' stable bands against the atlas.
+    Exit 3 after writing when the search stopped at its branch limit.
+    """
+    import numpy as np
+    from tqdm import tqdm
+
+    from ..multistable.atlas import transfer_interval
+    from ..multistable.diagram import deflated_diagram, held_band_ends
+    from ..multistable.discover import common_rod, ring_seeds
+
+    spec = read_vary(vary, DIAGRAM_DEFAULT_N, "diagram steps", limits)
+    if spec.key not in DIAGRAM_KEYS:
+        raise RodstabInputError(
+            f"--vary {spec.key}: the diagram continues {', '.join(DIAGRAM_KEYS)} only (one "
+            "rod model for every state; other keys: `rodstab continue` follows one branch)")
+    if spec.unit is not None:
+        raise RodstabInputError(f"--vary {vary!r}: the load factor is a plain number")
+    if isinstance(starts, bool) or starts < 0:
+        raise RodstabInputError(f"--starts must be an integer >= 0, got {starts!r}")
+    values = np.linspace(spec.start, spec.stop, spec.n + 1)
+    at = _grid_values("--saddles-at", saddles_at, values)
+    from ..multistable.saddle_search import CLIMB_EIGS
+
+    if not 1 <= saddle_modes <= CLIMB_EIGS:
+        raise RodstabInputError(f"--saddle-modes must lie in 1..{CLIMB_EIGS}, got "
+                                f"{saddle_modes!r}")
+    if max_barrier is not None and not (max_barrier > 0 and np.isfinite(max_barrier)):
+        raise RodstabInputError(f"--max-barrier must be a positive number, got "
+                                f"{max_barrier!r}")
+    out = check_output("--out", out_dir, directory=True)
+    ring, section, name, design = ring_and_section(design_file, structure, segments, section)
+    n = ring.segments
+    require_nonlinear([elements] * n, n, f"--elements {elements}", limits)
+    if mesh_check:
+        require_nonlinear([2 * elements] * n, n, f"--mesh-check at {2 * elements} elements",
+                          limits)
+    start_state = ring.states().states[0].label
+    rod, seeds, known = ring_seeds(ring, start_state, elements, float(values[0]), True)
+    with warnings_as_lines(), tqdm(desc="rodstab diagram: points", disable=no_progress,
+                                   delay=0.5, leave=False, unit=" points") as bar:
+        d = deflated_diagram(rod, seeds, known, list(values), starts=starts, seed=rng_seed,
+                             directions=tuple(dd for _, dd in ring.order),
+                             saddles_at=at, saddle_modes=saddle_modes, max_rise=max_barrier,
+                             progress=lambda: bar.update(1))
+    atlas = {}
+    for st in ring.states().states:
+        if any(b.label == st.label for b in d.branches):
+            r = transfer_interval(ring, st)
+            if r.converged:
+                atlas[st.label] = r.interval
+    ends: tuple = ()
+    if mesh_check:
+        ends = held_band_ends(d, atlas, lambda lab: common_rod(
+            ring.held(ring.state(lab).theta), 2 * elements, float(values[0])))
+    payload: dict[str, Any] = d.to_dict() | {
+        "structure": name, "segments": n, "section": section.to_dict(),
+        "atlas": {k: list(v) for k, v in atlas.items()},
+        "band_ends": [e.to_dict() for e in ends]}
+    payload["bands"] = {str(k): [list(x) for x in v] for k, v in d.bands.items()}
+    _write_csv(out / "branches.csv", d)
+    (out / "diagram.json").write_text(json.dumps(jsonable(payload), indent=1))
+    from ..plot.diagram import plot_diagram
+
+    load = "kappa_n R0" if design_file is None else "load factor"
+    plot_diagram(d, out / "diagram.png", xlabel=load,
+                 title=f"{name}, {elements} el./rod: {len(d.branches)} branches found")
+    lines = [section_line(section),
+             f"{name}, {n} rods, {elements} elements each, {load} from {fmt(values[0])} to "
+             f"{fmt(values[-1])} in {spec.n} steps: {len(d.branches)} branches, {d.runs} "
+             f"Newton runs; {d.stopping}",
+             f"{'branch':>6} {'label':>14} {'from':>8} {'to':>8} {'index':>7} {'planar':>6}"
+             f"  begins / ends; found from"]
+    for b in d.branches:
+        idx = sorted({p.index for p in b.points})
+        lines.append(f"{b.id + 1:>6} {b.label:>14} {fmt(b.points[0].value):>8} "
+                     f"{fmt(b.points[-1].value):>8} {','.join(map(str, idx)):>7} "
+                     f"{str(all(p.planar for p in b.points)):>6}  {b.begins} / {b.ends}; "
+                     f"{b.found_from}")
+    for sp in d.special_points:
+        meets = ", ".join(str(k + 1) for k in sp.branches) or "none found"
+        lines.append(f"special      {sp.kind} on branch {sp.branch + 1} at {load} = "
+                     f"{fmt(sp.value)} (between {fmt(sp.between[0])} and {fmt(sp.between[1])}"
+                     f"), index {sp.index_before} -> "
+                     f"{'none beyond' if sp.index_after is None else sp.index_after}; "
+                     f"branches found there: {meets}")
+    for k, bands in d.bands.items():
+        if bands:
+            b = d.branches[k]
+            lines.append(f"stable       branch {k + 1} ({b.label}): "
+                         + ", ".join(f"{fmt(lo)} < {load} < {fmt(hi)}" for lo, hi in bands))
+    for search in d.saddle_searches:
+        lines.append(f"saddles      at {load} = {fmt(search['value'])}: "
+                     + (", ".join(f"{fmt(x['energy'])} joining {' and '.join(x['joins'])}"
+                                  + (f" (branch {x['branch']})" if x["branch"] else
+                                     " (already a branch)") for x in search["saddles"])
+                        or "none found")
+                     + f"; climbs {search['outcomes']}")
+    for e in ends:
+        verdict = ("not located on the finer mesh" if e.agrees is None else
+                   f"extrapolated {fmt(e.extrapolated)} (mesh error {fmt(e.mesh_error)}), "
+                   f"atlas {fmt(e.atlas)}: "
+                   + ("AGREES to the mesh error" if e.agrees else "DIFFERS beyond the mesh"
+                      " error"))
+        lines.append(f"band end     {e.state} {e.side}: {fmt(e.coarse)} at {elements} el., "
+                     + ("" if e.fine is None else f"{fmt(e.fine)} at {2 * elements} el., ")
+                     + verdict)
+    lines.append(f"wrote        {out / 'branches.csv'}, {out / 'diagram.json'}, "
+                 f"{out / 'diagram.png'}")
+    emit(payload, as_json, lines)
+    if "MAX_BRANCHES" in d.stopping:
+        raise NotConverged(f"the search stopped at its branch limit ({d.stopping}); the "
+                           f"diagram found so far is written to {out_dir}")
+
+
+def _grid_values(option: str, text: str, values: Any) -> list[float]:
+    """Parse ``option``'s comma-separated values, each one of the grid ``values``."""
+    import numpy as np
+
+    out = []
+    for part in (t.strip() for t in text.split(",") if t.strip()):
+        try:
+            v = float(part)
+        except ValueError:
+            raise RodstabInputError(f"{option}: {part!r} is not a number") from None
+        near = float(values[int(np.argmin(np.abs(values - v)))])
+        if abs(near - v) > 1e-9 * max(1.0, abs(v)):
+            raise RodstabInputError(
+                f"{option}: {part} is not a value of the --vary grid (nearest {near:.6g}; the "
+                f"grid steps by {values[1] - values[0]:.6g} from {values[0]:.6g})")
+        out.append(near)
+    return out
+
+
+def _write_csv(path: Path, d: Any) -> None:
+    """One row per point of every branch (:data:`CSV_COLUMNS`)."""
+    with path.open("w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(CSV_COLUMNS)
+        for b in d.branches:
+            for p in b.points:
+                w.writerow([b.id + 1, b.label, repr(p.value), repr(p.energy), p.index,
+                            p.index_at_least, repr(p.lowest_eigenvalue), p.planar,
+                            repr(p.max_out_of_plane), repr(p.turning_number),
+                            p.distinct_weld_points])

@@ -1,0 +1,111 @@
+"""Deflated continuation (multistable/diagram.py) and `rodstab diagram`.
+
+Oracles: the clamped straightened rod's buckling load (closed form, eq. 3.9: lambda_c = 2 pi),
+reached by the diagram's located index change at 8 and 16 elements with order 2, and its
+supercritical pitchfork (the buckled branch exists and is stable above it, below the straight
+state's energy); the hexagram's daisy lower limit by the linear engine (Bloch method,
+`rodstab hexagram`: 0.942867 at h/t = 4) against the diagram's band end extrapolated from 6 and
+12 elements; closed-form functions for the crossing scan.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+
+import numpy as np
+import pytest
+
+from rodstab.multistable import diagram as dg
+from rodstab.multistable import discover as dv
+from rodstab.multistable.identify import Snapshot
+from rodstab.problems import straightened_rod as sr
+
+
+def test_nearest_crossing_finds_the_sign_change_nearest_the_coarse_end():
+    """Lower end (stable above): f = p - 0.3; upper end (stable below): f = 0.7 - p."""
+    assert dg._nearest_crossing(lambda p: p - 0.3, 0.35, 0.1, +1) == pytest.approx(0.3, abs=1e-9)
+    assert dg._nearest_crossing(lambda p: 0.7 - p, 0.62, 0.1, -1) == pytest.approx(0.7, abs=1e-9)
+    # two crossings in the window: the one nearest the coarse end, of the right sense
+    # zeros of cos(10 p) at pi/20 + k pi/10; from 0.5 the nearest, 0.471, turns positive
+    # upwards, so the upper end (positive below) is the next one, pi/4
+    got = dg._nearest_crossing(lambda p: math.cos(10 * p), 0.5, 0.1, -1)
+    assert got == pytest.approx(math.pi / 4, abs=1e-9)
+    assert dg._nearest_crossing(lambda p: 1.0 + p * 0, 0.5, 0.1, +1) is None  # none: None
+
+
+def _point(value: float, index: int) -> dg.BranchPoint:
+    return dg.BranchPoint(value, 0.0, index, False, 0.0, True, 0.0, 0.0, 0)
+
+
+def test_bands_end_at_the_located_index_changes_and_at_the_range():
+    b = dg._Branch("x", "seed", {v: (None, _point(v, i)) for v, i in
+                                 ((0.0, 2), (0.1, 0), (0.2, 0), (0.3, 1), (0.4, 0))})
+    specials = [dg.SpecialPoint("index change", 0, 0.07, (0.0, 0.1), 2, 0, ()),
+                dg.SpecialPoint("index change", 0, 0.26, (0.2, 0.3), 0, 1, ())]
+    # the last change is not located: its bracket's midpoint
+    assert dg._bands(b, specials, 0) == ((0.07, 0.26), (0.35, 0.4))
+
+
+@pytest.mark.slow
+def test_straightened_rod_buckling_load_and_its_pitchfork():
+    """The diagram of the clamped straightened rod in mu = kappa_n L / ...: lambda_c = 2 pi."""
+    p = sr.Params()
+    mu_c = 2 * math.pi / sr.to_paper(1.0, p)["lambda"]  # eq. (3.9)
+    located = []
+    for n in (8, 16):
+        rod = dv.common_rod(sr.build(p), n, 0.8 * mu_c)
+        d = dg.deflated_diagram(rod, [("straight", Snapshot.of(rod))], [],
+                                list(np.linspace(0.8 * mu_c, 1.2 * mu_c, 5)), starts=0)
+        straight = d.branches[0]
+        assert [q.index for q in straight.points] == [0, 0, 0, 1, 1]
+        (sp,) = [s for s in d.special_points if s.branch == 0]
+        located.append(sp.value)
+        # the switch search found the buckled branch beyond mu_c: stable, below the straight
+        assert sp.branches, "no branch found at the straight rod's branch point"
+        buckled = d.branches[sp.branches[0]]
+        assert all(q.index == 0 and q.value > mu_c for q in buckled.points)
+        top = buckled.points[-1]
+        assert top.value == pytest.approx(1.2 * mu_c)
+        assert top.energy < straight.points[-1].energy
+        assert buckled.begins.startswith("ends between")  # it joins the straight branch
+    e8, e16 = (x - mu_c for x in located)
+    assert 3.5 < e8 / e16 < 4.5  # order 2
+    assert located[1] + (located[1] - located[0]) / 3 == pytest.approx(mu_c, rel=1e-3)
+
+
+@pytest.mark.slow
+def test_cli_writes_the_diagram_and_its_daisy_band_agrees_with_the_atlas(run_cli, tmp_path):
+    r = run_cli(["diagram", "--shape", "rectangle", "--aspect", "4", "--vary",
+                 "load_factor=0.9:1.1:2", "--elements", "6", "--starts", "0", "--out",
+                 tmp_path / "d", "--no-progress", "--json"])
+    assert r.exit_code == 0, r.stderr
+    out = json.loads(r.stdout)
+    labels = {b["label"] for b in out["branches"]}
+    assert {"line", "star", "daisy", "eight"} <= labels
+    (daisy,) = [e for e in out["band_ends"] if e["state"] == "daisy"]
+    assert daisy["atlas"] == pytest.approx(0.942867, abs=1e-6)  # rodstab hexagram
+    assert daisy["agrees"] is True
+    assert abs(daisy["extrapolated"] - daisy["atlas"]) < 0.1 * daisy["mesh_error"]
+    with (tmp_path / "d" / "branches.csv").open() as fh:
+        rows = list(csv.DictReader(fh))
+    assert len(rows) == sum(len(b["points"]) for b in out["branches"])
+    assert (tmp_path / "d" / "diagram.png").stat().st_size > 10_000
+
+
+@pytest.mark.parametrize("args, words", [
+    (["--vary", "segment.a.natural_curvature=0:1"], ["segment.a.natural_curvature",
+                                                      "load_factor only"]),
+    (["--vary", "load_factor=0:1:4", "--saddles-at", "0.3"], ["--saddles-at", "0.3",
+                                                              "not a value"]),
+    (["--vary", "load_factor=0:1:4", "--saddles-at", "x"], ["--saddles-at", "'x'"]),
+    (["--vary", "load_factor=0:1:4", "--saddle-modes", "0"], ["--saddle-modes", "0"]),
+    (["--vary", "load_factor=0:1:4", "--max-barrier", "-1"], ["--max-barrier", "-1"]),
+    (["--vary", "load_factor=0:1:4", "--starts", "-2"], ["--starts", "-2"]),
+])
+def test_bad_input_exits_2_naming_it(run_cli, tmp_path, args, words):
+    r = run_cli(["diagram", *args, "--out", tmp_path / "d"])
+    assert r.exit_code == 2, r.stdout + r.stderr
+    for w in words:
+        assert w in r.stderr
