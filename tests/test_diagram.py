@@ -109,3 +109,26 @@ def test_bad_input_exits_2_naming_it(run_cli, tmp_path, args, words):
     assert r.exit_code == 2, r.stdout + r.stderr
     for w in words:
         assert w in r.stderr
+
+
+@pytest.mark.slow
+def test_hexagram_line_star_saddle_is_traced_as_a_branch():
+    """The saddle search at kappa_n R0 = 1 finds the line-star saddle (14.2795 B3/L at 8 el.,
+    the string method's: `rodstab barrier --from line --to star --load-factor 1 --elements 8`)
+    and the diagram traces it over the grid (stepping stones and the tangent predictor: a
+    plain Newton step from it fails at 1.01)."""
+    from rodstab.multistable.discover import ring_seeds
+    from rodstab.problems import hexagram
+    from rodstab.sections import rectangle
+
+    ring = hexagram.ring(rectangle(aspect=4))
+    rod, seeds, known = ring_seeds(ring, "star", 8, 0.8, True)
+    d = dg.deflated_diagram(rod, seeds, known, [0.8, 0.9, 1.0, 1.1, 1.2], starts=0,
+                            directions=tuple(x for _, x in ring.order), saddles_at=[1.0],
+                            saddle_modes=3, max_rise=3.0)
+    (search,) = d.saddle_searches
+    (saddle,) = [s for s in search["saddles"] if abs(s["energy"] - 14.2795) < 5e-5]
+    b = d.branches[saddle["branch"] - 1]
+    assert [q.value for q in b.points] == pytest.approx([0.8, 0.9, 1.0, 1.1, 1.2])
+    assert all(q.index == 1 and not q.planar for q in b.points)
+    assert b.begins == b.ends == "range"

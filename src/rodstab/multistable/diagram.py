@@ -66,14 +66,15 @@ from .identify import SAME_STATE_DISTANCE, Snapshot, invariants, same_state
 #: is said to end.
 HALVINGS = 3
 #: Largest node displacement of the starts that leave a branch along a crossing mode, over L.
-SWITCH_AMPLITUDES = (0.01, 0.03)
+SWITCH_AMPLITUDES = (0.01, 0.03, 0.1)
 #: Crossing modes tried at a branch point or branch end (both signs each).
 SWITCH_MODES = 2
 #: Branches are sought at an index change only where the lower index is below this (new
 #: branches there have index <= 2: the minima and the saddles that join them).
 SWITCH_MAX_INDEX = 2
-#: Besides the bracket's ends, the switch runs at the located crossing +- this fraction of the
-#: bracket (a branch of a pitchfork is nearest its parent there).
+#: The switch runs at the located crossing +- this fraction of the bracket, from the bracket's
+#: end on that side (a branch of a pitchfork is nearest its parent there; from the bracket's
+#: ends too the hexagram's [0, 4] diagram at 8 el. spent 3/4 of its time in these runs).
 SWITCH_OFFSET = 0.1
 #: Iterations of one deflated search run (a continuation step has DEFLATED_MAX_ITER).
 SEARCH_MAX_ITER = 30
@@ -306,8 +307,9 @@ class _Run:
             cur, cur_p = s, p
             for i in range(1, 2**depth):
                 q = p + (target - p) * i / 2**depth
-                self.rod.load_factor = q
-                _predicted(self.rod, cur, self._slope(cur, cur_p), q - cur_p).put(self.rod)
+                start = _predicted(self.rod, cur, self._slope(cur, cur_p), q - cur_p)
+                self.rod.load_factor = q  # after the slope, which is taken at cur_p
+                start.put(self.rod)
                 self.runs += 1
                 if not deflated_newton(self.rod, [], max_iter=SEARCH_MAX_ITER).converged:
                     break
@@ -403,11 +405,9 @@ class _Run:
         born: list[int] = []
         if min(i_lo, i_hi) < SWITCH_MAX_INDEX:
             m = abs(i_hi - i_lo)
-            # both sides of the crossing (a branch leaves on one side only), near it and at
-            # the bracket's ends
+            # both sides of the crossing (a branch leaves on one side only)
             off = SWITCH_OFFSET * (hi - lo)
-            for base, where in ((lo, lo), (lo, max(lo, at - off)), (hi, min(hi, at + off)),
-                                (hi, hi)):
+            for base, where in ((lo, max(lo, at - off)), (hi, min(hi, at + off))):
                 born += self._switch(k, base, where, m, self._grid_at(base))
         self.specials.append(SpecialPoint("index change", k, at, (lo, hi), i_lo, i_hi,
                                           tuple(born)))
@@ -422,17 +422,10 @@ class _Run:
     def _locate(self, k: int, lo: float, hi: float, idx: int) -> float:
         """Where eigenvalue ``idx`` (0-based) of branch ``k`` crosses zero in ``[lo, hi]``."""
         b = self.branches[k]
-        moves = distance_sq_between(self.rod, b.points[lo][0], b.points[hi][0]) \
-            > SAME_STATE_DISTANCE**2
 
         def f(p: float) -> float:
-            self.rod.load_factor = float(p)
             near = b.points[lo if abs(p - lo) <= abs(p - hi) else hi][0]
-            near.put(self.rod)
-            if moves and not deflated_newton(self.rod, []).converged:
-                raise _Unlocated
-            ev = lowest_modes(self.rod, idx + 1)[0]
-            return float(ev[idx])
+            return eigenvalue_at(self.rod, near, p, idx)
 
         try:
             return refine_root(f, lo, hi, rel_xtol=LOCATE_RTOL)
@@ -472,6 +465,23 @@ class _Run:
             self.extend(k, d)
 
 
+def eigenvalue_at(rod: DiscreteRod, s: Snapshot, p: float, idx: int) -> float:
+    """Eigenvalue ``idx`` (0-based, ascending) of the equilibrium near ``s`` at value ``p``.
+
+    Newton first, also on a held state: the common rod's rest lengths are the arc's length
+    over the elements, not its chords, so its relaxed held state moves with the load factor by
+    the mesh's error, and the eigenvalue of the state frozen at a grid value crosses zero
+    elsewhere (the hexagram's star, upper end at 8 el.: 2.35766 frozen at 2.2 or 2.4, 2.35794
+    relaxed at every trial value; at 16 el. 2.35822 against 2.35743, which converge to the
+    Bloch method's 2.357247 with order 2). Raises :class:`_Unlocated` if Newton fails.
+    """
+    rod.load_factor = float(p)
+    s.put(rod)
+    if not deflated_newton(rod, []).converged:
+        raise _Unlocated
+    return float(lowest_modes(rod, idx + 1)[0][idx])
+
+
 class _Unlocated(Exception):
     """Newton did not converge at a trial value while locating an index change."""
 
@@ -479,12 +489,6 @@ class _Unlocated(Exception):
 def _energy(rod: DiscreteRod, s: Snapshot) -> float:
     s.put(rod)
     return float(rod.energy())
-
-
-def distance_sq_between(rod: DiscreteRod, a: Snapshot, b: Snapshot) -> float:
-    """``d^2`` of the deflation operator between two states (:func:`~.discover.distance_sq`)."""
-    a.put(rod)
-    return distance_sq(rod, b)[0]
 
 
 def _predicted(rod: DiscreteRod, s: Snapshot, slope: np.ndarray | None, dp: float
@@ -685,11 +689,15 @@ def held_band_ends(d: Diagram, atlas: dict[str, tuple[float, float]],
                     out.append(BandEnd(b.label, side, x, None, None, None, ref, None))
                     continue
 
-                def f(p: float, rod: DiscreteRod = rod) -> float:
-                    rod.load_factor = float(p)
-                    return float(lowest_modes(rod, 1)[0][0])
+                state = Snapshot.of(rod)
 
-                fine = _nearest_crossing(f, x, h, +1 if side == "lower" else -1)
+                def f(p: float, rod: DiscreteRod = rod, state: Snapshot = state) -> float:
+                    return eigenvalue_at(rod, state, p, 0)
+
+                try:
+                    fine = _nearest_crossing(f, x, h, +1 if side == "lower" else -1)
+                except _Unlocated:
+                    fine = None
                 if fine is None:
                     out.append(BandEnd(b.label, side, x, None, None, None, ref, None))
                     continue

@@ -8,6 +8,7 @@ their last point.
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 from typing import Any
 
@@ -24,12 +25,40 @@ def plot_diagram(d: Diagram, path: str | Path | None = None, *, title: str = "",
                  xlabel: str = "load factor", unit: str = "B3/L") -> Any:
     """Draw diagram ``d`` (:func:`rodstab.multistable.diagram.deflated_diagram`).
 
-    Energies in ``unit``; ``xlabel`` names the parameter. Each run of points with one index is
-    one line (its style by the index); consecutive runs share their end point, so a branch is
-    continuous through its index changes.
+    Left: energy; right: energy above the lowest equilibrium found at each value (where the
+    barriers show), both clipped a quarter above the highest stable point. Energies in
+    ``unit``; ``xlabel`` names the parameter. Each run of points with one index is one line
+    (its style by the index); consecutive runs share their end point, so a branch is
+    continuous through its index changes. Unnamed branches are labelled ``#k`` (their number
+    in the output).
     """
-    fig = Figure(figsize=(8.0, 5.2))
-    ax = fig.add_subplot(1, 1, 1)
+    fig = Figure(figsize=(12.0, 5.2))
+    axes = [fig.add_subplot(1, 2, i) for i in (1, 2)]
+    floor: dict[float, float] = {}
+    for b in d.branches:
+        for q in b.points:
+            floor[q.value] = min(floor.get(q.value, q.energy), q.energy)
+    for ax, shift in zip(axes, (False, True), strict=True):
+        _draw(ax, d, floor if shift else None)
+        ax.set_xlabel(xlabel)
+        ax.set_ylabel(f"energy above the lowest ({unit})" if shift else f"energy ({unit})")
+    handles = [axes[0].plot([], [], ls=s, color="k")[0] for s in _STYLE.values()]
+    handles += [axes[0].plot([], [], ls="-", color="0.6", lw=0.6)[0],
+                axes[0].plot([], [], "o", color="k", mfc="none")[0],
+                axes[0].plot([], [], "x", color="k")[0]]
+    axes[0].legend(handles, ["stable (index 0)", "index 1", "index 2", "index >= 3",
+                             "index change", "branch end"], fontsize=7, loc="upper left")
+    fig.suptitle(title or f"{len(d.branches)} branches (deflated continuation)", fontsize=9)
+    return _finish(fig, path, dpi=150)
+
+
+def _draw(ax: Any, d: Diagram, floor: dict[float, float] | None) -> None:
+    """Draw every branch on ``ax``, energies less ``floor[value]`` when given."""
+    def e(q: Any) -> float:
+        return q.energy - (floor[q.value] if floor is not None else 0.0)
+
+    low = [e(q) for b in d.branches for q in b.points if q.index == 0]
+    top = 1.25 * max(low) if low else math.inf
     colours = [f"C{i % 10}" for i in range(len(d.branches))]
     for b, c in zip(d.branches, colours, strict=True):
         pts = b.points
@@ -40,25 +69,19 @@ def plot_diagram(d: Diagram, path: str | Path | None = None, *, title: str = "",
             seg = pts[start:min(i + 1, len(pts))]
             idx = pts[start].index
             grey = idx not in _STYLE
-            ax.plot([p.value for p in seg], [p.energy for p in seg],
-                    ls=_STYLE.get(idx, "-"), lw=0.6 if grey else 1.6,
-                    color="0.6" if grey else c, alpha=0.6 if grey else 1.0)
+            ax.plot([q.value for q in seg], [e(q) for q in seg], ls=_STYLE.get(idx, "-"),
+                    lw=0.6 if grey else 1.6, color="0.6" if grey else c,
+                    alpha=0.6 if grey else 1.0)
             start = i
-        if b.label != "unnamed" and pts:
-            ax.annotate(b.label, (pts[-1].value, pts[-1].energy), textcoords="offset points",
+        shown = [q for q in pts if e(q) <= top]  # named where it leaves the picture
+        if shown and (shown[-1].index <= 2 or b.label != "unnamed"):
+            name = b.label if b.label != "unnamed" else f"#{b.id + 1}"
+            ax.annotate(name, (shown[-1].value, e(shown[-1])), textcoords="offset points",
                         xytext=(3, 0), fontsize=7, va="center", color=c)
     for sp in d.special_points:
         pts = d.branches[sp.branch].points
-        near = min(pts, key=lambda p: abs(p.value - sp.value))
-        ax.plot([sp.value], [near.energy], "o" if sp.kind == "index change" else "x",
+        near = min(pts, key=lambda q: abs(q.value - sp.value))
+        ax.plot([sp.value], [e(near)], "o" if sp.kind == "index change" else "x",
                 color="k", ms=3.5, mfc="none")
-    ax.set_xlabel(xlabel)
-    ax.set_ylabel(f"energy ({unit})")
-    handles = [ax.plot([], [], ls=s, color="k")[0] for s in _STYLE.values()]
-    handles += [ax.plot([], [], ls="-", color="0.6", lw=0.6)[0],
-                ax.plot([], [], "o", color="k", mfc="none")[0],
-                ax.plot([], [], "x", color="k")[0]]
-    ax.legend(handles, ["stable (index 0)", "index 1", "index 2", "index >= 3",
-                        "index change", "branch end"], fontsize=7, loc="upper left")
-    ax.set_title(title or f"{len(d.branches)} branches (deflated continuation)", fontsize=9)
-    return _finish(fig, path, dpi=150)
+    if low:
+        ax.set_ylim(min(min(low), 0.0) - 0.03 * top, top)
