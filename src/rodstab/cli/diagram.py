@@ -167,7 +167,8 @@ def diagram(design_file: str | None, section: Section, structure: str, segments:
                      f"{fmt(sp.value)} (between {fmt(sp.between[0])} and {fmt(sp.between[1])}"
                      f"), index {sp.index_before} -> "
                      f"{'none beyond' if sp.index_after is None else sp.index_after}; "
-                     f"branches found there: {meets}")
+                     f"branches found there: {meets}"
+                     + _nearest_text(sp, d))
     for k, bands in d.bands.items():
         if bands:
             b = d.branches[k]
@@ -195,6 +196,14 @@ def diagram(design_file: str | None, section: Section, structure: str, segments:
     if "MAX_BRANCHES" in d.stopping:
         raise NotConverged(f"the search stopped at its branch limit ({d.stopping}); the "
                            f"diagram found so far is written to {out_dir}")
+
+
+def _nearest_text(sp: Any, d: Any) -> str:
+    """Describe what a branch end is nearest to (its special point's ``nearest``), or ''."""
+    if sp.nearest is None or sp.nearest_distance is None or sp.energy_above_nearest is None:
+        return ""
+    return (f"; nearest there: branch {sp.nearest + 1} ({d.branches[sp.nearest].label}), "
+            f"{fmt(sp.nearest_distance)} L RMS away, {fmt(sp.energy_above_nearest)} above it")
 
 
 def _grid_values(option: str, text: str, values: Any) -> list[float]:

@@ -60,7 +60,7 @@ from .discover import (
     discover,
     distance_sq,
 )
-from .identify import SAME_STATE_DISTANCE, Snapshot, invariants, same_state
+from .identify import SAME_STATE_DISTANCE, Snapshot, aligned_distance, invariants, same_state
 
 #: A failed step is retried through 1, 3, .. 2^HALVINGS - 1 stepping stones before the branch
 #: is said to end.
@@ -140,6 +140,11 @@ class SpecialPoint(Result):
     index_before: int
     index_after: int | None
     branches: tuple[int, ...]
+    #: At a branch end: the branch whose point at ``value`` is nearest (RMS node distance
+    #: over L modulo the ring's symmetry), that distance, and the energy above it (B3/L).
+    nearest: int | None = None
+    nearest_distance: float | None = None
+    energy_above_nearest: float | None = None
 
 
 @dataclasses.dataclass(frozen=True)
@@ -416,8 +421,13 @@ class _Run:
         born = self._switch(k, p, p, 1, self._grid_at(p)) if pt.index <= SWITCH_MAX_INDEX \
             else []
         lo, hi = min(p, q), max(p, q)
+        s = self.branches[k].points[p][0]
+        near = [(aligned_distance(self.rod, s, b.points[p][0]), j)
+                for j, b in enumerate(self.branches) if j != k and p in b.points]
+        dist, j = min(near, default=(None, None))
+        gap = None if j is None else pt.energy - self.branches[j].points[p][1].energy
         self.specials.append(SpecialPoint("branch end", k, p, (lo, hi), pt.index, None,
-                                          tuple(born)))
+                                          tuple(born), j, dist, gap))
 
     def _locate(self, k: int, lo: float, hi: float, idx: int) -> float:
         """Where eigenvalue ``idx`` (0-based) of branch ``k`` crosses zero in ``[lo, hi]``."""
