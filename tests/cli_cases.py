@@ -91,6 +91,14 @@ LATER_CASES: list[list[str]] = (
 )
 
 
+#: Commands added after e0b77e8, each recorded at the commit that added it (``meta`` of
+#: ``tests/data/cli_outputs_new.json`` names it).
+NEW_CASES: list[list[str]] = [
+    ["diagram", "--elements", "6", "--shape", "rectangle", "--aspect", "4", "--vary",
+     "load_factor=0.9:1.1:2", "--starts", "0", "--no-progress", "--out", "{tmp}/diagram"],
+]
+
+
 def case_id(args: list[str]) -> str:
     """A readable, unique test id of a command line."""
     return " ".join(a for a in args if not a.startswith("{tmp}"))

@@ -4,7 +4,8 @@ The reference outputs are this project's own earlier output, recorded by
 ``tests/data/record_cli_outputs.py``: ``CASES`` from commit 07ed206 (before the issue-9
 redesign: the problems registry, the checks split, the new continuation core and the error
 contract), ``LATER_CASES`` (the multistable commands, the later examples) from e0b77e8 (before
-the issue-20 split of the command line). They check that a refactoring changed no number; that
+the issue-20 split of the command line), ``NEW_CASES`` (commands added since: ``diagram``)
+each by the commit that added it (dc865bd). They check that a refactoring changed no number; that
 the numbers are right is each command's own test module's job (closed forms, limits, other
 methods). The command lines are in ``tests/cli_cases.py``: every subcommand but ``reproduce``,
 the design-file commands on every example. Compared: the exit status, every JSON key recorded
@@ -22,10 +23,12 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from cli_cases import CASES, LATER_CASES, case_id
+from cli_cases import CASES, LATER_CASES, NEW_CASES, case_id
 
 RECORDED = json.loads((Path(__file__).parent / "data" / "cli_outputs_07ed206.json")
                       .read_text())["outputs"]
+RECORDED_NEW = json.loads((Path(__file__).parent / "data" / "cli_outputs_new.json")
+                          .read_text())["outputs"]
 RECORDED_LATER = json.loads((Path(__file__).parent / "data" / "cli_outputs_e0b77e8.json")
                             .read_text())["outputs"]
 #: Same numbers: relative tolerance (solvers' own convergence tolerances are 1e-10 or finer;
@@ -320,6 +323,12 @@ def test_cli_prints_the_numbers_of_e0b77e8(args, run_cli, tmp_path):
     _check_recorded(args, RECORDED_LATER[case_id(args)], run_cli, tmp_path)
 
 
+@pytest.mark.slow
+@pytest.mark.parametrize("args", NEW_CASES, ids=[case_id(a) for a in NEW_CASES])
+def test_cli_prints_the_numbers_recorded_when_the_command_was_added(args, run_cli, tmp_path):
+    _check_recorded(args, RECORDED_NEW[case_id(args)], run_cli, tmp_path)
+
+
 def test_a_refined_analyze_meets_the_closed_form(run_cli):
     # examples/clamped_arc.toml: rectangle h/t = 2 (nu = 1/3), L/R = 2, kappa_n = mu / R.
     from rodstab.analytic.arc import clamped_arc_stability
@@ -342,6 +351,7 @@ def test_a_refined_analyze_meets_the_closed_form(run_cli):
 def test_every_subcommand_but_reproduce_is_compared():
     from rodstab.cli import cli
 
-    assert set(cli.commands) - {a[0] for a in CASES + LATER_CASES} == {"reproduce"}
+    assert set(cli.commands) - {a[0] for a in CASES + LATER_CASES + NEW_CASES} == {"reproduce"}
     assert set(RECORDED) == {case_id(a) for a in CASES}
+    assert set(RECORDED_NEW) == {case_id(a) for a in NEW_CASES}
     assert set(RECORDED_LATER) == {case_id(a) for a in LATER_CASES}

@@ -7,8 +7,10 @@ Run it with the checkout to record on ``PYTHONPATH``::
 ``tests/data/cli_outputs_07ed206.json`` was recorded this way from commit 07ed206 (the last
 commit before the issue-9 redesign) and ``cli_outputs_e0b77e8.json`` (``later``: the
 ``LATER_CASES``) from e0b77e8 (the last before the issue-20 split of the command line). They
-are regression records of this project's own earlier output: ``tests/test_cli_outputs.py``
-checks that a refactoring changed no number, not that the numbers are right.
+are regression records of this project's own earlier output (``new``: the commands added
+since, ``cli_outputs_new.json``, each recorded by the commit that added it):
+``tests/test_cli_outputs.py`` checks that a refactoring changed no number, not that the
+numbers are right.
 """
 
 from __future__ import annotations
@@ -23,7 +25,7 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
 
-from cli_cases import CASES, LATER_CASES, ROOT, case_id  # noqa: E402
+from cli_cases import CASES, LATER_CASES, NEW_CASES, ROOT, case_id  # noqa: E402
 
 
 def main(out: str, cases: list[list[str]] = CASES) -> None:
@@ -48,4 +50,5 @@ def main(out: str, cases: list[list[str]] = CASES) -> None:
 
 
 if __name__ == "__main__":
-    main(sys.argv[1], LATER_CASES if sys.argv[2:] == ["later"] else CASES)
+    main(sys.argv[1], {"later": LATER_CASES, "new": NEW_CASES}.get(
+        sys.argv[2] if sys.argv[2:] else "", CASES))
