@@ -72,12 +72,16 @@ SWITCH_MODES = 2
 #: Branches are sought at an index change only where the lower index is below this (new
 #: branches there have index <= 2: the minima and the saddles that join them).
 SWITCH_MAX_INDEX = 2
-#: The switch runs at the located crossing +- this fraction of the bracket, from the bracket's
-#: end on that side (a branch of a pitchfork is nearest its parent there; from the bracket's
-#: ends too the hexagram's [0, 4] diagram at 8 el. spent 3/4 of its time in these runs).
+#: The switch runs at the bracket's ends and at the located crossing +- this fraction of the
+#: bracket, from the bracket's end on that side: the straightened rod's buckled branch (8 el.,
+#: grid 0.1 mu_c) is reached from 0.1 past the crossing, the hexagram's line-star saddle (8 el.,
+#: grid 0.1) from the bracket's end 2.2 (+-0.03 L along the softest mode; not from 2.2412,
+#: not with 0.003 or 0.01 L).
 SWITCH_OFFSET = 0.1
-#: Iterations of one deflated search run (a continuation step has DEFLATED_MAX_ITER).
-SEARCH_MAX_ITER = 30
+#: Iterations of one deflated search run (a continuation step has DEFLATED_MAX_ITER). The
+#: switch runs that converge took 4-11 (hexagram's line at 2.2, the straightened rod); most
+#: that fail use them all, and they are most of a diagram's time.
+SEARCH_MAX_ITER = 15
 #: The run stops growing at this many branches.
 MAX_BRANCHES = 60
 #: Relative tolerance of a located index change, in the parameter.
@@ -412,7 +416,8 @@ class _Run:
             m = abs(i_hi - i_lo)
             # both sides of the crossing (a branch leaves on one side only)
             off = SWITCH_OFFSET * (hi - lo)
-            for base, where in ((lo, max(lo, at - off)), (hi, min(hi, at + off))):
+            for base, where in ((lo, lo), (lo, max(lo, at - off)), (hi, min(hi, at + off)),
+                                (hi, hi)):
                 born += self._switch(k, base, where, m, self._grid_at(base))
         self.specials.append(SpecialPoint("index change", k, at, (lo, hi), i_lo, i_hi,
                                           tuple(born)))
