@@ -3,7 +3,7 @@
 Oracles: the clamped straightened rod's buckling load (closed form, eq. 3.9: lambda_c = 2 pi),
 reached by the diagram's located index change at 8 and 16 elements with order 2, and its
 supercritical pitchfork (the buckled branch exists and is stable above it, below the straight
-state's energy); the hexagram's daisy lower limit by the linear engine (Bloch method,
+state's energy, and the straight state snaps onto it); the hexagram's daisy lower limit by the linear engine (Bloch method,
 `rodstab hexagram`: 0.942867 at h/t = 4) against the diagram's band end extrapolated from 6 and
 12 elements; closed-form functions for the crossing scan.
 """
@@ -70,6 +70,13 @@ def test_straightened_rod_buckling_load_and_its_pitchfork():
         assert top.value == pytest.approx(1.2 * mu_c)
         assert top.energy < straight.points[-1].energy
         assert buckled.begins.startswith("ends between")  # it joins the straight branch
+        # past mu_c the straight rod snaps, pushed either way, onto the buckled branch (its
+        # mirror is the same state), releasing the energy between the two there
+        (snap,) = d.snaps
+        assert snap.lands_on == (buckled.id, buckled.id)
+        past = [q for q in straight.points if q.value == snap.from_value][0]
+        low = [q for q in buckled.points if q.value == snap.from_value][0]
+        assert snap.energy_drop == pytest.approx((past.energy - low.energy,) * 2, rel=1e-6)
     e8, e16 = (x - mu_c for x in located)
     assert 3.5 < e8 / e16 < 4.5  # order 2
     assert located[1] + (located[1] - located[0]) / 3 == pytest.approx(mu_c, rel=1e-3)

@@ -174,6 +174,14 @@ def diagram(design_file: str | None, section: Section, structure: str, segments:
             b = d.branches[k]
             lines.append(f"stable       branch {k + 1} ({b.label}): "
                          + ", ".join(f"{fmt(lo)} < {load} < {fmt(hi)}" for lo, hi in bands))
+    for sn in d.snaps:
+        b = d.branches[sn.branch]
+        to = ", ".join("not a branch of the diagram" if j is None or e is None else
+                       f"branch {j + 1} ({d.branches[j].label}, {fmt(e)} lower)"
+                       for j, e in zip(sn.lands_on, sn.energy_drop, strict=True))
+        lines.append(f"snap         branch {sn.branch + 1} ({b.label}) loses stability at "
+                     f"{load} = {fmt(sn.value)}; from {fmt(sn.from_value)}, pushed both ways "
+                     f"and relaxed: {to}")
     for search in d.saddle_searches:
         lines.append(f"saddles      at {load} = {fmt(search['value'])}: "
                      + (", ".join(f"{fmt(x['energy'])} joining {' and '.join(x['joins'])}"

@@ -152,6 +152,28 @@ class SpecialPoint(Result):
 
 
 @dataclasses.dataclass(frozen=True)
+class Snap(Result):
+    """Where a stable branch ends its band, and the state it snaps to.
+
+    ``branch`` loses stability at ``value`` (its located index change); from its point at the
+    grid value ``from_value`` just past it, pushed ``SNAP_PUSH`` L both ways along its most
+    unstable mode and relaxed (:func:`rodstab.nonlinear.solve.relax`), it lands on
+    ``lands_on`` (branch ids, one per push; None when the relaxed state is no branch's point
+    there, or the relaxation did not converge), each ``energy_drop`` below the start (B3/L).
+    """
+
+    branch: int
+    value: float
+    from_value: float
+    lands_on: tuple[int | None, ...]
+    energy_drop: tuple[float | None, ...]
+
+
+#: Push along the unstable mode before a snap is relaxed, largest node displacement over L.
+SNAP_PUSH = 0.01
+
+
+@dataclasses.dataclass(frozen=True)
 class Diagram(Result):
     """Every branch found over the range, the special points, the stable bands.
 
@@ -175,6 +197,8 @@ class Diagram(Result):
     saddle_searches: tuple[dict, ...] = ()
     #: Solutions of index above SWITCH_MAX_INDEX a search found: deflated, not followed.
     unfollowed: int = 0
+    #: Where a stable branch loses stability, what it snaps to (:func:`snaps`).
+    snaps: tuple[Snap, ...] = ()
 
 
 @dataclasses.dataclass
@@ -565,15 +589,15 @@ def deflated_diagram(rod: DiscreteRod, seeds: list[tuple[str, Snapshot]],
         got = run._solve(s, p0, max_iter=None)
         if got is not None:
             run.add_branch(got, p0, lab, f"seed {lab}", seed=True)
-    found, snaps = discover(rod, seeds, known, starts=starts, seed=seed, directions=directions)
+    found, states = discover(rod, seeds, known, starts=starts, seed=seed, directions=directions)
     run.runs += found.runs
-    for st, s in zip(found.states, snaps, strict=True):
+    for st, s in zip(found.states, states, strict=True):
         run.add_branch(s, p0, None, f"discover at {p0:.6g}: {st.found_from}")
     run.run()
     for v in saddles_at:
         run.saddles(float(v), saddle_modes, max_rise)
         run.run()
-    return _result(run, rod)
+    return _result(run, rod, snaps(run))
 
 
 def _bands(b: _Branch, specials: list[SpecialPoint], k: int) -> tuple[tuple[float, float], ...]:
@@ -595,7 +619,48 @@ def _bands(b: _Branch, specials: list[SpecialPoint], k: int) -> tuple[tuple[floa
     return tuple(out)
 
 
-def _result(run: _Run, rod: DiscreteRod) -> Diagram:
+def snaps(run: _Run) -> tuple[Snap, ...]:
+    """Every band end of a stable branch inside the range, and where it snaps to (:class:`Snap`).
+
+    The landing is named by :func:`~.identify.same_state` against every branch's point at
+    the same grid value; what the diagram does not hold there is None (the diagram is
+    incomplete there, and says so).
+    """
+    from ..nonlinear.solve import relax
+
+    out = []
+    rod = run.rod
+    for sp in run.specials:
+        if sp.kind != "index change" or 0 not in (sp.index_before, sp.index_after):
+            continue
+        past = sp.between[1] if sp.index_before == 0 else sp.between[0]
+        b = run.branches[sp.branch]
+        if past not in b.points:
+            continue
+        s = b.points[past][0]
+        rod.load_factor = float(past)
+        s.put(rod)
+        E0 = float(rod.energy())
+        ev, vecs = lowest_modes(rod, 1)
+        lands: list[int | None] = []
+        drops: list[float | None] = []
+        for sign in (1.0, -1.0):
+            _perturbed(rod, s, vecs[:, 0], sign * SNAP_PUSH)
+            rod.load_factor = float(past)
+            if not relax(rod)[0]:
+                lands.append(None)
+                drops.append(None)
+                continue
+            here, E = Snapshot.of(rod), float(rod.energy())
+            hit = [j for j, o in enumerate(run.branches) if past in o.points
+                   and same_state(rod, here, o.points[past][0], E, o.points[past][1].energy)]
+            lands.append(hit[0] if hit else None)
+            drops.append(E0 - E)
+        out.append(Snap(sp.branch, sp.value, past, tuple(lands), tuple(drops)))
+    return tuple(out)
+
+
+def _result(run: _Run, rod: DiscreteRod, found_snaps: tuple[Snap, ...] = ()) -> Diagram:
     def end(b: _Branch, d: int) -> str:
         e = b.ends.get(d)
         return "range" if e is None else f"ends between {e[0]:.6g} and {e[1]:.6g}"
@@ -615,7 +680,8 @@ def _result(run: _Run, rod: DiscreteRod) -> Diagram:
                f"natural-parameter steps halved up to {HALVINGS} times, deflated searches "
                f"from every moving branch and along the soft modes ({SWITCH_AMPLITUDES} L) "
                "at index changes and branch ends",
-        saddle_searches=tuple(run.saddle_searches), unfollowed=run.unfollowed)
+        saddle_searches=tuple(run.saddle_searches), unfollowed=run.unfollowed,
+        snaps=found_snaps)
 
 
 
