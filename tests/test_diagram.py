@@ -3,9 +3,9 @@
 Oracles: the clamped straightened rod's buckling load (closed form, eq. 3.9: lambda_c = 2 pi),
 reached by the diagram's located index change at 8 and 16 elements with order 2, and its
 supercritical pitchfork (the buckled branch exists and is stable above it, below the straight
-state's energy, and the straight state snaps onto it); the hexagram's daisy lower limit by the linear engine (Bloch method,
-`rodstab hexagram`: 0.942867 at h/t = 4) against the diagram's band end extrapolated from 6 and
-12 elements; closed-form functions for the crossing scan.
+state's energy, and the straight state snaps onto it); the hexagram's daisy lower limit by the
+linear engine (Bloch method, `rodstab hexagram`: 0.942867 at h/t = 4) against the diagram's
+band end extrapolated from 6 and 12 elements; closed-form functions for the crossing scan.
 """
 
 from __future__ import annotations
