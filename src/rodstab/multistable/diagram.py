@@ -44,7 +44,7 @@ import numpy as np
 import scipy.sparse.linalg as spla
 
 from ..errors import RodstabInputError
-from ..nonlinear.constraint import mean_length, restore_positions
+from ..nonlinear.constraint import mean_length
 from ..nonlinear.discrete import DiscreteRod
 from ..nonlinear.parameters import LoadFactor
 from ..nonlinear.solve import lowest_eigenvalues, lowest_modes, zero_eigenvalue_tol
@@ -59,6 +59,7 @@ from .discover import (
     deflated_newton,
     discover,
     distance_sq,
+    moved_along,
 )
 from .identify import SAME_STATE_DISTANCE, Snapshot, aligned_distance, invariants, same_state
 
@@ -420,7 +421,7 @@ class _Run:
         for j in order:
             for amp in SWITCH_AMPLITUDES:
                 for sign in (1.0, -1.0):
-                    start = _perturbed(self.rod, s, vecs[:, j], sign * amp)
+                    start = moved_along(self.rod, s, vecs[:, j], sign * amp)
                     got = self._solve(start, p, SEARCH_MAX_ITER)
                     if got is not None:
                         nb = self._offer(got, p, grid,
@@ -544,19 +545,7 @@ def _predicted(rod: DiscreteRod, s: Snapshot, slope: np.ndarray | None, dp: floa
     dq[rod.free_dofs()] = v
     disp = float(np.max(np.linalg.norm(dq[: 3 * len(rod.x)].reshape(-1, 3), axis=1)))
     cap = MAX_STEP_DISPLACEMENT * mean_length(rod)
-    return _perturbed(rod, s, v, min(disp, cap) / mean_length(rod)) if disp > 0 else s
-
-
-def _perturbed(rod: DiscreteRod, s: Snapshot, v: np.ndarray, amplitude: float) -> Snapshot:
-    """Move ``s`` along free-unknown vector ``v`` to a largest node displacement ``amplitude`` L."""
-    s.put(rod)
-    dq = np.zeros(rod.n_dof)
-    dq[rod.free_dofs()] = v
-    disp = float(np.max(np.linalg.norm(dq[: 3 * len(rod.x)].reshape(-1, 3), axis=1)))
-    rod.apply(dq * (amplitude * mean_length(rod) / max(disp, 1e-300)))
-    rod.align_frames()
-    restore_positions(rod)
-    return Snapshot.of(rod)
+    return moved_along(rod, s, v, min(disp, cap) / mean_length(rod)) if disp > 0 else s
 
 
 def deflated_diagram(rod: DiscreteRod, seeds: list[tuple[str, Snapshot]],
@@ -645,7 +634,7 @@ def snaps(run: _Run) -> tuple[Snap, ...]:
         lands: list[int | None] = []
         drops: list[float | None] = []
         for sign in (1.0, -1.0):
-            _perturbed(rod, s, vecs[:, 0], sign * SNAP_PUSH)
+            moved_along(rod, s, vecs[:, 0], sign * SNAP_PUSH)
             rod.load_factor = float(past)
             if not relax(rod)[0]:
                 lands.append(None)

@@ -371,14 +371,23 @@ def _perturbed(rod: DiscreteRod, base: Snapshot, amplitude: float, weights: np.n
     trial = rod.copy()
     base.put(trial)
     _, vecs = lowest_modes(trial, INDEX_EIGS)
-    v = vecs @ weights[: vecs.shape[1]]
+    return moved_along(trial, base, vecs @ weights[: vecs.shape[1]], amplitude)
+
+
+def moved_along(rod: DiscreteRod, s: Snapshot, v: np.ndarray, amplitude: float) -> Snapshot:
+    """Move ``s`` along free-unknown vector ``v`` to a largest node displacement ``amplitude`` L.
+
+    A chart increment of ``rod`` (its state is changed), signed by ``amplitude``, then put back
+    onto the Kirchhoff constraint (frames on their chords, :func:`restore_positions`).
+    """
+    s.put(rod)
     dq = np.zeros(rod.n_dof)
-    dq[trial.free_dofs()] = v
+    dq[rod.free_dofs()] = v
     disp = float(np.max(np.linalg.norm(dq[: 3 * len(rod.x)].reshape(-1, 3), axis=1)))
-    trial.apply(dq * (amplitude * mean_length(rod) / max(disp, 1e-300)))
-    trial.align_frames()
-    restore_positions(trial)
-    return Snapshot.of(trial)
+    rod.apply(dq * (amplitude * mean_length(rod) / max(disp, 1e-300)))
+    rod.align_frames()
+    restore_positions(rod)
+    return Snapshot.of(rod)
 
 
 def discover(rod: DiscreteRod, seeds: list[tuple[str, Snapshot]], known: list[KnownState], *,
