@@ -110,6 +110,7 @@ def test_cli_writes_the_diagram_and_its_daisy_band_agrees_with_the_atlas(run_cli
     (["--vary", "load_factor=0:1:4", "--saddle-modes", "0"], ["--saddle-modes", "0"]),
     (["--vary", "load_factor=0:1:4", "--max-barrier", "-1"], ["--max-barrier", "-1"]),
     (["--vary", "load_factor=0:1:4", "--starts", "-2"], ["--starts", "-2"]),
+    (["--vary", "load_factor=1:1:4"], ["load_factor=1:1:4", "must differ"]),
 ])
 def test_bad_input_exits_2_naming_it(run_cli, tmp_path, args, words):
     r = run_cli(["diagram", *args, "--out", tmp_path / "d"])

@@ -90,7 +90,7 @@ def diagram(design_file: str | None, section: Section, structure: str, segments:
     from tqdm import tqdm
 
     from ..multistable.atlas import transfer_interval
-    from ..multistable.diagram import deflated_diagram, held_band_ends
+    from ..multistable.diagram import SWITCH_MAX_INDEX, deflated_diagram, held_band_ends
     from ..multistable.discover import common_rod, ring_seeds
 
     spec = read_vary(vary, DIAGRAM_DEFAULT_N, "diagram steps", limits)
@@ -98,6 +98,8 @@ def diagram(design_file: str | None, section: Section, structure: str, segments:
         raise RodstabInputError(
             f"--vary {spec.key}: the diagram continues {', '.join(DIAGRAM_KEYS)} only (one "
             "rod model for every state; other keys: `rodstab continue` follows one branch)")
+    if not spec.start != spec.stop:
+        raise RodstabInputError(f"--vary {vary!r}: START and STOP must differ")
     if spec.unit is not None:
         raise RodstabInputError(f"--vary {vary!r}: the load factor is a plain number")
     if isinstance(starts, bool) or starts < 0:
@@ -152,7 +154,9 @@ def diagram(design_file: str | None, section: Section, structure: str, segments:
     lines = [section_line(section),
              f"{name}, {n} rods, {elements} elements each, {load} from {fmt(values[0])} to "
              f"{fmt(values[-1])} in {spec.n} steps: {len(d.branches)} branches, {d.runs} "
-             f"Newton runs; {d.stopping}",
+             f"Newton runs; {d.stopping}"
+             + (f"; {d.unfollowed} solutions of index > {SWITCH_MAX_INDEX} the searches found "
+                "are deflated, not followed" if d.unfollowed else ""),
              f"{'branch':>6} {'label':>14} {'from':>8} {'to':>8} {'index':>7} {'planar':>6}"
              f"  begins / ends; found from"]
     for b in d.branches:

@@ -9,14 +9,17 @@ algorithm of their ``defcon`` and of BifurcationKit.jl's ``DefCont``) on one dis
    the ring, each an equilibrium at every ``mu``: its shape is fixed by closure, its moment
    ``B (k - mu kappa_n)`` uniform) and whatever :func:`~.discover.discover` finds besides them.
 2. A branch is extended one grid step at a time, in both directions, by Newton from its last
-   point with every solution already known at the new value deflated (so two branches cannot
-   land on one solution); a step that fails is halved :data:`HALVINGS` times before the branch
-   is said to end there (a fold, or a branch the grid's natural parameter cannot follow).
+   point moved by the tangent predictor, with every solution already known at the new value
+   deflated (so two branches cannot land on one solution); a step that fails is retried
+   through 1, 3, .. ``2^HALVINGS - 1`` stepping stones (solved, not recorded: points lie on
+   the grid only, where every branch is deflated) before the branch is said to end there (a
+   fold, or a branch the grid's natural parameter cannot follow).
 3. Search (the deflation step): from the last point of a branch whose shape changed in the
    step, deflated Newton with everything known at the new value deflated (a new solution
    starts a new branch); where a branch's Hessian index changes between two points (an
-   eigenvalue crossed zero: a branch point) and where a branch ends, deflated Newton from each
-   of the two points perturbed both ways along the crossing (softest) modes.
+   eigenvalue crossed zero: a branch point), deflated Newton from both bracket ends and from
+   near the located crossing, perturbed both ways along the crossing (softest) modes; and
+   likewise from a branch's last point where it ends.
 4. Every new solution that is not a symmetric image (rigid motion, reflection, relabelling of
    the rods, :func:`~.identify.same_state`) of a point already known at its value starts a new
    branch, itself extended both ways; the run stops when no branch can be extended (or at
@@ -25,10 +28,11 @@ algorithm of their ``defcon`` and of BifurcationKit.jl's ``DefCont``) on one dis
 Along every branch: energy (``B3/L``), Hessian index (negative eigenvalues of the scaled free
 Hessian), planarity and the invariants of :func:`~.identify.invariants`. An index change is
 located by the project's bracketed root finder (:func:`rodstab.numerics.refine_root`) on the
-eigenvalue that crosses zero (Newton at every trial value on branches whose shape moves); a
+eigenvalue that crosses zero (Newton at every trial value, :func:`eigenvalue_at`); a
 branch end is given as the bracket between its last point and the first value it could not
 reach. The stability bands (index 0) of the held states are then intervals the linear
-engine's :mod:`~.atlas` gives independently (compared in the output and the tests).
+engine's :mod:`~.atlas` gives independently (:func:`held_band_ends`). Where a stable branch
+loses stability, :func:`snaps` says what it snaps to.
 
 What this finds is what the starts reach: a branch disconnected from every branch found, born
 at a fold inside the range with no branch nearby, is found only if a deflation run reaches it.
@@ -569,7 +573,7 @@ def deflated_diagram(rod: DiscreteRod, seeds: list[tuple[str, Snapshot]],
     vals = np.asarray(sorted(float(v) for v in values))
     if len(vals) < 2 or not np.all(np.isfinite(vals)) or np.any(np.diff(vals) <= 0):
         raise RodstabInputError(f"a diagram needs at least two distinct finite values, got "
-                                f"{list(values)!r}")
+                                f"{[float(v) for v in values]!r}")
     run = _Run(rod, known, vals, directions, progress)
     p0 = float(vals[0])
     rod.load_factor = p0
@@ -666,7 +670,8 @@ def _result(run: _Run, rod: DiscreteRod, found_snaps: tuple[Snap, ...] = ()) -> 
         elements_per_segment=len(rod.R_edge) // len(rod.assembly.segments),
         n_dof=len(rod.free_dofs()), runs=run.runs, stopping=stopping,
         method="deflated continuation (Farrell, Beentjes, Birkisson) on one discrete rod: "
-               f"natural-parameter steps halved up to {HALVINGS} times, deflated searches "
+               "natural-parameter steps with a tangent predictor, retried through up to "
+               f"{2**HALVINGS - 1} stepping stones, deflated searches "
                f"from every moving branch and along the soft modes ({SWITCH_AMPLITUDES} L) "
                "at index changes and branch ends",
         saddle_searches=tuple(run.saddle_searches), unfollowed=run.unfollowed,
