@@ -52,7 +52,7 @@ from ..nonlinear.constraint import mean_length
 from ..nonlinear.discrete import DiscreteRod
 from ..nonlinear.parameters import LoadFactor
 from ..nonlinear.solve import lowest_eigenvalues, lowest_modes, zero_eigenvalue_tol
-from ..numerics.roots import refine_root
+from ..numerics.roots import find_roots, refine_root
 from ..results import Result
 from .discover import (
     DEFLATED_MAX_ITER,
@@ -313,10 +313,6 @@ class _Run:
             self.progress()
         return k
 
-    def _grid_at(self, p: float) -> float:
-        """``p`` if it is a grid value, else the grid value nearest it."""
-        return p if p in self.grid else float(self.values[np.argmin(np.abs(self.values - p))])
-
     # -- extending a branch -----------------------------------------------------------------
     def _grid_next(self, p: float, direction: int) -> float | None:
         """Return the next grid value after ``p`` (which may lie between grid values)."""
@@ -447,12 +443,12 @@ class _Run:
             off = SWITCH_OFFSET * (hi - lo)
             for base, where in ((lo, lo), (lo, max(lo, at - off)), (hi, min(hi, at + off)),
                                 (hi, hi)):
-                born += self._switch(k, base, where, m, self._grid_at(base))
+                born += self._switch(k, base, where, m, base)
         self.specials.append(SpecialPoint("index change", k, at, (lo, hi), i_lo, i_hi,
                                           tuple(born)))
 
     def _end(self, k: int, p: float, q: float, pt: BranchPoint) -> None:
-        born = self._switch(k, p, p, 1, self._grid_at(p)) if pt.index <= SWITCH_MAX_INDEX \
+        born = self._switch(k, p, p, 1, p) if pt.index <= SWITCH_MAX_INDEX \
             else []
         lo, hi = min(p, q), max(p, q)
         s = self.branches[k].points[p][0]
@@ -711,27 +707,29 @@ def _nearest_crossing(f: Callable[[float], float], x: float, h: float, inside: i
                       ) -> float | None:
     """Return the zero of ``f`` nearest ``x`` where ``f`` turns positive towards ``inside``.
 
-    Scanned outward from ``x`` in quarter grid steps up to :data:`FINE_WINDOW` steps each way,
-    then refined (:func:`rodstab.numerics.refine_root`); None if no such sign change.
+    Every root of ``f`` within :data:`FINE_WINDOW` grid steps ``h`` of ``x``, by the project's
+    root finder (:func:`rodstab.numerics.find_roots`, scanned in quarter steps); of those where
+    ``f`` changes sign in the sense ``inside`` (+1: negative below, positive above), the one
+    nearest ``x``; None if there is none.
     """
-    ks = sorted(range(-4 * FINE_WINDOW, 4 * FINE_WINDOW + 1), key=abs)
-    cache: dict[int, float] = {}
+    seen: dict[float, float] = {}
 
-    def at(k: int) -> float:
-        if k not in cache:
-            cache[k] = f(x + 0.25 * h * k)
-        return cache[k]
+    def g(p: float) -> float:
+        if p not in seen:
+            seen[p] = f(p)
+        return seen[p]
 
-    for k in ks:
-        for a, b in ((k, k + 1), (k - 1, k)):
-            if abs(a) > 4 * FINE_WINDOW or abs(b) > 4 * FINE_WINDOW:
-                continue
-            lo_k, hi_k = (a, b) if inside > 0 else (b, a)  # f < 0 at lo_k, > 0 at hi_k
-            if at(lo_k) < 0 < at(hi_k):
-                return refine_root(f, x + 0.25 * h * a, x + 0.25 * h * b, rel_xtol=LOCATE_RTOL)
-            if at(lo_k) < 0 == at(hi_k):  # a scan point on the zero itself
-                return x + 0.25 * h * hi_k
-    return None
+    step = 0.25 * h
+    # roots to LOCATE_RTOL of a quarter step, as the index changes are to their brackets
+    search = find_roots(g, x - FINE_WINDOW * h, x + FINE_WINDOW * h, n_scan=8 * FINE_WINDOW,
+                        rel_xtol=LOCATE_RTOL / (8 * FINE_WINDOW))
+    good = []
+    for r in search.roots:
+        a, b = r.bracket if r.kind == "sign-change" else (r.x - step, r.x + step)
+        below, above = g(a), g(b)
+        if (below < 0 < above) if inside > 0 else (above < 0 < below):
+            good.append(r.x)
+    return min(good, key=lambda r: abs(r - x), default=None)
 
 
 #: A band end agrees with the atlas when the extrapolated end is this fraction of the coarse
