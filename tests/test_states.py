@@ -223,20 +223,31 @@ def test_a_star_design_dict_reads_as_the_hexagram():
 @pytest.mark.parametrize("edit,name", [
     (lambda d: [d["weld"].pop()] + [g.update(natural_curvature=0.0) for g in d["segment"]],
      "is not welded"),
-    (lambda d: d["segment"][2].update(section={"shape": "circle", "nu": 0.2}),
-     "segment '3' has B2"),
     (lambda d: d.update(support=[{"end": "1.start"}]), "no supports"),
 ])
-def test_designs_that_are_not_rings_of_identical_rods_are_refused_naming_the_value(edit, name):
+def test_designs_that_are_not_rings_are_refused_naming_the_value(edit, name):
     d = _ring_design(0.0)  # the line: no held moment, so an open chain is a valid design
     edit(d)
     with pytest.raises(RodstabInputError, match=name):
         ring_of(parse_design(d).assembly)
 
 
-def test_welds_turning_the_tangent_differently_are_refused_naming_the_weld():
+def test_a_rod_of_another_section_is_read_and_the_bloch_method_refuses_it_naming_it():
+    d = _ring_design(0.0)
+    d["segment"][2].update(section={"shape": "circle", "nu": 0.2})
+    ring = ring_of(parse_design(d).assembly)
+    assert not ring.identical and "segment '3' has B2" in ring.difference()
+    from rodstab.multistable.atlas import bloch_interval
+
+    with pytest.raises(RodstabInputError, match="Bloch method .* identical rods.*segment '3'"):
+        bloch_interval(ring, 0.0)
+
+
+def test_rods_of_other_lengths_and_welds_of_other_angles_are_read_as_rings():
     """A right triangle's rods differ in length; a rhombus of straight rods turns its tangent
-    by 60 and 120 degrees at alternate welds: both are refused, naming what differs."""
+    by 60 and 120 degrees at alternate welds: both are rings whose rods or welds differ, and
+    each holds its own straight state (mean turning 0: the rotation closure n theta + sum of
+    the weld turns = 2 pi j holds with j = 1, the chords are the polygon's sides)."""
     segs = [{"name": "a", "length": 1.0, "curvature": 0.0, "start": [0.0, 0.0], "angle_deg": 0},
             {"name": "b", "length": 1.0, "curvature": 0.0, "start": [1.0, 0.0], "angle_deg": 90},
             {"name": "c", "length": math.sqrt(2.0), "curvature": 0.0, "start": [1.0, 1.0],
@@ -244,8 +255,11 @@ def test_welds_turning_the_tangent_differently_are_refused_naming_the_weld():
     welds = [{"ends": ["a.end", "b.start"]}, {"ends": ["b.end", "c.start"]},
              {"ends": ["c.end", "a.start"]}]
     a = parse_design({"section": {"shape": "circle"}, "segment": segs, "weld": welds}).assembly
-    with pytest.raises(RodstabInputError, match="length"):
-        ring_of(a)
+    ring = ring_of(a)
+    assert "length" in ring.difference()
+    assert [round(math.degrees(t), 9) for t in ring.turns] == [90.0, 135.0, 135.0]
+    straight = [st for st in ring.states().states if st.theta == 0.0]
+    assert len(straight) == 1 and straight[0].distinct_weld_points == 3
     segs = [{"name": "a", "length": 1.0, "curvature": 0.0, "start": [0.0, 0.0], "angle_deg": 0},
             {"name": "b", "length": 1.0, "curvature": 0.0, "start": [1.0, 0.0], "angle_deg": 60},
             {"name": "c", "length": 1.0, "curvature": 0.0, "start": [1.5, math.sqrt(3) / 2],
@@ -254,8 +268,10 @@ def test_welds_turning_the_tangent_differently_are_refused_naming_the_weld():
              "angle_deg": 240}]
     welds = [{"ends": [f"{p}.end", f"{q}.start"]} for p, q in ("ab", "bc", "cd", "da")]
     a = parse_design({"section": {"shape": "circle"}, "segment": segs, "weld": welds}).assembly
-    with pytest.raises(RodstabInputError, match="turns it by 120 deg, the first by 60 deg"):
-        ring_of(a)
+    ring = ring_of(a)
+    assert "turns the tangent by 120 deg, weld 1 by 60 deg" in ring.difference()
+    assert ring.weld_label == "mixed (60, 120, 60, 120 deg)"
+    assert [st.label for st in ring.states().states if st.theta == 0.0] == ["theta=0deg"]
 
 
 def test_cli_states_from_a_design_file(capsys):
@@ -293,3 +309,67 @@ def test_ring_of_takes_a_loaded_design_and_names_what_it_needs():
     assert read(d) == read(d.assembly)
     with pytest.raises(RodstabInputError, match="needs an Assembly or a design"):
         read("examples/hexagram.toml")
+
+
+# ---------------------------------------------------------------------------------------------
+# Rings whose rods differ (issue 22, section 4)
+def _unequal(lengths, B3=None, kappa_b3=2 * math.pi / 3):
+    """The hexagram's ring with rods of ``lengths`` (and ``B3``), ``B3 x kappa_n`` equal."""
+    import dataclasses
+
+    base = uniform_ring(len(lengths), natural_curvature=2 * math.pi / 3)
+    B3 = [1.0] * len(lengths) if B3 is None else B3
+    rods = tuple(dataclasses.replace(r, length=L, B3=b, natural_curvature=kappa_b3 / b)
+                 for r, L, b in zip(base.rods, lengths, B3, strict=True))
+    return dataclasses.replace(base, rods=rods)
+
+
+def test_the_alternating_hexagram_closes_where_three_repeats_of_a_pair_close():
+    """Rods of 1.45 and 0.55 alternating, one curvature k, cusps: the pair of rods turns the
+    tangent by 2 k + 2 pi, so three pairs close in rotation for every k and in position when
+    exp(2 i k) is a cube root of unity other than 1 (the three chords then sum to zero):
+    2 k = 2 pi j / 3, j not a multiple of 3, i.e. mean turning k = 60 j degrees. At j = 0, 3, 6
+    each pair's chord must vanish, and 1.45 - 0.55 != 0 (the line) and the arcs' chords
+    (the eight, the 180-degree state) do not: those states are missing."""
+    ring = _unequal([1.45, 0.55] * 3)
+    got = sorted(round(math.degrees(s.theta), 9) for s in ring.states().states)
+    assert got == [60.0 * j for j in range(-6, 7) if j % 3]
+    assert {s.label for s in ring.states().states} >= {"star", "daisy", "mirror-star"}
+
+
+def test_rods_of_other_sections_turn_by_c_over_b3_and_the_energy_is_the_rods_sum():
+    """B3_i k_i = c and B3_i kappa_n,i = d in every rod (moment balance at every weld): the
+    energy is sum_i B3_i (k_i - mu kappa_n,i)^2 L_i / 2 over the built assembly, zero at the
+    stress-free load c / d; the assembly validates (every weld balanced)."""
+    # B3 proportional to length keeps every k_i L_i = c L_i / B3_i equal: it closes like the
+    # identical ring, its rods alternating in length, stiffness and natural curvature
+    ring = _unequal([1.5, 0.5] * 3, B3=[3.0, 1.0] * 3)
+    assert not ring.identical
+    states = {s.label: s for s in ring.states(load_factor=1.3).states}
+    star = states["star"]
+    a = ring.held(star.theta)
+    turns = [s.curvature * s.length for s in a.segments]
+    assert turns == pytest.approx([2 * math.pi / 3] * 6, rel=1e-12)
+    energy = sum(0.5 * s.B3 * (s.curvature - 1.3 * s.natural_curvature) ** 2 * s.length
+                 for s in a.segments)
+    assert star.energy == pytest.approx(energy, rel=1e-12)
+    free = ring.stress_free_load(star.theta)
+    assert all(s.curvature == pytest.approx(free * s.natural_curvature, rel=1e-12)
+               for s in a.segments)
+
+
+def test_a_ring_with_one_longer_rod_has_no_state_of_uniform_moment_and_says_so():
+    """One rod 10 % longer: the rotation closure fixes k, the chords cannot sum to zero."""
+    ring = _unequal([1.1, 1.0, 1.0, 1.0, 1.0, 1.0])
+    with pytest.raises(RodstabInputError, match="no planar held state of uniform moment.*"
+                                                "elasticas, for the nonlinear engine"):
+        ring.states()
+
+
+def test_cli_states_of_the_unequal_hexagram_example(capsys):
+    main(["states", "examples/hexagram_unequal.toml", "--json"])
+    out = json.loads(capsys.readouterr().out)
+    rows = {r["label"]: r for r in out["states"]}
+    assert "line" not in rows and "eight" not in rows
+    assert rows["star"]["rod_turnings_deg"] == pytest.approx([174.0, 66.0] * 3)
+    assert "segment 'r2' has length 0.55" in out["rods_differ"]

@@ -53,9 +53,10 @@ def states(design_file: str | None, segments: int, cusps: bool, max_turns: float
            plot_path: str | None, as_json: bool) -> None:
     """List the closed planar held states of uniform moment of a ring of welded rods.
 
-    From DESIGN (a ring of identical rods, each welded to the next, in any one held state:
-    its held curvatures do not matter, its welds' angles do), or from --segments and
-    --cusps/--smooth.
+    From DESIGN (a ring of rods each welded to the next, in any one held state: its held
+    curvatures do not matter, its welds' angles do; its rods may differ in length, section and
+    natural curvature with B3 x natural curvature equal, and each weld turn the tangent by its
+    own angle), or from --segments and --cusps/--smooth.
     """
     import math
 
@@ -87,12 +88,15 @@ def states(design_file: str | None, segments: int, cusps: bool, max_turns: float
     rows: list[dict[str, Any]] = [{"label": s.label, "held_curvature": s.held_curvature,
              "turning_number": s.turning_number, "distinct_weld_points": s.distinct_weld_points,
              "energy": s.energy, "theta_deg": math.degrees(s.theta), "covering": s.covering,
-             "mirror": s.mirror, "stress_free_load": ring.stress_free_load(s.theta)}
+             "mirror": s.mirror, "stress_free_load": ring.stress_free_load(s.theta),
+             "rod_turnings_deg": [math.degrees(float(k) * rod.length) for k, rod in
+                                  zip(ring.curvatures(s.theta), ring.rods, strict=True)]}
             for s in r.states]
     payload: dict[str, Any] = {"states": rows, "segments": r.segments, "weld": r.weld,
                                "length": r.length, "natural_curvature": r.natural_curvature,
                                "load_factor": mu, "max_turns": r.max_turns,
-                               "order": [list(o) for o in ring.order], "method": r.method}
+                               "order": [list(o) for o in ring.order], "method": r.method,
+                               "rods_differ": ring.difference()}
     if design_file is not None:
         payload["design"] = design_file
     if units is not None:
@@ -110,6 +114,9 @@ def states(design_file: str | None, segments: int, cusps: bool, max_turns: float
     emit(payload, as_json, [
         f"ring         {r.segments} rods, {r.weld} welds, |kL| <= {fmt(r.max_turns)} turns, "
         f"energy at kappa_n = {fmt(r.natural_curvature)} (B3 = {fmt(ring.B3)})",
+        *([f"rods differ  {ring.difference()}: kL is the mean turning (each rod's in JSON), "
+           f"L = {fmt(r.length)} the mean length, B3 and kappa_n the equivalent identical "
+           "ring's"] if not ring.identical else []),
         *([units_line(units), f"physical     rods {units.length_text(phys['length']['value'])}"
            f" long, energy at kappa_n = {fmt(phys['natural_curvature']['value'])} 1/m"]
           if units is not None and phys is not None else []),
@@ -137,11 +144,11 @@ ATLAS_DEFAULT_N = 21
                    "(section.<k>, segment.<name>.<k>, ...)." + VARY_UNITS_HELP)
 @click.option("--out", "out_dir", type=click.Path(file_okay=False), default="atlas",
               show_default=True, help="Directory for atlas.json and atlas.png.")
-@click.option("--method", type=click.Choice(["transfer", "fe"]), default="transfer",
-              show_default=True,
+@click.option("--method", type=click.Choice(["transfer", "fe"]), default=None,
               help="Exact rod with a Bloch phase per harmonic (welds of any angle; names "
-                   "the mode at each limit), or the FE engine on the whole ring "
-                   "(mesh refined from 32/64 elements per rod to an estimated 2.5e-7).")
+                   "the mode at each limit; identical rods and welds), or the FE engine on "
+                   "the whole ring (mesh refined from 32/64 elements per rod to an estimated "
+                   "2.5e-7) [default: transfer; fe when the rods or welds differ].")
 @click.option("--state", "state_labels", multiple=True,
               help="A state label of `rodstab states DESIGN` (repeat for several) [default: "
                    "every state with kL >= 0; a mirror state's interval is the negated one].")
@@ -151,13 +158,14 @@ ATLAS_DEFAULT_N = 21
 @click.option("--no-progress", is_flag=True, help="Do not draw the progress bar.")
 @limit_options
 @json_option
-def atlas_cmd(design_file: str, vary: str, out_dir: str, method: str,
+def atlas_cmd(design_file: str, vary: str, out_dir: str, method: str | None,
               state_labels: tuple[str, ...], max_turns: float, workers: int | None,
               scheduler: str | None, points_per_task: int | None, no_progress: bool,
               limits: Limits, as_json: bool) -> None:
     """Stable bands of a ring's held states against a design parameter (JSON + chart).
 
-    DESIGN is a ring of identical rods, each welded to the next (as for `rodstab states`).
+    DESIGN is a ring of rods, each welded to the next (as for `rodstab states`); rods and
+    welds that differ get the FE engine.
     For each state: the stable interval of the load factor around its stress-free load, with
     the mode at each limit (all rods alike, a symmetry-breaking pair or alternating), and the
     parameter ranges in which k states are mutually stable. The load factor is the design's:
@@ -191,12 +199,19 @@ def atlas_cmd(design_file: str, vary: str, out_dir: str, method: str,
     try:
         ring_of(base.assembly)
     except RodstabInputError as exc:
-        raise RodstabInputError(f"{design_file} is not a ring of identical welded rods: "
+        raise RodstabInputError(f"{design_file} is not a ring of welded rods: "
                                 f"{exc}") from None
     ring_at = DesignRings(base, spec.key, spec.unit)
 
-    for value in (spec.start, spec.stop):  # both ends of the range, before the bar
-        ring_at(value)
+    # both ends of the range, before the bar; one varied key changes the rods linearly, so
+    # rods alike at both ends are alike throughout
+    differ = [ring_at(value).difference() for value in (spec.start, spec.stop)]
+    why = next((d for d in differ if d), "")
+    if method is None:
+        method = "fe" if why else "transfer"
+    elif method == "transfer" and why:
+        raise RodstabInputError(f"--method transfer needs a ring of identical rods and welds: "
+                                f"{why}; use --method fe")
     out = check_output("--out", out_dir, directory=True)
     # One run at a time writes into --out (a running `continue` or `sweep` there holds its
     # run.lock): held until the command ends.
@@ -234,7 +249,8 @@ def atlas_cmd(design_file: str, vary: str, out_dir: str, method: str,
     width = max(12, *(len(s) for s in at.states))
     first = 12 if units is None else max(12, len(label))  # plain designs print as before
     in_unit = "" if unit is None else f" {unit}"
-    lines = [f"load factor  {LOAD_FACTOR_UNITS}; method {method}"]
+    lines = [f"load factor  {LOAD_FACTOR_UNITS}; method {method}"
+             + (f" (the rods differ: {why})" if why else "")]
     if units is not None:
         per = payload["units"]["natural_curvature_per_load_factor"]["value"]
         scale = (fmt(per[0]) if second is not None else

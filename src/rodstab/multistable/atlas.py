@@ -150,8 +150,11 @@ def bloch_interval(ring: Ring, theta: float) -> CyclicRingInterval:
     ``b2 = B2 / B3`` (P2 depends on the stiffnesses only through these). Welds of any angle:
     the joint map turns the rotation and moment vectors and carries the end term of the exact
     second variation (:func:`rodstab.transfer.weld_joint_map`). Refuses, naming ``theta``, a
-    turning at which the rods do not close into the ring (``n psi`` not a multiple of 2 pi).
+    turning at which the rods do not close into the ring (``n psi`` not a multiple of 2 pi),
+    and a ring whose rods or welds differ (:meth:`~rodstab.multistable.states.Ring.require_identical`:
+    the Bloch phase needs one rod repeated).
     """
+    ring.require_identical("the Bloch method (--method transfer)")
     turns = ring.segments * step_angle(theta, ring.weld) / (2 * math.pi)
     if not math.isfinite(turns) or abs(turns - round(turns)) > 1e-9 * max(1.0, abs(turns)):
         raise RodstabInputError(f"theta = {theta!r} is no held state of this ring: "
@@ -177,11 +180,14 @@ def covered_circle_interval(ring: Ring, theta: float) -> tuple[float, float] | N
     with ``B1 != B2`` (3 arcs of 240 degrees with 120-degree welds, ``b1 = 2``, ``b2 = 1.5``:
     lower end 0.15473 against (3.3)'s 0.15139 in ``R kappa_n``); cusp welds at ``N = 1``
     (the Bloch method and the FE engine give the lower end ``R kappa_n = 1 - b2``, (3.3)
-    ``1 - b1``; found by the differential test); ``N`` not a whole number of at least 1.
-    Load factor as in :func:`bloch_interval`.
+    ``1 - b1``; found by the differential test); ``N`` not a whole number of at least 1; a
+    ring whose rods or welds differ (not measured here). Load factor as in
+    :func:`bloch_interval`.
     """
     from ..analytic.ring import ring_stability
 
+    if not ring.identical:
+        return None
     turns = ring.segments * theta / (2 * math.pi)
     n_loops = round(turns)
     angle_ok = ring.weld in ("cusp", "smooth") or ring.B1 == ring.B2

@@ -11,7 +11,7 @@ the same signed held curvature ``k`` (moment balance at a two-rod weld, checked 
 * rotation: the tangent turns by ``psi = theta + pi`` from rod to rod at a cusp (``theta`` at a
   smooth weld), and must come back after ``n`` rods: ``n psi = 0 (mod 2 pi)``, i.e.
   ``theta = 2 pi j / n - pi`` (cusps) or ``theta = 2 pi j / n`` (smooth), ``j`` integer
-  (:func:`rotation_closing_turnings`);
+  (:meth:`Ring.rotation_closing`);
 * position: rod ``i``'s chord is the first one rotated by ``i psi``, so the chords sum to
   ``c sum_i exp(i i psi)``: zero when ``exp(i psi) != 1`` (the ``n``-th roots of unity sum to
   zero), else only when the chord ``c = L sinc(theta / 2)`` vanishes (``theta = 2 pi m``,
@@ -163,19 +163,6 @@ def step_angle(theta: float, weld: Weld) -> float:
     return theta + weld_turn(weld)
 
 
-def rotation_closing_turnings(segments: int, weld: Weld, max_turns: float) -> list[float]:
-    """Every ``theta`` in ``[-2 pi max_turns, 2 pi max_turns]`` with ``n psi = 0 (mod 2 pi)``.
-
-    ``theta = 2 pi j / n - pi`` (cusps) or ``2 pi j / n`` (smooth), ``j`` integer; increasing.
-    """
-    n = _require_segments(segments)
-    offset = -weld_turn(weld)
-    top = 2 * math.pi * max_turns
-    j_lo = math.ceil((-top - offset) * n / (2 * math.pi) - 1e-9)
-    j_hi = math.floor((top - offset) * n / (2 * math.pi) + 1e-9)
-    return [2 * math.pi * j / n + offset for j in range(j_lo, j_hi + 1)]
-
-
 def ring_assembly(segments: int, theta: float, *, weld: Weld = "cusp", length: float = 1.0,
                   natural_curvature: float = 0.0, B1: float = 1.0, B2: float = 1.0,
                   B3: float = 1.0, reference_load: float | None = None) -> Assembly:
@@ -194,57 +181,161 @@ def ring_assembly(segments: int, theta: float, *, weld: Weld = "cusp", length: f
 
 
 @dataclasses.dataclass(frozen=True)
-class Ring:
-    """A ring of ``segments`` identical rods, each welded to the next (:func:`ring_of`).
+class RingRod:
+    """One rod of a ring as the ring traverses it (:attr:`Ring.rods`).
 
-    ``order``: the rods in the order the ring is traversed, each ``(name, direction)`` with
-    direction ``+1`` when the ring runs from the rod's start to its end and ``-1`` when it runs
-    backwards; ``welds[i]`` joins rod ``i``'s outgoing end to rod ``i + 1``'s incoming end (as
-    ``((name, end), (name, end))``). Along the traversal every rod has length ``length``, natural
-    curvature ``natural_curvature`` per unit load factor (signed with the traversal, ``>= 0``
-    for a ring read from a design) and stiffnesses ``B1, B2, B3``; every weld turns the tangent
-    by the same ``weld`` (:func:`weld_turn`). A rod traversed backwards carries the opposite
-    signed curvatures in its own frame, which is how the folded six-ring of Section 5
-    (alternately oriented rods with alternating natural curvature) is a ring of identical rods.
+    ``natural_curvature``: per unit load factor, signed with the traversal (a rod run backwards
+    carries the opposite of its own). Stiffnesses ``B1, B2, B3`` (force x length^2).
     """
 
-    segments: int
-    weld: Weld
+    name: str
     length: float
     natural_curvature: float
     B1: float
     B2: float
     B3: float
+
+
+@dataclasses.dataclass(frozen=True)
+class Ring:
+    """A ring of ``segments`` rods, each welded to the next (:func:`ring_of`, :func:`uniform_ring`).
+
+    ``order``: the rods in the order the ring is traversed, each ``(name, direction)`` with
+    direction ``+1`` when the ring runs from the rod's start to its end and ``-1`` when it runs
+    backwards; ``welds[i]`` joins rod ``i``'s outgoing end to rod ``i + 1``'s incoming end (as
+    ``((name, end), (name, end))``) and turns the tangent by ``turns[i]`` (radians,
+    :func:`weld_turn`). ``rods[i]``: rod ``i`` along the traversal (:class:`RingRod`). A rod
+    traversed backwards carries the opposite signed curvatures in its own frame, which is how
+    the folded six-ring of Section 5 (alternately oriented rods with alternating natural
+    curvature) is a ring of identical rods.
+
+    **Held states of uniform moment.** Moment balance at every weld at every load factor
+    (:func:`rodstab.model.validate`) makes ``c = B3_i k_i`` and ``d = B3_i kappa_n,i`` the same
+    in every rod (``k_i`` the held, ``kappa_n,i`` the natural curvature along the traversal),
+    so a held state is one number. It is named by the **mean turning** ``theta = sum_i k_i L_i
+    / n`` (radians): ``k_i = c / B3_i`` with ``c = n theta / sum_i (L_i / B3_i)``. The
+    equivalent identical ring has ``length`` = the mean rod length ``Lbar``, ``B3`` =
+    ``sum L_i / sum (L_i / B3_i)`` and ``natural_curvature`` = ``d / B3`` (so that the energy
+    ``n B3 (theta / Lbar - mu kappa_n)^2 Lbar / 2`` and the stress-free load
+    ``theta / (Lbar kappa_n)`` keep the identical-ring formulas); ``B1, B2`` and ``weld`` are
+    rod 1's and weld 1's. They are the ring's own when the rods and welds are all alike
+    (:attr:`identical`), which the Bloch method and the named labels need.
+    """
+
     order: tuple[tuple[str, int], ...]
     welds: tuple[tuple[tuple[str, str], tuple[str, str]], ...]
+    rods: tuple[RingRod, ...]
+    turns: tuple[float, ...]
+
+    @property
+    def segments(self) -> int:
+        """Number of rods."""
+        return len(self.rods)
+
+    @property
+    def weld(self) -> Weld:
+        """Weld 1's kind (:func:`_require_weld` of its turn): every weld's when alike."""
+        return _require_weld(self.turns[0])
+
+    @property
+    def length(self) -> float:
+        """Mean rod length ``Lbar``."""
+        return math.fsum(r.length for r in self.rods) / self.segments
+
+    @property
+    def B3(self) -> float:
+        """``sum L_i / sum (L_i / B3_i)``: rod 1's ``B3`` when all agree."""
+        b3 = self.rods[0].B3
+        if all(r.B3 == b3 for r in self.rods):
+            return b3
+        return math.fsum(r.length for r in self.rods) / math.fsum(r.length / r.B3
+                                                                  for r in self.rods)
+
+    @property
+    def natural_curvature(self) -> float:
+        """``B3_i kappa_n,i / B3`` (per unit load factor): rod 1's when all ``B3`` agree."""
+        r = self.rods[0]
+        b3 = self.B3
+        return r.natural_curvature if r.B3 == b3 else r.B3 * r.natural_curvature / b3
+
+    @property
+    def B1(self) -> float:
+        """Rod 1's ``B1``."""
+        return self.rods[0].B1
+
+    @property
+    def B2(self) -> float:
+        """Rod 1's ``B2``."""
+        return self.rods[0].B2
+
+    @property
+    def identical(self) -> bool:
+        """Whether every rod has the same length, stiffnesses and natural curvature along the
+        traversal and every weld turns the tangent alike (to :data:`SAME_ROD_RTOL`)."""
+        return not self.difference()
+
+    def difference(self) -> str:
+        """Say how the rods or welds differ (``""`` when the ring is :attr:`identical`)."""
+        ref = self.rods[0]
+        for r in self.rods[1:]:
+            for what in ("length", "B1", "B2", "B3", "natural_curvature"):
+                got, want = getattr(r, what), getattr(ref, what)
+                if abs(got - want) > SAME_ROD_RTOL * max(abs(want), 1.0):
+                    return (f"segment {r.name!r} has {what.replace('_', ' ')} {got:.6g}, "
+                            f"segment {ref.name!r} {want:.6g}")
+        for i, t in enumerate(self.turns):
+            if abs(math.remainder(t - self.turns[0], 2 * math.pi)) > WELD_ANGLE_TOL:
+                return (f"weld {i + 1} turns the tangent by {math.degrees(t):.6g} deg, weld 1 "
+                        f"by {math.degrees(self.turns[0]):.6g} deg")
+        return ""
+
+    def require_identical(self, what: str) -> None:
+        """Raise :class:`RodstabInputError` naming ``what`` and the first difference, if any."""
+        diff = self.difference()
+        if diff:
+            raise RodstabInputError(f"{what} needs a ring of identical rods and welds: {diff}")
+
+    @property
+    def weld_label(self) -> str:
+        """:func:`weld_name` of the welds when alike, else every weld's turn in degrees."""
+        if all(abs(math.remainder(t - self.turns[0], 2 * math.pi)) <= WELD_ANGLE_TOL
+               for t in self.turns):
+            return weld_name(self.weld)
+        return "mixed (" + ", ".join(f"{math.degrees(t):.6g}" for t in self.turns) + " deg)"
+
+    def curvatures(self, theta: float) -> np.ndarray:
+        """Held curvature ``k_i`` of every rod (1/length) of the state of mean turning ``theta``."""
+        compliance = np.array([r.length / r.B3 for r in self.rods])
+        c = self.segments * theta / float(compliance.sum())
+        return np.array([c / r.B3 for r in self.rods])
 
     def held(self, theta: float, *, reference_load: float | None = None) -> Assembly:
-        """Return the ring held with every rod an arc turning by ``theta`` (radians, traversal).
+        """Return the ring held with every rod an arc, mean turning ``theta`` (radians).
 
-        Rod 1 starts at the origin along ``+x`` (along the traversal); each next rod starts
-        where the previous one ends with the tangent turned by the weld. The segments keep
-        their names and directions (a backwards rod gets start, angle and curvatures of the
-        reversed arc), so the held states of one design are one assembly's states.
-        :func:`rodstab.model.validate` refuses a chain that does not close, naming the gap.
+        Rod ``i`` turns by ``k_i L_i`` (:meth:`curvatures`). Rod 1 starts at the origin along
+        ``+x`` (along the traversal); each next rod starts where the previous one ends with the
+        tangent turned by its weld. The segments keep their names and directions (a backwards
+        rod gets start, angle and curvatures of the reversed arc), so the held states of one
+        design are one assembly's states. :func:`rodstab.model.validate` refuses a chain that
+        does not close, naming the gap.
         """
-        k = theta / self.length
-        alpha = weld_turn(self.weld)
         segs = []
         pos, ang = np.zeros(2), 0.0
-        for name, d in self.order:
-            probe = Segment(name=name, length=self.length, curvature=k, natural_curvature=0.0,
-                            B1=self.B1, B2=self.B2, B3=self.B3, start=(float(pos[0]),
-                                                                      float(pos[1])), angle=ang)
+        for (name, d), rod, k, alpha in zip(self.order, self.rods, self.curvatures(theta),
+                                            self.turns, strict=True):
+            k = float(k)
+            probe = Segment(name=name, length=rod.length, curvature=k, natural_curvature=0.0,
+                            B1=rod.B1, B2=rod.B2, B3=rod.B3,
+                            start=(float(pos[0]), float(pos[1])), angle=ang)
             end = probe.end_point("end")
             if d > 0:
-                segs.append(dataclasses.replace(probe,
-                                                natural_curvature=self.natural_curvature))
+                segs.append(dataclasses.replace(probe, natural_curvature=rod.natural_curvature))
             else:
                 segs.append(dataclasses.replace(
-                    probe, curvature=-k, natural_curvature=-self.natural_curvature,
-                    start=(float(end[0]), float(end[1])), angle=ang + theta + math.pi))
+                    probe, curvature=-k, natural_curvature=-rod.natural_curvature,
+                    start=(float(end[0]), float(end[1])), angle=ang + k * rod.length + math.pi))
             pos = end
-            ang = math.remainder(ang + theta + alpha, 2 * math.pi)
+            ang = math.remainder(ang + k * rod.length + alpha, 2 * math.pi)
         return Assembly(segments=tuple(segs), welds=self.welds, reference_load=reference_load)
 
     def forward(self) -> Ring:
@@ -279,31 +370,72 @@ class Ring:
                                     f"{max_turns!r}")
         n, L = self.segments, self.length
         kappa = self.natural_curvature * load_factor
+        alike = self.weld_label == weld_name(self.weld)
         found = []
-        for theta in rotation_closing_turnings(n, self.weld, max_turns):
-            gap, tangent_gap = _chain_gap(n, theta, self.weld, L)
+        for theta in self.rotation_closing(max_turns):
+            gap, tangent_gap = self.chain_gap(theta)
             if gap > CLOSURE_TOL or tangent_gap > CLOSURE_TOL:
                 continue  # the chords do not sum to zero: the chain is open
             a = self.held(theta)  # validate: ends meet, moments balance
-            tol = SAME_POINT_TOL * L
+            tol = SAME_POINT_TOL * min(r.length for r in self.rods)
             k = theta / L
             found.append(HeldState(
-                label=state_label(n, theta, self.weld), theta=theta, held_curvature=k,
+                label=self.label(theta), theta=theta, held_curvature=k,
                 turning_number=n * theta / (2 * math.pi),
                 distinct_weld_points=distinct_points(_weld_points(a), tol),
                 covering=_covering(a, self.order, tol),
                 energy=0.5 * n * self.B3 * (k - kappa) ** 2 * L,
-                mirror=state_label(n, -theta, self.weld), closure_gap=gap))
+                mirror=self.label(-theta) if alike else "", closure_gap=gap))
         if not found:
-            kind = weld_name(self.weld)
+            kind = self.weld_label
+            if not self.identical:
+                raise RodstabInputError(
+                    f"no planar held state of uniform moment of this ring closes with |mean "
+                    f"turning| <= {max_turns:g} turns per rod (its rods differ: "
+                    f"{self.difference()}; each rod is an arc only if the chords of the arcs "
+                    "sum to zero): its equilibria are elasticas, for the nonlinear engine "
+                    "(rodstab equilibrium, discover, diagram)")
             raise RodstabInputError(
                 f"segments {n} with {kind} welds: no closed state with |theta| <= "
                 f"{max_turns:g} turns per rod (a ring of {n} {kind}-welded rod"
                 f"{'s' if n > 1 else ''} cannot close{' in this range' if n > 1 else ''})")
-        return RingStates(segments=n, weld=weld_name(self.weld), length=L,
+        return RingStates(segments=n, weld=self.weld_label, length=L,
                           natural_curvature=kappa, max_turns=max_turns, states=tuple(found),
-                          method="rotation closure n psi = 0 mod 2 pi, chains built and "
-                                 "validated")
+                          method="rotation closure sum_i (k_i L_i + weld turn_i) = 0 mod 2 pi "
+                                 "with B3_i k_i equal, chains built and validated")
+
+    def rotation_closing(self, max_turns: float) -> list[float]:
+        """Every mean turning ``theta`` in ``[-2 pi max_turns, 2 pi max_turns]`` whose rods
+        and welds turn the tangent by a whole number of turns: ``n theta + sum_i alpha_i =
+        2 pi j`` (``alpha_i`` the welds' turns), increasing."""
+        n = self.segments
+        offset = -math.fsum(self.turns) / n
+        top = 2 * math.pi * max_turns
+        j_lo = math.ceil((-top - offset) * n / (2 * math.pi) - 1e-9)
+        j_hi = math.floor((top - offset) * n / (2 * math.pi) + 1e-9)
+        return [2 * math.pi * j / n + offset for j in range(j_lo, j_hi + 1)]
+
+    def chain_gap(self, theta: float) -> tuple[float, float]:
+        """Position gap (over the total length) and tangent mismatch after chaining the arcs.
+
+        Rod ``i``'s chord ``L_i sinc(theta_i / 2)`` points along the tangent turned by half its
+        turning ``theta_i = k_i L_i``; the next rod starts turned by ``theta_i + alpha_i``.
+        """
+        pos = np.zeros(2)
+        ang = 0.0
+        for rod, k, alpha in zip(self.rods, self.curvatures(theta), self.turns, strict=True):
+            th = float(k) * rod.length
+            chord = rod.length * float(np.sinc(0.5 * th / math.pi))
+            pos = pos + chord * np.array([math.cos(ang + 0.5 * th), math.sin(ang + 0.5 * th)])
+            ang += th + alpha
+        total = math.fsum(r.length for r in self.rods)
+        return float(np.linalg.norm(pos)) / total, abs(math.remainder(ang, 2 * math.pi))
+
+    def label(self, theta: float) -> str:
+        """Name of the state of mean turning ``theta`` (:func:`state_label`; mixed welds:
+        ``theta=<deg>deg``)."""
+        alike = self.weld_label == weld_name(self.weld)
+        return state_label(self.segments, theta, self.weld if alike else float("nan"))
 
     def state(self, label: str, max_turns: float = 1.0) -> HeldState:
         """Return the state called ``label``; raise naming it and listing the states if none."""
@@ -327,9 +459,10 @@ def uniform_ring(segments: int, *, weld: Weld = "cusp", length: float = 1.0,
         require_positive(key, v)
     names = [str(i) for i in range(1, n + 1)]
     welds = tuple(((names[i], "end"), (names[(i + 1) % n], "start")) for i in range(n))
-    return Ring(segments=n, weld=_require_weld(weld), length=float(length),
-                natural_curvature=float(natural_curvature), B1=float(B1), B2=float(B2),
-                B3=float(B3), order=tuple((nm, 1) for nm in names), welds=welds)
+    rod = RingRod("", float(length), float(natural_curvature), float(B1), float(B2), float(B3))
+    return Ring(order=tuple((nm, 1) for nm in names), welds=welds,
+                rods=tuple(dataclasses.replace(rod, name=nm) for nm in names),
+                turns=(weld_turn(weld),) * n)
 
 
 #: Rods of a ring read from a design must agree in length, stiffness and natural curvature to
@@ -344,18 +477,19 @@ def _tangent_angle(seg: Segment, end: str, direction: int) -> float:
 
 
 def ring_of(a: Any) -> Ring:
-    """Read the ring of a design: identical rods, each welded to the next, all welds alike.
+    """Read the ring of a design: rods each welded to the next, closing into one cycle.
 
     ``a``: an :class:`~rodstab.model.Assembly`, or a parsed design
     (:class:`rodstab.io.design.Design`, from ``load_design``), whose assembly is read.
 
     The assembly must have no supports or imposed end rotations, every weld must join two
     ends, and following the welds from the first segment must visit every segment once and
-    come back. Along that traversal (turned round if needed so that the natural curvature is
-    ``>= 0``) the rods must have equal length, ``B1``, ``B2``, ``B3`` and natural curvature and
-    no natural twist, and every weld must turn the tangent by the same angle (measured on the
-    design's held geometry; its held curvatures do not matter otherwise). Each violation is a
-    :class:`RodstabInputError` naming the segment or weld and its value.
+    come back. Along that traversal (turned round if needed so that rod 1's natural curvature
+    is ``>= 0``) the rods have no natural twist and equal ``B3`` x natural curvature (which
+    :func:`rodstab.model.validate` already requires); their lengths, sections and natural
+    curvatures may differ, and each weld's turn of the tangent (measured on the design's held
+    geometry) is its own (:class:`Ring`; :attr:`Ring.identical` says whether all agree).
+    Each violation is a :class:`RodstabInputError` naming the segment or weld and its value.
     """
     if not isinstance(a, Assembly) and isinstance(getattr(a, "assembly", None), Assembly):
         a = a.assembly
@@ -405,13 +539,14 @@ def ring_of(a: Any) -> Ring:
         kappa = [d * s.natural_curvature for s, (_, d) in zip(segs, order, strict=True)]
     ref = segs[0]
     for s, k in zip(segs, kappa, strict=True):
-        for what, got, want in (("length", s.length, ref.length), ("B1", s.B1, ref.B1),
-                                ("B2", s.B2, ref.B2), ("B3", s.B3, ref.B3),
-                                ("natural curvature along the ring", k, kappa[0])):
-            if abs(got - want) > SAME_ROD_RTOL * max(abs(want), 1.0):
-                raise RodstabInputError(
-                    f"the rods of a ring must be identical: segment {s.name!r} has {what} "
-                    f"{got!r}, segment {ref.name!r} {want!r}")
+        # validate() balances B3 x natural curvature at every weld; checked again so a ring
+        # built around it says what the held states need.
+        d, d_ref = s.B3 * k, ref.B3 * kappa[0]
+        if abs(d - d_ref) > SAME_ROD_RTOL * max(abs(d_ref), 1e-300):
+            raise RodstabInputError(
+                f"segment {s.name!r} has B3 x natural curvature along the ring {d!r}, segment "
+                f"{ref.name!r} {d_ref!r}: the held states need them equal (moment balance at "
+                "every weld at every load factor)")
         if s.natural_twist != 0.0:
             raise RodstabInputError(f"segment {s.name!r} has natural_twist {s.natural_twist!r}: "
                                     "the ring states are planar rods without natural twist")
@@ -420,29 +555,10 @@ def ring_of(a: Any) -> Ring:
     for (n1, e1), (n2, e2) in welds:
         t_out = _tangent_angle(a.segment(n1), e1, dirs[n1])
         t_in = _tangent_angle(a.segment(n2), e2, dirs[n2])
-        turns.append(math.remainder(t_in - t_out, 2 * math.pi))
-    for ((n1, e1), (n2, e2)), t in zip(welds, turns, strict=True):
-        if abs(math.remainder(t - turns[0], 2 * math.pi)) > WELD_ANGLE_TOL:
-            raise RodstabInputError(
-                f"the welds of a ring must all turn the tangent alike: weld {n1}.{e1}-{n2}.{e2}"
-                f" turns it by {math.degrees(t):.6g} deg, the first by "
-                f"{math.degrees(turns[0]):.6g} deg")
-    return Ring(segments=len(order), weld=_require_weld(turns[0]), length=ref.length,
-                natural_curvature=kappa[0], B1=ref.B1, B2=ref.B2, B3=ref.B3,
-                order=tuple(order), welds=tuple(welds))
-
-
-def _chain_gap(segments: int, theta: float, weld: Weld, length: float) -> tuple[float, float]:
-    """Position gap (over the total length) and tangent mismatch after chaining the rods."""
-    psi = step_angle(theta, weld)
-    pos = np.zeros(2)
-    ang = 0.0
-    for _ in range(segments):
-        chord = length * float(np.sinc(0.5 * theta / math.pi))
-        pos = pos + chord * np.array([math.cos(ang + 0.5 * theta), math.sin(ang + 0.5 * theta)])
-        ang += psi
-    tangent_gap = abs(math.remainder(ang, 2 * math.pi))
-    return float(np.linalg.norm(pos)) / (segments * length), tangent_gap
+        turns.append(weld_turn(math.remainder(t_in - t_out, 2 * math.pi)))
+    rods = tuple(RingRod(s.name, s.length, k, s.B1, s.B2, s.B3)
+                 for s, k in zip(segs, kappa, strict=True))
+    return Ring(order=tuple(order), welds=tuple(welds), rods=rods, turns=tuple(turns))
 
 
 def _weld_points(a: Assembly) -> np.ndarray:
