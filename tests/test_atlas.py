@@ -265,3 +265,53 @@ def test_common_load_is_the_middle_of_the_states_overlap_by_an_independent_metho
                             B1=sec.b1, B2=sec.b2)
     with pytest.raises(RodstabInputError, match="never stable together.*star.*daisy"):
         common_load(hexagram, ("star", "daisy"))
+
+
+# ---------------------------------------------------------------------------------------------
+# Rings whose rods differ (issue 22, section 4): the FE engine on the whole ring
+def _alternating(L1: float, b1: float | None = None, b2: float | None = None):
+    import dataclasses
+
+    r = ring_of(load_design("examples/hexagram_unequal.toml"))
+    rods = tuple(dataclasses.replace(x, length=L1 if i % 2 == 0 else 2.0 - L1,
+                                     B1=x.B1 if b1 is None else b1 * x.B3,
+                                     B2=x.B2 if b2 is None else b2 * x.B3)
+                 for i, x in enumerate(r.rods))
+    return dataclasses.replace(r, rods=rods)
+
+
+@pytest.mark.parametrize("label", ["star", "daisy", "theta=300deg"])
+def test_alternating_lengths_keep_the_hexagrams_intervals(label):
+    """Rods alternating 1.45 / 0.55 (examples/hexagram_unequal.toml): the FE engine on the
+    whole ring gives the identical hexagram's Bloch intervals for the star, the daisy and the
+    300-degree state (measured, issue 22 section 4: to 1e-8 here; the issue's 4e-6 was the
+    star at another mesh). The nonlinear engine agrees (`rodstab diagram` on the design: star
+    (0.0717785, 2.3572), daisy (0.944242, 3.26999) extrapolated from 8 / 16 el.)."""
+    unequal = ring_of(load_design("examples/hexagram_unequal.toml"))
+    same = ring_of(load_design("examples/hexagram.toml"))
+    fe = A.fe_interval(unequal, unequal.state(label))
+    bloch = A.transfer_interval(same, same.state(label))
+    assert fe.converged and fe.stable_at_stress_free
+    assert fe.interval == pytest.approx(bloch.interval, rel=1e-6)
+    with pytest.raises(RodstabInputError, match="Bloch method .*segment 'r2' has length 0.55"):
+        A.transfer_interval(unequal, unequal.state(label))
+
+
+@pytest.mark.parametrize("b1,b2", [(16.0, 1.26366), (9.0, 1.3), (4.0, 0.8)])
+@pytest.mark.parametrize("L1", [1.3, 1.7])
+def test_alternating_lengths_move_the_60_degree_states_lower_end_to_m_equal_b1(L1, b1, b2):
+    """The state of mean turning 60 deg (one loop, N = 1): the identical ring's lower end is
+    at M = 1 - R kappa_n = b2 (atlas.covered_circle_interval's docstring, Bloch); with rods
+    alternating L1 / (2 - L1), L1 in [1.3, 1.7], the FE engine puts it at M = b1 instead
+    (measured to 1e-8 on these three sections; at L1 = 1.05 and 1.2 it lies between: a
+    finding, not derived). Load factor = (1 - M) x 0.5 (theta / (kappa_n L) = (pi / 3) /
+    (2 pi / 3)). The nonlinear engine agrees for b1 = 16: `rodstab diagram
+    examples/hexagram_unequal.toml --vary load_factor=-8:-7:10` locates -7.49875 / -7.50288 at
+    8 / 16 el. against (1 - 16) / 2 = -7.5. The upper end is the identical ring's."""
+    ring = _alternating(L1, b1, b2)
+    same = _alternating(1.0, b1, b2)
+    fe = A.fe_interval(ring, ring.state("theta=60deg"))
+    ref = A.transfer_interval(same, same.state("theta=60deg"))
+    assert fe.interval[0] == pytest.approx((1.0 - b1) * 0.5, rel=1e-6)
+    assert ref.interval[0] == pytest.approx((1.0 - b2) * 0.5, rel=1e-6)
+    assert fe.interval[1] == pytest.approx(ref.interval[1], rel=1e-6)

@@ -311,3 +311,31 @@ def test_discover_deduplicates_as_before_on_the_states_it_finds(ring):
             assert new == old
     labels = [s.label for s in found.states]
     assert {"star", "daisy", "line"} <= set(labels)
+
+
+UNEQUAL = ring_of(load_design("examples/hexagram_unequal.toml").assembly)
+
+
+@pytest.mark.parametrize("ring,expected", [
+    (HEXAGRAM, {(f, k) for f in (False, True) for k in range(6)}),
+    (FOLDED, {(f, k) for f in (False, True) for k in range(6)}),
+    # rods alternating 1.45 / 0.55: shifts by two rods, and the reversals that put a long
+    # rod on a long one (slot m holds rod k - 1 - m: k odd)
+    (UNEQUAL, {(False, 0), (False, 2), (False, 4), (True, 1), (True, 3), (True, 5)}),
+], ids=["hexagram", "folded six-ring", "alternating lengths"])
+def test_relabellings_are_the_rings_symmetries(ring, expected):
+    assert set(idf.ring_relabellings(_rod(ring, "star"))) == expected
+
+
+@pytest.mark.parametrize("shift,same", [(1, False), (2, True), (3, False)])
+def test_a_state_shifted_by_a_rod_that_is_no_symmetry_is_another_state(shift, same):
+    """On the ring of alternating lengths a generic state started one rod later puts the long
+    rods' shapes on the short rods: no longer the same state (it was, before relabellings were
+    restricted to the ring's symmetries); two rods later it is."""
+    rod = _bent(_rod(UNEQUAL, "star"))
+    a = idf.Snapshot.of(rod)
+    order = _traversal(UNEQUAL, rod)
+    x = a.x.copy()
+    x[order] = np.roll(a.x[order], shift * N, axis=0)
+    b = idf.Snapshot(x, a.R_edge, a.R_joint)
+    assert (idf.aligned_distance(rod, a, b) < 1e-12) is same

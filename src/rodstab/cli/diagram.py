@@ -89,7 +89,7 @@ def diagram(design_file: str | None, section: Section, structure: str, segments:
     import numpy as np
     from tqdm import tqdm
 
-    from ..multistable.atlas import transfer_interval
+    from ..multistable.atlas import state_interval
     from ..multistable.diagram import SWITCH_MAX_INDEX, deflated_diagram, held_band_ends
     from ..multistable.discover import common_rod, ring_seeds
 
@@ -130,9 +130,10 @@ def diagram(design_file: str | None, section: Section, structure: str, segments:
                              saddles_at=at, saddle_modes=saddle_modes, max_rise=max_barrier,
                              progress=lambda: bar.update(1))
     atlas = {}
+    atlas_method = "transfer" if ring.identical else "fe"  # Bloch needs identical rods
     for st in ring.states().states:
         if any(b.label == st.label for b in d.branches):
-            r = transfer_interval(ring, st)
+            r = state_interval(ring, st, atlas_method)
             if r.converged:
                 atlas[st.label] = r.interval
     ends: tuple = ()
@@ -141,7 +142,7 @@ def diagram(design_file: str | None, section: Section, structure: str, segments:
             ring.held(ring.state(lab).theta), 2 * elements, float(values[0])))
     payload: dict[str, Any] = d.to_dict() | {
         "structure": name, "segments": n, "section": section.to_dict(),
-        "atlas": {k: list(v) for k, v in atlas.items()},
+        "atlas": {k: list(v) for k, v in atlas.items()}, "atlas_method": atlas_method,
         "band_ends": [e.to_dict() for e in ends]}
     payload["bands"] = {str(k): [list(x) for x in v] for k, v in d.bands.items()}
     _write_csv(out / "branches.csv", d)
@@ -159,6 +160,10 @@ def diagram(design_file: str | None, section: Section, structure: str, segments:
                 "are deflated, not followed" if d.unfollowed else ""),
              f"{'branch':>6} {'label':>14} {'from':>8} {'to':>8} {'index':>7} {'planar':>6}"
              f"  begins / ends; found from"]
+    if d.unconverged_seeds:
+        lines.insert(2, f"seeds        Newton reached none of {', '.join(d.unconverged_seeds)} "
+                        f"at any {load} of the range (too coarse a mesh for their shape, or "
+                        "deflated: try more --elements)")
     for b in d.branches:
         idx = sorted({p.index for p in b.points})
         lines.append(f"{b.id + 1:>6} {b.label:>14} {fmt(b.points[0].value):>8} "

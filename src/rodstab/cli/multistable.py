@@ -182,6 +182,10 @@ def discover(design_file: str | None, section: Section, structure: str, segments
              f"({found.converged_runs} converged); seeds {', '.join(found.seeds)}",
              f"{'label':>14} {'energy':>10} {'index':>5} {'stable':>6} {'welds':>5} "
              f"{'turning':>8} {'max|z|/L':>9}  found from"]
+    if found.unconverged_seeds:
+        lines.insert(2, f"seeds        not converged from: {', '.join(found.unconverged_seeds)}"
+                        " (onto a state found before, which deflation repels, or too coarse a "
+                        "mesh for their shape: try more --elements)")
     joules = None  # the states' energies in J, from the units block
     if units is not None:
         u = payload["units"]

@@ -151,8 +151,9 @@ def bloch_interval(ring: Ring, theta: float) -> CyclicRingInterval:
     the joint map turns the rotation and moment vectors and carries the end term of the exact
     second variation (:func:`rodstab.transfer.weld_joint_map`). Refuses, naming ``theta``, a
     turning at which the rods do not close into the ring (``n psi`` not a multiple of 2 pi),
-    and a ring whose rods or welds differ (:meth:`~rodstab.multistable.states.Ring.require_identical`:
-    the Bloch phase needs one rod repeated).
+    and a ring whose rods or welds differ
+    (:meth:`~rodstab.multistable.states.Ring.require_identical`: the Bloch phase needs one rod
+    repeated).
     """
     ring.require_identical("the Bloch method (--method transfer)")
     turns = ring.segments * step_angle(theta, ring.weld) / (2 * math.pi)

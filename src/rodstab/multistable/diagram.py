@@ -204,6 +204,9 @@ class Diagram(Result):
     unfollowed: int = 0
     #: Where a stable branch loses stability, what it snaps to (:func:`snaps`).
     snaps: tuple[Snap, ...] = ()
+    #: Seeds Newton reached at no value of the range (a seed reached only past the first
+    #: value starts its branch there).
+    unconverged_seeds: tuple[str, ...] = ()
 
 
 @dataclasses.dataclass
@@ -573,20 +576,38 @@ def deflated_diagram(rod: DiscreteRod, seeds: list[tuple[str, Snapshot]],
     run = _Run(rod, known, vals, directions, progress)
     p0 = float(vals[0])
     rod.load_factor = p0
+    pending = []
     for lab, s in seeds:
         s.put(rod)
         got = run._solve(s, p0, max_iter=None)
         if got is not None:
             run.add_branch(got, p0, lab, f"seed {lab}", seed=True)
+        else:
+            pending.append((lab, s))
     found, states = discover(rod, seeds, known, starts=starts, seed=seed, directions=directions)
     run.runs += found.runs
     for st, s in zip(found.states, states, strict=True):
         run.add_branch(s, p0, None, f"discover at {p0:.6g}: {st.found_from}")
     run.run()
+    # A seed Newton cannot reach at the first value (a coarse mesh for its shape, or a state
+    # deflation repels there) starts its branch at the first grid value it reaches, with every
+    # branch point there deflated (so it is new) and images checked.
+    unconverged = []
+    for lab, s in pending:
+        for p in vals[1:]:
+            s.put(rod)
+            got = run._solve(s, float(p), max_iter=None)
+            if got is not None:
+                if run.add_branch(got, float(p), lab, f"seed {lab}") is not None:
+                    run.run()
+                break
+        else:
+            unconverged.append(lab)
     for v in saddles_at:
         run.saddles(float(v), saddle_modes, max_rise)
         run.run()
-    return _result(run, rod, snaps(run))
+    return dataclasses.replace(_result(run, rod, snaps(run)),
+                               unconverged_seeds=tuple(unconverged))
 
 
 def _bands(b: _Branch, specials: list[SpecialPoint], k: int) -> tuple[tuple[float, float], ...]:
@@ -683,10 +704,11 @@ class BandEnd(Result):
 
     ``coarse``: located on the diagram's mesh; ``fine``: on twice its elements (same held state,
     same root finder); ``extrapolated``: Richardson (order 2) of the two, ``mesh_error`` =
-    ``|coarse - extrapolated|``; ``atlas``: the linear engine's end (:mod:`.atlas`, Bloch
-    method); ``agrees``: ``|atlas - extrapolated| <= AGREE_FRACTION * mesh_error +
-    AGREE_ATOL``, i.e. the difference is the mesh's (computed, not asserted). ``fine`` and the
-    rest are None where the crossing was not bracketed on the finer mesh.
+    ``|coarse - extrapolated|``; ``atlas``: the linear engine's end (:mod:`.atlas`: the Bloch
+    method, or the FE engine when the rods differ); ``agrees``:
+    ``|atlas - extrapolated| <= AGREE_FRACTION * mesh_error + AGREE_ATOL``, i.e. the
+    difference is the mesh's (computed, not asserted). ``fine`` and the rest are None where
+    the crossing was not bracketed on the finer mesh.
     """
 
     state: str

@@ -336,6 +336,9 @@ class Discovery(Result):
     method: str
     #: With contact: the starts whose state lies outside the contact model (not run).
     outside_contact: tuple[str, ...] = ()
+    #: Seeds from which the first deflated Newton run did not converge (onto a state found
+    #: before them, which deflation repels, or nowhere: a mesh too coarse for their shape).
+    unconverged_seeds: tuple[str, ...] = ()
 
 
 #: Largest node displacement of the perturbed starts, in mean segment lengths, cycled through
@@ -420,6 +423,7 @@ def discover(rod: DiscreteRod, seeds: list[tuple[str, Snapshot]], known: list[Kn
                      amp))
     weights = rng.standard_normal(INDEX_EIGS)
     outside: list[str] = []
+    failed_seeds: list[str] = []
     for name, snap, b, amp in plan:
         if snap is None and amp > 0:
             weights = rng.standard_normal(INDEX_EIGS)  # a new mix for each +/- pair
@@ -431,11 +435,13 @@ def discover(rod: DiscreteRod, seeds: list[tuple[str, Snapshot]], known: list[Kn
         except Interpenetration:
             outside.append(name)
             continue
-        for _ in range(RUNS_PER_START):
+        for attempt in range(RUNS_PER_START):
             start.put(rod)
             runs += 1
             r = deflated_newton(rod, deflated)
             if not r.converged:
+                if snap is not None and attempt == 0:
+                    failed_seeds.append(name.removeprefix("seed "))
                 break
             converged += 1
             s = Snapshot.of(rod)
@@ -468,7 +474,8 @@ def discover(rod: DiscreteRod, seeds: list[tuple[str, Snapshot]], known: list[Kn
         seeds=tuple(lab for lab, _ in seeds),
         method=f"deflated Newton (Farrell, Beentjes, Birkisson; p = {DEFLATION_POWER:g}, shift "
                f"= {DEFLATION_SHIFT:g}) on one discrete rod, deduplicated modulo rigid motion, "
-               "reflection and relabelling", outside_contact=tuple(outside)), \
+               "reflection and relabelling", outside_contact=tuple(outside),
+        unconverged_seeds=tuple(failed_seeds)), \
         [s for s, *_ in distinct]
 
 

@@ -13,11 +13,13 @@ holds for rings whose rods run either way (the folded six-ring, :class:`.states.
 * **Distance.** :func:`ring_rms`: the RMS distance of the node positions, each node of the ring
   once, in traversal order (:func:`ring_nodes`: the rectangle rule of the arc-length mean of
   ``|x(s) - y(s)|^2`` for equal elements), minimised over rigid motions *and reflections*
-  (:func:`kabsch_rms`) and over the ring's relabellings: the traversal started at any weld
-  (shifts by whole rods) and reversed. Reflections are allowed because the mirror image of an
-  equilibrium of a ring without natural twist is an equilibrium of the same energy; against a
-  planar reference (the held states) a reflection is a rotation by pi about an in-plane axis, so
-  allowing it changes nothing there (the smallest singular value of the cross-covariance is 0).
+  (:func:`kabsch_rms`) and over the ring's relabellings that are symmetries
+  (:func:`ring_relabellings`): the traversal started at any weld whose rods repeat the ring's
+  (shifts by whole rods; every weld for identical rods), and reversed. Reflections are
+  allowed because the mirror image of an equilibrium of a ring without natural twist is an
+  equilibrium of the same energy; against a planar reference (the held states) a reflection is
+  a rotation by pi about an in-plane axis, so allowing it changes nothing there (the smallest
+  singular value of the cross-covariance is 0).
 * **Invariants** (:func:`invariants`): distinct weld points, the turning number of the rods'
   tangents in the best-fit plane, the largest distance from that plane.
 
@@ -36,7 +38,7 @@ import numpy as np
 from ..nonlinear.constraint import mean_length
 from ..nonlinear.discrete import DiscreteRod
 from ..results import Result
-from .states import distinct_points
+from .states import distinct_points, traversal_angle
 
 #: Two weld points closer than this times ``L`` are one point. Welds that coincide in the
 #: continuum coincide exactly in a held state, but only to the mesh's O(l_e^3) in discover's
@@ -173,13 +175,65 @@ def ring_rms(rod: DiscreteRod, x: np.ndarray, y: np.ndarray) -> float:
     return _relabelled_rms(rod, x[nodes], y[nodes])
 
 
+def ring_relabellings(rod: DiscreteRod) -> tuple[tuple[bool, int], ...]:
+    """Return the ring's relabellings that are symmetries: ``(reversed, shift in rods)``.
+
+    A shift by ``k`` rods maps rod ``i`` (along :func:`ring_order`) to rod ``i + k``: a
+    symmetry when every rod has the length, stiffnesses and natural curvature along the ring of
+    the rod it goes to and every weld the turn of its image (measured on the held geometry of
+    the rod's assembly). The reversed traversal is compared with magnitudes (a reflection takes
+    the sign). A ring of identical rods: every shift, reversed or not. Not one ring: the
+    identity only. Cached on ``rod`` (its model does not change).
+    """
+    cached = rod.__dict__.get("_relabellings")
+    if cached is not None:
+        return cached
+    order = ring_order(rod)
+    if order is None:
+        rod.__dict__["_relabellings"] = ((False, 0),)
+        return ((False, 0),)
+    n = len(order)
+    segs = [(rod.assembly.segments[k], d) for k, d in order]
+    rods = [(s.length, s.B1, s.B2, s.B3, d * s.natural_curvature) for s, d in segs]
+    mags = [(a, b, c, e, abs(k)) for a, b, c, e, k in rods]
+    turns = []
+    for i, (s, d) in enumerate(segs):
+        nxt, dn = segs[(i + 1) % n]
+        turn = math.remainder(traversal_angle(nxt, "start" if dn > 0 else "end", dn)
+                              - traversal_angle(s, "end" if d > 0 else "start", d), 2 * math.pi)
+        turns.append(math.pi if abs(abs(turn) - math.pi) <= 1e-7 else turn)  # +-pi: one cusp
+
+    def symmetric(flip: bool, k: int) -> bool:
+        # _relabelled_rms rolls the image by k rods: slot m then holds rod m - k (forward) or
+        # rod k - 1 - m (reversed), followed by weld m - k or k - 2 - m
+        for m in range(n):
+            if flip:
+                r, w, rs, ws = (k - 1 - m) % n, (k - 2 - m) % n, mags, [abs(t) for t in turns]
+            else:
+                r, w, rs, ws = (m - k) % n, (m - k) % n, rods, turns
+            if not (_close(rs[r], rs[m]) and _close((ws[w],), (ws[m],))):
+                return False
+        return True
+
+    out = tuple((flip, k) for flip in (False, True) for k in range(n) if symmetric(flip, k))
+    rod.__dict__["_relabellings"] = out
+    return out
+
+
+def _close(a: tuple[float, ...], b: tuple[float, ...]) -> bool:
+    return all(abs(x - y) <= 1e-9 * max(abs(y), 1.0) for x, y in zip(a, b, strict=True))
+
+
 def _relabelled_rms(rod: DiscreteRod, xs: np.ndarray, ys: np.ndarray) -> float:
-    """Smallest :func:`kabsch_rms` of ring nodes ``xs``, ``ys`` over the ring's relabellings."""
+    """Smallest :func:`kabsch_rms` of ring nodes ``xs``, ``ys`` over the ring's symmetries.
+
+    The relabellings of :func:`ring_relabellings`.
+    """
     n = _elements(rod)
     best = math.inf
-    for image in (xs, np.concatenate([xs[:1], xs[:0:-1]])):
-        for k in range(len(rod.assembly.segments)):
-            best = min(best, kabsch_rms(np.roll(image, k * n, axis=0), ys))
+    images = (xs, np.concatenate([xs[:1], xs[:0:-1]]))
+    for flip, k in ring_relabellings(rod):
+        best = min(best, kabsch_rms(np.roll(images[flip], k * n, axis=0), ys))
     return best
 
 

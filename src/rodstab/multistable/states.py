@@ -270,8 +270,11 @@ class Ring:
 
     @property
     def identical(self) -> bool:
-        """Whether every rod has the same length, stiffnesses and natural curvature along the
-        traversal and every weld turns the tangent alike (to :data:`SAME_ROD_RTOL`)."""
+        """Whether all rods and welds are alike (:meth:`difference` is empty).
+
+        Every rod the same length, stiffnesses and natural curvature along the traversal and
+        every weld the same turn of the tangent (to :data:`SAME_ROD_RTOL`).
+        """
         return not self.difference()
 
     def difference(self) -> str:
@@ -405,9 +408,11 @@ class Ring:
                                  "with B3_i k_i equal, chains built and validated")
 
     def rotation_closing(self, max_turns: float) -> list[float]:
-        """Every mean turning ``theta`` in ``[-2 pi max_turns, 2 pi max_turns]`` whose rods
-        and welds turn the tangent by a whole number of turns: ``n theta + sum_i alpha_i =
-        2 pi j`` (``alpha_i`` the welds' turns), increasing."""
+        """Return the mean turnings whose rods and welds turn the tangent by whole turns.
+
+        Every ``theta`` in ``[-2 pi max_turns, 2 pi max_turns]`` with ``n theta + sum_i
+        alpha_i = 2 pi j`` (``alpha_i`` the welds' turns, ``j`` integer), increasing.
+        """
         n = self.segments
         offset = -math.fsum(self.turns) / n
         top = 2 * math.pi * max_turns
@@ -432,8 +437,10 @@ class Ring:
         return float(np.linalg.norm(pos)) / total, abs(math.remainder(ang, 2 * math.pi))
 
     def label(self, theta: float) -> str:
-        """Name of the state of mean turning ``theta`` (:func:`state_label`; mixed welds:
-        ``theta=<deg>deg``)."""
+        """Name the state of mean turning ``theta`` (:func:`state_label`).
+
+        With welds that differ: ``theta=<deg>deg``.
+        """
         alike = self.weld_label == weld_name(self.weld)
         return state_label(self.segments, theta, self.weld if alike else float("nan"))
 
@@ -470,8 +477,8 @@ def uniform_ring(segments: int, *, weld: Weld = "cusp", length: float = 1.0,
 SAME_ROD_RTOL = 1e-9
 
 
-def _tangent_angle(seg: Segment, end: str, direction: int) -> float:
-    """Angle of the traversal tangent at ``end`` of ``seg`` (direction ``-1``: reversed)."""
+def traversal_angle(seg: Segment, end: str, direction: int) -> float:
+    """Held angle of the traversal tangent at ``end`` of ``seg`` (direction ``-1``: reversed)."""
     t = seg.tangent(0.0 if end == "start" else seg.length) * direction
     return math.atan2(float(t[1]), float(t[0]))
 
@@ -541,20 +548,20 @@ def ring_of(a: Any) -> Ring:
     for s, k in zip(segs, kappa, strict=True):
         # validate() balances B3 x natural curvature at every weld; checked again so a ring
         # built around it says what the held states need.
-        d, d_ref = s.B3 * k, ref.B3 * kappa[0]
-        if abs(d - d_ref) > SAME_ROD_RTOL * max(abs(d_ref), 1e-300):
+        moment, moment_ref = s.B3 * k, ref.B3 * kappa[0]
+        if abs(moment - moment_ref) > SAME_ROD_RTOL * max(abs(moment_ref), 1e-300):
             raise RodstabInputError(
-                f"segment {s.name!r} has B3 x natural curvature along the ring {d!r}, segment "
-                f"{ref.name!r} {d_ref!r}: the held states need them equal (moment balance at "
-                "every weld at every load factor)")
+                f"segment {s.name!r} has B3 x natural curvature along the ring {moment!r}, "
+                f"segment {ref.name!r} {moment_ref!r}: the held states need them equal "
+                "(moment balance at every weld at every load factor)")
         if s.natural_twist != 0.0:
             raise RodstabInputError(f"segment {s.name!r} has natural_twist {s.natural_twist!r}: "
                                     "the ring states are planar rods without natural twist")
     dirs = dict(order)
     turns = []
     for (n1, e1), (n2, e2) in welds:
-        t_out = _tangent_angle(a.segment(n1), e1, dirs[n1])
-        t_in = _tangent_angle(a.segment(n2), e2, dirs[n2])
+        t_out = traversal_angle(a.segment(n1), e1, dirs[n1])
+        t_in = traversal_angle(a.segment(n2), e2, dirs[n2])
         turns.append(weld_turn(math.remainder(t_in - t_out, 2 * math.pi)))
     rods = tuple(RingRod(s.name, s.length, k, s.B1, s.B2, s.B3)
                  for s, k in zip(segs, kappa, strict=True))
