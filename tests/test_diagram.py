@@ -18,6 +18,7 @@ import numpy as np
 import pytest
 
 from rodstab.multistable import diagram as dg
+from rodstab.multistable import diagram_check as dgc
 from rodstab.multistable import discover as dv
 from rodstab.multistable.identify import Snapshot
 from rodstab.problems import straightened_rod as sr
@@ -25,14 +26,14 @@ from rodstab.problems import straightened_rod as sr
 
 def test_nearest_crossing_finds_the_sign_change_nearest_the_coarse_end():
     """Lower end (stable above): f = p - 0.3; upper end (stable below): f = 0.7 - p."""
-    assert dg._nearest_crossing(lambda p: p - 0.3, 0.35, 0.1, +1) == pytest.approx(0.3, abs=1e-9)
-    assert dg._nearest_crossing(lambda p: 0.7 - p, 0.62, 0.1, -1) == pytest.approx(0.7, abs=1e-9)
+    assert dgc._nearest_crossing(lambda p: p - 0.3, 0.35, 0.1, +1) == pytest.approx(0.3, abs=1e-9)
+    assert dgc._nearest_crossing(lambda p: 0.7 - p, 0.62, 0.1, -1) == pytest.approx(0.7, abs=1e-9)
     # two crossings in the window: the one nearest the coarse end, of the right sense
     # zeros of cos(10 p) at pi/20 + k pi/10; from 0.5 the nearest, 0.471, turns positive
     # upwards, so the upper end (positive below) is the next one, pi/4
-    got = dg._nearest_crossing(lambda p: math.cos(10 * p), 0.5, 0.1, -1)
+    got = dgc._nearest_crossing(lambda p: math.cos(10 * p), 0.5, 0.1, -1)
     assert got == pytest.approx(math.pi / 4, abs=1e-9)
-    assert dg._nearest_crossing(lambda p: 1.0 + p * 0, 0.5, 0.1, +1) is None  # none: None
+    assert dgc._nearest_crossing(lambda p: 1.0 + p * 0, 0.5, 0.1, +1) is None  # none: None
 
 
 def _point(value: float, index: int) -> dg.BranchPoint:
@@ -140,3 +141,30 @@ def test_hexagram_line_star_saddle_is_traced_as_a_branch():
     assert [q.value for q in b.points] == pytest.approx([0.8, 0.9, 1.0, 1.1, 1.2])
     assert all(q.index == 1 and not q.planar for q in b.points)
     assert b.begins == b.ends == "range"
+
+
+@pytest.mark.slow
+def test_birod_diagram_band_agrees_with_analyze_and_the_buckled_branch_is_found(run_cli,
+                                                                                tmp_path):
+    """examples/birod.toml (Section 4: natural curvatures +-1, held straight, welded at both
+    ends, one end clamped) is no ring: its held state is the one seed. The held branch's
+    upper band end at 8 / 16 el., extrapolated, agrees with the linear engine on the design
+    (`rodstab analyze examples/birod.toml`: 2.7207, lam = pi); past it the held state snaps
+    onto a non-planar branch below it, which the diagram then follows (deflated Newton with
+    the retraction, tests/test_discover.py)."""
+    r = run_cli(["diagram", "examples/birod.toml", "--vary", "load_factor=2.6:3.0:4",
+                 "--elements", "8", "--starts", "0", "--out", tmp_path / "d", "--no-progress",
+                 "--json"])
+    assert r.exit_code == 0, r.stderr
+    out = json.loads(r.stdout)
+    (end,) = [e for e in out["band_ends"] if e["state"] == "held"]
+    assert end["side"] == "upper" and end["atlas"] == pytest.approx(2.7207, abs=1e-4)
+    assert end["agrees"] is True
+    held = next(b for b in out["branches"] if b["label"] == "held")
+    buckled = [b for b in out["branches"] if b["label"] == "unnamed"
+               and all(not p["planar"] and p["index"] == 0 for p in b["points"])]
+    assert buckled and len(buckled[0]["points"]) >= 2  # followed, not one point
+    at = {p["value"]: p["energy"] for p in held["points"]}
+    assert all(p["energy"] < at[p["value"]] for p in buckled[0]["points"])
+    (snap,) = out["snaps"]
+    assert snap["lands_on"][0] == buckled[0]["id"]

@@ -182,7 +182,7 @@ def test_discover_reads_the_ring_of_a_design_file(capsys):
 @pytest.mark.parametrize(("args", "name"), [
     (["examples/folded_six_ring.toml", "--structure", "six-ring"], "--structure"),
     (["examples/folded_six_ring.toml", "--nu", "0.3"], "--nu"),
-    (["examples/birod.toml"], "support"),
+    (["examples/birod.toml", "--state", "star"], "--state 'star' is a ring's"),
     (["--elements", "1"], "--elements"),
     (["--starts", "-1"], "--starts"),
     (["--load-factor", "nan"], "--load-factor"),
@@ -337,3 +337,40 @@ def test_the_retraction_eliminating_the_turns_takes_the_full_gauss_newton_step()
     size = np.ptp(turned.x, axis=0).max()
     assert np.abs(ours.x - ref.x).max() < 1e-9 * size
     assert np.abs(ours.R_edge - ref.R_edge).max() < 1e-9
+
+
+def test_a_design_that_is_no_ring_is_seeded_with_its_held_state(capsys):
+    """The bi-rod of Section 4 (examples/birod.toml) below its buckling load (2.7207): its held
+    straight state is found, stable, named after its seed, with the energy of two straight rods
+    of natural curvature +-mu: 2 x B3 mu^2 L / 2 = 4 at mu = 2 (B3 = L = 1)."""
+    main(["discover", "examples/birod.toml", "--load-factor", "2", "--elements", "8",
+          "--starts", "0", "--json"])
+    out = json.loads(capsys.readouterr().out)
+    held = out["states"][0]
+    assert held["label"] == "held" and held["stable"] and held["found_from"] == "seed held"
+    assert held["energy"] == pytest.approx(4.0, rel=1e-9)
+
+
+def test_deflated_newton_follows_the_birods_buckled_state_a_small_load_step():
+    """From the bi-rod's buckled state relaxed at mu = 2.8 (8 el.), Newton at 2.81: the first
+    step turns frames by 0.1 rad along the soft mode; brought back by moving the nodes
+    (restore_positions) the merit rose 250x and deflated Newton stalled at residual 2e-3 for
+    80 iterations, so the diagram could not follow the branch. Retracted (frames onto their
+    edges) it converges in a few steps, to the equilibrium plain Newton finds."""
+    from rodstab.io.design import load_design
+    from rodstab.nonlinear.newton import newton
+    from rodstab.nonlinear.solve import lowest_modes, relax
+
+    a = load_design("examples/birod.toml").assembly
+    rod = dv.common_rod(a, 8, 2.8)
+    held = idf.Snapshot.of(rod)
+    _, v = lowest_modes(rod, 1)
+    dv.moved_along(rod, held, v[:, 0], 0.01)
+    assert relax(rod)[0]
+    start = idf.Snapshot.of(rod)
+    rod.load_factor = 2.81
+    run = dv.deflated_newton(rod, [])
+    assert run.converged and run.iterations <= 10
+    E = rod.energy()
+    start.put(rod)
+    assert newton(rod)[0] and rod.energy() == pytest.approx(E, rel=1e-10)

@@ -90,8 +90,9 @@ def diagram(design_file: str | None, section: Section, structure: str, segments:
     from tqdm import tqdm
 
     from ..multistable.atlas import state_interval
-    from ..multistable.diagram import SWITCH_MAX_INDEX, deflated_diagram, held_band_ends
-    from ..multistable.discover import common_rod, ring_seeds
+    from ..multistable.diagram import SWITCH_MAX_INDEX, deflated_diagram
+    from ..multistable.diagram_check import held_band_ends
+    from ..multistable.discover import common_rod, search_start
 
     spec = read_vary(vary, DIAGRAM_DEFAULT_N, "diagram steps", limits)
     if spec.key not in DIAGRAM_KEYS:
@@ -115,31 +116,48 @@ def diagram(design_file: str | None, section: Section, structure: str, segments:
         raise RodstabInputError(f"--max-barrier must be a positive number, got "
                                 f"{max_barrier!r}")
     out = check_output("--out", out_dir, directory=True)
-    ring, section, name, design = ring_and_section(design_file, structure, segments, section)
-    n = ring.segments
+    ring, section, name, design = ring_and_section(design_file, structure, segments, section,
+                                                   any_design=True)
+    n = len(design.assembly.segments) if ring is None else ring.segments
     require_nonlinear([elements] * n, n, f"--elements {elements}", limits)
     if mesh_check:
         require_nonlinear([2 * elements] * n, n, f"--mesh-check at {2 * elements} elements",
                           limits)
-    start_state = ring.states().states[0].label
-    rod, seeds, known = ring_seeds(ring, start_state, elements, float(values[0]), True)
+    # not a ring (a bi-rod, supports): its held state is the one seed, the linear engine on
+    # the design (`rodstab analyze`) its band
+    rod, seeds, known, directions = search_start(
+        ring, None if design is None else design.assembly,
+        "held" if ring is None else ring.states().states[0].label, elements,
+        float(values[0]))
     with warnings_as_lines(), tqdm(desc="rodstab diagram: points", disable=no_progress,
                                    delay=0.5, leave=False, unit=" points") as bar:
         d = deflated_diagram(rod, seeds, known, list(values), starts=starts, seed=rng_seed,
-                             directions=tuple(dd for _, dd in ring.order),
+                             directions=directions,
                              saddles_at=at, saddle_modes=saddle_modes, max_rise=max_barrier,
                              progress=lambda: bar.update(1))
     atlas = {}
-    atlas_method = "transfer" if ring.identical else "fe"  # Bloch needs identical rods
-    for st in ring.states().states:
-        if any(b.label == st.label for b in d.branches):
-            r = state_interval(ring, st, atlas_method)
-            if r.converged:
-                atlas[st.label] = r.interval
+    if ring is None:
+        from ..linear.solve import converged_stability
+
+        atlas_method = "fe (the design's held state, as rodstab analyze)"
+        lin = converged_stability(design.assembly, design.elements, limits=limits)
+        if lin.converged:
+            atlas["held"] = lin.load_factor_interval
+    else:
+        atlas_method = "transfer" if ring.identical else "fe"  # Bloch needs identical rods
+        for st in ring.states().states:
+            if any(b.label == st.label for b in d.branches):
+                r = state_interval(ring, st, atlas_method)
+                if r.converged:
+                    atlas[st.label] = r.interval
+
+    def fine_rod(label: str) -> Any:
+        a = design.assembly if ring is None else ring.held(ring.state(label).theta)
+        return common_rod(a, 2 * elements, float(values[0]))
+
     ends: tuple = ()
     if mesh_check:
-        ends = held_band_ends(d, atlas, lambda lab: common_rod(
-            ring.held(ring.state(lab).theta), 2 * elements, float(values[0])))
+        ends = held_band_ends(d, atlas, fine_rod)
     payload: dict[str, Any] = d.to_dict() | {
         "structure": name, "segments": n, "section": section.to_dict(),
         "atlas": {k: list(v) for k, v in atlas.items()}, "atlas_method": atlas_method,

@@ -6,7 +6,6 @@ Parsing and printing only.
 from __future__ import annotations
 
 import json
-import math
 import warnings
 from typing import Any
 
@@ -100,13 +99,13 @@ def discover(design_file: str | None, section: Section, structure: str, segments
              contact: Any, cusp_width: float | None, limits: Limits, as_json: bool) -> None:
     """Equilibria nobody named: deflated Newton from seeds and perturbed starts.
 
-    On DESIGN's ring (identical rods welded in a cycle, `rodstab states DESIGN`) or on a
-    built-in structure. With --contact the rods are capsules that cannot pass through each
-    other (every step filtered); seeds and starts outside the contact model (rods stacked on
-    one curve) are not run and are listed.
+    On DESIGN (a ring, seeded with its held states of `rodstab states DESIGN`; any other
+    design, seeded with its held state) or a built-in structure. With --contact the rods are
+    capsules that cannot pass through each other (every step filtered); seeds and starts
+    outside the contact model (rods stacked on one curve) are not run and are listed.
     """
     from ..limits import require_nonlinear
-    from ..multistable.discover import RUNS_PER_START, ring_seeds, shape_2d
+    from ..multistable.discover import RUNS_PER_START, search_start, shape_2d
     from ..multistable.discover import discover as search
 
     plot = None if plot_path is None else image_output("--plot", plot_path)
@@ -114,38 +113,32 @@ def discover(design_file: str | None, section: Section, structure: str, segments
     mu, n_el = load_factor, elements
     if isinstance(starts, bool) or starts < 0:
         raise RodstabInputError(f"--starts must be an integer >= 0, got {starts!r}")
-    from ..multistable.saddle_search import CLIMB_EIGS, CLIMB_MAX_ITER
+    from ..multistable.saddle_search import CLIMB_MAX_ITER
+    from .saddles import check_saddle_options
 
-    if not 0 <= saddle_modes <= CLIMB_EIGS:
-        raise RodstabInputError(f"--saddle-modes must lie in 0..{CLIMB_EIGS}, got "
-                                f"{saddle_modes!r}")
-    if climb_steps is not None and (climb_steps < 1 or not saddle_modes):
-        raise RodstabInputError(f"--climb-steps must be an integer >= 1 and needs "
-                                f"--saddle-modes, got {climb_steps!r}"
-                                + ("" if saddle_modes else " without --saddle-modes"))
-    if max_barrier is not None and (not saddle_modes or not max_barrier > 0
-                                    or not math.isfinite(max_barrier)):
-        raise RodstabInputError(f"--max-barrier must be a positive number and needs "
-                                f"--saddle-modes, got {max_barrier!r}")
-    if graph is not None and not saddle_modes:
-        raise RodstabInputError(f"--graph {graph_path!r} needs --saddle-modes (the saddles it "
-                                "joins the states by)")
+    check_saddle_options(saddle_modes, climb_steps, max_barrier, graph_path)
     ring, section, name, design = ring_and_section(design_file, structure, segments, section,
-                                                   contact_ok=True)
+                                                   contact_ok=True, any_design=True)
     setting = contact.resolve(None if design is None else design.contact)
-    n = ring.segments
+    n = len(design.assembly.segments) if ring is None else ring.segments
     require_nonlinear([n_el] * n, n, f"--elements {n_el}", limits)
     require_steps((starts + 4 * n) * RUNS_PER_START, f"--starts {starts}",
                   "deflated Newton runs", limits)
-    start_state = "star" if state is None else state
+    for opt, v in (("state", state), ("cusp-width", cusp_width)):
+        if ring is None and v is not None:  # not a ring: its held state is the one seed
+            raise RodstabInputError(f"--{opt} {v!r} is a ring's; {design_file} is not a ring "
+                                    "(its held state is the seed)")
+    start_state = ("held" if ring is None else "star") if state is None else state
     wide = None
-    if cusp_width is not None:
+    if cusp_width is not None and ring is not None:
         if setting is None:
             raise RodstabInputError(f"--cusp-width {cusp_width!r} is a setting of contact, "
                                     "which is off for this run (--contact)")
         wide = check_cusp_width(cusp_width, ring.held(ring.state(start_state).theta),
                                 setting[0], start_state)
-    rod, seeds, known = ring_seeds(ring, start_state, n_el, mu, seed_states, wide)
+    rod, seeds, known, directions = search_start(
+        ring, None if design is None else design.assembly, start_state, n_el, mu, seed_states,
+        wide)
     if setting is not None:
         from ..nonlinear.contact import attach_contact
         from ..nonlinear.equilibrium import rod_contact_model
@@ -155,7 +148,7 @@ def discover(design_file: str | None, section: Section, structure: str, segments
         except RodstabInputError as exc:
             raise RodstabInputError(f"--state {start_state!r}: {exc}") from None
     found, snaps = search(rod, seeds, known, starts=starts, seed=rng_seed,
-                          directions=tuple(d for _, d in ring.order))
+                          directions=directions)
     payload = found.to_dict() | {"structure": name, "segments": n, "start_state": start_state,
                                  "section": section.to_dict()}
     payload["contact"] = {"acting": setting is not None,
@@ -182,10 +175,9 @@ def discover(design_file: str | None, section: Section, structure: str, segments
              f"({found.converged_runs} converged); seeds {', '.join(found.seeds)}",
              f"{'label':>14} {'energy':>10} {'index':>5} {'stable':>6} {'welds':>5} "
              f"{'turning':>8} {'max|z|/L':>9}  found from"]
-    if found.unconverged_seeds:
-        lines.insert(2, f"seeds        not converged from: {', '.join(found.unconverged_seeds)}"
-                        " (onto a state found before, which deflation repels, or too coarse a "
-                        "mesh for their shape: try more --elements)")
+    lines[2:2] = [f"seeds        not converged from: {', '.join(found.unconverged_seeds)} "
+                  "(a state found before, which deflation repels, or too coarse a mesh for "
+                  "their shape: try more --elements)"] if found.unconverged_seeds else []
     joules = None  # the states' energies in J, from the units block
     if units is not None:
         u = payload["units"]
@@ -196,6 +188,8 @@ def discover(design_file: str | None, section: Section, structure: str, segments
     lines += [f"{s.label:>14} {s.energy:>10.6g} {s.index:>5} {str(s.stable):>6} "
               f"{s.invariants.distinct_weld_points:>5} {s.invariants.turning_number:>8.4g} "
               f"{s.invariants.max_out_of_plane:>9.3g}  {s.found_from}"
+              + (f"; a family ({s.zero_modes} zero mode(s) beyond the rigid motions, "
+                 f"{s.members} members found)" if s.zero_modes else "")
               + ("" if joules is None else f"  ({fmt(joules[i])} J)")
               for i, s in enumerate(found.states)]
     if setting is not None:
@@ -208,7 +202,7 @@ def discover(design_file: str | None, section: Section, structure: str, segments
     if saddle_modes:
         from .saddles import saddle_lines
 
-        lines += saddle_lines(rod, found, snaps, saddle_modes, ring, payload,
+        lines += saddle_lines(rod, found, snaps, saddle_modes, directions, payload,
                                CLIMB_MAX_ITER if climb_steps is None else climb_steps, graph,
                                load, max_barrier)
     lines += [f"wrote {payload['plot']}"] if plot is not None else []

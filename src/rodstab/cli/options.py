@@ -292,7 +292,7 @@ def given(option: str) -> bool:
 
 
 def ring_and_section(design_file: str | None, structure: str, segments: int,
-                     section: Section, *, contact_ok: bool = False
+                     section: Section, *, contact_ok: bool = False, any_design: bool = False
                      ) -> tuple[Any, Section, str, Any]:
     """Return a ring command's ring: DESIGN's (:func:`~.multistable.states.ring_of`) or built in.
 
@@ -303,7 +303,9 @@ def ring_and_section(design_file: str | None, structure: str, segments: int,
     load factor; ``--structure``, ``--segments`` and the section options are refused. The
     last item is the :class:`~rodstab.io.design.Design` (None for a built-in structure).
     A design with ``[analysis] contact = true`` is refused unless ``contact_ok`` (the command
-    models contact).
+    models contact). ``any_design``: a DESIGN that is not a ring (:func:`ring_of` refuses it:
+    supports, an open chain, a bi-rod) gives ring None, for the commands that take any design
+    the nonlinear engine takes.
     """
     from ..multistable.states import ring_of
 
@@ -321,7 +323,12 @@ def ring_and_section(design_file: str | None, structure: str, segments: int,
         if not contact_ok:
             design.require_no_contact(click.get_current_context().info_name or "this command")
         a = design.assembly
-        ring = ring_of(a)
+        try:
+            ring = ring_of(a)
+        except RodstabInputError:
+            if not any_design:
+                raise
+            ring = None
         seg = a.segments[0]
         from ..sections import from_ratios
 

@@ -7,7 +7,31 @@ from typing import Any
 from .output import fmt
 
 
-def saddle_lines(rod: Any, found: Any, snaps: list, modes: int, ring: Any,
+def check_saddle_options(saddle_modes: int, climb_steps: int | None,
+                         max_barrier: float | None, graph_path: str | None) -> None:
+    """Refuse, naming it, an option of discover's saddle search out of range or without it."""
+    import math
+
+    from ..errors import RodstabInputError
+    from ..multistable.saddle_search import CLIMB_EIGS
+
+    if not 0 <= saddle_modes <= CLIMB_EIGS:
+        raise RodstabInputError(f"--saddle-modes must lie in 0..{CLIMB_EIGS}, got "
+                                f"{saddle_modes!r}")
+    if climb_steps is not None and (climb_steps < 1 or not saddle_modes):
+        raise RodstabInputError(f"--climb-steps must be an integer >= 1 and needs "
+                                f"--saddle-modes, got {climb_steps!r}"
+                                + ("" if saddle_modes else " without --saddle-modes"))
+    if max_barrier is not None and (not saddle_modes or not max_barrier > 0
+                                    or not math.isfinite(max_barrier)):
+        raise RodstabInputError(f"--max-barrier must be a positive number and needs "
+                                f"--saddle-modes, got {max_barrier!r}")
+    if graph_path is not None and not saddle_modes:
+        raise RodstabInputError(f"--graph {graph_path!r} needs --saddle-modes (the saddles it "
+                                "joins the states by)")
+
+
+def saddle_lines(rod: Any, found: Any, snaps: list, modes: int, directions: tuple[int, ...],
                  payload: dict[str, Any], steps: int, graph: Any, load: str,
                  max_rise: float | None) -> list[str]:
     """Climb from the stable states found (``#row``), put the search in ``payload``, its lines.
@@ -21,7 +45,7 @@ def saddle_lines(rod: Any, found: Any, snaps: list, modes: int, ring: Any,
 
     minima = [(f"#{i + 1}" + ("" if s.label == "unnamed" else f" {s.label}"), snaps[i])
               for i, s in enumerate(found.states) if s.stable]
-    result = search_saddles(rod, minima, modes, directions=tuple(d for _, d in ring.order),
+    result = search_saddles(rod, minima, modes, directions=directions,
                             max_iter=steps, max_rise=max_rise)
     payload["saddle_search"] = result.to_dict()
     tally = ", ".join(f"{k} {v}" for k, v in sorted(result.outcomes().items()))

@@ -31,8 +31,9 @@ located by the project's bracketed root finder (:func:`rodstab.numerics.refine_r
 eigenvalue that crosses zero (Newton at every trial value, :func:`eigenvalue_at`); a
 branch end is given as the bracket between its last point and the first value it could not
 reach. The stability bands (index 0) of the held states are then intervals the linear
-engine's :mod:`~.atlas` gives independently (:func:`held_band_ends`). Where a stable branch
-loses stability, :func:`snaps` says what it snaps to.
+engine's :mod:`~.atlas` gives independently (:func:`~.diagram_check.held_band_ends`).
+Where a stable branch loses stability, :func:`snaps` says what it snaps to; a landing that is
+no branch yet becomes one.
 
 What this finds is what the starts reach: a branch disconnected from every branch found, born
 at a fold inside the range with no branch nearby, is found only if a deflation run reaches it.
@@ -52,7 +53,7 @@ from ..nonlinear.constraint import mean_length
 from ..nonlinear.discrete import DiscreteRod
 from ..nonlinear.parameters import LoadFactor
 from ..nonlinear.solve import lowest_eigenvalues, lowest_modes, zero_eigenvalue_tol
-from ..numerics.roots import find_roots, refine_root
+from ..numerics.roots import refine_root
 from ..results import Result
 from .discover import (
     DEFLATED_MAX_ITER,
@@ -215,6 +216,7 @@ class _Branch:
     found_from: str
     points: dict[float, tuple[Snapshot, BranchPoint]]
     ends: dict[int, tuple[float, float] | None] = dataclasses.field(default_factory=dict)
+    joins: dict[int, int] = dataclasses.field(default_factory=dict)
 
 
 class _Run:
@@ -279,14 +281,15 @@ class _Run:
             v = spla.spsolve(0.5 * (Hf + Hf.T), -gp)
         return v if np.all(np.isfinite(v)) else None
 
-    def _image_of_known(self, s: Snapshot, p: float) -> bool:
+    def _image_of_known(self, s: Snapshot, p: float, but: int | None = None) -> int | None:
+        """Return the branch (other than ``but``) whose point at ``p`` is ``s`` or its image."""
         self.rod.load_factor = float(p)
         E = _energy(self.rod, s)
-        for b in self.branches:
-            if p in b.points and same_state(self.rod, s, b.points[p][0], E,
-                                            b.points[p][1].energy):
-                return True
-        return False
+        for j, b in enumerate(self.branches):
+            if j != but and p in b.points and same_state(self.rod, s, b.points[p][0], E,
+                                                         b.points[p][1].energy):
+                return j
+        return None
 
     def add_branch(self, s: Snapshot, p: float, label: str | None, found_from: str,
                    seed: bool = False) -> int | None:
@@ -296,7 +299,7 @@ class _Run:
         at one value only, where that value makes the energy symmetric: the daisy and its
         mirror at zero natural curvature).
         """
-        if not seed and self._image_of_known(s, p):
+        if not seed and self._image_of_known(s, p) is not None:
             self.here.setdefault(p, []).append(s)  # deflated, not a branch of its own
             return None
         if len(self.branches) >= MAX_BRANCHES:
@@ -377,6 +380,14 @@ class _Run:
             b.points[q] = (got, new_pt)
             if self.progress is not None:
                 self.progress()
+            # deflation repels a known state, not its mirror image: a branch that reaches the
+            # image of another's point is that branch's image from there on (the bi-rod's
+            # buckled branch and its mirror, found from two places)
+            j = self._image_of_known(got, q, but=k)
+            if j is not None:
+                b.ends[direction] = (q, q)
+                b.joins[direction] = j
+                return
             if new_pt.index != pt.index:
                 self._index_change(k, p, q)
             if q in self.grid and new_pt.index <= SWITCH_MAX_INDEX \
@@ -633,14 +644,27 @@ def snaps(run: _Run) -> tuple[Snap, ...]:
     """Every band end of a stable branch inside the range, and where it snaps to (:class:`Snap`).
 
     The landing is named by :func:`~.identify.same_state` against every branch's point at
-    the same grid value; what the diagram does not hold there is None (the diagram is
-    incomplete there, and says so).
+    the same grid value. A landing the diagram does not hold there is an equilibrium it
+    missed (the buckled branch of the bi-rod's pitchfork, which the switch runs at the index
+    change do not reach at 8 el.): it becomes a branch, found from the snap, and is extended
+    both ways; the snaps are then taken again (the new branch may end too), until no landing
+    is new or the diagram is full (a landing then left unnamed, None).
     """
+    while True:
+        before = len(run.branches)
+        out = _snaps_once(run)
+        if len(run.branches) == before:
+            return out
+        run.run()
+
+
+def _snaps_once(run: _Run) -> tuple[Snap, ...]:
+    """One pass of :func:`snaps`: new landings added as branches (not yet extended)."""
     from ..nonlinear.solve import relax
 
     out = []
     rod = run.rod
-    for sp in run.specials:
+    for sp in list(run.specials):
         if sp.kind != "index change" or 0 not in (sp.index_before, sp.index_after):
             continue
         past = sp.between[1] if sp.index_before == 0 else sp.between[0]
@@ -664,6 +688,10 @@ def snaps(run: _Run) -> tuple[Snap, ...]:
             here, E = Snapshot.of(rod), float(rod.energy())
             hit = [j for j, o in enumerate(run.branches) if past in o.points
                    and same_state(rod, here, o.points[past][0], E, o.points[past][1].energy)]
+            if not hit:
+                k = run.add_branch(here, float(past), None,
+                                   f"snap from branch {sp.branch + 1} at {float(past):.6g}")
+                hit = [] if k is None else [k]
             lands.append(hit[0] if hit else None)
             drops.append(E0 - E)
         out.append(Snap(sp.branch, sp.value, past, tuple(lands), tuple(drops)))
@@ -673,6 +701,8 @@ def snaps(run: _Run) -> tuple[Snap, ...]:
 def _result(run: _Run, rod: DiscreteRod, found_snaps: tuple[Snap, ...] = ()) -> Diagram:
     def end(b: _Branch, d: int) -> str:
         e = b.ends.get(d)
+        if e is not None and d in b.joins:
+            return f"meets branch {b.joins[d] + 1} (modulo symmetry) at {e[0]:.6g}"
         return "range" if e is None else f"ends between {e[0]:.6g} and {e[1]:.6g}"
 
     branches = [Branch(k, b.label, b.found_from, tuple(b.points[p][1] for p in sorted(b.points)),
@@ -693,111 +723,3 @@ def _result(run: _Run, rod: DiscreteRod, found_snaps: tuple[Snap, ...] = ()) -> 
                "at index changes and branch ends",
         saddle_searches=tuple(run.saddle_searches), unfollowed=run.unfollowed,
         snaps=found_snaps)
-
-
-
-# ---------------------------------------------------------------------------------------------
-# The held states' bands against the linear engine
-@dataclasses.dataclass(frozen=True)
-class BandEnd(Result):
-    """One end of a held state's stable band: the diagram's, the finer mesh's, the atlas's.
-
-    ``coarse``: located on the diagram's mesh; ``fine``: on twice its elements (same held state,
-    same root finder); ``extrapolated``: Richardson (order 2) of the two, ``mesh_error`` =
-    ``|coarse - extrapolated|``; ``atlas``: the linear engine's end (:mod:`.atlas`: the Bloch
-    method, or the FE engine when the rods differ); ``agrees``:
-    ``|atlas - extrapolated| <= AGREE_FRACTION * mesh_error + AGREE_ATOL``, i.e. the
-    difference is the mesh's (computed, not asserted). ``fine`` and the rest are None where
-    the crossing was not bracketed on the finer mesh.
-    """
-
-    state: str
-    side: str
-    coarse: float
-    fine: float | None
-    extrapolated: float | None
-    mesh_error: float | None
-    atlas: float
-    agrees: bool | None
-
-
-#: The finer mesh's band end is sought within this many grid steps of the coarse one.
-FINE_WINDOW = 3
-
-
-def _nearest_crossing(f: Callable[[float], float], x: float, h: float, inside: int
-                      ) -> float | None:
-    """Return the zero of ``f`` nearest ``x`` where ``f`` turns positive towards ``inside``.
-
-    Every root of ``f`` within :data:`FINE_WINDOW` grid steps ``h`` of ``x``, by the project's
-    root finder (:func:`rodstab.numerics.find_roots`, scanned in quarter steps); of those where
-    ``f`` changes sign in the sense ``inside`` (+1: negative below, positive above), the one
-    nearest ``x``; None if there is none.
-    """
-    seen: dict[float, float] = {}
-
-    def g(p: float) -> float:
-        if p not in seen:
-            seen[p] = f(p)
-        return seen[p]
-
-    step = 0.25 * h
-    # roots to LOCATE_RTOL of a quarter step, as the index changes are to their brackets
-    search = find_roots(g, x - FINE_WINDOW * h, x + FINE_WINDOW * h, n_scan=8 * FINE_WINDOW,
-                        rel_xtol=LOCATE_RTOL / (8 * FINE_WINDOW))
-    good = []
-    for r in search.roots:
-        a, b = r.bracket if r.kind == "sign-change" else (r.x - step, r.x + step)
-        below, above = g(a), g(b)
-        if (below < 0 < above) if inside > 0 else (above < 0 < below):
-            good.append(r.x)
-    return min(good, key=lambda r: abs(r - x), default=None)
-
-
-#: A band end agrees with the atlas when the extrapolated end is this fraction of the coarse
-#: mesh's error from it (plus :data:`AGREE_ATOL`): the mesh explains the difference.
-AGREE_FRACTION = 0.25
-AGREE_ATOL = 1e-6
-
-
-def held_band_ends(d: Diagram, atlas: dict[str, tuple[float, float]],
-                   fine_rod: Callable[[str], DiscreteRod]) -> tuple[BandEnd, ...]:
-    """Compare every held state's band ends in ``d`` with ``atlas`` (label -> interval).
-
-    A held branch's shape does not change with the load factor, so its band ends are where an
-    eigenvalue of that one state crosses zero; they are located again on ``fine_rod(label)``
-    (the same state with twice the elements per rod) inside the coarse bracket widened by a
-    grid step, and extrapolated. Ends at the range's edge (not crossings) are not compared.
-    """
-    out = []
-    h = d.values[1] - d.values[0]
-    for b in d.branches:
-        if b.label not in atlas or b.found_from != f"seed {b.label}":
-            continue
-        for lo, hi in d.bands.get(b.id, ()):
-            for side, x, ref in (("lower", lo, atlas[b.label][0]),
-                                 ("upper", hi, atlas[b.label][1])):
-                if x in (d.values[0], d.values[-1]):
-                    continue
-                rod = fine_rod(b.label)
-                if not deflated_newton(rod, []).converged:  # as built it is not the model's
-                    out.append(BandEnd(b.label, side, x, None, None, None, ref, None))
-                    continue
-
-                state = Snapshot.of(rod)
-
-                def f(p: float, rod: DiscreteRod = rod, state: Snapshot = state) -> float:
-                    return eigenvalue_at(rod, state, p, 0)
-
-                try:
-                    fine = _nearest_crossing(f, x, h, +1 if side == "lower" else -1)
-                except _Unlocated:
-                    fine = None
-                if fine is None:
-                    out.append(BandEnd(b.label, side, x, None, None, None, ref, None))
-                    continue
-                ext = fine + (fine - x) / 3.0  # Richardson, ratio 2, order 2
-                err = abs(x - ext)
-                out.append(BandEnd(b.label, side, x, fine, ext, err, ref,
-                                   abs(ref - ext) <= AGREE_FRACTION * err + AGREE_ATOL))
-    return tuple(out)

@@ -35,6 +35,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import warnings
+from collections.abc import Iterator
 from typing import Any
 
 import numpy as np
@@ -43,7 +44,13 @@ import scipy.sparse.linalg as spla
 
 from ..errors import RodstabInputError
 from ..model import Assembly
-from ..nonlinear.constraint import mean_length, restore_positions
+from ..nonlinear.constraint import (
+    RETRACT_ABOVE,
+    chart_size,
+    mean_length,
+    restore_positions,
+    retract_step,
+)
 from ..nonlinear.contact import Interpenetration
 from ..nonlinear.discrete import PENALTY, DiscreteRod, discretise
 from ..nonlinear.jets import vee_skew
@@ -53,6 +60,7 @@ from ..numerics import jacobi_scaling
 from ..results import Result
 from .identify import (
     SAME_STATE_DISTANCE,
+    SAME_STATE_ENERGY,
     Invariants,
     Snapshot,
     best_fit_plane,
@@ -196,21 +204,50 @@ def _cap(rod: DiscreteRod, dq: np.ndarray) -> float:
                MAX_STEP_ROTATION / max(rot, 1e-300))
 
 
+def _trials(rod: DiscreteRod, dq: np.ndarray, known: list[Snapshot]
+            ) -> Iterator[tuple[DiscreteRod, np.ndarray, Any, float, np.ndarray]]:
+    """Yield the state after step ``dq`` back on the Kirchhoff constraint, and its terms.
+
+    First with the nodes moved onto their frames (:func:`restore_positions`), then, for a large
+    step, with the frames turned onto their edges
+    (:func:`~rodstab.nonlinear.constraint.retract_step`): the caller takes the first whose merit
+    falls. Each is needed somewhere: restored positions find the hexagram's daisy from its held
+    geometry at 16 el. (retracted first, deflated Newton lost it); retracted frames carry the
+    bi-rod's buckled branch from 2.8 to 2.81 (its first Newton step turns frames by 0.1 rad;
+    restored, the merit rose 250x and Newton stalled at residual 2e-3). With contact a way
+    that leaves the model is skipped.
+    """
+    ways = [lambda t, _: restore_positions(t)]
+    if chart_size(rod, dq) > RETRACT_ABOVE:
+        ways.append(retract_step)
+    for back in ways:
+        trial = rod.copy()
+        trial.apply(dq)
+        try:
+            back(trial, dq)
+            _, gt, Ht = trial.energy_terms()
+        except Interpenetration:  # only with contact: this trial left the model
+            continue
+        Mt, glog_t = deflation(trial, known)
+        yield trial, gt, Ht, Mt, glog_t
+
+
 def deflated_newton(rod: DiscreteRod, known: list[Snapshot], *,
                     max_iter: int = DEFLATED_MAX_ITER) -> NewtonRun:
     """Solve ``M(q) g(q) = 0`` from ``rod``'s state (in place) by damped deflated Newton.
 
     Each step is ``tau delta`` (module docstring), ``delta = -(H + lam D)^-1 g`` with a
     Levenberg-Marquardt ``lam`` (``D = |diag H|``; ``lam = 0``, pure Newton, while steps
-    succeed), capped by :data:`MAX_STEP_DISPLACEMENT` and :data:`MAX_STEP_ROTATION`, followed by
-    :func:`restore_positions`; it is taken when the merit ``M |S g|`` (``S`` the Jacobi scaling
-    of ``H``) falls, else ``lam`` grows. Converged when the *undeflated* residual
-    ``max |g_free|`` is below ``NEWTON_RTOL`` times the stiff force scale (as
-    :func:`rodstab.nonlinear.solve.newton`) at a point farther than :data:`SAME_STATE_DISTANCE` from
-    every known state: ``M`` is finite there, so the root is an equilibrium. With ``known`` empty
-    this is damped Newton on ``g``, which converges to saddles as well as minima (unlike
-    :func:`rodstab.nonlinear.solve.newton`). With contact (``rod.contact``) each step is also
-    filtered so that no gap closes, and a trial outside the model is rejected (``lam`` grows).
+    succeed), capped by :data:`MAX_STEP_DISPLACEMENT` and :data:`MAX_STEP_ROTATION`, brought
+    back onto the Kirchhoff constraint (:func:`_trials`); it is taken when the merit
+    ``M |S g|`` (``S`` the Jacobi scaling of ``H``) falls, else ``lam`` grows. Converged when the
+    *undeflated* residual ``max |g_free|`` is below ``NEWTON_RTOL`` times the stiff force scale
+    (as :func:`rodstab.nonlinear.solve.newton`) at a point farther than
+    :data:`SAME_STATE_DISTANCE` from every known state: ``M`` is finite there, so the root is an
+    equilibrium. With ``known`` empty this is damped Newton on ``g``, which converges to saddles
+    as well as minima (unlike :func:`rodstab.nonlinear.solve.newton`). With contact
+    (``rod.contact``) each step is also filtered so that no gap closes, and a trial outside the
+    model is rejected (``lam`` grows).
     """
     if any(distance_sq(rod, s)[0] <= SAME_STATE_DISTANCE**2 for s in known):
         return NewtonRun(False, 0, math.nan)  # started on a known state: M g is 0 x inf
@@ -249,18 +286,12 @@ def deflated_newton(rod: DiscreteRod, known: list[Snapshot], *,
             dq *= _cap(rod, dq)
             if rod.contact is not None:  # the step filter: no gap closes along the step
                 dq *= contact_fraction(rod, free, dq[free])
-            trial = rod.copy()
-            trial.apply(dq)
-            try:
-                restore_positions(trial)
-                _, gt, Ht = trial.energy_terms()
-            except Interpenetration:  # only with contact: the trial left the model
-                lam = max(4 * lam, lam_floor)
-                continue
-            Mt, glog_t = deflation(trial, known)
-            if Mt * float(np.linalg.norm(d * gt[free])) < (1.0 - 1e-4) * merit:
+            taken = next((t for t in _trials(rod, dq, known)
+                          if t[3] * float(np.linalg.norm(d * t[1][free])) < (1.0 - 1e-4) * merit),
+                         None)
+            if taken is not None:
+                trial, g, H, M, glog = taken
                 rod.x, rod.R_edge, rod.R_joint = trial.x, trial.R_edge, trial.R_joint
-                g, H, M, glog = gt, Ht, Mt, glog_t
                 lam = 0.0 if lam <= lam_floor else lam / 4
                 break
             lam = max(4 * lam, lam_floor)
@@ -306,6 +337,9 @@ class FoundState(Result):
         Converged runs that reached it (symmetric images included).
     residual, max_strain : float
         ``max |g_free|`` and the largest stretch/shear strain at the solution.
+    zero_modes, members : int
+        Zero eigenvalues beyond the rigid motions (a continuous family of equilibria when
+        positive) and how many members of the family were found (listed once).
     """
 
     label: str
@@ -319,6 +353,11 @@ class FoundState(Result):
     times_found: int
     residual: float
     max_strain: float
+    #: Hessian eigenvalues within the zero tolerance beyond the rigid motions: more than 0
+    #: means the state is one of a continuous family of equilibria ...
+    zero_modes: int = 0
+    #: ... of which this many were found (same index, same energy; listed once).
+    members: int = 1
 
 
 @dataclasses.dataclass(frozen=True)
@@ -455,18 +494,37 @@ def discover(rod: DiscreteRod, seeds: list[tuple[str, Snapshot]], known: list[Kn
                 distinct.append((s, E, name, 1))
     distinct.sort(key=lambda item: item[1])
     tol = zero_eigenvalue_tol(rod)
-    out = []
+    out: list[FoundState] = []
+    kept: list[Snapshot] = []
     for s, E, src, cnt in distinct:
         s.put(rod)
         ev = lowest_eigenvalues(rod, INDEX_EIGS)
         index = int(np.sum(ev < -tol))
+        zero = int(np.sum(np.abs(ev) <= tol))
+        scale = max(abs(E), float(np.max(rod.edge_B[:, 2])) / mean_length(rod))
+        family = next((k for k, f in enumerate(out) if zero and f.zero_modes == zero
+                       and f.index == index
+                       and abs(f.energy - E) <= SAME_STATE_ENERGY * scale), None)
+        if family is not None:
+            # a zero mode beyond the rigid motions: a continuous family of equilibria, whose
+            # members deflation finds one by one at one energy (the hexagram at kappa_n R0 = 2,
+            # 8 el.: four index-1 saddles at 11.849190 +- 2e-7); one entry
+            f = out[family]
+            out[family] = dataclasses.replace(f, members=f.members + 1,
+                                              times_found=f.times_found + cnt)
+            continue
         g = rod.gradient()
         inv = invariants(rod, s, directions)
+        label = _label(inv, known)
+        if not known and src.startswith("seed "):
+            label = src.removeprefix("seed ")  # no names to recognise: the seed's own
         out.append(FoundState(
-            label=_label(inv, known), energy=E, index=index, index_at_least=index == len(ev),
+            label=label, energy=E, index=index, index_at_least=index == len(ev),
             stable=bool(ev[0] > tol), lowest_eigenvalues=tuple(float(v) for v in ev[:4]),
             invariants=inv, found_from=src, times_found=cnt,
-            residual=float(np.max(np.abs(g[rod.free_dofs()]))), max_strain=max_strain(rod)))
+            residual=float(np.max(np.abs(g[rod.free_dofs()]))), max_strain=max_strain(rod),
+            zero_modes=zero))
+        kept.append(s)
     return Discovery(
         states=tuple(out), load_factor=rod.load_factor,
         elements_per_segment=len(rod.R_edge) // len(rod.assembly.segments),
@@ -475,8 +533,31 @@ def discover(rod: DiscreteRod, seeds: list[tuple[str, Snapshot]], known: list[Kn
         method=f"deflated Newton (Farrell, Beentjes, Birkisson; p = {DEFLATION_POWER:g}, shift "
                f"= {DEFLATION_SHIFT:g}) on one discrete rod, deduplicated modulo rigid motion, "
                "reflection and relabelling", outside_contact=tuple(outside),
-        unconverged_seeds=tuple(failed_seeds)), \
-        [s for s, *_ in distinct]
+        unconverged_seeds=tuple(failed_seeds)), kept
+
+
+def search_start(ring: Ring | None, a: Assembly | None, state: str, elements_per_segment: int,
+                 load_factor: float, seed_states: bool = True, cusp_width: float | None = None
+                 ) -> tuple[DiscreteRod, list[tuple[str, Snapshot]], list[KnownState],
+                            tuple[int, ...]]:
+    """Return the common rod, the seeds, the known states and the rods' directions.
+
+    A ring (``ring`` not None): :func:`ring_seeds` from held state ``state``. Any other design
+    ``a`` the nonlinear engine takes (a bi-rod, a clamped arc, rods with supports): its held
+    state at ``load_factor`` is the one seed, ``"held"``, and no state is known, so equilibria
+    are named ``held`` (the one reached from it) or ``unnamed`` (:func:`discover`); the
+    directions are the walk's over its joints (:func:`~.identify.ring_directions`).
+    """
+    if ring is not None:
+        rod, seeds, known = ring_seeds(ring, state, elements_per_segment, load_factor,
+                                       seed_states, cusp_width)
+        return rod, seeds, known, tuple(d for _, d in ring.order)
+    from .identify import ring_directions
+
+    if a is None:
+        raise RodstabInputError("search_start needs a ring or a design's assembly")
+    rod = common_rod(a, elements_per_segment, load_factor)
+    return rod, [("held", Snapshot.of(rod))], [], ring_directions(rod)
 
 
 # ---------------------------------------------------------------------------------------------

@@ -182,14 +182,15 @@ def ring_relabellings(rod: DiscreteRod) -> tuple[tuple[bool, int], ...]:
     symmetry when every rod has the length, stiffnesses and natural curvature along the ring of
     the rod it goes to and every weld the turn of its image (measured on the held geometry of
     the rod's assembly). The reversed traversal is compared with magnitudes (a reflection takes
-    the sign). A ring of identical rods: every shift, reversed or not. Not one ring: the
-    identity only. Cached on ``rod`` (its model does not change).
+    the sign). A ring of identical rods: every shift, reversed or not. Not one ring, or a
+    supported one: the identity only. Cached on ``rod`` (its model does not change).
     """
     cached = rod.__dict__.get("_relabellings")
     if cached is not None:
         return cached
     order = ring_order(rod)
-    if order is None:
+    if order is None or rod.assembly.supports or rod.assembly.end_rotations:
+        # a support holds one rod, not its images
         rod.__dict__["_relabellings"] = ((False, 0),)
         return ((False, 0),)
     n = len(order)

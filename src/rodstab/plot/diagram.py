@@ -59,6 +59,11 @@ def _draw(ax: Any, d: Diagram, floor: dict[float, float] | None) -> None:
 
     low = [e(q) for b in d.branches for q in b.points if q.index == 0]
     top = 1.25 * max(low) if low else math.inf
+    if low and top <= min(min(low), 0.0):
+        # every stable point at the floor (energy above the lowest: all zero): show what
+        # lies above it instead of an empty axis
+        rest = [e(q) for b in d.branches for q in b.points if e(q) > top]
+        top = 1.05 * max(rest) if rest else 1.0
     colours = [f"C{i % 10}" for i in range(len(d.branches))]
     for b, c in zip(d.branches, colours, strict=True):
         pts = b.points
