@@ -5,7 +5,7 @@ The reference outputs are this project's own earlier output, recorded by
 redesign: the problems registry, the checks split, the new continuation core and the error
 contract), ``LATER_CASES`` (the multistable commands, the later examples) from e0b77e8 (before
 the issue-20 split of the command line), ``NEW_CASES`` (commands added since: ``diagram``) each
-by the commit that last changed its search (4f73545). They check that a refactoring changed no
+by the commit that last changed its search (4f8a1d4). They check that a refactoring changed no
 number; that the numbers are right is each command's own test module's job (closed forms,
 limits, other methods). The command lines are in ``tests/cli_cases.py``: every subcommand but
 ``reproduce``, the design-file commands on every example. Compared: the exit status, every JSON
