@@ -320,6 +320,60 @@ def cusp_rings(rng: np.random.Generator) -> Trial:
 COVERED_RTOL = 1e-9
 
 
+def unequal_rings(rng: np.random.Generator) -> Trial:
+    """Cusp rings of m = 2..4 repeats of a unit of p = 2..3 rods of random lengths (issue 22).
+
+    Lengths in [0.3, 1.7] scaled so that each unit has p (mean length 1), one section and one
+    natural curvature, written held in the star (mean turning pi - 2 pi / n: each unit turns the
+    tangent by -2 pi / m, so m units close). Read by :func:`~rodstab.multistable.states.ring_of`
+    (the rods differ: no Bloch method); up to :data:`MAX_STATES` of its closed states with
+    ``theta >= 0`` by the FE atlas, each limit's verdict asked of the nonlinear rod just inside
+    and outside (its own engine: the discrete rod's Hessian on the held state).
+    """
+    p, m = int(rng.integers(2, 4)), int(rng.integers(2, 5))
+    n = p * m
+    unit = rng.uniform(0.3, 1.7, p)
+    unit = [_r(x) for x in unit * p / unit.sum()]
+    unit[-1] = _r(p - sum(unit[:-1]), 12)
+    kn = _loguniform(rng, 0.5, 3.0)
+    theta = math.pi - 2 * math.pi / n
+    segs = [{"name": f"r{i}", "length": unit[(i - 1) % p], "curvature": theta,
+             "natural_curvature": kn} | ({"cusp": True} if i > 1 else {})
+            for i in range(1, n + 1)]
+    data = {"section": random_section(rng), "segment": segs,
+            "weld": [{"ends": [f"r{i}.end", f"r{i % n + 1}.start"]} for i in range(1, n + 1)]}
+    ring = ring_of(parse_design(data).assembly)
+    states = atlas.select_states(ring, atlas.default_states(ring))
+    pick = sorted(rng.choice(len(states), min(MAX_STATES, len(states)), replace=False))
+    states = tuple(states[int(i)] for i in pick)
+
+    def fe() -> Values:
+        out: Values = {}
+        for st in states:
+            si = atlas.fe_interval(ring, st)
+            out |= {f"{st.label}.lower": si.lower.load_factor,
+                    f"{st.label}.upper": si.upper.load_factor}
+        return out
+
+    def verdicts(values: Values) -> list[tuple[str, Assembly, float, float, int]]:
+        out = []
+        for st in states:
+            ref = atlas.stress_free_load(ring, st.theta)
+            a = ring.held(st.theta, reference_load=ref)
+            # ~0.1 rad per element on the rod that turns most (16 at least)
+            most = max(abs(k) * r.length for k, r in zip(ring.curvatures(st.theta), ring.rods,
+                                                       strict=True))
+            n_el = max(16, math.ceil(most / 0.1))
+            out += [(k, a, ref, values[k], n_el) for k in (f"{st.label}.lower",
+                                                           f"{st.label}.upper")]
+        return out
+
+    labels = ", ".join(s.label for s in states)
+    return Trial(f"{m} x ({', '.join(map(str, unit))}) cusp rods, kappa_n {kn}, "
+                 f"section({_kw(data['section'])}), {labels}", _toml(data), {"fe": fe}, {},
+                 verdicts)
+
+
 def _wrap_deg(x: float) -> float:
     return _r(math.remainder(x, 360.0), 5)
 
@@ -1018,7 +1072,8 @@ FAMILIES: dict[str, Callable[[np.random.Generator], Trial]] = {
     "held-rings": held_rings, "held-columns": held_columns,
     "folded-columns": lambda rng: folded_stacking(rng, "columns"),
     "folded-hexagon": lambda rng: folded_stacking(rng, "hexagon"), "saddles": saddles,
-    "linking": linking, "flat-foldings": flat_foldings, "contact-folded": contact_folded}
+    "linking": linking, "flat-foldings": flat_foldings, "contact-folded": contact_folded,
+    "unequal-rings": unequal_rings}
 
 
 # ---------------------------------------------------------------------------------------------

@@ -81,6 +81,9 @@ CASES = [
     # ... and held closed: the rod against the closed form lam = pi
     pytest.param("held-columns", 0, {"held-columns-rod", "held-columns-closed"},
                  id="held-columns"),
+    # a cusp ring of repeated units of rods of unequal length (issue 22): the FE atlas on the
+    # whole ring, the nonlinear rod's verdicts just inside and outside its limits
+    pytest.param("unequal-rings", 0, {"fe", "verdict"}, id="unequal-ring"),
 ]
 
 

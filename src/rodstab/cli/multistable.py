@@ -254,8 +254,8 @@ def transitions(design_file: str | None, section: Section, structure: str,
     identified. Each edge reports the closest approach of rods over h and whether rods would
     pass through each other (physical: false). With --contact the rods are capsules of
     diameter h that cannot pass through each other throughout; a state whose rods overlap
-    (stacked on one curve: the line, the eight) is skipped. On DESIGN's ring (identical rods
-    welded in a cycle, `rodstab states DESIGN`) or the hexagram.
+    (stacked on one curve: the line, the eight) is skipped. On DESIGN's ring (rods welded in
+    a cycle, `rodstab states DESIGN`) or the hexagram.
     """
     from ..problems import ring_transitions as rt
 

@@ -1,6 +1,6 @@
 """Multistability: the states of a ring, their stability atlas, and the ways between them.
 
-* :mod:`.states` -- closed planar held states of a ring of identical welded rods;
+* :mod:`.states` -- closed planar held states of uniform moment of a ring of welded rods;
 * :mod:`.atlas` -- the stable interval of each state against a design parameter;
 * :mod:`.discover` -- equilibria nobody named, by deflated Newton on one discrete rod;
 * :mod:`.transitions` -- a stable state loaded until it snaps, and where it goes;

@@ -1,4 +1,10 @@
-"""Closed planar held states of uniform moment of a ring of identical welded rods.
+"""Closed planar held states of uniform moment of a ring of welded rods.
+
+Rods that differ (lengths, sections, natural curvatures, weld angles) are :class:`Ring`'s
+general case: there a state is named by its mean turning and closes by the rotation condition
+``n theta + sum_i alpha_i = 2 pi j`` and a chain built from each rod's own turning
+(:meth:`Ring.states`). The rest of this docstring derives the identical-rod case, whose
+closed form the general enumeration reproduces (``tests/test_states.py``).
 
 A ring of ``n`` identical rods of length ``L``, rod ``i`` welded end to start to rod ``i + 1``
 (rod ``n`` to rod 1), each weld either a **cusp** (the tangent reverses, the plane normal is
