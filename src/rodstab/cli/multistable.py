@@ -59,12 +59,10 @@ from .output import (
 @click.option("--state", default=None,
               help="Held state the search starts from (a label of `rodstab states`; default "
                    "star).")
-@load_factor_option(
-    default=2.0,
-    help="Without DESIGN kappa_n R0; with DESIGN the multiplier of its natural "
-         "curvature.")
-@click.option("--starts", type=int, default=8, show_default=True,
-              help="Perturbed starts (in +/- pairs) besides the seeds.")
+@load_factor_option(default=2.0, help="Without DESIGN kappa_n R0; with DESIGN the multiplier "
+                    "of its natural curvature.")
+@click.option("--starts", type=int, default=8, show_default=True, help="Perturbed starts "
+              "(in +/- pairs) besides the seeds.")
 @elements_option(default=16, minimum=2, help="Elements per rod.")
 @click.option("--seed", "rng_seed", type=int, default=0, show_default=True,
               help="Seed of the random perturbations.")
@@ -73,6 +71,9 @@ from .output import (
                    "(rodstab states, |kL| <= 2 pi).")
 @click.option("--plot", "plot_path", type=click.Path(dir_okay=False), default=None,
               help="Write a grid of the states found (projected on their best-fit planes).")
+@click.option("--morph", default=None, metavar="segment.NAME.length=VALUE[:STEPS]",
+              help="First carry every seed to rod NAME of length VALUE in STEPS steps "
+                   "(default 10): a ring no design can hold (one rod longer).")
 @click.option("--saddle-modes", type=int, default=0, show_default=True,
               help="Also climb from every stable state found along its K softest modes, both "
                    "ways (eigenvector following), to the index-1 saddles, and follow each "
@@ -94,7 +95,7 @@ from .output import (
 @json_option
 def discover(design_file: str | None, section: Section, structure: str, segments: int,
              state: str | None, load_factor: float, starts: int, elements: int, rng_seed: int,
-             seed_states: bool, plot_path: str | None, saddle_modes: int,
+             seed_states: bool, plot_path: str | None, morph: str | None, saddle_modes: int,
              graph_path: str | None, max_barrier: float | None, climb_steps: int | None,
              contact: Any, cusp_width: float | None, limits: Limits, as_json: bool) -> None:
     """Equilibria nobody named: deflated Newton from seeds and perturbed starts.
@@ -147,6 +148,9 @@ def discover(design_file: str | None, section: Section, structure: str, segments
             attach_contact(rod, rod_contact_model(rod.assembly, *setting))
         except RodstabInputError as exc:
             raise RodstabInputError(f"--state {start_state!r}: {exc}") from None
+    if morph is not None:  # carried to a ring no design holds (multistable.morph)
+        from ..multistable.morph import morph_seeds
+        seeds, morphed = morph_seeds(morph, rod, seeds)
     found, snaps = search(rod, seeds, known, starts=starts, seed=rng_seed,
                           directions=directions)
     payload = found.to_dict() | {"structure": name, "segments": n, "start_state": start_state,
@@ -175,6 +179,7 @@ def discover(design_file: str | None, section: Section, structure: str, segments
              f"({found.converged_runs} converged); seeds {', '.join(found.seeds)}",
              f"{'label':>14} {'energy':>10} {'index':>5} {'stable':>6} {'welds':>5} "
              f"{'turning':>8} {'max|z|/L':>9}  found from"]
+    lines[2:2] = [morphed] if morph is not None else []
     lines[2:2] = [f"seeds        not converged from: {', '.join(found.unconverged_seeds)} "
                   "(a state found before, which deflation repels, or too coarse a mesh for "
                   "their shape: try more --elements)"] if found.unconverged_seeds else []

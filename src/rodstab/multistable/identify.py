@@ -195,8 +195,13 @@ def ring_relabellings(rod: DiscreteRod) -> tuple[tuple[bool, int], ...]:
         return ((False, 0),)
     n = len(order)
     segs = [(rod.assembly.segments[k], d) for k, d in order]
-    rods = [(s.length, s.B1, s.B2, s.B3, d * s.natural_curvature) for s, d in segs]
-    mags = [(a, b, c, e, abs(k)) for a, b, c, e, k in rods]
+    # each rod as the discrete rod has it (its rest lengths: a length morphed away from the
+    # design's, rodstab.multistable.morph, counts), stiffness and natural curvature
+    ne = _elements(rod)
+    rods: list[tuple[float, ...]] = [
+        (float(rod.rest_length[k * ne:(k + 1) * ne].sum()), *map(float, rod.edge_B[k * ne]),
+         d * float(rod.edge_kn[k * ne])) for k, d in order]
+    mags = [(*r[:4], abs(r[4])) for r in rods]
     turns = []
     for i, (s, d) in enumerate(segs):
         nxt, dn = segs[(i + 1) % n]

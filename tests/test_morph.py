@@ -1,0 +1,85 @@
+"""Carrying equilibria to a ring no design holds (multistable/morph.py, `discover --morph`).
+
+Oracles: a ring whose six rods are all morphed to length 1.1 is the identical ring of length
+1.1, whose common rod is built from its own design (`uniform_ring`): the morphed star is its
+star, to Newton's tolerance; a morph there and back returns the state it started from.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from rodstab.cli import main
+from rodstab.errors import RodstabInputError
+from rodstab.multistable import morph as mo
+from rodstab.multistable.discover import common_rod, deflated_newton
+from rodstab.multistable.identify import Snapshot, aligned_distance
+from rodstab.multistable.states import uniform_ring
+
+KAPPA = 2 * math.pi / 3  # the hexagram's natural curvature per unit load factor
+
+
+def _star(length: float, elements: int = 6, mu: float = 2.0):
+    ring = uniform_ring(6, length=length, natural_curvature=KAPPA)
+    rod = common_rod(ring.held(ring.state("star").theta), elements, mu)
+    assert deflated_newton(rod, []).converged
+    return rod, Snapshot.of(rod)
+
+
+def test_every_rod_morphed_is_the_identical_ring_of_that_length():
+    rod, star = _star(1.0)
+    states = [("star", star)]
+    for name in ("1", "2", "3", "4", "5", "6"):
+        (m,) = mo.morph_states(rod, states, name, 1.1, 4)
+        assert m.state is not None and m.reached == pytest.approx(1.1)
+        states = [("star", m.state)]
+    states[0][1].put(rod)
+    E = rod.energy()
+    ref, ref_star = _star(1.1)
+    assert np.allclose(rod.rest_length, ref.rest_length, rtol=1e-12)
+    assert E == pytest.approx(ref.energy(), rel=1e-9)
+    assert aligned_distance(ref, states[0][1], ref_star) < 1e-6
+
+
+def test_a_morph_there_and_back_returns_the_state():
+    rod, star = _star(1.0, elements=4)
+    (out,) = mo.morph_states(rod, [("star", star)], "1", 1.1, 4)
+    (back,) = mo.morph_states(rod, [("star", out.state)], "1", 1.0, 4)
+    assert back.state is not None
+    assert aligned_distance(rod, back.state, star) < 1e-6
+    assert aligned_distance(rod, out.state, star) > 1e-3  # it did move
+
+
+@pytest.mark.parametrize("text, words", [
+    ("segment.1.natural_curvature=2", ["segment.NAME.length"]),
+    ("segment.1.length=-1", ["positive"]),
+    ("segment.1.length=1.1:0", ["STEPS >= 1"]),
+    ("segment.1.length=x", ["VALUE must be a number"]),
+])
+def test_bad_morph_text_is_refused_naming_it(text, words):
+    with pytest.raises(RodstabInputError) as exc:
+        mo.parse_morph(text)
+    for w in words:
+        assert w in str(exc.value)
+
+
+def test_an_unknown_segment_is_refused_naming_the_segments():
+    rod, _ = _star(1.0, elements=2)
+    with pytest.raises(RodstabInputError, match="segment 'r9' is not in the design"):
+        mo.set_segment_length(rod, "r9", 1.1)
+
+
+@pytest.mark.slow
+def test_cli_discover_on_the_hexagram_with_one_rod_longer(capsys):
+    """examples/hexagram.toml with r1 10 % longer at kappa_n R0 = 2 (6 el.): every seed is
+    carried; the daisy and the star stay stable (labelled by their turning numbers)."""
+    main(["discover", "examples/hexagram.toml", "--elements", "6", "--load-factor", "2",
+          "--starts", "0", "--morph", "segment.r1.length=1.1:5"])
+    out = capsys.readouterr().out
+    assert "morphed      segment.r1.length 1 -> 1.1 in 5 steps: 11 of 11 seeds carried" in out
+    rows = {line.split()[0]: line.split() for line in out.splitlines()
+            if line.strip().startswith(("star ", "daisy "))}
+    assert rows["star"][3] == "True" and rows["daisy"][3] == "True"
