@@ -265,36 +265,7 @@ def cusp_rings(rng: np.random.Generator) -> Trial:
     """
     n = int(rng.integers(3, 11))
     kn = _loguniform(rng, 0.5, 3.0)
-    theta = math.pi - 2 * math.pi / n  # the star: a closed state of every cusp ring
-    segs = [{"name": f"r{i}", "length": 1.0, "curvature": theta, "natural_curvature": kn}
-            | ({"cusp": True} if i > 1 else {}) for i in range(1, n + 1)]
-    data = {"section": random_section(rng), "segment": segs,
-            "weld": [{"ends": [f"r{i}.end", f"r{i % n + 1}.start"]} for i in range(1, n + 1)]}
-    ring = ring_of(parse_design(data).assembly)
-    states = atlas.select_states(ring, atlas.default_states(ring))
-    pick = sorted(rng.choice(len(states), min(MAX_STATES, len(states)), replace=False))
-    states = tuple(states[int(i)] for i in pick)
-
-    def by(method: str) -> Values:
-        out: Values = {}
-        for st in states:
-            si = atlas.state_interval(ring, st, method)
-            out |= {f"{st.label}.lower": si.lower.load_factor,
-                    f"{st.label}.upper": si.upper.load_factor,
-                    f"mult:{st.label}.lower": si.lower.multiplicity,
-                    f"mult:{st.label}.upper": si.upper.multiplicity}
-        return out
-
-    def verdicts(values: Values) -> list[tuple[str, Assembly, float, float, int]]:
-        out = []
-        for st in states:
-            ref = atlas.stress_free_load(ring, st.theta)
-            a = ring.held(st.theta, reference_load=ref)
-            # ~0.1 rad per element (16 at least): the star's and the eight's arcs alike
-            n_el = max(16, math.ceil(abs(st.theta) / 0.1))
-            out += [(k, a, ref, values[k], n_el) for k in (f"{st.label}.lower",
-                                                           f"{st.label}.upper")]
-        return out
+    data, ring, states = _cusp_ring(rng, [1.0] * n, kn)
 
     def covered() -> Values:
         """Each state with N = n theta / 2 pi >= 1 as the N-covered circle, eq. (3.3)
@@ -307,12 +278,58 @@ def cusp_rings(rng: np.random.Generator) -> Trial:
         return out
 
     labels = ", ".join(s.label for s in states)
-    methods = {m: functools.partial(by, m) for m in atlas.METHODS} | {"covered circle": covered}
+    methods = {m: functools.partial(_ring_values, ring, states, m) for m in atlas.METHODS} \
+        | {"covered circle": covered}
     return Trial(f"{n} cusp rods, kappa_n {kn}, section({_kw(data['section'])}), {labels}",
                  _toml(data), methods,
                  {("transfer", "fe"): problems.REGISTRY["hexagram"].AGREE_RTOL[
                      ("transfer", "fe")], ("transfer", "covered circle"): COVERED_RTOL},
-                 verdicts)
+                 functools.partial(_ring_verdicts, ring, states))
+
+
+def _cusp_ring(rng: np.random.Generator, lengths: list[float], kn: float
+               ) -> tuple[dict[str, Any], Any, tuple]:
+    """A design of cusp-welded rods of ``lengths`` held in the star (mean turning
+    ``pi - 2 pi / n``), a random section; its ring and up to :data:`MAX_STATES` states."""
+    n = len(lengths)
+    theta = math.pi - 2 * math.pi / n  # the star: a closed state of every such cusp ring
+    segs = [{"name": f"r{i}", "length": lengths[i - 1], "curvature": theta,
+             "natural_curvature": kn} | ({"cusp": True} if i > 1 else {})
+            for i in range(1, n + 1)]
+    data = {"section": random_section(rng), "segment": segs,
+            "weld": [{"ends": [f"r{i}.end", f"r{i % n + 1}.start"]} for i in range(1, n + 1)]}
+    ring = ring_of(parse_design(data).assembly)
+    states = atlas.select_states(ring, atlas.default_states(ring))
+    pick = sorted(rng.choice(len(states), min(MAX_STATES, len(states)), replace=False))
+    return data, ring, tuple(states[int(i)] for i in pick)
+
+
+def _ring_values(ring: Any, states: tuple, method: str) -> Values:
+    """Each state's limits and multiplicities by ``method`` of the atlas."""
+    out: Values = {}
+    for st in states:
+        si = atlas.state_interval(ring, st, method)
+        out |= {f"{st.label}.lower": si.lower.load_factor,
+                f"{st.label}.upper": si.upper.load_factor,
+                f"mult:{st.label}.lower": si.lower.multiplicity,
+                f"mult:{st.label}.upper": si.upper.multiplicity}
+    return out
+
+
+def _ring_verdicts(ring: Any, states: tuple, values: Values
+                   ) -> list[tuple[str, Assembly, float, float, int]]:
+    """The nonlinear verdicts at each state's limits: its held assembly, ~0.1 rad per element
+    on the rod that turns most (16 at least: the star's and the eight's arcs alike)."""
+    out = []
+    for st in states:
+        ref = atlas.stress_free_load(ring, st.theta)
+        a = ring.held(st.theta, reference_load=ref)
+        most = max(abs(k) * r.length for k, r in zip(ring.curvatures(st.theta), ring.rods,
+                                                   strict=True))
+        n_el = max(16, math.ceil(most / 0.1))
+        out += [(k, a, ref, values[k], n_el) for k in (f"{st.label}.lower",
+                                                       f"{st.label}.upper")]
+    return out
 
 
 #: The Bloch method against the N-covered circle's closed form: both exact (root finders'
@@ -336,42 +353,13 @@ def unequal_rings(rng: np.random.Generator) -> Trial:
     unit = [_r(x) for x in unit * p / unit.sum()]
     unit[-1] = _r(p - sum(unit[:-1]), 12)
     kn = _loguniform(rng, 0.5, 3.0)
-    theta = math.pi - 2 * math.pi / n
-    segs = [{"name": f"r{i}", "length": unit[(i - 1) % p], "curvature": theta,
-             "natural_curvature": kn} | ({"cusp": True} if i > 1 else {})
-            for i in range(1, n + 1)]
-    data = {"section": random_section(rng), "segment": segs,
-            "weld": [{"ends": [f"r{i}.end", f"r{i % n + 1}.start"]} for i in range(1, n + 1)]}
-    ring = ring_of(parse_design(data).assembly)
-    states = atlas.select_states(ring, atlas.default_states(ring))
-    pick = sorted(rng.choice(len(states), min(MAX_STATES, len(states)), replace=False))
-    states = tuple(states[int(i)] for i in pick)
-
-    def fe() -> Values:
-        out: Values = {}
-        for st in states:
-            si = atlas.fe_interval(ring, st)
-            out |= {f"{st.label}.lower": si.lower.load_factor,
-                    f"{st.label}.upper": si.upper.load_factor}
-        return out
-
-    def verdicts(values: Values) -> list[tuple[str, Assembly, float, float, int]]:
-        out = []
-        for st in states:
-            ref = atlas.stress_free_load(ring, st.theta)
-            a = ring.held(st.theta, reference_load=ref)
-            # ~0.1 rad per element on the rod that turns most (16 at least)
-            most = max(abs(k) * r.length for k, r in zip(ring.curvatures(st.theta), ring.rods,
-                                                       strict=True))
-            n_el = max(16, math.ceil(most / 0.1))
-            out += [(k, a, ref, values[k], n_el) for k in (f"{st.label}.lower",
-                                                           f"{st.label}.upper")]
-        return out
+    data, ring, states = _cusp_ring(rng, [unit[i % p] for i in range(n)], kn)
 
     labels = ", ".join(s.label for s in states)
     return Trial(f"{m} x ({', '.join(map(str, unit))}) cusp rods, kappa_n {kn}, "
-                 f"section({_kw(data['section'])}), {labels}", _toml(data), {"fe": fe}, {},
-                 verdicts)
+                 f"section({_kw(data['section'])}), {labels}", _toml(data),
+                 {"fe": functools.partial(_ring_values, ring, states, "fe")}, {},
+                 functools.partial(_ring_verdicts, ring, states))
 
 
 def _wrap_deg(x: float) -> float:
