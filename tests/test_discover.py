@@ -374,3 +374,23 @@ def test_deflated_newton_follows_the_birods_buckled_state_a_small_load_step():
     E = rod.energy()
     start.put(rod)
     assert newton(rod)[0] and rod.energy() == pytest.approx(E, rel=1e-10)
+
+
+@pytest.mark.slow
+def test_birods_held_state_past_buckling_is_the_saddle_between_the_buckled_mirrors(capsys):
+    """The bi-rod at mu = 3 (past 2.7207): the held straight state (energy mu^2 = 9, closed
+    form) is an index-1 equilibrium found by deflation; the climbs from the buckled state do
+    not reach it, the saddle search judges it anyway (search_saddles' known): its two
+    descents end on the buckled state and its mirror image (one state modulo reflection), over
+    a barrier 9 - E(buckled)."""
+    main(["discover", "examples/birod.toml", "--load-factor", "3", "--elements", "8",
+          "--saddle-modes", "1", "--json"])
+    out = json.loads(capsys.readouterr().out)
+    held = next(s for s in out["states"] if s["label"] == "held")
+    assert held["energy"] == pytest.approx(9.0, rel=1e-9) and held["index"] == 1
+    buckled = out["states"][0]
+    assert buckled["stable"] and not buckled["invariants"]["planar"]
+    (saddle,) = out["saddle_search"]["saddles"]
+    assert saddle["joins"] == ["#1", "#1"]
+    assert saddle["barriers"][0] == pytest.approx(9.0 - buckled["energy"], rel=1e-9)
+    assert saddle["found_from"] == "deflation: #2 held"

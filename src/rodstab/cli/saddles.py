@@ -45,7 +45,9 @@ def saddle_lines(rod: Any, found: Any, snaps: list, modes: int, directions: tupl
 
     minima = [(f"#{i + 1}" + ("" if s.label == "unnamed" else f" {s.label}"), snaps[i])
               for i, s in enumerate(found.states) if s.stable]
-    result = search_saddles(rod, minima, modes, directions=directions,
+    saddles = [(f"#{i + 1}" + ("" if s.label == "unnamed" else f" {s.label}"), snaps[i])
+               for i, s in enumerate(found.states) if s.index == 1 and not s.index_at_least]
+    result = search_saddles(rod, minima, modes, directions=directions, known=saddles,
                             max_iter=steps, max_rise=max_rise)
     payload["saddle_search"] = result.to_dict()
     tally = ", ".join(f"{k} {v}" for k, v in sorted(result.outcomes().items()))
@@ -57,7 +59,7 @@ def saddle_lines(rod: Any, found: Any, snaps: list, modes: int, directions: tupl
             for j, b in zip(sd.joins, sd.barriers, strict=True))
         lines.append(f"{'S' + str(k + 1):>14} {sd.energy:>10.6g}     1  joins {ends}; "
                      f"{'planar' if sd.invariants.planar else '3D'}; first from "
-                     f"{sd.found_from} ({sd.times_found} climbs)")
+                     f"{sd.found_from} (found {sd.times_found} times)")
     lines += [f"{lab:>14} {e:>10.6g}     0  a minimum a descent reached, not found above"
               for lab, e in result.new_minima]
     lines += [f"{'other':>14} {e:>10.6g} {idx:>5}  a stationary point a climb ended on; "

@@ -258,7 +258,8 @@ class SaddleSearch(Result):
 def search_saddles(rod: DiscreteRod, minima: list[tuple[str, Snapshot]], modes: int, *,
                    directions: tuple[int, ...] | None = None, step: float = CLIMB_STEP,
                    max_iter: int = CLIMB_MAX_ITER, max_rise: float | None = None,
-                   keep: list[Snapshot] | None = None) -> SaddleSearch:
+                   keep: list[Snapshot] | None = None,
+                   known: list[tuple[str, Snapshot]] | None = None) -> SaddleSearch:
     """Climb from every minimum along its ``modes`` softest modes, both ways, and judge the saddles.
 
     Parameters
@@ -276,6 +277,11 @@ def search_saddles(rod: DiscreteRod, minima: list[tuple[str, Snapshot]], modes: 
         Passed to :func:`follow_mode`.
     keep : list of Snapshot, optional
         The saddles' states are appended to it, in the order of ``saddles``.
+    known : list of (str, Snapshot), optional
+        Index-1 equilibria found another way (discover's deflation: the bi-rod's held state
+        past its buckling load, the saddle between the buckled state and its mirror image,
+        which no climb from the buckled state reached): judged like the climbs' saddles, found
+        from ``"deflation: <label>"`` unless a climb reached them first.
 
     Returns
     -------
@@ -310,6 +316,13 @@ def search_saddles(rod: DiscreteRod, minima: list[tuple[str, Snapshot]], modes: 
                     into.append([here, climb.energy,
                                  f"{label} mode {mode}{'+' if sign > 0 else '-'}", 1,
                                  climb.index, invariants(rod, here, directions).planar])
+    for label, snap in known or ():
+        E = _energy(rod, snap)
+        same = [r for r in found if same_state(rod, snap, r[0], E, r[1])]
+        if same:
+            same[0][3] += 1
+        else:
+            found.append([snap, E, f"deflation: {label}", 1, 1, None])
     land = Landscape.of([(lab, _at(rod, snap)) for lab, snap in minima])
     land.new_label = "new "
     saddles = []
