@@ -68,8 +68,10 @@ def test_bad_morph_text_is_refused_naming_it(text, words):
 
 def test_an_unknown_segment_is_refused_naming_the_segments():
     rod, _ = _star(1.0, elements=2)
-    with pytest.raises(RodstabInputError, match="segment 'r9' is not in the design"):
-        mo.set_segment_length(rod, "r9", 1.1)
+    for f in (lambda: mo.set_segment_length(rod, "r9", 1.1),
+              lambda: mo.morph_seeds("segment.r9.length=1.1", rod, [])):
+        with pytest.raises(RodstabInputError, match="segment 'r9' is not in the design"):
+            f()
 
 
 @pytest.mark.slow

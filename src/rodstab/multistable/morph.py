@@ -39,13 +39,8 @@ def set_segment_length(rod: DiscreteRod, name: str, length: float) -> None:
     A new array (the constraint's cached topology is keyed on the arrays it was built from);
     the state (positions, frames) is left as it is, out of equilibrium until solved again.
     """
-    names = [s.name for s in rod.assembly.segments]
-    if name not in names:
-        raise RodstabInputError(f"segment {name!r} is not in the design; its segments are "
-                                f"{names}")
+    k, ne = _elements_of(rod, name)
     require_positive(f"segment.{name}.length", length)
-    k = names.index(name)
-    ne = len(rod.R_edge) // len(names)
     rest = rod.rest_length.copy()
     rest[k * ne:(k + 1) * ne] = float(length) / ne
     rod.rest_length = rest
@@ -54,10 +49,17 @@ def set_segment_length(rod: DiscreteRod, name: str, length: float) -> None:
 
 def segment_length(rod: DiscreteRod, name: str) -> float:
     """Segment ``name``'s length on ``rod``: the sum of its elements' rest lengths."""
-    names = [s.name for s in rod.assembly.segments]
-    k = names.index(name)
-    ne = len(rod.R_edge) // len(names)
+    k, ne = _elements_of(rod, name)
     return float(rod.rest_length[k * ne:(k + 1) * ne].sum())
+
+
+def _elements_of(rod: DiscreteRod, name: str) -> tuple[int, int]:
+    """Segment ``name``'s index and elements per segment; refuse an unknown name, naming it."""
+    names = [s.name for s in rod.assembly.segments]
+    if name not in names:
+        raise RodstabInputError(f"segment {name!r} is not in the design; its segments are "
+                                f"{names}")
+    return names.index(name), len(rod.R_edge) // len(names)
 
 
 @dataclasses.dataclass(frozen=True)
