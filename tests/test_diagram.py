@@ -104,7 +104,10 @@ def test_cli_writes_the_diagram_and_its_daisy_band_agrees_with_the_atlas(run_cli
 
 @pytest.mark.parametrize("args, words", [
     (["--vary", "segment.a.natural_curvature=0:1"], ["segment.a.natural_curvature",
-                                                      "load_factor only"]),
+                                                      "load_factor or segment.<name>.length"]),
+    (["--vary", "load_factor=0:1:4", "--load-factor", "2"], ["--load-factor 2.0",
+                                                              "segment.NAME.length"]),
+    (["--vary", "segment.9.length=1:1.1:2"], ["segment '9' is not in the design"]),
     (["--vary", "load_factor=0:1:4", "--saddles-at", "0.3"], ["--saddles-at", "0.3",
                                                               "not a value"]),
     (["--vary", "load_factor=0:1:4", "--saddles-at", "x"], ["--saddles-at", "'x'"]),

@@ -85,3 +85,50 @@ def test_cli_discover_on_the_hexagram_with_one_rod_longer(capsys):
     rows = {line.split()[0]: line.split() for line in out.splitlines()
             if line.strip().startswith(("star ", "daisy "))}
     assert rows["star"][3] == "True" and rows["daisy"][3] == "True"
+
+
+def test_the_length_parameters_derivative_predicts_the_states_move():
+    """SegmentLength.dgrad: the tangent -H^-1 dg/dL at the hexagram's star (4 el., load 2)
+    against the move of the node positions of Newton's solutions 1e-4 apart in r1's length
+    (first order: to ~1e-3 of the move)."""
+    import scipy.sparse.linalg as spla
+
+    from rodstab.nonlinear.parameters import SegmentLength
+
+    rod, star = _star(1.0, elements=4)
+    par = SegmentLength(rod.assembly, "1")
+    star.put(rod)
+    free = rod.free_dofs()
+    E, g, H = rod.energy_terms()
+    Hf = H[free][:, free].tocsc()
+    v = np.zeros(rod.n_dof)
+    v[free] = spla.spsolve(0.5 * (Hf + Hf.T), -par.dgrad(rod, (E, g, H))[free])
+    dx = v[: 3 * len(rod.x)].reshape(-1, 3)
+    h = 1e-4
+    par.set(rod, 1.0 + h)
+    star.put(rod)
+    assert deflated_newton(rod, []).converged
+    moved = (rod.x - star.x) / h
+    assert np.max(np.abs(moved - dx)) < 2e-3 * np.max(np.abs(dx))
+    assert par.get(rod) == pytest.approx(1.0 + h, rel=1e-12)
+
+
+@pytest.mark.slow
+def test_a_diagram_in_a_rods_length_meets_the_morphed_states():
+    """The diagram continued in r1's length (tangent predictor, SegmentLength) and the morph
+    (plain steps) reach the same star and daisy at 1.1: the same equilibria, energies to 1e-9."""
+    from rodstab.multistable.diagram import deflated_diagram
+    from rodstab.multistable.discover import ring_seeds
+    from rodstab.nonlinear.parameters import SegmentLength
+
+    ring = uniform_ring(6, natural_curvature=KAPPA)
+    rod, seeds, known = ring_seeds(ring, "star", 4, 2.0, True)
+    seeds = [(lab, s) for lab, s in seeds if lab in ("star", "daisy")]
+    d = deflated_diagram(rod, seeds, known, [1.0, 1.05, 1.1], starts=0,
+                         param=SegmentLength(rod.assembly, "1"))
+    assert d.key == "segment.1.length"
+    at = {b.label: b.points[-1] for b in d.branches if b.points[-1].value == 1.1}
+    rod2, seeds2, _ = ring_seeds(ring, "star", 4, 2.0, True)
+    for m in mo.morph_states(rod2, [(lab, s) for lab, s in seeds2 if lab in at], "1", 1.1, 4):
+        m.state.put(rod2)
+        assert rod2.energy() == pytest.approx(at[m.label].energy, rel=1e-9)

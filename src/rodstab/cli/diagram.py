@@ -31,8 +31,9 @@ from .output import emit, fmt, section_line, warnings_as_lines
 
 #: Steps of --vary when N is not given.
 DIAGRAM_DEFAULT_N = 40
-#: The one continuation parameter of the diagram (the common rod's load factor).
-DIAGRAM_KEYS = ("load_factor",)
+#: The continuation parameters of the diagram: the common rod's load factor, or one rod's
+#: length (``segment.<name>.length``, at a fixed --load-factor; multistable.morph).
+DIAGRAM_KEYS = ("load_factor", "segment.<name>.length")
 #: Columns of branches.csv.
 CSV_COLUMNS = ("branch", "label", "value", "energy", "index", "index_at_least",
                "lowest_eigenvalue", "planar", "max_out_of_plane", "turning_number",
@@ -47,7 +48,12 @@ CSV_COLUMNS = ("branch", "label", "value", "energy", "index", "index_at_least",
 @click.option("--segments", type=int, default=6, show_default=True,
               help="Rods of the six-ring (even, >= 4).")
 @vary_option(help=f"load_factor=START:STOP[:N], N steps (default {DIAGRAM_DEFAULT_N}): without "
-                  "DESIGN kappa_n R0; with DESIGN the multiplier of its natural curvature.")
+                  "DESIGN kappa_n R0; with DESIGN the multiplier of its natural curvature. "
+                  "Or segment.NAME.length=START:STOP[:N]: one rod's length at --load-factor "
+                  "(the held states carried from the design's length to START first).")
+@click.option("--load-factor", "fixed_load", type=float, default=None,
+              help="With --vary segment.NAME.length: the load factor held fixed [default: "
+                   "the design's reference_load, else 1].")
 @click.option("--out", "out_dir", type=click.Path(file_okay=False), required=True,
               help="Directory for branches.csv, diagram.json and diagram.png.")
 @elements_option(default=8, minimum=2, help="Elements per rod.")
@@ -75,8 +81,9 @@ CSV_COLUMNS = ("branch", "label", "value", "energy", "index", "index_at_least",
 @json_option
 def diagram(design_file: str | None, section: Section, structure: str, segments: int,
             vary: str, out_dir: str, elements: int, starts: int, rng_seed: int,
-            saddles_at: str, saddle_modes: int, max_barrier: float | None, mesh_check: bool,
-            no_progress: bool, limits: Limits, as_json: bool) -> None:
+            fixed_load: float | None, saddles_at: str, saddle_modes: int,
+            max_barrier: float | None, mesh_check: bool, no_progress: bool, limits: Limits,
+            as_json: bool) -> None:
     """Bifurcation diagram of a ring: every branch found by deflated continuation.
 
     From the held states of uniform moment and a deflated search at START, every branch is
@@ -95,14 +102,20 @@ def diagram(design_file: str | None, section: Section, structure: str, segments:
     from ..multistable.discover import common_rod, search_start
 
     spec = read_vary(vary, DIAGRAM_DEFAULT_N, "diagram steps", limits)
-    if spec.key not in DIAGRAM_KEYS:
+    parts = spec.key.split(".")
+    by_length = len(parts) == 3 and parts[0] == "segment" and parts[2] == "length"
+    if spec.key != "load_factor" and not by_length:
         raise RodstabInputError(
-            f"--vary {spec.key}: the diagram continues {', '.join(DIAGRAM_KEYS)} only (one "
+            f"--vary {spec.key}: the diagram continues {' or '.join(DIAGRAM_KEYS)} only (one "
             "rod model for every state; other keys: `rodstab continue` follows one branch)")
+    if fixed_load is not None and not (by_length and np.isfinite(fixed_load)):
+        raise RodstabInputError(f"--load-factor {fixed_load!r} is the fixed load of a "
+                                "diagram in a rod's length (--vary segment.NAME.length=...)")
     if not spec.start != spec.stop:
         raise RodstabInputError(f"--vary {vary!r}: START and STOP must differ")
     if spec.unit is not None:
-        raise RodstabInputError(f"--vary {vary!r}: the load factor is a plain number")
+        raise RodstabInputError(f"--vary {vary!r}: a plain number (the load factor, or a "
+                                "length in the design's unit)")
     if isinstance(starts, bool) or starts < 0:
         raise RodstabInputError(f"--starts must be an integer >= 0, got {starts!r}")
     values = np.linspace(spec.start, spec.stop, spec.n + 1)
@@ -125,18 +138,33 @@ def diagram(design_file: str | None, section: Section, structure: str, segments:
                           limits)
     # not a ring (a bi-rod, supports): its held state is the one seed, the linear engine on
     # the design (`rodstab analyze`) its band
+    mu = float(values[0])
+    if by_length:
+        ref = None if design is None else design.assembly.reference_load
+        mu = fixed_load if fixed_load is not None else 1.0 if ref is None else float(ref)
     rod, seeds, known, directions = search_start(
         ring, None if design is None else design.assembly,
-        "held" if ring is None else ring.states().states[0].label, elements,
-        float(values[0]))
+        "held" if ring is None else ring.states().states[0].label, elements, mu)
+    param, carried = None, ""
+    if by_length:
+        # the held states hold at the design's length only: carried to START, no atlas there
+        from ..multistable.morph import morph_seeds
+        from ..nonlinear.parameters import SegmentLength
+
+        param = SegmentLength(rod.assembly, parts[1])
+        seeds, carried = morph_seeds(f"{spec.key}={float(values[0])!r}:10", rod, seeds)
+        mesh_check = False
     with warnings_as_lines(), tqdm(desc="rodstab diagram: points", disable=no_progress,
                                    delay=0.5, leave=False, unit=" points") as bar:
         d = deflated_diagram(rod, seeds, known, list(values), starts=starts, seed=rng_seed,
                              directions=directions,
                              saddles_at=at, saddle_modes=saddle_modes, max_rise=max_barrier,
-                             progress=lambda: bar.update(1))
+                             progress=lambda: bar.update(1), param=param)
     atlas = {}
-    if ring is None:
+    atlas_method = "none (a diagram in a rod's length)"
+    if by_length:
+        pass
+    elif ring is None:
         from ..linear.solve import converged_stability
 
         atlas_method = "fe (the design's held state, as rodstab analyze)"
@@ -168,16 +196,22 @@ def diagram(design_file: str | None, section: Section, structure: str, segments:
     from ..plot.diagram import plot_diagram
 
     load = "kappa_n R0" if design_file is None else "load factor"
+    if by_length:
+        load = spec.key
     plot_diagram(d, out / "diagram.png", xlabel=load,
                  title=f"{name}, {elements} el./rod: {len(d.branches)} branches found")
     lines = [section_line(section),
              f"{name}, {n} rods, {elements} elements each, {load} from {fmt(values[0])} to "
-             f"{fmt(values[-1])} in {spec.n} steps: {len(d.branches)} branches, {d.runs} "
+             f"{fmt(values[-1])} in {spec.n} steps"
+             + (f" at load factor {fmt(mu)}" if by_length else "")
+             + f": {len(d.branches)} branches, {d.runs} "
              f"Newton runs; {d.stopping}"
              + (f"; {d.unfollowed} solutions of index > {SWITCH_MAX_INDEX} the searches found "
                 "are deflated, not followed" if d.unfollowed else ""),
              f"{'branch':>6} {'label':>14} {'from':>8} {'to':>8} {'index':>7} {'planar':>6}"
              f"  begins / ends; found from"]
+    if carried:
+        lines.insert(2, carried)
     if d.unconverged_seeds:
         lines.insert(2, f"seeds        Newton reached none of {', '.join(d.unconverged_seeds)} "
                         f"at any {load} of the range (too coarse a mesh for their shape, or "

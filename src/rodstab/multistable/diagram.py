@@ -51,7 +51,7 @@ import scipy.sparse.linalg as spla
 from ..errors import RodstabInputError
 from ..nonlinear.constraint import mean_length
 from ..nonlinear.discrete import DiscreteRod
-from ..nonlinear.parameters import LoadFactor
+from ..nonlinear.parameters import LoadFactor, Parameter
 from ..nonlinear.solve import lowest_eigenvalues, lowest_modes, zero_eigenvalue_tol
 from ..numerics.roots import refine_root
 from ..results import Result
@@ -224,8 +224,9 @@ class _Run:
 
     def __init__(self, rod: DiscreteRod, known: list[KnownState], values: np.ndarray,
                  directions: tuple[int, ...] | None,
-                 progress: Callable[[], None] | None) -> None:
+                 progress: Callable[[], None] | None, param: Parameter) -> None:
         self.rod, self.known, self.values, self.directions = rod, known, values, directions
+        self.param = param
         self.progress = progress
         self.h = float(values[1] - values[0]) if len(values) > 1 else 1.0
         self.tol = zero_eigenvalue_tol(rod)
@@ -253,7 +254,7 @@ class _Run:
             distinct_weld_points=inv.distinct_weld_points), vecs if vecs.size else ev
 
     def _solve(self, start: Snapshot, p: float, max_iter: int | None) -> Snapshot | None:
-        self.rod.load_factor = float(p)
+        self.param.set(self.rod, float(p))
         start.put(self.rod)
         self.runs += 1
         r = deflated_newton(self.rod, self.here.get(p, []),
@@ -268,11 +269,11 @@ class _Run:
         1.01, where the predicted start converges in 3 iterations up to 1.1).
         """
         rod = self.rod
-        rod.load_factor = float(p)
+        self.param.set(rod, float(p))
         s.put(rod)
         free = rod.free_dofs()
         terms = rod.energy_terms()
-        gp = LoadFactor().dgrad(rod, terms)[free]
+        gp = self.param.dgrad(rod, terms)[free]
         if not np.any(gp):
             return None
         Hf = terms[2][free][:, free].tocsc()
@@ -283,7 +284,7 @@ class _Run:
 
     def _image_of_known(self, s: Snapshot, p: float, but: int | None = None) -> int | None:
         """Return the branch (other than ``but``) whose point at ``p`` is ``s`` or its image."""
-        self.rod.load_factor = float(p)
+        self.param.set(self.rod, float(p))
         E = _energy(self.rod, s)
         for j, b in enumerate(self.branches):
             if j != but and p in b.points and same_state(self.rod, s, b.points[p][0], E,
@@ -306,7 +307,7 @@ class _Run:
             self.full = True
             return None
         s.put(self.rod)
-        self.rod.load_factor = float(p)
+        self.param.set(self.rod, float(p))
         pt, _ = self._point(p)
         if label is None:
             inv = invariants(self.rod, s, self.directions)
@@ -348,7 +349,7 @@ class _Run:
             for i in range(1, 2**depth):
                 q = p + (target - p) * i / 2**depth
                 start = _predicted(self.rod, cur, self._slope(cur, cur_p), q - cur_p)
-                self.rod.load_factor = q  # after the slope, which is taken at cur_p
+                self.param.set(self.rod, q)  # after the slope, which is taken at cur_p
                 start.put(self.rod)
                 self.runs += 1
                 if not deflated_newton(self.rod, [], max_iter=SEARCH_MAX_ITER).converged:
@@ -382,10 +383,14 @@ class _Run:
                 self.progress()
             # deflation repels a known state, not its mirror image: a branch that reaches the
             # image of another's point is that branch's image from there on (the bi-rod's
-            # buckled branch and its mirror, found from two places)
+            # buckled branch and its mirror, found from two places), or jumped onto it (a
+            # state near the hexagram's eight onto the daisy's image, 15.8 lower, in a step of
+            # 0.02 of a rod's length): it ends before that point, which is the other's
             j = self._image_of_known(got, q, but=k)
             if j is not None:
-                b.ends[direction] = (q, q)
+                del b.points[q]
+                self.here[q] = [x for x in self.here[q] if x is not got]
+                b.ends[direction] = (p, q)
                 b.joins[direction] = j
                 return
             if new_pt.index != pt.index:
@@ -411,7 +416,7 @@ class _Run:
                 return None
             s = got
         s.put(self.rod)
-        self.rod.load_factor = float(grid)
+        self.param.set(self.rod, float(grid))
         if int(np.sum(lowest_eigenvalues(self.rod, SWITCH_MAX_INDEX + 1) < -self.tol)) \
                 > SWITCH_MAX_INDEX:
             self.here.setdefault(grid, []).append(s)
@@ -427,7 +432,7 @@ class _Run:
         :data:`SWITCH_AMPLITUDES`; every solution is offered as a new branch.
         """
         s = self.branches[k].points[base][0]
-        self.rod.load_factor = float(base)
+        self.param.set(self.rod, float(base))
         s.put(self.rod)
         ev, vecs = lowest_modes(self.rod, INDEX_EIGS)
         order = np.argsort(np.abs(ev))[:max(1, min(modes, SWITCH_MODES))]
@@ -479,7 +484,7 @@ class _Run:
 
         def f(p: float) -> float:
             near = b.points[lo if abs(p - lo) <= abs(p - hi) else hi][0]
-            return eigenvalue_at(self.rod, near, p, idx)
+            return eigenvalue_at(self.rod, near, p, idx, self.param)
 
         try:
             return refine_root(f, lo, hi, rel_xtol=LOCATE_RTOL)
@@ -497,7 +502,7 @@ class _Run:
                   if p in b.points and b.points[p][1].index == 0]
         if not minima:
             return
-        self.rod.load_factor = float(p)
+        self.param.set(self.rod, float(p))
         kept: list[Snapshot] = []
         result = search_saddles(self.rod, minima, modes, directions=self.directions,
                                 max_rise=max_rise, keep=kept)
@@ -519,7 +524,8 @@ class _Run:
             self.extend(k, d)
 
 
-def eigenvalue_at(rod: DiscreteRod, s: Snapshot, p: float, idx: int) -> float:
+def eigenvalue_at(rod: DiscreteRod, s: Snapshot, p: float, idx: int,
+                  param: Parameter | None = None) -> float:
     """Eigenvalue ``idx`` (0-based, ascending) of the equilibrium near ``s`` at value ``p``.
 
     Newton first, also on a held state: the common rod's rest lengths are the arc's length
@@ -528,8 +534,9 @@ def eigenvalue_at(rod: DiscreteRod, s: Snapshot, p: float, idx: int) -> float:
     elsewhere (the hexagram's star, upper end at 8 el.: 2.35766 frozen at 2.2 or 2.4, 2.35794
     relaxed at every trial value; at 16 el. 2.35822 against 2.35743, which converge to the
     Bloch method's 2.357247 with order 2). Raises :class:`_Unlocated` if Newton fails.
+    ``param``: what ``p`` is (default the load factor).
     """
-    rod.load_factor = float(p)
+    (param or LoadFactor()).set(rod, float(p))
     s.put(rod)
     if not deflated_newton(rod, []).converged:
         raise _Unlocated
@@ -568,8 +575,9 @@ def deflated_diagram(rod: DiscreteRod, seeds: list[tuple[str, Snapshot]],
                      directions: tuple[int, ...] | None = None,
                      saddles_at: Sequence[float] = (), saddle_modes: int = 2,
                      max_rise: float | None = None,
-                     progress: Callable[[], None] | None = None) -> Diagram:
-    """Bifurcation diagram of ``rod`` in its load factor over the grid ``values``.
+                     progress: Callable[[], None] | None = None,
+                     param: Parameter | None = None) -> Diagram:
+    """Bifurcation diagram of ``rod`` in ``param`` (default its load factor) over ``values``.
 
     ``seeds``: the held states (label, state), each a branch; ``known``: the held states to
     name branches by; :func:`~.discover.discover` with ``starts`` perturbed starts (seeded
@@ -578,15 +586,18 @@ def deflated_diagram(rod: DiscreteRod, seeds: list[tuple[str, Snapshot]],
     sought by eigenvector following from every stable point there
     (:func:`~.saddle_search.search_saddles`, ``saddle_modes`` modes both ways, climbs stopped
     ``max_rise`` above their start) and each is traced as a branch too.
+    ``param``: the continued value (``set(rod, p)``, ``dgrad(rod, terms)``, ``key``), e.g.
+    :class:`~.morph.SegmentLength`; the seeds must be states at ``values[0]``.
     ``rod`` is left in an unspecified state of the model.
     """
     vals = np.asarray(sorted(float(v) for v in values))
     if len(vals) < 2 or not np.all(np.isfinite(vals)) or np.any(np.diff(vals) <= 0):
         raise RodstabInputError(f"a diagram needs at least two distinct finite values, got "
                                 f"{[float(v) for v in values]!r}")
-    run = _Run(rod, known, vals, directions, progress)
+    param = param or LoadFactor()
+    run = _Run(rod, known, vals, directions, progress, param)
     p0 = float(vals[0])
-    rod.load_factor = p0
+    param.set(rod, p0)
     pending = []
     for lab, s in seeds:
         s.put(rod)
@@ -672,7 +683,7 @@ def _snaps_once(run: _Run) -> tuple[Snap, ...]:
         if past not in b.points:
             continue
         s = b.points[past][0]
-        rod.load_factor = float(past)
+        run.param.set(rod, float(past))
         s.put(rod)
         E0 = float(rod.energy())
         ev, vecs = lowest_modes(rod, 1)
@@ -680,7 +691,7 @@ def _snaps_once(run: _Run) -> tuple[Snap, ...]:
         drops: list[float | None] = []
         for sign in (1.0, -1.0):
             moved_along(rod, s, vecs[:, 0], sign * SNAP_PUSH)
-            rod.load_factor = float(past)
+            run.param.set(rod, float(past))
             if not relax(rod)[0]:
                 lands.append(None)
                 drops.append(None)
@@ -702,7 +713,8 @@ def _result(run: _Run, rod: DiscreteRod, found_snaps: tuple[Snap, ...] = ()) -> 
     def end(b: _Branch, d: int) -> str:
         e = b.ends.get(d)
         if e is not None and d in b.joins:
-            return f"meets branch {b.joins[d] + 1} (modulo symmetry) at {e[0]:.6g}"
+            return (f"ends between {e[0]:.6g} and {e[1]:.6g}, where it reaches branch "
+                    f"{b.joins[d] + 1} (modulo symmetry)")
         return "range" if e is None else f"ends between {e[0]:.6g} and {e[1]:.6g}"
 
     branches = [Branch(k, b.label, b.found_from, tuple(b.points[p][1] for p in sorted(b.points)),
@@ -712,7 +724,7 @@ def _result(run: _Run, rod: DiscreteRod, found_snaps: tuple[Snap, ...] = ()) -> 
                 "no search left to run" if not run.full else
                 f"stopped growing at {MAX_BRANCHES} branches (MAX_BRANCHES): more may exist")
     return Diagram(
-        key="load_factor", values=tuple(float(v) for v in run.values),
+        key=run.param.key, values=tuple(float(v) for v in run.values),
         branches=tuple(branches), special_points=tuple(run.specials), bands=bands,
         elements_per_segment=len(rod.R_edge) // len(rod.assembly.segments),
         n_dof=len(rod.free_dofs()), runs=run.runs, stopping=stopping,

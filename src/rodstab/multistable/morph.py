@@ -26,6 +26,7 @@ import numpy as np
 
 from ..errors import RodstabInputError, require_positive
 from ..nonlinear.discrete import DiscreteRod
+from ..nonlinear.parameters import SegmentLength
 from .discover import deflated_newton
 from .identify import Snapshot
 
@@ -36,30 +37,14 @@ HALVINGS = 4
 def set_segment_length(rod: DiscreteRod, name: str, length: float) -> None:
     """Give segment ``name``'s elements of ``rod`` the rest length ``length / elements``.
 
-    A new array (the constraint's cached topology is keyed on the arrays it was built from);
-    the state (positions, frames) is left as it is, out of equilibrium until solved again.
+    :class:`~rodstab.nonlinear.parameters.SegmentLength` (the diagram's parameter too).
     """
-    k, ne = _elements_of(rod, name)
-    require_positive(f"segment.{name}.length", length)
-    rest = rod.rest_length.copy()
-    rest[k * ne:(k + 1) * ne] = float(length) / ne
-    rod.rest_length = rest
-    rod.__dict__.pop("_relabellings", None)  # the ring's symmetries may change with it
+    SegmentLength(rod.assembly, name).set(rod, length)
 
 
 def segment_length(rod: DiscreteRod, name: str) -> float:
     """Segment ``name``'s length on ``rod``: the sum of its elements' rest lengths."""
-    k, ne = _elements_of(rod, name)
-    return float(rod.rest_length[k * ne:(k + 1) * ne].sum())
-
-
-def _elements_of(rod: DiscreteRod, name: str) -> tuple[int, int]:
-    """Segment ``name``'s index and elements per segment; refuse an unknown name, naming it."""
-    names = [s.name for s in rod.assembly.segments]
-    if name not in names:
-        raise RodstabInputError(f"segment {name!r} is not in the design; its segments are "
-                                f"{names}")
-    return names.index(name), len(rod.R_edge) // len(names)
+    return SegmentLength(rod.assembly, name).get(rod)
 
 
 @dataclasses.dataclass(frozen=True)

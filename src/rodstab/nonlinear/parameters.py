@@ -425,7 +425,77 @@ class WeldForce:
         return out
 
 
-Parameter = LoadFactor | SegmentValue | EndRotation | WeldRotation | WeldMoment | WeldForce
+@dataclasses.dataclass
+class SegmentLength:
+    """``segment.<name>.length``: one segment's length, the rest lengths of its elements.
+
+    The same material made longer (its natural curvature per unit length kept, the same
+    number of elements): the state that no design holds, a ring with one rod longer
+    (:mod:`rodstab.multistable.morph`). The energy is smooth but not affine in the rest
+    lengths (bending ``B |k - k0|^2 l / 2`` with the Cayley curvature over ``l``, stretching
+    ``K |x_j - x_i - l d|^2 / 2 l``), so ``dg/dL`` is a central difference, step
+    :data:`LENGTH_STEP` of the length: O(step^2), ~1e-12 relative (the bordered corrector
+    keeps its accuracy, the residual being exact).
+    """
+
+    assembly: Assembly
+    name: str
+
+    def __post_init__(self) -> None:
+        names = [s.name for s in self.assembly.segments]
+        if self.name not in names:
+            raise RodstabInputError(f"segment {self.name!r} is not in the design; its segments "
+                                    f"are {names}")
+        self._k = names.index(self.name)
+
+    @property
+    def key(self) -> str:
+        """Design key of the parameter, ``segment.<name>.length``."""
+        return f"segment.{self.name}.length"
+
+    def _edges(self, rod: DiscreteRod) -> slice:
+        ne = len(rod.R_edge) // len(self.assembly.segments)
+        return slice(self._k * ne, (self._k + 1) * ne)
+
+    def prepare(self, rod: DiscreteRod) -> None:
+        """Nothing to prepare: a length needs no held unknowns."""
+
+    def get(self, rod: DiscreteRod) -> float:
+        """Return the segment's length on ``rod``: the sum of its elements' rest lengths."""
+        return float(rod.rest_length[self._edges(rod)].sum())
+
+    def set(self, rod: DiscreteRod, value: float) -> None:
+        """Give the segment's elements the rest length ``value / elements`` (a new array).
+
+        The constraint's cached topology is keyed on the arrays it was built from; the
+        state is left as it is, out of equilibrium until solved again.
+        """
+        if not (np.isfinite(value) and value > 0):
+            raise RodstabInputError(f"{self.key} must be a positive length, got {value!r}")
+        e = self._edges(rod)
+        rest = rod.rest_length.copy()
+        rest[e] = float(value) / (e.stop - e.start)
+        rod.rest_length = rest
+        rod.__dict__.pop("_relabellings", None)  # the ring's symmetries may change with it
+
+    def dgrad(self, rod: DiscreteRod, terms: Terms | None = None) -> np.ndarray:
+        """``dg/dL`` (all unknowns) by a central difference (class docstring)."""
+        L = self.get(rod)
+        h = LENGTH_STEP * L
+        self.set(rod, L + h)
+        g1 = rod.gradient()
+        self.set(rod, L - h)
+        g0 = rod.gradient()
+        self.set(rod, L)
+        return (g1 - g0) / (2 * h)
+
+
+#: Relative step of :meth:`SegmentLength.dgrad`'s central difference.
+LENGTH_STEP = 1e-5
+
+
+Parameter = (LoadFactor | SegmentValue | SegmentLength | EndRotation | WeldRotation
+             | WeldMoment | WeldForce)
 
 
 def parameter(assembly: Assembly, key: str, elements_per_segment: int) -> Parameter:
