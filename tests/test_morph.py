@@ -7,6 +7,7 @@ star, to Newton's tolerance; a morph there and back returns the state it started
 
 from __future__ import annotations
 
+import json
 import math
 
 import numpy as np
@@ -132,3 +133,19 @@ def test_a_diagram_in_a_rods_length_meets_the_morphed_states():
     for m in mo.morph_states(rod2, [(lab, s) for lab, s in seeds2 if lab in at], "1", 1.1, 4):
         m.state.put(rod2)
         assert rod2.energy() == pytest.approx(at[m.label].energy, rel=1e-9)
+
+
+@pytest.mark.slow
+def test_continue_in_a_rods_length_buckles_the_straightened_rod_at_eq_3_9(run_cli, tmp_path):
+    """examples/straight_clamped_rod.toml (kappa_n = 1, circle, nu = 1/3) continued in its
+    length at load factor 1: it buckles where kappa_n L = 2 pi sqrt(b1 b2) (eq. 3.9, the
+    clamped straightened rod), L = 2 pi sqrt(0.75) = 5.441398; 16 / 32 el. extrapolated."""
+    r = run_cli(["continue", "examples/straight_clamped_rod.toml", "--vary",
+                 "segment.rod.length=1:6:25", "--elements", "16", "--out", tmp_path / "c",
+                 "--json"])
+    assert r.exit_code == 0, r.stderr
+    (sp,) = json.loads(r.stdout)["special_points"]
+    assert sp["kind"].startswith("branch point")
+    exact = 2 * math.pi * math.sqrt(0.75)
+    assert abs(sp["value_extrapolated"] - exact) < 0.02 * sp["error_estimate"]
+    assert abs(sp["value"] - exact) > 0.5 * sp["error_estimate"]  # the mesh error is real

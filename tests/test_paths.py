@@ -172,7 +172,7 @@ def test_end_rotation_design_validation_and_linear_refusal():
                                            "rotation": [0, 1, 0]}]})
     a = parse_design(base).assembly
     with pytest.raises(RodstabInputError, match="cannot be continued"):
-        parameter(a, "segment.r.length", 8)
+        parameter(a, "segment.r.B3", 8)
     with pytest.raises(RodstabInputError, match="cannot be continued"):
         parameter(a, "section.aspect", 8)
     with pytest.raises(RodstabInputError, match="only a clamped or sliding-clamp"):
@@ -200,7 +200,7 @@ def test_cli_continue_in_an_end_rotation_resumes_and_reports_subcritical(run_cli
 
 
 @pytest.mark.parametrize("vary, message", [
-    ("segment.rod.length=1:2", "cannot be continued"),
+    ("segment.rod.B3=1:2", "cannot be continued"),
     ("support.0.rotation.spin=0:1", "rotation axis 'spin'"),
     ("load_factor=1", "KEY=START:STOP"),
     ("load_factor=1:1", "two different values"),

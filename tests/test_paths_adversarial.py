@@ -97,7 +97,8 @@ def one_line_error(r, needle: str) -> None:
     ("=1:2", "''"),
     ("foo=1:2", "foo"),
     ("segment.nope.natural_curvature=0:1", "nope"),
-    ("segment.rod.length=1:2", "length"),
+    ("segment.rod.B3=1:2", "B3"),  # (a segment's length can be continued since session 35)
+    ("segment.nope.length=1:2", "nope"),
     ("support.-1.rotation.tangent=0:1", "-1"),
     ("support.5.rotation.tangent=0:1", "5"),
     ("support.x.rotation.tangent=0:1", "x"),
@@ -173,7 +174,8 @@ def test_design_two_conflicting_rotations_on_one_end_are_rejected():
 @pytest.mark.parametrize("key, needle", [
     ("support.-1.rotation.tangent", "-1"), ("support.5.rotation.tangent", "5"),
     ("support.0.rotation.twist", "twist"), ("segment.q.natural_twist", "q"),
-    ("segment.r.length", "length"), ("", "''"), ("load_factor.x", "load_factor.x")])
+    ("segment.r.B3", "B3"), ("segment.q.length", "q"), ("", "''"),
+    ("load_factor.x", "load_factor.x")])
 def test_api_parameter_bad_keys(key, needle):
     a = parse_design(BASE).assembly
     with pytest.raises(RodstabInputError, match=None) as ei:

@@ -31,6 +31,7 @@ from .output import emit, fmt, units_line, warnings_as_lines
 @vary_option(help=f"KEY=START:STOP[:N], N steps (default {CONTINUE_DEFAULT_N}); KEY: "
                    "load_factor (natural curvatures and twists scale with it), "
                    "segment.<name>.natural_curvature, segment.<name>.natural_twist, "
+                   "segment.<name>.length (the rod made longer, same material), "
                    "support.<i>.rotation.<normal|tangent|binormal> (radians), "
                    "welds.<i>,<j>.rotation.<axis> (welds i and j turned by +phi and -phi, "
                    "radians) or weld.<i>.moment.<axis> (a point moment on weld i); i, j: "

@@ -12,6 +12,9 @@ cost the corrector its quadratic convergence, never its accuracy, because the re
   stiffnesses do not change), so the same exact difference applies; the rod's natural
   curvatures are rebuilt by :func:`.discretise` for the new value, which keeps the held state's
   moment balance exact (:func:`.discrete._balanced_link_curvatures`).
+* :class:`SegmentLength` ``segment.<name>.length``: the rest lengths of one segment's
+  elements (the same material made longer). ``g`` is smooth, not affine, in them: ``dg/dL``
+  by a central difference (the bordered corrector keeps its accuracy).
 * :class:`EndRotation` ``support.<i>.rotation.<axis>``: one component ``r_c`` of the rotation
   vector imposed on a clamped end (its frame is ``F = F_held exp(hat r)``). Then
   ``dg/dr_c = H[:, joint] J_r(r) e_c`` exactly, with ``J_r`` the right Jacobian of SO(3) and
@@ -506,7 +509,7 @@ def parameter(assembly: Assembly, key: str, elements_per_segment: int) -> Parame
     assembly : Assembly
         The design's assembly.
     key : str
-        ``load_factor``, ``segment.<name>.<natural_curvature|natural_twist>`` or
+        ``load_factor``, ``segment.<name>.<natural_curvature|natural_twist|length>`` or
         ``support.<i>.rotation.<normal|tangent|binormal>``,
         ``welds.<i>,<j>.rotation.<normal|tangent|binormal>`` or
         ``weld.<i>.<moment|force>.<normal|tangent|binormal>`` (``i``, ``j``: weld indices).
@@ -524,13 +527,15 @@ def parameter(assembly: Assembly, key: str, elements_per_segment: int) -> Parame
         Naming ``--vary key KEY``, the part of it that is wrong and the valid forms.
     """
     parts = key.split(".")
-    forms = (f"load_factor, segment.<name>.<{'|'.join(SEGMENT_KEYS)}> or "
+    forms = (f"load_factor, segment.<name>.<{'|'.join(SEGMENT_KEYS)}|length> or "
              f"support.<i>.rotation.<{'|'.join(ROTATION_AXES)}>, "
              f"welds.<i>,<j>.rotation.<{'|'.join(ROTATION_AXES)}> or "
              f"weld.<i>.<moment|force>.<{'|'.join(ROTATION_AXES)}>")
     try:
         if key == "load_factor":
             return LoadFactor()
+        if parts[0] == "segment" and len(parts) == 3 and parts[2] == "length":
+            return SegmentLength(assembly, parts[1])
         if parts[0] == "segment" and len(parts) == 3:
             return SegmentValue(assembly, parts[1], parts[2], elements_per_segment)
         if parts[0] == "support" and len(parts) == 4 and parts[2] == "rotation":
