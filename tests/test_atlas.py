@@ -315,3 +315,26 @@ def test_alternating_lengths_move_the_60_degree_states_lower_end_to_m_equal_b1(L
     assert fe.interval[0] == pytest.approx((1.0 - b1) * 0.5, rel=1e-6)
     assert ref.interval[0] == pytest.approx((1.0 - b2) * 0.5, rel=1e-6)
     assert fe.interval[1] == pytest.approx(ref.interval[1], rel=1e-6)
+
+
+def test_the_nonlinear_rod_puts_the_alternating_60_degree_states_lower_end_at_m_b1():
+    """A second method for the M = b1 finding above: the lowest Hessian eigenvalue of the
+    nonlinear discrete rod (the common rod of `rodstab diagram`, Newton at every trial value)
+    crosses zero at -7.49874 / -7.50288 at 8 / 16 el. for examples/hexagram_unequal.toml
+    (b1 = 16): within 4e-4 relative of (1 - b1) / 2 = -7.5 on each mesh (the pair is not in the
+    asymptotic range: it brackets -7.5, so no Richardson), far from the identical ring's
+    (1 - b2) / 2 = -0.1318."""
+    from rodstab.multistable.diagram import eigenvalue_at
+    from rodstab.multistable.discover import common_rod, deflated_newton
+    from rodstab.multistable.identify import Snapshot
+    from rodstab.numerics import refine_root
+
+    ring = ring_of(load_design("examples/hexagram_unequal.toml"))
+    held = ring.held(ring.state("theta=60deg").theta)
+    for n in (8, 16):
+        rod = common_rod(held, n, -7.5)
+        assert deflated_newton(rod, []).converged
+        s = Snapshot.of(rod)
+        end = refine_root(lambda p, rod=rod, s=s: eigenvalue_at(rod, s, p, 0), -7.8, -7.2,
+                          rel_xtol=1e-5)
+        assert end == pytest.approx((1.0 - 16.0) / 2, abs=0.01)
