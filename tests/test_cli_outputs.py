@@ -339,6 +339,8 @@ SLOW_CASES = {"transitions --elements 6 --shape rectangle --aspect 4 --out",
               "barrier examples/hexagram.toml --from star --to daisy --elements 6",
               "atlas examples/hexagram.toml --vary section.aspect=2:4:2 --workers 0 "
               "--no-progress --out", "discover --starts 2 --elements 8",
+              # 6.4 s since session 36 (discover looks for saddles by default)
+              "discover examples/hexagram.toml --starts 2 --elements 8 --no-seed-states",
               "hexagram --threshold --shape rectangle",
               "barrier --elements 6 --images 7 --shape rectangle --aspect 4 --load-factor 1"}
 

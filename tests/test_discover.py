@@ -145,7 +145,8 @@ def test_hexagram_discover_finds_the_four_basic_states_from_the_star(tmp_path, c
     held geometries of the other closed states (rodstab states), the line, star, daisy and
     eight are found, each once, stable; the mirror states are found unstable."""
     main(["discover", "--shape", "rectangle", "--aspect", "4", "--load-factor", "2",
-          "--starts", "0", "--elements", "16", "--plot", str(tmp_path / "g.png"), "--json"])
+          "--saddle-modes", "0", "--strings", "0", "--starts", "0", "--elements", "16",
+          "--plot", str(tmp_path / "g.png"), "--json"])
     out = json.loads(capsys.readouterr().out)
     labels = [s["label"] for s in out["states"]]
     for state in hx.STATES:
@@ -167,7 +168,8 @@ def test_discover_reads_the_ring_of_a_design_file(capsys):
     star (stress-free there) and the daisy are found stable and labelled by their turning
     numbers along the ring (2 and 4: the backwards rods' turning counted with their sign)."""
     mu = 2 * math.pi / 3
-    main(["discover", "examples/folded_six_ring.toml", "--load-factor", repr(mu), "--starts",
+    main(["discover", "examples/folded_six_ring.toml", "--load-factor", repr(mu),
+          "--saddle-modes", "0", "--strings", "0", "--starts",
           "0", "--elements", "8", "--state", "line", "--json"])
     out = json.loads(capsys.readouterr().out)
     by = {s["label"]: s for s in out["states"]}
@@ -344,7 +346,7 @@ def test_a_design_that_is_no_ring_is_seeded_with_its_held_state(capsys):
     straight state is found, stable, named after its seed, with the energy of two straight rods
     of natural curvature +-mu: 2 x B3 mu^2 L / 2 = 4 at mu = 2 (B3 = L = 1)."""
     main(["discover", "examples/birod.toml", "--load-factor", "2", "--elements", "8",
-          "--starts", "0", "--json"])
+          "--saddle-modes", "0", "--strings", "0", "--starts", "0", "--json"])
     out = json.loads(capsys.readouterr().out)
     held = out["states"][0]
     assert held["label"] == "held" and held["stable"] and held["found_from"] == "seed held"

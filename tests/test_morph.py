@@ -80,7 +80,8 @@ def test_cli_discover_on_the_hexagram_with_one_rod_longer(capsys):
     """examples/hexagram.toml with r1 10 % longer at kappa_n R0 = 2 (6 el.): every seed is
     carried; the daisy and the star stay stable (labelled by their turning numbers)."""
     main(["discover", "examples/hexagram.toml", "--elements", "6", "--load-factor", "2",
-          "--starts", "0", "--morph", "segment.r1.length=1.1:5"])
+          "--saddle-modes", "0", "--strings", "0", "--starts", "0", "--morph",
+          "segment.r1.length=1.1:5"])
     out = capsys.readouterr().out
     assert "morphed      segment.r1.length 1 -> 1.1 in 5 steps: 11 of 11 seeds carried" in out
     rows = {line.split()[0]: line.split() for line in out.splitlines()

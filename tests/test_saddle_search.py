@@ -162,7 +162,8 @@ def test_cli_discover_climbs_to_the_saddle_and_names_the_state_beyond_it(run_cli
                    "--graph", str(tmp_path / "graph.png")])
     assert res.exit_code == 0, res.stderr
     out = json.loads(res.stdout)["saddle_search"]
-    assert len(out["climbs"]) == 4 and out["modes"] == 2
+    # 2 modes x 2 signs, less the mirror images of a planar star's out-of-plane modes
+    assert len(out["climbs"]) + out["mirrored"] == 4 and out["modes"] == 2
     (sd,) = out["saddles"]
     assert sorted(sd["joins"]) == ["#1 star", "new 1"]
     daisy = _relaxed("hexagram", "daisy", 1.5).energy()
@@ -177,9 +178,12 @@ def test_cli_discover_climbs_to_the_saddle_and_names_the_state_beyond_it(run_cli
 
 @pytest.mark.parametrize("args, value", [
     (["--saddle-modes", "-1"], "-1"), (["--saddle-modes", str(CLIMB_EIGS + 1)], "7"),
-    (["--saddle-modes", "1", "--climb-steps", "0"], "0"), (["--climb-steps", "5"], "5"),
-    (["--graph", "g.png"], "g.png"), (["--saddle-modes", "1", "--max-barrier", "-1"], "-1"),
-    (["--max-barrier", "3"], "3")])
+    (["--saddle-modes", "1", "--climb-steps", "0"], "0"),
+    (["--saddle-modes", "0", "--climb-steps", "5"], "5"),
+    (["--saddle-modes", "0", "--strings", "0", "--graph", "g.png"], "g.png"),
+    (["--saddle-modes", "1", "--max-barrier", "-1"], "-1"),
+    (["--saddle-modes", "0", "--max-barrier", "3"], "3"), (["--strings", "-1"], "-1"),
+    (["--contact", "--strings", "2"], "2")])
 def test_cli_saddle_options_out_of_range_exit_2_naming_them(run_cli, args: list[str],
                                                             value: str) -> None:
     res = run_cli(["discover", "--elements", "4", *args])
@@ -246,6 +250,7 @@ def test_a_climb_ending_on_another_stationary_point_lists_it_once(monkeypatch) -
         return Climb(mode, sign, "not a saddle", 1, float(rod.energy()), 0, 0.0)
 
     monkeypatch.setattr(saddle_search, "follow_mode", fake)
+    monkeypatch.setattr(saddle_search, "mirror_climbs", lambda rod, modes: (False,) * modes)
     out = search_saddles(star.copy(), [("star", Snapshot.of(star))], 2)
     assert len(out.climbs) == 4 and not out.saddles
     ((energy, index, planar, src, count),) = out.other_stationary
@@ -367,3 +372,70 @@ def test_cli_into_contact_needs_a_string_without_contact(run_cli, extra: list[st
     assert res.exit_code == 2
     assert "--into-contact continues the saddle of a barrier computed without contact" in (
         res.stderr)
+
+
+def test_a_planar_minimums_out_of_plane_modes_are_climbed_one_way() -> None:
+    """The star (kappa_n R0 = 1, planar) has modes out of its plane: climbed both ways, each
+    ends at the same energy (the two climbs are mirror images), so discover climbs them one
+    way. A non-planar state has no such mode."""
+    from rodstab.multistable.saddle_search import mirror_climbs
+
+    star = _relaxed("hexagram", "star", 1.0)
+    flags = mirror_climbs(star, 4)
+    assert any(flags) and not all(flags)
+    for k in (k for k, f in enumerate(flags) if f):
+        ends = []
+        for sign in (1, -1):
+            r = star.copy()
+            c = follow_mode(r, k, sign, max_rise=1.0)
+            ends.append((c.outcome, c.steps, c.energy))
+        assert ends[0][:2] == ends[1][:2]
+        assert ends[0][2] == pytest.approx(ends[1][2], rel=1e-9)
+    bent = star.copy()
+    bent.x[:, 2] += 0.05 * np.sin(3 * np.arctan2(bent.x[:, 1], bent.x[:, 0]))  # out of plane
+    assert mirror_climbs(bent, 3) == (False, False, False)
+
+
+@pytest.mark.slow
+def test_strings_between_unjoined_pairs_find_the_line_star_saddle(string_line_star) -> None:
+    """pair_strings on the line and the star (6 el., kappa_n R0 = 1) finds the saddle that
+    string_barrier found from 7 images (same energy to 1e-9); once the pair is connected no
+    further run is made."""
+    from rodstab.multistable.pair_strings import connected, pair_strings
+
+    b, _ = string_line_star
+    land = Landscape.of([("star", _relaxed("hexagram", "star", 1.0)),
+                         ("line", _relaxed("hexagram", "line", 1.0))])
+    done, saddles = pair_strings(land, ["star", "line"], 2)
+    (pair,) = done
+    assert pair.outcome == "saddle" and pair.states == ("line", "star")  # from the higher
+    assert pair.energy == pytest.approx(b.energy_saddle, rel=1e-9)
+    assert len(saddles) == 1
+    root = connected(land)
+    assert root["line"] == root["star"]
+    assert pair_strings(land, ["star", "line"], 2) == ([], [])
+
+
+@pytest.mark.slow
+def test_discover_finds_the_line_star_saddle_without_being_told(run_cli) -> None:
+    """Issue 22's acceptance: ``rodstab discover examples/hexagram.toml --load-factor 1
+    --elements 8`` with no saddle option lists the line <-> star saddle: 14.2795117 B3/L,
+    1.12004 out of the line -- the string method's (docs/guide/multistable.md, barrier table,
+    six-ring folded -> one-loop at 8 el., the same ring in other units). Found by a climb from
+    the line; the string method run by discover on that pair alone finds the same saddle."""
+    import json
+
+    base = ["discover", "examples/hexagram.toml", "--load-factor", "1", "--elements", "8",
+            "--starts", "0", "--json"]
+    energies = []
+    for extra, source in (([], "#3 line mode"), (["--saddle-modes", "0", "--strings", "1"],
+                                                  "string: #3 line - #1 star")):
+        res = run_cli(base + extra)
+        assert res.exit_code == 0, res.stderr
+        out = json.loads(res.stdout)["saddle_search"]
+        (sd,) = [s for s in out["saddles"] if sorted(s["joins"]) == ["#1 star", "#3 line"]]
+        assert sd["found_from"].startswith(source)
+        assert sd["energy"] == pytest.approx(14.2795117, abs=1e-6)
+        assert sd["barriers"][sd["joins"].index("#3 line")] == pytest.approx(1.12004, abs=1e-5)
+        energies.append(sd["energy"])
+    assert energies[0] == pytest.approx(energies[1], rel=1e-9)

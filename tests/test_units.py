@@ -654,8 +654,8 @@ def test_curvature_interval_of_each_sense(interval, curvature, given, reversed_)
 def test_discover_on_the_hexagram_strip_in_si(run_cli):
     """discover's energies in J are the model's x B3 / L (B3 = E h t^3/12, L = 167.55 mm by
     hand); its load as the natural curvature mu / R0 (R0 = 80 mm)."""
-    r = run_cli(["discover", HEXAGRAM, "--starts", "0", "--no-seed-states", "--elements", "4",
-                 "--json"])
+    r = run_cli(["discover", HEXAGRAM, "--saddle-modes", "0", "--strings", "0", "--starts", "0",
+                 "--no-seed-states", "--elements", "4", "--json"])
     assert r.exit_code == 0, r.stderr
     p = json.loads(r.stdout)
     B3, L = 200e9 * 2e-3 * 0.5e-3**3 / 12, 0.16755160819145564

@@ -46,6 +46,7 @@ from .output import (
     warnings_as_lines,
     weld_line,
 )
+from .saddles import saddle_options
 
 
 @click.command()
@@ -74,20 +75,7 @@ from .output import (
 @click.option("--morph", default=None, metavar="segment.NAME.length=VALUE[:STEPS]",
               help="First carry every seed to rod NAME of length VALUE in STEPS steps "
                    "(default 10): a ring no design can hold (one rod longer).")
-@click.option("--saddle-modes", type=int, default=0, show_default=True,
-              help="Also climb from every stable state found along its K softest modes, both "
-                   "ways (eigenvector following), to the index-1 saddles, and follow each "
-                   "saddle's two steepest descents: which states it joins, over what barrier "
-                   "(0: no climbs).")
-@click.option("--graph", "graph_path", type=click.Path(dir_okay=False), default=None,
-              help="With --saddle-modes: write the disconnectivity graph of the stable states "
-                   "and the saddles found (PNG or SVG).")
-@click.option("--max-barrier", type=float, default=None,
-              help="With --saddle-modes: stop a climb once its energy is this far above the "
-                   "state it left (B3/L): saddles higher than that are not sought.")
-@click.option("--climb-steps", type=int, default=None,
-              help="Most steps of one climb (default 400; the saddles of the paper's rings "
-                   "took 96-341).")
+@saddle_options
 @contact_options
 @cusp_width_option
 @section_options
@@ -97,7 +85,8 @@ def discover(design_file: str | None, section: Section, structure: str, segments
              state: str | None, load_factor: float, starts: int, elements: int, rng_seed: int,
              seed_states: bool, plot_path: str | None, morph: str | None, saddle_modes: int,
              graph_path: str | None, max_barrier: float | None, climb_steps: int | None,
-             contact: Any, cusp_width: float | None, limits: Limits, as_json: bool) -> None:
+             strings: int | None, contact: Any, cusp_width: float | None, limits: Limits,
+             as_json: bool) -> None:
     """Equilibria nobody named: deflated Newton from seeds and perturbed starts.
 
     On DESIGN (a ring, seeded with its held states of `rodstab states DESIGN`; any other
@@ -117,10 +106,11 @@ def discover(design_file: str | None, section: Section, structure: str, segments
     from ..multistable.saddle_search import CLIMB_MAX_ITER
     from .saddles import check_saddle_options
 
-    check_saddle_options(saddle_modes, climb_steps, max_barrier, graph_path)
     ring, section, name, design = ring_and_section(design_file, structure, segments, section,
                                                    contact_ok=True, any_design=True)
     setting = contact.resolve(None if design is None else design.contact)
+    strings = check_saddle_options(saddle_modes, climb_steps, max_barrier, graph_path, strings,
+                                   setting is not None)
     n = len(design.assembly.segments) if ring is None else ring.segments
     require_nonlinear([n_el] * n, n, f"--elements {n_el}", limits)
     require_steps((starts + 4 * n) * RUNS_PER_START, f"--starts {starts}",
@@ -204,12 +194,12 @@ def discover(design_file: str | None, section: Section, structure: str, segments
                            f", cusp welds {fmt(cusp_width)} h wide")
                         + "; starts outside the model, not run: "
                         f"{', '.join(found.outside_contact) or 'none'}")
-    if saddle_modes:
+    if saddle_modes or strings:
         from .saddles import saddle_lines
 
         lines += saddle_lines(rod, found, snaps, saddle_modes, directions, payload,
                                CLIMB_MAX_ITER if climb_steps is None else climb_steps, graph,
-                               load, max_barrier)
+                               load, max_barrier, strings)
     lines += [f"wrote {payload['plot']}"] if plot is not None else []
     emit(payload, as_json, lines)
 

@@ -6,10 +6,54 @@ from typing import Any
 
 from .output import fmt
 
+#: Climbs along this many softest modes by default: the hexagram's and the six-ring's line <->
+#: star saddle lies along the line's third (kappa_n R0 = 1, 8 el. per rod).
+DEFAULT_SADDLE_MODES = 3
+#: Pairs joined by the string method by default (without contact).
+DEFAULT_STRINGS = 3
+#: A climb stops this many B3/L above the state it left by default: the barriers of the paper's
+#: rings measured so far are 0.67 (star, kappa_n R0 = 2) to 4.69 (star -> daisy at 1.5).
+DEFAULT_MAX_RISE = 5.0
+
+
+def saddle_options(f: Any) -> Any:
+    """Attach discover's saddle-search options (climbs, strings, ceiling, graph) to ``f``."""
+    import click
+
+    opts = [
+        click.option("--saddle-modes", type=int, default=DEFAULT_SADDLE_MODES,
+                     show_default=True,
+                     help="Climb from every stable state found along its K softest modes, both "
+                          "ways (eigenvector following), to index-1 saddles, and follow each "
+                          "saddle's two steepest descents: which states it joins, over what "
+                          "barrier (0: no climbs)."),
+        click.option("--strings", type=int, default=None,
+                     help="Then run the string method between at most N pairs of stable "
+                          "states that no saddle found connects, lowest first [default: "
+                          f"{DEFAULT_STRINGS}; 0 with --contact, which it does not take]."),
+        click.option("--graph", "graph_path", type=click.Path(dir_okay=False), default=None,
+                     help="Write the disconnectivity graph of the stable states and the "
+                          "saddles found (PNG or SVG)."),
+        click.option("--max-barrier", type=float, default=None,
+                     help="Stop a climb once its energy is this far above the state it left "
+                          "(units of the energies printed): saddles higher than that are not "
+                          f"sought by climbing [default: {DEFAULT_MAX_RISE:g} B3/L]."),
+        click.option("--climb-steps", type=int, default=None,
+                     help="Most steps of one climb (default 400; the saddles of the paper's "
+                          "rings took 96-341)."),
+    ]
+    for opt in reversed(opts):
+        f = opt(f)
+    return f
+
 
 def check_saddle_options(saddle_modes: int, climb_steps: int | None,
-                         max_barrier: float | None, graph_path: str | None) -> None:
-    """Refuse, naming it, an option of discover's saddle search out of range or without it."""
+                         max_barrier: float | None, graph_path: str | None,
+                         strings: int | None, contact: bool) -> int:
+    """Refuse, naming it, an option of discover's saddle search out of range or without it.
+
+    Returns the number of string runs (``--strings``, or its default: none with contact).
+    """
     import math
 
     from ..errors import RodstabInputError
@@ -18,41 +62,64 @@ def check_saddle_options(saddle_modes: int, climb_steps: int | None,
     if not 0 <= saddle_modes <= CLIMB_EIGS:
         raise RodstabInputError(f"--saddle-modes must lie in 0..{CLIMB_EIGS}, got "
                                 f"{saddle_modes!r}")
+    if strings is not None and (strings < 0 or (contact and strings > 0)):
+        raise RodstabInputError(f"--strings must be an integer >= 0, got {strings!r}"
+                                + (" with --contact (the pairs' strings take no contact model; "
+                                   "rodstab barrier --contact runs one)" if contact else ""))
+    n_strings = (0 if contact else DEFAULT_STRINGS) if strings is None else strings
     if climb_steps is not None and (climb_steps < 1 or not saddle_modes):
         raise RodstabInputError(f"--climb-steps must be an integer >= 1 and needs "
-                                f"--saddle-modes, got {climb_steps!r}"
-                                + ("" if saddle_modes else " without --saddle-modes"))
+                                f"--saddle-modes >= 1, got {climb_steps!r}"
+                                + ("" if saddle_modes else " with --saddle-modes 0"))
     if max_barrier is not None and (not saddle_modes or not max_barrier > 0
                                     or not math.isfinite(max_barrier)):
         raise RodstabInputError(f"--max-barrier must be a positive number and needs "
-                                f"--saddle-modes, got {max_barrier!r}")
-    if graph_path is not None and not saddle_modes:
-        raise RodstabInputError(f"--graph {graph_path!r} needs --saddle-modes (the saddles it "
-                                "joins the states by)")
+                                f"--saddle-modes >= 1, got {max_barrier!r}")
+    if graph_path is not None and not (saddle_modes or n_strings):
+        raise RodstabInputError(f"--graph {graph_path!r} needs --saddle-modes or --strings "
+                                "(the saddles it joins the states by)")
+    return n_strings
 
 
 def saddle_lines(rod: Any, found: Any, snaps: list, modes: int, directions: tuple[int, ...],
                  payload: dict[str, Any], steps: int, graph: Any, load: str,
-                 max_rise: float | None) -> list[str]:
+                 max_rise: float | None, strings: int) -> list[str]:
     """Climb from the stable states found (``#row``), put the search in ``payload``, its lines.
 
-    Also the disconnectivity graph of the stable states by the saddles found (``graph``: where
-    to draw it, or None; ``load``: what the load factor is called) and the lowest barrier
-    between every pair it joins. ``max_rise``: :func:`~.multistable.saddle_search.follow_mode`'s.
+    Then the string method between up to ``strings`` pairs no saddle found connects; the
+    disconnectivity graph of the stable states by the saddles found (``graph``: where to draw
+    it, or None; ``load``: what the load factor is called) and the lowest barrier between every
+    pair it joins. ``max_rise``: :func:`~.multistable.saddle_search.follow_mode`'s (None:
+    :data:`DEFAULT_MAX_RISE` B3/L, B3 and L the model's means).
     """
+    import numpy as np
+
     from ..multistable.landscape import disconnectivity
     from ..multistable.saddle_search import search_saddles
+    from ..nonlinear.constraint import mean_length
+
+    unit = float(np.mean(rod.edge_B[:, 2])) / mean_length(rod)
+    rise = DEFAULT_MAX_RISE * unit if max_rise is None else max_rise
 
     minima = [(f"#{i + 1}" + ("" if s.label == "unnamed" else f" {s.label}"), snaps[i])
               for i, s in enumerate(found.states) if s.stable]
     saddles = [(f"#{i + 1}" + ("" if s.label == "unnamed" else f" {s.label}"), snaps[i])
                for i, s in enumerate(found.states) if s.index == 1 and not s.index_at_least]
     result = search_saddles(rod, minima, modes, directions=directions, known=saddles,
-                            max_iter=steps, max_rise=max_rise)
-    payload["saddle_search"] = result.to_dict()
+                            max_iter=steps, max_rise=rise, strings=strings)
+    payload["saddle_search"] = result.to_dict() | {"max_rise": rise}
     tally = ", ".join(f"{k} {v}" for k, v in sorted(result.outcomes().items()))
     lines = [f"saddles      {result.method}: {len(result.climbs)} climbs from "
-             f"{len(minima)} stable states ({tally}); {len(result.saddles)} distinct"]
+             f"{len(minima)} stable states ({tally}"
+             + (f"; {result.mirrored} mirror images not climbed" if result.mirrored else "")
+             + f"), each stopped {fmt(rise)} above the state it left"
+             + ("" if max_rise is not None else f" ({DEFAULT_MAX_RISE:g} B3/L, --max-barrier)")
+             + f": saddles higher than that are not sought by climbing; "
+             f"{len(result.saddles)} distinct saddles"]
+    for pr in result.strings:
+        lines.append(f"string       {pr.states[0]} - {pr.states[1]}: {pr.outcome}"
+                     + ("" if pr.energy is None else f" at {fmt(pr.energy)}")
+                     + (f" ({pr.iterations} iterations)" if pr.iterations else ""))
     for k, sd in enumerate(result.saddles):
         ends = " and ".join(
             j if b is None else f"{j} (barrier {fmt(b)})"

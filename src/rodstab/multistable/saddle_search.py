@@ -49,15 +49,23 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from ..errors import RodstabInputError
-from ..nonlinear.constraint import chart_size
+from ..nonlinear.constraint import chart_size, mean_length
 from ..nonlinear.discrete import DiscreteRod
 from ..nonlinear.newton import contact_fraction
 from ..nonlinear.stability import lowest_modes, scaled_free_hessian, zero_eigenvalue_tol
 from ..numerics.eigen import lowest_eigenpairs
 from ..results import Result
 from .barrier import state_label
-from .identify import Invariants, Snapshot, invariants, same_state
+from .identify import (
+    PLANAR_TOL,
+    Invariants,
+    Snapshot,
+    best_fit_plane,
+    invariants,
+    same_state,
+)
 from .landscape import Landscape
+from .pair_strings import PairString, pair_strings
 from .saddle import _inside, refine_saddle
 
 #: Largest step (trust radius): node displacement over L, or frame rotation (rad).
@@ -114,6 +122,41 @@ def _capped(r: DiscreteRod, free: np.ndarray, d: np.ndarray, y: np.ndarray, cap:
     """``y`` scaled so that its step ``D y`` moves nothing by more than (``exactly``) ``cap``."""
     size = chart_size(r, _on_free(r, free, d * y))
     return y * ((cap if exactly else min(cap, size)) / max(size, 1e-300))
+
+
+#: A planar state's mode is out of its plane when its in-plane part (node displacements in the
+#: plane, rotations about the normal) is below this share of it (module docstring, "Mirror").
+MIRROR_RTOL = 1e-6
+
+
+def mirror_climbs(rod: DiscreteRod, modes: int) -> tuple[bool, ...]:
+    """Return, per softest mode of minimum ``rod``, whether it reverses under the mirror.
+
+    A planar state is its own mirror image in its plane, and its modes split into in-plane ones
+    (the reflection keeps them) and out-of-plane ones (it reverses them: node displacements along
+    the normal, rotations about in-plane axes). Climbing an out-of-plane mode the other way is
+    the mirror image of climbing it this way, and reaches the mirror image of the same saddle,
+    which :func:`~.identify.same_state` counts as the same (hexagram star, kappa_n R0 = 1, 8
+    el.: modes 1, 3, 5 out of plane, each climbed both ways to the same energy, test). Modes
+    whose in-plane part exceeds :data:`MIRROR_RTOL` (a degenerate pair mixed by the eigensolver)
+    are climbed both ways. All False for a non-planar state; ``modes`` entries.
+    """
+    s = Snapshot.of(rod)
+    c, n = best_fit_plane(s.x, s.R_edge[:, :, 2])
+    if modes == 0 or float(np.max(np.abs((s.x - c) @ n))) >= PLANAR_TOL * mean_length(rod):
+        return (False,) * modes
+    free, d, A = scaled_free_hessian(rod)
+    vecs = lowest_eigenpairs(A, modes)[1]
+    nx = len(rod.x)
+    frames = np.concatenate([rod.R_edge, rod.R_joint])
+    out = []
+    for k in range(vecs.shape[1]):
+        dq = _on_free(rod, free, d * vecs[:, k])
+        dx = dq[: 3 * nx].reshape(-1, 3)
+        phi = np.einsum("fij,fj->fi", frames, dq[3 * nx:].reshape(-1, 3))  # world rotations
+        kept = np.concatenate([(dx - np.outer(dx @ n, n)).ravel(), phi @ n])
+        out.append(bool(np.linalg.norm(kept) <= MIRROR_RTOL * np.linalg.norm(dq)))
+    return tuple(out)
 
 
 def follow_mode(rod: DiscreteRod, mode: int, sign: int = 1, *, step: float = CLIMB_STEP,
@@ -238,6 +281,10 @@ class SaddleSearch(Result):
     ``other_stationary``: the distinct stationary points of another index that climbs ended
     on (Newton converged, index not 1, not one of the given minima): ``(energy, index, planar,
     found_from, times_found)``.
+    ``mirrored``: climbs not made because they are the mirror images of climbs made (a planar
+    minimum's out-of-plane modes, :func:`mirror_climbs`). ``strings``: the pairs of minima
+    the string method was run between (or skipped), in order
+    (:func:`~.pair_strings.pair_strings`).
     """
 
     climbs: tuple[Climb, ...]
@@ -246,6 +293,8 @@ class SaddleSearch(Result):
     modes: int
     method: str
     other_stationary: tuple[tuple[float, int, bool, str, int], ...] = ()
+    mirrored: int = 0
+    strings: tuple[PairString, ...] = ()
 
     def outcomes(self) -> dict[str, int]:
         """How many climbs ended each way."""
@@ -259,7 +308,8 @@ def search_saddles(rod: DiscreteRod, minima: list[tuple[str, Snapshot]], modes: 
                    directions: tuple[int, ...] | None = None, step: float = CLIMB_STEP,
                    max_iter: int = CLIMB_MAX_ITER, max_rise: float | None = None,
                    keep: list[Snapshot] | None = None,
-                   known: list[tuple[str, Snapshot]] | None = None) -> SaddleSearch:
+                   known: list[tuple[str, Snapshot]] | None = None,
+                   strings: int = 0) -> SaddleSearch:
     """Climb from every minimum along its ``modes`` softest modes, both ways, and judge the saddles.
 
     Parameters
@@ -270,7 +320,8 @@ def search_saddles(rod: DiscreteRod, minima: list[tuple[str, Snapshot]], modes: 
     minima : list of (str, Snapshot)
         Labelled stable states to climb from (also the names the descents' ends are matched to).
     modes : int
-        Modes per minimum, 1 .. :data:`CLIMB_EIGS` (each followed with both signs).
+        Modes per minimum, 1 .. :data:`CLIMB_EIGS` (each followed with both signs; 0: none, with
+        ``strings``).
     directions : tuple of int, optional
         As in :func:`~.identify.invariants`.
     step, max_iter, max_rise : float, int, float or None
@@ -282,21 +333,32 @@ def search_saddles(rod: DiscreteRod, minima: list[tuple[str, Snapshot]], modes: 
         past its buckling load, the saddle between the buckled state and its mirror image,
         which no climb from the buckled state reached): judged like the climbs' saddles, found
         from ``"deflation: <label>"`` unless a climb reached them first.
+    strings : int
+        Then run the string method between at most this many pairs of the minima that the
+        saddles found do not connect (:func:`~.pair_strings.pair_strings`); each saddle it
+        finds is found from ``"string: <a> - <b>"``.
 
     Returns
     -------
     SaddleSearch
         Climbs in order; saddles by increasing energy, each with the minima it joins.
     """
-    if not 1 <= modes <= CLIMB_EIGS:
-        raise RodstabInputError(f"modes must lie in 1..{CLIMB_EIGS}, got {modes!r}")
+    if not 0 <= modes <= CLIMB_EIGS or (modes == 0 and not strings):
+        raise RodstabInputError(f"modes must lie in 1..{CLIMB_EIGS} (0 with strings), got "
+                                f"{modes!r}")
     climbs: list[Climb] = []
     found: list[list[Any]] = []  # [snapshot, energy, found_from, count]
     other: list[list[Any]] = []  # [snapshot, energy, found_from, count, index, planar]
     named = [(lab, snap, _energy(rod, snap)) for lab, snap in minima]
+    mirrored = 0
     for label, snap in minima:
+        snap.put(rod)
+        mirror = mirror_climbs(rod, modes)
         for mode in range(modes):
             for sign in (1, -1):
+                if sign < 0 and mirror[mode]:
+                    mirrored += 1
+                    continue
                 snap.put(rod)
                 climb = dataclasses.replace(follow_mode(rod, mode, sign, step=step,
                                                         max_iter=max_iter, max_rise=max_rise),
@@ -325,6 +387,15 @@ def search_saddles(rod: DiscreteRod, minima: list[tuple[str, Snapshot]], modes: 
             found.append([snap, E, f"deflation: {label}", 1, 1, None])
     land = Landscape.of([(lab, _at(rod, snap)) for lab, snap in minima])
     land.new_label = "new "
+    pairs: list[PairString] = []
+    if strings:
+        for rec in found:
+            rec[0].put(rod)
+            land.judge(rod)
+        pairs, joined = pair_strings(land, [lab for lab, _ in minima], strings)
+        for r, pair in zip(joined, (p for p in pairs if p.outcome == "saddle"), strict=True):
+            found.append([Snapshot.of(r), float(r.energy()), f"string: {pair.states[0]} - "
+                          f"{pair.states[1]}", 1, 1, None])
     saddles = []
     for here, energy, src, count, _, _ in sorted(found, key=lambda rec: rec[1]):
         here.put(rod)
@@ -340,11 +411,16 @@ def search_saddles(rod: DiscreteRod, minima: list[tuple[str, Snapshot]], modes: 
     new = [(lab, float(e)) for lab, _, e in land.minima if lab not in given]
     return SaddleSearch(
         tuple(climbs), tuple(saddles), tuple(new), modes,
-        f"eigenvector following (P-RFO, trust radius {step:g}) along the {modes} softest modes of "
-        "each minimum both ways, Newton on the saddle, its index counted, its two steepest "
-        "descents named",
+        ("; ".join(
+            ([f"eigenvector following (P-RFO, trust radius {step:g}) along the {modes} softest "
+              "modes of each minimum both ways (one way along a planar minimum's out-of-plane "
+              "modes: the other is its mirror image), Newton on the saddle"] if modes else [])
+            + ([f"the string method between up to {strings} pairs of minima no saddle found "
+                "connects"] if strings else []))
+         + "; each saddle's index counted, its two steepest descents named"),
         tuple((float(e), int(idx), bool(planar), src, int(n))
-              for _, e, src, n, idx, planar in sorted(other, key=lambda rec: rec[1])))
+              for _, e, src, n, idx, planar in sorted(other, key=lambda rec: rec[1])),
+        mirrored, tuple(pairs))
 
 
 def _energy(rod: DiscreteRod, s: Snapshot) -> float:
