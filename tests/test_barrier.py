@@ -407,9 +407,10 @@ def test_cli_barrier_string_json_plot_and_animation(string_six: tuple, tmp_path,
     assert seen == {"elements_per_segment": 8, "images": 11, "name_a": "folded",
                     "name_b": "one-loop", "mu": pytest.approx(THETA), "segments": 6,
                     "limits": Limits(), "contact": None,
-                    "layers": None, "named": {}, "cusp_width": None, "pool": None}
+                    "layers": None, "named": {}, "cusp_width": None, "pool": None,
+                    "ends": None, "named_states": None}
     # default limits; no contact, no layers, point welds, the images stepped in this process;
-    # the six-ring has no other state to name a minimum with
+    # the six-ring has no other state to name a minimum with; its states built here (a ring)
     assert png.stat().st_size > 0
     assert Image.open(gif).n_frames == len(path)
 

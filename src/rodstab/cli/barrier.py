@@ -6,7 +6,6 @@ Parsing and printing only.
 from __future__ import annotations
 
 import dataclasses
-import math
 from typing import Any
 
 import click
@@ -17,6 +16,7 @@ from ..limits import Limits
 from ..model import CONTACT_DHAT_FRACTION
 from ..sections import Section
 from .barrier_contact import apart_output, judge_path, judged_lines
+from .barrier_design import chain_link_text, design_ends
 from .contact_options import (
     check_cusp_width,
     cusp_width_option,
@@ -54,10 +54,11 @@ _BARRIER_STATES = {"six-ring": ("folded", "one-loop"), "hexagram": ("line", "sta
                   "folded, one-loop; hexagram: line, star, daisy, eight).")
 @click.option("--from", "from_state", default=None,
               help="The stable state the barrier is climbed from (default: folded for the "
-                   "six-ring, line for the hexagram; with DESIGN a label of `rodstab states "
-                   "DESIGN`, required).")
-@click.option("--to", "to_state", default=None,
-              help="The other state (default: one-loop, star; with DESIGN required).")
+                   "six-ring, line for the hexagram; with a ring DESIGN a label of `rodstab "
+                   "states DESIGN`, required; else #k or '#k mirror', a row of `rodstab "
+                   "discover DESIGN` or its mirror image, default the lowest).")
+@click.option("--to", "to_state", default=None, help="The other state (default: one-loop, "
+              "star; with a ring DESIGN required; else the second lowest).")
 @load_factor_option(
     default=None,
     help="Without DESIGN kappa_n R0 (six-ring: R0 = L / theta, the one-loop radius; "
@@ -117,6 +118,7 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
 
     k = load_factor
     chosen: tuple[float, float] | None = None
+    ends = named_states = None  # a design that is no ring: its states, found by deflation
     if method == "continuation" and (images is not None or animation_path is not None
                                      or out_dir is not None or workers != 1):
         raise RodstabInputError("--images, --animation, --out and --workers are options of "
@@ -136,14 +138,20 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
             raise RodstabInputError("--method continuation is for the built-in structures "
                                     "(it needs their load range); use --method string with "
                                     f"{design_file}")
-        if from_state is None or to_state is None:
+        ring, section, name, design = ring_and_section(design_file, structure, 6, section,
+                                                       contact_ok=True, any_design=True)
+        if ring is None:  # states found by deflation (barrier_design)
+            from_state, to_state, ends, named_states = design_ends(
+                design, design_file, elements, k, from_state, to_state,
+                (contact.on, layers, into_contact, cusp_width, method))
+            a, b_asm, others = design.assembly, design.assembly, {}
+        elif from_state is None or to_state is None:
             raise RodstabInputError(f"--from and --to name two states of {design_file} (see "
                                     "`rodstab states DESIGN`)")
-        ring, section, name, design = ring_and_section(design_file, structure, 6, section,
-                                                       contact_ok=True)
-        a, b_asm = (ring.held(ring.state(s).theta) for s in (from_state, to_state))
-        others = {st.label: ring.held(st.theta) for st in ring.states().states
-                  if st.label not in (from_state, to_state)}  # to name the minima a path passes
+        else:
+            a, b_asm = (ring.held(ring.state(s).theta) for s in (from_state, to_state))
+            others = {st.label: ring.held(st.theta) for st in ring.states().states
+                      if st.label not in (from_state, to_state)}  # names minima a path passes
         if k is None:
             from ..multistable.atlas import common_load
 
@@ -227,7 +235,8 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
                 b, path = string_barrier(a, b_asm, mu, elements_per_segment=elements,
                                          images=n_img, name_a=from_state, name_b=to_state,
                                          limits=limits, contact=model, layers=order,
-                                         named=others, cusp_width=wide, pool=pool)
+                                         named=others, cusp_width=wide, pool=pool,
+                                         ends=ends, named_states=named_states)
         elif method == "pull":
             from .barrier_contact import pull_output
 
@@ -308,7 +317,7 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
         f"converged    {b.converged} ({len(b.energies)} path points)"]
     if b.chain is not None:  # the string passed other minima: one saddle per step
         ch: Any = b.chain
-        steps = " ".join(f"-[{_link_text(lk)}]-> {lk.to_state} {fmt(lk.energy_to)}"
+        steps = " ".join(f"-[{chain_link_text(lk)}]-> {lk.to_state} {fmt(lk.energy_to)}"
                          for lk in ch.links)
         lines.append(f"chain        {ch.states[0]} {fmt(ch.energies[0])} {steps}"
                      + ("" if ch.converged else " (not converged)"))
@@ -319,10 +328,10 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
             lines.append(f"lowest       over every saddle found: {fmt(ch.lowest['energy'])} via "
                          f"{' -> '.join(ch.lowest['states'])}")
     for o in b.other_saddles:  # saddles of the string that join other states
-        ends = ", ".join(f"{lab} {fmt(e)}{'' if ok else ' (not converged)'}" for lab, e, ok
+        tips = ", ".join(f"{lab} {fmt(e)}{'' if ok else ' (not converged)'}" for lab, e, ok
                          in zip(o["descent_ends"], o["end_energies"], o["ends_converged"],
                                 strict=True))
-        lines.append(f"other saddle index 1, energy {fmt(o['energy'])}, descents end on {ends}")
+        lines.append(f"other saddle index 1, energy {fmt(o['energy'])}, descents end on {tips}")
     if plot is not None:
         from ..plot.plots import plot_barrier_path
 
@@ -388,12 +397,3 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
                            f"{why} (residual {b.residual:.3g}, saddle index "
                            f"{b.saddle_index}, descents end on "
                            f"{', '.join(b.descent_ends) or 'not run'})")
-
-
-def _link_text(lk: Any) -> str:
-    """Return a chain link's saddle, else its path's bound, else its highest image (~)."""
-    if lk.converged:
-        return fmt(lk.energy_saddle)
-    if math.isfinite(lk.energy_bound):
-        return "<= " + fmt(lk.energy_bound)
-    return "~ " + fmt(lk.energy_highest)

@@ -265,15 +265,16 @@ def descents_from_saddle(saddle: DiscreteRod, vals: np.ndarray, vecs: np.ndarray
     return descents, ends
 
 
-def state_label(r: DiscreteRod, refs: list[tuple[str, Snapshot, float]]) -> str:
+def state_label(r: DiscreteRod, refs: list[tuple[str, Snapshot, float]],
+                proper: bool = False) -> str:
     """Return the label of the first reference state that ``r`` is, or ``"unnamed"``.
 
     ``refs``: ``(label, snapshot, energy)`` triples; one state modulo rigid motion, reflection
-    and relabelling (:func:`~.discover.same_state`).
+    (unless ``proper``) and relabelling (:func:`~.discover.same_state`).
     """
     s, e = Snapshot.of(r), r.energy()
-    return next((lab for lab, snap, e_ref in refs if same_state(r, s, snap, e, e_ref)),
-                "unnamed")
+    return next((lab for lab, snap, e_ref in refs
+                 if same_state(r, s, snap, e, e_ref, proper)), "unnamed")
 
 
 #: Two discrete models are one when rest lengths and natural curvatures agree to this

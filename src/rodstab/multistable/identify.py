@@ -153,26 +153,31 @@ def ring_nodes(rod: DiscreteRod) -> np.ndarray:
 
 # ---------------------------------------------------------------------------------------------
 # Alignment
-def kabsch_rms(P: np.ndarray, Q: np.ndarray) -> float:
+def kabsch_rms(P: np.ndarray, Q: np.ndarray, proper: bool = False) -> float:
     """RMS distance of point sets ``P``, ``Q`` (n, 3) after the best orthogonal map and shift.
 
     Kabsch: centre both, ``U S V^T = P^T Q``, map ``P`` by ``U V^T`` -- the orthogonal map
-    (rotation or reflection) nearest in least squares. Reflections are allowed (module docstring).
+    (rotation or reflection) nearest in least squares. Reflections are allowed (module docstring)
+    unless ``proper``: then the nearest rotation (the last singular direction flipped when
+    ``U V^T`` reflects), so a state and its mirror image differ (the bi-rod's buckled states:
+    0.093 L apart, 1e-16 with reflections).
     """
     a, b = P - P.mean(axis=0), Q - Q.mean(axis=0)
     U, _, Vt = np.linalg.svd(a.T @ b)
+    if proper and np.linalg.det(U @ Vt) < 0:
+        U[:, -1] *= -1
     return float(np.sqrt(np.mean(np.sum((a @ U @ Vt - b) ** 2, axis=1))))
 
 
-def ring_rms(rod: DiscreteRod, x: np.ndarray, y: np.ndarray) -> float:
+def ring_rms(rod: DiscreteRod, x: np.ndarray, y: np.ndarray, proper: bool = False) -> float:
     """Smallest :func:`kabsch_rms` of the ring's nodes at ``x`` and ``y`` over its relabellings.
 
     ``x``, ``y``: node positions ``(n_nodes, 3)``; relabellings: the traversal
     (:func:`ring_nodes`) started at any weld, and reversed. In the length unit of ``rod`` (not
-    over ``L``).
+    over ``L``). ``proper``: without reflections (:func:`kabsch_rms`).
     """
     nodes = ring_nodes(rod)
-    return _relabelled_rms(rod, x[nodes], y[nodes])
+    return _relabelled_rms(rod, x[nodes], y[nodes], proper)
 
 
 def ring_relabellings(rod: DiscreteRod) -> tuple[tuple[bool, int], ...]:
@@ -230,7 +235,8 @@ def _close(a: tuple[float, ...], b: tuple[float, ...]) -> bool:
     return all(abs(x - y) <= 1e-9 * max(abs(y), 1.0) for x, y in zip(a, b, strict=True))
 
 
-def _relabelled_rms(rod: DiscreteRod, xs: np.ndarray, ys: np.ndarray) -> float:
+def _relabelled_rms(rod: DiscreteRod, xs: np.ndarray, ys: np.ndarray,
+                    proper: bool = False) -> float:
     """Smallest :func:`kabsch_rms` of ring nodes ``xs``, ``ys`` over the ring's symmetries.
 
     The relabellings of :func:`ring_relabellings`.
@@ -239,28 +245,31 @@ def _relabelled_rms(rod: DiscreteRod, xs: np.ndarray, ys: np.ndarray) -> float:
     best = math.inf
     images = (xs, np.concatenate([xs[:1], xs[:0:-1]]))
     for flip, k in ring_relabellings(rod):
-        best = min(best, kabsch_rms(np.roll(images[flip], k * n, axis=0), ys))
+        best = min(best, kabsch_rms(np.roll(images[flip], k * n, axis=0), ys, proper))
     return best
 
 
-def aligned_distance(rod: DiscreteRod, a: Snapshot, b: Snapshot) -> float:
+def aligned_distance(rod: DiscreteRod, a: Snapshot, b: Snapshot, proper: bool = False
+                     ) -> float:
     """Return the RMS node distance (over ``L``) of ``a`` and ``b`` modulo the ring's symmetry.
 
-    Minimised over rigid motions, reflections and the ring's relabellings (:func:`ring_rms`).
+    Minimised over rigid motions, reflections (unless ``proper``) and the ring's relabellings
+    (:func:`ring_rms`).
     """
-    return ring_rms(rod, a.x, b.x) / mean_length(rod)
+    return ring_rms(rod, a.x, b.x, proper) / mean_length(rod)
 
 
-def same_state(rod: DiscreteRod, a: Snapshot, b: Snapshot, Ea: float, Eb: float) -> bool:
+def same_state(rod: DiscreteRod, a: Snapshot, b: Snapshot, Ea: float, Eb: float,
+               proper: bool = False) -> bool:
     """Whether ``a`` and ``b`` are one state modulo rigid motion, reflection and relabelling.
 
     Energies within :data:`SAME_STATE_ENERGY` and :func:`aligned_distance` below
-    :data:`SAME_STATE_DISTANCE`.
+    :data:`SAME_STATE_DISTANCE`. ``proper``: a state and its mirror image are two states.
     """
     scale = max(abs(Ea), abs(Eb), float(np.max(rod.edge_B[:, 2])) / mean_length(rod))
     if abs(Ea - Eb) > SAME_STATE_ENERGY * scale:
         return False
-    return aligned_distance(rod, a, b) < SAME_STATE_DISTANCE
+    return aligned_distance(rod, a, b, proper) < SAME_STATE_DISTANCE
 
 
 # ---------------------------------------------------------------------------------------------

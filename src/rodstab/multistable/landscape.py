@@ -51,6 +51,9 @@ class Landscape:
     keep_traces: bool = False
     #: Label prefix of a minimum met that was not given (``m1``, ``m2``, ...).
     new_label: str = "m"
+    #: A state and its mirror image are two minima (a barrier between exactly these two: the
+    #: bi-rod's buckled states, :mod:`.design_states`); else one (:func:`~.identify.same_state`).
+    proper: bool = False
 
     @classmethod
     def of(cls, named: list[tuple[str, DiscreteRod]]) -> Landscape:
@@ -64,7 +67,7 @@ class Landscape:
         New labels are :attr:`new_label` and a count. ``r`` must be a converged minimum (the
         caller checks); ``"unnamed"`` when not ``add`` and unknown.
         """
-        lab = state_label(r, self.minima)
+        lab = state_label(r, self.minima, self.proper)
         if lab != "unnamed" or not add:
             return lab
         pre = self.new_label
@@ -84,7 +87,7 @@ class Landscape:
         """
         here, e = Snapshot.of(saddle), saddle.energy()
         for rec in self.saddles:
-            if same_state(saddle, here, rec["state"], e, rec["energy"]):
+            if same_state(saddle, here, rec["state"], e, rec["energy"], self.proper):
                 return rec
         vals, vecs = lowest_modes(saddle, INDEX_EIGS)
         traces: tuple[list[DiscreteRod], list[DiscreteRod]] | None = (

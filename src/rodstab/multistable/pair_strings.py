@@ -14,9 +14,10 @@ and refines its humps to an index-1 saddle whose steepest descents end on the tw
 Which pairs: the stable states in increasing energy of the higher of the two (the lowest saddle
 a pair can have lies above both), skipping a pair the saddles already judged connect (through
 other minima: the disconnectivity graph already joins them), up to a budget of string runs. A
-pair is skipped without a run when the belt path cannot be built: a state that is not planar in
-the gauge joint's plane, or frames an odd number of turns apart (no continuous path of frames,
-:func:`~.string_method.belt_path`). The string runs from the higher state to the lower: from the
+string starts from :func:`~.string_method.initial_path` (the belt path between planar states,
+the chart geodesic otherwise); a pair is skipped without a run when planar states' frames are an
+odd number of turns apart (no continuous path of frames, :func:`~.string_method.belt_path`). The
+string runs from the higher state to the lower: from the
 star to the line (16 el. per rod) its 17 images drifted apart in 9 iterations, from the line to
 the star it settled on the saddle in 39. Its images are redistributed over twice as many at most
 once (33): a run that needs more ends "too coarse" and its pair is reported as not joined, so a
@@ -32,7 +33,7 @@ from ..errors import RodstabInputError
 from ..nonlinear.discrete import DiscreteRod
 from ..results import Result
 from .landscape import Landscape, disconnectivity
-from .string_method import STRING_IMAGES, belt_path, relax_string, to_gauge
+from .string_method import STRING_IMAGES, initial_path, relax_string, to_gauge
 
 #: Most string iterations of one pair's run (the hexagram's line -> star, 8 and 16 el. per rod,
 #: settled on its saddle in 38 and 39).
@@ -111,7 +112,7 @@ def pair_strings(land: Landscape, labels: list[str], budget: int, *,
         ra, rb = land.rods[a].copy(), land.rods[b].copy()
         to_gauge(rb, ra)
         try:
-            band = belt_path(ra, rb, images)
+            band = initial_path(ra, rb, images)
         except RodstabInputError as exc:
             done.append(PairString((a, b), f"not run: {exc}", None, 0))
             continue

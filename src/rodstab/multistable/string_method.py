@@ -227,6 +227,31 @@ def _lifted_angles(a: DiscreteRod, alpha: np.ndarray) -> np.ndarray:
     return np.array([lift[i] for i in range(len(alpha))])
 
 
+def _off_gauge_plane(a: DiscreteRod, r: DiscreteRod) -> float:
+    """How far state ``r`` leaves the plane of ``a``'s gauge joint: node offset or frame tilt."""
+    nrm = a.R_joint[a.fixed_joints[0]][:, 2]
+    F = np.concatenate([r.R_edge, r.R_joint])
+    return max(float(np.max(np.abs((r.x - r.x[r.fixed_nodes[0]]) @ nrm))),
+               float(np.max(np.abs(F[:, :, 2] @ nrm - 1.0))))
+
+
+def initial_path(a: DiscreteRod, b: DiscreteRod, n_images: int,
+                 via: DiscreteRod | None = None) -> list[DiscreteRod]:
+    """Return the string's first path from ``a`` to ``b`` (one model, one gauge), ends included.
+
+    Two states planar in the gauge joint's plane: :func:`belt_path` (it raises when their frame
+    loops differ by an odd number of turns). Otherwise the piecewise chart geodesic from ``a``
+    through ``via`` (if given) to ``b`` at equal arclength (:func:`~.path_chart.reparametrise`),
+    each image retracted. Between the bi-rod's buckled state and its mirror image (load factor
+    3, 8 el.) the direct geodesic passed a singular frame (energies not finite) and the string
+    from it did not converge in 300 iterations; through the held state it converges.
+    """
+    if max(_off_gauge_plane(a, a), _off_gauge_plane(a, b)) <= BELT_PLANAR_TOL:
+        return belt_path(a, b, n_images)
+    return reparametrise([a.copy(), *([] if via is None else [via.copy()]), b.copy()],
+                         a.free_dofs(), n_images)
+
+
 def belt_path(a: DiscreteRod, b: DiscreteRod, n_images: int) -> list[DiscreteRod]:
     """Return the initial string of ``n_images`` states from ``a`` to ``b``, ends included.
 
@@ -248,9 +273,9 @@ def belt_path(a: DiscreteRod, b: DiscreteRod, n_images: int) -> list[DiscreteRod
     """
     nrm = a.R_joint[a.fixed_joints[0]][:, 2]
     Fa, Fb = (np.concatenate([r.R_edge, r.R_joint]) for r in (a, b))
-    for r, F in ((a, Fa), (b, Fb)):
-        off = float(np.max(np.abs((r.x - r.x[r.fixed_nodes[0]]) @ nrm)))
-        if np.max(np.abs(F[:, :, 2] @ nrm - 1.0)) > BELT_PLANAR_TOL or off > BELT_PLANAR_TOL:
+    for r in (a, b):
+        off = _off_gauge_plane(a, r)
+        if off > BELT_PLANAR_TOL:
             raise RodstabInputError("the band's initial path is built for planar end states; "
                                     f"a state leaves the plane by {off:.3g} L")
     # Lab rotation A -> B of every frame: a rotation about the normal by alpha.
@@ -522,7 +547,9 @@ def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
                    limits: Limits = DEFAULT_LIMITS, contact: ContactModel | None = None,
                    layers: dict[str, Any] | None = None, chain_depth: int = CHAIN_DEPTH,
                    named: dict[str, Assembly] | None = None, cusp_width: float | None = None,
-                   soft: tuple[int, int] | None = None, pool: Executor | None = None
+                   soft: tuple[int, int] | None = None, pool: Executor | None = None,
+                   ends: tuple[DiscreteRod, DiscreteRod] | None = None,
+                   named_states: list[tuple[str, DiscreteRod]] | None = None
                    ) -> tuple[Barrier, list[Snapshot]]:
     """Energy barrier between held states ``a`` and ``b`` of one ring by the string method.
 
@@ -581,6 +608,14 @@ def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
         The images' steps run in its processes
         (:func:`~rodstab.numerics.threads.process_pool`; the same string, faster on several
         cores); None: in this process.
+    ends : tuple of DiscreteRod, optional
+        The two states as relaxed stable states of one discrete model (a design that is no
+        ring: its states found by deflation, :mod:`.design_states`), used instead of ``a`` and
+        ``b`` built and relaxed here; ``a`` then only sizes the model, and ``a``'s held state
+        in that model is the point the first path passes (:func:`initial_path`). Not with
+        ``layers`` or ``cusp_width``.
+    named_states : list of (str, DiscreteRod), optional
+        With ``ends``: other stable states of that model, to name the minima a path passes.
 
     Returns
     -------
@@ -621,9 +656,15 @@ def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
                             copies=n_img) // n_img
     relax = functools.partial(relax_string, pool=pool,
                               max_images=max_string_images(n_img, limits.max_dof_nonlinear // one))
-    rod_a, rod_b = held_pair(a, b, mu, n, (name_a, name_b),
-                             contact if layers is None else None, cusp_width)
-    start = belt_path(rod_a, rod_b, n_img)
+    if ends is None:
+        rod_a, rod_b = held_pair(a, b, mu, n, (name_a, name_b),
+                                 contact if layers is None else None, cusp_width)
+    elif layers is not None or cusp_width:
+        raise RodstabInputError("ends are relaxed states of one model: no layers or cusp_width")
+    else:
+        rod_a, rod_b = ends[0].copy(), ends[1].copy()
+        to_gauge(rod_b, rod_a)
+    start = initial_path(rod_a, rod_b, n_img, None if ends is None else common_rod(a, n, mu))
     if layers is not None:  # the planar path without contact, lifted: the belt path lifted
         # stalled in the soft stages (hexagram line -> star, 6 el.), this one did not
         start = relax(start, max_iter=max_iter, accept=None)[0]
@@ -638,8 +679,10 @@ def string_barrier(a: Assembly, b: Assembly, load_factor: float, *,
     e_a, e_b = rod_a.energy(), rod_b.energy()
     land = Landscape.of([(name_a, rod_a), (name_b, rod_b)]
                         + ([] if layers is not None
-                           else _named(named or {}, n, mu, contact, cusp_width)))
+                           else _named(named or {}, n, mu, contact, cusp_width))
+                        + list(named_states or ()))
     land.keep_traces = contact is not None
+    land.proper = ends is not None  # given states may be mirror images (design_states)
 
     def joins_the_states(saddle: DiscreteRod) -> bool:
         # The saddle sought is the one whose two descents end on a and b (modulo the ring's
