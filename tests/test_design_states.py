@@ -78,3 +78,14 @@ def test_cli_barrier_between_the_buckled_birod_and_its_mirror_image(run_cli) -> 
 def test_cli_barrier_on_a_design_that_is_no_ring_refuses_naming_why(run_cli, args, named):
     res = run_cli(["barrier", "examples/birod.toml", "--elements", "4", *args])
     assert res.exit_code == 2 and named in res.stderr
+
+
+@pytest.mark.parametrize("command", [["states"], ["transitions"],
+                                     ["atlas", "--vary", "section.aspect=2:4:2"]])
+def test_ring_commands_on_a_design_that_is_no_ring_say_which_commands_take_it(run_cli,
+                                                                              command):
+    res = run_cli([*command[:1], "examples/birod.toml", *command[1:]])
+    assert res.exit_code == 2
+    assert "examples/birod.toml is not a ring (a ring has no supports" in res.stderr
+    assert f"`rodstab {command[0]}` needs rods welded in one cycle" in res.stderr
+    assert "`rodstab discover`, `diagram` and `barrier` take any design" in res.stderr

@@ -291,6 +291,23 @@ def given(option: str) -> bool:
     return src is not None and src.name != "DEFAULT"
 
 
+def require_ring(a: Any, design_file: str) -> Any:
+    """Return the ring of assembly ``a`` (:func:`~.multistable.states.ring_of`), or refuse.
+
+    The refusal names ``design_file``, why it is no ring, the command that needs one and the
+    commands that take any design.
+    """
+    from ..multistable.states import ring_of
+
+    try:
+        return ring_of(a)
+    except RodstabInputError as exc:
+        command = click.get_current_context().info_name or "this command"
+        raise RodstabInputError(
+            f"{design_file} is not a ring ({exc}): `rodstab {command}` needs rods welded in "
+            "one cycle; `rodstab discover`, `diagram` and `barrier` take any design") from None
+
+
 def ring_and_section(design_file: str | None, structure: str, segments: int,
                      section: Section, *, contact_ok: bool = False, any_design: bool = False
                      ) -> tuple[Any, Section, str, Any]:
@@ -323,12 +340,12 @@ def ring_and_section(design_file: str | None, structure: str, segments: int,
         if not contact_ok:
             design.require_no_contact(click.get_current_context().info_name or "this command")
         a = design.assembly
-        try:
-            ring = ring_of(a)
-        except RodstabInputError:
-            if not any_design:
-                raise
-            ring = None
+        ring = require_ring(a, design_file) if not any_design else None
+        if ring is None:
+            try:
+                ring = ring_of(a)
+            except RodstabInputError:
+                ring = None
         seg = a.segments[0]
         from ..sections import from_ratios
 

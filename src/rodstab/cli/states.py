@@ -21,6 +21,7 @@ from .options import (
     limit_options,
     load_factor_option,
     read_vary,
+    require_ring,
     vary_option,
     where_options,
 )
@@ -61,7 +62,7 @@ def states(design_file: str | None, segments: int, cusps: bool, max_turns: float
     import math
 
     from ..io.design import load_design
-    from ..multistable.states import ring_of, state_centrelines, uniform_ring
+    from ..multistable.states import state_centrelines, uniform_ring
 
     plot = None if plot_path is None else image_output("--plot", plot_path)
     if design_file is not None:
@@ -73,7 +74,7 @@ def states(design_file: str | None, segments: int, cusps: bool, max_turns: float
         design.require_no_contact("states")
         a = design.assembly
         units = design.units
-        ring = ring_of(a)
+        ring = require_ring(a, design_file)
         mu = a.reference_load if load_factor is None else load_factor
         mu = 1.0 if mu is None else mu
     else:
@@ -182,7 +183,6 @@ def atlas_cmd(design_file: str, vary: str, out_dir: str, method: str | None,
     from ..io.outputs import run_lock, write_atomic
     from ..io.vary import axis_label, axis_unit, vary_in_units
     from ..multistable.atlas import LOAD_FACTOR_UNITS, DesignRings, atlas_units, ring_atlas
-    from ..multistable.states import ring_of
 
     spec = read_vary(vary, ATLAS_DEFAULT_N, "atlas points", limits)
     if spec.n < 2:
@@ -196,11 +196,7 @@ def atlas_cmd(design_file: str, vary: str, out_dir: str, method: str | None,
     base = load_design(design_file)
     base.require_no_contact("atlas")
     spec = vary_in_units(base, spec)
-    try:
-        ring_of(base.assembly)
-    except RodstabInputError as exc:
-        raise RodstabInputError(f"{design_file} is not a ring of welded rods: "
-                                f"{exc}") from None
+    require_ring(base.assembly, design_file)
     ring_at = DesignRings(base, spec.key, spec.unit)
 
     # both ends of the range, before the bar; one varied key changes the rods linearly, so
