@@ -439,3 +439,18 @@ def test_discover_finds_the_line_star_saddle_without_being_told(run_cli) -> None
         assert sd["barriers"][sd["joins"].index("#3 line")] == pytest.approx(1.12004, abs=1e-5)
         energies.append(sd["energy"])
     assert energies[0] == pytest.approx(energies[1], rel=1e-9)
+
+
+@pytest.mark.slow
+def test_climbs_in_a_process_pool_are_the_climbs_made_here() -> None:
+    """search_saddles with a pool of 2 processes: the same climbs, to the last digit."""
+    from rodstab.multistable.discover import Snapshot
+    from rodstab.multistable.saddle_search import search_saddles
+    from rodstab.numerics.threads import process_pool
+
+    star = _relaxed("hexagram", "star", 1.5)
+    minima = [("star", Snapshot.of(star))]
+    here = search_saddles(star.copy(), minima, 1, max_iter=60, max_rise=2.0)
+    with process_pool(2) as pool:
+        there = search_saddles(star.copy(), minima, 1, max_iter=60, max_rise=2.0, pool=pool)
+    assert here.climbs == there.climbs and len(here.climbs) + here.mirrored == 2

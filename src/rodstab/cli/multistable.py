@@ -85,8 +85,8 @@ def discover(design_file: str | None, section: Section, structure: str, segments
              state: str | None, load_factor: float, starts: int, elements: int, rng_seed: int,
              seed_states: bool, plot_path: str | None, morph: str | None, saddle_modes: int,
              graph_path: str | None, max_barrier: float | None, climb_steps: int | None,
-             strings: int | None, contact: Any, cusp_width: float | None, limits: Limits,
-             as_json: bool) -> None:
+             strings: int | None, workers: int, contact: Any, cusp_width: float | None,
+             limits: Limits, as_json: bool) -> None:
     """Equilibria nobody named: deflated Newton from seeds and perturbed starts.
 
     On DESIGN (a ring, seeded with its held states of `rodstab states DESIGN`; any other
@@ -199,7 +199,7 @@ def discover(design_file: str | None, section: Section, structure: str, segments
 
         lines += saddle_lines(rod, found, snaps, saddle_modes, directions, payload,
                                CLIMB_MAX_ITER if climb_steps is None else climb_steps, graph,
-                               load, max_barrier, strings)
+                               load, max_barrier, strings, workers)
     lines += [f"wrote {payload['plot']}"] if plot is not None else []
     emit(payload, as_json, lines)
 

@@ -41,6 +41,9 @@ def saddle_options(f: Any) -> Any:
         click.option("--climb-steps", type=int, default=None,
                      help="Most steps of one climb (default 400; the saddles of the paper's "
                           "rings took 96-341)."),
+        click.option("--workers", type=click.IntRange(min=1), default=1, show_default=True,
+                     help="Processes for the climbs and the strings' images: N > 1 starts N "
+                          "fresh processes (about a second each) and gives the same saddles."),
     ]
     for opt in reversed(opts):
         f = opt(f)
@@ -83,14 +86,15 @@ def check_saddle_options(saddle_modes: int, climb_steps: int | None,
 
 def saddle_lines(rod: Any, found: Any, snaps: list, modes: int, directions: tuple[int, ...],
                  payload: dict[str, Any], steps: int, graph: Any, load: str,
-                 max_rise: float | None, strings: int) -> list[str]:
+                 max_rise: float | None, strings: int, workers: int = 1) -> list[str]:
     """Climb from the stable states found (``#row``), put the search in ``payload``, its lines.
 
     Then the string method between up to ``strings`` pairs no saddle found connects; the
     disconnectivity graph of the stable states by the saddles found (``graph``: where to draw
     it, or None; ``load``: what the load factor is called) and the lowest barrier between every
     pair it joins. ``max_rise``: :func:`~.multistable.saddle_search.follow_mode`'s (None:
-    :data:`DEFAULT_MAX_RISE` B3/L, B3 and L the model's means).
+    :data:`DEFAULT_MAX_RISE` B3/L, B3 and L the model's means). ``workers``: processes
+    (:func:`~.options.string_pool`).
     """
     import numpy as np
 
@@ -105,8 +109,11 @@ def saddle_lines(rod: Any, found: Any, snaps: list, modes: int, directions: tupl
               for i, s in enumerate(found.states) if s.stable]
     saddles = [(f"#{i + 1}" + ("" if s.label == "unnamed" else f" {s.label}"), snaps[i])
                for i, s in enumerate(found.states) if s.index == 1 and not s.index_at_least]
-    result = search_saddles(rod, minima, modes, directions=directions, known=saddles,
-                            max_iter=steps, max_rise=rise, strings=strings)
+    from .options import string_pool
+
+    with string_pool(workers) as pool:
+        result = search_saddles(rod, minima, modes, directions=directions, known=saddles,
+                                max_iter=steps, max_rise=rise, strings=strings, pool=pool)
     payload["saddle_search"] = result.to_dict() | {"max_rise": rise}
     tally = ", ".join(f"{k} {v}" for k, v in sorted(result.outcomes().items()))
     lines = [f"saddles      {result.method}: {len(result.climbs)} climbs from "

@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+from concurrent.futures import Executor
 
 from ..errors import RodstabInputError
 from ..nonlinear.discrete import DiscreteRod
@@ -73,8 +74,8 @@ def connected(land: Landscape) -> dict[str, str]:
 
 
 def pair_strings(land: Landscape, labels: list[str], budget: int, *,
-                 max_iter: int = PAIR_STRING_ITER, images: int = STRING_IMAGES
-                 ) -> tuple[list[PairString], list[DiscreteRod]]:
+                 max_iter: int = PAIR_STRING_ITER, images: int = STRING_IMAGES,
+                 pool: Executor | None = None) -> tuple[list[PairString], list[DiscreteRod]]:
     """Run the string method between pairs of the minima ``labels`` of ``land`` (module doc).
 
     Parameters
@@ -88,6 +89,8 @@ def pair_strings(land: Landscape, labels: list[str], budget: int, *,
         Most string runs (pairs skipped without a run do not count).
     max_iter, images : int
         Per run: most string iterations, images (ends included).
+    pool : Executor, optional
+        The images' steps run in its processes (:func:`~.string_method.relax_string`).
 
     Returns
     -------
@@ -118,7 +121,8 @@ def pair_strings(land: Landscape, labels: list[str], budget: int, *,
             continue
         runs += 1
         band, saddle, run = relax_string(band, max_iter=max_iter, max_images=2 * images - 1,
-                                         accept=functools.partial(_joins, land, a, b))
+                                         accept=functools.partial(_joins, land, a, b),
+                                         pool=pool)
         if saddle is not None:
             saddles.append(saddle)
             done.append(PairString((a, b), "saddle", float(saddle.energy()), run.iterations))

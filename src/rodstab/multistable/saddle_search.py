@@ -42,6 +42,7 @@ sixteen climbs. The other climbs fail: a failed climb is not evidence that no sa
 from __future__ import annotations
 
 import dataclasses
+from concurrent.futures import Executor
 from typing import Any, Literal
 
 import numpy as np
@@ -309,7 +310,7 @@ def search_saddles(rod: DiscreteRod, minima: list[tuple[str, Snapshot]], modes: 
                    max_iter: int = CLIMB_MAX_ITER, max_rise: float | None = None,
                    keep: list[Snapshot] | None = None,
                    known: list[tuple[str, Snapshot]] | None = None,
-                   strings: int = 0) -> SaddleSearch:
+                   strings: int = 0, pool: Executor | None = None) -> SaddleSearch:
     """Climb from every minimum along its ``modes`` softest modes, both ways, and judge the saddles.
 
     Parameters
@@ -337,6 +338,9 @@ def search_saddles(rod: DiscreteRod, minima: list[tuple[str, Snapshot]], modes: 
         Then run the string method between at most this many pairs of the minima that the
         saddles found do not connect (:func:`~.pair_strings.pair_strings`); each saddle it
         finds is found from ``"string: <a> - <b>"``.
+    pool : Executor, optional
+        The climbs run in its processes (:func:`~rodstab.numerics.threads.process_pool`), and
+        the strings' images are stepped there: the same results; None: in this process.
 
     Returns
     -------
@@ -351,6 +355,7 @@ def search_saddles(rod: DiscreteRod, minima: list[tuple[str, Snapshot]], modes: 
     other: list[list[Any]] = []  # [snapshot, energy, found_from, count, index, planar]
     named = [(lab, snap, _energy(rod, snap)) for lab, snap in minima]
     mirrored = 0
+    tasks, meta = [], []
     for label, snap in minima:
         snap.put(rod)
         mirror = mirror_climbs(rod, modes)
@@ -360,24 +365,28 @@ def search_saddles(rod: DiscreteRod, minima: list[tuple[str, Snapshot]], modes: 
                     mirrored += 1
                     continue
                 snap.put(rod)
-                climb = dataclasses.replace(follow_mode(rod, mode, sign, step=step,
-                                                        max_iter=max_iter, max_rise=max_rise),
-                                            start=label)
-                climbs.append(climb)
-                if climb.outcome == "not a saddle" and state_label(rod, named) != "unnamed":
-                    continue  # Newton fell back to a given minimum
-                if not (climb.found or climb.outcome == "not a saddle"):
-                    continue
-                here = Snapshot.of(rod)
-                into = found if climb.found else other
-                for rec in into:
-                    if same_state(rod, here, rec[0], climb.energy, rec[1]):
-                        rec[3] += 1
-                        break
-                else:
-                    into.append([here, climb.energy,
-                                 f"{label} mode {mode}{'+' if sign > 0 else '-'}", 1,
-                                 climb.index, invariants(rod, here, directions).planar])
+                tasks.append((rod.copy(), mode, sign,
+                              {"step": step, "max_iter": max_iter, "max_rise": max_rise}))
+                meta.append((label, mode, sign))
+    # Each climb is independent and deterministic: in a pool the same climbs, in parallel.
+    ends = list(map(_climb_from, tasks) if pool is None else pool.map(_climb_from, tasks))
+    for (label, mode, sign), (climb, end) in zip(meta, ends, strict=True):
+        end.put(rod)
+        climb = dataclasses.replace(climb, start=label)
+        climbs.append(climb)
+        if climb.outcome == "not a saddle" and state_label(rod, named) != "unnamed":
+            continue  # Newton fell back to a given minimum
+        if not (climb.found or climb.outcome == "not a saddle"):
+            continue
+        here = Snapshot.of(rod)
+        into = found if climb.found else other
+        for rec in into:
+            if same_state(rod, here, rec[0], climb.energy, rec[1]):
+                rec[3] += 1
+                break
+        else:
+            into.append([here, climb.energy, f"{label} mode {mode}{'+' if sign > 0 else '-'}",
+                         1, climb.index, invariants(rod, here, directions).planar])
     for label, snap in known or ():
         E = _energy(rod, snap)
         same = [r for r in found if same_state(rod, snap, r[0], E, r[1])]
@@ -392,7 +401,7 @@ def search_saddles(rod: DiscreteRod, minima: list[tuple[str, Snapshot]], modes: 
         for rec in found:
             rec[0].put(rod)
             land.judge(rod)
-        pairs, joined = pair_strings(land, [lab for lab, _ in minima], strings)
+        pairs, joined = pair_strings(land, [lab for lab, _ in minima], strings, pool=pool)
         for r, pair in zip(joined, (p for p in pairs if p.outcome == "saddle"), strict=True):
             found.append([Snapshot.of(r), float(r.energy()), f"string: {pair.states[0]} - "
                           f"{pair.states[1]}", 1, 1, None])
@@ -421,6 +430,13 @@ def search_saddles(rod: DiscreteRod, minima: list[tuple[str, Snapshot]], modes: 
         tuple((float(e), int(idx), bool(planar), src, int(n))
               for _, e, src, n, idx, planar in sorted(other, key=lambda rec: rec[1])),
         mirrored, tuple(pairs))
+
+
+def _climb_from(task: tuple[DiscreteRod, int, int, dict[str, Any]]) -> tuple[Climb, Snapshot]:
+    """:func:`follow_mode` from the task's rod (its own copy); the climb and where it ended."""
+    rod, mode, sign, kw = task
+    climb = follow_mode(rod, mode, sign, **kw)
+    return climb, Snapshot.of(rod)
 
 
 def _energy(rod: DiscreteRod, s: Snapshot) -> float:
