@@ -171,3 +171,33 @@ def test_birod_diagram_band_agrees_with_analyze_and_the_buckled_branch_is_found(
     assert all(p["energy"] < at[p["value"]] for p in buckled[0]["points"])
     (snap,) = out["snaps"]
     assert snap["lands_on"][0] == buckled[0]["id"]
+
+
+@pytest.mark.slow
+def test_the_diagrams_snap_is_the_transition_and_both_converge_to_the_atlas(run_cli, tmp_path):
+    """Issue 22, section 3: where the star's stable branch ends, the diagram snaps onto the
+    daisy, as `rodstab transitions` does; the two discrete models differ (the transition's is
+    built from the held geometry), so their thresholds differ by the mesh error (1.9e-3 at 8 el.,
+    4.6e-4 at 16), and both, extrapolated in h^2 from 8 and 16 el., reach the Bloch/FE atlas's
+    upper end of the star, 2.357247 (rectangle h/t = 4, docs/guide/multistable.md)."""
+    ends: dict[str, list[float]] = {"diagram": [], "transitions": []}
+    for n in (8, 16):
+        r = run_cli(["diagram", "examples/hexagram.toml", "--vary", "load_factor=2.3:2.4:3",
+                     "--elements", str(n), "--starts", "0", "--out", tmp_path / f"d{n}",
+                     "--no-progress", "--json"])
+        assert r.exit_code == 0, r.stderr
+        d = json.loads(r.stdout)
+        label = {b["id"]: b["label"] for b in d["branches"]}
+        (snap,) = [s for s in d["snaps"] if label[s["branch"]] == "star"]
+        assert {label[b] for b in snap["lands_on"]} == {"daisy"}
+        ends["diagram"].append(snap["value"])
+        t = run_cli(["transitions", "examples/hexagram.toml", "--elements", str(n), "--state",
+                     "star", "--json"])
+        assert t.exit_code == 0, t.stderr
+        (edge,) = [e for e in json.loads(t.stdout)["edges"]
+                   if e["from"] == "star" and e["stimulus"] == "load_factor"]
+        assert edge["to"] == "daisy"
+        ends["transitions"].append(edge["threshold"])
+    for coarse, fine in ends.values():
+        assert abs(fine - 2.357247) < abs(coarse - 2.357247)  # converging
+        assert fine + (fine - coarse) / 3 == pytest.approx(2.357247, abs=1e-4)
