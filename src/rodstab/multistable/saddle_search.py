@@ -126,7 +126,7 @@ def _capped(r: DiscreteRod, free: np.ndarray, d: np.ndarray, y: np.ndarray, cap:
 
 
 #: A planar state's mode is out of its plane when its in-plane part (node displacements in the
-#: plane, rotations about the normal) is below this share of it (module docstring, "Mirror").
+#: plane, rotations about the normal) is below this share of it (:func:`mirror_climbs`).
 MIRROR_RTOL = 1e-6
 
 
