@@ -16,7 +16,7 @@ from ..limits import Limits
 from ..model import CONTACT_DHAT_FRACTION
 from ..sections import Section
 from .barrier_contact import apart_output, judge_path, judged_lines
-from .barrier_design import chain_link_text, design_ends
+from .barrier_design import chain_link_text, design_ends, where_k
 from .contact_options import (
     check_cusp_width,
     cusp_width_option,
@@ -341,7 +341,7 @@ def barrier(design_file: str | None, section: Section, method: str, structure: s
         payload["plot"] = str(plot_barrier_path(
             b.path_arclength, energies, b.saddle_position, plot,
             labels=(b.from_state, b.to_state), energy_label=axis,
-            title=f"{name}, kappa_n R0 = {fmt(k)}, {elements} el./rod, {method}"))
+            title=f"{name}, {where_k(design_file)} = {fmt(k)}, {elements} el./rod, {method}"))
         lines.append(f"wrote {payload['plot']}")
     if path:
         judged = judge_path(payload, a, elements, mu, order, model, wide, h, c is not None,

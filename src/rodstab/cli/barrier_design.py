@@ -60,3 +60,8 @@ def chain_link_text(lk: Any) -> str:
     if math.isfinite(lk.energy_bound):
         return "<= " + fmt(lk.energy_bound)
     return "~ " + fmt(lk.energy_highest)
+
+
+def where_k(design_file: str | None) -> str:
+    """Return what the load is called: kappa_n R0 (built-in structure) or the load factor."""
+    return "kappa_n R0" if design_file is None else "load factor"
