@@ -389,8 +389,10 @@ def test_a_planar_minimums_out_of_plane_modes_are_climbed_one_way() -> None:
             r = star.copy()
             c = follow_mode(r, k, sign, max_rise=1.0)
             ends.append((c.outcome, c.steps, c.energy))
-        assert ends[0][:2] == ends[1][:2]
-        assert ends[0][2] == pytest.approx(ends[1][2], rel=1e-9)
+        # mirror images: the same outcome and energy (the step count may differ by round-off
+        # in an acceptance test, so it is not compared)
+        assert ends[0][0] == ends[1][0]
+        assert ends[0][2] == pytest.approx(ends[1][2], rel=1e-6)
     bent = star.copy()
     bent.x[:, 2] += 0.05 * np.sin(3 * np.arctan2(bent.x[:, 1], bent.x[:, 0]))  # out of plane
     assert mirror_climbs(bent, 3) == (False, False, False)
@@ -443,7 +445,8 @@ def test_discover_finds_the_line_star_saddle_without_being_told(run_cli) -> None
 
 @pytest.mark.slow
 def test_climbs_in_a_process_pool_are_the_climbs_made_here() -> None:
-    """search_saddles with a pool of 2 processes: the same climbs, to the last digit."""
+    """search_saddles with a pool of 2 processes: the same climbs (outcomes, and energies to
+    round-off: the workers run one BLAS thread, this process may run several)."""
     from rodstab.multistable.discover import Snapshot
     from rodstab.multistable.saddle_search import search_saddles
     from rodstab.numerics.threads import process_pool
@@ -453,4 +456,7 @@ def test_climbs_in_a_process_pool_are_the_climbs_made_here() -> None:
     here = search_saddles(star.copy(), minima, 1, max_iter=60, max_rise=2.0)
     with process_pool(2) as pool:
         there = search_saddles(star.copy(), minima, 1, max_iter=60, max_rise=2.0, pool=pool)
-    assert here.climbs == there.climbs and len(here.climbs) + here.mirrored == 2
+    assert len(here.climbs) + here.mirrored == 2 and len(here.climbs) == len(there.climbs)
+    for a, b in zip(here.climbs, there.climbs, strict=True):
+        assert (a.mode, a.sign, a.outcome) == (b.mode, b.sign, b.outcome)
+        assert a.energy == pytest.approx(b.energy, rel=1e-8)

@@ -43,7 +43,8 @@ def saddle_options(f: Any) -> Any:
                           "rings took 96-341)."),
         click.option("--workers", type=click.IntRange(min=1), default=1, show_default=True,
                      help="Processes for the climbs and the strings' images: N > 1 starts N "
-                          "fresh processes (about a second each) and gives the same saddles."),
+                          "fresh processes (about a second each) and gives the same saddles "
+                          "(to round-off)."),
     ]
     for opt in reversed(opts):
         f = opt(f)

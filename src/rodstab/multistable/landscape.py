@@ -121,6 +121,15 @@ class Landscape:
         """Energy of minimum ``label``."""
         return next(e for lab, _, e in self.minima if lab == label)
 
+    def edges(self) -> list[tuple[float, str, str]]:
+        """Return ``(energy, a, b)`` of every saddle judged whose descents end on two minima."""
+        return [(rec["energy"], *rec["descent_ends"]) for rec in self.saddles
+                if all(rec["ends_converged"]) and len(set(rec["descent_ends"])) == 2]
+
+    def graph(self) -> Disconnectivity:
+        """Return the disconnectivity graph of the minima by the saddles judged so far."""
+        return disconnectivity({lab: e for lab, _, e in self.minima}, self.edges())
+
     def lowest_path(self, a: str, b: str) -> tuple[float, list[str], list[float]] | None:
         """Lowest highest-saddle path from minimum ``a`` to ``b`` over the saddles found.
 
@@ -128,9 +137,8 @@ class Landscape:
         in order from ``a`` to ``b`` and the energy of the saddle between each neighbouring
         pair (the lowest such saddle) -- or None when the saddles found do not connect them.
         """
-        edges = [(rec["energy"], *rec["descent_ends"]) for rec in self.saddles
-                 if all(rec["ends_converged"]) and len(set(rec["descent_ends"])) == 2]
-        tree = disconnectivity({lab: e for lab, _, e in self.minima}, edges)
+        edges = self.edges()
+        tree = self.graph()
         level = next((lvl for x, y, lvl, _, _ in tree.barriers if {x, y} == {a, b}), None)
         if level is None:
             return None

@@ -33,7 +33,7 @@ from concurrent.futures import Executor
 from ..errors import RodstabInputError
 from ..nonlinear.discrete import DiscreteRod
 from ..results import Result
-from .landscape import Landscape, disconnectivity
+from .landscape import Landscape
 from .string_method import STRING_IMAGES, initial_path, relax_string, to_gauge
 
 #: Most string iterations of one pair's run (the hexagram's line -> star, 8 and 16 el. per rod,
@@ -63,9 +63,7 @@ def _joins(land: Landscape, a: str, b: str, saddle: DiscreteRod) -> bool:
 
 def connected(land: Landscape) -> dict[str, str]:
     """Superbasin root of every minimum of ``land`` over the saddles judged so far."""
-    edges = [(rec["energy"], *rec["descent_ends"]) for rec in land.saddles
-             if all(rec["ends_converged"]) and len(set(rec["descent_ends"])) == 2]
-    tree = disconnectivity({lab: e for lab, _, e in land.minima}, edges)
+    tree = land.graph()
     root = {lab: lab for lab, _, _ in land.minima}
     for m in tree.merges:
         for lab in m.left + m.right:
